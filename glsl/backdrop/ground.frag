@@ -1,0 +1,26 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// Ground: soil with a little low-frequency variation, lit by the sun.
+#include "frame.glsl"
+
+layout(location = 0) in vec3 v_world;
+layout(location = 0) out vec4 out_color;
+
+float hash(vec2 p) {
+    return fract(sin(dot(p, vec2(127.1, 311.7))) * 43758.5453);
+}
+
+float value_noise(vec2 p) {
+    vec2 i = floor(p), f = fract(p);
+    vec2 u = f * f * (3.0 - 2.0 * f);
+    return mix(mix(hash(i), hash(i + vec2(1, 0)), u.x),
+               mix(hash(i + vec2(0, 1)), hash(i + vec2(1, 1)), u.x), u.y);
+}
+
+void main() {
+    float n = 0.6 * value_noise(v_world.xz * 1.7) + 0.4 * value_noise(v_world.xz * 7.3);
+    vec3 albedo = mix(vec3(0.075, 0.050, 0.025), vec3(0.14, 0.11, 0.05), n);
+    float lambert = max(frame.light_dir.y, 0.0);
+    vec3 lit = albedo * (frame.light_dir.w + frame.light_color.rgb * lambert);
+    out_color = vec4(lit, 1.0);
+}

@@ -1,0 +1,56 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// Fragment stage: two-sided lighting of the blade (the normal is flipped on
+// back faces), a procedural grass colour along the blade, and debug views.
+#include "frame.glsl"
+
+layout(location = 0) in vec3 g_world;
+layout(location = 1) in vec3 g_normal;
+layout(location = 2) in vec2 g_uv;
+layout(location = 3) flat in float g_blade_rand;
+layout(location = 4) flat in float g_tess_level;
+layout(location = 5) flat in float g_motion;
+
+layout(location = 0) out vec4 out_color;
+
+vec3 grass_albedo(float v, float r) {
+    // Darker and bluer at the root, lighter and yellower toward the tip;
+    // each blade shifts a little (r) so a meadow is not one flat colour.
+    vec3 root = mix(vec3(0.030, 0.085, 0.012), vec3(0.045, 0.095, 0.010), r);
+    vec3 tip = mix(vec3(0.20, 0.42, 0.05), vec3(0.42, 0.48, 0.10), r);
+    // Fine veins along the blade.
+    float vein = 0.92 + 0.08 * cos(g_uv.x * 6.2831853 * 3.0);
+    return mix(root, tip, smoothstep(0.0, 1.0, v)) * vein;
+}
+
+vec3 lod_color(float level) {
+    if (level >= frame.tess_level.x) return vec3(0.85, 0.10, 0.08);   // close: red
+    if (level >= frame.tess_level.y) return vec3(0.95, 0.75, 0.05);   // medium: yellow
+    return vec3(0.10, 0.35, 0.90);                                   // far: blue
+}
+
+void main() {
+    vec3 n = normalize(g_normal);
+    if (!gl_FrontFacing) {
+        n = -n;                                   // two-sided lighting
+    }
+    vec3 l = frame.light_dir.xyz;
+    float ambient = frame.light_dir.w;
+    float lambert = max(dot(n, l), 0.0);
+    // Light through the blade: a thin leaf passes some of the light that hits
+    // its other side.
+    float translucent = 0.35 * max(dot(-n, l), 0.0);
+    // Self-shadowing of the tuft: less light reaches the lower blade.
+    float occlusion = mix(0.35, 1.0, g_uv.y);
+
+    vec3 albedo;
+    if (frame.view.x == VIEW_LOD) {
+        albedo = lod_color(g_tess_level);
+    } else if (frame.view.x == VIEW_MOTION) {
+        albedo = mix(vec3(0.05, 0.15, 0.6), vec3(0.9, 0.1, 0.05), clamp(g_motion / 0.6, 0.0, 1.0));
+    } else {
+        albedo = grass_albedo(g_uv.y, g_blade_rand);
+    }
+    vec3 lit = albedo * (ambient + frame.light_color.rgb * (lambert + translucent)) * occlusion;
+    out_color = vec4(lit, 1.0);
+}

@@ -1,0 +1,42 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// Tessellation control: level of detail. A blade close to the viewer is cut
+// into 20 segments, a medium one into 10, a far one into 3 (paper section 5.1).
+#include "frame.glsl"
+
+layout(vertices = 4) out;
+
+layout(location = 0) in vec4 v_position[];
+layout(location = 1) in vec4 v_width[];
+
+layout(location = 0) out vec4 c_position[];
+layout(location = 1) out vec4 c_width[];
+layout(location = 2) patch out float c_tess_level;
+
+float tess_level_for(float distance_to_eye) {
+    if (frame.lod_distance.z == 0.0) {
+        return frame.tess_level.x;          // "without LOD": always the close level
+    }
+    if (distance_to_eye < frame.lod_distance.x) {
+        return frame.tess_level.x;
+    }
+    if (distance_to_eye < frame.lod_distance.y) {
+        return frame.tess_level.y;
+    }
+    return frame.tess_level.z;
+}
+
+void main() {
+    c_position[gl_InvocationID] = v_position[gl_InvocationID];
+    c_width[gl_InvocationID] = v_width[gl_InvocationID];
+
+    if (gl_InvocationID == 0) {
+        // Distance from the eye to the blade's root decides the level.
+        float level = tess_level_for(distance(frame.camera_pos.xyz, v_position[0].xyz));
+        // Isolines: outer[0] is the number of lines (one blade), outer[1] the
+        // number of segments along it.
+        gl_TessLevelOuter[0] = 1.0;
+        gl_TessLevelOuter[1] = level;
+        c_tess_level = level;
+    }
+}

@@ -1,0 +1,36 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// Tessellation evaluation: evaluates the blade's cubic Bezier curve at u
+// (paper eq. 1), its tangent, and the interpolated width vector.
+#include "frame.glsl"
+
+layout(isolines, equal_spacing) in;
+
+layout(location = 0) in vec4 c_position[];
+layout(location = 1) in vec4 c_width[];
+layout(location = 2) patch in float c_tess_level;
+
+layout(location = 0) out vec3 e_position;
+layout(location = 1) out vec3 e_tangent;
+layout(location = 2) out vec3 e_width;
+layout(location = 3) out float e_v;          // texture coordinate along the blade: v = u
+layout(location = 4) out float e_blade_rand;
+layout(location = 5) out float e_tess_level;
+layout(location = 6) out float e_motion;
+
+void main() {
+    float t = gl_TessCoord.x;
+    float s = 1.0 - t;
+    // Bernstein basis of the cubic and its derivative.
+    vec4 b = vec4(s * s * s, 3.0 * s * s * t, 3.0 * s * t * t, t * t * t);
+    vec4 db = vec4(-3.0 * s * s, 3.0 * s * s - 6.0 * s * t, 6.0 * s * t - 3.0 * t * t, 3.0 * t * t);
+
+    vec3 p0 = c_position[0].xyz, p1 = c_position[1].xyz, p2 = c_position[2].xyz, p3 = c_position[3].xyz;
+    e_position = b.x * p0 + b.y * p1 + b.z * p2 + b.w * p3;
+    e_tangent = db.x * p0 + db.y * p1 + db.z * p2 + db.w * p3;
+    e_width = b.x * c_width[0].xyz + b.y * c_width[1].xyz + b.z * c_width[2].xyz + b.w * c_width[3].xyz;
+    e_v = t;
+    e_blade_rand = c_position[0].w;
+    e_tess_level = c_tess_level;
+    e_motion = abs(c_width[3].w);
+}

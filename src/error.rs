@@ -1,0 +1,117 @@
+//! The library's one error type. Every message is a single line that names
+//! the cause and what to do about it; the binary prints it as it is.
+
+use ash::vk;
+
+pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    #[error("no Vulkan loader (libvulkan.so.1) could be loaded: {0}; run scripts/ensure-vulkan or install libvulkan1 and mesa-vulkan-drivers")]
+    LoaderMissing(String),
+
+    #[error("no Vulkan device found; run scripts/ensure-vulkan or install mesa-vulkan-drivers for the lavapipe CPU driver")]
+    NoDevice,
+
+    #[error("no Vulkan device name contains {0:?}; `meadow devices` lists the devices")]
+    DeviceNotFound(String),
+
+    #[error("device {device:?} lacks {feature}, which meadow's pipeline needs; pick another with --device (`meadow devices` lists them)")]
+    FeatureMissing { device: String, feature: String },
+
+    #[error("the Khronos validation layer is not installed; install vulkan-validationlayers (scripts/ensure-vulkan does) or run without --validation")]
+    ValidationLayerMissing,
+
+    #[error("out of GPU memory while creating {what}; use fewer blades or a smaller image")]
+    OutOfDeviceMemory { what: String },
+
+    #[error("out of host memory while creating {what}")]
+    OutOfHostMemory { what: String },
+
+    #[error("the Vulkan device was lost during {during} (VK_ERROR_DEVICE_LOST); the driver reset or crashed")]
+    DeviceLost { during: String },
+
+    #[error("Vulkan call {call} failed with {result:?}")]
+    Vulkan {
+        call: &'static str,
+        result: vk::Result,
+    },
+
+    #[error("GPU memory allocation for {what} failed: {source}")]
+    Allocation {
+        what: String,
+        #[source]
+        source: gpu_allocator::AllocationError,
+    },
+
+    #[error("{0}")]
+    InvalidInput(String),
+
+    #[error("{path}: {source}")]
+    Io {
+        path: String,
+        #[source]
+        source: std::io::Error,
+    },
+
+    #[error("encoding {path} failed: {source}")]
+    Image {
+        path: String,
+        #[source]
+        source: image::ImageError,
+    },
+
+    #[error("validation reported {errors} error(s) ({distinct} distinct message IDs); the first: {first}")]
+    Validation {
+        errors: u64,
+        distinct: usize,
+        first: String,
+    },
+}
+
+impl Error {
+    /// Maps a failed Vulkan call to an error by the result's name: memory
+    /// exhaustion, device loss and missing features get their own variants.
+    pub fn vk(call: &'static str, what: impl Into<String>, result: vk::Result) -> Self {
+        let what = what.into();
+        match result {
+            vk::Result::ERROR_OUT_OF_DEVICE_MEMORY => Error::OutOfDeviceMemory { what },
+            vk::Result::ERROR_OUT_OF_HOST_MEMORY => Error::OutOfHostMemory { what },
+            vk::Result::ERROR_DEVICE_LOST => Error::DeviceLost { during: what },
+            vk::Result::ERROR_FEATURE_NOT_PRESENT | vk::Result::ERROR_EXTENSION_NOT_PRESENT => {
+                Error::FeatureMissing {
+                    device: String::from("(selected device)"),
+                    feature: format!("what {call} asked for ({what})"),
+                }
+            }
+            result => Error::Vulkan { call, result },
+        }
+    }
+
+    /// Maps a gpu-allocator failure, keeping out-of-memory recognisable.
+    pub fn alloc(what: impl Into<String>, source: gpu_allocator::AllocationError) -> Self {
+        let what = what.into();
+        match source {
+            gpu_allocator::AllocationError::OutOfMemory => Error::OutOfDeviceMemory { what },
+            source => Error::Allocation { what, source },
+        }
+    }
+
+    pub fn io(path: impl AsRef<std::path::Path>, source: std::io::Error) -> Self {
+        Error::Io {
+            path: path.as_ref().display().to_string(),
+            source,
+        }
+    }
+}
+
+/// `result.vk_context("vkCreateBuffer", "blade vertex buffer")?`
+pub trait VkResultExt<T> {
+    fn vk_context(self, call: &'static str, what: &str) -> Result<T>;
+}
+
+impl<T> VkResultExt<T> for std::result::Result<T, vk::Result> {
+    fn vk_context(self, call: &'static str, what: &str) -> Result<T> {
+        self.map_err(|r| Error::vk(call, what, r))
+    }
+}

@@ -1,0 +1,278 @@
+//! Physical-device choice and the logical device with the features the
+//! paper's pipeline needs (tessellation and geometry shaders).
+
+use std::ffi::CStr;
+
+use ash::vk;
+
+use crate::error::{Error, Result, VkResultExt};
+use crate::gpu::instance::Instance;
+
+/// What `meadow devices` shows about one physical device.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct DeviceInfo {
+    pub name: String,
+    pub device_type: String,
+    pub api_version: String,
+    pub driver: String,
+    /// `None` when the device can run meadow, else the first missing feature.
+    pub missing: Option<String>,
+    /// Largest colour-and-depth MSAA sample count the device offers.
+    pub max_msaa: u32,
+    pub pipeline_statistics: bool,
+    pub timestamps: bool,
+}
+
+impl DeviceInfo {
+    pub fn qualifies(&self) -> bool {
+        self.missing.is_none()
+    }
+}
+
+/// A physical device and what we learnt about it.
+#[derive(Clone)]
+pub struct Adapter {
+    pub raw: vk::PhysicalDevice,
+    pub info: DeviceInfo,
+    pub properties: vk::PhysicalDeviceProperties,
+    pub queue_family: Option<u32>,
+    rank: u32,
+}
+
+/// Features meadow cannot run without, by the name Vulkan gives them.
+fn missing_feature(
+    core: &vk::PhysicalDeviceFeatures,
+    v13: &vk::PhysicalDeviceVulkan13Features,
+    api: u32,
+    queue_family: Option<u32>,
+    pretend_missing: &[String],
+) -> Option<String> {
+    let checks: [(&str, bool); 6] = [
+        (
+            "Vulkan 1.3",
+            vk::api_version_major(api) > 1 || vk::api_version_minor(api) >= 3,
+        ),
+        ("a graphics+compute queue", queue_family.is_some()),
+        ("tessellationShader", core.tessellation_shader == vk::TRUE),
+        ("geometryShader", core.geometry_shader == vk::TRUE),
+        ("dynamicRendering", v13.dynamic_rendering == vk::TRUE),
+        ("synchronization2", v13.synchronization2 == vk::TRUE),
+    ];
+    checks
+        .iter()
+        .find(|(name, ok)| !ok || pretend_missing.iter().any(|p| p == name))
+        .map(|(name, _)| name.to_string())
+}
+
+fn type_name_and_rank(t: vk::PhysicalDeviceType) -> (&'static str, u32) {
+    // Prefer a discrete GPU, then an integrated one, else a CPU device such as lavapipe.
+    match t {
+        vk::PhysicalDeviceType::DISCRETE_GPU => ("discrete GPU", 0),
+        vk::PhysicalDeviceType::INTEGRATED_GPU => ("integrated GPU", 1),
+        vk::PhysicalDeviceType::VIRTUAL_GPU => ("virtual GPU", 2),
+        vk::PhysicalDeviceType::CPU => ("CPU", 3),
+        _ => ("other", 4),
+    }
+}
+
+/// Every physical device, with whether it qualifies.
+pub fn enumerate(instance: &Instance, pretend_missing: &[String]) -> Result<Vec<Adapter>> {
+    // SAFETY: plain queries on a live instance.
+    let raws = unsafe { instance.raw.enumerate_physical_devices() }
+        .vk_context("vkEnumeratePhysicalDevices", "device list")?;
+    let mut adapters = Vec::new();
+    for raw in raws {
+        let mut v13 = vk::PhysicalDeviceVulkan13Features::default();
+        let mut driver = vk::PhysicalDeviceDriverProperties::default();
+        let (properties, core, families) = unsafe {
+            let mut props2 = vk::PhysicalDeviceProperties2::default().push_next(&mut driver);
+            instance
+                .raw
+                .get_physical_device_properties2(raw, &mut props2);
+            let properties = props2.properties;
+            let mut features2 = vk::PhysicalDeviceFeatures2::default().push_next(&mut v13);
+            instance
+                .raw
+                .get_physical_device_features2(raw, &mut features2);
+            let families = instance
+                .raw
+                .get_physical_device_queue_family_properties(raw);
+            (properties, features2.features, families)
+        };
+        let queue_family = families
+            .iter()
+            .position(|f| {
+                f.queue_flags
+                    .contains(vk::QueueFlags::GRAPHICS | vk::QueueFlags::COMPUTE)
+            })
+            .map(|i| i as u32);
+        let timestamps = properties.limits.timestamp_compute_and_graphics == vk::TRUE
+            && queue_family.is_some_and(|q| families[q as usize].timestamp_valid_bits > 0);
+        let name = properties
+            .device_name_as_c_str()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_else(|_| "(unnamed)".into());
+        let driver_info = unsafe { CStr::from_ptr(driver.driver_info.as_ptr()) }.to_string_lossy();
+        let driver_name = unsafe { CStr::from_ptr(driver.driver_name.as_ptr()) }.to_string_lossy();
+        let (type_name, rank) = type_name_and_rank(properties.device_type);
+        let api = properties.api_version;
+        let max_msaa = max_samples(
+            properties.limits.framebuffer_color_sample_counts
+                & properties.limits.framebuffer_depth_sample_counts,
+        );
+        let info = DeviceInfo {
+            name,
+            device_type: type_name.into(),
+            api_version: format!(
+                "{}.{}.{}",
+                vk::api_version_major(api),
+                vk::api_version_minor(api),
+                vk::api_version_patch(api)
+            ),
+            driver: format!("{driver_name} {driver_info}").trim().to_string(),
+            missing: missing_feature(&core, &v13, api, queue_family, pretend_missing),
+            max_msaa,
+            pipeline_statistics: core.pipeline_statistics_query == vk::TRUE,
+            timestamps,
+        };
+        adapters.push(Adapter {
+            raw,
+            info,
+            properties,
+            queue_family,
+            rank,
+        });
+    }
+    Ok(adapters)
+}
+
+fn max_samples(counts: vk::SampleCountFlags) -> u32 {
+    [64, 32, 16, 8, 4, 2, 1]
+        .into_iter()
+        .find(|&n| counts.contains(vk::SampleCountFlags::from_raw(n)))
+        .unwrap_or(1)
+}
+
+/// Picks the device: by name when `name_filter` is given, else the best-ranked
+/// qualifying one. A named device that lacks a feature is refused, naming it.
+pub fn choose(adapters: &[Adapter], name_filter: Option<&str>) -> Result<Adapter> {
+    if adapters.is_empty() {
+        return Err(Error::NoDevice);
+    }
+    let candidates: Vec<&Adapter> = match name_filter {
+        Some(f) => {
+            let f = f.to_lowercase();
+            let named: Vec<_> = adapters
+                .iter()
+                .filter(|a| a.info.name.to_lowercase().contains(&f))
+                .collect();
+            if named.is_empty() {
+                return Err(Error::DeviceNotFound(f));
+            }
+            named
+        }
+        None => adapters.iter().collect(),
+    };
+    let best = candidates
+        .iter()
+        .filter(|a| a.info.qualifies())
+        .min_by_key(|a| a.rank)
+        .copied();
+    match best {
+        Some(a) => Ok(a.clone()),
+        None => {
+            let a = candidates[0];
+            Err(Error::FeatureMissing {
+                device: a.info.name.clone(),
+                feature: a.info.missing.clone().unwrap_or_default(),
+            })
+        }
+    }
+}
+
+/// The logical device, its one queue, and the limits we read often.
+pub struct Device {
+    pub raw: ash::Device,
+    pub adapter: Adapter,
+    pub queue: vk::Queue,
+    pub queue_family: u32,
+    pub debug_utils: Option<ash::ext::debug_utils::Device>,
+    pub pipeline_statistics: bool,
+}
+
+impl Device {
+    pub fn new(instance: &Instance, adapter: Adapter) -> Result<Self> {
+        let queue_family = adapter.queue_family.ok_or_else(|| Error::FeatureMissing {
+            device: adapter.info.name.clone(),
+            feature: "a graphics+compute queue".into(),
+        })?;
+        let priorities = [1.0f32];
+        let queue_info = [vk::DeviceQueueCreateInfo::default()
+            .queue_family_index(queue_family)
+            .queue_priorities(&priorities)];
+        let core = vk::PhysicalDeviceFeatures::default()
+            .tessellation_shader(true)
+            .geometry_shader(true)
+            .pipeline_statistics_query(adapter.info.pipeline_statistics);
+        let mut v13 = vk::PhysicalDeviceVulkan13Features::default()
+            .dynamic_rendering(true)
+            .synchronization2(true);
+        let create_info = vk::DeviceCreateInfo::default()
+            .queue_create_infos(&queue_info)
+            .enabled_features(&core)
+            .push_next(&mut v13);
+        // SAFETY: the adapter came from this instance; the create info lives
+        // across the call.
+        let raw = unsafe { instance.raw.create_device(adapter.raw, &create_info, None) }.map_err(
+            |r| match r {
+                vk::Result::ERROR_FEATURE_NOT_PRESENT => Error::FeatureMissing {
+                    device: adapter.info.name.clone(),
+                    feature: "tessellationShader/geometryShader/dynamicRendering/synchronization2"
+                        .into(),
+                },
+                r => Error::vk("vkCreateDevice", "logical device", r),
+            },
+        )?;
+        // SAFETY: the queue family was requested with one queue above.
+        let queue = unsafe { raw.get_device_queue(queue_family, 0) };
+        let debug_utils = instance
+            .debug_utils
+            .as_ref()
+            .map(|_| ash::ext::debug_utils::Device::new(&instance.raw, &raw));
+        let device = Self {
+            pipeline_statistics: adapter.info.pipeline_statistics,
+            raw,
+            adapter,
+            queue,
+            queue_family,
+            debug_utils,
+        };
+        device.name(queue, "main queue");
+        Ok(device)
+    }
+
+    /// Gives a Vulkan object a debug name, so validation messages and
+    /// RenderDoc say what it is. A no-op without debug utils.
+    pub fn name<H: vk::Handle>(&self, handle: H, name: &str) {
+        let Some(du) = &self.debug_utils else { return };
+        let Ok(cname) = std::ffi::CString::new(name) else {
+            return;
+        };
+        let info = vk::DebugUtilsObjectNameInfoEXT::default()
+            .object_handle(handle)
+            .object_name(&cname);
+        // SAFETY: the handle belongs to this device; a naming failure is harmless.
+        let _ = unsafe { du.set_debug_utils_object_name(&info) };
+    }
+
+    pub fn limits(&self) -> &vk::PhysicalDeviceLimits {
+        &self.adapter.properties.limits
+    }
+
+    /// Destroys the logical device. Everything made from it must be gone.
+    pub fn destroy(self) {
+        // SAFETY: the owner (`Gpu::destroy`) has destroyed every child object
+        // and waited for the queue to go idle.
+        unsafe { self.raw.destroy_device(None) };
+    }
+}

@@ -1,0 +1,107 @@
+//! Thin, explicit Vulkan: the instance, the device, memory, buffers, images,
+//! shader modules, command submission and GPU queries. `Gpu` bundles the
+//! long-lived objects and tears them down in the right order.
+
+pub mod buffer;
+pub mod commands;
+pub mod device;
+pub mod image;
+pub mod instance;
+pub mod memory;
+pub mod shader;
+pub mod timing;
+
+pub use buffer::Buffer;
+pub use device::{Device, DeviceInfo};
+pub use image::{Image, ImageDesc};
+pub use instance::{Instance, ValidationOptions, ValidationReport};
+pub use memory::{Memory, MemoryLocation};
+
+use crate::error::Result;
+
+/// How to open the GPU.
+#[derive(Clone, Debug, Default)]
+pub struct GpuOptions {
+    pub validation: ValidationOptions,
+    /// Pick the first device whose name contains this (case-insensitive).
+    pub device_name: Option<String>,
+    /// Treat these features as absent (tests of the refusal path):
+    /// e.g. "tessellationShader". Also read from MEADOW_PRETEND_MISSING
+    /// (comma-separated) by the binary.
+    pub pretend_missing: Vec<String>,
+}
+
+/// The instance, the device and its memory: everything a frame needs that
+/// lives as long as the program.
+pub struct Gpu {
+    pub memory: Memory,
+    pub device: Device,
+    pub instance: Instance,
+}
+
+impl Gpu {
+    pub fn new(options: &GpuOptions) -> Result<Self> {
+        let instance = Instance::new(options.validation)?;
+        let opened = device::enumerate(&instance, &options.pretend_missing)
+            .and_then(|adapters| device::choose(&adapters, options.device_name.as_deref()))
+            .and_then(|adapter| Device::new(&instance, adapter));
+        let device = match opened {
+            Ok(d) => d,
+            Err(e) => {
+                instance.destroy();
+                return Err(e);
+            }
+        };
+        let memory = match Memory::new(&instance.raw, &device.raw, device.adapter.raw) {
+            Ok(m) => m,
+            Err(e) => {
+                device.destroy();
+                instance.destroy();
+                return Err(e);
+            }
+        };
+        Ok(Self {
+            memory,
+            device,
+            instance,
+        })
+    }
+
+    /// Every device on this machine, for `meadow devices`.
+    pub fn list_devices(options: &GpuOptions) -> Result<Vec<DeviceInfo>> {
+        let instance = Instance::new(options.validation)?;
+        let adapters = device::enumerate(&instance, &options.pretend_missing);
+        instance.destroy();
+        Ok(adapters?.into_iter().map(|a| a.info).collect())
+    }
+
+    pub fn info(&self) -> &DeviceInfo {
+        &self.device.adapter.info
+    }
+
+    pub fn wait_idle(&self) {
+        // SAFETY: a live device; failure (device lost) leaves nothing to wait for.
+        let _ = unsafe { self.device.raw.device_wait_idle() };
+    }
+
+    /// Tears down in order: allocator, device, messenger, instance. Returns
+    /// what validation reported over the whole life, leaks at device
+    /// destruction included; live allocations count as errors.
+    pub fn destroy(self) -> ValidationReport {
+        self.wait_idle();
+        let leaked = self.memory.live_allocations();
+        self.memory.destroy();
+        self.device.destroy();
+        let mut report = self.instance.destroy();
+        if !leaked.is_empty() {
+            report.errors += leaked.len() as u64;
+            report.messages.push(instance::ValidationMessage {
+                id: "meadow-leaked-allocation".into(),
+                severity: "error",
+                count: leaked.len() as u64,
+                first_text: format!("GPU allocations alive at teardown: {}", leaked.join(", ")),
+            });
+        }
+        report
+    }
+}

@@ -1,0 +1,141 @@
+//! `meadow render` as a library call: validate the request, open the GPU,
+//! render, write `frame_0000.png` and `report.json`, tear everything down
+//! and check what validation said.
+
+use std::path::Path;
+use std::time::Instant;
+
+use crate::error::{Error, Result};
+use crate::gpu::timing::PipelineStatistics;
+use crate::gpu::{Gpu, GpuOptions, ValidationReport};
+use crate::output;
+use crate::render::{FrameUniforms, Renderer, ViewMode};
+use crate::scene::{field, Scene};
+
+/// The largest image side accepted before asking the device (lavapipe's
+/// maxImageDimension2D; most GPUs allow as much).
+pub const MAX_IMAGE_SIDE: u32 = 16384;
+
+#[derive(Clone, Debug)]
+pub struct RenderRequest {
+    pub scene: Scene,
+    pub width: u32,
+    pub height: u32,
+    /// Requested MSAA samples; the largest supported count up to this is used.
+    pub msaa: u32,
+    pub view: ViewMode,
+    pub gpu: GpuOptions,
+}
+
+impl RenderRequest {
+    /// Checks what can be checked without a GPU; one line per problem.
+    pub fn validate(&self) -> Result<()> {
+        for (name, v) in [("--width", self.width), ("--height", self.height)] {
+            if v == 0 || v > MAX_IMAGE_SIDE {
+                return Err(Error::InvalidInput(format!(
+                    "{name} {v} is not allowed, use 1..={MAX_IMAGE_SIDE}"
+                )));
+            }
+        }
+        if !self.msaa.is_power_of_two() || self.msaa > 64 {
+            return Err(Error::InvalidInput(format!(
+                "--msaa {} is not a sample count, use 1, 2, 4, 8, 16, 32 or 64",
+                self.msaa
+            )));
+        }
+        let lod = &self.scene.lod;
+        if !(lod.close_distance > 0.0 && lod.far_distance >= lod.close_distance) {
+            return Err(Error::InvalidInput(format!(
+                "LOD distances {} and {} are not allowed, use 0 < close <= far",
+                lod.close_distance, lod.far_distance
+            )));
+        }
+        if lod.levels.iter().any(|&l| !(1..=64).contains(&l)) {
+            return Err(Error::InvalidInput(format!(
+                "tessellation levels {:?} are not allowed, use 1..=64",
+                lod.levels
+            )));
+        }
+        Ok(())
+    }
+}
+
+/// What `report.json` holds.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct RenderReport {
+    pub scene: String,
+    pub seed: u64,
+    pub device: String,
+    pub device_type: String,
+    pub driver: String,
+    pub api_version: String,
+    pub msaa_requested: u32,
+    pub msaa_used: u32,
+    pub blades: usize,
+    pub width: u32,
+    pub height: u32,
+    pub lod: bool,
+    pub tess_levels: [u32; 3],
+    pub lod_distances: [f32; 2],
+    pub view: ViewMode,
+    pub frames: Vec<String>,
+    pub pipeline_statistics: Option<PipelineStatistics>,
+    /// Wall-clock time of the whole job, device start-up included.
+    pub wall_seconds: f64,
+    pub validation: ValidationReport,
+}
+
+/// Renders the request's frame into `out_dir`. On success (and when only
+/// validation failed) `report.json` is written; a validation error still
+/// returns `Err` after the report is on disk.
+pub fn render_to_dir(request: &RenderRequest, out_dir: &Path) -> Result<RenderReport> {
+    request.validate()?;
+    output::ensure_dir(out_dir)?;
+    let started = Instant::now();
+    let gpu = Gpu::new(&request.gpu)?;
+    let rendered = render_with(&gpu, request, out_dir);
+    let validation = gpu.destroy();
+    let mut report = rendered?;
+    report.validation = validation;
+    report.wall_seconds = started.elapsed().as_secs_f64();
+    let json = serde_json::to_vec_pretty(&report).expect("report serialises");
+    output::write_atomic(&out_dir.join("report.json"), &json)?;
+    report.validation.check()?;
+    Ok(report)
+}
+
+fn render_with(gpu: &Gpu, request: &RenderRequest, out_dir: &Path) -> Result<RenderReport> {
+    let scene = &request.scene;
+    let blades = field::generate(&scene.grass, &scene.shape, scene.seed);
+    let mut renderer = Renderer::new(gpu, request.width, request.height, request.msaa, &blades)?;
+    let result = (|| {
+        let uniforms = FrameUniforms::new(scene, request.width, request.height, request.view);
+        let frame = renderer.render(gpu, &uniforms)?;
+        let name = "frame_0000.png";
+        output::write_png(&out_dir.join(name), &frame)?;
+        let info = gpu.info();
+        Ok(RenderReport {
+            scene: scene.name.clone(),
+            seed: scene.seed,
+            device: info.name.clone(),
+            device_type: info.device_type.clone(),
+            driver: info.driver.clone(),
+            api_version: info.api_version.clone(),
+            msaa_requested: request.msaa,
+            msaa_used: renderer.samples(),
+            blades: blades.len(),
+            width: request.width,
+            height: request.height,
+            lod: scene.lod.enabled,
+            tess_levels: scene.lod.levels,
+            lod_distances: [scene.lod.close_distance, scene.lod.far_distance],
+            view: request.view,
+            frames: vec![name.into()],
+            pipeline_statistics: frame.statistics,
+            wall_seconds: 0.0,
+            validation: ValidationReport::default(),
+        })
+    })();
+    renderer.destroy(gpu);
+    result
+}

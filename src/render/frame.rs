@@ -1,0 +1,480 @@
+//! Frame orchestration: records one frame (sky, ground, grass through the
+//! tessellation and geometry stages), resolves the MSAA image, and reads it
+//! back to the host.
+
+use ash::vk;
+
+use crate::error::{Error, Result, VkResultExt};
+use crate::gpu::commands::Commands;
+use crate::gpu::timing::{PipelineStatistics, StatisticsQuery};
+use crate::gpu::{Buffer, Gpu, Image, MemoryLocation};
+use crate::render::frame_uniforms::FrameUniforms;
+use crate::render::pipelines::RenderPipelines;
+use crate::render::targets::{choose_samples, RenderTargets};
+use crate::sim::{Blade, BladeVertex};
+
+/// A finished frame on the host.
+pub struct Frame {
+    pub width: u32,
+    pub height: u32,
+    /// RGBA8, sRGB-encoded, rows top to bottom.
+    pub rgba: Vec<u8>,
+    /// Counters of the grass draw alone (None where unsupported).
+    pub statistics: Option<PipelineStatistics>,
+}
+
+/// Everything one offscreen view of the grass needs on the GPU.
+pub struct Renderer {
+    pub targets: RenderTargets,
+    pipelines: RenderPipelines,
+    descriptor_pool: vk::DescriptorPool,
+    descriptor_set: vk::DescriptorSet,
+    uniforms: Buffer,
+    /// The blades' control points: the vertex buffer of the blade pipeline.
+    pub blade_vertices: Buffer,
+    blade_count: u32,
+    statistics: StatisticsQuery,
+    commands: Commands,
+}
+
+/// Pieces made so far while building a Renderer, destroyed on failure.
+#[derive(Default)]
+struct Partial {
+    targets: Option<RenderTargets>,
+    pipelines: Option<RenderPipelines>,
+    descriptor_pool: Option<vk::DescriptorPool>,
+    uniforms: Option<Buffer>,
+    blade_vertices: Option<Buffer>,
+    statistics: Option<StatisticsQuery>,
+    commands: Option<Commands>,
+}
+
+impl Partial {
+    fn destroy(self, gpu: &Gpu) {
+        if let Some(x) = self.commands {
+            x.destroy(gpu);
+        }
+        if let Some(x) = self.statistics {
+            x.destroy(gpu);
+        }
+        if let Some(x) = self.blade_vertices {
+            x.destroy(gpu);
+        }
+        if let Some(x) = self.uniforms {
+            x.destroy(gpu);
+        }
+        if let Some(x) = self.descriptor_pool {
+            unsafe { gpu.device.raw.destroy_descriptor_pool(x, None) };
+        }
+        if let Some(x) = self.pipelines {
+            x.destroy(gpu);
+        }
+        if let Some(x) = self.targets {
+            x.destroy(gpu);
+        }
+    }
+}
+
+impl Renderer {
+    /// Builds the targets and pipelines for a `width` x `height` image with
+    /// up to `msaa` samples, and uploads the blades' rest shape.
+    pub fn new(gpu: &Gpu, width: u32, height: u32, msaa: u32, blades: &[Blade]) -> Result<Self> {
+        let mut partial = Partial::default();
+        match Self::build(gpu, width, height, msaa, blades, &mut partial) {
+            Ok(r) => Ok(r),
+            Err(e) => {
+                partial.destroy(gpu);
+                Err(e)
+            }
+        }
+    }
+
+    fn build(
+        gpu: &Gpu,
+        width: u32,
+        height: u32,
+        msaa: u32,
+        blades: &[Blade],
+        p: &mut Partial,
+    ) -> Result<Self> {
+        let device = &gpu.device.raw;
+        let blade_count = u32::try_from(blades.len())
+            .ok()
+            .filter(|&n| n > 0 && (n as u64) * 4 <= u32::MAX as u64)
+            .ok_or_else(|| {
+                Error::InvalidInput(format!(
+                    "{} blades cannot be drawn in one call",
+                    blades.len()
+                ))
+            })?;
+
+        let samples = choose_samples(gpu, msaa);
+        let targets = p
+            .targets
+            .insert(RenderTargets::new(gpu, width, height, samples)?);
+        let formats = targets.formats();
+        let pipelines = p.pipelines.insert(RenderPipelines::new(gpu, formats)?);
+
+        let pool_sizes = [vk::DescriptorPoolSize {
+            ty: vk::DescriptorType::UNIFORM_BUFFER,
+            descriptor_count: 1,
+        }];
+        let pool_info = vk::DescriptorPoolCreateInfo::default()
+            .max_sets(1)
+            .pool_sizes(&pool_sizes);
+        // SAFETY: valid create info on a live device.
+        let pool = *p.descriptor_pool.insert(
+            unsafe { device.create_descriptor_pool(&pool_info, None) }
+                .vk_context("vkCreateDescriptorPool", "frame descriptors")?,
+        );
+        gpu.device.name(pool, "frame descriptor pool");
+        let set_layouts = [pipelines.set_layout];
+        let alloc = vk::DescriptorSetAllocateInfo::default()
+            .descriptor_pool(pool)
+            .set_layouts(&set_layouts);
+        let descriptor_set = unsafe { device.allocate_descriptor_sets(&alloc) }
+            .vk_context("vkAllocateDescriptorSets", "frame set")?[0];
+        gpu.device.name(descriptor_set, "frame descriptor set");
+
+        let uniforms = p.uniforms.insert(Buffer::new(
+            gpu,
+            "frame uniforms",
+            std::mem::size_of::<FrameUniforms>() as u64,
+            vk::BufferUsageFlags::UNIFORM_BUFFER,
+            MemoryLocation::CpuToGpu,
+        )?);
+        let buffer_info = [vk::DescriptorBufferInfo {
+            buffer: uniforms.raw,
+            offset: 0,
+            range: vk::WHOLE_SIZE,
+        }];
+        let write = vk::WriteDescriptorSet::default()
+            .dst_set(descriptor_set)
+            .dst_binding(0)
+            .descriptor_type(vk::DescriptorType::UNIFORM_BUFFER)
+            .buffer_info(&buffer_info);
+        // SAFETY: the set is not in use by any command buffer yet.
+        unsafe { device.update_descriptor_sets(&[write], &[]) };
+
+        let vertices: Vec<BladeVertex> = blades.iter().flat_map(Blade::vertices).collect();
+        let bytes = (vertices.len() * std::mem::size_of::<BladeVertex>()) as u64;
+        // The grass dynamics (compute) will write this buffer in place; the
+        // draw reads it as its vertex buffer. Device-local, filled once here.
+        let blade_vertices = p.blade_vertices.insert(Buffer::new(
+            gpu,
+            "blade control points (vertex buffer)",
+            bytes,
+            vk::BufferUsageFlags::VERTEX_BUFFER
+                | vk::BufferUsageFlags::STORAGE_BUFFER
+                | vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuOnly,
+        )?);
+        let statistics = p.statistics.insert(StatisticsQuery::new(gpu)?);
+        let commands = p.commands.insert(Commands::new(gpu, "frame commands")?);
+        upload(gpu, commands, blade_vertices, &vertices)?;
+        let _ = statistics;
+
+        let p = std::mem::take(p);
+        Ok(Self {
+            targets: p.targets.unwrap(),
+            pipelines: p.pipelines.unwrap(),
+            descriptor_pool: pool,
+            descriptor_set,
+            uniforms: p.uniforms.unwrap(),
+            blade_vertices: p.blade_vertices.unwrap(),
+            blade_count,
+            statistics: p.statistics.unwrap(),
+            commands: p.commands.unwrap(),
+        })
+    }
+
+    /// The MSAA sample count actually used.
+    pub fn samples(&self) -> u32 {
+        self.targets.color.samples.as_raw()
+    }
+
+    /// Renders one frame and reads it back.
+    pub fn render(&mut self, gpu: &Gpu, uniforms: &FrameUniforms) -> Result<Frame> {
+        self.uniforms.write(0, std::slice::from_ref(uniforms));
+        let cmd = self.commands.begin(gpu)?;
+        self.record(gpu, cmd);
+        self.commands.submit_and_wait(gpu, "rendering a frame")?;
+        let statistics = self.statistics.read(gpu)?;
+        let extent = self.targets.extent;
+        let rgba = self
+            .targets
+            .readback
+            .mapped()
+            .expect("readback buffer is host-visible")
+            .to_vec();
+        Ok(Frame {
+            width: extent.width,
+            height: extent.height,
+            rgba,
+            statistics,
+        })
+    }
+
+    fn record(&self, gpu: &Gpu, cmd: vk::CommandBuffer) {
+        let device = &gpu.device.raw;
+        let t = &self.targets;
+        let extent = t.extent;
+        self.statistics.reset(gpu, cmd);
+
+        // Layout transitions into attachment layouts. The previous frame
+        // wrote these images (and copied from the final one), so wait for
+        // those writes and reads before discarding the contents.
+        let mut to_attachment = vec![
+            image_barrier(
+                &t.color,
+                vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+                vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
+                vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+                vk::AccessFlags2::COLOR_ATTACHMENT_WRITE | vk::AccessFlags2::COLOR_ATTACHMENT_READ,
+                vk::ImageLayout::UNDEFINED,
+                vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+            ),
+            image_barrier(
+                &t.depth,
+                vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS
+                    | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS,
+                vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE,
+                vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS
+                    | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS,
+                vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ
+                    | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE,
+                vk::ImageLayout::UNDEFINED,
+                vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
+            ),
+        ];
+        if t.resolve.is_none() {
+            // At 1x the colour target is also the copy source of the last frame.
+            to_attachment[0].src_stage_mask |= vk::PipelineStageFlags2::COPY;
+        }
+        if let Some(resolve) = &t.resolve {
+            to_attachment.push(image_barrier(
+                resolve,
+                vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT | vk::PipelineStageFlags2::COPY,
+                vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
+                vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+                vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
+                vk::ImageLayout::UNDEFINED,
+                vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+            ));
+        }
+        // SAFETY (this and the commands below): recording into our own
+        // command buffer; every handle is owned by this Renderer and alive.
+        unsafe {
+            device.cmd_pipeline_barrier2(
+                cmd,
+                &vk::DependencyInfo::default().image_memory_barriers(&to_attachment),
+            );
+        }
+
+        let mut color_attachment = vk::RenderingAttachmentInfo::default()
+            .image_view(t.color.view)
+            .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .store_op(vk::AttachmentStoreOp::STORE)
+            .clear_value(vk::ClearValue {
+                color: vk::ClearColorValue {
+                    float32: [0.0, 0.0, 0.0, 1.0],
+                },
+            });
+        if let Some(resolve) = &t.resolve {
+            color_attachment = color_attachment
+                .store_op(vk::AttachmentStoreOp::DONT_CARE)
+                .resolve_mode(vk::ResolveModeFlags::AVERAGE)
+                .resolve_image_view(resolve.view)
+                .resolve_image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL);
+        }
+        let color_attachments = [color_attachment];
+        let depth_attachment = vk::RenderingAttachmentInfo::default()
+            .image_view(t.depth.view)
+            .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .store_op(vk::AttachmentStoreOp::DONT_CARE)
+            .clear_value(vk::ClearValue {
+                depth_stencil: vk::ClearDepthStencilValue {
+                    depth: 1.0,
+                    stencil: 0,
+                },
+            });
+        let area = vk::Rect2D {
+            offset: vk::Offset2D { x: 0, y: 0 },
+            extent,
+        };
+        let rendering = vk::RenderingInfo::default()
+            .render_area(area)
+            .layer_count(1)
+            .color_attachments(&color_attachments)
+            .depth_attachment(&depth_attachment);
+        let viewport = vk::Viewport {
+            x: 0.0,
+            y: 0.0,
+            width: extent.width as f32,
+            height: extent.height as f32,
+            min_depth: 0.0,
+            max_depth: 1.0,
+        };
+        let p = &self.pipelines;
+        unsafe {
+            device.cmd_begin_rendering(cmd, &rendering);
+            device.cmd_set_viewport(cmd, 0, &[viewport]);
+            device.cmd_set_scissor(cmd, 0, &[area]);
+            device.cmd_bind_descriptor_sets(
+                cmd,
+                vk::PipelineBindPoint::GRAPHICS,
+                p.layout,
+                0,
+                &[self.descriptor_set],
+                &[],
+            );
+
+            device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, p.sky);
+            device.cmd_draw(cmd, 3, 1, 0, 0);
+            device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, p.ground);
+            device.cmd_draw(cmd, 6, 1, 0, 0);
+
+            // The grass: one 4-point patch per blade, counted by the query.
+            device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, p.blade);
+            device.cmd_bind_vertex_buffers(cmd, 0, &[self.blade_vertices.raw], &[0]);
+            self.statistics.begin(gpu, cmd);
+            device.cmd_draw(cmd, self.blade_count * 4, 1, 0, 0);
+            self.statistics.end(gpu, cmd);
+            device.cmd_end_rendering(cmd);
+        }
+
+        // Final image -> copy source; then copy into the host buffer.
+        let final_image = t.final_image();
+        let to_copy = [image_barrier(
+            final_image,
+            vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+            vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
+            vk::PipelineStageFlags2::COPY,
+            vk::AccessFlags2::TRANSFER_READ,
+            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+        )];
+        let region = vk::BufferImageCopy {
+            buffer_offset: 0,
+            buffer_row_length: 0,
+            buffer_image_height: 0,
+            image_subresource: vk::ImageSubresourceLayers {
+                aspect_mask: vk::ImageAspectFlags::COLOR,
+                mip_level: 0,
+                base_array_layer: 0,
+                layer_count: 1,
+            },
+            image_offset: vk::Offset3D::default(),
+            image_extent: vk::Extent3D {
+                width: extent.width,
+                height: extent.height,
+                depth: 1,
+            },
+        };
+        let to_host = [vk::BufferMemoryBarrier2::default()
+            .src_stage_mask(vk::PipelineStageFlags2::COPY)
+            .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
+            .dst_stage_mask(vk::PipelineStageFlags2::HOST)
+            .dst_access_mask(vk::AccessFlags2::HOST_READ)
+            .buffer(t.readback.raw)
+            .offset(0)
+            .size(vk::WHOLE_SIZE)];
+        unsafe {
+            device.cmd_pipeline_barrier2(
+                cmd,
+                &vk::DependencyInfo::default().image_memory_barriers(&to_copy),
+            );
+            device.cmd_copy_image_to_buffer(
+                cmd,
+                final_image.raw,
+                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                t.readback.raw,
+                &[region],
+            );
+            device.cmd_pipeline_barrier2(
+                cmd,
+                &vk::DependencyInfo::default().buffer_memory_barriers(&to_host),
+            );
+        }
+    }
+
+    pub fn destroy(self, gpu: &Gpu) {
+        gpu.wait_idle();
+        Partial {
+            targets: Some(self.targets),
+            pipelines: Some(self.pipelines),
+            descriptor_pool: Some(self.descriptor_pool),
+            uniforms: Some(self.uniforms),
+            blade_vertices: Some(self.blade_vertices),
+            statistics: Some(self.statistics),
+            commands: Some(self.commands),
+        }
+        .destroy(gpu);
+    }
+}
+
+/// Copies `vertices` into the device-local vertex buffer through a staging
+/// buffer, and makes the copy visible to vertex input.
+fn upload(gpu: &Gpu, commands: &Commands, dst: &Buffer, vertices: &[BladeVertex]) -> Result<()> {
+    let mut staging = Buffer::new(
+        gpu,
+        "blade upload staging",
+        dst.size,
+        vk::BufferUsageFlags::TRANSFER_SRC,
+        MemoryLocation::CpuToGpu,
+    )?;
+    staging.write(0, vertices);
+    let result = (|| {
+        let cmd = commands.begin(gpu)?;
+        let barrier = [vk::BufferMemoryBarrier2::default()
+            .src_stage_mask(vk::PipelineStageFlags2::COPY)
+            .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
+            .dst_stage_mask(vk::PipelineStageFlags2::VERTEX_ATTRIBUTE_INPUT)
+            .dst_access_mask(vk::AccessFlags2::VERTEX_ATTRIBUTE_READ)
+            .buffer(dst.raw)
+            .offset(0)
+            .size(vk::WHOLE_SIZE)];
+        // SAFETY: both buffers are live and large enough; recording.
+        unsafe {
+            gpu.device.raw.cmd_copy_buffer(
+                cmd,
+                staging.raw,
+                dst.raw,
+                &[vk::BufferCopy {
+                    src_offset: 0,
+                    dst_offset: 0,
+                    size: dst.size,
+                }],
+            );
+            gpu.device.raw.cmd_pipeline_barrier2(
+                cmd,
+                &vk::DependencyInfo::default().buffer_memory_barriers(&barrier),
+            );
+        }
+        commands.submit_and_wait(gpu, "uploading the blades")
+    })();
+    staging.destroy(gpu);
+    result
+}
+
+fn image_barrier(
+    image: &Image,
+    src_stage: vk::PipelineStageFlags2,
+    src_access: vk::AccessFlags2,
+    dst_stage: vk::PipelineStageFlags2,
+    dst_access: vk::AccessFlags2,
+    old: vk::ImageLayout,
+    new: vk::ImageLayout,
+) -> vk::ImageMemoryBarrier2<'static> {
+    vk::ImageMemoryBarrier2::default()
+        .src_stage_mask(src_stage)
+        .src_access_mask(src_access)
+        .dst_stage_mask(dst_stage)
+        .dst_access_mask(dst_access)
+        .old_layout(old)
+        .new_layout(new)
+        .image(image.raw)
+        .subresource_range(image.subresource_range())
+}

@@ -1,0 +1,77 @@
+//! The per-frame uniform block (glsl/common/frame.glsl), built from the
+//! scene's camera, light and level-of-detail settings.
+
+use glam::{Mat4, Vec3};
+
+use crate::scene::Scene;
+
+/// What the fragment stage shows.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ViewMode {
+    /// The lit, coloured grass.
+    #[default]
+    Shaded,
+    /// Blades coloured by tessellation level: red 20, yellow 10, blue 3.
+    Lod,
+    /// Blades coloured by angular displacement from rest.
+    Motion,
+}
+
+/// std140 mirror of `Frame` in glsl/common/frame.glsl; a test compares the
+/// member offsets with naga's reading of the compiled shader.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct FrameUniforms {
+    pub view_proj: [f32; 16],
+    pub inv_view_proj: [f32; 16],
+    pub camera_pos: [f32; 4],
+    pub light_dir: [f32; 4],
+    pub light_color: [f32; 4],
+    pub lod_distance: [f32; 4],
+    pub tess_level: [f32; 4],
+    pub ground: [f32; 4],
+    pub view: [u32; 4],
+}
+
+/// Vulkan clip space: y points down and depth runs 0..1.
+pub fn view_projection(scene: &Scene, aspect: f32) -> Mat4 {
+    let eye = Vec3::from(scene.camera.position);
+    let target = Vec3::from(scene.camera.target);
+    let view = Mat4::look_at_rh(eye, target, Vec3::Y);
+    let mut proj = Mat4::perspective_rh(scene.camera.fov_y.to_radians(), aspect, 0.05, 200.0);
+    proj.y_axis.y = -proj.y_axis.y;
+    proj * view
+}
+
+impl FrameUniforms {
+    pub fn new(scene: &Scene, width: u32, height: u32, view: ViewMode) -> Self {
+        let view_proj = view_projection(scene, width as f32 / height as f32);
+        let light = Vec3::from(scene.light.direction)
+            .try_normalize()
+            .unwrap_or(Vec3::Y);
+        let lod = &scene.lod;
+        let ground = scene.grass_center();
+        Self {
+            view_proj: view_proj.to_cols_array(),
+            inv_view_proj: view_proj.inverse().to_cols_array(),
+            camera_pos: Vec3::from(scene.camera.position).extend(1.0).to_array(),
+            light_dir: light.extend(scene.light.ambient).to_array(),
+            light_color: Vec3::from(scene.light.color).extend(0.0).to_array(),
+            lod_distance: [
+                lod.close_distance,
+                lod.far_distance,
+                if lod.enabled { 1.0 } else { 0.0 },
+                0.0,
+            ],
+            tess_level: [
+                lod.levels[0] as f32,
+                lod.levels[1] as f32,
+                lod.levels[2] as f32,
+                0.0,
+            ],
+            ground: [ground.x, ground.z, scene.ground_half_extent, 0.0],
+            view: [view as u32, 0, 0, 0],
+        }
+    }
+}

@@ -1,0 +1,9 @@
+//! The rendering phase: pipelines, targets, and frame orchestration.
+
+pub mod frame;
+pub mod frame_uniforms;
+pub mod pipelines;
+pub mod targets;
+
+pub use frame::{Frame, Renderer};
+pub use frame_uniforms::{FrameUniforms, ViewMode};

@@ -1,0 +1,300 @@
+//! The graphics pipelines of the colour pass: the blade pipeline with all
+//! five stages of the paper (vertex -> tessellation control -> tessellation
+//! evaluation -> geometry -> fragment), and the sky and ground behind it.
+
+use ash::vk;
+
+use crate::error::{Error, Result, VkResultExt};
+use crate::gpu::{shader, Gpu};
+use crate::reflect::DescriptorKind;
+use crate::shaders::{self, Spirv};
+use crate::sim::BladeVertex;
+
+/// One binding of a descriptor-set layout, as Rust declares it. The
+/// reflection test checks these against the compiled shaders.
+#[derive(Clone, Copy, Debug)]
+pub struct LayoutBinding {
+    pub set: u32,
+    pub binding: u32,
+    pub ty: DescriptorKind,
+    pub stages: vk::ShaderStageFlags,
+}
+
+/// Set 0 of every render pipeline: the per-frame uniforms.
+pub const FRAME_SET: &[LayoutBinding] = &[LayoutBinding {
+    set: 0,
+    binding: 0,
+    ty: DescriptorKind::UniformBuffer,
+    stages: vk::ShaderStageFlags::from_raw(
+        vk::ShaderStageFlags::VERTEX.as_raw()
+            | vk::ShaderStageFlags::TESSELLATION_CONTROL.as_raw()
+            | vk::ShaderStageFlags::TESSELLATION_EVALUATION.as_raw()
+            | vk::ShaderStageFlags::GEOMETRY.as_raw()
+            | vk::ShaderStageFlags::FRAGMENT.as_raw(),
+    ),
+}];
+
+/// The shaders of each pipeline, for creation and for the reflection test.
+pub const BLADE_STAGES: &[&Spirv] = &[
+    &shaders::BLADE_BLADE_VERT,
+    &shaders::BLADE_BLADE_TESC,
+    &shaders::BLADE_BLADE_TESE,
+    &shaders::BLADE_BLADE_GEOM,
+    &shaders::BLADE_BLADE_FRAG,
+];
+pub const SKY_STAGES: &[&Spirv] = &[&shaders::BACKDROP_SKY_VERT, &shaders::BACKDROP_SKY_FRAG];
+pub const GROUND_STAGES: &[&Spirv] = &[
+    &shaders::BACKDROP_GROUND_VERT,
+    &shaders::BACKDROP_GROUND_FRAG,
+];
+
+/// The blade vertex buffer's layout: one `BladeVertex` per control point.
+pub const BLADE_ATTRIBUTES: [vk::VertexInputAttributeDescription; 2] = [
+    vk::VertexInputAttributeDescription {
+        location: 0,
+        binding: 0,
+        format: vk::Format::R32G32B32A32_SFLOAT,
+        offset: std::mem::offset_of!(BladeVertex, position) as u32,
+    },
+    vk::VertexInputAttributeDescription {
+        location: 1,
+        binding: 0,
+        format: vk::Format::R32G32B32A32_SFLOAT,
+        offset: std::mem::offset_of!(BladeVertex, width) as u32,
+    },
+];
+
+/// Formats and sample count the pipelines render into.
+#[derive(Clone, Copy, Debug)]
+pub struct TargetFormats {
+    pub color: vk::Format,
+    pub depth: vk::Format,
+    pub samples: vk::SampleCountFlags,
+}
+
+pub struct RenderPipelines {
+    pub set_layout: vk::DescriptorSetLayout,
+    pub layout: vk::PipelineLayout,
+    pub blade: vk::Pipeline,
+    pub sky: vk::Pipeline,
+    pub ground: vk::Pipeline,
+}
+
+/// The fixed-function choices that differ between our pipelines.
+struct PipelineDesc<'a> {
+    name: &'a str,
+    stages: &'a [&'a Spirv],
+    topology: vk::PrimitiveTopology,
+    vertex_bindings: &'a [vk::VertexInputBindingDescription],
+    vertex_attributes: &'a [vk::VertexInputAttributeDescription],
+    patch_control_points: u32,
+    depth_test: bool,
+}
+
+impl RenderPipelines {
+    pub fn new(gpu: &Gpu, formats: TargetFormats) -> Result<Self> {
+        let device = &gpu.device.raw;
+        let set_layout = create_set_layout(gpu, FRAME_SET, "frame set layout")?;
+        let set_layouts = [set_layout];
+        let layout_info = vk::PipelineLayoutCreateInfo::default().set_layouts(&set_layouts);
+        // SAFETY: valid create info; the set layout is live.
+        let layout = match unsafe { device.create_pipeline_layout(&layout_info, None) } {
+            Ok(l) => l,
+            Err(r) => {
+                unsafe { device.destroy_descriptor_set_layout(set_layout, None) };
+                return Err(Error::vk(
+                    "vkCreatePipelineLayout",
+                    "render pipeline layout",
+                    r,
+                ));
+            }
+        };
+        gpu.device.name(layout, "render pipeline layout");
+
+        let blade_binding = [vk::VertexInputBindingDescription {
+            binding: 0,
+            stride: std::mem::size_of::<BladeVertex>() as u32,
+            input_rate: vk::VertexInputRate::VERTEX,
+        }];
+        let descs = [
+            PipelineDesc {
+                name: "blade pipeline (vert/tesc/tese/geom/frag)",
+                stages: BLADE_STAGES,
+                topology: vk::PrimitiveTopology::PATCH_LIST,
+                vertex_bindings: &blade_binding,
+                vertex_attributes: &BLADE_ATTRIBUTES,
+                patch_control_points: 4,
+                depth_test: true,
+            },
+            PipelineDesc {
+                name: "sky pipeline",
+                stages: SKY_STAGES,
+                topology: vk::PrimitiveTopology::TRIANGLE_LIST,
+                vertex_bindings: &[],
+                vertex_attributes: &[],
+                patch_control_points: 0,
+                depth_test: false,
+            },
+            PipelineDesc {
+                name: "ground pipeline",
+                stages: GROUND_STAGES,
+                topology: vk::PrimitiveTopology::TRIANGLE_LIST,
+                vertex_bindings: &[],
+                vertex_attributes: &[],
+                patch_control_points: 0,
+                depth_test: true,
+            },
+        ];
+        let mut pipelines = Vec::new();
+        for desc in &descs {
+            match create_pipeline(gpu, layout, formats, desc) {
+                Ok(p) => pipelines.push(p),
+                Err(e) => {
+                    // SAFETY: nothing has used these objects yet.
+                    unsafe {
+                        for p in pipelines {
+                            device.destroy_pipeline(p, None);
+                        }
+                        device.destroy_pipeline_layout(layout, None);
+                        device.destroy_descriptor_set_layout(set_layout, None);
+                    }
+                    return Err(e);
+                }
+            }
+        }
+        Ok(Self {
+            set_layout,
+            layout,
+            blade: pipelines[0],
+            sky: pipelines[1],
+            ground: pipelines[2],
+        })
+    }
+
+    pub fn destroy(self, gpu: &Gpu) {
+        let device = &gpu.device.raw;
+        // SAFETY: the owner waited for the GPU to finish with these.
+        unsafe {
+            device.destroy_pipeline(self.blade, None);
+            device.destroy_pipeline(self.sky, None);
+            device.destroy_pipeline(self.ground, None);
+            device.destroy_pipeline_layout(self.layout, None);
+            device.destroy_descriptor_set_layout(self.set_layout, None);
+        }
+    }
+}
+
+pub fn create_set_layout(
+    gpu: &Gpu,
+    bindings: &[LayoutBinding],
+    name: &str,
+) -> Result<vk::DescriptorSetLayout> {
+    let vk_bindings: Vec<_> = bindings
+        .iter()
+        .map(|b| {
+            vk::DescriptorSetLayoutBinding::default()
+                .binding(b.binding)
+                .descriptor_type(b.ty.vk())
+                .descriptor_count(1)
+                .stage_flags(b.stages)
+        })
+        .collect();
+    let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&vk_bindings);
+    // SAFETY: valid create info on a live device.
+    let layout = unsafe { gpu.device.raw.create_descriptor_set_layout(&info, None) }
+        .vk_context("vkCreateDescriptorSetLayout", name)?;
+    gpu.device.name(layout, name);
+    Ok(layout)
+}
+
+fn create_pipeline(
+    gpu: &Gpu,
+    layout: vk::PipelineLayout,
+    formats: TargetFormats,
+    desc: &PipelineDesc,
+) -> Result<vk::Pipeline> {
+    let device = &gpu.device.raw;
+    let mut modules = Vec::new();
+    for spirv in desc.stages {
+        match shader::module(gpu, spirv) {
+            Ok(m) => modules.push(m),
+            Err(e) => {
+                for m in modules {
+                    unsafe { device.destroy_shader_module(m, None) };
+                }
+                return Err(e);
+            }
+        }
+    }
+    let stage_infos: Vec<_> = desc
+        .stages
+        .iter()
+        .zip(&modules)
+        .map(|(spirv, &module)| {
+            vk::PipelineShaderStageCreateInfo::default()
+                .stage(spirv.stage.vk())
+                .module(module)
+                .name(c"main")
+        })
+        .collect();
+
+    let vertex_input = vk::PipelineVertexInputStateCreateInfo::default()
+        .vertex_binding_descriptions(desc.vertex_bindings)
+        .vertex_attribute_descriptions(desc.vertex_attributes);
+    let input_assembly =
+        vk::PipelineInputAssemblyStateCreateInfo::default().topology(desc.topology);
+    let tessellation = vk::PipelineTessellationStateCreateInfo::default()
+        .patch_control_points(desc.patch_control_points);
+    let viewport = vk::PipelineViewportStateCreateInfo::default()
+        .viewport_count(1)
+        .scissor_count(1);
+    // Two-sided: blades are thin sheets seen from both sides; the fragment
+    // stage flips the normal on back faces.
+    let raster = vk::PipelineRasterizationStateCreateInfo::default()
+        .polygon_mode(vk::PolygonMode::FILL)
+        .cull_mode(vk::CullModeFlags::NONE)
+        .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
+        .line_width(1.0);
+    let multisample =
+        vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(formats.samples);
+    let depth = vk::PipelineDepthStencilStateCreateInfo::default()
+        .depth_test_enable(desc.depth_test)
+        .depth_write_enable(desc.depth_test)
+        .depth_compare_op(vk::CompareOp::LESS);
+    let blend_attachments = [vk::PipelineColorBlendAttachmentState::default()
+        .color_write_mask(vk::ColorComponentFlags::RGBA)];
+    let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);
+    let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
+    let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
+    let color_formats = [formats.color];
+    let mut rendering = vk::PipelineRenderingCreateInfo::default()
+        .color_attachment_formats(&color_formats)
+        .depth_attachment_format(formats.depth);
+
+    let mut info = vk::GraphicsPipelineCreateInfo::default()
+        .stages(&stage_infos)
+        .vertex_input_state(&vertex_input)
+        .input_assembly_state(&input_assembly)
+        .viewport_state(&viewport)
+        .rasterization_state(&raster)
+        .multisample_state(&multisample)
+        .depth_stencil_state(&depth)
+        .color_blend_state(&blend)
+        .dynamic_state(&dynamic)
+        .layout(layout)
+        .push_next(&mut rendering);
+    if desc.patch_control_points > 0 {
+        info = info.tessellation_state(&tessellation);
+    }
+    // SAFETY: every referenced structure lives until the call returns.
+    let result =
+        unsafe { device.create_graphics_pipelines(vk::PipelineCache::null(), &[info], None) };
+    // SAFETY: modules are no longer needed once the pipeline exists (or failed).
+    for m in modules {
+        unsafe { device.destroy_shader_module(m, None) };
+    }
+    let pipeline =
+        result.map_err(|(_, r)| Error::vk("vkCreateGraphicsPipelines", desc.name, r))?[0];
+    gpu.device.name(pipeline, desc.name);
+    Ok(pipeline)
+}

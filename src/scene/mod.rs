@@ -1,0 +1,275 @@
+//! Scenes: what grass grows where, the camera, the light and the level of
+//! detail. Built-in scenes live here; scene files (TOML) use the same types.
+
+pub mod field;
+
+use glam::Vec3;
+use serde::{Deserialize, Serialize};
+
+use crate::error::{Error, Result};
+
+/// A region of grass.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase", deny_unknown_fields)]
+pub enum GrassPatch {
+    /// A tuft of `count` blades within `radius` of `center` (world x, z).
+    Bunch {
+        center: [f32; 2],
+        radius: f32,
+        count: usize,
+    },
+    /// `count` blades spread over a `size` (x, z) rectangle around `center`.
+    Meadow {
+        center: [f32; 2],
+        size: [f32; 2],
+        count: usize,
+    },
+}
+
+impl GrassPatch {
+    pub fn count(&self) -> usize {
+        match *self {
+            GrassPatch::Bunch { count, .. } | GrassPatch::Meadow { count, .. } => count,
+        }
+    }
+
+    fn set_count(&mut self, n: usize) {
+        match self {
+            GrassPatch::Bunch { count, .. } | GrassPatch::Meadow { count, .. } => *count = n,
+        }
+    }
+}
+
+/// How blade shapes are drawn: the mix of kinds (relative weights) and the
+/// ranges of height and full width, in metres.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BladeShape {
+    pub upright: f32,
+    pub curved: f32,
+    pub drooping: f32,
+    pub height: [f32; 2],
+    pub width: [f32; 2],
+}
+
+impl Default for BladeShape {
+    fn default() -> Self {
+        Self {
+            upright: 0.4,
+            curved: 0.4,
+            drooping: 0.2,
+            height: [0.35, 0.75],
+            width: [0.012, 0.022],
+        }
+    }
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Camera {
+    pub position: [f32; 3],
+    pub target: [f32; 3],
+    /// Vertical field of view in degrees.
+    pub fov_y: f32,
+}
+
+/// A directional light (the sun).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Light {
+    /// Direction toward the light (normalised on use).
+    pub direction: [f32; 3],
+    pub color: [f32; 3],
+    pub ambient: f32,
+}
+
+/// Level of detail (paper section 5.1): tessellation level by distance.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Lod {
+    pub enabled: bool,
+    /// Closer than this: the close level.
+    pub close_distance: f32,
+    /// Closer than this (and not close): the medium level; beyond: far.
+    pub far_distance: f32,
+    /// Segments per blade for close, medium, far: the paper's 20, 10, 3.
+    pub levels: [u32; 3],
+}
+
+impl Default for Lod {
+    fn default() -> Self {
+        Self {
+            enabled: true,
+            close_distance: 4.0,
+            far_distance: 9.0,
+            levels: [20, 10, 3],
+        }
+    }
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    pub name: String,
+    pub seed: u64,
+    pub grass: Vec<GrassPatch>,
+    pub shape: BladeShape,
+    pub camera: Camera,
+    pub light: Light,
+    pub lod: Lod,
+    /// Half the side of the ground square, centred under the grass.
+    pub ground_half_extent: f32,
+}
+
+/// Names of the built-in scenes.
+pub const BUILTIN: &[&str] = &["few-bunches", "several-bunches", "meadow"];
+
+/// The most blades one scene may hold: beyond this the blade buffer alone
+/// passes 1 GiB, and lavapipe would take hours per frame.
+pub const MAX_BLADES: usize = 10_000_000;
+
+fn sun() -> Light {
+    Light {
+        direction: [0.45, 0.75, 0.35],
+        color: [1.0, 0.96, 0.86],
+        ambient: 0.28,
+    }
+}
+
+impl Scene {
+    /// A built-in scene by name.
+    pub fn builtin(name: &str) -> Result<Scene> {
+        let scene = match name {
+            // Paper Fig. 10 (left): a few bunches, seen from close by.
+            "few-bunches" => Scene {
+                name: name.into(),
+                seed: 1,
+                grass: [[-0.55, 0.1], [0.0, -0.25], [0.55, 0.15]]
+                    .into_iter()
+                    .map(|c| GrassPatch::Bunch {
+                        center: c,
+                        radius: 0.12,
+                        count: 70,
+                    })
+                    .collect(),
+                shape: BladeShape::default(),
+                camera: Camera {
+                    position: [0.0, 0.75, 2.3],
+                    target: [0.0, 0.3, 0.0],
+                    fov_y: 40.0,
+                },
+                light: sun(),
+                lod: Lod::default(),
+                ground_half_extent: 6.0,
+            },
+            // Paper Fig. 10 (right): several bunches on a 3 x 3 layout.
+            "several-bunches" => Scene {
+                name: name.into(),
+                seed: 2,
+                grass: (0..9)
+                    .map(|i| GrassPatch::Bunch {
+                        center: [((i % 3) as f32 - 1.0) * 0.9, ((i / 3) as f32 - 1.0) * 0.9],
+                        radius: 0.14,
+                        count: 70,
+                    })
+                    .collect(),
+                shape: BladeShape::default(),
+                camera: Camera {
+                    position: [0.0, 1.4, 3.4],
+                    target: [0.0, 0.2, 0.0],
+                    fov_y: 45.0,
+                },
+                light: sun(),
+                lod: Lod::default(),
+                ground_half_extent: 8.0,
+            },
+            // A meadow seen from standing height, reaching to the medium and
+            // far levels of detail.
+            "meadow" => Scene {
+                name: name.into(),
+                seed: 3,
+                grass: vec![GrassPatch::Meadow {
+                    center: [0.0, 0.0],
+                    size: [12.0, 12.0],
+                    count: 30_000,
+                }],
+                shape: BladeShape::default(),
+                camera: Camera {
+                    position: [0.0, 1.5, 7.5],
+                    target: [0.0, 0.2, 0.0],
+                    fov_y: 50.0,
+                },
+                light: sun(),
+                lod: Lod::default(),
+                ground_half_extent: 40.0,
+            },
+            other => {
+                return Err(Error::InvalidInput(format!(
+                    "unknown scene {other:?}; the built-in scenes are: {}",
+                    BUILTIN.join(", ")
+                )))
+            }
+        };
+        Ok(scene)
+    }
+
+    pub fn blade_count(&self) -> usize {
+        self.grass.iter().map(GrassPatch::count).sum()
+    }
+
+    /// Sets the total blade count, shared among the patches in proportion
+    /// to their current counts (the remainder goes to the first patches).
+    pub fn set_blade_count(&mut self, total: usize) -> Result<()> {
+        if total == 0 || total > MAX_BLADES {
+            return Err(Error::InvalidInput(format!(
+                "--blades {total} is not allowed, use 1..={MAX_BLADES}"
+            )));
+        }
+        let old = self.blade_count().max(1);
+        let mut counts: Vec<usize> = self.grass.iter().map(|p| p.count() * total / old).collect();
+        // Each share is rounded down by less than one, so fewer than
+        // `counts.len()` blades are left over.
+        let left = total - counts.iter().sum::<usize>();
+        for c in counts.iter_mut().take(left) {
+            *c += 1;
+        }
+        for (p, c) in self.grass.iter_mut().zip(counts) {
+            p.set_count(c);
+        }
+        Ok(())
+    }
+
+    /// Centre of the grass (x, z), for the ground square.
+    pub fn grass_center(&self) -> Vec3 {
+        let n = self.grass.len().max(1) as f32;
+        let sum = self.grass.iter().fold(Vec3::ZERO, |acc, p| {
+            let c = match p {
+                GrassPatch::Bunch { center, .. } | GrassPatch::Meadow { center, .. } => *center,
+            };
+            acc + Vec3::new(c[0], 0.0, c[1])
+        });
+        sum / n
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn blade_count_is_shared_exactly() {
+        let mut s = Scene::builtin("several-bunches").unwrap();
+        for total in [1, 8, 9, 10, 1000, 12345] {
+            s.set_blade_count(total).unwrap();
+            assert_eq!(s.blade_count(), total);
+        }
+        assert!(s.set_blade_count(0).is_err());
+        assert!(s.set_blade_count(MAX_BLADES + 1).is_err());
+    }
+
+    #[test]
+    fn unknown_scene_names_the_choices() {
+        let e = Scene::builtin("nope").unwrap_err().to_string();
+        assert!(e.contains("unknown scene") && e.contains("meadow"), "{e}");
+    }
+}

@@ -1,0 +1,165 @@
+//! The grass model of the paper (section 3.1; method.md section 2): a blade
+//! is a cubic Bezier curve with control points P0 (root) .. P3 (tip), and
+//! each of its three edges P_i P_{i+1} carries an orthonormal frame
+//! (E_e along the edge, E_w across the blade, E_n its face normal).
+
+use glam::Vec3;
+
+/// Vertical, the ground normal.
+pub const UP: Vec3 = Vec3::Y;
+
+/// The three shapes one cubic with one inflection point covers.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum BladeKind {
+    Upright,
+    Curved,
+    Drooping,
+}
+
+/// The orientation of one edge (method.md section 2).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EdgeFrame {
+    /// Along the edge, P_i -> P_{i+1}.
+    pub e: Vec3,
+    /// The blade's width direction, orthogonal to `e`.
+    pub w: Vec3,
+    /// The face normal, `normalize(w x e)`.
+    pub n: Vec3,
+}
+
+/// One blade in its rest shape.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Blade {
+    /// Control points P0 (root, on the ground) .. P3 (tip).
+    pub rest: [Vec3; 4],
+    /// Half the blade's width at the root.
+    pub half_width: f32,
+    /// Unit horizontal vector across the blade: E_w of every rest edge
+    /// (bending happens in the plane spanned by UP and `facing`).
+    pub width_dir: Vec3,
+    pub kind: BladeKind,
+    /// A per-blade random value in [0, 1), for colour variation.
+    pub rand: f32,
+}
+
+impl Blade {
+    /// Builds a blade rooted at `root`, leaning toward the horizontal unit
+    /// vector `facing`, from a 2D profile given as (along facing, up) pairs.
+    pub fn from_profile(
+        root: Vec3,
+        facing: Vec3,
+        profile: [[f32; 2]; 4],
+        half_width: f32,
+        kind: BladeKind,
+        rand: f32,
+    ) -> Self {
+        let rest = profile.map(|[x, y]| root + facing * x + UP * y);
+        Self {
+            rest,
+            half_width,
+            width_dir: UP.cross(facing).normalize(),
+            kind,
+            rand,
+        }
+    }
+
+    /// The rest frame of each edge.
+    pub fn rest_frames(&self) -> [EdgeFrame; 3] {
+        std::array::from_fn(|i| edge_frame(self.rest[i], self.rest[i + 1], self.width_dir))
+    }
+
+    /// Point on the curve, paper eq. 1.
+    pub fn bezier(&self, t: f32) -> Vec3 {
+        bezier(&self.rest, t)
+    }
+
+    /// The four control points as the render pipeline's vertices.
+    pub fn vertices(&self) -> [BladeVertex; 4] {
+        std::array::from_fn(|i| BladeVertex {
+            position: self.rest[i].extend(self.rand).to_array(),
+            width: (self.width_dir * self.half_width).extend(0.0).to_array(),
+        })
+    }
+
+    pub fn edge_lengths(&self) -> [f32; 3] {
+        std::array::from_fn(|i| self.rest[i].distance(self.rest[i + 1]))
+    }
+}
+
+/// E_e, E_w, E_n of the edge a -> b; `width_dir` is re-orthogonalised
+/// against the edge. Guarded: a zero-length edge gets the vertical frame.
+pub fn edge_frame(a: Vec3, b: Vec3, width_dir: Vec3) -> EdgeFrame {
+    let e = (b - a).try_normalize().unwrap_or(UP);
+    let w = (width_dir - e * e.dot(width_dir))
+        .try_normalize()
+        .unwrap_or_else(|| e.any_orthonormal_vector());
+    let n = w.cross(e).normalize();
+    EdgeFrame { e, w, n }
+}
+
+/// B(t) = (1-t)^3 P0 + 3(1-t)^2 t P1 + 3(1-t) t^2 P2 + t^3 P3 (paper eq. 1).
+pub fn bezier(p: &[Vec3; 4], t: f32) -> Vec3 {
+    let s = 1.0 - t;
+    p[0] * (s * s * s) + p[1] * (3.0 * s * s * t) + p[2] * (3.0 * s * t * t) + p[3] * (t * t * t)
+}
+
+/// One control point as the render pipeline reads it (see
+/// glsl/common/blade_vertex.glsl): four per blade, one patch.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct BladeVertex {
+    /// xyz: control point in world space; w: per-blade random value.
+    pub position: [f32; 4],
+    /// xyz: half-width vector at this point; w: angular displacement (rad).
+    pub width: [f32; 4],
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rest_frames_are_orthonormal_and_normal_faces_the_lean() {
+        let facing = Vec3::new(1.0, 0.0, 0.0);
+        let blade = Blade::from_profile(
+            Vec3::ZERO,
+            facing,
+            [[0.0, 0.0], [0.05, 0.3], [0.3, 0.55], [0.6, 0.35]],
+            0.01,
+            BladeKind::Drooping,
+            0.5,
+        );
+        for f in blade.rest_frames() {
+            assert!((f.e.length() - 1.0).abs() < 1e-6);
+            assert!((f.w.length() - 1.0).abs() < 1e-6);
+            assert!((f.n.length() - 1.0).abs() < 1e-6);
+            assert!(
+                f.e.dot(f.w).abs() < 1e-6 && f.e.dot(f.n).abs() < 1e-6 && f.w.dot(f.n).abs() < 1e-6
+            );
+        }
+        // For an upward edge, E_n = E_w x E_e points the way the blade leans.
+        let upright = edge_frame(Vec3::ZERO, UP, blade.width_dir);
+        assert!(upright.n.dot(facing) > 0.999);
+    }
+
+    #[test]
+    fn bezier_interpolates_root_and_tip() {
+        let p = [
+            Vec3::ZERO,
+            Vec3::Y,
+            Vec3::new(1.0, 2.0, 0.0),
+            Vec3::new(2.0, 1.0, 0.0),
+        ];
+        assert_eq!(bezier(&p, 0.0), p[0]);
+        assert_eq!(bezier(&p, 1.0), p[3]);
+        let mid = bezier(&p, 0.5);
+        assert!((mid - Vec3::new(0.625, 1.375, 0.0)).length() < 1e-6);
+    }
+
+    #[test]
+    fn degenerate_edge_is_guarded() {
+        let f = edge_frame(Vec3::ONE, Vec3::ONE, Vec3::X);
+        assert!(f.e.is_finite() && f.w.is_finite() && f.n.is_finite());
+    }
+}
