@@ -9,56 +9,8 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use glslang::include::{IncludeHandler, IncludeResult, IncludeType};
-use glslang::{
-    Compiler, CompilerOptions, ShaderInput, ShaderMessage, ShaderSource, ShaderStage,
-    SourceLanguage, SpirvVersion, Target, VulkanVersion,
-};
-
-struct Includer {
-    common: PathBuf,
-    /// The folder of the file being compiled: includes are looked up there first.
-    base: PathBuf,
-    /// Every file pulled in, so that cargo rebuilds when one changes.
-    seen: Vec<PathBuf>,
-}
-
-impl IncludeHandler for Includer {
-    fn include(
-        &mut self,
-        _ty: IncludeType,
-        header: &str,
-        includer: &str,
-        _depth: usize,
-    ) -> Option<IncludeResult> {
-        let from = Path::new(includer)
-            .parent()
-            .filter(|p| !p.as_os_str().is_empty())
-            .map(Path::to_path_buf)
-            .unwrap_or_else(|| self.base.clone());
-        let path = [from.join(header), self.common.join(header)]
-            .into_iter()
-            .find(|p| p.is_file())?;
-        let data = std::fs::read_to_string(&path).ok()?;
-        self.seen.push(path.clone());
-        Some(IncludeResult {
-            name: path.display().to_string(),
-            data,
-        })
-    }
-}
-
-fn stage_of(path: &Path) -> Option<(ShaderStage, &'static str)> {
-    Some(match path.extension()?.to_str()? {
-        "vert" => (ShaderStage::Vertex, "Vertex"),
-        "tesc" => (ShaderStage::TesselationControl, "TessellationControl"),
-        "tese" => (ShaderStage::TesselationEvaluation, "TessellationEvaluation"),
-        "geom" => (ShaderStage::Geometry, "Geometry"),
-        "frag" => (ShaderStage::Fragment, "Fragment"),
-        "comp" => (ShaderStage::Compute, "Compute"),
-        _ => return None,
-    })
-}
+#[path = "src/shader_build.rs"]
+mod glsl_compile;
 
 fn collect(dir: &Path, out: &mut Vec<PathBuf>) {
     let mut entries: Vec<_> = std::fs::read_dir(dir)
@@ -69,7 +21,7 @@ fn collect(dir: &Path, out: &mut Vec<PathBuf>) {
     for path in entries {
         if path.is_dir() {
             collect(&path, out);
-        } else if stage_of(&path).is_some() {
+        } else if glsl_compile::stage_of(&path).is_some() {
             out.push(path);
         }
     }
@@ -84,17 +36,6 @@ fn main() {
     let mut files = Vec::new();
     collect(&glsl, &mut files);
 
-    let compiler = Compiler::acquire().expect("glslang failed to initialise");
-    let options = CompilerOptions {
-        source_language: SourceLanguage::GLSL,
-        target: Target::Vulkan {
-            version: VulkanVersion::Vulkan1_3,
-            spirv_version: SpirvVersion::SPIRV1_6,
-        },
-        version_profile: None,
-        messages: ShaderMessage::DEFAULT,
-    };
-
     let mut table = String::from(
         "/// Every shader of `glsl/`, compiled by build.rs: (path under glsl/, stage, SPIR-V bytes).\n\
          pub static ALL: &[Spirv] = &[\n",
@@ -105,32 +46,21 @@ fn main() {
     for path in &files {
         let rel = path.strip_prefix(&glsl).unwrap();
         let rel_str = rel.to_string_lossy().replace('\\', "/");
-        let (stage, stage_name) = stage_of(path).unwrap();
+        let (_, stage_name) = glsl_compile::stage_of(path).unwrap();
         println!("cargo:rerun-if-changed={}", path.display());
         let text = std::fs::read_to_string(path).expect("read shader");
-        let source = ShaderSource::from(text);
-        let mut includer = Includer {
-            common: glsl.join("common"),
-            base: path.parent().unwrap().to_path_buf(),
-            seen: Vec::new(),
-        };
-        let result = ShaderInput::new(
-            &source,
-            stage,
-            &options,
-            None::<&[(&str, Option<&str>)]>,
-            Some(&mut includer),
-        )
-        .and_then(|input| compiler.create_shader(input))
-        .and_then(|shader| shader.compile());
-        let words = match result {
-            Ok(words) => words,
-            Err(e) => {
-                failures.push(format!("glsl/{rel_str}: {}", glslang_message(&e)));
+        let (words, included) = match glsl_compile::compile(
+            &Path::new("glsl").join(rel),
+            &text,
+            &glsl.join("common"),
+        ) {
+            Ok(ok) => ok,
+            Err(message) => {
+                failures.push(message);
                 continue;
             }
         };
-        for p in &includer.seen {
+        for p in &included {
             println!("cargo:rerun-if-changed={}", p.display());
         }
         let spv_path = out_dir.join(format!("{}.spv", rel_str.replace('/', "__")));
@@ -155,25 +85,4 @@ fn main() {
     }
     table.push_str("];\n");
     std::fs::write(out_dir.join("shaders.rs"), consts + &table).expect("write shaders.rs");
-}
-
-/// glslang's log, with its "ERROR: file:line: message" lines first and the
-/// summary noise dropped.
-fn glslang_message(e: &glslang::error::GlslangError) -> String {
-    use glslang::error::GlslangError as G;
-    let log = match e {
-        G::PreprocessError(l) | G::ParseError(l) | G::MapIoError(l) | G::LinkError(l) => {
-            l.log.clone()
-        }
-        other => other.to_string(),
-    };
-    let lines: Vec<&str> = log
-        .lines()
-        .filter(|l| l.starts_with("ERROR:") && !l.contains("compilation terminated"))
-        .collect();
-    if lines.is_empty() {
-        log
-    } else {
-        lines.join("\n    ")
-    }
 }

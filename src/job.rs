@@ -9,7 +9,7 @@ use crate::error::{Error, Result};
 use crate::gpu::timing::PipelineStatistics;
 use crate::gpu::{Gpu, GpuOptions, ValidationReport};
 use crate::output;
-use crate::render::{FrameUniforms, Renderer, ViewMode};
+use crate::render::{Frame, FrameUniforms, Renderer, ViewMode};
 use crate::scene::{field, Scene};
 
 /// The largest image side accepted before asking the device (lavapipe's
@@ -104,38 +104,59 @@ pub fn render_to_dir(request: &RenderRequest, out_dir: &Path) -> Result<RenderRe
     Ok(report)
 }
 
+/// Renders one frame of `blades` as `scene` sets them up: the building block
+/// of the CLI and the tests. Returns the frame and the MSAA count used.
+pub fn render_blades(
+    gpu: &Gpu,
+    scene: &Scene,
+    blades: &[crate::sim::Blade],
+    width: u32,
+    height: u32,
+    msaa: u32,
+    view: ViewMode,
+) -> Result<(Frame, u32)> {
+    let mut renderer = Renderer::new(gpu, width, height, msaa, blades)?;
+    let uniforms = FrameUniforms::new(scene, width, height, view);
+    let frame = renderer.render(gpu, &uniforms);
+    let samples = renderer.samples();
+    renderer.destroy(gpu);
+    Ok((frame?, samples))
+}
+
 fn render_with(gpu: &Gpu, request: &RenderRequest, out_dir: &Path) -> Result<RenderReport> {
     let scene = &request.scene;
     let blades = field::generate(&scene.grass, &scene.shape, scene.seed);
-    let mut renderer = Renderer::new(gpu, request.width, request.height, request.msaa, &blades)?;
-    let result = (|| {
-        let uniforms = FrameUniforms::new(scene, request.width, request.height, request.view);
-        let frame = renderer.render(gpu, &uniforms)?;
-        let name = "frame_0000.png";
-        output::write_png(&out_dir.join(name), &frame)?;
-        let info = gpu.info();
-        Ok(RenderReport {
-            scene: scene.name.clone(),
-            seed: scene.seed,
-            device: info.name.clone(),
-            device_type: info.device_type.clone(),
-            driver: info.driver.clone(),
-            api_version: info.api_version.clone(),
-            msaa_requested: request.msaa,
-            msaa_used: renderer.samples(),
-            blades: blades.len(),
-            width: request.width,
-            height: request.height,
-            lod: scene.lod.enabled,
-            tess_levels: scene.lod.levels,
-            lod_distances: [scene.lod.close_distance, scene.lod.far_distance],
-            view: request.view,
-            frames: vec![name.into()],
-            pipeline_statistics: frame.statistics,
-            wall_seconds: 0.0,
-            validation: ValidationReport::default(),
-        })
-    })();
-    renderer.destroy(gpu);
-    result
+    let (frame, msaa_used) = render_blades(
+        gpu,
+        scene,
+        &blades,
+        request.width,
+        request.height,
+        request.msaa,
+        request.view,
+    )?;
+    let name = "frame_0000.png";
+    output::write_png(&out_dir.join(name), &frame)?;
+    let info = gpu.info();
+    Ok(RenderReport {
+        scene: scene.name.clone(),
+        seed: scene.seed,
+        device: info.name.clone(),
+        device_type: info.device_type.clone(),
+        driver: info.driver.clone(),
+        api_version: info.api_version.clone(),
+        msaa_requested: request.msaa,
+        msaa_used,
+        blades: blades.len(),
+        width: request.width,
+        height: request.height,
+        lod: scene.lod.enabled,
+        tess_levels: scene.lod.levels,
+        lod_distances: [scene.lod.close_distance, scene.lod.far_distance],
+        view: request.view,
+        frames: vec![name.into()],
+        pipeline_statistics: frame.statistics,
+        wall_seconds: 0.0,
+        validation: ValidationReport::default(),
+    })
 }

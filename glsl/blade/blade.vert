@@ -11,4 +11,7 @@ layout(location = 1) out vec4 v_width;
 void main() {
     v_position = in_position;
     v_width = in_width;
+    // Unused by the tessellation stages; written so that the module is a
+    // complete vertex shader for tools (naga) that require a position.
+    gl_Position = vec4(in_position.xyz, 1.0);
 }

@@ -190,8 +190,8 @@ impl Scene {
                 seed: 3,
                 grass: vec![GrassPatch::Meadow {
                     center: [0.0, 0.0],
-                    size: [12.0, 12.0],
-                    count: 30_000,
+                    size: [30.0, 30.0],
+                    count: 200_000,
                 }],
                 shape: BladeShape::default(),
                 camera: Camera {

@@ -154,7 +154,7 @@ mod tests {
         assert_eq!(bezier(&p, 0.0), p[0]);
         assert_eq!(bezier(&p, 1.0), p[3]);
         let mid = bezier(&p, 0.5);
-        assert!((mid - Vec3::new(0.625, 1.375, 0.0)).length() < 1e-6);
+        assert!((mid - Vec3::new(0.625, 1.25, 0.0)).length() < 1e-6);
     }
 
     #[test]

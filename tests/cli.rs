@@ -1,0 +1,172 @@
+//! The `meadow` binary: bad input gives one clear line and a non-zero exit
+//! and leaves no frame behind; a good run writes the frame and the report.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn meadow(args: &[&str], env: &[(&str, &str)]) -> Output {
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_meadow"));
+    cmd.args(args).env("MEADOW_QUIET_VALIDATION", "1");
+    for (k, v) in env {
+        cmd.env(k, v);
+    }
+    cmd.output().expect("run meadow")
+}
+
+fn temp_out(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("meadow-cli-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    dir
+}
+
+/// Fails with exactly one stderr line containing `fragment`, and no frame.
+fn assert_refused(args: &[&str], env: &[(&str, &str)], fragment: &str) {
+    let out = temp_out(&format!("refused-{}", fragment.len()));
+    let out_s = out.to_str().unwrap().to_string();
+    let mut full: Vec<&str> = args.to_vec();
+    full.extend(["--out", &out_s]);
+    let result = meadow(&full, env);
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    assert!(!result.status.success(), "{args:?} succeeded");
+    assert!(
+        stderr.contains(fragment),
+        "{args:?}: stderr {stderr:?} lacks {fragment:?}"
+    );
+    assert_eq!(
+        stderr.trim_end().lines().count(),
+        1,
+        "{args:?}: not one line: {stderr}"
+    );
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert!(
+        !out.join("frame_0000.png").exists(),
+        "{args:?} left a frame"
+    );
+    if out.exists() {
+        for entry in std::fs::read_dir(&out).unwrap() {
+            panic!("{args:?} left {:?}", entry.unwrap().path());
+        }
+    }
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+#[test]
+fn unknown_scene_is_refused() {
+    assert_refused(
+        &["render", "--scene", "no-such-scene"],
+        &[],
+        "unknown scene \"no-such-scene\"",
+    );
+}
+
+#[test]
+fn zero_and_absurd_sizes_are_refused() {
+    assert_refused(
+        &["render", "--width", "0"],
+        &[],
+        "--width 0 is not allowed, use 1..=16384",
+    );
+    assert_refused(
+        &["render", "--width", "100000"],
+        &[],
+        "--width 100000 is not allowed",
+    );
+    assert_refused(
+        &["render", "--height", "0"],
+        &[],
+        "--height 0 is not allowed",
+    );
+}
+
+#[test]
+fn msaa_that_is_not_a_sample_count_is_refused() {
+    assert_refused(
+        &["render", "--msaa", "3"],
+        &[],
+        "--msaa 3 is not a sample count",
+    );
+}
+
+#[test]
+fn zero_blades_are_refused() {
+    assert_refused(
+        &["render", "--blades", "0"],
+        &[],
+        "--blades 0 is not allowed",
+    );
+}
+
+#[test]
+fn a_device_without_tessellation_is_refused_by_name() {
+    assert_refused(
+        &["render", "--width", "64", "--height", "64"],
+        &[("MEADOW_PRETEND_MISSING", "tessellationShader")],
+        "lacks tessellationShader",
+    );
+    assert_refused(
+        &["render", "--width", "64", "--height", "64"],
+        &[("MEADOW_PRETEND_MISSING", "geometryShader")],
+        "lacks geometryShader",
+    );
+}
+
+#[test]
+fn an_unknown_device_name_is_refused() {
+    assert_refused(
+        &["render", "--device", "no-such-gpu-xyz"],
+        &[],
+        "no Vulkan device name contains",
+    );
+}
+
+#[test]
+fn render_writes_frame_and_report_with_validation_clean() {
+    let out = temp_out("ok");
+    let result = meadow(
+        &[
+            "render",
+            "--scene",
+            "few-bunches",
+            "--width",
+            "160",
+            "--height",
+            "90",
+            "--validation",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        &[],
+    );
+    assert!(
+        result.status.success(),
+        "{}",
+        String::from_utf8_lossy(&result.stderr)
+    );
+    let png = image::open(out.join("frame_0000.png")).expect("a readable PNG");
+    assert_eq!((png.width(), png.height()), (160, 90));
+    let report: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("report.json")).unwrap()).unwrap();
+    assert_eq!(report["validation"]["enabled"], true);
+    assert_eq!(report["validation"]["errors"], 0);
+    assert_eq!(report["blades"], 210);
+    let msaa = report["msaa_used"].as_u64().unwrap();
+    assert!(msaa.is_power_of_two() && msaa <= 8, "msaa_used {msaa}");
+    assert_eq!(report["msaa_requested"], 8);
+    assert!(report["device"].as_str().is_some_and(|d| !d.is_empty()));
+    let stats = &report["pipeline_statistics"];
+    assert_eq!(stats["tessellation_control_patches"], 210);
+    assert!(stats["geometry_shader_primitives"].as_u64().unwrap() >= 210 * 2 * 3);
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+#[test]
+fn devices_lists_at_least_one_qualifying_device() {
+    let result = meadow(&["devices"], &[]);
+    let stdout = String::from_utf8_lossy(&result.stdout);
+    assert!(
+        result.status.success(),
+        "{}",
+        String::from_utf8_lossy(&result.stderr)
+    );
+    assert!(stdout.contains("qualifies"), "{stdout}");
+}

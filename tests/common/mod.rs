@@ -1,0 +1,73 @@
+//! Shared by the GPU tests: every test opens the GPU with the Khronos
+//! validation layer (core + synchronization checks) and fails on any error
+//! it reports, leaks at device destruction included.
+
+#![allow(dead_code)]
+
+use meadow::gpu::{Gpu, GpuOptions, ValidationOptions};
+use meadow::render::{Frame, ViewMode};
+use meadow::scene::Scene;
+use meadow::sim::Blade;
+
+pub fn strict_gpu() -> Gpu {
+    // Keep the test log readable; messages are still counted and asserted.
+    std::env::set_var("MEADOW_QUIET_VALIDATION", "1");
+    let options = GpuOptions {
+        validation: ValidationOptions::strict(),
+        device_name: std::env::var("MEADOW_TEST_DEVICE").ok(),
+        ..Default::default()
+    };
+    Gpu::new(&options).unwrap_or_else(|e| {
+        panic!("the GPU tests need Vulkan with the validation layer (scripts/ensure-vulkan): {e}")
+    })
+}
+
+/// Tears the GPU down and asserts validation reported no error at all.
+pub fn finish(gpu: Gpu) {
+    let report = gpu.destroy();
+    assert!(report.enabled, "validation was not enabled");
+    if report.errors > 0 {
+        for m in &report.messages {
+            eprintln!("{} x{} {}: {}", m.severity, m.count, m.id, m.first_text);
+        }
+    }
+    assert_eq!(
+        report.errors, 0,
+        "validation errors: {:#?}",
+        report.messages
+    );
+}
+
+pub fn render(
+    gpu: &Gpu,
+    scene: &Scene,
+    blades: &[Blade],
+    width: u32,
+    height: u32,
+    view: ViewMode,
+) -> Frame {
+    meadow::job::render_blades(gpu, scene, blades, width, height, 4, view)
+        .unwrap_or_else(|e| panic!("render failed: {e}"))
+        .0
+}
+
+pub fn pixel(frame: &Frame, x: u32, y: u32) -> [u8; 3] {
+    let i = ((y * frame.width + x) * 4) as usize;
+    [frame.rgba[i], frame.rgba[i + 1], frame.rgba[i + 2]]
+}
+
+/// Mean of each channel over a rectangle.
+pub fn mean_rgb(frame: &Frame, x0: u32, y0: u32, x1: u32, y1: u32) -> [f64; 3] {
+    let mut sum = [0.0; 3];
+    let mut n = 0.0;
+    for y in y0..y1 {
+        for x in x0..x1 {
+            let p = pixel(frame, x, y);
+            for c in 0..3 {
+                sum[c] += p[c] as f64;
+            }
+            n += 1.0;
+        }
+    }
+    sum.map(|s| s / n)
+}

@@ -1,0 +1,174 @@
+//! The render pipeline on the default device (lavapipe when there is no
+//! GPU), with validation on and zero errors asserted in every test.
+
+mod common;
+
+use common::{finish, mean_rgb, pixel, render, strict_gpu};
+use glam::Vec3;
+use meadow::render::ViewMode;
+use meadow::scene::{field, GrassPatch, Scene};
+use meadow::sim::{Blade, BladeKind};
+
+fn meadow_scene() -> Scene {
+    Scene::builtin("meadow").unwrap()
+}
+
+fn is_grass(p: [u8; 3]) -> bool {
+    let [r, g, b] = p.map(i32::from);
+    g > r && g > b + 10
+}
+
+#[test]
+fn meadow_is_grass_below_and_sky_above_and_moves_with_the_camera() {
+    let gpu = strict_gpu();
+    let scene = meadow_scene();
+    let blades = field::generate(&scene.grass, &scene.shape, scene.seed);
+    let (w, h) = (320, 180);
+    let frame = render(&gpu, &scene, &blades, w, h, ViewMode::Shaded);
+
+    // Most of the lower half is grass.
+    let lower: Vec<_> = (h / 2..h)
+        .flat_map(|y| (0..w).map(move |x| (x, y)))
+        .collect();
+    let grass = lower
+        .iter()
+        .filter(|&&(x, y)| is_grass(pixel(&frame, x, y)))
+        .count();
+    let share = grass as f64 / lower.len() as f64;
+    assert!(
+        share > 0.75,
+        "only {:.0}% of the lower half is grass-coloured",
+        share * 100.0
+    );
+
+    // The top rows are sky: bright and blue-dominant.
+    let [r, g, b] = mean_rgb(&frame, 0, 0, w, h / 8);
+    assert!(
+        b > g && g > r && b > 150.0,
+        "top of the frame is not sky: {r:.0} {g:.0} {b:.0}"
+    );
+
+    // Another camera, another picture.
+    let mut moved = scene.clone();
+    moved.camera.position = [3.0, 2.5, 5.0];
+    let other = render(&gpu, &moved, &blades, w, h, ViewMode::Shaded);
+    let diff: f64 = frame
+        .rgba
+        .iter()
+        .zip(&other.rgba)
+        .map(|(a, b)| (*a as f64 - *b as f64).abs())
+        .sum::<f64>()
+        / frame.rgba.len() as f64;
+    assert!(
+        diff > 5.0,
+        "moving the camera barely changed the picture (mean |diff| {diff:.2})"
+    );
+    finish(gpu);
+}
+
+/// One straight blade rooted at `root`, leaning nowhere.
+fn single_blade(root: Vec3, facing: Vec3, half_width: f32) -> Blade {
+    Blade::from_profile(
+        root,
+        facing,
+        [[0.0, 0.0], [0.0, 0.33], [0.0, 0.66], [0.0, 1.0]],
+        half_width,
+        BladeKind::Upright,
+        0.5,
+    )
+}
+
+#[test]
+fn level_of_detail_gives_20_10_3_segments_by_distance_and_20_without() {
+    let gpu = strict_gpu();
+    let mut scene = Scene::builtin("few-bunches").unwrap();
+    scene.camera.position = [0.0, 1.0, 0.0];
+    scene.camera.target = [0.0, 0.5, -5.0];
+    scene.lod.close_distance = 4.0;
+    scene.lod.far_distance = 9.0;
+    // Root distances ~2.2 (close), ~6.1 (medium), ~15.0 (far).
+    let cases = [(2.0, 20), (6.0, 10), (15.0, 3)];
+    for lod in [true, false] {
+        scene.lod.enabled = lod;
+        for (z, level) in cases {
+            let blade = single_blade(Vec3::new(0.0, 0.0, -z), Vec3::Z, 0.02);
+            let frame = render(&gpu, &scene, &[blade], 64, 64, ViewMode::Shaded);
+            let stats = frame
+                .statistics
+                .expect("the device supports pipeline statistics");
+            let expected = if lod { level } else { 20 };
+            assert_eq!(stats.tessellation_control_patches, 1);
+            // Isolines cut into N segments: N geometry-shader invocations,
+            // each emitting one 4-vertex strip (2 triangles).
+            assert_eq!(
+                stats.geometry_shader_invocations, expected,
+                "blade at {z} m, LOD {lod}"
+            );
+            assert_eq!(stats.geometry_shader_primitives, 2 * expected);
+            // At least the N + 1 distinct points of the curve are evaluated.
+            assert!(stats.tessellation_evaluation_invocations >= expected + 1);
+        }
+    }
+    finish(gpu);
+}
+
+#[test]
+fn lighting_is_two_sided() {
+    let gpu = strict_gpu();
+    let mut scene = Scene::builtin("few-bunches").unwrap();
+    scene.camera.position = [0.0, 0.5, 2.0];
+    scene.camera.target = [0.0, 0.5, 0.0];
+    scene.camera.fov_y = 30.0;
+    scene.light.ambient = 0.05;
+    let brightness = |facing: Vec3, light: [f32; 3]| {
+        let mut s = scene.clone();
+        s.light.direction = light;
+        let blade = single_blade(Vec3::ZERO, facing, 0.15);
+        let frame = render(&gpu, &s, &[blade], 128, 128, ViewMode::Shaded);
+        let [_, g, _] = mean_rgb(&frame, 56, 56, 72, 72);
+        g
+    };
+    let toward_camera = [0.0, 0.0, 1.0];
+    // The face seen by the camera is the front face in one case and the
+    // back face in the other: both must be lit from the camera's side.
+    let front = brightness(Vec3::Z, toward_camera);
+    let back = brightness(-Vec3::Z, toward_camera);
+    // Lit from behind, the visible side only gets the light through the blade.
+    let behind = brightness(Vec3::Z, [0.0, 0.0, -1.0]);
+    assert!(
+        (front - back).abs() < 0.1 * front,
+        "front {front:.1} vs back {back:.1}"
+    );
+    assert!(
+        front > 1.5 * behind,
+        "lit side {front:.1} not brighter than back-lit {behind:.1}"
+    );
+    finish(gpu);
+}
+
+#[test]
+fn lod_view_colours_blades_by_level() {
+    let gpu = strict_gpu();
+    let mut scene = meadow_scene();
+    scene.grass = vec![GrassPatch::Meadow {
+        center: [0.0, 0.0],
+        size: [8.0, 24.0],
+        count: 20_000,
+    }];
+    let blades = field::generate(&scene.grass, &scene.shape, 5);
+    let frame = render(&gpu, &scene, &blades, 320, 180, ViewMode::Lod);
+    let count = |pred: fn([u8; 3]) -> bool| {
+        (0..frame.height)
+            .flat_map(|y| (0..frame.width).map(move |x| (x, y)))
+            .filter(|&(x, y)| pred(pixel(&frame, x, y)))
+            .count()
+    };
+    let red = count(|[r, g, b]| r > 120 && g < 60 && b < 60);
+    let yellow = count(|[r, g, b]| r > 120 && g > 100 && b < 60);
+    let blue = count(|[r, g, b]| b > 120 && r < 60 && g < 120);
+    assert!(
+        red > 500 && yellow > 500 && blue > 200,
+        "red {red}, yellow {yellow}, blue {blue}"
+    );
+    finish(gpu);
+}

@@ -1,0 +1,192 @@
+//! The compiled shaders against the Rust side: naga parses and validates
+//! every stage it supports, the descriptor-set layouts match what the
+//! shaders declare, the uniform block and vertex layouts match byte for
+//! byte, and every module passes spirv-val where it is installed.
+
+use std::collections::BTreeSet;
+use std::mem::offset_of;
+
+use ash::vk;
+use meadow::reflect::{self, Binding};
+use meadow::render::pipelines::{
+    LayoutBinding, BLADE_ATTRIBUTES, BLADE_STAGES, FRAME_SET, GROUND_STAGES, SKY_STAGES,
+};
+use meadow::render::FrameUniforms;
+use meadow::shaders::{self, ShaderStage, Spirv};
+
+#[test]
+fn every_stage_naga_supports_parses_and_validates() {
+    let mut checked = 0;
+    for spirv in shaders::ALL {
+        if spirv.stage.naga_supported() {
+            reflect::naga_module(spirv).unwrap_or_else(|e| panic!("{e}"));
+            checked += 1;
+        }
+    }
+    assert!(checked >= 6, "only {checked} modules checked");
+}
+
+#[test]
+fn naga_and_the_decoration_scanner_agree() {
+    for spirv in shaders::ALL.iter().filter(|s| s.stage.naga_supported()) {
+        let used: BTreeSet<Binding> = reflect::naga_bindings(spirv).unwrap().into_iter().collect();
+        let declared: BTreeSet<Binding> =
+            reflect::scan_bindings(spirv).unwrap().into_iter().collect();
+        // naga reports what the entry point uses; the scanner what is declared.
+        assert!(
+            used.is_subset(&declared),
+            "{}: naga {used:?} vs scan {declared:?}",
+            spirv.path
+        );
+    }
+}
+
+fn check_pipeline(name: &str, stages: &[&Spirv], layout: &[LayoutBinding]) {
+    let mut used_by_some_stage = BTreeSet::new();
+    for spirv in stages {
+        let declared = reflect::scan_bindings(spirv).unwrap();
+        for b in &declared {
+            let rust = layout
+                .iter()
+                .find(|l| l.set == b.set && l.binding == b.binding)
+                .unwrap_or_else(|| {
+                    panic!(
+                        "{name}: {} declares set {} binding {} missing from the Rust layout",
+                        spirv.path, b.set, b.binding
+                    )
+                });
+            assert_eq!(
+                rust.ty, b.ty,
+                "{name}: {} set {} binding {}",
+                spirv.path, b.set, b.binding
+            );
+            assert!(
+                rust.stages.contains(spirv.stage.vk()),
+                "{name}: binding {}.{} is not visible to {:?} ({})",
+                b.set,
+                b.binding,
+                spirv.stage,
+                spirv.path
+            );
+        }
+        let used = if spirv.stage.naga_supported() {
+            reflect::naga_bindings(spirv).unwrap()
+        } else {
+            declared
+        };
+        used_by_some_stage.extend(used.iter().map(|b| (b.set, b.binding)));
+    }
+    for l in layout {
+        assert!(
+            used_by_some_stage.contains(&(l.set, l.binding)),
+            "{name}: Rust layout has set {} binding {} that no shader uses",
+            l.set,
+            l.binding
+        );
+    }
+}
+
+#[test]
+fn descriptor_layouts_match_reflection() {
+    check_pipeline("blade", BLADE_STAGES, FRAME_SET);
+    check_pipeline("sky", SKY_STAGES, FRAME_SET);
+    check_pipeline("ground", GROUND_STAGES, FRAME_SET);
+    // Every stage the Rust layout exposes the block to is a stage that
+    // declares it somewhere.
+    let mut declaring = vk::ShaderStageFlags::empty();
+    for spirv in BLADE_STAGES.iter().chain(SKY_STAGES).chain(GROUND_STAGES) {
+        if !reflect::scan_bindings(spirv).unwrap().is_empty() {
+            declaring |= spirv.stage.vk();
+        }
+    }
+    assert_eq!(FRAME_SET[0].stages, declaring);
+}
+
+#[test]
+fn blade_pipeline_has_the_papers_five_stages() {
+    let stages: Vec<ShaderStage> = BLADE_STAGES.iter().map(|s| s.stage).collect();
+    assert_eq!(
+        stages,
+        [
+            ShaderStage::Vertex,
+            ShaderStage::TessellationControl,
+            ShaderStage::TessellationEvaluation,
+            ShaderStage::Geometry,
+            ShaderStage::Fragment
+        ]
+    );
+}
+
+#[test]
+fn frame_uniforms_match_the_glsl_block() {
+    let (span, members) = reflect::uniform_block_layout(&shaders::BLADE_BLADE_FRAG, 0, 0).unwrap();
+    assert_eq!(span as usize, std::mem::size_of::<FrameUniforms>());
+    let rust = [
+        ("view_proj", offset_of!(FrameUniforms, view_proj)),
+        ("inv_view_proj", offset_of!(FrameUniforms, inv_view_proj)),
+        ("camera_pos", offset_of!(FrameUniforms, camera_pos)),
+        ("light_dir", offset_of!(FrameUniforms, light_dir)),
+        ("light_color", offset_of!(FrameUniforms, light_color)),
+        ("lod_distance", offset_of!(FrameUniforms, lod_distance)),
+        ("tess_level", offset_of!(FrameUniforms, tess_level)),
+        ("ground", offset_of!(FrameUniforms, ground)),
+        ("view", offset_of!(FrameUniforms, view)),
+    ];
+    let glsl: Vec<(String, usize)> = members.into_iter().map(|(n, o)| (n, o as usize)).collect();
+    let rust: Vec<(String, usize)> = rust.iter().map(|(n, o)| (n.to_string(), *o)).collect();
+    assert_eq!(glsl, rust);
+}
+
+#[test]
+fn blade_vertex_inputs_match_the_vertex_buffer_layout() {
+    let (module, _) = reflect::naga_module(&shaders::BLADE_BLADE_VERT).unwrap();
+    let ep = &module.entry_points[0];
+    let mut inputs = Vec::new();
+    for arg in &ep.function.arguments {
+        if let Some(naga::Binding::Location { location, .. }) = arg.binding {
+            let ty = &module.types[arg.ty].inner;
+            assert!(
+                matches!(ty, naga::TypeInner::Vector { size: naga::VectorSize::Quad, scalar } if *scalar == naga::Scalar::F32),
+                "location {location} is {ty:?}"
+            );
+            inputs.push(location);
+        }
+    }
+    inputs.sort();
+    let rust: Vec<u32> = BLADE_ATTRIBUTES.iter().map(|a| a.location).collect();
+    assert_eq!(inputs, rust);
+    for a in BLADE_ATTRIBUTES {
+        assert_eq!(a.format, vk::Format::R32G32B32A32_SFLOAT);
+    }
+    assert_eq!(std::mem::size_of::<meadow::sim::BladeVertex>(), 32);
+}
+
+#[test]
+fn every_module_passes_spirv_val_when_installed() {
+    let available = std::process::Command::new("spirv-val")
+        .arg("--version")
+        .output()
+        .is_ok();
+    if !available {
+        eprintln!("SKIPPED: spirv-val is not installed (Debian package spirv-tools)");
+        return;
+    }
+    let dir = std::env::temp_dir().join(format!("meadow-spirv-val-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    for spirv in shaders::ALL {
+        let path = dir.join(spirv.path.replace('/', "_") + ".spv");
+        std::fs::write(&path, spirv.bytes).unwrap();
+        let out = std::process::Command::new("spirv-val")
+            .args(["--target-env", "vulkan1.3"])
+            .arg(&path)
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}: {}",
+            spirv.path,
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
