@@ -43,9 +43,11 @@ fn assert_refused(args: &[&str], env: &[(&str, &str)], fragment: &str) {
         "{args:?} left a frame"
     );
     if out.exists() {
-        for entry in std::fs::read_dir(&out).unwrap() {
-            panic!("{args:?} left {:?}", entry.unwrap().path());
-        }
+        let left: Vec<_> = std::fs::read_dir(&out)
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .collect();
+        assert!(left.is_empty(), "{args:?} left {left:?}");
     }
     let _ = std::fs::remove_dir_all(&out);
 }
@@ -107,6 +109,16 @@ fn a_device_without_tessellation_is_refused_by_name() {
         &["render", "--width", "64", "--height", "64"],
         &[("MEADOW_PRETEND_MISSING", "geometryShader")],
         "lacks geometryShader",
+    );
+}
+
+#[test]
+fn no_vulkan_driver_is_refused_with_what_to_install() {
+    let missing = "/nonexistent/meadow-no-driver.json";
+    assert_refused(
+        &["render", "--width", "64", "--height", "64"],
+        &[("VK_ICD_FILENAMES", missing), ("VK_DRIVER_FILES", missing)],
+        "no Vulkan device found; run scripts/ensure-vulkan",
     );
 }
 

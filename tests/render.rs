@@ -106,7 +106,7 @@ fn level_of_detail_gives_20_10_3_segments_by_distance_and_20_without() {
             );
             assert_eq!(stats.geometry_shader_primitives, 2 * expected);
             // At least the N + 1 distinct points of the curve are evaluated.
-            assert!(stats.tessellation_evaluation_invocations >= expected + 1);
+            assert!(stats.tessellation_evaluation_invocations > expected);
         }
     }
     finish(gpu);

@@ -173,8 +173,11 @@ impl Instance {
                 .push_next(&mut messenger_info);
         }
         // SAFETY: every pointer in create_info lives until this call returns.
-        let raw = unsafe { entry.create_instance(&create_info, None) }
-            .vk_context("vkCreateInstance", "Vulkan 1.3 instance")?;
+        let raw = unsafe { entry.create_instance(&create_info, None) }.map_err(|r| match r {
+            // The loader's answer when it finds no driver at all.
+            vk::Result::ERROR_INCOMPATIBLE_DRIVER => Error::NoDevice,
+            r => Error::vk("vkCreateInstance", "Vulkan 1.3 instance", r),
+        })?;
 
         let debug_utils =
             has_debug_utils.then(|| ash::ext::debug_utils::Instance::new(&entry, &raw));

@@ -5,3 +5,4 @@
 pub mod blade;
 
 pub use blade::{Blade, BladeKind, BladeVertex, EdgeFrame};
+pub mod wind;

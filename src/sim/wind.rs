@@ -1,0 +1,634 @@
+//! CPU reference of the wind solver (paper section 3.2; method.md section 3):
+//! inviscid, incompressible Navier-Stokes on a grid, one step =
+//! add source forces -> semi-Lagrangian advection -> divergence -> pressure
+//! by Jacobi iterations -> subtract the pressure gradient.
+//!
+//! A staggered (MAC) grid: the x component lives on the cells' x faces, y on
+//! y faces, z on z faces, pressure at cell centres. Divergence and gradient
+//! are then compact differences and the projection converges to a
+//! divergence-free field as the Jacobi count grows.
+//!
+//! Boundaries (ours, method.md): the ground (y = 0) and solid cells are
+//! no-through (their faces hold zero); the top is free-slip (no flow through
+//! it, tangential flow free); the four sides are open: the pressure outside
+//! is zero, so wind leaves the domain. An inflow side holds its faces at the
+//! inflow velocity.
+//!
+//! The GPU compute shaders in glsl/wind/ follow this file kernel by kernel.
+
+use glam::{UVec3, Vec3};
+
+use crate::error::{Error, Result};
+
+/// The grid: `cells` = (nx, ny, nz), x and z horizontal, y up.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WindGrid {
+    pub cells: UVec3,
+    /// World position of the grid's minimum corner.
+    pub origin: Vec3,
+    /// Size of one cell along x, y, z (metres).
+    pub cell: Vec3,
+}
+
+/// The most cells one grid may have (the paper's is 72,000).
+pub const MAX_CELLS: u64 = 64 * 1024 * 1024;
+
+impl WindGrid {
+    pub fn new(cells: UVec3, origin: Vec3, size: Vec3) -> Result<Self> {
+        let n = cells.as_u64vec3();
+        if cells.min_element() == 0 || n.x * n.y * n.z > MAX_CELLS {
+            return Err(Error::InvalidInput(format!(
+                "wind grid {}x{}x{} is not allowed, use at least 1 cell per axis and at most {MAX_CELLS} cells",
+                cells.x, cells.y, cells.z
+            )));
+        }
+        if !(size.is_finite() && size.min_element() > 0.0 && origin.is_finite()) {
+            return Err(Error::InvalidInput(format!(
+                "wind domain size {size} at {origin} is not allowed, use finite positive sizes"
+            )));
+        }
+        Ok(Self {
+            cells,
+            origin,
+            cell: size / cells.as_vec3(),
+        })
+    }
+
+    pub fn cell_count(&self) -> usize {
+        (self.cells.x * self.cells.y * self.cells.z) as usize
+    }
+
+    /// Number of samples of velocity component `axis` (one more along its own axis).
+    pub fn face_dims(&self, axis: usize) -> UVec3 {
+        let mut d = self.cells;
+        d[axis] += 1;
+        d
+    }
+
+    pub fn cell_index(&self, i: u32, j: u32, k: u32) -> usize {
+        (i + self.cells.x * (j + self.cells.y * k)) as usize
+    }
+
+    pub fn face_index(&self, axis: usize, i: u32, j: u32, k: u32) -> usize {
+        let d = self.face_dims(axis);
+        (i + d.x * (j + d.y * k)) as usize
+    }
+
+    /// World position of face sample (i, j, k) of component `axis`.
+    pub fn face_position(&self, axis: usize, i: u32, j: u32, k: u32) -> Vec3 {
+        let mut offset = Vec3::splat(0.5);
+        offset[axis] = 0.0;
+        self.origin + (UVec3::new(i, j, k).as_vec3() + offset) * self.cell
+    }
+
+    pub fn cell_center(&self, i: u32, j: u32, k: u32) -> Vec3 {
+        self.origin + (UVec3::new(i, j, k).as_vec3() + 0.5) * self.cell
+    }
+
+    pub fn size(&self) -> Vec3 {
+        self.cell * self.cells.as_vec3()
+    }
+}
+
+/// Strength over time: s(t) = s0 * max(0, 1 + a * g(t)), with
+/// g(t) = 0.5 sin(2 pi f t + p0) + 0.3 sin(2 pi 2.17 f t + p1) + 0.2 sin(2 pi 4.73 f t + p2)
+/// and the phases p drawn from the seed. a = 0 is a steady source.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Gust {
+    pub amplitude: f32,
+    /// Base frequency, Hz.
+    pub frequency: f32,
+    pub seed: u32,
+}
+
+impl Gust {
+    pub const HARMONICS: [(f32, f32); 3] = [(1.0, 0.5), (2.17, 0.3), (4.73, 0.2)];
+
+    /// The three phases, from the seed (a small integer hash, same on GPU upload).
+    pub fn phases(&self) -> [f32; 3] {
+        std::array::from_fn(|n| {
+            let mut x = self
+                .seed
+                .wrapping_mul(0x9E37_79B9)
+                .wrapping_add((n as u32).wrapping_mul(0x85EB_CA6B));
+            x ^= x >> 16;
+            x = x.wrapping_mul(0x7FEB_352D);
+            x ^= x >> 15;
+            (x as f32 / u32::MAX as f32) * std::f32::consts::TAU
+        })
+    }
+
+    pub fn factor(&self, t: f32) -> f32 {
+        if self.amplitude == 0.0 {
+            return 1.0;
+        }
+        let p = self.phases();
+        let g: f32 = Self::HARMONICS
+            .iter()
+            .zip(p)
+            .map(|(&(mult, weight), phase)| {
+                weight * (std::f32::consts::TAU * self.frequency * mult * t + phase).sin()
+            })
+            .sum();
+        (1.0 + self.amplitude * g).max(0.0)
+    }
+}
+
+/// A wind source (method.md section 3): a ball of force.
+#[derive(Clone, Debug, PartialEq)]
+pub struct WindSource {
+    pub position: Vec3,
+    /// Direction of the force at t = 0 (normalised on use).
+    pub direction: Vec3,
+    /// Force per unit mass at the centre (m/s^2).
+    pub strength: f32,
+    /// Radius of influence (m); the force falls off smoothly to zero there.
+    pub radius: f32,
+    /// The direction turns about the vertical at this rate (rad/s): paper Fig. 11.
+    pub rotation_speed: f32,
+    /// Waypoints of a closed path the source moves along (empty: it stays put).
+    pub path: Vec<Vec3>,
+    /// Speed along the path (m/s).
+    pub path_speed: f32,
+    pub gust: Gust,
+    /// Sources can be switched off at this time (s); None: never.
+    pub off_after: Option<f32>,
+}
+
+impl WindSource {
+    pub fn fixed(position: Vec3, direction: Vec3, strength: f32, radius: f32) -> Self {
+        Self {
+            position,
+            direction,
+            strength,
+            radius,
+            rotation_speed: 0.0,
+            path: Vec::new(),
+            path_speed: 0.0,
+            gust: Gust::default(),
+            off_after: None,
+        }
+    }
+
+    /// Position, unit direction and strength at time t.
+    pub fn at(&self, t: f32) -> (Vec3, Vec3, f32) {
+        let (s, c) = (self.rotation_speed * t).sin_cos();
+        let d = self.direction.try_normalize().unwrap_or(Vec3::X);
+        // Rotation about +y.
+        let dir = Vec3::new(c * d.x + s * d.z, d.y, -s * d.x + c * d.z);
+        let strength = match self.off_after {
+            Some(off) if t >= off => 0.0,
+            _ => self.strength * self.gust.factor(t),
+        };
+        (self.position_at(t), dir, strength)
+    }
+
+    fn position_at(&self, t: f32) -> Vec3 {
+        if self.path.len() < 2 || self.path_speed <= 0.0 {
+            return self.path.first().copied().unwrap_or(self.position);
+        }
+        let n = self.path.len();
+        let lengths: Vec<f32> = (0..n)
+            .map(|i| self.path[i].distance(self.path[(i + 1) % n]))
+            .collect();
+        let total: f32 = lengths.iter().sum();
+        if total <= 0.0 {
+            return self.path[0];
+        }
+        let mut s = (self.path_speed * t).rem_euclid(total);
+        for (i, &len) in lengths.iter().enumerate() {
+            if s <= len || i == n - 1 {
+                let f = if len > 0.0 { (s / len).min(1.0) } else { 0.0 };
+                return self.path[i].lerp(self.path[(i + 1) % n], f);
+            }
+            s -= len;
+        }
+        self.path[0]
+    }
+
+    pub fn validate(&self, grid: &WindGrid) -> Result<Vec<String>> {
+        let finite = self.position.is_finite()
+            && self.direction.is_finite()
+            && self.strength.is_finite()
+            && self.radius.is_finite()
+            && self.rotation_speed.is_finite()
+            && self.path_speed.is_finite()
+            && self.path.iter().all(|p| p.is_finite())
+            && self.gust.amplitude.is_finite()
+            && self.gust.frequency.is_finite();
+        if !finite {
+            return Err(Error::InvalidInput(
+                "wind source: every value must be a finite number (found NaN or infinity)".into(),
+            ));
+        }
+        if self.radius <= 0.0 {
+            return Err(Error::InvalidInput(format!(
+                "wind source radius {} is not allowed, use > 0",
+                self.radius
+            )));
+        }
+        let mut warnings = Vec::new();
+        let lo = grid.origin;
+        let hi = grid.origin + grid.size();
+        if self.position.cmplt(lo).any() || self.position.cmpgt(hi).any() {
+            warnings.push(format!(
+                "wind source at {} lies outside the wind domain {lo}..{hi}; only its reach inside counts",
+                self.position
+            ));
+        }
+        Ok(warnings)
+    }
+}
+
+/// Smooth fall-off of a source's force with distance: (1 - (d/r)^2)^2 inside r.
+pub fn falloff(distance: f32, radius: f32) -> f32 {
+    let q = 1.0 - (distance / radius) * (distance / radius);
+    if q > 0.0 {
+        q * q
+    } else {
+        0.0
+    }
+}
+
+/// Wind entering through one side of the domain (paper Fig. 10: from the left).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Inflow {
+    /// Velocity of the incoming air; its sign along x picks the side
+    /// (positive: enters at x = min). Only x is supported: paper Fig. 10.
+    pub speed: f32,
+    pub gust: Gust,
+}
+
+/// Axis-aligned box or sphere obstacle in world space (paper Fig. 13).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Obstacle {
+    Box { min: Vec3, max: Vec3 },
+    Sphere { center: Vec3, radius: f32 },
+}
+
+impl Obstacle {
+    pub fn contains(&self, p: Vec3) -> bool {
+        match *self {
+            Obstacle::Box { min, max } => p.cmpge(min).all() && p.cmple(max).all(),
+            Obstacle::Sphere { center, radius } => p.distance_squared(center) <= radius * radius,
+        }
+    }
+}
+
+/// Everything that drives the wind.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct WindSettings {
+    pub sources: Vec<WindSource>,
+    pub inflow: Option<Inflow>,
+    pub obstacles: Vec<Obstacle>,
+    /// Jacobi iterations of the pressure solve (default 30: method.md's 20-40).
+    pub jacobi_iterations: u32,
+}
+
+pub const DEFAULT_JACOBI_ITERATIONS: u32 = 30;
+
+/// The solver state on the CPU.
+#[derive(Clone, Debug)]
+pub struct WindField {
+    pub grid: WindGrid,
+    /// Velocity components on their faces: [x, y, z].
+    pub vel: [Vec<f32>; 3],
+    pub pressure: Vec<f32>,
+    pub divergence: Vec<f32>,
+    pub solid: Vec<bool>,
+    /// What each velocity sample is: free, wall or inflow (fixed per scene).
+    pub faces: [Vec<FaceKind>; 3],
+    pub time: f32,
+}
+
+impl WindField {
+    /// Voxelises the obstacles and classifies every face, once.
+    pub fn new(grid: WindGrid, settings: &WindSettings) -> Self {
+        let mut solid = vec![false; grid.cell_count()];
+        for k in 0..grid.cells.z {
+            for j in 0..grid.cells.y {
+                for i in 0..grid.cells.x {
+                    let c = grid.cell_center(i, j, k);
+                    solid[grid.cell_index(i, j, k)] =
+                        settings.obstacles.iter().any(|o| o.contains(c));
+                }
+            }
+        }
+        let mut field = Self {
+            vel: [0, 1, 2].map(|a| {
+                let d = grid.face_dims(a);
+                vec![0.0; (d.x * d.y * d.z) as usize]
+            }),
+            pressure: vec![0.0; grid.cell_count()],
+            divergence: vec![0.0; grid.cell_count()],
+            solid,
+            faces: [Vec::new(), Vec::new(), Vec::new()],
+            grid,
+            time: 0.0,
+        };
+        for axis in 0..3 {
+            let d = grid.face_dims(axis);
+            let mut kinds = Vec::with_capacity((d.x * d.y * d.z) as usize);
+            for k in 0..d.z {
+                for j in 0..d.y {
+                    for i in 0..d.x {
+                        kinds.push(field.classify(axis, [i, j, k], settings.inflow.as_ref()));
+                    }
+                }
+            }
+            field.faces[axis] = kinds;
+        }
+        field
+    }
+
+    fn is_solid(&self, c: [i64; 3]) -> bool {
+        let n = self.grid.cells;
+        if c[0] < 0
+            || c[1] < 0
+            || c[2] < 0
+            || c[0] >= n.x as i64
+            || c[1] >= n.y as i64
+            || c[2] >= n.z as i64
+        {
+            return false;
+        }
+        self.solid[self.grid.cell_index(c[0] as u32, c[1] as u32, c[2] as u32)]
+    }
+
+    /// How a face behaves: its value is fixed (no-through walls, solids,
+    /// inflow) or free (moved by advection, forces and projection).
+    fn classify(&self, axis: usize, f: [u32; 3], inflow: Option<&Inflow>) -> FaceKind {
+        let n = self.grid.cells;
+        let lo = [f[0] as i64, f[1] as i64, f[2] as i64];
+        let mut left = lo;
+        left[axis] -= 1;
+        if self.is_solid(lo) || self.is_solid(left) {
+            return FaceKind::Wall;
+        }
+        if axis == 1 && (f[1] == 0 || f[1] == n.y) {
+            return FaceKind::Wall; // ground and top: nothing passes through
+        }
+        if axis == 0 {
+            if let Some(inflow) = inflow {
+                let entry = if inflow.speed >= 0.0 { 0 } else { n.x };
+                if f[0] == entry {
+                    return FaceKind::Inflow;
+                }
+            }
+        }
+        FaceKind::Free
+    }
+
+    /// One full step of length `dt` (s).
+    pub fn step(&mut self, settings: &WindSettings, dt: f32) {
+        self.add_forces(settings, dt);
+        self.advect(dt);
+        self.compute_divergence();
+        self.solve_pressure(settings.jacobi_iterations);
+        self.subtract_gradient();
+        self.time += dt;
+    }
+
+    /// Kernel 1: every free face gains dt * f of every source; inflow faces
+    /// take the inflow velocity; walls hold zero.
+    pub fn add_forces(&mut self, settings: &WindSettings, dt: f32) {
+        let t = self.time;
+        let sources: Vec<(Vec3, Vec3, f32, f32)> = settings
+            .sources
+            .iter()
+            .map(|s| {
+                let (p, d, st) = s.at(t);
+                (p, d, st, s.radius)
+            })
+            .collect();
+        let inflow = settings.inflow.as_ref();
+        for axis in 0..3 {
+            let d = self.grid.face_dims(axis);
+            for k in 0..d.z {
+                for j in 0..d.y {
+                    for i in 0..d.x {
+                        let idx = self.grid.face_index(axis, i, j, k);
+                        match self.faces[axis][idx] {
+                            FaceKind::Wall => self.vel[axis][idx] = 0.0,
+                            FaceKind::Inflow => {
+                                let inflow =
+                                    inflow.expect("inflow faces exist only with an inflow");
+                                self.vel[axis][idx] = inflow.speed * inflow.gust.factor(t);
+                            }
+                            FaceKind::Free => {
+                                let x = self.grid.face_position(axis, i, j, k);
+                                let mut a = 0.0;
+                                for &(p, dir, strength, radius) in &sources {
+                                    a += strength * dir[axis] * falloff(x.distance(p), radius);
+                                }
+                                self.vel[axis][idx] += dt * a;
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// Trilinear sample of component `axis` at world position `x`, clamped
+    /// to the component's sample lattice.
+    pub fn sample_component(&self, vel: &[f32], axis: usize, x: Vec3) -> f32 {
+        let d = self.grid.face_dims(axis);
+        let mut offset = Vec3::splat(0.5);
+        offset[axis] = 0.0;
+        let g = (x - self.grid.origin) / self.grid.cell - offset;
+        let g = g.clamp(Vec3::ZERO, (d - 1).as_vec3());
+        let i0 = g.floor().as_uvec3().min(d - 1);
+        let i1 = (i0 + 1).min(d - 1);
+        let f = g - i0.as_vec3();
+        let at = |i: u32, j: u32, k: u32| vel[self.grid.face_index(axis, i, j, k)];
+        let c00 = at(i0.x, i0.y, i0.z) * (1.0 - f.x) + at(i1.x, i0.y, i0.z) * f.x;
+        let c10 = at(i0.x, i1.y, i0.z) * (1.0 - f.x) + at(i1.x, i1.y, i0.z) * f.x;
+        let c01 = at(i0.x, i0.y, i1.z) * (1.0 - f.x) + at(i1.x, i0.y, i1.z) * f.x;
+        let c11 = at(i0.x, i1.y, i1.z) * (1.0 - f.x) + at(i1.x, i1.y, i1.z) * f.x;
+        let c0 = c00 * (1.0 - f.y) + c10 * f.y;
+        let c1 = c01 * (1.0 - f.y) + c11 * f.y;
+        c0 * (1.0 - f.z) + c1 * f.z
+    }
+
+    /// Wind velocity at a world position (what a blade tip samples).
+    pub fn sample(&self, x: Vec3) -> Vec3 {
+        Vec3::new(
+            self.sample_component(&self.vel[0], 0, x),
+            self.sample_component(&self.vel[1], 1, x),
+            self.sample_component(&self.vel[2], 2, x),
+        )
+    }
+
+    /// Kernel 2: semi-Lagrangian advection. Each free face traces back by
+    /// dt along the velocity there and takes the value it finds.
+    pub fn advect(&mut self, dt: f32) {
+        let src = self.vel.clone();
+        for axis in 0..3 {
+            let d = self.grid.face_dims(axis);
+            for k in 0..d.z {
+                for j in 0..d.y {
+                    for i in 0..d.x {
+                        let idx = self.grid.face_index(axis, i, j, k);
+                        if self.faces[axis][idx] != FaceKind::Free {
+                            continue;
+                        }
+                        let x = self.grid.face_position(axis, i, j, k);
+                        let v = Vec3::new(
+                            self.sample_component(&src[0], 0, x),
+                            self.sample_component(&src[1], 1, x),
+                            self.sample_component(&src[2], 2, x),
+                        );
+                        let back = x - dt * v;
+                        self.vel[axis][idx] = self.sample_component(&src[axis], axis, back);
+                    }
+                }
+            }
+        }
+    }
+
+    /// Kernel 3: divergence of each fluid cell, sum over axes of (out - in) / h.
+    pub fn compute_divergence(&mut self) {
+        let n = self.grid.cells;
+        for k in 0..n.z {
+            for j in 0..n.y {
+                for i in 0..n.x {
+                    let c = self.grid.cell_index(i, j, k);
+                    self.divergence[c] = if self.solid[c] {
+                        0.0
+                    } else {
+                        self.cell_divergence(i, j, k)
+                    };
+                }
+            }
+        }
+    }
+
+    pub fn cell_divergence(&self, i: u32, j: u32, k: u32) -> f32 {
+        let mut div = 0.0;
+        for axis in 0..3 {
+            let mut hi = [i, j, k];
+            hi[axis] += 1;
+            let a = self.vel[axis][self.grid.face_index(axis, i, j, k)];
+            let b = self.vel[axis][self.grid.face_index(axis, hi[0], hi[1], hi[2])];
+            div += (b - a) / self.grid.cell[axis];
+        }
+        div
+    }
+
+    /// Largest |divergence| over the fluid cells.
+    pub fn max_divergence(&self) -> f32 {
+        let n = self.grid.cells;
+        let mut m = 0.0f32;
+        for k in 0..n.z {
+            for j in 0..n.y {
+                for i in 0..n.x {
+                    if !self.solid[self.grid.cell_index(i, j, k)] {
+                        m = m.max(self.cell_divergence(i, j, k).abs());
+                    }
+                }
+            }
+        }
+        m
+    }
+
+    /// Kernel 4: Jacobi iterations for the pressure (with dt/rho folded in):
+    /// sum over free faces of (p_nb - p) / h^2 = div. Across a wall face
+    /// the term drops (Neumann); outside an open side p = 0 (Dirichlet).
+    pub fn solve_pressure(&mut self, iterations: u32) {
+        self.pressure.iter_mut().for_each(|p| *p = 0.0);
+        let mut next = self.pressure.clone();
+        for _ in 0..iterations {
+            let n = self.grid.cells;
+            for k in 0..n.z {
+                for j in 0..n.y {
+                    for i in 0..n.x {
+                        let c = self.grid.cell_index(i, j, k);
+                        next[c] = if self.solid[c] {
+                            0.0
+                        } else {
+                            self.jacobi_cell(i, j, k)
+                        };
+                    }
+                }
+            }
+            std::mem::swap(&mut self.pressure, &mut next);
+        }
+    }
+
+    fn jacobi_cell(&self, i: u32, j: u32, k: u32) -> f32 {
+        let n = self.grid.cells;
+        let mut sum = 0.0;
+        let mut weight = 0.0;
+        for axis in 0..3 {
+            let inv_h2 = 1.0 / (self.grid.cell[axis] * self.grid.cell[axis]);
+            for side in [0u32, 1] {
+                // The face between this cell and the neighbour on `side`.
+                let mut f = [i, j, k];
+                f[axis] += side;
+                // Fixed faces (walls, inflow): no pressure term (Neumann).
+                if self.faces[axis][self.grid.face_index(axis, f[0], f[1], f[2])] != FaceKind::Free
+                {
+                    continue;
+                }
+                let mut nb = [i as i64, j as i64, k as i64];
+                nb[axis] += if side == 1 { 1 } else { -1 };
+                let outside = nb[axis] < 0 || nb[axis] >= n[axis] as i64;
+                let p_nb = if outside {
+                    0.0
+                } else {
+                    self.pressure[self
+                        .grid
+                        .cell_index(nb[0] as u32, nb[1] as u32, nb[2] as u32)]
+                };
+                sum += p_nb * inv_h2;
+                weight += inv_h2;
+            }
+        }
+        if weight == 0.0 {
+            return 0.0;
+        }
+        (sum - self.divergence[self.grid.cell_index(i, j, k)]) / weight
+    }
+
+    /// Kernel 5: subtract the pressure gradient from every free face,
+    /// (p_right - p_left) / h, with p = 0 outside an open side.
+    pub fn subtract_gradient(&mut self) {
+        let n = self.grid.cells;
+        for axis in 0..3 {
+            let d = self.grid.face_dims(axis);
+            for k in 0..d.z {
+                for j in 0..d.y {
+                    for i in 0..d.x {
+                        let idx = self.grid.face_index(axis, i, j, k);
+                        if self.faces[axis][idx] != FaceKind::Free {
+                            continue;
+                        }
+                        let f = [i, j, k];
+                        let p_right = if f[axis] < n[axis] {
+                            self.pressure[self.grid.cell_index(i, j, k)]
+                        } else {
+                            0.0
+                        };
+                        let p_left = if f[axis] > 0 {
+                            let mut l = f;
+                            l[axis] -= 1;
+                            self.pressure[self.grid.cell_index(l[0], l[1], l[2])]
+                        } else {
+                            0.0
+                        };
+                        self.vel[axis][idx] -= (p_right - p_left) / self.grid.cell[axis];
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// How a velocity sample behaves at a boundary.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FaceKind {
+    Free,
+    Wall,
+    Inflow,
+}

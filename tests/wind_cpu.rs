@@ -1,0 +1,260 @@
+//! The wind solver's CPU reference against what method.md section 5 asks of
+//! any implementation. (The GPU solver is compared with this reference.)
+
+use glam::{UVec3, Vec3};
+use meadow::sim::wind::{
+    FaceKind, Gust, Inflow, Obstacle, WindField, WindGrid, WindSettings, WindSource,
+};
+
+fn grid() -> WindGrid {
+    WindGrid::new(
+        UVec3::new(24, 10, 24),
+        Vec3::new(-6.0, 0.0, -6.0),
+        Vec3::new(12.0, 5.0, 12.0),
+    )
+    .unwrap()
+}
+
+fn blowing_source() -> WindSource {
+    WindSource::fixed(Vec3::new(-3.0, 1.5, 0.0), Vec3::X, 30.0, 2.5)
+}
+
+fn kinetic_energy(f: &WindField) -> f64 {
+    f.vel
+        .iter()
+        .flatten()
+        .map(|&v| (v as f64) * (v as f64))
+        .sum()
+}
+
+#[test]
+fn projection_removes_divergence_more_with_more_jacobi_iterations() {
+    let settings = WindSettings {
+        sources: vec![blowing_source()],
+        jacobi_iterations: 0,
+        ..Default::default()
+    };
+    let mut field = WindField::new(grid(), &settings);
+    for _ in 0..5 {
+        field.step(
+            &WindSettings {
+                jacobi_iterations: 30,
+                ..settings.clone()
+            },
+            1.0 / 30.0,
+        );
+    }
+    // One more step's forces and advection, then project with 5, 20, 80.
+    field.add_forces(&settings, 1.0 / 30.0);
+    field.advect(1.0 / 30.0);
+    field.compute_divergence();
+    let before = field.max_divergence();
+    let mut residual = Vec::new();
+    for iterations in [5, 20, 80] {
+        let mut f = field.clone();
+        f.solve_pressure(iterations);
+        f.subtract_gradient();
+        residual.push(f.max_divergence());
+    }
+    assert!(before > 0.1, "no divergence to remove: {before}");
+    assert!(
+        residual[0] < before && residual[1] < residual[0] && residual[2] < residual[1],
+        "{before} -> {residual:?}"
+    );
+    assert!(
+        residual[2] < 0.1 * before,
+        "80 iterations left {} of {before}",
+        residual[2]
+    );
+}
+
+#[test]
+fn obstacle_cells_hold_zero_and_the_lee_is_calmer() {
+    let wall = Obstacle::Box {
+        min: Vec3::new(-1.0, 0.0, -1.5),
+        max: Vec3::new(0.0, 3.0, 1.5),
+    };
+    let settings = WindSettings {
+        inflow: Some(Inflow {
+            speed: 4.0,
+            gust: Gust::default(),
+        }),
+        obstacles: vec![wall],
+        jacobi_iterations: 40,
+        ..Default::default()
+    };
+    let mut field = WindField::new(grid(), &settings);
+    assert!(
+        field.solid.iter().any(|&s| s),
+        "the box voxelised to nothing"
+    );
+    for _ in 0..150 {
+        field.step(&settings, 1.0 / 30.0);
+    }
+    // Every face touching a solid cell is exactly zero.
+    for axis in 0..3 {
+        for (v, kind) in field.vel[axis].iter().zip(&field.faces[axis]) {
+            if *kind == FaceKind::Wall {
+                assert_eq!(*v, 0.0);
+            }
+        }
+    }
+    let speed = |x: f32, z: f32| field.sample(Vec3::new(x, 1.0, z)).length();
+    let lee = (speed(1.0, 0.0) + speed(1.5, 0.0)) / 2.0;
+    let beside = (speed(1.0, 4.0) + speed(1.5, 4.0) + speed(1.0, -4.0) + speed(1.5, -4.0)) / 4.0;
+    assert!(lee < 0.6 * beside, "lee {lee} vs beside {beside}");
+    assert!(beside > 1.0, "no wind beside the wall: {beside}");
+}
+
+#[test]
+fn a_rotating_source_turns_the_wind_at_the_centre() {
+    let mut source = WindSource::fixed(Vec3::new(0.0, 1.5, 0.0), Vec3::X, 20.0, 4.0);
+    source.rotation_speed = std::f32::consts::FRAC_PI_2; // a quarter turn per second
+    let settings = WindSettings {
+        sources: vec![source],
+        jacobi_iterations: 30,
+        ..Default::default()
+    };
+    let mut field = WindField::new(grid(), &settings);
+    let dt = 1.0 / 30.0;
+    let mut angle_at = Vec::new();
+    for step in 1..=60 {
+        field.step(&settings, dt);
+        if step % 15 == 0 {
+            let v = field.sample(Vec3::new(0.0, 1.5, 0.0));
+            angle_at.push((-v.z).atan2(v.x));
+        }
+    }
+    // The direction turns from +x toward -z (about +y) as time goes on.
+    assert!(angle_at.windows(2).all(|w| w[1] > w[0]), "{angle_at:?}");
+    assert!(angle_at[3] - angle_at[0] > 0.5, "{angle_at:?}");
+}
+
+#[test]
+fn switched_off_the_field_decays_instead_of_growing() {
+    let mut source = blowing_source();
+    source.off_after = Some(1.0);
+    let settings = WindSettings {
+        sources: vec![source],
+        jacobi_iterations: 30,
+        ..Default::default()
+    };
+    let mut field = WindField::new(grid(), &settings);
+    let dt = 1.0 / 30.0;
+    for _ in 0..30 {
+        field.step(&settings, dt);
+    }
+    let at_off = kinetic_energy(&field);
+    let mut last = at_off;
+    for n in 0..90 {
+        field.step(&settings, dt);
+        let e = kinetic_energy(&field);
+        assert!(e <= last * 1.0001, "energy grew at step {n}: {last} -> {e}");
+        last = e;
+    }
+    assert!(last < 0.5 * at_off, "barely decayed: {at_off} -> {last}");
+}
+
+#[test]
+fn strongest_gusting_rotating_wind_stays_finite() {
+    let mut a = WindSource::fixed(Vec3::new(-2.0, 1.0, 0.0), Vec3::X, 200.0, 3.0);
+    a.rotation_speed = 2.0;
+    a.gust = Gust {
+        amplitude: 1.0,
+        frequency: 2.0,
+        seed: 9,
+    };
+    let mut b = WindSource::fixed(
+        Vec3::new(2.0, 1.0, 2.0),
+        Vec3::new(-1.0, 0.2, -1.0),
+        200.0,
+        3.0,
+    );
+    b.path = vec![
+        Vec3::new(2.0, 1.0, 2.0),
+        Vec3::new(-2.0, 1.0, 2.0),
+        Vec3::new(0.0, 2.0, -3.0),
+    ];
+    b.path_speed = 3.0;
+    let settings = WindSettings {
+        sources: vec![a, b],
+        inflow: Some(Inflow {
+            speed: 10.0,
+            gust: Gust {
+                amplitude: 1.0,
+                frequency: 1.0,
+                seed: 3,
+            },
+        }),
+        obstacles: vec![Obstacle::Sphere {
+            center: Vec3::new(0.0, 0.5, 0.0),
+            radius: 1.0,
+        }],
+        jacobi_iterations: 30,
+    };
+    let mut field = WindField::new(grid(), &settings);
+    for _ in 0..1000 {
+        field.step(&settings, 1.0 / 60.0);
+    }
+    assert!(field.vel.iter().flatten().all(|v| v.is_finite()));
+    assert!(field.pressure.iter().all(|v| v.is_finite()));
+}
+
+#[test]
+fn gusts_moving_paths_and_rotation_follow_their_definitions() {
+    let g = Gust {
+        amplitude: 0.5,
+        frequency: 1.0,
+        seed: 4,
+    };
+    let values: Vec<f32> = (0..100).map(|i| g.factor(i as f32 * 0.05)).collect();
+    assert!(
+        values.iter().all(|&v| (0.5..=1.5).contains(&v)),
+        "gust factor outside 1 +- 0.5"
+    );
+    assert!(
+        values.iter().cloned().fold(0.0, f32::max) - values.iter().cloned().fold(9.0, f32::min)
+            > 0.2
+    );
+    assert_eq!(Gust::default().factor(3.0), 1.0);
+
+    let mut s = WindSource::fixed(Vec3::ZERO, Vec3::X, 1.0, 1.0);
+    s.path = vec![Vec3::ZERO, Vec3::new(4.0, 0.0, 0.0)];
+    s.path_speed = 2.0;
+    assert!((s.at(1.0).0 - Vec3::new(2.0, 0.0, 0.0)).length() < 1e-5);
+    assert!(
+        (s.at(3.0).0 - Vec3::new(2.0, 0.0, 0.0)).length() < 1e-5,
+        "the closed path comes back"
+    );
+    s.rotation_speed = std::f32::consts::FRAC_PI_2;
+    assert!((s.at(1.0).1 - Vec3::new(0.0, 0.0, -1.0)).length() < 1e-5);
+}
+
+#[test]
+fn bad_wind_input_is_refused_or_warned() {
+    assert!(WindGrid::new(UVec3::new(0, 10, 10), Vec3::ZERO, Vec3::ONE)
+        .unwrap_err()
+        .to_string()
+        .contains("not allowed"));
+    assert!(WindGrid::new(
+        UVec3::new(10, 10, 10),
+        Vec3::ZERO,
+        Vec3::new(1.0, -1.0, 1.0)
+    )
+    .is_err());
+    assert!(WindGrid::new(UVec3::new(100_000, 1000, 1000), Vec3::ZERO, Vec3::ONE).is_err());
+    let g = grid();
+    let mut nan = blowing_source();
+    nan.strength = f32::NAN;
+    assert!(nan.validate(&g).unwrap_err().to_string().contains("NaN"));
+    let mut zero_radius = blowing_source();
+    zero_radius.radius = 0.0;
+    assert!(zero_radius.validate(&g).is_err());
+    let mut outside = blowing_source();
+    outside.position = Vec3::new(50.0, 1.0, 0.0);
+    let warnings = outside.validate(&g).unwrap();
+    assert!(
+        warnings[0].contains("outside the wind domain"),
+        "{warnings:?}"
+    );
+}
