@@ -4,6 +4,7 @@ use ash::vk;
 use gpu_allocator::vulkan::Allocation;
 
 use crate::error::{Error, Result, VkResultExt};
+use crate::gpu::commands::Commands;
 use crate::gpu::memory::MemoryLocation;
 use crate::gpu::Gpu;
 
@@ -76,6 +77,75 @@ impl Buffer {
             .mapped_mut()
             .expect("write to a buffer that is not host-visible");
         mapped[offset..offset + bytes.len()].copy_from_slice(bytes);
+    }
+
+    /// A device-local buffer filled with `bytes` through a staging copy,
+    /// made visible to `dst_stage`/`dst_access`. Blocks until the copy is done.
+    pub fn with_data(
+        gpu: &Gpu,
+        commands: &Commands,
+        name: &str,
+        bytes: &[u8],
+        usage: vk::BufferUsageFlags,
+        dst_stage: vk::PipelineStageFlags2,
+        dst_access: vk::AccessFlags2,
+    ) -> Result<Self> {
+        let dst = Buffer::new(
+            gpu,
+            name,
+            bytes.len() as u64,
+            usage | vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuOnly,
+        )?;
+        let mut staging = match Buffer::new(
+            gpu,
+            &format!("{name} (staging)"),
+            bytes.len() as u64,
+            vk::BufferUsageFlags::TRANSFER_SRC,
+            MemoryLocation::CpuToGpu,
+        ) {
+            Ok(s) => s,
+            Err(e) => {
+                dst.destroy(gpu);
+                return Err(e);
+            }
+        };
+        staging.write(0, bytes);
+        let result = (|| {
+            let cmd = commands.begin(gpu)?;
+            let barrier = [vk::BufferMemoryBarrier2::default()
+                .src_stage_mask(vk::PipelineStageFlags2::COPY)
+                .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
+                .dst_stage_mask(dst_stage)
+                .dst_access_mask(dst_access)
+                .buffer(dst.raw)
+                .offset(0)
+                .size(vk::WHOLE_SIZE)];
+            let region = vk::BufferCopy {
+                src_offset: 0,
+                dst_offset: 0,
+                size: dst.size,
+            };
+            // SAFETY: both buffers are live and `size` bytes long; recording.
+            unsafe {
+                gpu.device
+                    .raw
+                    .cmd_copy_buffer(cmd, staging.raw, dst.raw, &[region]);
+                gpu.device.raw.cmd_pipeline_barrier2(
+                    cmd,
+                    &vk::DependencyInfo::default().buffer_memory_barriers(&barrier),
+                );
+            }
+            commands.submit_and_wait(gpu, &format!("uploading {name}"))
+        })();
+        staging.destroy(gpu);
+        match result {
+            Ok(()) => Ok(dst),
+            Err(e) => {
+                dst.destroy(gpu);
+                Err(e)
+            }
+        }
     }
 
     pub fn destroy(self, gpu: &Gpu) {

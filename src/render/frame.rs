@@ -157,22 +157,19 @@ impl Renderer {
         unsafe { device.update_descriptor_sets(&[write], &[]) };
 
         let vertices: Vec<BladeVertex> = blades.iter().flat_map(Blade::vertices).collect();
-        let bytes = (vertices.len() * std::mem::size_of::<BladeVertex>()) as u64;
+        p.statistics = Some(StatisticsQuery::new(gpu)?);
+        let commands = p.commands.insert(Commands::new(gpu, "frame commands")?);
         // The grass dynamics (compute) will write this buffer in place; the
         // draw reads it as its vertex buffer. Device-local, filled once here.
-        let blade_vertices = p.blade_vertices.insert(Buffer::new(
+        p.blade_vertices = Some(Buffer::with_data(
             gpu,
+            commands,
             "blade control points (vertex buffer)",
-            bytes,
-            vk::BufferUsageFlags::VERTEX_BUFFER
-                | vk::BufferUsageFlags::STORAGE_BUFFER
-                | vk::BufferUsageFlags::TRANSFER_DST,
-            MemoryLocation::GpuOnly,
+            bytemuck::cast_slice(&vertices),
+            vk::BufferUsageFlags::VERTEX_BUFFER | vk::BufferUsageFlags::STORAGE_BUFFER,
+            vk::PipelineStageFlags2::VERTEX_ATTRIBUTE_INPUT,
+            vk::AccessFlags2::VERTEX_ATTRIBUTE_READ,
         )?);
-        let statistics = p.statistics.insert(StatisticsQuery::new(gpu)?);
-        let commands = p.commands.insert(Commands::new(gpu, "frame commands")?);
-        upload(gpu, commands, blade_vertices, &vertices)?;
-        let _ = statistics;
 
         let p = std::mem::take(p);
         Ok(Self {
@@ -413,50 +410,6 @@ impl Renderer {
         }
         .destroy(gpu);
     }
-}
-
-/// Copies `vertices` into the device-local vertex buffer through a staging
-/// buffer, and makes the copy visible to vertex input.
-fn upload(gpu: &Gpu, commands: &Commands, dst: &Buffer, vertices: &[BladeVertex]) -> Result<()> {
-    let mut staging = Buffer::new(
-        gpu,
-        "blade upload staging",
-        dst.size,
-        vk::BufferUsageFlags::TRANSFER_SRC,
-        MemoryLocation::CpuToGpu,
-    )?;
-    staging.write(0, vertices);
-    let result = (|| {
-        let cmd = commands.begin(gpu)?;
-        let barrier = [vk::BufferMemoryBarrier2::default()
-            .src_stage_mask(vk::PipelineStageFlags2::COPY)
-            .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
-            .dst_stage_mask(vk::PipelineStageFlags2::VERTEX_ATTRIBUTE_INPUT)
-            .dst_access_mask(vk::AccessFlags2::VERTEX_ATTRIBUTE_READ)
-            .buffer(dst.raw)
-            .offset(0)
-            .size(vk::WHOLE_SIZE)];
-        // SAFETY: both buffers are live and large enough; recording.
-        unsafe {
-            gpu.device.raw.cmd_copy_buffer(
-                cmd,
-                staging.raw,
-                dst.raw,
-                &[vk::BufferCopy {
-                    src_offset: 0,
-                    dst_offset: 0,
-                    size: dst.size,
-                }],
-            );
-            gpu.device.raw.cmd_pipeline_barrier2(
-                cmd,
-                &vk::DependencyInfo::default().buffer_memory_barriers(&barrier),
-            );
-        }
-        commands.submit_and_wait(gpu, "uploading the blades")
-    })();
-    staging.destroy(gpu);
-    result
 }
 
 fn image_barrier(

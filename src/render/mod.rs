@@ -4,6 +4,7 @@ pub mod frame;
 pub mod frame_uniforms;
 pub mod pipelines;
 pub mod targets;
+pub mod wind_pass;
 
 pub use frame::{Frame, Renderer};
 pub use frame_uniforms::{FrameUniforms, ViewMode};

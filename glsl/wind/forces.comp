@@ -1,0 +1,72 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// Kernel 1, add forces (paper section 3.2): every free face gains dt * f of
+// every wind source; inflow faces take the inflow velocity; walls hold zero.
+#include "wind_kernel.glsl"
+
+float falloff(float d, float r) {
+    float q = 1.0 - (d / r) * (d / r);
+    return q > 0.0 ? q * q : 0.0;
+}
+
+// Position of a source moving along its closed path at time t.
+vec3 source_position(WindSource s, float t) {
+    uint n = uint(s.motion.z);
+    float speed = s.motion.y;
+    if (n < 2u || speed <= 0.0) {
+        return n >= 1u ? s.path[0].xyz : s.position_radius.xyz;
+    }
+    float total = 0.0;
+    for (uint i = 0u; i < n; ++i) {
+        total += distance(s.path[i].xyz, s.path[(i + 1u) % n].xyz);
+    }
+    if (total <= 0.0) {
+        return s.path[0].xyz;
+    }
+    float along = speed * t;
+    along = along - total * floor(along / total);
+    for (uint i = 0u; i < n; ++i) {
+        float len = distance(s.path[i].xyz, s.path[(i + 1u) % n].xyz);
+        if (along <= len || i == n - 1u) {
+            float f = len > 0.0 ? min(along / len, 1.0) : 0.0;
+            return mix(s.path[i].xyz, s.path[(i + 1u) % n].xyz, f);
+        }
+        along -= len;
+    }
+    return s.path[0].xyz;
+}
+
+void main() {
+    uint id = gl_GlobalInvocationID.x;
+    if (id >= pc.grid.cells.w) {
+        return;
+    }
+    float t = pc.step.x;
+    float dt = pc.step.y;
+    uint kind = face_kind[id];
+    if (kind == FACE_WALL) {
+        vel[id] = 0.0;
+        return;
+    }
+    if (kind == FACE_INFLOW) {
+        vel[id] = pc.inflow.x * gust_factor(pc.inflow.y, pc.inflow.z, pc.inflow_phases.xyz, t);
+        return;
+    }
+    uint axis;
+    uvec3 f;
+    face_of(pc.grid, id, axis, f);
+    vec3 x = face_position(pc.grid, axis, f);
+    float a = 0.0;
+    for (uint i = 0u; i < pc.control.x; ++i) {
+        WindSource s = sources[i];
+        // The direction turns about +y (paper Fig. 11: a rotating wind).
+        float angle = s.motion.x * t;
+        float sn = sin(angle), cs = cos(angle);
+        vec3 d = s.direction_strength.xyz;
+        vec3 dir = vec3(cs * d.x + sn * d.z, d.y, -sn * d.x + cs * d.z);
+        float strength = t >= s.motion.w ? 0.0
+                       : s.direction_strength.w * gust_factor(s.gust.x, s.gust.y, s.gust_phases.xyz, t);
+        a += strength * dir[axis] * falloff(distance(x, source_position(s, t)), s.position_radius.w);
+    }
+    vel[id] += dt * a;
+}

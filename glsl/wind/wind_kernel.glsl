@@ -1,0 +1,54 @@
+// What every wind kernel binds: push constants and the solver's buffers.
+// Mirrors `WindPush` and `GpuWindSource` in src/render/wind_pass.rs.
+#ifndef MEADOW_WIND_KERNEL_GLSL
+#define MEADOW_WIND_KERNEL_GLSL
+
+#include "wind_grid.glsl"
+
+layout(local_size_x = 64) in;
+
+layout(push_constant, std430) uniform Push {
+    WindGridParams grid;
+    vec4 step;           // x: time (s), y: dt (s)
+    uvec4 control;       // x: source count, y: pressure half to read, z: pressure half holding the result
+    vec4 inflow;         // x: speed (m/s), y: gust amplitude, z: gust frequency (Hz)
+    vec4 inflow_phases;  // xyz: gust phases
+} pc;
+
+// Two copies of the velocity: A = [0, F) is the state between steps,
+// B = [F, 2F) the advected field. F = pc.grid.cells.w.
+layout(set = 0, binding = 0, std430) buffer Velocity { float vel[]; };
+layout(set = 0, binding = 1, std430) readonly buffer Faces { uint face_kind[]; };
+layout(set = 0, binding = 2, std430) readonly buffer Solid { uint solid[]; };
+// Two copies for the Jacobi ping-pong.
+layout(set = 0, binding = 3, std430) buffer Pressure { float pressure[]; };
+layout(set = 0, binding = 4, std430) buffer Divergence { float divergence[]; };
+
+struct WindSource {
+    vec4 position_radius;     // xyz: position at t = 0; w: radius (m)
+    vec4 direction_strength;  // xyz: unit direction at t = 0; w: strength (m/s^2)
+    vec4 motion;              // x: rotation speed (rad/s), y: path speed (m/s), z: path points, w: off after (s)
+    vec4 gust;                // x: amplitude, y: frequency (Hz)
+    vec4 gust_phases;         // xyz
+    vec4 path[8];             // xyz: waypoints of the closed path
+};
+layout(set = 0, binding = 5, std430) readonly buffer Sources { WindSource sources[]; };
+
+const float TAU = 6.2831853071795864;
+
+// Strength factor over time (src/sim/wind.rs `Gust::factor`).
+float gust_factor(float amplitude, float frequency, vec3 phases, float t) {
+    if (amplitude == 0.0) {
+        return 1.0;
+    }
+    float g = 0.5 * sin(TAU * frequency * 1.0 * t + phases.x)
+            + 0.3 * sin(TAU * frequency * 2.17 * t + phases.y)
+            + 0.2 * sin(TAU * frequency * 4.73 * t + phases.z);
+    return max(1.0 + amplitude * g, 0.0);
+}
+
+uint cell_count() {
+    return pc.grid.cells.x * pc.grid.cells.y * pc.grid.cells.z;
+}
+
+#endif
