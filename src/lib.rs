@@ -17,5 +17,6 @@ pub mod render;
 pub mod scene;
 pub mod shaders;
 pub mod sim;
+pub mod wind_job;
 
 pub use error::{Error, Result};

@@ -95,6 +95,19 @@ enum Command {
         #[command(flatten)]
         device: DeviceArgs,
     },
+    /// Run the wind solver alone; write slices of the field as PNG and
+    /// wind_report.json, print speeds, divergence and GPU time per step.
+    Wind {
+        #[arg(long, default_value = "few-bunches")]
+        scene: String,
+        /// Simulation steps to run.
+        #[arg(long, default_value_t = 120)]
+        steps: u32,
+        #[arg(long, default_value = "out/wind")]
+        out: PathBuf,
+        #[command(flatten)]
+        device: DeviceArgs,
+    },
     /// List the Vulkan devices and whether each can run meadow.
     Devices {
         #[command(flatten)]
@@ -177,6 +190,50 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 );
             }
             println!("wrote {}", out.join("frame_0000.png").display());
+            Ok(())
+        }
+        Command::Wind {
+            scene,
+            steps,
+            out,
+            device,
+        } => {
+            if steps == 0 || steps > 1_000_000 {
+                anyhow::bail!("--steps {steps} is not allowed, use 1..=1000000");
+            }
+            let scene = Scene::builtin(&scene)?;
+            let r = meadow::wind_job::wind_to_dir(&scene, steps, &device.options(), &out)?;
+            for w in &r.warnings {
+                eprintln!("meadow: warning: {w}");
+            }
+            println!(
+                "wind {} on {}: grid {}x{}x{}, {} Jacobi iterations, {} steps of {:.4} s",
+                r.scene,
+                r.device,
+                r.cells[0],
+                r.cells[1],
+                r.cells[2],
+                r.jacobi_iterations,
+                r.steps,
+                r.dt
+            );
+            println!("max speed {:.3} m/s", r.max_speed);
+            println!(
+                "max |divergence| before projection {:.4e} 1/s, after {:.4e} 1/s",
+                r.max_divergence_before, r.max_divergence_after
+            );
+            match (r.step_ms_median, r.step_ms_p95) {
+                (Some(m), Some(p)) => println!(
+                    "GPU time per step (timestamps): median {m:.3} ms, p95 {p:.3} ms over {} steps",
+                    r.steps
+                ),
+                _ => println!("GPU time per step: unavailable (the device has no timestamps)"),
+            }
+            println!(
+                "wrote {} and {}",
+                out.join("wind_horizontal.png").display(),
+                out.join("wind_vertical.png").display()
+            );
             Ok(())
         }
         Command::Devices { device } => {

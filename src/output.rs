@@ -45,14 +45,14 @@ pub fn write_png(path: &Path, frame: &Frame) -> Result<()> {
         .chunks_exact(4)
         .flat_map(|p| [p[0], p[1], p[2]])
         .collect();
+    write_rgb_png(path, frame.width, frame.height, &rgb)
+}
+
+/// Encodes RGB8 pixels as a PNG and writes it atomically.
+pub fn write_rgb_png(path: &Path, width: u32, height: u32, rgb: &[u8]) -> Result<()> {
     let mut encoded = Vec::new();
     image::codecs::png::PngEncoder::new(&mut encoded)
-        .write_image(
-            &rgb,
-            frame.width,
-            frame.height,
-            image::ExtendedColorType::Rgb8,
-        )
+        .write_image(rgb, width, height, image::ExtendedColorType::Rgb8)
         .map_err(|source| Error::Image {
             path: path.display().to_string(),
             source,

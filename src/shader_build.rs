@@ -66,7 +66,9 @@ pub fn compile(name: &Path, text: &str, common: &Path) -> Result<(Vec<u32>, Vec<
         source_language: SourceLanguage::GLSL,
         target: Target::Vulkan {
             version: VulkanVersion::Vulkan1_3,
-            spirv_version: SpirvVersion::SPIRV1_6,
+            // SPIR-V 1.3: from 1.4 glslang copies structs across layouts with
+            // OpCopyLogical, which naga's reader does not take.
+            spirv_version: SpirvVersion::SPIRV1_3,
         },
         version_profile: None,
         messages: ShaderMessage::DEFAULT,

@@ -11,6 +11,7 @@ use meadow::reflect::{self, Binding};
 use meadow::render::pipelines::{
     LayoutBinding, BLADE_ATTRIBUTES, BLADE_STAGES, FRAME_SET, GROUND_STAGES, SKY_STAGES,
 };
+use meadow::render::wind_pass::{GpuWindSource, WindPush, WIND_KERNELS, WIND_SET};
 use meadow::render::FrameUniforms;
 use meadow::shaders::{self, ShaderStage, Spirv};
 
@@ -91,6 +92,8 @@ fn descriptor_layouts_match_reflection() {
     check_pipeline("blade", BLADE_STAGES, FRAME_SET);
     check_pipeline("sky", SKY_STAGES, FRAME_SET);
     check_pipeline("ground", GROUND_STAGES, FRAME_SET);
+    // The five wind kernels share one set layout.
+    check_pipeline("wind", &WIND_KERNELS, WIND_SET);
     // Every stage the Rust layout exposes the block to is a stage that
     // declares it somewhere.
     let mut declaring = vk::ShaderStageFlags::empty();
@@ -189,4 +192,75 @@ fn every_module_passes_spirv_val_when_installed() {
         );
     }
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Member offsets and size of a struct type in a naga module.
+fn struct_layout(module: &naga::Module, ty: naga::Handle<naga::Type>) -> (Vec<u32>, u32) {
+    match &module.types[ty].inner {
+        naga::TypeInner::Struct { members, span } => {
+            (members.iter().map(|m| m.offset).collect(), *span)
+        }
+        other => panic!("not a struct: {other:?}"),
+    }
+}
+
+#[test]
+fn wind_source_and_push_constants_match_the_glsl_side() {
+    let (module, _) = reflect::naga_module(&shaders::WIND_FORCES_COMP).unwrap();
+    // The sources buffer: a block whose one member is a runtime array of WindSource.
+    let sources = module
+        .global_variables
+        .iter()
+        .map(|(_, v)| v)
+        .find(|v| {
+            v.binding
+                .as_ref()
+                .is_some_and(|b| b.group == 0 && b.binding == 5)
+        })
+        .unwrap();
+    let (block_members, _) = struct_layout(&module, sources.ty);
+    assert_eq!(block_members, [0]);
+    let naga::TypeInner::Struct { members, .. } = &module.types[sources.ty].inner else {
+        unreachable!()
+    };
+    let naga::TypeInner::Array { base, stride, .. } = module.types[members[0].ty].inner else {
+        panic!("sources is not an array")
+    };
+    let (offsets, span) = struct_layout(&module, base);
+    assert_eq!(stride as usize, std::mem::size_of::<GpuWindSource>());
+    assert_eq!(span as usize, std::mem::size_of::<GpuWindSource>());
+    assert_eq!(
+        offsets,
+        [
+            offset_of!(GpuWindSource, position_radius),
+            offset_of!(GpuWindSource, direction_strength),
+            offset_of!(GpuWindSource, motion),
+            offset_of!(GpuWindSource, gust),
+            offset_of!(GpuWindSource, gust_phases),
+            offset_of!(GpuWindSource, path),
+        ]
+        .map(|o| o as u32)
+    );
+    // The push-constant block.
+    let push = module
+        .global_variables
+        .iter()
+        .map(|(_, v)| v)
+        .find(|v| v.space == naga::AddressSpace::PushConstant)
+        .expect("a push-constant block");
+    let (offsets, span) = struct_layout(&module, push.ty);
+    assert_eq!(span as usize, std::mem::size_of::<WindPush>());
+    // grid (cells, origin, cell_size) is one nested struct of 48 bytes.
+    assert_eq!(
+        offsets,
+        [
+            0,
+            offset_of!(WindPush, step),
+            offset_of!(WindPush, control),
+            offset_of!(WindPush, inflow),
+            offset_of!(WindPush, inflow_phases)
+        ]
+        .map(|o| o as u32)
+    );
+    assert_eq!(offset_of!(WindPush, step), 48);
 }

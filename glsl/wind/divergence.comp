@@ -1,13 +1,19 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 // Kernel 3, divergence of each fluid cell of the advected field B:
-// sum over axes of (outgoing face - incoming face) / h.
+// sum over axes of (outgoing face - incoming face) / h. It also carries
+// the last step's pressure into copy 0, the Jacobi iterations' start
+// (warm start; src/sim/wind.rs `solve_pressure`).
 #include "wind_kernel.glsl"
 
 void main() {
     uint c = gl_GlobalInvocationID.x;
-    if (c >= cell_count()) {
+    uint cells = cell_count();
+    if (c >= cells) {
         return;
+    }
+    if (pc.control.z == 1u) {
+        pressure[c] = pressure[cells + c];
     }
     if (solid[c] != 0u) {
         divergence[c] = 0.0;

@@ -198,6 +198,8 @@ pub struct Device {
     pub queue_family: u32,
     pub debug_utils: Option<ash::ext::debug_utils::Device>,
     pub pipeline_statistics: bool,
+    /// Valid bits of the queue's timestamps (0: none).
+    pub timestamp_valid_bits: u32,
 }
 
 impl Device {
@@ -206,6 +208,13 @@ impl Device {
             device: adapter.info.name.clone(),
             feature: "a graphics+compute queue".into(),
         })?;
+        // SAFETY: a plain query on a physical device of this instance.
+        let timestamp_valid_bits = unsafe {
+            instance
+                .raw
+                .get_physical_device_queue_family_properties(adapter.raw)
+        }[queue_family as usize]
+            .timestamp_valid_bits;
         let priorities = [1.0f32];
         let queue_info = [vk::DeviceQueueCreateInfo::default()
             .queue_family_index(queue_family)
@@ -240,6 +249,7 @@ impl Device {
             .as_ref()
             .map(|_| ash::ext::debug_utils::Device::new(&instance.raw, &raw));
         let device = Self {
+            timestamp_valid_bits,
             pipeline_statistics: adapter.info.pipeline_statistics,
             raw,
             adapter,

@@ -5,6 +5,7 @@ pub mod frame_uniforms;
 pub mod pipelines;
 pub mod targets;
 pub mod wind_pass;
+pub mod wind_slices;
 
 pub use frame::{Frame, Renderer};
 pub use frame_uniforms::{FrameUniforms, ViewMode};

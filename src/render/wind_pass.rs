@@ -462,46 +462,7 @@ impl WindPass {
         dispatch(ADVECT, face_groups, control(0));
         compute_barrier(gpu, cmd, vk::PipelineStageFlags2::COMPUTE_SHADER);
         dispatch(DIVERGENCE, cell_groups, control(0));
-        // The pressure starts from zero each step (both copies).
-        // SAFETY: recording; the previous readers of the pressure are ordered
-        // before the fill by the barrier on COMPUTE_SHADER.
-        unsafe {
-            let before_fill = [vk::MemoryBarrier2::default()
-                .src_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)
-                .src_access_mask(
-                    vk::AccessFlags2::SHADER_STORAGE_WRITE | vk::AccessFlags2::SHADER_STORAGE_READ,
-                )
-                .dst_stage_mask(vk::PipelineStageFlags2::ALL_TRANSFER)
-                .dst_access_mask(vk::AccessFlags2::TRANSFER_WRITE)];
-            device.cmd_pipeline_barrier2(
-                cmd,
-                &vk::DependencyInfo::default().memory_barriers(&before_fill),
-            );
-            device.cmd_fill_buffer(cmd, self.pressure.raw, 0, vk::WHOLE_SIZE, 0);
-            let after_fill = [vk::MemoryBarrier2::default()
-                .src_stage_mask(
-                    vk::PipelineStageFlags2::ALL_TRANSFER | vk::PipelineStageFlags2::COMPUTE_SHADER,
-                )
-                .src_access_mask(
-                    vk::AccessFlags2::TRANSFER_WRITE | vk::AccessFlags2::SHADER_STORAGE_WRITE,
-                )
-                .dst_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)
-                .dst_access_mask(
-                    vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE,
-                )];
-            device.cmd_pipeline_barrier2(
-                cmd,
-                &vk::DependencyInfo::default().memory_barriers(&after_fill),
-            );
-            device.cmd_bind_descriptor_sets(
-                cmd,
-                vk::PipelineBindPoint::COMPUTE,
-                self.layout,
-                0,
-                &[self.set],
-                &[],
-            );
-        }
+        compute_barrier(gpu, cmd, vk::PipelineStageFlags2::COMPUTE_SHADER);
         for i in 0..iterations {
             dispatch(JACOBI, cell_groups, control(i % 2));
             compute_barrier(gpu, cmd, vk::PipelineStageFlags2::COMPUTE_SHADER);
@@ -509,67 +470,24 @@ impl WindPass {
         dispatch(PROJECT, face_groups, control(0));
     }
 
-    /// Copies the velocity (copy A: x, y, z components one after another)
-    /// back to the host: for tests, pictures and statistics, not per frame.
+    /// Copies the velocity (copy A: x, y, z components) back to the host:
+    /// for tests, pictures and statistics, not per frame.
     pub fn read_velocity(&self, gpu: &Gpu, commands: &Commands) -> Result<[Vec<f32>; 3]> {
-        let bytes = self.face_count as u64 * 4;
-        let mut host = Buffer::new(
-            gpu,
-            "wind readback",
-            bytes,
-            vk::BufferUsageFlags::TRANSFER_DST,
-            MemoryLocation::GpuToCpu,
-        )?;
-        let result = (|| {
-            let cmd = commands.begin(gpu)?;
-            let to_copy = [vk::MemoryBarrier2::default()
-                .src_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)
-                .src_access_mask(vk::AccessFlags2::SHADER_STORAGE_WRITE)
-                .dst_stage_mask(vk::PipelineStageFlags2::COPY)
-                .dst_access_mask(vk::AccessFlags2::TRANSFER_READ)];
-            let to_host = [vk::MemoryBarrier2::default()
-                .src_stage_mask(vk::PipelineStageFlags2::COPY)
-                .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
-                .dst_stage_mask(vk::PipelineStageFlags2::HOST)
-                .dst_access_mask(vk::AccessFlags2::HOST_READ)];
-            // SAFETY: recording; both buffers live and large enough.
-            unsafe {
-                let device = &gpu.device.raw;
-                device.cmd_pipeline_barrier2(
-                    cmd,
-                    &vk::DependencyInfo::default().memory_barriers(&to_copy),
-                );
-                device.cmd_copy_buffer(
-                    cmd,
-                    self.velocity.raw,
-                    host.raw,
-                    &[vk::BufferCopy {
-                        src_offset: 0,
-                        dst_offset: 0,
-                        size: bytes,
-                    }],
-                );
-                device.cmd_pipeline_barrier2(
-                    cmd,
-                    &vk::DependencyInfo::default().memory_barriers(&to_host),
-                );
-            }
-            commands.submit_and_wait(gpu, "reading the wind back")
-        })();
-        let out = result.map(|()| {
-            let all: &[f32] = bytemuck::cast_slice(host.mapped_mut().expect("host-visible"));
-            let mut split = [Vec::new(), Vec::new(), Vec::new()];
-            let mut start = 0;
-            for (axis, dst) in split.iter_mut().enumerate() {
-                let d = self.grid.face_dims(axis);
-                let n = (d.x * d.y * d.z) as usize;
-                *dst = all[start..start + n].to_vec();
-                start += n;
-            }
-            split
-        });
-        host.destroy(gpu);
-        out
+        let all = read_floats(gpu, commands, &self.velocity, self.face_count as usize)?;
+        let mut split = [Vec::new(), Vec::new(), Vec::new()];
+        let mut start = 0;
+        for (axis, dst) in split.iter_mut().enumerate() {
+            let d = self.grid.face_dims(axis);
+            let n = (d.x * d.y * d.z) as usize;
+            *dst = all[start..start + n].to_vec();
+            start += n;
+        }
+        Ok(split)
+    }
+
+    /// The divergence of the last step's advected field, before projection.
+    pub fn read_divergence(&self, gpu: &Gpu, commands: &Commands) -> Result<Vec<f32>> {
+        read_floats(gpu, commands, &self.divergence, self.cell_count as usize)
     }
 
     pub fn destroy(self, gpu: &Gpu) {
@@ -594,6 +512,54 @@ impl WindPass {
             b.destroy(gpu);
         }
     }
+}
+
+/// Copies the first `count` floats of a device buffer written by compute
+/// into host memory.
+fn read_floats(gpu: &Gpu, commands: &Commands, src: &Buffer, count: usize) -> Result<Vec<f32>> {
+    let bytes = count as u64 * 4;
+    let host = Buffer::new(
+        gpu,
+        "wind readback",
+        bytes,
+        vk::BufferUsageFlags::TRANSFER_DST,
+        MemoryLocation::GpuToCpu,
+    )?;
+    let result = (|| {
+        let cmd = commands.begin(gpu)?;
+        let to_copy = [vk::MemoryBarrier2::default()
+            .src_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)
+            .src_access_mask(vk::AccessFlags2::SHADER_STORAGE_WRITE)
+            .dst_stage_mask(vk::PipelineStageFlags2::COPY)
+            .dst_access_mask(vk::AccessFlags2::TRANSFER_READ)];
+        let to_host = [vk::MemoryBarrier2::default()
+            .src_stage_mask(vk::PipelineStageFlags2::COPY)
+            .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
+            .dst_stage_mask(vk::PipelineStageFlags2::HOST)
+            .dst_access_mask(vk::AccessFlags2::HOST_READ)];
+        let region = vk::BufferCopy {
+            src_offset: 0,
+            dst_offset: 0,
+            size: bytes,
+        };
+        // SAFETY: recording; both buffers live and large enough.
+        unsafe {
+            let device = &gpu.device.raw;
+            device.cmd_pipeline_barrier2(
+                cmd,
+                &vk::DependencyInfo::default().memory_barriers(&to_copy),
+            );
+            device.cmd_copy_buffer(cmd, src.raw, host.raw, &[region]);
+            device.cmd_pipeline_barrier2(
+                cmd,
+                &vk::DependencyInfo::default().memory_barriers(&to_host),
+            );
+        }
+        commands.submit_and_wait(gpu, "reading the wind back")
+    })();
+    let out = result.map(|()| bytemuck::cast_slice(host.mapped().expect("host-visible")).to_vec());
+    host.destroy(gpu);
+    out
 }
 
 /// Every earlier write in `src` is visible to the compute shaders after it.

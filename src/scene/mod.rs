@@ -7,6 +7,9 @@ use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
+use crate::sim::wind::{
+    Gust, Inflow, Obstacle, WindGrid, WindSettings, WindSource, DEFAULT_JACOBI_ITERATIONS,
+};
 
 /// A region of grass.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -119,6 +122,59 @@ pub struct Scene {
     pub lod: Lod,
     /// Half the side of the ground square, centred under the grass.
     pub ground_half_extent: f32,
+    pub wind: WindConfig,
+}
+
+/// The wind of a scene (method.md section 3): the grid spans the grass's
+/// bounding box plus a margin, from the ground up to `height`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WindConfig {
+    /// Cells along x, y (up), z: the paper's grid is 60 x 20 x 60.
+    pub cells: [u32; 3],
+    /// Height of the air the grid covers (m).
+    pub height: f32,
+    /// Horizontal margin around the grass (m).
+    pub margin: f32,
+    /// Jacobi iterations of the pressure solve per step.
+    pub jacobi_iterations: u32,
+    /// Simulation step (s); the frame rate never changes it.
+    pub dt: f32,
+    pub sources: Vec<WindSource>,
+    pub inflow: Option<Inflow>,
+    pub obstacles: Vec<Obstacle>,
+}
+
+impl WindConfig {
+    /// Wind from the left (paper Fig. 10): a gusting inflow along +x.
+    pub fn from_the_left(speed: f32) -> Self {
+        Self {
+            cells: [60, 20, 60],
+            height: 3.0,
+            margin: 1.5,
+            jacobi_iterations: DEFAULT_JACOBI_ITERATIONS,
+            dt: 1.0 / 60.0,
+            sources: Vec::new(),
+            inflow: Some(Inflow {
+                speed,
+                gust: Gust {
+                    amplitude: 0.5,
+                    frequency: 0.3,
+                    seed: 1,
+                },
+            }),
+            obstacles: Vec::new(),
+        }
+    }
+
+    pub fn settings(&self) -> WindSettings {
+        WindSettings {
+            sources: self.sources.clone(),
+            inflow: self.inflow,
+            obstacles: self.obstacles.clone(),
+            jacobi_iterations: self.jacobi_iterations,
+        }
+    }
 }
 
 /// Names of the built-in scenes.
@@ -161,6 +217,7 @@ impl Scene {
                 light: sun(),
                 lod: Lod::default(),
                 ground_half_extent: 6.0,
+                wind: WindConfig::from_the_left(2.5),
             },
             // Paper Fig. 10 (right): several bunches on a 3 x 3 layout.
             "several-bunches" => Scene {
@@ -182,6 +239,7 @@ impl Scene {
                 light: sun(),
                 lod: Lod::default(),
                 ground_half_extent: 8.0,
+                wind: WindConfig::from_the_left(2.5),
             },
             // A meadow seen from standing height, reaching to the medium and
             // far levels of detail.
@@ -202,6 +260,7 @@ impl Scene {
                 light: sun(),
                 lod: Lod::default(),
                 ground_half_extent: 40.0,
+                wind: WindConfig::from_the_left(3.0),
             },
             other => {
                 return Err(Error::InvalidInput(format!(
@@ -237,6 +296,48 @@ impl Scene {
             p.set_count(c);
         }
         Ok(())
+    }
+
+    /// Bounding box (x, z) of where the grass grows: (min, max).
+    pub fn grass_bounds(&self) -> ([f32; 2], [f32; 2]) {
+        let mut lo = [f32::MAX; 2];
+        let mut hi = [f32::MIN; 2];
+        for p in &self.grass {
+            let (c, half) = match *p {
+                GrassPatch::Bunch { center, radius, .. } => (center, [radius, radius]),
+                GrassPatch::Meadow { center, size, .. } => (center, [size[0] / 2.0, size[1] / 2.0]),
+            };
+            for a in 0..2 {
+                lo[a] = lo[a].min(c[a] - half[a]);
+                hi[a] = hi[a].max(c[a] + half[a]);
+            }
+        }
+        (lo, hi)
+    }
+
+    /// The wind grid: the grass's bounding box plus the margin, ground to `height`.
+    pub fn wind_grid(&self) -> Result<WindGrid> {
+        let w = &self.wind;
+        let (lo, hi) = self.grass_bounds();
+        let origin = Vec3::new(lo[0] - w.margin, 0.0, lo[1] - w.margin);
+        let size = Vec3::new(
+            hi[0] - lo[0] + 2.0 * w.margin,
+            w.height,
+            hi[1] - lo[1] + 2.0 * w.margin,
+        );
+        if !(w.dt.is_finite() && w.dt > 0.0 && w.dt <= 0.1) {
+            return Err(Error::InvalidInput(format!(
+                "wind.dt {} is not allowed, use 0 < dt <= 0.1 s",
+                w.dt
+            )));
+        }
+        if w.jacobi_iterations > 10_000 {
+            return Err(Error::InvalidInput(format!(
+                "wind.jacobi_iterations {} is not allowed, use 0..=10000",
+                w.jacobi_iterations
+            )));
+        }
+        WindGrid::new(glam::UVec3::from(w.cells), origin, size)
     }
 
     /// Centre of the grass (x, z), for the ground square.

@@ -93,7 +93,7 @@ impl WindGrid {
 /// Strength over time: s(t) = s0 * max(0, 1 + a * g(t)), with
 /// g(t) = 0.5 sin(2 pi f t + p0) + 0.3 sin(2 pi 2.17 f t + p1) + 0.2 sin(2 pi 4.73 f t + p2)
 /// and the phases p drawn from the seed. a = 0 is a steady source.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Gust {
     pub amplitude: f32,
     /// Base frequency, Hz.
@@ -135,7 +135,7 @@ impl Gust {
 }
 
 /// A wind source (method.md section 3): a ball of force.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct WindSource {
     pub position: Vec3,
     /// Direction of the force at t = 0 (normalised on use).
@@ -251,7 +251,7 @@ pub fn falloff(distance: f32, radius: f32) -> f32 {
 }
 
 /// Wind entering through one side of the domain (paper Fig. 10: from the left).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Inflow {
     /// Velocity of the incoming air; its sign along x picks the side
     /// (positive: enters at x = min). Only x is supported: paper Fig. 10.
@@ -260,7 +260,8 @@ pub struct Inflow {
 }
 
 /// Axis-aligned box or sphere obstacle in world space (paper Fig. 13).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
 pub enum Obstacle {
     Box { min: Vec3, max: Vec3 },
     Sphere { center: Vec3, radius: f32 },
@@ -276,7 +277,7 @@ impl Obstacle {
 }
 
 /// Everything that drives the wind.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct WindSettings {
     pub sources: Vec<WindSource>,
     pub inflow: Option<Inflow>,
@@ -535,8 +536,12 @@ impl WindField {
     /// Kernel 4: Jacobi iterations for the pressure (with dt/rho folded in):
     /// sum over free faces of (p_nb - p) / h^2 = div. Across a wall face
     /// the term drops (Neumann); outside an open side p = 0 (Dirichlet).
+    ///
+    /// Warm start (ours): the iterations begin from the previous step's
+    /// pressure, so the solve converges across steps and the pressure
+    /// reaches across the whole grid although each step runs only a few
+    /// dozen iterations.
     pub fn solve_pressure(&mut self, iterations: u32) {
-        self.pressure.iter_mut().for_each(|p| *p = 0.0);
         let mut next = self.pressure.clone();
         for _ in 0..iterations {
             let n = self.grid.cells;
