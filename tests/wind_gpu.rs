@@ -94,8 +94,8 @@ fn relative_l2(a: &[Vec<f32>; 3], b: &[Vec<f32>; 3]) -> f64 {
 /// GPU and CPU run the same kernels in f32; they differ by rounding (fused
 /// multiply-adds, the driver's sin/cos), which semi-Lagrangian advection
 /// carries along. Measured on lavapipe (Mesa 22.3.6, llvmpipe 256 bits):
-/// 6.0e-7 after 100 steps. The bound leaves a ~17x margin for other drivers'
-/// rounding and is orders of magnitude below a real discrepancy (a wrong
+/// 6.0e-7 (pressure from zero each step) and 8.3e-7 (warm-started) after 100
+/// steps. The bound leaves a ~12x margin for other drivers' rounding and is orders of magnitude below a real discrepancy (a wrong
 /// boundary, a missing barrier or a kernel off by one cell gives > 1e-3).
 const GPU_CPU_TOLERANCE: f64 = 1e-5;
 

@@ -79,6 +79,35 @@ impl Gpu {
         &self.device.adapter.info
     }
 
+    /// Size of the largest device-local memory heap, in bytes.
+    pub fn device_local_bytes(&self) -> u64 {
+        // SAFETY: a plain query on this instance's physical device.
+        let props = unsafe {
+            self.instance
+                .raw
+                .get_physical_device_memory_properties(self.device.adapter.raw)
+        };
+        props.memory_heaps[..props.memory_heap_count as usize]
+            .iter()
+            .filter(|h| h.flags.contains(ash::vk::MemoryHeapFlags::DEVICE_LOCAL))
+            .map(|h| h.size)
+            .max()
+            .unwrap_or(0)
+    }
+
+    /// Refuses up front work that cannot fit in device memory.
+    pub fn check_fits(&self, what: &str, bytes: u64) -> Result<()> {
+        let heap = self.device_local_bytes();
+        if bytes > heap / 2 {
+            return Err(crate::Error::InvalidInput(format!(
+                "{what} needs {} MiB of GPU memory, more than half of the device's {} MiB; make it smaller",
+                bytes >> 20,
+                heap >> 20
+            )));
+        }
+        Ok(())
+    }
+
     pub fn wait_idle(&self) {
         // SAFETY: a live device; failure (device lost) leaves nothing to wait for.
         let _ = unsafe { self.device.raw.device_wait_idle() };

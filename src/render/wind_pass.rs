@@ -139,9 +139,18 @@ impl WindPass {
         grid: WindGrid,
         settings: &WindSettings,
     ) -> Result<Self> {
-        let field = WindField::new(grid, settings);
-        let face_count = field.faces.iter().map(Vec::len).sum::<usize>();
-        let cell_count = grid.cell_count();
+        let face_count: u64 = (0..3)
+            .map(|a| grid.face_dims(a).as_u64vec3().element_product())
+            .sum();
+        let cell_count = grid.cell_count() as u64;
+        // Velocity x2, face kinds, pressure x2, divergence, solid cells: 4 bytes each.
+        gpu.check_fits(
+            &format!(
+                "the {}x{}x{} wind grid",
+                grid.cells.x, grid.cells.y, grid.cells.z
+            ),
+            4 * (3 * face_count + 4 * cell_count),
+        )?;
         let (face_count, cell_count) = match (u32::try_from(face_count), u32::try_from(cell_count))
         {
             (Ok(f), Ok(c)) => (f, c),
@@ -151,6 +160,7 @@ impl WindPass {
                 ))
             }
         };
+        let field = WindField::new(grid, settings);
         let gpu_sources = settings
             .sources
             .iter()
