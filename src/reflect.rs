@@ -99,6 +99,15 @@ pub fn naga_module(spirv: &Spirv) -> Result<(naga::Module, naga::valid::ModuleIn
     Ok((module, info))
 }
 
+/// The global variable bound at (set, binding) in a naga module.
+pub fn resource_at(module: &naga::Module, set: u32, binding: u32) -> Option<&naga::GlobalVariable> {
+    module.global_variables.iter().map(|(_, v)| v).find(|v| {
+        v.binding
+            .as_ref()
+            .is_some_and(|b| b.group == set && b.binding == binding)
+    })
+}
+
 /// Member offsets of the struct that backs the uniform block at (set, binding),
 /// by member name, from naga's reading of the SPIR-V.
 pub fn uniform_block_layout(
@@ -107,15 +116,7 @@ pub fn uniform_block_layout(
     binding: u32,
 ) -> Result<(u32, Vec<(String, u32)>), String> {
     let (module, _) = naga_module(spirv)?;
-    let var = module
-        .global_variables
-        .iter()
-        .map(|(_, v)| v)
-        .find(|v| {
-            v.binding
-                .as_ref()
-                .is_some_and(|b| b.group == set && b.binding == binding)
-        })
+    let var = resource_at(&module, set, binding)
         .ok_or_else(|| format!("{}: no resource at set {set} binding {binding}", spirv.path))?;
     match &module.types[var.ty].inner {
         naga::TypeInner::Struct { members, span } => Ok((

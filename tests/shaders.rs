@@ -208,16 +208,7 @@ fn struct_layout(module: &naga::Module, ty: naga::Handle<naga::Type>) -> (Vec<u3
 fn wind_source_and_push_constants_match_the_glsl_side() {
     let (module, _) = reflect::naga_module(&shaders::WIND_FORCES_COMP).unwrap();
     // The sources buffer: a block whose one member is a runtime array of WindSource.
-    let sources = module
-        .global_variables
-        .iter()
-        .map(|(_, v)| v)
-        .find(|v| {
-            v.binding
-                .as_ref()
-                .is_some_and(|b| b.group == 0 && b.binding == 5)
-        })
-        .unwrap();
+    let sources = reflect::resource_at(&module, 0, 5).expect("the sources buffer");
     let (block_members, _) = struct_layout(&module, sources.ty);
     assert_eq!(block_members, [0]);
     let naga::TypeInner::Struct { members, .. } = &module.types[sources.ty].inner else {
