@@ -1,0 +1,45 @@
+//! Criterion bench of the wind solver's CPU reference: one step on the
+//! paper's 60 x 20 x 60 grid with 30 Jacobi iterations. Run with
+//! `cargo bench --bench wind_cpu`; results go in docs/perf.md.
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use glam::{UVec3, Vec3};
+use meadow::sim::wind::{Gust, Inflow, WindField, WindGrid, WindSettings, WindSource};
+
+fn wind_step(c: &mut Criterion) {
+    let grid = WindGrid::new(
+        UVec3::new(60, 20, 60),
+        Vec3::new(-6.0, 0.0, -6.0),
+        Vec3::new(12.0, 3.0, 12.0),
+    )
+    .unwrap();
+    let mut source = WindSource::fixed(Vec3::new(-2.0, 1.0, 0.0), Vec3::X, 20.0, 2.5);
+    source.rotation_speed = 0.5;
+    let settings = WindSettings {
+        sources: vec![source],
+        inflow: Some(Inflow {
+            speed: 2.5,
+            gust: Gust {
+                amplitude: 0.5,
+                frequency: 0.3,
+                seed: 1,
+            },
+        }),
+        obstacles: Vec::new(),
+        jacobi_iterations: 30,
+    };
+    let mut field = WindField::new(grid, &settings);
+    // Start from a developed field, not from air at rest.
+    for _ in 0..20 {
+        field.step(&settings, 1.0 / 60.0);
+    }
+    let mut group = c.benchmark_group("wind CPU reference");
+    group.sample_size(20);
+    group.bench_function("step 60x20x60, 30 Jacobi", |b| {
+        b.iter(|| field.step(&settings, 1.0 / 60.0))
+    });
+    group.finish();
+}
+
+criterion_group!(benches, wind_step);
+criterion_main!(benches);
