@@ -7,9 +7,10 @@ use std::collections::BTreeSet;
 use std::mem::offset_of;
 
 use ash::vk;
+use meadow::gpu::descriptors::LayoutBinding;
 use meadow::reflect::{self, Binding};
 use meadow::render::pipelines::{
-    LayoutBinding, BLADE_ATTRIBUTES, BLADE_STAGES, FRAME_SET, GROUND_STAGES, SKY_STAGES,
+    BLADE_ATTRIBUTES, BLADE_STAGES, FRAME_SET, GROUND_STAGES, SKY_STAGES,
 };
 use meadow::render::wind_pass::{GpuWindSource, WindPush, WIND_KERNELS, WIND_SET};
 use meadow::render::FrameUniforms;

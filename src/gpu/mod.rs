@@ -4,6 +4,7 @@
 
 pub mod buffer;
 pub mod commands;
+pub mod descriptors;
 pub mod device;
 pub mod image;
 pub mod instance;

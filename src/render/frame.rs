@@ -4,12 +4,13 @@
 
 use ash::vk;
 
-use crate::error::{Error, Result, VkResultExt};
+use crate::error::{Error, Result};
 use crate::gpu::commands::Commands;
+use crate::gpu::descriptors::BufferSet;
 use crate::gpu::timing::{PipelineStatistics, StatisticsQuery};
 use crate::gpu::{Buffer, Gpu, Image, MemoryLocation};
 use crate::render::frame_uniforms::FrameUniforms;
-use crate::render::pipelines::RenderPipelines;
+use crate::render::pipelines::{RenderPipelines, FRAME_SET};
 use crate::render::targets::{choose_samples, RenderTargets};
 use crate::sim::{Blade, BladeVertex};
 
@@ -27,8 +28,7 @@ pub struct Frame {
 pub struct Renderer {
     pub targets: RenderTargets,
     pipelines: RenderPipelines,
-    descriptor_pool: vk::DescriptorPool,
-    descriptor_set: vk::DescriptorSet,
+    frame_set: BufferSet,
     uniforms: Buffer,
     /// The blades' control points: the vertex buffer of the blade pipeline.
     pub blade_vertices: Buffer,
@@ -42,7 +42,7 @@ pub struct Renderer {
 struct Partial {
     targets: Option<RenderTargets>,
     pipelines: Option<RenderPipelines>,
-    descriptor_pool: Option<vk::DescriptorPool>,
+    frame_set: Option<BufferSet>,
     uniforms: Option<Buffer>,
     blade_vertices: Option<Buffer>,
     statistics: Option<StatisticsQuery>,
@@ -63,8 +63,8 @@ impl Partial {
         if let Some(x) = self.uniforms {
             x.destroy(gpu);
         }
-        if let Some(x) = self.descriptor_pool {
-            unsafe { gpu.device.raw.destroy_descriptor_pool(x, None) };
+        if let Some(x) = self.frame_set {
+            x.destroy(gpu);
         }
         if let Some(x) = self.pipelines {
             x.destroy(gpu);
@@ -97,7 +97,6 @@ impl Renderer {
         blades: &[Blade],
         p: &mut Partial,
     ) -> Result<Self> {
-        let device = &gpu.device.raw;
         let blade_count = u32::try_from(blades.len())
             .ok()
             .filter(|&n| n > 0 && (n as u64) * 4 <= u32::MAX as u64)
@@ -115,27 +114,6 @@ impl Renderer {
         let formats = targets.formats();
         let pipelines = p.pipelines.insert(RenderPipelines::new(gpu, formats)?);
 
-        let pool_sizes = [vk::DescriptorPoolSize {
-            ty: vk::DescriptorType::UNIFORM_BUFFER,
-            descriptor_count: 1,
-        }];
-        let pool_info = vk::DescriptorPoolCreateInfo::default()
-            .max_sets(1)
-            .pool_sizes(&pool_sizes);
-        // SAFETY: valid create info on a live device.
-        let pool = *p.descriptor_pool.insert(
-            unsafe { device.create_descriptor_pool(&pool_info, None) }
-                .vk_context("vkCreateDescriptorPool", "frame descriptors")?,
-        );
-        gpu.device.name(pool, "frame descriptor pool");
-        let set_layouts = [pipelines.set_layout];
-        let alloc = vk::DescriptorSetAllocateInfo::default()
-            .descriptor_pool(pool)
-            .set_layouts(&set_layouts);
-        let descriptor_set = unsafe { device.allocate_descriptor_sets(&alloc) }
-            .vk_context("vkAllocateDescriptorSets", "frame set")?[0];
-        gpu.device.name(descriptor_set, "frame descriptor set");
-
         let uniforms = p.uniforms.insert(Buffer::new(
             gpu,
             "frame uniforms",
@@ -143,18 +121,13 @@ impl Renderer {
             vk::BufferUsageFlags::UNIFORM_BUFFER,
             MemoryLocation::CpuToGpu,
         )?);
-        let buffer_info = [vk::DescriptorBufferInfo {
-            buffer: uniforms.raw,
-            offset: 0,
-            range: vk::WHOLE_SIZE,
-        }];
-        let write = vk::WriteDescriptorSet::default()
-            .dst_set(descriptor_set)
-            .dst_binding(0)
-            .descriptor_type(vk::DescriptorType::UNIFORM_BUFFER)
-            .buffer_info(&buffer_info);
-        // SAFETY: the set is not in use by any command buffer yet.
-        unsafe { device.update_descriptor_sets(&[write], &[]) };
+        p.frame_set = Some(BufferSet::new(
+            gpu,
+            pipelines.set_layout,
+            FRAME_SET,
+            &[uniforms.raw],
+            "frame descriptor set",
+        )?);
 
         let vertices: Vec<BladeVertex> = blades.iter().flat_map(Blade::vertices).collect();
         p.statistics = Some(StatisticsQuery::new(gpu)?);
@@ -175,8 +148,7 @@ impl Renderer {
         Ok(Self {
             targets: p.targets.unwrap(),
             pipelines: p.pipelines.unwrap(),
-            descriptor_pool: pool,
-            descriptor_set,
+            frame_set: p.frame_set.unwrap(),
             uniforms: p.uniforms.unwrap(),
             blade_vertices: p.blade_vertices.unwrap(),
             blade_count,
@@ -324,7 +296,7 @@ impl Renderer {
                 vk::PipelineBindPoint::GRAPHICS,
                 p.layout,
                 0,
-                &[self.descriptor_set],
+                &[self.frame_set.set],
                 &[],
             );
 
@@ -402,7 +374,7 @@ impl Renderer {
         Partial {
             targets: Some(self.targets),
             pipelines: Some(self.pipelines),
-            descriptor_pool: Some(self.descriptor_pool),
+            frame_set: Some(self.frame_set),
             uniforms: Some(self.uniforms),
             blade_vertices: Some(self.blade_vertices),
             statistics: Some(self.statistics),

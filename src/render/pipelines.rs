@@ -4,21 +4,12 @@
 
 use ash::vk;
 
-use crate::error::{Error, Result, VkResultExt};
+use crate::error::{Error, Result};
+use crate::gpu::descriptors::{create_pipeline_layout, create_set_layout, LayoutBinding};
 use crate::gpu::{shader, Gpu};
 use crate::reflect::DescriptorKind;
 use crate::shaders::{self, Spirv};
 use crate::sim::BladeVertex;
-
-/// One binding of a descriptor-set layout, as Rust declares it. The
-/// reflection test checks these against the compiled shaders.
-#[derive(Clone, Copy, Debug)]
-pub struct LayoutBinding {
-    pub set: u32,
-    pub binding: u32,
-    pub ty: DescriptorKind,
-    pub stages: vk::ShaderStageFlags,
-}
 
 /// Set 0 of every render pipeline: the per-frame uniforms.
 pub const FRAME_SET: &[LayoutBinding] = &[LayoutBinding {
@@ -95,21 +86,14 @@ impl RenderPipelines {
     pub fn new(gpu: &Gpu, formats: TargetFormats) -> Result<Self> {
         let device = &gpu.device.raw;
         let set_layout = create_set_layout(gpu, FRAME_SET, "frame set layout")?;
-        let set_layouts = [set_layout];
-        let layout_info = vk::PipelineLayoutCreateInfo::default().set_layouts(&set_layouts);
-        // SAFETY: valid create info; the set layout is live.
-        let layout = match unsafe { device.create_pipeline_layout(&layout_info, None) } {
+        let layout = match create_pipeline_layout(gpu, set_layout, None, "render pipeline layout") {
             Ok(l) => l,
-            Err(r) => {
+            Err(e) => {
+                // SAFETY: nothing uses the set layout yet.
                 unsafe { device.destroy_descriptor_set_layout(set_layout, None) };
-                return Err(Error::vk(
-                    "vkCreatePipelineLayout",
-                    "render pipeline layout",
-                    r,
-                ));
+                return Err(e);
             }
         };
-        gpu.device.name(layout, "render pipeline layout");
 
         let blade_binding = [vk::VertexInputBindingDescription {
             binding: 0,
@@ -182,29 +166,6 @@ impl RenderPipelines {
             device.destroy_descriptor_set_layout(self.set_layout, None);
         }
     }
-}
-
-pub fn create_set_layout(
-    gpu: &Gpu,
-    bindings: &[LayoutBinding],
-    name: &str,
-) -> Result<vk::DescriptorSetLayout> {
-    let vk_bindings: Vec<_> = bindings
-        .iter()
-        .map(|b| {
-            vk::DescriptorSetLayoutBinding::default()
-                .binding(b.binding)
-                .descriptor_type(b.ty.vk())
-                .descriptor_count(1)
-                .stage_flags(b.stages)
-        })
-        .collect();
-    let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&vk_bindings);
-    // SAFETY: valid create info on a live device.
-    let layout = unsafe { gpu.device.raw.create_descriptor_set_layout(&info, None) }
-        .vk_context("vkCreateDescriptorSetLayout", name)?;
-    gpu.device.name(layout, name);
-    Ok(layout)
 }
 
 fn create_pipeline(

@@ -8,12 +8,15 @@
 //! code the CPU reference steps with, and are uploaded.
 
 use ash::vk;
+use bytemuck::Zeroable;
 
-use crate::error::{Error, Result, VkResultExt};
+use crate::error::{Error, Result};
 use crate::gpu::commands::Commands;
+use crate::gpu::descriptors::{
+    create_pipeline_layout, create_set_layout, BufferSet, LayoutBinding,
+};
 use crate::gpu::{shader, Buffer, Gpu, MemoryLocation};
 use crate::reflect::DescriptorKind;
-use crate::render::pipelines::{create_set_layout, LayoutBinding};
 use crate::shaders::{self, Spirv};
 use crate::sim::wind::{FaceKind, WindField, WindGrid, WindSettings, WindSource};
 
@@ -36,7 +39,7 @@ pub struct WindPush {
 
 /// One wind source as the kernels read it (`WindSource` in wind_kernel.glsl).
 #[repr(C)]
-#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct GpuWindSource {
     pub position_radius: [f32; 4],
     pub direction_strength: [f32; 4],
@@ -109,21 +112,208 @@ const DIVERGENCE: usize = 2;
 const JACOBI: usize = 3;
 const PROJECT: usize = 4;
 
-pub struct WindPass {
-    pub grid: WindGrid,
-    settings: WindSettings,
+/// The solver's buffers, made once.
+struct WindBuffers {
     /// Velocity, two copies of every face: A (state) then B (advected).
-    pub velocity: Buffer,
+    velocity: Buffer,
     faces: Buffer,
     solid: Buffer,
     pressure: Buffer,
     divergence: Buffer,
     sources: Buffer,
+}
+
+impl WindBuffers {
+    fn new(
+        gpu: &Gpu,
+        commands: &Commands,
+        field: &WindField,
+        gpu_sources: &[GpuWindSource],
+        face_count: u32,
+        cell_count: u32,
+    ) -> Result<Self> {
+        let mut made: Vec<Buffer> = Vec::with_capacity(6);
+        match Self::fill(
+            gpu,
+            commands,
+            field,
+            gpu_sources,
+            face_count,
+            cell_count,
+            &mut made,
+        ) {
+            Ok(()) => {
+                let [velocity, faces, solid, pressure, divergence, sources]: [Buffer; 6] = made
+                    .try_into()
+                    .unwrap_or_else(|_| unreachable!("fill makes six buffers"));
+                Ok(Self {
+                    velocity,
+                    faces,
+                    solid,
+                    pressure,
+                    divergence,
+                    sources,
+                })
+            }
+            Err(e) => {
+                for b in made {
+                    b.destroy(gpu);
+                }
+                Err(e)
+            }
+        }
+    }
+
+    /// Pushes the buffers in binding order (`WIND_SET`), each as soon as it exists.
+    fn fill(
+        gpu: &Gpu,
+        commands: &Commands,
+        field: &WindField,
+        gpu_sources: &[GpuWindSource],
+        face_count: u32,
+        cell_count: u32,
+        made: &mut Vec<Buffer>,
+    ) -> Result<()> {
+        let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+        let rw = storage | vk::BufferUsageFlags::TRANSFER_DST | vk::BufferUsageFlags::TRANSFER_SRC;
+        let compute = vk::PipelineStageFlags2::COMPUTE_SHADER;
+        let read = vk::AccessFlags2::SHADER_STORAGE_READ;
+        let device_buffer = |name: &str, floats: u64| {
+            Buffer::new(gpu, name, 4 * floats, rw, MemoryLocation::GpuOnly)
+        };
+        let uploaded = |name: &str, bytes: &[u8]| {
+            Buffer::with_data(gpu, commands, name, bytes, storage, compute, read)
+        };
+
+        made.push(device_buffer(
+            "wind velocity (A, B)",
+            2 * face_count as u64,
+        )?);
+        let kinds = field.faces.iter().flatten().map(|k| match k {
+            FaceKind::Free => 0,
+            FaceKind::Wall => 1,
+            FaceKind::Inflow => 2,
+        });
+        made.push(uploaded("wind face kinds", &u32_bytes(kinds))?);
+        made.push(uploaded(
+            "wind solid cells",
+            &u32_bytes(field.solid.iter().map(|&s| s as u32)),
+        )?);
+        made.push(device_buffer(
+            "wind pressure (ping, pong)",
+            2 * cell_count as u64,
+        )?);
+        made.push(device_buffer("wind divergence", cell_count as u64)?);
+        // At least one entry so the binding is never empty.
+        let sources: &[GpuWindSource] = if gpu_sources.is_empty() {
+            &[GpuWindSource::zeroed()]
+        } else {
+            gpu_sources
+        };
+        made.push(uploaded("wind sources", bytemuck::cast_slice(sources))?);
+
+        // The air starts at rest, and the first Jacobi solve starts from
+        // zero pressure (later ones from the previous step's).
+        let cmd = commands.begin(gpu)?;
+        let zeroed = [vk::MemoryBarrier2::default()
+            .src_stage_mask(vk::PipelineStageFlags2::ALL_TRANSFER)
+            .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
+            .dst_stage_mask(compute)
+            .dst_access_mask(read | vk::AccessFlags2::SHADER_STORAGE_WRITE)];
+        // SAFETY: recording into our command buffer; the buffers are live.
+        unsafe {
+            let device = &gpu.device.raw;
+            device.cmd_fill_buffer(cmd, made[0].raw, 0, vk::WHOLE_SIZE, 0);
+            device.cmd_fill_buffer(cmd, made[3].raw, 0, vk::WHOLE_SIZE, 0);
+            device.cmd_pipeline_barrier2(
+                cmd,
+                &vk::DependencyInfo::default().memory_barriers(&zeroed),
+            );
+        }
+        commands.submit_and_wait(gpu, "clearing the wind")
+    }
+
+    /// In the order of `WIND_SET`.
+    fn raw(&self) -> [vk::Buffer; 6] {
+        [
+            self.velocity.raw,
+            self.faces.raw,
+            self.solid.raw,
+            self.pressure.raw,
+            self.divergence.raw,
+            self.sources.raw,
+        ]
+    }
+
+    fn destroy(self, gpu: &Gpu) {
+        for b in [
+            self.velocity,
+            self.faces,
+            self.solid,
+            self.pressure,
+            self.divergence,
+            self.sources,
+        ] {
+            b.destroy(gpu);
+        }
+    }
+}
+
+/// The five kernels' pipelines and their shared layouts.
+struct WindKernels {
     set_layout: vk::DescriptorSetLayout,
     layout: vk::PipelineLayout,
-    pool: vk::DescriptorPool,
-    set: vk::DescriptorSet,
     pipelines: Vec<vk::Pipeline>,
+}
+
+impl WindKernels {
+    fn new(gpu: &Gpu) -> Result<Self> {
+        let mut k = Self {
+            set_layout: vk::DescriptorSetLayout::null(),
+            layout: vk::PipelineLayout::null(),
+            pipelines: Vec::new(),
+        };
+        let built = (|| {
+            k.set_layout = create_set_layout(gpu, WIND_SET, "wind set layout")?;
+            let push = (
+                vk::ShaderStageFlags::COMPUTE,
+                std::mem::size_of::<WindPush>() as u32,
+            );
+            k.layout =
+                create_pipeline_layout(gpu, k.set_layout, Some(push), "wind pipeline layout")?;
+            for spirv in WIND_KERNELS {
+                k.pipelines.push(compute_pipeline(gpu, k.layout, spirv)?);
+            }
+            Ok(())
+        })();
+        match built {
+            Ok(()) => Ok(k),
+            Err(e) => {
+                k.destroy(gpu);
+                Err(e)
+            }
+        }
+    }
+
+    fn destroy(self, gpu: &Gpu) {
+        let device = &gpu.device.raw;
+        // SAFETY: the owner waited for the GPU; destroying a null handle is a no-op.
+        unsafe {
+            for p in self.pipelines {
+                device.destroy_pipeline(p, None);
+            }
+            device.destroy_pipeline_layout(self.layout, None);
+            device.destroy_descriptor_set_layout(self.set_layout, None);
+        }
+    }
+}
+
+pub struct WindPass {
+    pub grid: WindGrid,
+    settings: WindSettings,
+    buffers: WindBuffers,
+    kernels: WindKernels,
+    set: BufferSet,
     face_count: u32,
     cell_count: u32,
 }
@@ -160,243 +350,41 @@ impl WindPass {
                 ))
             }
         };
-        let field = WindField::new(grid, settings);
         let gpu_sources = settings
             .sources
             .iter()
             .map(GpuWindSource::from_source)
             .collect::<Result<Vec<_>>>()?;
-        let mut created: Vec<Buffer> = Vec::new();
-        let result = Self::build(
-            gpu,
-            commands,
-            &field,
-            settings,
-            &gpu_sources,
-            face_count,
-            cell_count,
-            &mut created,
-        );
-        match result {
-            Ok(p) => Ok(p),
+        let field = WindField::new(grid, settings);
+        let buffers =
+            WindBuffers::new(gpu, commands, &field, &gpu_sources, face_count, cell_count)?;
+        let kernels = match WindKernels::new(gpu) {
+            Ok(k) => k,
             Err(e) => {
-                for b in created {
-                    b.destroy(gpu);
-                }
-                Err(e)
-            }
-        }
-    }
-
-    #[allow(clippy::too_many_arguments)]
-    fn build(
-        gpu: &Gpu,
-        commands: &Commands,
-        field: &WindField,
-        settings: &WindSettings,
-        gpu_sources: &[GpuWindSource],
-        face_count: u32,
-        cell_count: u32,
-        created: &mut Vec<Buffer>,
-    ) -> Result<Self> {
-        let device = &gpu.device.raw;
-        let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
-        let compute = vk::PipelineStageFlags2::COMPUTE_SHADER;
-        let read = vk::AccessFlags2::SHADER_STORAGE_READ;
-        let kinds = field.faces.iter().flatten().map(|k| match k {
-            FaceKind::Free => 0,
-            FaceKind::Wall => 1,
-            FaceKind::Inflow => 2,
-        });
-        created.push(Buffer::with_data(
-            gpu,
-            commands,
-            "wind face kinds",
-            &u32_bytes(kinds),
-            storage,
-            compute,
-            read,
-        )?);
-        let solid = field.solid.iter().map(|&s| s as u32);
-        created.push(Buffer::with_data(
-            gpu,
-            commands,
-            "wind solid cells",
-            &u32_bytes(solid),
-            storage,
-            compute,
-            read,
-        )?);
-        // At least one entry so the binding is never empty.
-        let sources_bytes: Vec<u8> = if gpu_sources.is_empty() {
-            bytemuck::bytes_of(&GpuWindSource::default()).to_vec()
-        } else {
-            bytemuck::cast_slice(gpu_sources).to_vec()
-        };
-        created.push(Buffer::with_data(
-            gpu,
-            commands,
-            "wind sources",
-            &sources_bytes,
-            storage,
-            compute,
-            read,
-        )?);
-        let rw = storage | vk::BufferUsageFlags::TRANSFER_DST | vk::BufferUsageFlags::TRANSFER_SRC;
-        let f32_size = 4u64;
-        created.push(Buffer::new(
-            gpu,
-            "wind velocity (A, B)",
-            2 * face_count as u64 * f32_size,
-            rw,
-            MemoryLocation::GpuOnly,
-        )?);
-        created.push(Buffer::new(
-            gpu,
-            "wind pressure (ping, pong)",
-            2 * cell_count as u64 * f32_size,
-            rw,
-            MemoryLocation::GpuOnly,
-        )?);
-        created.push(Buffer::new(
-            gpu,
-            "wind divergence",
-            cell_count as u64 * f32_size,
-            rw,
-            MemoryLocation::GpuOnly,
-        )?);
-
-        // Zero the velocity once: the air starts at rest.
-        let cmd = commands.begin(gpu)?;
-        let velocity_raw = created[3].raw;
-        let zeroed = [vk::BufferMemoryBarrier2::default()
-            .src_stage_mask(vk::PipelineStageFlags2::ALL_TRANSFER)
-            .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
-            .dst_stage_mask(compute)
-            .dst_access_mask(read | vk::AccessFlags2::SHADER_STORAGE_WRITE)
-            .buffer(velocity_raw)
-            .offset(0)
-            .size(vk::WHOLE_SIZE)];
-        // SAFETY: recording into our command buffer; the buffer is live.
-        unsafe {
-            device.cmd_fill_buffer(cmd, velocity_raw, 0, vk::WHOLE_SIZE, 0);
-            device.cmd_pipeline_barrier2(
-                cmd,
-                &vk::DependencyInfo::default().buffer_memory_barriers(&zeroed),
-            );
-        }
-        commands.submit_and_wait(gpu, "clearing the wind")?;
-
-        let set_layout = create_set_layout(gpu, WIND_SET, "wind set layout")?;
-        let push_range = [vk::PushConstantRange {
-            stage_flags: vk::ShaderStageFlags::COMPUTE,
-            offset: 0,
-            size: std::mem::size_of::<WindPush>() as u32,
-        }];
-        let set_layouts = [set_layout];
-        let layout_info = vk::PipelineLayoutCreateInfo::default()
-            .set_layouts(&set_layouts)
-            .push_constant_ranges(&push_range);
-        // SAFETY: valid create info on a live device.
-        let layout = match unsafe { device.create_pipeline_layout(&layout_info, None) } {
-            Ok(l) => l,
-            Err(r) => {
-                unsafe { device.destroy_descriptor_set_layout(set_layout, None) };
-                return Err(Error::vk(
-                    "vkCreatePipelineLayout",
-                    "wind pipeline layout",
-                    r,
-                ));
+                buffers.destroy(gpu);
+                return Err(e);
             }
         };
-        gpu.device.name(layout, "wind pipeline layout");
-        let destroy_layouts = || unsafe {
-            device.destroy_pipeline_layout(layout, None);
-            device.destroy_descriptor_set_layout(set_layout, None);
-        };
-
-        let mut pipelines = Vec::new();
-        for spirv in WIND_KERNELS {
-            match compute_pipeline(gpu, layout, spirv) {
-                Ok(p) => pipelines.push(p),
-                Err(e) => {
-                    for p in pipelines {
-                        unsafe { device.destroy_pipeline(p, None) };
-                    }
-                    destroy_layouts();
-                    return Err(e);
-                }
-            }
-        }
-        let pool_sizes = [vk::DescriptorPoolSize {
-            ty: vk::DescriptorType::STORAGE_BUFFER,
-            descriptor_count: WIND_SET.len() as u32,
-        }];
-        let pool_info = vk::DescriptorPoolCreateInfo::default()
-            .max_sets(1)
-            .pool_sizes(&pool_sizes);
-        let pool = match unsafe { device.create_descriptor_pool(&pool_info, None) } {
-            Ok(p) => p,
-            Err(r) => {
-                for p in pipelines {
-                    unsafe { device.destroy_pipeline(p, None) };
-                }
-                destroy_layouts();
-                return Err(Error::vk("vkCreateDescriptorPool", "wind descriptors", r));
+        let set = match BufferSet::new(
+            gpu,
+            kernels.set_layout,
+            WIND_SET,
+            &buffers.raw(),
+            "wind descriptor set",
+        ) {
+            Ok(s) => s,
+            Err(e) => {
+                kernels.destroy(gpu);
+                buffers.destroy(gpu);
+                return Err(e);
             }
         };
-        gpu.device.name(pool, "wind descriptor pool");
-        let alloc = vk::DescriptorSetAllocateInfo::default()
-            .descriptor_pool(pool)
-            .set_layouts(&set_layouts);
-        // SAFETY: the pool has room for exactly this set.
-        let set = unsafe { device.allocate_descriptor_sets(&alloc) }
-            .vk_context("vkAllocateDescriptorSets", "wind set")?[0];
-        gpu.device.name(set, "wind descriptor set");
-
-        let mut drained = std::mem::take(created).into_iter();
-        let mut next = || drained.next().expect("six wind buffers");
-        let (faces, solid, sources, velocity, pressure, divergence) =
-            (next(), next(), next(), next(), next(), next());
-        let infos: Vec<[vk::DescriptorBufferInfo; 1]> =
-            [&velocity, &faces, &solid, &pressure, &divergence, &sources]
-                .iter()
-                .map(|b| {
-                    [vk::DescriptorBufferInfo {
-                        buffer: b.raw,
-                        offset: 0,
-                        range: vk::WHOLE_SIZE,
-                    }]
-                })
-                .collect();
-        let writes: Vec<_> = infos
-            .iter()
-            .enumerate()
-            .map(|(i, info)| {
-                vk::WriteDescriptorSet::default()
-                    .dst_set(set)
-                    .dst_binding(i as u32)
-                    .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-                    .buffer_info(info)
-            })
-            .collect();
-        // SAFETY: the set is not in use by any command buffer yet.
-        unsafe { device.update_descriptor_sets(&writes, &[]) };
-
         Ok(Self {
-            grid: field.grid,
+            grid,
             settings: settings.clone(),
-            velocity,
-            faces,
-            solid,
-            pressure,
-            divergence,
-            sources,
-            set_layout,
-            layout,
-            pool,
+            buffers,
+            kernels,
             set,
-            pipelines,
             face_count,
             cell_count,
         })
@@ -440,11 +428,11 @@ impl WindPass {
                 device.cmd_bind_pipeline(
                     cmd,
                     vk::PipelineBindPoint::COMPUTE,
-                    self.pipelines[kernel],
+                    self.kernels.pipelines[kernel],
                 );
                 device.cmd_push_constants(
                     cmd,
-                    self.layout,
+                    self.kernels.layout,
                     vk::ShaderStageFlags::COMPUTE,
                     0,
                     bytemuck::bytes_of(&push),
@@ -461,9 +449,9 @@ impl WindPass {
             device.cmd_bind_descriptor_sets(
                 cmd,
                 vk::PipelineBindPoint::COMPUTE,
-                self.layout,
+                self.kernels.layout,
                 0,
-                &[self.set],
+                &[self.set.set],
                 &[],
             );
         }
@@ -483,7 +471,12 @@ impl WindPass {
     /// Copies the velocity (copy A: x, y, z components) back to the host:
     /// for tests, pictures and statistics, not per frame.
     pub fn read_velocity(&self, gpu: &Gpu, commands: &Commands) -> Result<[Vec<f32>; 3]> {
-        let all = read_floats(gpu, commands, &self.velocity, self.face_count as usize)?;
+        let all = read_floats(
+            gpu,
+            commands,
+            &self.buffers.velocity,
+            self.face_count as usize,
+        )?;
         let mut split = [Vec::new(), Vec::new(), Vec::new()];
         let mut start = 0;
         for (axis, dst) in split.iter_mut().enumerate() {
@@ -497,30 +490,18 @@ impl WindPass {
 
     /// The divergence of the last step's advected field, before projection.
     pub fn read_divergence(&self, gpu: &Gpu, commands: &Commands) -> Result<Vec<f32>> {
-        read_floats(gpu, commands, &self.divergence, self.cell_count as usize)
+        read_floats(
+            gpu,
+            commands,
+            &self.buffers.divergence,
+            self.cell_count as usize,
+        )
     }
 
     pub fn destroy(self, gpu: &Gpu) {
-        let device = &gpu.device.raw;
-        // SAFETY: the owner waited for the GPU to finish with the pass.
-        unsafe {
-            for p in self.pipelines {
-                device.destroy_pipeline(p, None);
-            }
-            device.destroy_descriptor_pool(self.pool, None);
-            device.destroy_pipeline_layout(self.layout, None);
-            device.destroy_descriptor_set_layout(self.set_layout, None);
-        }
-        for b in [
-            self.velocity,
-            self.faces,
-            self.solid,
-            self.pressure,
-            self.divergence,
-            self.sources,
-        ] {
-            b.destroy(gpu);
-        }
+        self.set.destroy(gpu);
+        self.kernels.destroy(gpu);
+        self.buffers.destroy(gpu);
     }
 }
 
