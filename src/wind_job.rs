@@ -147,14 +147,9 @@ fn run(gpu: &Gpu, scene: &Scene, steps: u32, out_dir: &Path) -> Result<WindRepor
 
 /// Largest speed at any cell centre.
 fn max_speed(field: &WindField) -> f32 {
-    let n = field.grid.cells;
-    let mut m = 0.0f32;
-    for k in 0..n.z {
-        for j in 0..n.y {
-            for i in 0..n.x {
-                m = m.max(field.sample(field.grid.cell_center(i, j, k)).length());
-            }
-        }
-    }
-    m
+    field
+        .grid
+        .each_cell()
+        .map(|(_, [i, j, k])| field.sample(field.grid.cell_center(i, j, k)).length())
+        .fold(0.0, f32::max)
 }

@@ -88,6 +88,24 @@ impl WindGrid {
     pub fn size(&self) -> Vec3 {
         self.cell * self.cells.as_vec3()
     }
+
+    /// Every sample of velocity component `axis` in storage order:
+    /// (index, [i, j, k]).
+    pub fn each_face(self, axis: usize) -> impl Iterator<Item = (usize, [u32; 3])> {
+        lattice(self.face_dims(axis))
+    }
+
+    /// Every cell in storage order: (index, [i, j, k]).
+    pub fn each_cell(self) -> impl Iterator<Item = (usize, [u32; 3])> {
+        lattice(self.cells)
+    }
+}
+
+/// The points of a `d.x` x `d.y` x `d.z` lattice, x fastest, numbered in that order.
+fn lattice(d: UVec3) -> impl Iterator<Item = (usize, [u32; 3])> {
+    (0..d.z)
+        .flat_map(move |k| (0..d.y).flat_map(move |j| (0..d.x).map(move |i| [i, j, k])))
+        .enumerate()
 }
 
 /// Strength over time: s(t) = s0 * max(0, 1 + a * g(t)), with
@@ -305,16 +323,13 @@ pub struct WindField {
 impl WindField {
     /// Voxelises the obstacles and classifies every face, once.
     pub fn new(grid: WindGrid, settings: &WindSettings) -> Self {
-        let mut solid = vec![false; grid.cell_count()];
-        for k in 0..grid.cells.z {
-            for j in 0..grid.cells.y {
-                for i in 0..grid.cells.x {
-                    let c = grid.cell_center(i, j, k);
-                    solid[grid.cell_index(i, j, k)] =
-                        settings.obstacles.iter().any(|o| o.contains(c));
-                }
-            }
-        }
+        let solid = grid
+            .each_cell()
+            .map(|(_, [i, j, k])| {
+                let c = grid.cell_center(i, j, k);
+                settings.obstacles.iter().any(|o| o.contains(c))
+            })
+            .collect();
         let mut field = Self {
             vel: [0, 1, 2].map(|a| {
                 let d = grid.face_dims(a);
@@ -328,16 +343,10 @@ impl WindField {
             time: 0.0,
         };
         for axis in 0..3 {
-            let d = grid.face_dims(axis);
-            let mut kinds = Vec::with_capacity((d.x * d.y * d.z) as usize);
-            for k in 0..d.z {
-                for j in 0..d.y {
-                    for i in 0..d.x {
-                        kinds.push(field.classify(axis, [i, j, k], settings.inflow.as_ref()));
-                    }
-                }
-            }
-            field.faces[axis] = kinds;
+            field.faces[axis] = grid
+                .each_face(axis)
+                .map(|(_, f)| field.classify(axis, f, settings.inflow.as_ref()))
+                .collect();
         }
         field
     }
@@ -404,27 +413,20 @@ impl WindField {
             .collect();
         let inflow = settings.inflow.as_ref();
         for axis in 0..3 {
-            let d = self.grid.face_dims(axis);
-            for k in 0..d.z {
-                for j in 0..d.y {
-                    for i in 0..d.x {
-                        let idx = self.grid.face_index(axis, i, j, k);
-                        match self.faces[axis][idx] {
-                            FaceKind::Wall => self.vel[axis][idx] = 0.0,
-                            FaceKind::Inflow => {
-                                let inflow =
-                                    inflow.expect("inflow faces exist only with an inflow");
-                                self.vel[axis][idx] = inflow.speed * inflow.gust.factor(t);
-                            }
-                            FaceKind::Free => {
-                                let x = self.grid.face_position(axis, i, j, k);
-                                let mut a = 0.0;
-                                for &(p, dir, strength, radius) in &sources {
-                                    a += strength * dir[axis] * falloff(x.distance(p), radius);
-                                }
-                                self.vel[axis][idx] += dt * a;
-                            }
+            for (idx, [i, j, k]) in self.grid.each_face(axis) {
+                match self.faces[axis][idx] {
+                    FaceKind::Wall => self.vel[axis][idx] = 0.0,
+                    FaceKind::Inflow => {
+                        let inflow = inflow.expect("inflow faces exist only with an inflow");
+                        self.vel[axis][idx] = inflow.speed * inflow.gust.factor(t);
+                    }
+                    FaceKind::Free => {
+                        let x = self.grid.face_position(axis, i, j, k);
+                        let mut a = 0.0;
+                        for &(p, dir, strength, radius) in &sources {
+                            a += strength * dir[axis] * falloff(x.distance(p), radius);
                         }
+                        self.vel[axis][idx] += dt * a;
                     }
                 }
             }
@@ -466,42 +468,30 @@ impl WindField {
     pub fn advect(&mut self, dt: f32) {
         let src = self.vel.clone();
         for axis in 0..3 {
-            let d = self.grid.face_dims(axis);
-            for k in 0..d.z {
-                for j in 0..d.y {
-                    for i in 0..d.x {
-                        let idx = self.grid.face_index(axis, i, j, k);
-                        if self.faces[axis][idx] != FaceKind::Free {
-                            continue;
-                        }
-                        let x = self.grid.face_position(axis, i, j, k);
-                        let v = Vec3::new(
-                            self.sample_component(&src[0], 0, x),
-                            self.sample_component(&src[1], 1, x),
-                            self.sample_component(&src[2], 2, x),
-                        );
-                        let back = x - dt * v;
-                        self.vel[axis][idx] = self.sample_component(&src[axis], axis, back);
-                    }
+            for (idx, [i, j, k]) in self.grid.each_face(axis) {
+                if self.faces[axis][idx] != FaceKind::Free {
+                    continue;
                 }
+                let x = self.grid.face_position(axis, i, j, k);
+                let v = Vec3::new(
+                    self.sample_component(&src[0], 0, x),
+                    self.sample_component(&src[1], 1, x),
+                    self.sample_component(&src[2], 2, x),
+                );
+                let back = x - dt * v;
+                self.vel[axis][idx] = self.sample_component(&src[axis], axis, back);
             }
         }
     }
 
     /// Kernel 3: divergence of each fluid cell, sum over axes of (out - in) / h.
     pub fn compute_divergence(&mut self) {
-        let n = self.grid.cells;
-        for k in 0..n.z {
-            for j in 0..n.y {
-                for i in 0..n.x {
-                    let c = self.grid.cell_index(i, j, k);
-                    self.divergence[c] = if self.solid[c] {
-                        0.0
-                    } else {
-                        self.cell_divergence(i, j, k)
-                    };
-                }
-            }
+        for (c, [i, j, k]) in self.grid.each_cell() {
+            self.divergence[c] = if self.solid[c] {
+                0.0
+            } else {
+                self.cell_divergence(i, j, k)
+            };
         }
     }
 
@@ -519,18 +509,11 @@ impl WindField {
 
     /// Largest |divergence| over the fluid cells.
     pub fn max_divergence(&self) -> f32 {
-        let n = self.grid.cells;
-        let mut m = 0.0f32;
-        for k in 0..n.z {
-            for j in 0..n.y {
-                for i in 0..n.x {
-                    if !self.solid[self.grid.cell_index(i, j, k)] {
-                        m = m.max(self.cell_divergence(i, j, k).abs());
-                    }
-                }
-            }
-        }
-        m
+        self.grid
+            .each_cell()
+            .filter(|&(c, _)| !self.solid[c])
+            .map(|(_, [i, j, k])| self.cell_divergence(i, j, k).abs())
+            .fold(0.0, f32::max)
     }
 
     /// Kernel 4: Jacobi iterations for the pressure (with dt/rho folded in):
@@ -544,18 +527,12 @@ impl WindField {
     pub fn solve_pressure(&mut self, iterations: u32) {
         let mut next = self.pressure.clone();
         for _ in 0..iterations {
-            let n = self.grid.cells;
-            for k in 0..n.z {
-                for j in 0..n.y {
-                    for i in 0..n.x {
-                        let c = self.grid.cell_index(i, j, k);
-                        next[c] = if self.solid[c] {
-                            0.0
-                        } else {
-                            self.jacobi_cell(i, j, k)
-                        };
-                    }
-                }
+            for (c, [i, j, k]) in self.grid.each_cell() {
+                next[c] = if self.solid[c] {
+                    0.0
+                } else {
+                    self.jacobi_cell(i, j, k)
+                };
             }
             std::mem::swap(&mut self.pressure, &mut next);
         }
@@ -601,30 +578,23 @@ impl WindField {
     pub fn subtract_gradient(&mut self) {
         let n = self.grid.cells;
         for axis in 0..3 {
-            let d = self.grid.face_dims(axis);
-            for k in 0..d.z {
-                for j in 0..d.y {
-                    for i in 0..d.x {
-                        let idx = self.grid.face_index(axis, i, j, k);
-                        if self.faces[axis][idx] != FaceKind::Free {
-                            continue;
-                        }
-                        let f = [i, j, k];
-                        let p_right = if f[axis] < n[axis] {
-                            self.pressure[self.grid.cell_index(i, j, k)]
-                        } else {
-                            0.0
-                        };
-                        let p_left = if f[axis] > 0 {
-                            let mut l = f;
-                            l[axis] -= 1;
-                            self.pressure[self.grid.cell_index(l[0], l[1], l[2])]
-                        } else {
-                            0.0
-                        };
-                        self.vel[axis][idx] -= (p_right - p_left) / self.grid.cell[axis];
-                    }
+            for (idx, f) in self.grid.each_face(axis) {
+                if self.faces[axis][idx] != FaceKind::Free {
+                    continue;
                 }
+                let p_right = if f[axis] < n[axis] {
+                    self.pressure[self.grid.cell_index(f[0], f[1], f[2])]
+                } else {
+                    0.0
+                };
+                let p_left = if f[axis] > 0 {
+                    let mut l = f;
+                    l[axis] -= 1;
+                    self.pressure[self.grid.cell_index(l[0], l[1], l[2])]
+                } else {
+                    0.0
+                };
+                self.vel[axis][idx] -= (p_right - p_left) / self.grid.cell[axis];
             }
         }
     }
@@ -636,4 +606,25 @@ pub enum FaceKind {
     Free,
     Wall,
     Inflow,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lattice_iterators_number_samples_as_storage_does() {
+        let grid = WindGrid::new(UVec3::new(3, 2, 4), Vec3::ZERO, Vec3::ONE).unwrap();
+        for axis in 0..3 {
+            let d = grid.face_dims(axis);
+            let all: Vec<_> = grid.each_face(axis).collect();
+            assert_eq!(all.len(), (d.x * d.y * d.z) as usize);
+            for (idx, [i, j, k]) in all {
+                assert_eq!(idx, grid.face_index(axis, i, j, k));
+            }
+        }
+        for (c, [i, j, k]) in grid.each_cell() {
+            assert_eq!(c, grid.cell_index(i, j, k));
+        }
+    }
 }
