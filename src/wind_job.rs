@@ -12,7 +12,7 @@ use crate::output;
 use crate::render::wind_pass::WindPass;
 use crate::render::wind_slices::{self, Slice};
 use crate::scene::Scene;
-use crate::sim::wind::WindField;
+use crate::sim::wind::{WindField, WindGrid, WindSettings};
 
 /// Steps recorded into one submission (and timed with one query pool).
 const STEPS_PER_SUBMIT: u32 = 100;
@@ -52,7 +52,7 @@ pub fn wind_to_dir(
     }
     output::ensure_dir(out_dir)?;
     let gpu = Gpu::new(gpu_options)?;
-    let result = run(&gpu, scene, steps, out_dir);
+    let result = run(&gpu, scene, grid, &settings, steps, out_dir);
     let validation = gpu.destroy();
     let mut report = result?;
     report.warnings = warnings;
@@ -63,47 +63,56 @@ pub fn wind_to_dir(
     Ok(report)
 }
 
-fn run(gpu: &Gpu, scene: &Scene, steps: u32, out_dir: &Path) -> Result<WindReport> {
-    let grid = scene.wind_grid()?;
-    let settings = scene.wind.settings();
+fn run(
+    gpu: &Gpu,
+    scene: &Scene,
+    grid: WindGrid,
+    settings: &WindSettings,
+    steps: u32,
+    out_dir: &Path,
+) -> Result<WindReport> {
     let dt = scene.wind.dt;
     let commands = Commands::new(gpu, "wind commands")?;
-    let pass = match WindPass::new(gpu, &commands, grid, &settings) {
+    let pass = match WindPass::new(gpu, &commands, grid, settings) {
         Ok(p) => p,
         Err(e) => {
             commands.destroy(gpu);
             return Err(e);
         }
     };
-    let timestamps = TimestampQueries::new(gpu, STEPS_PER_SUBMIT, "wind step timestamps");
+    let timestamps = match TimestampQueries::new(gpu, STEPS_PER_SUBMIT, "wind step timestamps") {
+        Ok(t) => t,
+        Err(e) => {
+            pass.destroy(gpu);
+            commands.destroy(gpu);
+            return Err(e);
+        }
+    };
     let result = (|| {
-        let timestamps = timestamps
-            .as_ref()
-            .map_err(|e| crate::Error::InvalidInput(e.to_string()))?;
         let mut times = Vec::new();
         let mut done = 0;
         while done < steps {
             let batch = (steps - done).min(STEPS_PER_SUBMIT);
             let cmd = commands.begin(gpu)?;
-            if let Some(t) = timestamps {
+            if let Some(t) = &timestamps {
                 t.reset(gpu, cmd);
             }
             for n in 0..batch {
-                if let Some(t) = timestamps {
+                if let Some(t) = &timestamps {
                     t.stamp(gpu, cmd, n, false);
                 }
                 pass.record_step(gpu, cmd, (done + n) as f32 * dt, dt);
-                if let Some(t) = timestamps {
+                if let Some(t) = &timestamps {
                     t.stamp(gpu, cmd, n, true);
                 }
             }
             commands.submit_and_wait(gpu, "wind steps")?;
-            if let Some(t) = timestamps {
+            if let Some(t) = &timestamps {
                 times.extend(t.read_ms(gpu, batch)?);
             }
             done += batch;
         }
-        let mut field = WindField::new(grid, &settings);
+        let mut field = WindField::new(grid, settings);
         field.vel = pass.read_velocity(gpu, &commands)?;
         let before = pass.read_divergence(gpu, &commands)?;
         let max_divergence_before = before.iter().fold(0.0f32, |m, d| m.max(d.abs()));
@@ -137,7 +146,7 @@ fn run(gpu: &Gpu, scene: &Scene, steps: u32, out_dir: &Path) -> Result<WindRepor
             validation: ValidationReport::default(),
         })
     })();
-    if let Ok(Some(t)) = timestamps {
+    if let Some(t) = timestamps {
         t.destroy(gpu);
     }
     pass.destroy(gpu);
