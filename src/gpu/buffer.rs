@@ -148,6 +148,71 @@ impl Buffer {
         }
     }
 
+    /// Copies the first `count` values of a device buffer (made with
+    /// TRANSFER_SRC) to the host, after every earlier write to it: for
+    /// tests, pictures and statistics, never per frame. Blocks.
+    pub fn read_back<T: bytemuck::Pod>(
+        &self,
+        gpu: &Gpu,
+        commands: &Commands,
+        count: usize,
+    ) -> Result<Vec<T>> {
+        let bytes = (count * std::mem::size_of::<T>()) as u64;
+        if bytes > self.size {
+            return Err(Error::InvalidInput(format!(
+                "reading {bytes} bytes back from a {}-byte buffer",
+                self.size
+            )));
+        }
+        let host = Buffer::new(
+            gpu,
+            "readback",
+            bytes.max(4),
+            vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuToCpu,
+        )?;
+        let result = (|| {
+            let cmd = commands.begin(gpu)?;
+            let to_copy = [vk::MemoryBarrier2::default()
+                .src_stage_mask(vk::PipelineStageFlags2::ALL_COMMANDS)
+                .src_access_mask(vk::AccessFlags2::MEMORY_WRITE)
+                .dst_stage_mask(vk::PipelineStageFlags2::COPY)
+                .dst_access_mask(vk::AccessFlags2::TRANSFER_READ)];
+            let to_host = [vk::MemoryBarrier2::default()
+                .src_stage_mask(vk::PipelineStageFlags2::COPY)
+                .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
+                .dst_stage_mask(vk::PipelineStageFlags2::HOST)
+                .dst_access_mask(vk::AccessFlags2::HOST_READ)];
+            // SAFETY: recording; both buffers are live and at least `bytes` long.
+            unsafe {
+                let device = &gpu.device.raw;
+                device.cmd_pipeline_barrier2(
+                    cmd,
+                    &vk::DependencyInfo::default().memory_barriers(&to_copy),
+                );
+                if bytes > 0 {
+                    let region = vk::BufferCopy {
+                        src_offset: 0,
+                        dst_offset: 0,
+                        size: bytes,
+                    };
+                    device.cmd_copy_buffer(cmd, self.raw, host.raw, &[region]);
+                }
+                device.cmd_pipeline_barrier2(
+                    cmd,
+                    &vk::DependencyInfo::default().memory_barriers(&to_host),
+                );
+            }
+            commands.submit_and_wait(gpu, "reading a buffer back")
+        })();
+        let out = result.map(|()| {
+            let mapped = host.mapped().expect("readback memory is host-visible");
+            bytemuck::pod_collect_to_vec(&mapped[..bytes as usize])
+        });
+        host.destroy(gpu);
+        out
+    }
+
     pub fn destroy(self, gpu: &Gpu) {
         // SAFETY: the owner guarantees the GPU no longer uses the buffer.
         unsafe { gpu.device.raw.destroy_buffer(self.raw, None) };

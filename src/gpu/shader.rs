@@ -20,3 +20,29 @@ pub fn module(gpu: &Gpu, spirv: &Spirv) -> Result<vk::ShaderModule> {
     gpu.device.name(module, spirv.path);
     Ok(module)
 }
+
+/// A compute pipeline running `spirv`'s `main` with `layout`, named after
+/// its source file.
+pub fn compute_pipeline(
+    gpu: &Gpu,
+    layout: vk::PipelineLayout,
+    spirv: &Spirv,
+) -> Result<vk::Pipeline> {
+    let device = &gpu.device.raw;
+    let module = module(gpu, spirv)?;
+    let stage = vk::PipelineShaderStageCreateInfo::default()
+        .stage(vk::ShaderStageFlags::COMPUTE)
+        .module(module)
+        .name(c"main");
+    let info = vk::ComputePipelineCreateInfo::default()
+        .stage(stage)
+        .layout(layout);
+    // SAFETY: valid create info; the module is destroyed after creation.
+    let result =
+        unsafe { device.create_compute_pipelines(vk::PipelineCache::null(), &[info], None) };
+    unsafe { device.destroy_shader_module(module, None) };
+    let pipeline =
+        result.map_err(|(_, r)| Error::vk("vkCreateComputePipelines", spirv.path, r))?[0];
+    gpu.device.name(pipeline, spirv.path);
+    Ok(pipeline)
+}

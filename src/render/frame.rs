@@ -139,7 +139,9 @@ impl Renderer {
             commands,
             "blade control points (vertex buffer)",
             bytemuck::cast_slice(&vertices),
-            vk::BufferUsageFlags::VERTEX_BUFFER | vk::BufferUsageFlags::STORAGE_BUFFER,
+            vk::BufferUsageFlags::VERTEX_BUFFER
+                | vk::BufferUsageFlags::STORAGE_BUFFER
+                | vk::BufferUsageFlags::TRANSFER_SRC,
             vk::PipelineStageFlags2::VERTEX_ATTRIBUTE_INPUT,
             vk::AccessFlags2::VERTEX_ATTRIBUTE_READ,
         )?);

@@ -1,7 +1,9 @@
-//! The rendering phase: pipelines, targets, and frame orchestration.
+//! The GPU side of both phases: the simulation passes (wind, grass) and the
+//! rendering (pipelines, targets, frame orchestration).
 
 pub mod frame;
 pub mod frame_uniforms;
+pub mod grass_pass;
 pub mod pipelines;
 pub mod targets;
 pub mod wind_pass;

@@ -282,7 +282,8 @@ impl WindKernels {
             k.layout =
                 create_pipeline_layout(gpu, k.set_layout, Some(push), "wind pipeline layout")?;
             for spirv in WIND_KERNELS {
-                k.pipelines.push(compute_pipeline(gpu, k.layout, spirv)?);
+                k.pipelines
+                    .push(shader::compute_pipeline(gpu, k.layout, spirv)?);
             }
             Ok(())
         })();
@@ -471,12 +472,10 @@ impl WindPass {
     /// Copies the velocity (copy A: x, y, z components) back to the host:
     /// for tests, pictures and statistics, not per frame.
     pub fn read_velocity(&self, gpu: &Gpu, commands: &Commands) -> Result<[Vec<f32>; 3]> {
-        let all = read_floats(
-            gpu,
-            commands,
-            &self.buffers.velocity,
-            self.face_count as usize,
-        )?;
+        let all: Vec<f32> =
+            self.buffers
+                .velocity
+                .read_back(gpu, commands, self.face_count as usize)?;
         let mut split = [Vec::new(), Vec::new(), Vec::new()];
         let mut start = 0;
         for (axis, dst) in split.iter_mut().enumerate() {
@@ -490,12 +489,15 @@ impl WindPass {
 
     /// The divergence of the last step's advected field, before projection.
     pub fn read_divergence(&self, gpu: &Gpu, commands: &Commands) -> Result<Vec<f32>> {
-        read_floats(
-            gpu,
-            commands,
-            &self.buffers.divergence,
-            self.cell_count as usize,
-        )
+        self.buffers
+            .divergence
+            .read_back(gpu, commands, self.cell_count as usize)
+    }
+
+    /// The velocity buffer: copy A (the state between steps) starts at 0,
+    /// in the layout of glsl/common/wind_grid.glsl. The grass samples it.
+    pub fn velocity(&self) -> &Buffer {
+        &self.buffers.velocity
     }
 
     pub fn destroy(self, gpu: &Gpu) {
@@ -503,54 +505,6 @@ impl WindPass {
         self.kernels.destroy(gpu);
         self.buffers.destroy(gpu);
     }
-}
-
-/// Copies the first `count` floats of a device buffer written by compute
-/// into host memory.
-fn read_floats(gpu: &Gpu, commands: &Commands, src: &Buffer, count: usize) -> Result<Vec<f32>> {
-    let bytes = count as u64 * 4;
-    let host = Buffer::new(
-        gpu,
-        "wind readback",
-        bytes,
-        vk::BufferUsageFlags::TRANSFER_DST,
-        MemoryLocation::GpuToCpu,
-    )?;
-    let result = (|| {
-        let cmd = commands.begin(gpu)?;
-        let to_copy = [vk::MemoryBarrier2::default()
-            .src_stage_mask(vk::PipelineStageFlags2::COMPUTE_SHADER)
-            .src_access_mask(vk::AccessFlags2::SHADER_STORAGE_WRITE)
-            .dst_stage_mask(vk::PipelineStageFlags2::COPY)
-            .dst_access_mask(vk::AccessFlags2::TRANSFER_READ)];
-        let to_host = [vk::MemoryBarrier2::default()
-            .src_stage_mask(vk::PipelineStageFlags2::COPY)
-            .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
-            .dst_stage_mask(vk::PipelineStageFlags2::HOST)
-            .dst_access_mask(vk::AccessFlags2::HOST_READ)];
-        let region = vk::BufferCopy {
-            src_offset: 0,
-            dst_offset: 0,
-            size: bytes,
-        };
-        // SAFETY: recording; both buffers live and large enough.
-        unsafe {
-            let device = &gpu.device.raw;
-            device.cmd_pipeline_barrier2(
-                cmd,
-                &vk::DependencyInfo::default().memory_barriers(&to_copy),
-            );
-            device.cmd_copy_buffer(cmd, src.raw, host.raw, &[region]);
-            device.cmd_pipeline_barrier2(
-                cmd,
-                &vk::DependencyInfo::default().memory_barriers(&to_host),
-            );
-        }
-        commands.submit_and_wait(gpu, "reading the wind back")
-    })();
-    let out = result.map(|()| bytemuck::cast_slice(host.mapped().expect("host-visible")).to_vec());
-    host.destroy(gpu);
-    out
 }
 
 /// Every earlier write in `src` is visible to the compute shaders after it.
@@ -569,24 +523,4 @@ fn compute_barrier(gpu: &Gpu, cmd: vk::CommandBuffer, src: vk::PipelineStageFlag
             &vk::DependencyInfo::default().memory_barriers(&barrier),
         );
     }
-}
-
-fn compute_pipeline(gpu: &Gpu, layout: vk::PipelineLayout, spirv: &Spirv) -> Result<vk::Pipeline> {
-    let device = &gpu.device.raw;
-    let module = shader::module(gpu, spirv)?;
-    let stage = vk::PipelineShaderStageCreateInfo::default()
-        .stage(vk::ShaderStageFlags::COMPUTE)
-        .module(module)
-        .name(c"main");
-    let info = vk::ComputePipelineCreateInfo::default()
-        .stage(stage)
-        .layout(layout);
-    // SAFETY: valid create info; the module is destroyed after creation.
-    let result =
-        unsafe { device.create_compute_pipelines(vk::PipelineCache::null(), &[info], None) };
-    unsafe { device.destroy_shader_module(module, None) };
-    let pipeline =
-        result.map_err(|(_, r)| Error::vk("vkCreateComputePipelines", spirv.path, r))?[0];
-    gpu.device.name(pipeline, spirv.path);
-    Ok(pipeline)
 }

@@ -7,8 +7,9 @@ use glam::{Vec2, Vec3};
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64Mcg;
 
-use crate::scene::{BladeShape, GrassPatch};
-use crate::sim::{Blade, BladeKind};
+use crate::error::Result;
+use crate::scene::{BladeShape, GrassDynamics, GrassPatch};
+use crate::sim::{Blade, BladeKind, BladePhysics, GrassBlade};
 
 /// Generates every blade of every patch. The same patches, shape and seed
 /// always give the same blades, on every machine.
@@ -51,6 +52,36 @@ pub fn generate(patches: &[GrassPatch], shape: &BladeShape, seed: u64) -> Vec<Bl
         }
     }
     blades
+}
+
+/// Draws each blade's physical parameters from the scene's ranges. A stream
+/// of its own, so the shapes do not change when the physics ranges do.
+pub fn physics(count: usize, dynamics: &GrassDynamics, seed: u64) -> Vec<BladePhysics> {
+    let mut rng = Pcg64Mcg::seed_from_u64(seed ^ 0xD1B5_4A32_D192_ED03);
+    let mut draw = |[lo, hi]: [f32; 2]| lo + (hi - lo) * rng.random::<f32>();
+    (0..count)
+        .map(|_| BladePhysics {
+            edge_mass: draw(dynamics.edge_mass),
+            sigma: draw(dynamics.sigma),
+            tip_stiffness: draw(dynamics.tip_stiffness),
+            stiffness_ratio: draw(dynamics.stiffness_ratio),
+            damping_ratio: draw(dynamics.damping_ratio),
+        })
+        .collect()
+}
+
+/// The blades as the grass dynamics reads them: shape plus physics.
+pub fn dynamic_blades(
+    blades: &[Blade],
+    dynamics: &GrassDynamics,
+    seed: u64,
+) -> Result<Vec<GrassBlade>> {
+    dynamics.validate()?;
+    blades
+        .iter()
+        .zip(physics(blades.len(), dynamics, seed))
+        .map(|(b, p)| GrassBlade::new(b, &p))
+        .collect()
 }
 
 fn blade(rng: &mut Pcg64Mcg, shape: &BladeShape, root: Vec2, facing_angle: f32) -> Blade {

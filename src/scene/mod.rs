@@ -10,6 +10,7 @@ use crate::error::{Error, Result};
 use crate::sim::wind::{
     Gust, Inflow, Obstacle, WindGrid, WindSettings, WindSource, DEFAULT_JACOBI_ITERATIONS,
 };
+use crate::sim::BladePhysics;
 
 /// A region of grass.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -123,6 +124,76 @@ pub struct Scene {
     /// Half the side of the ground square, centred under the grass.
     pub ground_half_extent: f32,
     pub wind: WindConfig,
+    /// The blades' physical parameters (method.md section 4).
+    #[serde(default)]
+    pub dynamics: GrassDynamics,
+}
+
+/// The grass's physical parameters, which the paper does not give (ours):
+/// every blade draws each one uniformly from its [min, max] range, seeded,
+/// so that no two blades sway in step. Defaults give a bending frequency of
+/// about 1-2 Hz and a tip-edge deflection of about 0.3 rad in a 2.5 m/s wind
+/// for the default blade shapes (docs/architecture.md, "Grass dynamics").
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GrassDynamics {
+    /// Mass of each edge (kg).
+    pub edge_mass: [f32; 2],
+    /// Drag coefficient sigma of W = S sigma v (N s / m^3).
+    pub sigma: [f32; 2],
+    /// Stiffness of the tip edge, k_tip (N / rad).
+    pub tip_stiffness: [f32; 2],
+    /// k_root / k_tip (>= 1): how much stiffer the root edge is.
+    pub stiffness_ratio: [f32; 2],
+    /// Damping as a fraction of critical damping (0: none, 1: critical).
+    pub damping_ratio: [f32; 2],
+}
+
+impl Default for GrassDynamics {
+    fn default() -> Self {
+        Self {
+            edge_mass: [3e-4, 6e-4],
+            sigma: [0.08, 0.14],
+            tip_stiffness: [5e-3, 9e-3],
+            stiffness_ratio: [3.0, 5.0],
+            damping_ratio: [0.15, 0.3],
+        }
+    }
+}
+
+impl GrassDynamics {
+    /// The corners of the ranges as blade parameters.
+    fn corners(&self) -> [BladePhysics; 2] {
+        std::array::from_fn(|i| BladePhysics {
+            edge_mass: self.edge_mass[i],
+            sigma: self.sigma[i],
+            tip_stiffness: self.tip_stiffness[i],
+            stiffness_ratio: self.stiffness_ratio[i],
+            damping_ratio: self.damping_ratio[i],
+        })
+    }
+
+    /// Rejects ranges that are reversed or allow a bad blade (zero mass,
+    /// negative stiffness, NaN), naming the parameter.
+    pub fn validate(&self) -> Result<()> {
+        for (name, [lo, hi]) in [
+            ("edge_mass", self.edge_mass),
+            ("sigma", self.sigma),
+            ("tip_stiffness", self.tip_stiffness),
+            ("stiffness_ratio", self.stiffness_ratio),
+            ("damping_ratio", self.damping_ratio),
+        ] {
+            if lo > hi {
+                return Err(Error::InvalidInput(format!(
+                    "grass dynamics: {name} range [{lo}, {hi}] is reversed, write [min, max]"
+                )));
+            }
+        }
+        for corner in self.corners() {
+            corner.validate()?;
+        }
+        Ok(())
+    }
 }
 
 /// The wind of a scene (method.md section 3): the grid spans the grass's
@@ -218,6 +289,7 @@ impl Scene {
                 lod: Lod::default(),
                 ground_half_extent: 6.0,
                 wind: WindConfig::from_the_left(2.5),
+                dynamics: GrassDynamics::default(),
             },
             // Paper Fig. 10 (right): several bunches on a 3 x 3 layout.
             "several-bunches" => Scene {
@@ -240,6 +312,7 @@ impl Scene {
                 lod: Lod::default(),
                 ground_half_extent: 8.0,
                 wind: WindConfig::from_the_left(2.5),
+                dynamics: GrassDynamics::default(),
             },
             // A meadow seen from standing height, reaching to the medium and
             // far levels of detail.
@@ -261,6 +334,7 @@ impl Scene {
                 lod: Lod::default(),
                 ground_half_extent: 40.0,
                 wind: WindConfig::from_the_left(3.0),
+                dynamics: GrassDynamics::default(),
             },
             other => {
                 return Err(Error::InvalidInput(format!(

@@ -3,6 +3,8 @@
 //! compute shaders are tested against).
 
 pub mod blade;
+pub mod grass;
 
 pub use blade::{Blade, BladeKind, BladeVertex, EdgeFrame};
+pub use grass::{BladePhysics, GrassBlade, GrassField, GrassState};
 pub mod wind;

@@ -1,0 +1,169 @@
+// Grass dynamics (paper section 4; method.md section 4): swinging, bending
+// and twisting of one blade driven by the wind at its tip. The same model,
+// function for function and in the same f32 arithmetic, as the CPU
+// reference src/sim/grass.rs, whose header gives the reading it takes.
+#ifndef MEADOW_GRASS_DYNAMICS_GLSL
+#define MEADOW_GRASS_DYNAMICS_GLSL
+
+#include "grass_blade.glsl"
+
+const vec3 UP = vec3(0.0, 1.0, 0.0);
+const float MAX_ANGLE = 2.5;        // rad: the fold guard
+const float MAX_WIND_SPEED = 100.0; // m/s: the runaway-field guard
+
+// v rotated by `angle` about the unit `axis` (Rodrigues).
+vec3 rotate_about(vec3 v, vec3 axis, float angle) {
+    float s = sin(angle);
+    float c = cos(angle);
+    return v * c + cross(axis, v) * s + axis * (dot(axis, v) * (1.0 - c));
+}
+
+// The paper's ds: a unit direction, or zero when the motion is at rest.
+vec3 direction_or_zero(vec3 v) {
+    float l = length(v);
+    return l > 1e-7 ? v / l : vec3(0.0);
+}
+
+vec3 normalize_or(vec3 v, vec3 fallback) {
+    float l = length(v);
+    return l > 1e-12 ? v / l : fallback;
+}
+
+vec3 rest_point(GrassBlade b, int i) {
+    return b.rest[i].xyz;
+}
+
+int split_edge(GrassBlade b) {
+    return int(b.stiffness.w);
+}
+
+// x: the bending motion edge i belongs to; y: its group's local tip edge.
+ivec2 bend_group(GrassBlade b, int i) {
+    int split = split_edge(b);
+    return i < split ? ivec2(BEND_A, split - 1) : ivec2(BEND_B, 2);
+}
+
+struct Pose {
+    vec3 points[4];   // P0 (root) .. P3 (tip)
+    vec3 e[3];        // E_e per edge
+    vec3 w;           // E_w: the rest E_w swung; bending turns about it
+    vec3 n[3];        // E_n = E_w x E_e per edge
+    vec3 w_local[3];  // the twisted E_w_local per edge
+};
+
+// The shape from the rest shape and the angles: bend each edge about the
+// rest E_w by its share of its group's angle (eq. 12), swing the whole blade
+// about the ground normal, then twist the width directions about each edge.
+Pose blade_pose(GrassBlade b, vec4 angle) {
+    Pose p;
+    vec3 w_rest = b.width.xyz;
+    vec4 k = b.stiffness;
+    p.points[0] = rest_point(b, 0);
+    for (int i = 0; i < 3; ++i) {
+        ivec2 group = bend_group(b, i);
+        float bend = k[group.y] / k[i] * angle[group.x];
+        vec3 rest_edge = rest_point(b, i + 1) - rest_point(b, i);
+        vec3 edge = rotate_about(rotate_about(rest_edge, w_rest, bend), UP, angle[SWING]);
+        p.points[i + 1] = p.points[i] + edge;
+        p.e[i] = normalize_or(edge, UP);
+    }
+    p.w = rotate_about(w_rest, UP, angle[SWING]);
+    for (int i = 0; i < 3; ++i) {
+        p.n[i] = normalize_or(cross(p.w, p.e[i]), vec3(1.0, 0.0, 0.0));
+        p.w_local[i] = rotate_about(p.w, p.e[i], k[2] / k[i] * angle[TWIST]);
+    }
+    return p;
+}
+
+// Swinging: the blade turns about the ground normal through its root.
+// W_S = S sigma (v . E_w) E_w, R_S = k_tip dtheta_s (G_static - G_cur) / |..|;
+// lever: P0P3 of the swung rest shape, whose horizontal part is G_cur.
+float swing_torque(GrassBlade b, Pose p, vec4 angle, vec3 wind) {
+    float theta = angle[SWING];
+    vec3 flat_ = vec3(1.0, 0.0, 1.0);
+    vec3 root_to_tip = rest_point(b, 3) - rest_point(b, 0);
+    vec3 lever = rotate_about(root_to_tip, UP, theta);
+    vec3 g_static = root_to_tip * flat_;
+    vec3 g_cur = lever * flat_;
+    vec3 force = p.w * (b.drag[SWING] * dot(wind, p.w))
+               + direction_or_zero(g_static - g_cur) * (b.stiffness[2] * abs(theta));
+    return dot(cross(lever, force), UP);
+}
+
+// Bending of one slope group: its local tip edge turns about E_w.
+// W_B = S sigma (v . E_n) E_n, R_B = k dtheta_b (E_e_static - E_e_cur) / |..|
+// with k the local tip edge's stiffness; lever: the local tip edge.
+// E_e_static is the rest edge swung, so that swinging never reads as bending.
+float bend_torque(GrassBlade b, Pose p, int motion, vec4 angle, vec3 wind) {
+    int tip = motion == BEND_A ? split_edge(b) - 1 : 2;
+    float theta = angle[motion];
+    vec3 rest_edge = rest_point(b, tip + 1) - rest_point(b, tip);
+    vec3 e_static = normalize_or(rotate_about(rest_edge, UP, angle[SWING]), UP);
+    vec3 n = p.n[tip];
+    vec3 lever = p.points[tip + 1] - p.points[tip];
+    vec3 force = n * (b.drag[motion] * dot(wind, n))
+               + direction_or_zero(e_static - p.e[tip]) * (b.stiffness[tip] * abs(theta));
+    return dot(cross(lever, force), p.w);
+}
+
+// Twisting: the face turns about the tip edge E_e, on E_w_local only, with the
+// untwisted E_w as its rest value, so bending never sees it.
+// W_T = S sigma (v . E_n_local) E_n_local, E_n_local = E_w_local x E_e;
+// R_T = k_tip dtheta_t (E_w - E_w_local) / |..|; lever: the half width along
+// E_w_local, on the side the wind blows toward (side = +-1), which turns the
+// face edge-on to the wind whichever way E_w points. The restoring force pulls
+// that lever's end back toward its rest place, side * hw * E_w.
+float twist_torque(GrassBlade b, Pose p, vec4 angle, vec3 wind) {
+    float theta = angle[TWIST];
+    vec3 e = p.e[2];
+    vec3 w_local = p.w_local[2];
+    vec3 n_local = normalize_or(cross(w_local, e), p.n[2]);
+    float side = dot(wind, w_local) < 0.0 ? -1.0 : 1.0;
+    vec3 force = n_local * (b.drag[TWIST] * dot(wind, n_local))
+               + direction_or_zero(p.w - w_local) * (side * b.stiffness[2] * abs(theta));
+    return dot(cross(w_local * (side * b.width.w), force), e);
+}
+
+// lever x (W + R) along each motion's axis, plus the damping torque -c omega.
+vec4 torques(GrassBlade b, Pose p, GrassState s, vec3 wind) {
+    vec4 torque = vec4(swing_torque(b, p, s.angle, wind),
+                       bend_torque(b, p, BEND_A, s.angle, wind),
+                       0.0,
+                       twist_torque(b, p, s.angle, wind));
+    if (split_edge(b) < 3) {
+        torque[BEND_B] = bend_torque(b, p, BEND_B, s.angle, wind);
+    }
+    return torque - b.damping * s.velocity;
+}
+
+// Non-finite wind counts as calm air; the speed is capped.
+vec3 guard_wind(vec3 v) {
+    if (any(isnan(v)) || any(isinf(v))) {
+        return vec3(0.0);
+    }
+    float speed = length(v);
+    return speed > MAX_WIND_SPEED ? v * (MAX_WIND_SPEED / speed) : v;
+}
+
+// One simulation step in `substeps` symplectic Euler substeps of h:
+// omega' = omega + (N / I) h, theta' = theta + omega' h.
+void blade_step(GrassBlade b, inout GrassState s, vec3 wind, float h, uint substeps) {
+    wind = guard_wind(wind);
+    for (uint k = 0u; k < substeps; ++k) {
+        Pose p = blade_pose(b, s.angle);
+        vec4 torque = torques(b, p, s, wind);
+        for (int m = 0; m < 4; ++m) {
+            float omega = s.velocity[m] + torque[m] / b.inertia[m] * h;
+            float theta = s.angle[m] + omega * h;
+            if (abs(theta) > MAX_ANGLE) {
+                s.angle[m] = theta < 0.0 ? -MAX_ANGLE : MAX_ANGLE;
+                s.velocity[m] = 0.0;
+            } else {
+                s.angle[m] = theta;
+                s.velocity[m] = omega;
+            }
+        }
+    }
+}
+
+#endif

@@ -1,0 +1,519 @@
+//! Grass dynamics, the CPU reference (paper section 4; method.md section 4):
+//! swinging, bending and twisting of every blade, driven by the wind at its
+//! tip. glsl/grass/dynamics.glsl is the same model, line for line, in f32;
+//! tests/grass_gpu.rs compares the two.
+//!
+//! The reading this project takes (method.md: "ours"):
+//! - each motion keeps one scalar angle and angular velocity per blade (two
+//!   bending angles for a drooping blade, one per slope group);
+//! - forces are the paper's vectors W + R, the torque is lever x F taken
+//!   along the motion's axis, damping is the torque -c omega;
+//! - the shape is rebuilt every step from the rest shape: edge i bends by
+//!   theta_i = (k_tip / k_i) theta (eq. 12) about E_w, the whole blade swings
+//!   about the ground normal through its root, so the root and every edge
+//!   length stay exact; twisting turns only the width vectors.
+
+use glam::{Vec3, Vec4};
+
+use crate::error::{Error, Result};
+use crate::sim::blade::{Blade, BladeVertex, UP};
+
+/// The motions, in the order of every per-motion vec4 (here and in
+/// glsl/common/grass_blade.glsl).
+pub const SWING: usize = 0;
+/// Bending of the rising edges (all edges of a blade that never falls).
+pub const BEND_A: usize = 1;
+/// Bending of a drooping blade's falling edges (unused otherwise).
+pub const BEND_B: usize = 2;
+pub const TWIST: usize = 3;
+
+/// The largest bending or swinging angle (rad). The restoring force fades
+/// as cos(theta / 2), so only a guard keeps a blade from folding through
+/// itself under absurd wind; at the limit the motion stops.
+pub const MAX_ANGLE: f32 = 2.5;
+
+/// Substeps per simulation step may not pass this: a blade that would need
+/// more is refused with advice instead of slowing every frame.
+pub const MAX_SUBSTEPS: u32 = 64;
+
+/// Stability margin: each substep h keeps h * (omega_0 + c / I) <= this,
+/// well inside symplectic Euler's bound (h^2 omega_0^2 + 2 h c / I < 4),
+/// with room for the stiffness the wind itself adds.
+const STEP_MARGIN: f64 = 0.5;
+
+/// Wind beyond this speed (m/s) is treated as this speed: a guard against a
+/// runaway field, far above any documented setting.
+pub const MAX_WIND_SPEED: f32 = 100.0;
+
+/// The physical parameters of one blade, drawn by the field generator from
+/// the scene's ranges (`scene::GrassDynamics`).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct BladePhysics {
+    /// Mass of each of the three edges (kg).
+    pub edge_mass: f32,
+    /// Drag coefficient sigma of W = S sigma v (N s / m^3).
+    pub sigma: f32,
+    /// Stiffness k_tip of the tip edge (N / rad).
+    pub tip_stiffness: f32,
+    /// k_root / k_tip; the middle edge sits geometrically between (>= 1).
+    pub stiffness_ratio: f32,
+    /// Damping as a fraction of critical damping; c of each motion is
+    /// 2 zeta sqrt(k_eff I).
+    pub damping_ratio: f32,
+}
+
+impl BladePhysics {
+    /// One line per problem, naming the parameter and the allowed range.
+    pub fn validate(&self) -> Result<()> {
+        let checks: [(&str, f32, bool, &str); 5] = [
+            ("edge_mass", self.edge_mass, self.edge_mass > 0.0, "> 0 kg"),
+            ("sigma", self.sigma, self.sigma >= 0.0, ">= 0"),
+            (
+                "tip_stiffness",
+                self.tip_stiffness,
+                self.tip_stiffness > 0.0,
+                "> 0 N/rad",
+            ),
+            (
+                "stiffness_ratio",
+                self.stiffness_ratio,
+                self.stiffness_ratio >= 1.0,
+                ">= 1 (the root is stiffest)",
+            ),
+            (
+                "damping_ratio",
+                self.damping_ratio,
+                (0.0..=10.0).contains(&self.damping_ratio),
+                "0..=10",
+            ),
+        ];
+        for (name, value, ok, allowed) in checks {
+            if !(value.is_finite() && ok) {
+                return Err(Error::InvalidInput(format!(
+                    "grass dynamics: {name} {value} is not allowed, use {allowed}"
+                )));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// One blade as the grass kernel reads it (`GrassBlade` in
+/// glsl/common/grass_blade.glsl, std430, 144 bytes). Everything derivable
+/// from the rest shape and the physics is computed once, here.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct GrassBlade {
+    /// xyz: rest control point P_i; w: per-blade random value (colour).
+    pub rest: [[f32; 4]; 4],
+    /// xyz: rest E_w (unit, horizontal); w: half width (m).
+    pub width: [f32; 4],
+    /// k_i of edges 0, 1, 2 (root to tip); w: first edge of bending group B
+    /// (3: one group).
+    pub stiffness: [f32; 4],
+    /// sigma S per motion (S: the area the motion exposes).
+    pub drag: [f32; 4],
+    /// I = m r^2 per motion.
+    pub inertia: [f32; 4],
+    /// c per motion.
+    pub damping: [f32; 4],
+}
+
+/// Angle and angular velocity of each motion (`GrassState` in GLSL).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct GrassState {
+    pub angle: [f32; 4],
+    pub velocity: [f32; 4],
+}
+
+/// The current shape of a blade, rebuilt from the rest shape and the angles.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Pose {
+    /// Control points P0 (root) .. P3 (tip).
+    pub points: [Vec3; 4],
+    /// E_e of each edge (unit).
+    pub e: [Vec3; 3],
+    /// E_w of every edge: the rest E_w swung (bending turns about it).
+    pub w: Vec3,
+    /// E_n = E_w x E_e of each edge.
+    pub n: [Vec3; 3],
+    /// The twisted width direction E_w_local of each edge.
+    pub w_local: [Vec3; 3],
+}
+
+impl GrassBlade {
+    /// Derives the kernel's record from a blade's rest shape and physics.
+    pub fn new(blade: &Blade, physics: &BladePhysics) -> Result<Self> {
+        physics.validate()?;
+        let lengths = blade.edge_lengths();
+        if lengths.iter().any(|&l| !(l.is_finite() && l > 1e-5)) || !(blade.half_width > 0.0) {
+            return Err(Error::InvalidInput(format!(
+                "a blade has edge lengths {lengths:?} m and half width {} m; every edge must be \
+                 longer than 0.01 mm and the blade wider than zero",
+                blade.half_width
+            )));
+        }
+        // Bending groups (paper Fig. 7): a new group starts at the first
+        // edge whose slope sign differs from the root edge's.
+        let rising = |i: usize| blade.rest[i + 1].y >= blade.rest[i].y;
+        let split = (1..3).find(|&i| rising(i) != rising(0)).unwrap_or(3);
+        let r = physics.stiffness_ratio as f64;
+        let k_tip = physics.tip_stiffness as f64;
+        // Stiffness grows toward the root: k_2 = k_tip, k_1 = k_tip sqrt(r), k_0 = k_tip r.
+        let k: [f64; 3] = std::array::from_fn(|i| k_tip * r.powf((2 - i) as f64 / 2.0));
+        let len = lengths.map(|l| l as f64);
+        let hw = blade.half_width as f64;
+        let m = physics.edge_mass as f64;
+        let sigma = physics.sigma as f64;
+        let area = |edges: std::ops::Range<usize>| len[edges].iter().sum::<f64>() * 2.0 * hw;
+
+        let root_to_tip = blade.rest[3] - blade.rest[0];
+        let growth = (root_to_tip * Vec3::new(1.0, 0.0, 1.0)).length() as f64;
+        let tip_a = split - 1;
+        let groups = [(0..split, tip_a), (split..3, 2)];
+        let mut drag = [0.0f64; 4];
+        let mut inertia = [1.0f64; 4];
+        let mut k_eff = [0.0f64; 4];
+        // Swinging: the whole blade about the ground normal, lever P0P3.
+        drag[SWING] = sigma * area(0..3);
+        inertia[SWING] = 3.0 * m * (root_to_tip.length() as f64).powi(2);
+        k_eff[SWING] = growth * k[2];
+        // Bending: each group about E_w, lever its local tip edge.
+        for (motion, (edges, tip)) in [BEND_A, BEND_B].into_iter().zip(groups) {
+            if edges.is_empty() {
+                continue;
+            }
+            drag[motion] = sigma * area(edges.clone());
+            inertia[motion] = edges.len() as f64 * m * len[tip] * len[tip];
+            k_eff[motion] = len[tip] * k[tip];
+        }
+        // Twisting: the blade face about E_e, lever the half width.
+        drag[TWIST] = sigma * area(0..3);
+        inertia[TWIST] = 3.0 * m * hw * hw;
+        k_eff[TWIST] = hw * k[2];
+        let zeta = physics.damping_ratio as f64;
+        let damping: [f64; 4] =
+            std::array::from_fn(|i| 2.0 * zeta * (k_eff[i] * inertia[i]).sqrt());
+
+        let f = |v: [f64; 4]| v.map(|x| x as f32);
+        Ok(Self {
+            rest: std::array::from_fn(|i| blade.rest[i].extend(blade.rand).to_array()),
+            width: blade.width_dir.extend(blade.half_width).to_array(),
+            stiffness: [k[0] as f32, k[1] as f32, k[2] as f32, split as f32],
+            drag: f(drag),
+            inertia: f(inertia),
+            damping: f(damping),
+        })
+    }
+
+    pub fn rest_point(&self, i: usize) -> Vec3 {
+        Vec4::from(self.rest[i]).truncate()
+    }
+
+    pub fn half_width(&self) -> f32 {
+        self.width[3]
+    }
+
+    /// First edge of bending group B; 3 when the blade has one group.
+    pub fn split(&self) -> usize {
+        self.stiffness[3] as usize
+    }
+
+    /// Which bending motion edge `i` belongs to, and its group's local tip edge.
+    pub fn bend_group(&self, i: usize) -> (usize, usize) {
+        let split = self.split();
+        if i < split {
+            (BEND_A, split - 1)
+        } else {
+            (BEND_B, 2)
+        }
+    }
+
+    /// Small-angle restoring torque per radian of each motion (the k_eff of
+    /// I theta'' = -k_eff theta - c theta'): the lever length times the
+    /// stiffness of the edge the restoration acts on.
+    pub fn k_eff(&self) -> [f32; 4] {
+        let rest_edge = |i: usize| self.rest_point(i + 1) - self.rest_point(i);
+        let growth = (self.rest_point(3) - self.rest_point(0)) * Vec3::new(1.0, 0.0, 1.0);
+        let (_, tip_a) = self.bend_group(0);
+        let k = self.stiffness;
+        [
+            growth.length() * k[2],
+            rest_edge(tip_a).length() * k[tip_a],
+            if self.split() < 3 {
+                rest_edge(2).length() * k[2]
+            } else {
+                0.0
+            },
+            self.half_width() * k[2],
+        ]
+    }
+
+    /// The fastest rate of any of its motions, sqrt(k_eff / I) + c / I (1/s).
+    pub fn stiffest_rate(&self) -> f64 {
+        let k = self.k_eff();
+        (0..4)
+            .filter(|&m| m != BEND_B || self.split() < 3)
+            .map(|m| {
+                let i = self.inertia[m] as f64;
+                (k[m] as f64 / i).sqrt() + self.damping[m] as f64 / i
+            })
+            .fold(0.0, f64::max)
+    }
+}
+
+/// Substeps each simulation step of `dt` needs so that explicit
+/// (symplectic) Euler stays stable for every blade (method.md: dt < 2 /
+/// sqrt(k / I), with margin). Refuses blades that would need too many.
+pub fn substeps(blades: &[GrassBlade], dt: f32) -> Result<u32> {
+    let rate = blades
+        .iter()
+        .map(GrassBlade::stiffest_rate)
+        .fold(0.0, f64::max);
+    let n = (dt as f64 * rate / STEP_MARGIN).ceil().max(1.0);
+    if !n.is_finite() || n > MAX_SUBSTEPS as f64 {
+        return Err(Error::InvalidInput(format!(
+            "the stiffest blade needs {n} substeps of a {dt} s simulation step (at most \
+             {MAX_SUBSTEPS}); lower tip_stiffness or damping_ratio, raise edge_mass, or \
+             shorten wind.dt"
+        )));
+    }
+    Ok(n as u32)
+}
+
+/// v rotated by `angle` about the unit `axis` (Rodrigues). Written out so
+/// that glsl/grass/dynamics.glsl does the same arithmetic.
+pub fn rotate(v: Vec3, axis: Vec3, angle: f32) -> Vec3 {
+    let (s, c) = angle.sin_cos();
+    v * c + axis.cross(v) * s + axis * (axis.dot(v) * (1.0 - c))
+}
+
+/// `v` normalised, or zero when it is too short to have a direction (the
+/// paper's ds when a motion is at rest: R = 0, never a division by zero).
+fn direction_or_zero(v: Vec3) -> Vec3 {
+    let l = v.length();
+    if l > 1e-7 {
+        v / l
+    } else {
+        Vec3::ZERO
+    }
+}
+
+fn normalize_or(v: Vec3, fallback: Vec3) -> Vec3 {
+    let l = v.length();
+    if l > 1e-12 {
+        v / l
+    } else {
+        fallback
+    }
+}
+
+/// Rebuilds the blade from its rest shape and the motions' angles: bend
+/// each edge about the rest E_w by its share of its group's angle (eq. 12),
+/// swing the whole blade about the ground normal, then twist the width
+/// directions about each edge.
+pub fn pose(blade: &GrassBlade, angle: [f32; 4]) -> Pose {
+    let w_rest = Vec4::from(blade.width).truncate();
+    let k = blade.stiffness;
+    let mut points = [blade.rest_point(0); 4];
+    let mut e = [UP; 3];
+    for i in 0..3 {
+        let (group, tip) = blade.bend_group(i);
+        let bend = k[tip] / k[i] * angle[group];
+        let rest_edge = blade.rest_point(i + 1) - blade.rest_point(i);
+        let edge = rotate(rotate(rest_edge, w_rest, bend), UP, angle[SWING]);
+        points[i + 1] = points[i] + edge;
+        e[i] = normalize_or(edge, UP);
+    }
+    let w = rotate(w_rest, UP, angle[SWING]);
+    let n = e.map(|e| normalize_or(w.cross(e), Vec3::X));
+    let w_local: [Vec3; 3] = std::array::from_fn(|i| rotate(w, e[i], k[2] / k[i] * angle[TWIST]));
+    Pose {
+        points,
+        e,
+        w,
+        n,
+        w_local,
+    }
+}
+
+/// The torque of each motion about its axis at `pose`: lever x (W + R)
+/// along the axis, plus the damping torque -c omega.
+pub fn torques(blade: &GrassBlade, pose: &Pose, state: &GrassState, wind: Vec3) -> [f32; 4] {
+    let angle = state.angle;
+    let mut torque = [
+        swing_torque(blade, pose, angle, wind),
+        bend_torque(blade, pose, BEND_A, angle, wind),
+        0.0,
+        twist_torque(blade, pose, angle, wind),
+    ];
+    if blade.split() < 3 {
+        torque[BEND_B] = bend_torque(blade, pose, BEND_B, angle, wind);
+    }
+    std::array::from_fn(|m| torque[m] - blade.damping[m] * state.velocity[m])
+}
+
+/// Swinging: the blade turns about the ground normal through its root.
+/// W_S = S sigma (v . E_w) E_w, R_S = k_tip dtheta_s (G_static - G_cur) / |..|;
+/// lever: P0P3 of the swung rest shape, whose horizontal part is G_cur.
+/// (Bending does not move this lever, so the two motions stay separate.)
+fn swing_torque(blade: &GrassBlade, pose: &Pose, angle: [f32; 4], wind: Vec3) -> f32 {
+    let theta = angle[SWING];
+    let flat = Vec3::new(1.0, 0.0, 1.0);
+    let root_to_tip = blade.rest_point(3) - blade.rest_point(0);
+    let lever = rotate(root_to_tip, UP, theta);
+    let g_static = root_to_tip * flat;
+    let g_cur = lever * flat;
+    let w = pose.w;
+    let force = w * (blade.drag[SWING] * wind.dot(w))
+        + direction_or_zero(g_static - g_cur) * (blade.stiffness[2] * theta.abs());
+    lever.cross(force).dot(UP)
+}
+
+/// Bending of one slope group: its local tip edge turns about E_w.
+/// W_B = S sigma (v . E_n) E_n, R_B = k dtheta_b (E_e_static - E_e_cur) / |..|
+/// with k the local tip edge's stiffness; lever: the local tip edge.
+/// E_e_static is the rest edge swung, so that swinging never reads as bending.
+fn bend_torque(blade: &GrassBlade, pose: &Pose, motion: usize, angle: [f32; 4], wind: Vec3) -> f32 {
+    let tip = if motion == BEND_A {
+        blade.split() - 1
+    } else {
+        2
+    };
+    let theta = angle[motion];
+    let rest_edge = blade.rest_point(tip + 1) - blade.rest_point(tip);
+    let e_static = normalize_or(rotate(rest_edge, UP, angle[SWING]), UP);
+    let n = pose.n[tip];
+    let lever = pose.points[tip + 1] - pose.points[tip];
+    let force = n * (blade.drag[motion] * wind.dot(n))
+        + direction_or_zero(e_static - pose.e[tip]) * (blade.stiffness[tip] * theta.abs());
+    lever.cross(force).dot(pose.w)
+}
+
+/// Twisting: the face turns about the tip edge E_e, on E_w_local only, with
+/// the untwisted E_w as its rest value, so bending never sees it.
+/// W_T = S sigma (v . E_n_local) E_n_local, E_n_local = E_w_local x E_e;
+/// R_T = k_tip dtheta_t (E_w - E_w_local) / |..|; lever: the half width
+/// along E_w_local, on the side the wind blows toward (side = +-1). That
+/// choice turns the face edge-on to the wind (less drag) whichever way E_w
+/// points. The restoring force pulls that lever's end back toward its rest
+/// place, side * hw * E_w, hence the side in R_T's direction too.
+fn twist_torque(blade: &GrassBlade, pose: &Pose, angle: [f32; 4], wind: Vec3) -> f32 {
+    let theta = angle[TWIST];
+    let e = pose.e[2];
+    let w_local = pose.w_local[2];
+    let n_local = normalize_or(w_local.cross(e), pose.n[2]);
+    let side = if wind.dot(w_local) < 0.0 { -1.0 } else { 1.0 };
+    let force = n_local * (blade.drag[TWIST] * wind.dot(n_local))
+        + direction_or_zero(pose.w - w_local) * (side * blade.stiffness[2] * theta.abs());
+    (w_local * (side * blade.half_width())).cross(force).dot(e)
+}
+
+/// The wind a blade feels: non-finite components count as calm air and the
+/// speed is capped at `MAX_WIND_SPEED`, so a broken field cannot poison
+/// the grass.
+pub fn guard_wind(v: Vec3) -> Vec3 {
+    if !v.is_finite() {
+        return Vec3::ZERO;
+    }
+    let speed = v.length();
+    if speed > MAX_WIND_SPEED {
+        v * (MAX_WIND_SPEED / speed)
+    } else {
+        v
+    }
+}
+
+/// One simulation step of `dt`, in `substeps` equal symplectic Euler
+/// substeps: omega' = omega + (N / I) h, theta' = theta + omega' h. The wind
+/// is sampled once per step, at the tip, by the caller.
+pub fn step(blade: &GrassBlade, state: &mut GrassState, wind: Vec3, dt: f32, substeps: u32) {
+    let wind = guard_wind(wind);
+    let h = dt / substeps as f32;
+    for _ in 0..substeps {
+        let pose = pose(blade, state.angle);
+        let torque = torques(blade, &pose, state, wind);
+        for m in 0..4 {
+            let omega = state.velocity[m] + torque[m] / blade.inertia[m] * h;
+            let theta = state.angle[m] + omega * h;
+            // The MAX_ANGLE guard: past it the motion stops there.
+            if theta.abs() > MAX_ANGLE {
+                state.angle[m] = MAX_ANGLE.copysign(theta);
+                state.velocity[m] = 0.0;
+            } else {
+                state.angle[m] = theta;
+                state.velocity[m] = omega;
+            }
+        }
+    }
+}
+
+/// The four control points as the renderer draws them: positions from the
+/// pose, width vectors from the twisted E_w_local of the edge ending at
+/// each point (the root takes the root edge's), and the tip edge's angle
+/// from rest (swing and bend) for the motion view.
+pub fn vertices(blade: &GrassBlade, pose: &Pose) -> [BladeVertex; 4] {
+    let rest_tip = normalize_or(blade.rest_point(3) - blade.rest_point(2), UP);
+    // atan2 of sine and cosine: exact zero at rest, accurate when small.
+    let displacement = rest_tip
+        .cross(pose.e[2])
+        .length()
+        .atan2(rest_tip.dot(pose.e[2]));
+    std::array::from_fn(|i| {
+        let edge = i.max(1) - 1;
+        BladeVertex {
+            position: pose.points[i].extend(blade.rest[i][3]).to_array(),
+            width: (pose.w_local[edge] * blade.half_width())
+                .extend(displacement)
+                .to_array(),
+        }
+    })
+}
+
+/// A whole field of blades stepping together: what the GPU kernel does,
+/// one invocation per blade.
+#[derive(Clone, Debug)]
+pub struct GrassField {
+    pub blades: Vec<GrassBlade>,
+    pub states: Vec<GrassState>,
+    pub substeps: u32,
+    pub dt: f32,
+}
+
+impl GrassField {
+    pub fn new(blades: Vec<GrassBlade>, dt: f32) -> Result<Self> {
+        let substeps = substeps(&blades, dt)?;
+        Ok(Self {
+            states: vec![GrassState::default(); blades.len()],
+            blades,
+            substeps,
+            dt,
+        })
+    }
+
+    /// Advances every blade one step, each with the wind `wind_at` gives at
+    /// its current tip.
+    pub fn step(&mut self, mut wind_at: impl FnMut(Vec3) -> Vec3) {
+        for (blade, state) in self.blades.iter().zip(&mut self.states) {
+            let tip = pose(blade, state.angle).points[3];
+            step(blade, state, wind_at(tip), self.dt, self.substeps);
+        }
+    }
+
+    pub fn poses(&self) -> impl Iterator<Item = Pose> + '_ {
+        self.blades
+            .iter()
+            .zip(&self.states)
+            .map(|(b, s)| pose(b, s.angle))
+    }
+
+    /// The vertex buffer the renderer would draw.
+    pub fn vertices(&self) -> Vec<BladeVertex> {
+        self.blades
+            .iter()
+            .zip(self.poses())
+            .flat_map(|(b, p)| vertices(b, &p))
+            .collect()
+    }
+}
