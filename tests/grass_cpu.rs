@@ -311,7 +311,8 @@ fn drooping_blades_are_split_and_others_are_not() {
 
 #[test]
 fn bad_parameters_are_refused_with_the_name() {
-    let cases: [(&str, fn(&mut GrassDynamics)); 6] = [
+    type Edit = fn(&mut GrassDynamics);
+    let cases: [(&str, Edit); 6] = [
         ("edge_mass", |d| d.edge_mass = [0.0, 1e-3]),
         ("tip_stiffness", |d| d.tip_stiffness = [-1e-3, 1e-3]),
         ("sigma", |d| d.sigma = [f32::NAN, 0.1]),

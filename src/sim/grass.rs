@@ -147,7 +147,11 @@ impl GrassBlade {
     pub fn new(blade: &Blade, physics: &BladePhysics) -> Result<Self> {
         physics.validate()?;
         let lengths = blade.edge_lengths();
-        if lengths.iter().any(|&l| !(l.is_finite() && l > 1e-5)) || !(blade.half_width > 0.0) {
+        let too_short = |l: f32| !l.is_finite() || l <= 1e-5;
+        if lengths.into_iter().any(too_short)
+            || blade.half_width.is_nan()
+            || blade.half_width <= 0.0
+        {
             return Err(Error::InvalidInput(format!(
                 "a blade has edge lengths {lengths:?} m and half width {} m; every edge must be \
                  longer than 0.01 mm and the blade wider than zero",
@@ -434,6 +438,7 @@ pub fn step(blade: &GrassBlade, state: &mut GrassState, wind: Vec3, dt: f32, sub
     for _ in 0..substeps {
         let pose = pose(blade, state.angle);
         let torque = torques(blade, &pose, state, wind);
+        #[allow(clippy::needless_range_loop)] // four parallel per-motion arrays
         for m in 0..4 {
             let omega = state.velocity[m] + torque[m] / blade.inertia[m] * h;
             let theta = state.angle[m] + omega * h;
