@@ -1,20 +1,51 @@
 //! `meadow render` as a library call: validate the request, open the GPU,
-//! render, write `frame_0000.png` and `report.json`, tear everything down
-//! and check what validation said.
+//! simulate and render every frame (`frame_0000.png`, ...), write
+//! `report.json`, tear everything down and check what validation said.
 
 use std::path::Path;
 use std::time::Instant;
 
 use crate::error::{Error, Result};
+use crate::gpu::commands::Commands;
 use crate::gpu::timing::PipelineStatistics;
 use crate::gpu::{Gpu, GpuOptions, ValidationReport};
 use crate::output;
+use crate::render::simulation::Simulation;
 use crate::render::{Frame, FrameUniforms, Renderer, ViewMode};
 use crate::scene::{field, Scene};
 
 /// The largest image side accepted before asking the device (lavapipe's
 /// maxImageDimension2D; most GPUs allow as much).
 pub const MAX_IMAGE_SIDE: u32 = 16384;
+
+/// The most frames one run may write.
+pub const MAX_FRAMES: u32 = 100_000;
+
+/// Which moments of the simulation become frames: frame f shows simulated
+/// time `start + f / fps` (seconds). The simulation starts at rest at time
+/// 0 and advances in the scene's fixed steps, whatever the frame rate.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct Animation {
+    pub frames: u32,
+    pub fps: f32,
+    pub start: f32,
+}
+
+impl Default for Animation {
+    fn default() -> Self {
+        Self {
+            frames: 1,
+            fps: 30.0,
+            start: 0.0,
+        }
+    }
+}
+
+impl Animation {
+    pub fn time_of(&self, frame: u32) -> f64 {
+        self.start as f64 + frame as f64 / self.fps as f64
+    }
+}
 
 #[derive(Clone, Debug)]
 pub struct RenderRequest {
@@ -24,6 +55,7 @@ pub struct RenderRequest {
     /// Requested MSAA samples; the largest supported count up to this is used.
     pub msaa: u32,
     pub view: ViewMode,
+    pub animation: Animation,
     pub gpu: GpuOptions,
 }
 
@@ -43,6 +75,27 @@ impl RenderRequest {
                 self.msaa
             )));
         }
+        let a = &self.animation;
+        if a.frames == 0 || a.frames > MAX_FRAMES {
+            return Err(Error::InvalidInput(format!(
+                "--frames {} is not allowed, use 1..={MAX_FRAMES}",
+                a.frames
+            )));
+        }
+        if !(a.fps.is_finite() && a.fps > 0.0 && a.fps <= 1000.0) {
+            return Err(Error::InvalidInput(format!(
+                "--fps {} is not allowed, use 0 < fps <= 1000",
+                a.fps
+            )));
+        }
+        if !(a.start.is_finite() && (0.0..=86_400.0).contains(&a.start)) {
+            return Err(Error::InvalidInput(format!(
+                "--start {} is not allowed, use 0..=86400 seconds",
+                a.start
+            )));
+        }
+        self.scene.wind_grid()?;
+        self.scene.dynamics.validate()?;
         let lod = &self.scene.lod;
         if !(lod.close_distance > 0.0 && lod.far_distance >= lod.close_distance) {
             return Err(Error::InvalidInput(format!(
@@ -78,9 +131,15 @@ pub struct RenderReport {
     pub tess_levels: [u32; 3],
     pub lod_distances: [f32; 2],
     pub view: ViewMode,
+    pub animation: Animation,
+    /// The simulation step (s) and its symplectic Euler substeps.
+    pub sim_dt: f32,
+    pub substeps: u32,
+    /// Simulation steps run in all.
+    pub sim_steps: u64,
     pub frames: Vec<String>,
     pub pipeline_statistics: Option<PipelineStatistics>,
-    /// Wall-clock time of the whole job, device start-up included.
+    /// Wall-clock of the last frame's grass draw.
     pub wall_seconds: f64,
     pub validation: ValidationReport,
 }
@@ -126,17 +185,35 @@ pub fn render_blades(
 fn render_with(gpu: &Gpu, request: &RenderRequest, out_dir: &Path) -> Result<RenderReport> {
     let scene = &request.scene;
     let blades = field::generate(&scene.grass, &scene.shape, scene.seed);
-    let (frame, msaa_used) = render_blades(
-        gpu,
-        scene,
-        &blades,
-        request.width,
-        request.height,
-        request.msaa,
-        request.view,
-    )?;
-    let name = "frame_0000.png";
-    output::write_png(&out_dir.join(name), &frame)?;
+    let dynamic = field::dynamic_blades(&blades, &scene.dynamics, scene.seed)?;
+    let mut renderer = Renderer::new(gpu, request.width, request.height, request.msaa, &blades)?;
+    let commands = match Commands::new(gpu, "simulation set-up commands") {
+        Ok(c) => c,
+        Err(e) => {
+            renderer.destroy(gpu);
+            return Err(e);
+        }
+    };
+    let simulation = Simulation::new(gpu, &commands, scene, &dynamic, &renderer.blade_vertices);
+    commands.destroy(gpu);
+    let mut simulation = match simulation {
+        Ok(s) => s,
+        Err(e) => {
+            renderer.destroy(gpu);
+            return Err(e);
+        }
+    };
+    let result = animate(gpu, request, &mut renderer, &mut simulation, out_dir);
+    let (sim_dt, substeps, sim_steps) = (
+        simulation.dt(),
+        simulation.substeps(),
+        simulation.steps_done(),
+    );
+    let msaa_used = renderer.samples();
+    simulation.destroy(gpu);
+    renderer.destroy(gpu);
+    let (frames, statistics) = result?;
+
     let info = gpu.info();
     Ok(RenderReport {
         scene: scene.name.clone(),
@@ -154,9 +231,37 @@ fn render_with(gpu: &Gpu, request: &RenderRequest, out_dir: &Path) -> Result<Ren
         tess_levels: scene.lod.levels,
         lod_distances: [scene.lod.close_distance, scene.lod.far_distance],
         view: request.view,
-        frames: vec![name.into()],
-        pipeline_statistics: frame.statistics,
+        animation: request.animation,
+        sim_dt,
+        substeps,
+        sim_steps,
+        frames,
+        pipeline_statistics: statistics,
         wall_seconds: 0.0,
         validation: ValidationReport::default(),
     })
+}
+
+/// Simulates up to each frame's time and renders it, in one submission per
+/// frame; writes each frame as it is read back.
+fn animate(
+    gpu: &Gpu,
+    request: &RenderRequest,
+    renderer: &mut Renderer,
+    simulation: &mut Simulation,
+    out_dir: &Path,
+) -> Result<(Vec<String>, Option<PipelineStatistics>)> {
+    let uniforms = FrameUniforms::new(&request.scene, request.width, request.height, request.view);
+    let mut names = Vec::new();
+    let mut statistics = None;
+    for f in 0..request.animation.frames {
+        let steps = simulation.steps_until(request.animation.time_of(f))?;
+        let frame =
+            renderer.render_after(gpu, &uniforms, |cmd| simulation.record(gpu, cmd, steps))?;
+        let name = format!("frame_{f:04}.png");
+        output::write_png(&out_dir.join(&name), &frame)?;
+        names.push(name);
+        statistics = frame.statistics;
+    }
+    Ok((names, statistics))
 }

@@ -7,7 +7,7 @@ use anyhow::Context as _;
 use clap::{Parser, Subcommand, ValueEnum};
 
 use meadow::gpu::{Gpu, GpuOptions, ValidationOptions};
-use meadow::job::{render_to_dir, RenderRequest};
+use meadow::job::{render_to_dir, Animation, RenderRequest};
 use meadow::render::ViewMode;
 use meadow::scene::{self, Scene};
 
@@ -66,7 +66,8 @@ impl DeviceArgs {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Render a scene offscreen to DIR/frame_0000.png and DIR/report.json.
+    /// Simulate and render a scene offscreen: DIR/frame_0000.png ... and
+    /// DIR/report.json.
     Render {
         /// Built-in scene: few-bunches, several-bunches or meadow.
         #[arg(long, default_value = "meadow")]
@@ -90,6 +91,21 @@ enum Command {
         /// Random seed of the grass field (default: the scene's).
         #[arg(long)]
         seed: Option<u64>,
+        /// Frames to render; frame f shows simulated time START + f / FPS.
+        #[arg(long, default_value_t = 1)]
+        frames: u32,
+        /// Frames per second of simulated time (the simulation's own step
+        /// is fixed by the scene).
+        #[arg(long, default_value_t = 30.0, allow_negative_numbers = true)]
+        fps: f32,
+        /// Simulated seconds before the first frame (the grass starts at rest).
+        #[arg(
+            long,
+            default_value_t = 0.0,
+            value_name = "SECONDS",
+            allow_negative_numbers = true
+        )]
+        start: f32,
         #[arg(long, default_value = "out")]
         out: PathBuf,
         #[command(flatten)]
@@ -141,6 +157,9 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             lod,
             view,
             seed,
+            frames,
+            fps,
+            start,
             out,
             device,
         } => {
@@ -158,6 +177,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 height,
                 msaa,
                 view,
+                animation: Animation { frames, fps, start },
                 gpu: device.options(),
             };
             let report = render_to_dir(&request, &out)?;
@@ -189,7 +209,23 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                     report.validation.errors, report.validation.warnings
                 );
             }
-            println!("wrote {}", out.join("frame_0000.png").display());
+            println!(
+                "simulated {:.2} s in {} steps of {:.4} s ({} substeps each)",
+                report.sim_steps as f64 * report.sim_dt as f64,
+                report.sim_steps,
+                report.sim_dt,
+                report.substeps
+            );
+            match report.frames.as_slice() {
+                [one] => println!("wrote {}", out.join(one).display()),
+                [first, .., last] => println!(
+                    "wrote {} frames, {} .. {}",
+                    report.frames.len(),
+                    out.join(first).display(),
+                    out.join(last).display()
+                ),
+                [] => {}
+            }
             Ok(())
         }
         Command::Wind {

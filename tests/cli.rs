@@ -90,6 +90,22 @@ fn msaa_that_is_not_a_sample_count_is_refused() {
 }
 
 #[test]
+fn bad_animation_settings_are_refused() {
+    assert_refused(
+        &["render", "--frames", "0"],
+        &[],
+        "--frames 0 is not allowed",
+    );
+    assert_refused(&["render", "--fps", "0"], &[], "--fps 0 is not allowed");
+    assert_refused(&["render", "--fps", "NaN"], &[], "--fps NaN is not allowed");
+    assert_refused(
+        &["render", "--start", "-1"],
+        &[],
+        "--start -1 is not allowed",
+    );
+}
+
+#[test]
 fn zero_blades_are_refused() {
     assert_refused(
         &["render", "--blades", "0"],

@@ -1,7 +1,8 @@
-//! Same scene, same seed, same device: byte-identical PNG.
+//! Same scene, same seed, same device: byte-identical frames, the wind and
+//! grass simulation included.
 
 use meadow::gpu::{GpuOptions, ValidationOptions};
-use meadow::job::{render_to_dir, RenderRequest};
+use meadow::job::{render_to_dir, Animation, RenderRequest};
 use meadow::render::ViewMode;
 use meadow::scene::Scene;
 
@@ -16,6 +17,12 @@ fn same_scene_and_seed_give_byte_identical_png() {
         height: 200,
         msaa: 8,
         view: ViewMode::Shaded,
+        // Two frames of a swaying field: 0.5 s and 1.0 s into the wind.
+        animation: Animation {
+            frames: 2,
+            fps: 2.0,
+            start: 0.5,
+        },
         gpu: GpuOptions {
             validation: ValidationOptions::strict(),
             ..Default::default()
@@ -25,9 +32,16 @@ fn same_scene_and_seed_give_byte_identical_png() {
     let a = render_to_dir(&request, &dir.join("a")).expect("first render");
     let b = render_to_dir(&request, &dir.join("b")).expect("second render");
     assert_eq!(a.validation.errors + b.validation.errors, 0);
+    assert_eq!(a.sim_steps, 60);
+    for name in ["frame_0000.png", "frame_0001.png"] {
+        let png_a = std::fs::read(dir.join("a").join(name)).unwrap();
+        let png_b = std::fs::read(dir.join("b").join(name)).unwrap();
+        assert!(
+            png_a == png_b,
+            "two renders of the same scene differ at {name}"
+        );
+    }
     let png_a = std::fs::read(dir.join("a/frame_0000.png")).unwrap();
-    let png_b = std::fs::read(dir.join("b/frame_0000.png")).unwrap();
-    assert!(png_a == png_b, "two renders of the same scene differ");
 
     // A different seed grows a different field: the check above can fail.
     let mut other = request.clone();

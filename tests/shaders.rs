@@ -9,12 +9,14 @@ use std::mem::offset_of;
 use ash::vk;
 use meadow::gpu::descriptors::LayoutBinding;
 use meadow::reflect::{self, Binding};
+use meadow::render::grass_pass::{GrassPush, GRASS_SET};
 use meadow::render::pipelines::{
     BLADE_ATTRIBUTES, BLADE_STAGES, FRAME_SET, GROUND_STAGES, SKY_STAGES,
 };
 use meadow::render::wind_pass::{GpuWindSource, WindPush, WIND_KERNELS, WIND_SET};
 use meadow::render::FrameUniforms;
 use meadow::shaders::{self, ShaderStage, Spirv};
+use meadow::sim::{BladeVertex, GrassBlade, GrassState};
 
 #[test]
 fn every_stage_naga_supports_parses_and_validates() {
@@ -95,6 +97,7 @@ fn descriptor_layouts_match_reflection() {
     check_pipeline("ground", GROUND_STAGES, FRAME_SET);
     // The five wind kernels share one set layout.
     check_pipeline("wind", &WIND_KERNELS, WIND_SET);
+    check_pipeline("grass", &[&shaders::GRASS_STEP_COMP], GRASS_SET);
     // Every stage the Rust layout exposes the block to is a stage that
     // declares it somewhere.
     let mut declaring = vk::ShaderStageFlags::empty();
@@ -255,4 +258,85 @@ fn wind_source_and_push_constants_match_the_glsl_side() {
         .map(|o| o as u32)
     );
     assert_eq!(offset_of!(WindPush, step), 48);
+}
+
+/// Offsets and size of the element struct of the runtime array that is
+/// the only member of the storage block at (0, binding).
+fn array_element_layout(module: &naga::Module, binding: u32) -> (Vec<u32>, u32, u32) {
+    let block = reflect::resource_at(module, 0, binding).expect("a storage block");
+    let naga::TypeInner::Struct { members, .. } = &module.types[block.ty].inner else {
+        panic!("binding {binding} is not a block")
+    };
+    assert_eq!(members.len(), 1, "binding {binding}: one runtime array");
+    let naga::TypeInner::Array { base, stride, .. } = module.types[members[0].ty].inner else {
+        panic!("binding {binding} is not an array")
+    };
+    let (offsets, span) = struct_layout(module, base);
+    (offsets, span, stride)
+}
+
+#[test]
+fn grass_blade_state_vertex_and_push_constants_match_the_glsl_side() {
+    let (module, _) = reflect::naga_module(&shaders::GRASS_STEP_COMP).unwrap();
+    let size = |n: usize| n as u32;
+
+    let (offsets, span, stride) = array_element_layout(&module, 0);
+    assert_eq!((span, stride), (size(144), size(144)));
+    assert_eq!(std::mem::size_of::<GrassBlade>(), 144);
+    assert_eq!(
+        offsets,
+        [
+            offset_of!(GrassBlade, rest),
+            offset_of!(GrassBlade, width),
+            offset_of!(GrassBlade, stiffness),
+            offset_of!(GrassBlade, drag),
+            offset_of!(GrassBlade, inertia),
+            offset_of!(GrassBlade, damping),
+        ]
+        .map(|o| o as u32)
+    );
+
+    let (offsets, span, stride) = array_element_layout(&module, 1);
+    assert_eq!((span, stride), (size(32), size(32)));
+    assert_eq!(std::mem::size_of::<GrassState>(), 32);
+    assert_eq!(
+        offsets,
+        [
+            offset_of!(GrassState, angle),
+            offset_of!(GrassState, velocity)
+        ]
+        .map(|o| o as u32)
+    );
+
+    // The kernel writes what the vertex stage reads.
+    let (offsets, span, stride) = array_element_layout(&module, 2);
+    assert_eq!(span as usize, std::mem::size_of::<BladeVertex>());
+    assert_eq!(stride as usize, std::mem::size_of::<BladeVertex>());
+    assert_eq!(
+        offsets,
+        [
+            offset_of!(BladeVertex, position),
+            offset_of!(BladeVertex, width)
+        ]
+        .map(|o| o as u32)
+    );
+
+    let push = module
+        .global_variables
+        .iter()
+        .map(|(_, v)| v)
+        .find(|v| v.space == naga::AddressSpace::PushConstant)
+        .expect("a push-constant block");
+    let (offsets, span) = struct_layout(&module, push.ty);
+    assert_eq!(span as usize, std::mem::size_of::<GrassPush>());
+    assert_eq!(
+        offsets,
+        [
+            0,
+            offset_of!(GrassPush, control),
+            offset_of!(GrassPush, step)
+        ]
+        .map(|o| o as u32)
+    );
+    assert_eq!(offset_of!(GrassPush, control), 48);
 }

@@ -23,7 +23,8 @@ struct Vertex {
     vec4 position;
     vec4 width;
 };
-layout(set = 0, binding = 2, std430) writeonly buffer Vertices { Vertex vertices[]; };
+// Written only; not declared writeonly because naga does not take it.
+layout(set = 0, binding = 2, std430) buffer Vertices { Vertex vertices[]; };
 layout(set = 0, binding = 3, std430) readonly buffer Wind { float wind_velocity[]; };
 
 #define WIND_VELOCITY(i) wind_velocity[pc.control.z + (i)]

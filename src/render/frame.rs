@@ -166,8 +166,21 @@ impl Renderer {
 
     /// Renders one frame and reads it back.
     pub fn render(&mut self, gpu: &Gpu, uniforms: &FrameUniforms) -> Result<Frame> {
+        self.render_after(gpu, uniforms, |_| {})
+    }
+
+    /// Records `simulate` (the wind and grass steps, which end with the
+    /// blade vertices visible to the vertex input stage) and then the frame
+    /// into one command buffer, submits it and reads the frame back.
+    pub fn render_after(
+        &mut self,
+        gpu: &Gpu,
+        uniforms: &FrameUniforms,
+        simulate: impl FnOnce(vk::CommandBuffer),
+    ) -> Result<Frame> {
         self.uniforms.write(0, std::slice::from_ref(uniforms));
         let cmd = self.commands.begin(gpu)?;
+        simulate(cmd);
         self.record(gpu, cmd);
         self.commands.submit_and_wait(gpu, "rendering a frame")?;
         let statistics = self.statistics.read(gpu)?;

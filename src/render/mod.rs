@@ -5,6 +5,7 @@ pub mod frame;
 pub mod frame_uniforms;
 pub mod grass_pass;
 pub mod pipelines;
+pub mod simulation;
 pub mod targets;
 pub mod wind_pass;
 pub mod wind_slices;
