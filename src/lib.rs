@@ -4,12 +4,16 @@
 //!
 //! - `gpu`: instance, device, memory, buffers, images, commands, queries.
 //! - `scene`: scenes and the grass field generator.
-//! - `sim`: the grass model (and CPU references of the simulation).
-//! - `render`: the paper's render pipeline and frame orchestration.
+//! - `sim`: the grass model and the CPU references of the wind and the
+//!   grass dynamics.
+//! - `render`: the GPU passes of both phases (wind, grass, the paper's
+//!   render pipeline) and frame orchestration.
+//! - `job`, `wind_job`, `grass_job`: what the `meadow` commands run.
 //! - `shaders` / `reflect`: the embedded SPIR-V and its binding reflection.
 
 pub mod error;
 pub mod gpu;
+pub mod grass_job;
 pub mod job;
 pub mod output;
 pub mod reflect;

@@ -124,6 +124,25 @@ enum Command {
         #[command(flatten)]
         device: DeviceArgs,
     },
+    /// Time the grass step alone on the GPU (timestamp queries) at several
+    /// blade counts, beside the paper's figures; writes DIR/grass_bench.json.
+    BenchGrass {
+        #[arg(long, default_value = "meadow")]
+        scene: String,
+        /// Blade counts, comma-separated (50k, 1.5m, 1200).
+        #[arg(long, default_value = "50k,100k,150k,200k")]
+        blades: String,
+        /// Timed steps per count (the median and p95 are reported).
+        #[arg(long, default_value_t = 30)]
+        steps: u32,
+        /// Untimed grass steps before timing.
+        #[arg(long, default_value_t = 5)]
+        warmup: u32,
+        #[arg(long, default_value = "out/bench-grass")]
+        out: PathBuf,
+        #[command(flatten)]
+        device: DeviceArgs,
+    },
     /// List the Vulkan devices and whether each can run meadow.
     Devices {
         #[command(flatten)]
@@ -270,6 +289,47 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 out.join("wind_horizontal.png").display(),
                 out.join("wind_vertical.png").display()
             );
+            Ok(())
+        }
+        Command::BenchGrass {
+            scene,
+            blades,
+            steps,
+            warmup,
+            out,
+            device,
+        } => {
+            let scene = Scene::builtin(&scene)?;
+            let counts = blades
+                .split(',')
+                .map(meadow::grass_job::parse_count)
+                .collect::<Result<Vec<_>, _>>()?;
+            meadow::output::ensure_dir(&out)?;
+            let bench =
+                meadow::grass_job::bench_grass(&scene, &counts, steps, warmup, &device.options())?;
+            let json = serde_json::to_vec_pretty(&bench).expect("bench serialises");
+            let path = out.join("grass_bench.json");
+            meadow::output::write_atomic(&path, &json)?;
+            println!(
+                "grass step on {} [{}], scene {}, {} timed steps per count (medians)",
+                bench.device, bench.device_type, bench.scene, steps
+            );
+            println!(
+                "{:>9}  {:>8}  {:>10}  {:>10}  {:>18}",
+                "blades", "substeps", "median ms", "p95 ms", "paper (GTX 670) ms"
+            );
+            let ms = |v: Option<f64>| v.map_or("n/a".to_string(), |v| format!("{v:.3}"));
+            for r in &bench.rows {
+                println!(
+                    "{:>9}  {:>8}  {:>10}  {:>10}  {:>18}",
+                    r.blades,
+                    r.substeps,
+                    ms(r.step_ms_median),
+                    ms(r.step_ms_p95),
+                    r.paper_ms.map_or("-".to_string(), |v| format!("{v:.1}"))
+                );
+            }
+            println!("wrote {}", path.display());
             Ok(())
         }
         Command::Devices { device } => {

@@ -1,0 +1,216 @@
+//! `meadow bench-grass`: GPU time of the grass step alone (timestamp
+//! queries around each dispatch) at several blade counts, the figures the
+//! paper gives for its grass step (8.5 / 16.9 / 25.8 / 33.5 ms for 50K /
+//! 100K / 150K / 200K blades on a GTX 670). The wind is solved for a while
+//! first so that the blades move, and then held: only the grass is timed.
+
+use crate::error::{Error, Result};
+use crate::gpu::commands::Commands;
+use crate::gpu::timing::{median_p95, TimestampQueries};
+use crate::gpu::{Buffer, Gpu, GpuOptions, ValidationReport};
+use crate::render::grass_pass::{vertex_buffer, GrassPass};
+use crate::render::wind_pass::WindPass;
+use crate::scene::{field, Scene, MAX_BLADES};
+
+/// The paper's grass-step times (ms) on a GTX 670, by blade count.
+pub const PAPER_GRASS_MS: [(usize, f64); 4] = [
+    (50_000, 8.5),
+    (100_000, 16.9),
+    (150_000, 25.8),
+    (200_000, 33.5),
+];
+
+/// Wind steps run before timing, so that the grass meets a developed field.
+const WIND_WARMUP_STEPS: u32 = 30;
+
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct GrassBenchRow {
+    pub blades: usize,
+    pub substeps: u32,
+    /// Timed steps (after `warmup` untimed ones).
+    pub steps: u32,
+    pub warmup: u32,
+    /// GPU ms per grass step; None without timestamps.
+    pub step_ms_median: Option<f64>,
+    pub step_ms_p95: Option<f64>,
+    /// The paper's figure for this count, where it gives one.
+    pub paper_ms: Option<f64>,
+}
+
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct GrassBench {
+    pub scene: String,
+    pub device: String,
+    pub device_type: String,
+    pub rows: Vec<GrassBenchRow>,
+    pub validation: ValidationReport,
+}
+
+/// Times `steps` grass steps (after `warmup`) of `scene` at each count.
+pub fn bench_grass(
+    scene: &Scene,
+    counts: &[usize],
+    steps: u32,
+    warmup: u32,
+    options: &GpuOptions,
+) -> Result<GrassBench> {
+    if counts.is_empty() || counts.iter().any(|&n| n == 0 || n > MAX_BLADES) {
+        return Err(Error::InvalidInput(format!(
+            "blade counts {counts:?} are not allowed, use 1..={MAX_BLADES} each"
+        )));
+    }
+    if !(1..=10_000).contains(&steps) || warmup > 10_000 {
+        return Err(Error::InvalidInput(format!(
+            "--steps {steps} / --warmup {warmup} are not allowed, use 1..=10000 and 0..=10000"
+        )));
+    }
+    scene.wind_grid()?;
+    scene.dynamics.validate()?;
+    let gpu = Gpu::new(options)?;
+    let rows = counts
+        .iter()
+        .map(|&n| bench_count(&gpu, scene, n, steps, warmup))
+        .collect::<Result<Vec<_>>>();
+    let info = gpu.info().clone();
+    let validation = gpu.destroy();
+    let bench = GrassBench {
+        scene: scene.name.clone(),
+        device: info.name,
+        device_type: info.device_type,
+        rows: rows?,
+        validation,
+    };
+    bench.validation.check()?;
+    Ok(bench)
+}
+
+fn bench_count(
+    gpu: &Gpu,
+    scene: &Scene,
+    count: usize,
+    steps: u32,
+    warmup: u32,
+) -> Result<GrassBenchRow> {
+    let mut scene = scene.clone();
+    scene.set_blade_count(count)?;
+    let blades = field::generate(&scene.grass, &scene.shape, scene.seed);
+    let dynamic = field::dynamic_blades(&blades, &scene.dynamics, scene.seed)?;
+    let bytes = (count * (4 * 32 + 144 + 32)) as u64;
+    gpu.check_fits(&format!("{count} blades"), bytes)?;
+
+    let grid = scene.wind_grid()?;
+    let dt = scene.wind.dt;
+    let commands = Commands::new(gpu, "grass bench commands")?;
+    let mut owned: Vec<Buffer> = Vec::new();
+    let mut wind = None;
+    let mut grass = None;
+    let mut timestamps = None;
+    let result = (|| {
+        let w = wind.insert(WindPass::new(gpu, &commands, grid, &scene.wind.settings())?);
+        let cmd = commands.begin(gpu)?;
+        for i in 0..WIND_WARMUP_STEPS {
+            w.record_step(gpu, cmd, i as f32 * dt, dt);
+        }
+        commands.submit_and_wait(gpu, "wind warm-up")?;
+        owned.push(vertex_buffer(gpu, "grass bench vertices", count)?);
+        let g = grass.insert(GrassPass::new(
+            gpu,
+            &commands,
+            &dynamic,
+            &owned[0],
+            w.velocity(),
+            &grid,
+            dt,
+        )?);
+        let t = TimestampQueries::new(gpu, steps, "grass step timestamps")?;
+        let t = timestamps.insert(t);
+
+        let cmd = commands.begin(gpu)?;
+        for _ in 0..warmup {
+            g.record_step(gpu, cmd, 0);
+        }
+        if let Some(t) = t {
+            t.reset(gpu, cmd);
+        }
+        for n in 0..steps {
+            if let Some(t) = t {
+                t.stamp(gpu, cmd, n, false);
+            }
+            g.record_step(gpu, cmd, 0);
+            if let Some(t) = t {
+                t.stamp(gpu, cmd, n, true);
+            }
+        }
+        commands.submit_and_wait(gpu, "grass steps")?;
+        let times = match t {
+            Some(t) => t.read_ms(gpu, steps)?,
+            None => Vec::new(),
+        };
+        let timing = median_p95(&times);
+        Ok(GrassBenchRow {
+            blades: count,
+            substeps: g.substeps(),
+            steps,
+            warmup,
+            step_ms_median: timing.map(|t| t.0),
+            step_ms_p95: timing.map(|t| t.1),
+            paper_ms: PAPER_GRASS_MS
+                .iter()
+                .find(|(n, _)| *n == count)
+                .map(|(_, ms)| *ms),
+        })
+    })();
+    gpu.wait_idle();
+    if let Some(Some(t)) = timestamps {
+        t.destroy(gpu);
+    }
+    if let Some(g) = grass {
+        g.destroy(gpu);
+    }
+    for b in owned {
+        b.destroy(gpu);
+    }
+    if let Some(w) = wind {
+        w.destroy(gpu);
+    }
+    commands.destroy(gpu);
+    result
+}
+
+/// "50k" -> 50000, "1.5m" -> 1500000, "1200" -> 1200.
+pub fn parse_count(text: &str) -> Result<usize> {
+    let t = text.trim().to_ascii_lowercase();
+    let (digits, scale) = match t.strip_suffix('k') {
+        Some(d) => (d, 1e3),
+        None => match t.strip_suffix('m') {
+            Some(d) => (d, 1e6),
+            None => (t.as_str(), 1.0),
+        },
+    };
+    digits
+        .parse::<f64>()
+        .ok()
+        .map(|v| v * scale)
+        .filter(|v| v.is_finite() && *v >= 1.0 && v.fract() == 0.0 && *v <= MAX_BLADES as f64)
+        .map(|v| v as usize)
+        .ok_or_else(|| {
+            Error::InvalidInput(format!(
+                "blade count {text:?} is not a count, write e.g. 50k, 1.5m or 1200 (at most {MAX_BLADES})"
+            ))
+        })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::parse_count;
+
+    #[test]
+    fn counts_parse_with_suffixes() {
+        assert_eq!(parse_count("50k").unwrap(), 50_000);
+        assert_eq!(parse_count("1.5M").unwrap(), 1_500_000);
+        assert_eq!(parse_count("1200").unwrap(), 1200);
+        for bad in ["", "0", "-5k", "1.0001k", "abc", "20m", "nan"] {
+            assert!(parse_count(bad).is_err(), "{bad}");
+        }
+    }
+}
