@@ -198,3 +198,50 @@ fn devices_lists_at_least_one_qualifying_device() {
     );
     assert!(stdout.contains("qualifies"), "{stdout}");
 }
+
+#[test]
+fn bench_grass_times_small_counts_and_refuses_bad_ones() {
+    assert_refused(
+        &["bench-grass", "--blades", "1k,zero"],
+        &[],
+        "blade count \"zero\" is not a count",
+    );
+    let out = temp_out("bench-grass");
+    let result = meadow(
+        &[
+            "bench-grass",
+            "--blades",
+            "1k,2k",
+            "--steps",
+            "3",
+            "--warmup",
+            "1",
+            "--validation",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        &[],
+    );
+    assert!(
+        result.status.success(),
+        "{}",
+        String::from_utf8_lossy(&result.stderr)
+    );
+    let bench: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("grass_bench.json")).unwrap()).unwrap();
+    assert_eq!(bench["validation"]["errors"], 0);
+    let rows = bench["rows"].as_array().unwrap();
+    assert_eq!(rows.len(), 2);
+    for (row, blades) in rows.iter().zip([1000, 2000]) {
+        assert_eq!(row["blades"], blades);
+        assert_eq!(row["steps"], 3);
+        assert!(row["substeps"].as_u64().unwrap() >= 1);
+        // Timestamps exist on lavapipe; where they do, times are positive.
+        if let Some(ms) = row["step_ms_median"].as_f64() {
+            assert!(ms > 0.0 && ms.is_finite(), "{row}");
+            assert!(row["step_ms_p95"].as_f64().unwrap() >= ms);
+        }
+        assert!(row["paper_ms"].is_null(), "the paper has no 1k figure");
+    }
+    let _ = std::fs::remove_dir_all(&out);
+}

@@ -132,8 +132,9 @@ impl Renderer {
         let vertices: Vec<BladeVertex> = blades.iter().flat_map(Blade::vertices).collect();
         p.statistics = Some(StatisticsQuery::new(gpu)?);
         let commands = p.commands.insert(Commands::new(gpu, "frame commands")?);
-        // The grass dynamics (compute) will write this buffer in place; the
-        // draw reads it as its vertex buffer. Device-local, filled once here.
+        // The grass dynamics (compute) writes this buffer in place each
+        // step; the draw reads it as its vertex buffer. Device-local; the
+        // rest shape is uploaded once here.
         p.blade_vertices = Some(Buffer::with_data(
             gpu,
             commands,

@@ -1,6 +1,6 @@
-//! CPU models of the paper: the grass model (and, as they land, the CPU
-//! references of the wind solver and the blade dynamics that the GPU
-//! compute shaders are tested against).
+//! CPU models of the paper: the grass model, and the CPU references of the
+//! wind solver and the blade dynamics that the GPU compute shaders are
+//! tested against.
 
 pub mod blade;
 pub mod grass;
