@@ -231,3 +231,55 @@ fn the_wind_from_the_left_sways_the_grass_to_the_right_over_frames() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn motion_view_is_blue_at_rest_and_warms_as_the_wind_bends_the_blades() {
+    use meadow::gpu::{GpuOptions, ValidationOptions};
+    use meadow::job::{render_to_dir, Animation, RenderRequest};
+    std::env::set_var("MEADOW_QUIET_VALIDATION", "1");
+    let dir = std::env::temp_dir().join(format!("meadow-motion-{}", std::process::id()));
+    let mut request = RenderRequest {
+        scene: Scene::builtin("few-bunches").unwrap(),
+        width: 240,
+        height: 135,
+        msaa: 1,
+        view: ViewMode::Motion,
+        animation: Animation::default(),
+        gpu: GpuOptions {
+            validation: ValidationOptions::strict(),
+            ..Default::default()
+        },
+    };
+    // Red minus blue over the pixels that are blades (not sky, not soil:
+    // the motion view paints blades from blue, at rest, to red, bent 0.6 rad).
+    let warmth = |path: std::path::PathBuf| {
+        let img = image::open(path).unwrap().to_rgb8();
+        let blades: Vec<[i32; 3]> = img
+            .pixels()
+            .map(|p| p.0.map(i32::from))
+            // Blade colours stand 40+ above green in red or blue; the sky
+            // (188, 209, 233) and the soil (95, 80, 53) do not.
+            .filter(|[r, g, b]| b - g > 40 || r - g > 40)
+            .collect();
+        let n = blades.len().max(1) as f64;
+        (
+            blades.iter().map(|[r, _, b]| (r - b) as f64).sum::<f64>() / n,
+            blades.len(),
+        )
+    };
+    render_to_dir(&request, &dir.join("rest")).expect("rest");
+    request.animation.start = 2.0;
+    render_to_dir(&request, &dir.join("wind")).expect("2 s of wind");
+    let rest = warmth(dir.join("rest/frame_0000.png"));
+    let wind = warmth(dir.join("wind/frame_0000.png"));
+    eprintln!(
+        "motion view red - blue over blade pixels (mean, count): rest {rest:?}, after 2 s {wind:?}"
+    );
+    assert!(rest.1 > 200 && wind.1 > 200);
+    assert!(rest.0 < -50.0, "blades at rest are not blue: {rest:?}");
+    assert!(
+        wind.0 > rest.0 + 40.0,
+        "bent blades did not warm: {rest:?} -> {wind:?}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
