@@ -170,3 +170,180 @@ fn gpu_wind_stays_finite_for_10000_steps_at_the_strongest_settings() {
     commands.destroy(&gpu);
     finish(gpu);
 }
+
+/// The GPU solver on the small behaviour-test grid, read back into a CPU
+/// `WindField` (same layout) for sampling and divergence.
+struct GpuWind<'a> {
+    gpu: &'a meadow::gpu::Gpu,
+    commands: Commands,
+    pass: WindPass,
+    settings: WindSettings,
+    steps: u32,
+}
+
+impl<'a> GpuWind<'a> {
+    fn new(gpu: &'a meadow::gpu::Gpu, settings: &WindSettings) -> Self {
+        let commands = Commands::new(gpu, "wind behaviour commands").unwrap();
+        let pass = WindPass::new(gpu, &commands, behaviour_grid(), settings).unwrap();
+        Self {
+            gpu,
+            commands,
+            pass,
+            settings: settings.clone(),
+            steps: 0,
+        }
+    }
+
+    fn step(&mut self, n: u32, dt: f32) {
+        let cmd = self.commands.begin(self.gpu).unwrap();
+        for _ in 0..n {
+            self.pass
+                .record_step(self.gpu, cmd, self.steps as f32 * dt, dt);
+            self.steps += 1;
+        }
+        self.commands
+            .submit_and_wait(self.gpu, "wind steps")
+            .unwrap();
+    }
+
+    fn field(&self) -> WindField {
+        let mut f = WindField::new(behaviour_grid(), &self.settings);
+        f.vel = self.pass.read_velocity(self.gpu, &self.commands).unwrap();
+        f
+    }
+
+    /// Largest |divergence| of the advected field before projection.
+    fn divergence_before(&self) -> f32 {
+        let d = self.pass.read_divergence(self.gpu, &self.commands).unwrap();
+        d.iter().fold(0.0, |m, x| m.max(x.abs()))
+    }
+
+    fn destroy(self) {
+        self.pass.destroy(self.gpu);
+        self.commands.destroy(self.gpu);
+    }
+}
+
+/// The grid of tests/wind_cpu.rs: the behaviour tests run on both.
+fn behaviour_grid() -> WindGrid {
+    grid(UVec3::new(24, 10, 24))
+}
+
+fn energy(f: &WindField) -> f64 {
+    f.vel.iter().flatten().map(|&v| (v as f64).powi(2)).sum()
+}
+
+#[test]
+fn gpu_projection_residual_falls_with_jacobi_iterations() {
+    let gpu = strict_gpu();
+    let mut residual = Vec::new();
+    let mut before = 0.0f32;
+    for iterations in [5, 20, 80] {
+        let settings = WindSettings {
+            sources: vec![WindSource::fixed(
+                Vec3::new(-3.0, 1.5, 0.0),
+                Vec3::X,
+                30.0,
+                2.5,
+            )],
+            jacobi_iterations: iterations,
+            ..Default::default()
+        };
+        let mut wind = GpuWind::new(&gpu, &settings);
+        wind.step(6, 1.0 / 30.0);
+        let mut field = wind.field();
+        field.compute_divergence();
+        residual.push(field.max_divergence());
+        before = before.max(wind.divergence_before());
+        wind.destroy();
+    }
+    finish(gpu);
+    eprintln!("GPU max |div| before projection {before}, after 5/20/80 Jacobi {residual:?}");
+    assert!(before > 0.1, "no divergence to remove: {before}");
+    assert!(
+        residual[1] < residual[0] && residual[2] < residual[1],
+        "{residual:?}"
+    );
+    assert!(residual[2] < 0.1 * before, "{before} -> {residual:?}");
+}
+
+#[test]
+fn gpu_obstacle_lee_is_calmer_and_a_rotating_source_turns_the_wind() {
+    let gpu = strict_gpu();
+    let wall = Obstacle::Box {
+        min: Vec3::new(-1.0, 0.0, -1.5),
+        max: Vec3::new(0.0, 3.0, 1.5),
+    };
+    let settings = WindSettings {
+        inflow: Some(Inflow {
+            speed: 4.0,
+            gust: Gust::default(),
+        }),
+        obstacles: vec![wall],
+        jacobi_iterations: 40,
+        ..Default::default()
+    };
+    let mut wind = GpuWind::new(&gpu, &settings);
+    wind.step(150, 1.0 / 30.0);
+    let field = wind.field();
+    wind.destroy();
+    let speed = |x: f32, z: f32| field.sample(Vec3::new(x, 1.0, z)).length();
+    let lee = (speed(1.0, 0.0) + speed(1.5, 0.0)) / 2.0;
+    let beside = (speed(1.0, 4.0) + speed(1.5, 4.0) + speed(1.0, -4.0) + speed(1.5, -4.0)) / 4.0;
+    assert!(lee < 0.6 * beside, "GPU: lee {lee} vs beside {beside}");
+    assert!(beside > 1.0, "GPU: no wind beside the wall: {beside}");
+
+    let mut source = WindSource::fixed(Vec3::new(0.0, 1.5, 0.0), Vec3::X, 20.0, 4.0);
+    source.rotation_speed = std::f32::consts::FRAC_PI_2;
+    let settings = WindSettings {
+        sources: vec![source],
+        jacobi_iterations: 30,
+        ..Default::default()
+    };
+    let mut wind = GpuWind::new(&gpu, &settings);
+    let mut angle_at = Vec::new();
+    for _ in 0..4 {
+        wind.step(15, 1.0 / 30.0);
+        let v = wind.field().sample(Vec3::new(0.0, 1.5, 0.0));
+        angle_at.push((-v.z).atan2(v.x));
+    }
+    wind.destroy();
+    finish(gpu);
+    assert!(
+        angle_at.windows(2).all(|w| w[1] > w[0]),
+        "GPU: {angle_at:?}"
+    );
+    assert!(angle_at[3] - angle_at[0] > 0.5, "GPU: {angle_at:?}");
+}
+
+#[test]
+fn gpu_field_decays_after_its_source_switches_off() {
+    let gpu = strict_gpu();
+    let mut source = WindSource::fixed(Vec3::new(-3.0, 1.5, 0.0), Vec3::X, 30.0, 2.5);
+    source.off_after = Some(1.0);
+    let settings = WindSettings {
+        sources: vec![source],
+        jacobi_iterations: 30,
+        ..Default::default()
+    };
+    let mut wind = GpuWind::new(&gpu, &settings);
+    wind.step(30, 1.0 / 30.0);
+    let at_off = energy(&wind.field());
+    let mut last = at_off;
+    for n in 0..9 {
+        wind.step(10, 1.0 / 30.0);
+        let e = energy(&wind.field());
+        assert!(
+            e <= last * 1.0001,
+            "GPU: energy grew by step {}: {last} -> {e}",
+            30 + 10 * (n + 1)
+        );
+        last = e;
+    }
+    wind.destroy();
+    finish(gpu);
+    assert!(
+        last < 0.5 * at_off,
+        "GPU: barely decayed: {at_off} -> {last}"
+    );
+}
