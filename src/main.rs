@@ -277,6 +277,10 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 "max |divergence| before projection {:.4e} 1/s, after {:.4e} 1/s",
                 r.max_divergence_before, r.max_divergence_after
             );
+            println!(
+                "rms |divergence| before projection {:.4e} 1/s, after {:.4e} 1/s",
+                r.rms_divergence_before, r.rms_divergence_after
+            );
             match (r.step_ms_median, r.step_ms_p95) {
                 (Some(m), Some(p)) => println!(
                     "GPU time per step (timestamps): median {m:.3} ms, p95 {p:.3} ms over {} steps",

@@ -30,6 +30,9 @@ pub struct WindReport {
     pub max_divergence_before: f32,
     /// Largest |divergence| of the projected field.
     pub max_divergence_after: f32,
+    /// RMS divergence over the fluid cells, before and after projection.
+    pub rms_divergence_before: f32,
+    pub rms_divergence_after: f32,
     /// GPU time of one solver step (timestamp queries), median and p95, ms;
     /// None where the device has no timestamps.
     pub step_ms_median: Option<f64>,
@@ -116,6 +119,14 @@ fn run(
         field.vel = pass.read_velocity(gpu, &commands)?;
         let before = pass.read_divergence(gpu, &commands)?;
         let max_divergence_before = before.iter().fold(0.0f32, |m, d| m.max(d.abs()));
+        let fluid: Vec<f64> = before
+            .iter()
+            .zip(&field.solid)
+            .filter(|(_, &solid)| !solid)
+            .map(|(d, _)| (*d as f64).powi(2))
+            .collect();
+        let rms_divergence_before =
+            (fluid.iter().sum::<f64>() / fluid.len().max(1) as f64).sqrt() as f32;
         let max_speed = max_speed(&field);
         let tip_height = scene.shape.height[1] * 0.8;
         let center = grid.origin + grid.size() / 2.0;
@@ -140,6 +151,8 @@ fn run(
             max_speed,
             max_divergence_before,
             max_divergence_after: field.max_divergence(),
+            rms_divergence_before,
+            rms_divergence_after: field.rms_divergence(),
             step_ms_median: timing.map(|t| t.0),
             step_ms_p95: timing.map(|t| t.1),
             warnings: Vec::new(),

@@ -516,6 +516,18 @@ impl WindField {
             .fold(0.0, f32::max)
     }
 
+    /// Root mean square divergence over the fluid cells: the max norm
+    /// follows the slowest Jacobi modes, this the field as a whole.
+    pub fn rms_divergence(&self) -> f32 {
+        let (sum, n) = self
+            .grid
+            .each_cell()
+            .filter(|&(c, _)| !self.solid[c])
+            .map(|(_, [i, j, k])| (self.cell_divergence(i, j, k) as f64).powi(2))
+            .fold((0.0, 0usize), |(s, n), d| (s + d, n + 1));
+        (sum / n.max(1) as f64).sqrt() as f32
+    }
+
     /// Kernel 4: Jacobi iterations for the pressure (with dt/rho folded in):
     /// sum over free faces of (p_nb - p) / h^2 = div. Across a wall face
     /// the term drops (Neumann); outside an open side p = 0 (Dirichlet).
