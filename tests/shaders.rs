@@ -198,6 +198,17 @@ fn every_module_passes_spirv_val_when_installed() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// Member offsets and size of the module's push-constant block.
+fn push_constant_layout(module: &naga::Module) -> (Vec<u32>, u32) {
+    let push = module
+        .global_variables
+        .iter()
+        .map(|(_, v)| v)
+        .find(|v| v.space == naga::AddressSpace::PushConstant)
+        .expect("a push-constant block");
+    struct_layout(module, push.ty)
+}
+
 /// Member offsets and size of a struct type in a naga module.
 fn struct_layout(module: &naga::Module, ty: naga::Handle<naga::Type>) -> (Vec<u32>, u32) {
     match &module.types[ty].inner {
@@ -212,16 +223,7 @@ fn struct_layout(module: &naga::Module, ty: naga::Handle<naga::Type>) -> (Vec<u3
 fn wind_source_and_push_constants_match_the_glsl_side() {
     let (module, _) = reflect::naga_module(&shaders::WIND_FORCES_COMP).unwrap();
     // The sources buffer: a block whose one member is a runtime array of WindSource.
-    let sources = reflect::resource_at(&module, 0, 5).expect("the sources buffer");
-    let (block_members, _) = struct_layout(&module, sources.ty);
-    assert_eq!(block_members, [0]);
-    let naga::TypeInner::Struct { members, .. } = &module.types[sources.ty].inner else {
-        unreachable!()
-    };
-    let naga::TypeInner::Array { base, stride, .. } = module.types[members[0].ty].inner else {
-        panic!("sources is not an array")
-    };
-    let (offsets, span) = struct_layout(&module, base);
+    let (offsets, span, stride) = array_element_layout(&module, 5);
     assert_eq!(stride as usize, std::mem::size_of::<GpuWindSource>());
     assert_eq!(span as usize, std::mem::size_of::<GpuWindSource>());
     assert_eq!(
@@ -237,13 +239,7 @@ fn wind_source_and_push_constants_match_the_glsl_side() {
         .map(|o| o as u32)
     );
     // The push-constant block.
-    let push = module
-        .global_variables
-        .iter()
-        .map(|(_, v)| v)
-        .find(|v| v.space == naga::AddressSpace::PushConstant)
-        .expect("a push-constant block");
-    let (offsets, span) = struct_layout(&module, push.ty);
+    let (offsets, span) = push_constant_layout(&module);
     assert_eq!(span as usize, std::mem::size_of::<WindPush>());
     // grid (cells, origin, cell_size) is one nested struct of 48 bytes.
     assert_eq!(
@@ -321,13 +317,7 @@ fn grass_blade_state_vertex_and_push_constants_match_the_glsl_side() {
         .map(|o| o as u32)
     );
 
-    let push = module
-        .global_variables
-        .iter()
-        .map(|(_, v)| v)
-        .find(|v| v.space == naga::AddressSpace::PushConstant)
-        .expect("a push-constant block");
-    let (offsets, span) = struct_layout(&module, push.ty);
+    let (offsets, span) = push_constant_layout(&module);
     assert_eq!(span as usize, std::mem::size_of::<GrassPush>());
     assert_eq!(
         offsets,

@@ -1,30 +1,20 @@
 //! The wind solver's CPU reference against what method.md section 5 asks of
 //! any implementation. (The GPU solver is compared with this reference.)
 
+mod common;
+
+use common::wind_scenes::{self, behaviour_grid, blowing_source};
 use glam::{UVec3, Vec3};
 use meadow::sim::wind::{
     FaceKind, Gust, Inflow, Obstacle, WindField, WindGrid, WindSettings, WindSource,
 };
 
 fn grid() -> WindGrid {
-    WindGrid::new(
-        UVec3::new(24, 10, 24),
-        Vec3::new(-6.0, 0.0, -6.0),
-        Vec3::new(12.0, 5.0, 12.0),
-    )
-    .unwrap()
-}
-
-fn blowing_source() -> WindSource {
-    WindSource::fixed(Vec3::new(-3.0, 1.5, 0.0), Vec3::X, 30.0, 2.5)
+    behaviour_grid()
 }
 
 fn kinetic_energy(f: &WindField) -> f64 {
-    f.vel
-        .iter()
-        .flatten()
-        .map(|&v| (v as f64) * (v as f64))
-        .sum()
+    wind_scenes::kinetic_energy(&f.vel)
 }
 
 #[test]
@@ -70,19 +60,7 @@ fn projection_removes_divergence_more_with_more_jacobi_iterations() {
 
 #[test]
 fn obstacle_cells_hold_zero_and_the_lee_is_calmer() {
-    let wall = Obstacle::Box {
-        min: Vec3::new(-1.0, 0.0, -1.5),
-        max: Vec3::new(0.0, 3.0, 1.5),
-    };
-    let settings = WindSettings {
-        inflow: Some(Inflow {
-            speed: 4.0,
-            gust: Gust::default(),
-        }),
-        obstacles: vec![wall],
-        jacobi_iterations: 40,
-        ..Default::default()
-    };
+    let settings = wind_scenes::wall_in_the_wind();
     let mut field = WindField::new(grid(), &settings);
     assert!(
         field.solid.iter().any(|&s| s),
@@ -99,22 +77,14 @@ fn obstacle_cells_hold_zero_and_the_lee_is_calmer() {
             }
         }
     }
-    let speed = |x: f32, z: f32| field.sample(Vec3::new(x, 1.0, z)).length();
-    let lee = (speed(1.0, 0.0) + speed(1.5, 0.0)) / 2.0;
-    let beside = (speed(1.0, 4.0) + speed(1.5, 4.0) + speed(1.0, -4.0) + speed(1.5, -4.0)) / 4.0;
+    let (lee, beside) = wind_scenes::lee_and_beside(|x| field.sample(x));
     assert!(lee < 0.6 * beside, "lee {lee} vs beside {beside}");
     assert!(beside > 1.0, "no wind beside the wall: {beside}");
 }
 
 #[test]
 fn a_rotating_source_turns_the_wind_at_the_centre() {
-    let mut source = WindSource::fixed(Vec3::new(0.0, 1.5, 0.0), Vec3::X, 20.0, 4.0);
-    source.rotation_speed = std::f32::consts::FRAC_PI_2; // a quarter turn per second
-    let settings = WindSettings {
-        sources: vec![source],
-        jacobi_iterations: 30,
-        ..Default::default()
-    };
+    let settings = wind_scenes::rotating_source();
     let mut field = WindField::new(grid(), &settings);
     let dt = 1.0 / 30.0;
     let mut angle_at = Vec::new();
@@ -132,13 +102,7 @@ fn a_rotating_source_turns_the_wind_at_the_centre() {
 
 #[test]
 fn switched_off_the_field_decays_instead_of_growing() {
-    let mut source = blowing_source();
-    source.off_after = Some(1.0);
-    let settings = WindSettings {
-        sources: vec![source],
-        jacobi_iterations: 30,
-        ..Default::default()
-    };
+    let settings = wind_scenes::switched_off_after_one_second();
     let mut field = WindField::new(grid(), &settings);
     let dt = 1.0 / 30.0;
     for _ in 0..30 {

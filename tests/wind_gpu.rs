@@ -3,6 +3,7 @@
 
 mod common;
 
+use common::wind_scenes::{self, behaviour_grid, blowing_source};
 use common::{finish, strict_gpu};
 use glam::{UVec3, Vec3};
 use meadow::gpu::commands::Commands;
@@ -224,13 +225,8 @@ impl<'a> GpuWind<'a> {
     }
 }
 
-/// The grid of tests/wind_cpu.rs: the behaviour tests run on both.
-fn behaviour_grid() -> WindGrid {
-    grid(UVec3::new(24, 10, 24))
-}
-
 fn energy(f: &WindField) -> f64 {
-    f.vel.iter().flatten().map(|&v| (v as f64).powi(2)).sum()
+    wind_scenes::kinetic_energy(&f.vel)
 }
 
 #[test]
@@ -240,12 +236,7 @@ fn gpu_projection_residual_falls_with_jacobi_iterations() {
     let mut before = 0.0f32;
     for iterations in [5, 20, 80] {
         let settings = WindSettings {
-            sources: vec![WindSource::fixed(
-                Vec3::new(-3.0, 1.5, 0.0),
-                Vec3::X,
-                30.0,
-                2.5,
-            )],
+            sources: vec![blowing_source()],
             jacobi_iterations: iterations,
             ..Default::default()
         };
@@ -270,37 +261,16 @@ fn gpu_projection_residual_falls_with_jacobi_iterations() {
 #[test]
 fn gpu_obstacle_lee_is_calmer_and_a_rotating_source_turns_the_wind() {
     let gpu = strict_gpu();
-    let wall = Obstacle::Box {
-        min: Vec3::new(-1.0, 0.0, -1.5),
-        max: Vec3::new(0.0, 3.0, 1.5),
-    };
-    let settings = WindSettings {
-        inflow: Some(Inflow {
-            speed: 4.0,
-            gust: Gust::default(),
-        }),
-        obstacles: vec![wall],
-        jacobi_iterations: 40,
-        ..Default::default()
-    };
+    let settings = wind_scenes::wall_in_the_wind();
     let mut wind = GpuWind::new(&gpu, &settings);
     wind.step(150, 1.0 / 30.0);
     let field = wind.field();
     wind.destroy();
-    let speed = |x: f32, z: f32| field.sample(Vec3::new(x, 1.0, z)).length();
-    let lee = (speed(1.0, 0.0) + speed(1.5, 0.0)) / 2.0;
-    let beside = (speed(1.0, 4.0) + speed(1.5, 4.0) + speed(1.0, -4.0) + speed(1.5, -4.0)) / 4.0;
+    let (lee, beside) = wind_scenes::lee_and_beside(|x| field.sample(x));
     assert!(lee < 0.6 * beside, "GPU: lee {lee} vs beside {beside}");
     assert!(beside > 1.0, "GPU: no wind beside the wall: {beside}");
 
-    let mut source = WindSource::fixed(Vec3::new(0.0, 1.5, 0.0), Vec3::X, 20.0, 4.0);
-    source.rotation_speed = std::f32::consts::FRAC_PI_2;
-    let settings = WindSettings {
-        sources: vec![source],
-        jacobi_iterations: 30,
-        ..Default::default()
-    };
-    let mut wind = GpuWind::new(&gpu, &settings);
+    let mut wind = GpuWind::new(&gpu, &wind_scenes::rotating_source());
     let mut angle_at = Vec::new();
     for _ in 0..4 {
         wind.step(15, 1.0 / 30.0);
@@ -319,14 +289,7 @@ fn gpu_obstacle_lee_is_calmer_and_a_rotating_source_turns_the_wind() {
 #[test]
 fn gpu_field_decays_after_its_source_switches_off() {
     let gpu = strict_gpu();
-    let mut source = WindSource::fixed(Vec3::new(-3.0, 1.5, 0.0), Vec3::X, 30.0, 2.5);
-    source.off_after = Some(1.0);
-    let settings = WindSettings {
-        sources: vec![source],
-        jacobi_iterations: 30,
-        ..Default::default()
-    };
-    let mut wind = GpuWind::new(&gpu, &settings);
+    let mut wind = GpuWind::new(&gpu, &wind_scenes::switched_off_after_one_second());
     wind.step(30, 1.0 / 30.0);
     let at_off = energy(&wind.field());
     let mut last = at_off;

@@ -17,6 +17,18 @@ pub struct LayoutBinding {
     pub stages: vk::ShaderStageFlags,
 }
 
+impl LayoutBinding {
+    /// A storage buffer at set 0 for a compute kernel.
+    pub const fn compute_storage(binding: u32) -> Self {
+        Self {
+            set: 0,
+            binding,
+            ty: DescriptorKind::StorageBuffer,
+            stages: vk::ShaderStageFlags::COMPUTE,
+        }
+    }
+}
+
 pub fn create_set_layout(
     gpu: &Gpu,
     bindings: &[LayoutBinding],

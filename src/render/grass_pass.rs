@@ -15,7 +15,6 @@ use crate::gpu::descriptors::{
     create_pipeline_layout, create_set_layout, BufferSet, LayoutBinding,
 };
 use crate::gpu::{shader, Buffer, Gpu, MemoryLocation};
-use crate::reflect::DescriptorKind;
 use crate::sim::grass::{substeps, GrassBlade, GrassState};
 use crate::sim::wind::WindGrid;
 use crate::sim::BladeVertex;
@@ -37,20 +36,11 @@ pub struct GrassPush {
 
 /// Set 0 of the grass kernel.
 pub const GRASS_SET: &[LayoutBinding] = &[
-    storage(0), // blades (rest shape and physics)
-    storage(1), // state (angles, angular velocities)
-    storage(2), // vertices: the blade pipeline's vertex buffer
-    storage(3), // wind velocity
+    LayoutBinding::compute_storage(0), // blades (rest shape and physics)
+    LayoutBinding::compute_storage(1), // state (angles, angular velocities)
+    LayoutBinding::compute_storage(2), // vertices: the blade pipeline's vertex buffer
+    LayoutBinding::compute_storage(3), // wind velocity
 ];
-
-const fn storage(binding: u32) -> LayoutBinding {
-    LayoutBinding {
-        set: 0,
-        binding,
-        ty: DescriptorKind::StorageBuffer,
-        stages: vk::ShaderStageFlags::COMPUTE,
-    }
-}
 
 pub struct GrassPass {
     blades: Buffer,

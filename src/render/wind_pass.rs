@@ -16,7 +16,6 @@ use crate::gpu::descriptors::{
     create_pipeline_layout, create_set_layout, BufferSet, LayoutBinding,
 };
 use crate::gpu::{shader, Buffer, Gpu, MemoryLocation};
-use crate::reflect::DescriptorKind;
 use crate::shaders::{self, Spirv};
 use crate::sim::wind::{FaceKind, WindField, WindGrid, WindSettings, WindSource};
 
@@ -81,22 +80,13 @@ impl GpuWindSource {
 
 /// Set 0 of the wind kernels.
 pub const WIND_SET: &[LayoutBinding] = &[
-    storage(0), // velocity (two copies)
-    storage(1), // face kinds
-    storage(2), // solid cells
-    storage(3), // pressure (two copies)
-    storage(4), // divergence
-    storage(5), // sources
+    LayoutBinding::compute_storage(0), // velocity (two copies)
+    LayoutBinding::compute_storage(1), // face kinds
+    LayoutBinding::compute_storage(2), // solid cells
+    LayoutBinding::compute_storage(3), // pressure (two copies)
+    LayoutBinding::compute_storage(4), // divergence
+    LayoutBinding::compute_storage(5), // sources
 ];
-
-const fn storage(binding: u32) -> LayoutBinding {
-    LayoutBinding {
-        set: 0,
-        binding,
-        ty: DescriptorKind::StorageBuffer,
-        stages: vk::ShaderStageFlags::COMPUTE,
-    }
-}
 
 /// The kernels in the order a step runs them.
 pub const WIND_KERNELS: [&Spirv; 5] = [

@@ -173,16 +173,13 @@ impl GrassBlade {
         let area = |edges: std::ops::Range<usize>| len[edges].iter().sum::<f64>() * 2.0 * hw;
 
         let root_to_tip = blade.rest[3] - blade.rest[0];
-        let growth = (root_to_tip * Vec3::new(1.0, 0.0, 1.0)).length() as f64;
         let tip_a = split - 1;
         let groups = [(0..split, tip_a), (split..3, 2)];
         let mut drag = [0.0f64; 4];
         let mut inertia = [1.0f64; 4];
-        let mut k_eff = [0.0f64; 4];
         // Swinging: the whole blade about the ground normal, lever P0P3.
         drag[SWING] = sigma * area(0..3);
         inertia[SWING] = 3.0 * m * (root_to_tip.length() as f64).powi(2);
-        k_eff[SWING] = growth * k[2];
         // Bending: each group about E_w, lever its local tip edge.
         for (motion, (edges, tip)) in [BEND_A, BEND_B].into_iter().zip(groups) {
             if edges.is_empty() {
@@ -190,25 +187,27 @@ impl GrassBlade {
             }
             drag[motion] = sigma * area(edges.clone());
             inertia[motion] = edges.len() as f64 * m * len[tip] * len[tip];
-            k_eff[motion] = len[tip] * k[tip];
         }
         // Twisting: the blade face about E_e, lever the half width.
         drag[TWIST] = sigma * area(0..3);
         inertia[TWIST] = 3.0 * m * hw * hw;
-        k_eff[TWIST] = hw * k[2];
-        let zeta = physics.damping_ratio as f64;
-        let damping: [f64; 4] =
-            std::array::from_fn(|i| 2.0 * zeta * (k_eff[i] * inertia[i]).sqrt());
 
         let f = |v: [f64; 4]| v.map(|x| x as f32);
-        Ok(Self {
+        let mut out = Self {
             rest: std::array::from_fn(|i| blade.rest[i].extend(blade.rand).to_array()),
             width: blade.width_dir.extend(blade.half_width).to_array(),
             stiffness: [k[0] as f32, k[1] as f32, k[2] as f32, split as f32],
             drag: f(drag),
             inertia: f(inertia),
-            damping: f(damping),
-        })
+            damping: [0.0; 4],
+        };
+        // c = 2 zeta sqrt(k_eff I) per motion.
+        let zeta = physics.damping_ratio as f64;
+        let k_eff = out.k_eff();
+        out.damping = std::array::from_fn(|i| {
+            (2.0 * zeta * (k_eff[i] as f64 * out.inertia[i] as f64).sqrt()) as f32
+        });
+        Ok(out)
     }
 
     pub fn rest_point(&self, i: usize) -> Vec3 {

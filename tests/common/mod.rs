@@ -4,6 +4,8 @@
 
 #![allow(dead_code)]
 
+pub mod wind_scenes;
+
 use meadow::gpu::{Gpu, GpuOptions, ValidationOptions};
 use meadow::render::{Frame, ViewMode};
 use meadow::scene::Scene;
