@@ -138,6 +138,9 @@ pub struct RenderReport {
     /// Simulation steps run in all.
     pub sim_steps: u64,
     pub frames: Vec<String>,
+    /// What the scene will do less than it says (e.g. a wind source outside
+    /// the grid), one line each.
+    pub warnings: Vec<String>,
     pub pipeline_statistics: Option<PipelineStatistics>,
     /// Wall-clock of the last frame's grass draw.
     pub wall_seconds: f64,
@@ -184,6 +187,7 @@ pub fn render_blades(
 
 fn render_with(gpu: &Gpu, request: &RenderRequest, out_dir: &Path) -> Result<RenderReport> {
     let scene = &request.scene;
+    let warnings = scene.wind.settings().check(&scene.wind_grid()?)?;
     let blades = field::generate(&scene.grass, &scene.shape, scene.seed);
     let dynamic = field::dynamic_blades(&blades, &scene.dynamics, scene.seed)?;
     let mut renderer = Renderer::new(gpu, request.width, request.height, request.msaa, &blades)?;
@@ -236,6 +240,7 @@ fn render_with(gpu: &Gpu, request: &RenderRequest, out_dir: &Path) -> Result<Ren
         substeps,
         sim_steps,
         frames,
+        warnings,
         pipeline_statistics: statistics,
         wall_seconds: 0.0,
         validation: ValidationReport::default(),

@@ -200,6 +200,9 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 gpu: device.options(),
             };
             let report = render_to_dir(&request, &out)?;
+            for w in &report.warnings {
+                eprintln!("meadow: warning: {w}");
+            }
             println!(
                 "rendered {} ({} blades, {}x{}, MSAA {}x of {}x asked, LOD {}) on {} [{}] in {:.1} s",
                 report.scene,

@@ -49,10 +49,7 @@ pub fn wind_to_dir(
 ) -> Result<WindReport> {
     let grid = scene.wind_grid()?;
     let settings = scene.wind.settings();
-    let mut warnings = Vec::new();
-    for s in &settings.sources {
-        warnings.extend(s.validate(&grid)?);
-    }
+    let warnings = settings.check(&grid)?;
     output::ensure_dir(out_dir)?;
     let gpu = Gpu::new(gpu_options)?;
     let result = run(&gpu, scene, grid, &settings, steps, out_dir);

@@ -13,6 +13,14 @@ fn meadow(args: &[&str], env: &[(&str, &str)]) -> Output {
     cmd.output().expect("run meadow")
 }
 
+fn assert_succeeded(result: &Output) {
+    assert!(
+        result.status.success(),
+        "{}",
+        String::from_utf8_lossy(&result.stderr)
+    );
+}
+
 fn temp_out(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("meadow-cli-{name}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
@@ -165,11 +173,7 @@ fn render_writes_frame_and_report_with_validation_clean() {
         ],
         &[],
     );
-    assert!(
-        result.status.success(),
-        "{}",
-        String::from_utf8_lossy(&result.stderr)
-    );
+    assert_succeeded(&result);
     let png = image::open(out.join("frame_0000.png")).expect("a readable PNG");
     assert_eq!((png.width(), png.height()), (160, 90));
     let report: serde_json::Value =
@@ -191,11 +195,7 @@ fn render_writes_frame_and_report_with_validation_clean() {
 fn devices_lists_at_least_one_qualifying_device() {
     let result = meadow(&["devices"], &[]);
     let stdout = String::from_utf8_lossy(&result.stdout);
-    assert!(
-        result.status.success(),
-        "{}",
-        String::from_utf8_lossy(&result.stderr)
-    );
+    assert_succeeded(&result);
     assert!(stdout.contains("qualifies"), "{stdout}");
 }
 
@@ -222,11 +222,7 @@ fn bench_grass_times_small_counts_and_refuses_bad_ones() {
         ],
         &[],
     );
-    assert!(
-        result.status.success(),
-        "{}",
-        String::from_utf8_lossy(&result.stderr)
-    );
+    assert_succeeded(&result);
     let bench: serde_json::Value =
         serde_json::from_slice(&std::fs::read(out.join("grass_bench.json")).unwrap()).unwrap();
     assert_eq!(bench["validation"]["errors"], 0);

@@ -157,8 +157,8 @@ fn gpu_and_cpu_agree_over_500_steps_of_recorded_wind() {
 fn roots_and_edge_lengths_hold_on_the_gpu_in_2000_stormy_steps() {
     let (scene, blades) = few_bunches();
     let grid = small_grid(&scene, [20, 8, 20]);
-    // The strongest documented settings: a 12 m/s inflow gusting by 80 %,
-    // and a strong source turning over the grass.
+    // A storm: a 12 m/s inflow gusting by 80 % and a strong source turning
+    // over the grass.
     let settings = turning_gusts(&scene, 12.0, 60.0);
 
     let gpu = strict_gpu();

@@ -34,11 +34,6 @@ impl Simulation {
     ) -> Result<Self> {
         let grid = scene.wind_grid()?;
         let settings = scene.wind.settings();
-        for source in &settings.sources {
-            for warning in source.validate(&grid)? {
-                log::warn!("{warning}");
-            }
-        }
         let dt = scene.wind.dt;
         let wind = WindPass::new(gpu, commands, grid, &settings)?;
         let grass =

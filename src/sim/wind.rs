@@ -306,6 +306,18 @@ pub struct WindSettings {
 
 pub const DEFAULT_JACOBI_ITERATIONS: u32 = 30;
 
+impl WindSettings {
+    /// Refuses a source that cannot be simulated; returns a line for each
+    /// one that can but will do little (e.g. outside the grid).
+    pub fn check(&self, grid: &WindGrid) -> Result<Vec<String>> {
+        let mut warnings = Vec::new();
+        for source in &self.sources {
+            warnings.extend(source.validate(grid)?);
+        }
+        Ok(warnings)
+    }
+}
+
 /// The solver state on the CPU.
 #[derive(Clone, Debug)]
 pub struct WindField {
