@@ -25,6 +25,10 @@ pub enum Error {
     #[error("out of GPU memory while creating {what}; use fewer blades or a smaller image")]
     OutOfDeviceMemory { what: String },
 
+    /// Refused before allocating: the estimate is over the memory budget.
+    #[error("{0}")]
+    WouldNotFit(String),
+
     #[error("out of host memory while creating {what}")]
     OutOfHostMemory { what: String },
 

@@ -95,12 +95,10 @@ fn bench_count(
     scene.set_blade_count(count)?;
     let blades = field::generate(&scene.grass, &scene.shape, scene.seed);
     let dynamic = field::dynamic_blades(&blades, &scene.dynamics, scene.seed)?;
-    use std::mem::size_of;
-    let per_blade = 4 * size_of::<crate::sim::BladeVertex>()
-        + size_of::<crate::sim::GrassBlade>()
-        + size_of::<crate::sim::GrassState>();
-    let bytes = (count * per_blade) as u64;
-    gpu.check_fits(&format!("{count} blades"), bytes)?;
+    gpu.check_fits(
+        &format!("{count} blades"),
+        crate::render::grass_pass::device_bytes(count),
+    )?;
 
     let grid = scene.wind_grid()?;
     let dt = scene.wind.dt;

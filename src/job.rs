@@ -188,6 +188,21 @@ pub fn render_blades(
 fn render_with(gpu: &Gpu, request: &RenderRequest, out_dir: &Path) -> Result<RenderReport> {
     let scene = &request.scene;
     let warnings = scene.wind.settings().check(&scene.wind_grid()?)?;
+    // The grass and the frame's targets (colour and depth per sample, the
+    // resolved image and its read-back copy), before anything is allocated;
+    // the wind grid checks its own.
+    let pixels = request.width as u64 * request.height as u64;
+    gpu.check_fits(
+        &format!(
+            "{} blades at {}x{} with {}x MSAA",
+            scene.blade_count(),
+            request.width,
+            request.height,
+            request.msaa
+        ),
+        crate::render::grass_pass::device_bytes(scene.blade_count())
+            + pixels * (8 * request.msaa as u64 + 8),
+    )?;
     let blades = field::generate(&scene.grass, &scene.shape, scene.seed);
     let dynamic = field::dynamic_blades(&blades, &scene.dynamics, scene.seed)?;
     let mut renderer = Renderer::new(gpu, request.width, request.height, request.msaa, &blades)?;

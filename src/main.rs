@@ -40,6 +40,10 @@ struct DeviceArgs {
     /// With --validation: also the best-practices checks (warnings).
     #[arg(long, requires = "validation")]
     best_practices: bool,
+    /// Refuse work that needs more GPU memory than this (default: half the
+    /// device's largest memory heap).
+    #[arg(long, value_name = "MIB", value_parser = clap::value_parser!(u64).range(1..=16_777_216))]
+    gpu_memory_mib: Option<u64>,
 }
 
 impl DeviceArgs {
@@ -60,6 +64,7 @@ impl DeviceArgs {
                         .collect()
                 })
                 .unwrap_or_default(),
+            memory_budget: self.gpu_memory_mib.map(|m| m << 20),
         }
     }
 }

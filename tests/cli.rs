@@ -241,3 +241,27 @@ fn bench_grass_times_small_counts_and_refuses_bad_ones() {
     }
     let _ = std::fs::remove_dir_all(&out);
 }
+
+#[test]
+fn work_over_the_device_memory_budget_is_refused_before_allocating() {
+    // The paper's 60x20x60 wind grid needs about 3.6 MiB.
+    assert_refused(
+        &["wind", "--scene", "few-bunches", "--gpu-memory-mib", "1"],
+        &[],
+        "the 60x20x60 wind grid needs 3.6 MiB of GPU memory, more than the --gpu-memory-mib budget (1.0 MiB)",
+    );
+    // Ten million blades need about 2 GiB of grass buffers.
+    assert_refused(
+        &[
+            "render",
+            "--scene",
+            "meadow",
+            "--blades",
+            "10000000",
+            "--gpu-memory-mib",
+            "256",
+        ],
+        &[],
+        "10000000 blades at 1280x720 with 8x MSAA needs",
+    );
+}

@@ -20,6 +20,8 @@ pub use memory::{Memory, MemoryLocation};
 
 use crate::error::Result;
 
+const MIB: f64 = (1u64 << 20) as f64;
+
 /// How to open the GPU.
 #[derive(Clone, Debug, Default)]
 pub struct GpuOptions {
@@ -30,6 +32,10 @@ pub struct GpuOptions {
     /// e.g. "tessellationShader". Also read from MEADOW_PRETEND_MISSING
     /// (comma-separated) by the binary.
     pub pretend_missing: Vec<String>,
+    /// The most device memory (bytes) one piece of work may ask for; the
+    /// default is half the largest device-local heap. For sharing a GPU, and
+    /// for testing the refusal without a huge allocation.
+    pub memory_budget: Option<u64>,
 }
 
 /// The instance, the device and its memory: everything a frame needs that
@@ -38,6 +44,7 @@ pub struct Gpu {
     pub memory: Memory,
     pub device: Device,
     pub instance: Instance,
+    memory_budget: Option<u64>,
 }
 
 impl Gpu {
@@ -65,6 +72,7 @@ impl Gpu {
             memory,
             device,
             instance,
+            memory_budget: options.memory_budget,
         })
     }
 
@@ -96,14 +104,20 @@ impl Gpu {
             .unwrap_or(0)
     }
 
-    /// Refuses up front work that cannot fit in device memory.
+    /// Refuses up front work that cannot fit in device memory: more than
+    /// the budget, by default half the largest device-local heap (the rest
+    /// is left to the render targets, the shadow map and other programs).
     pub fn check_fits(&self, what: &str, bytes: u64) -> Result<()> {
         let heap = self.device_local_bytes();
-        if bytes > heap / 2 {
-            return Err(crate::Error::InvalidInput(format!(
-                "{what} needs {} MiB of GPU memory, more than half of the device's {} MiB; make it smaller",
-                bytes >> 20,
-                heap >> 20
+        let (budget, whose) = match self.memory_budget {
+            Some(b) => (b, "the --gpu-memory-mib budget".to_string()),
+            None => (heap / 2, format!("half of the device's {} MiB", heap >> 20)),
+        };
+        if bytes > budget {
+            return Err(crate::Error::WouldNotFit(format!(
+                "{what} needs {:.1} MiB of GPU memory, more than {whose} ({:.1} MiB); make it smaller",
+                bytes as f64 / MIB,
+                budget as f64 / MIB
             )));
         }
         Ok(())

@@ -263,6 +263,15 @@ impl GrassPass {
 
 /// A device buffer for `blades` blades' vertices that the grass kernel can
 /// write and the tests can read: what `Renderer` makes for drawing.
+/// Device memory the grass of `blades` blades needs: the vertex buffer the
+/// pipeline draws, the rest shapes with physics, and the state.
+pub fn device_bytes(blades: usize) -> u64 {
+    use std::mem::size_of;
+    let per_blade =
+        4 * size_of::<BladeVertex>() + size_of::<GrassBlade>() + size_of::<GrassState>();
+    blades as u64 * per_blade as u64
+}
+
 pub fn vertex_buffer(gpu: &Gpu, name: &str, blades: usize) -> Result<Buffer> {
     Buffer::new(
         gpu,
