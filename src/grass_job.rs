@@ -65,7 +65,7 @@ pub fn bench_grass(
         )));
     }
     scene.wind_grid()?;
-    scene.dynamics.validate()?;
+    scene.grass.dynamics.validate()?;
     let gpu = Gpu::new(options)?;
     let rows = counts
         .iter()
@@ -93,8 +93,8 @@ fn bench_count(
 ) -> Result<GrassBenchRow> {
     let mut scene = scene.clone();
     scene.set_blade_count(count)?;
-    let blades = field::generate(&scene.grass, &scene.shape, scene.seed);
-    let dynamic = field::dynamic_blades(&blades, &scene.dynamics, scene.seed)?;
+    let blades = field::generate(&scene.grass, scene.seed);
+    let dynamic = field::dynamic_blades(&blades, &scene.grass.dynamics, scene.seed)?;
     gpu.check_fits(
         &format!("{count} blades"),
         crate::render::grass_pass::device_bytes(count),

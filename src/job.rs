@@ -11,15 +11,10 @@ use crate::gpu::timing::PipelineStatistics;
 use crate::gpu::{Gpu, GpuOptions, ValidationReport};
 use crate::output;
 use crate::render::simulation::Simulation;
-use crate::render::{Frame, FrameUniforms, Renderer, ViewMode};
-use crate::scene::{field, Scene};
+use crate::render::{Frame, FrameUniforms, Renderer};
+use crate::scene::{field, Scene, ViewMode};
 
-/// The largest image side accepted before asking the device (lavapipe's
-/// maxImageDimension2D; most GPUs allow as much).
-pub const MAX_IMAGE_SIDE: u32 = 16384;
-
-/// The most frames one run may write.
-pub const MAX_FRAMES: u32 = 100_000;
+pub use crate::scene::check::{MAX_FRAMES, MAX_IMAGE_SIDE};
 
 /// Which moments of the simulation become frames: frame f shows simulated
 /// time `start + f / fps` (seconds). The simulation starts at rest at time
@@ -60,55 +55,40 @@ pub struct RenderRequest {
 }
 
 impl RenderRequest {
-    /// Checks what can be checked without a GPU; one line per problem.
+    /// The scene as its `[render]` table says to render it.
+    pub fn from_scene(scene: Scene, gpu: GpuOptions) -> Self {
+        let r = scene.render.clone();
+        Self {
+            scene,
+            width: r.width,
+            height: r.height,
+            msaa: r.msaa,
+            view: r.view,
+            animation: Animation {
+                frames: r.frames,
+                fps: r.fps,
+                start: r.start,
+            },
+            gpu,
+        }
+    }
+
+    /// Checks what can be checked without a GPU; one line per problem. The
+    /// request's own settings are named as the command line gives them.
     pub fn validate(&self) -> Result<()> {
-        for (name, v) in [("--width", self.width), ("--height", self.height)] {
-            if v == 0 || v > MAX_IMAGE_SIDE {
-                return Err(Error::InvalidInput(format!(
-                    "{name} {v} is not allowed, use 1..={MAX_IMAGE_SIDE}"
-                )));
-            }
-        }
-        if !self.msaa.is_power_of_two() || self.msaa > 64 {
-            return Err(Error::InvalidInput(format!(
-                "--msaa {} is not a sample count, use 1, 2, 4, 8, 16, 32 or 64",
-                self.msaa
-            )));
-        }
-        let a = &self.animation;
-        if a.frames == 0 || a.frames > MAX_FRAMES {
-            return Err(Error::InvalidInput(format!(
-                "--frames {} is not allowed, use 1..={MAX_FRAMES}",
-                a.frames
-            )));
-        }
-        if !(a.fps.is_finite() && a.fps > 0.0 && a.fps <= 1000.0) {
-            return Err(Error::InvalidInput(format!(
-                "--fps {} is not allowed, use 0 < fps <= 1000",
-                a.fps
-            )));
-        }
-        if !(a.start.is_finite() && (0.0..=86_400.0).contains(&a.start)) {
-            return Err(Error::InvalidInput(format!(
-                "--start {} is not allowed, use 0..=86400 seconds",
-                a.start
-            )));
-        }
+        let settings = crate::scene::RenderSettings {
+            width: self.width,
+            height: self.height,
+            msaa: self.msaa,
+            view: self.view,
+            frames: self.animation.frames,
+            fps: self.animation.fps,
+            start: self.animation.start,
+        };
+        crate::scene::check::render(&settings)
+            .map_err(|e| Error::InvalidInput(format!("--{} {}", e.path, e.message)))?;
+        self.scene.validate()?;
         self.scene.wind_grid()?;
-        self.scene.dynamics.validate()?;
-        let lod = &self.scene.lod;
-        if !(lod.close_distance > 0.0 && lod.far_distance >= lod.close_distance) {
-            return Err(Error::InvalidInput(format!(
-                "LOD distances {} and {} are not allowed, use 0 < close <= far",
-                lod.close_distance, lod.far_distance
-            )));
-        }
-        if lod.levels.iter().any(|&l| !(1..=64).contains(&l)) {
-            return Err(Error::InvalidInput(format!(
-                "tessellation levels {:?} are not allowed, use 1..=64",
-                lod.levels
-            )));
-        }
         Ok(())
     }
 }
@@ -178,7 +158,7 @@ pub fn render_blades(
     view: ViewMode,
 ) -> Result<(Frame, u32)> {
     let mut renderer = Renderer::new(gpu, width, height, msaa, blades)?;
-    let uniforms = FrameUniforms::new(scene, width, height, view);
+    let uniforms = FrameUniforms::new(scene, width, height, view, 0.0);
     let frame = renderer.render(gpu, &uniforms);
     let samples = renderer.samples();
     renderer.destroy(gpu);
@@ -203,8 +183,8 @@ fn render_with(gpu: &Gpu, request: &RenderRequest, out_dir: &Path) -> Result<Ren
         crate::render::grass_pass::device_bytes(scene.blade_count())
             + pixels * (8 * request.msaa as u64 + 8),
     )?;
-    let blades = field::generate(&scene.grass, &scene.shape, scene.seed);
-    let dynamic = field::dynamic_blades(&blades, &scene.dynamics, scene.seed)?;
+    let blades = field::generate(&scene.grass, scene.seed);
+    let dynamic = field::dynamic_blades(&blades, &scene.grass.dynamics, scene.seed)?;
     let mut renderer = Renderer::new(gpu, request.width, request.height, request.msaa, &blades)?;
     let commands = match Commands::new(gpu, "simulation set-up commands") {
         Ok(c) => c,
@@ -271,11 +251,18 @@ fn animate(
     simulation: &mut Simulation,
     out_dir: &Path,
 ) -> Result<(Vec<String>, Option<PipelineStatistics>)> {
-    let uniforms = FrameUniforms::new(&request.scene, request.width, request.height, request.view);
     let mut names = Vec::new();
     let mut statistics = None;
     for f in 0..request.animation.frames {
-        let steps = simulation.steps_until(request.animation.time_of(f))?;
+        let time = request.animation.time_of(f);
+        let steps = simulation.steps_until(time)?;
+        let uniforms = FrameUniforms::new(
+            &request.scene,
+            request.width,
+            request.height,
+            request.view,
+            time as f32,
+        );
         let frame =
             renderer.render_after(gpu, &uniforms, |cmd| simulation.record(gpu, cmd, steps))?;
         let name = format!("frame_{f:04}.png");

@@ -7,9 +7,8 @@ use anyhow::Context as _;
 use clap::{Parser, Subcommand, ValueEnum};
 
 use meadow::gpu::{Gpu, GpuOptions, ValidationOptions};
-use meadow::job::{render_to_dir, Animation, RenderRequest};
-use meadow::render::ViewMode;
-use meadow::scene::{self, Scene};
+use meadow::job::{render_to_dir, RenderRequest};
+use meadow::scene::{self, Scene, ViewMode};
 
 #[derive(Parser)]
 #[command(
@@ -74,43 +73,39 @@ enum Command {
     /// Simulate and render a scene offscreen: DIR/frame_0000.png ... and
     /// DIR/report.json.
     Render {
-        /// Built-in scene: few-bunches, several-bunches or meadow.
-        #[arg(long, default_value = "meadow")]
+        /// A built-in scene (`meadow scenes` lists them) or a scene file (.toml).
+        #[arg(long, default_value = "table1")]
         scene: String,
         /// Total number of blades (shared among the scene's patches).
         #[arg(long)]
         blades: Option<usize>,
-        #[arg(long, default_value_t = 1280)]
-        width: u32,
-        #[arg(long, default_value_t = 720)]
-        height: u32,
+        /// Image width (default: the scene's [render] width).
+        #[arg(long)]
+        width: Option<u32>,
+        #[arg(long)]
+        height: Option<u32>,
         /// MSAA samples asked for; the largest supported count up to it is used.
-        #[arg(long, default_value_t = 8)]
-        msaa: u32,
+        #[arg(long)]
+        msaa: Option<u32>,
         /// Level of detail: tessellation level 20/10/3 by distance, or always 20.
-        #[arg(long, value_enum, default_value = "on")]
-        lod: OnOff,
+        #[arg(long, value_enum)]
+        lod: Option<OnOff>,
         /// What to show: the shaded grass, or a debug view.
-        #[arg(long, value_enum, default_value = "shaded")]
-        view: ViewMode,
+        #[arg(long, value_enum)]
+        view: Option<ViewMode>,
         /// Random seed of the grass field (default: the scene's).
         #[arg(long)]
         seed: Option<u64>,
         /// Frames to render; frame f shows simulated time START + f / FPS.
-        #[arg(long, default_value_t = 1)]
-        frames: u32,
+        #[arg(long)]
+        frames: Option<u32>,
         /// Frames per second of simulated time (the simulation's own step
         /// is fixed by the scene).
-        #[arg(long, default_value_t = 30.0, allow_negative_numbers = true)]
-        fps: f32,
+        #[arg(long, allow_negative_numbers = true)]
+        fps: Option<f32>,
         /// Simulated seconds before the first frame (the grass starts at rest).
-        #[arg(
-            long,
-            default_value_t = 0.0,
-            value_name = "SECONDS",
-            allow_negative_numbers = true
-        )]
-        start: f32,
+        #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
+        start: Option<f32>,
         #[arg(long, default_value = "out")]
         out: PathBuf,
         #[command(flatten)]
@@ -119,7 +114,8 @@ enum Command {
     /// Run the wind solver alone; write slices of the field as PNG and
     /// wind_report.json, print speeds, divergence and GPU time per step.
     Wind {
-        #[arg(long, default_value = "few-bunches")]
+        /// A built-in scene or a scene file (.toml).
+        #[arg(long, default_value = "fig10-few-bunches")]
         scene: String,
         /// Simulation steps to run.
         #[arg(long, default_value_t = 120)]
@@ -132,7 +128,8 @@ enum Command {
     /// Time the grass step alone on the GPU (timestamp queries) at several
     /// blade counts, beside the paper's figures; writes DIR/grass_bench.json.
     BenchGrass {
-        #[arg(long, default_value = "meadow")]
+        /// A built-in scene or a scene file (.toml).
+        #[arg(long, default_value = "table1")]
         scene: String,
         /// Blade counts, comma-separated (50k, 1.5m, 1200).
         #[arg(long, default_value = "50k,100k,150k,200k")]
@@ -153,8 +150,12 @@ enum Command {
         #[command(flatten)]
         device: DeviceArgs,
     },
-    /// List the built-in scenes.
-    Scenes,
+    /// List the built-in scenes; with --print NAME, write one as TOML to
+    /// stdout (a start for a scene of one's own).
+    Scenes {
+        #[arg(long, value_name = "NAME")]
+        print: Option<String>,
+    },
 }
 
 fn main() -> ExitCode {
@@ -187,23 +188,25 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             out,
             device,
         } => {
-            let mut scene = Scene::builtin(&scene)?;
+            let mut scene = Scene::load(&scene)?;
             if let Some(n) = blades {
                 scene.set_blade_count(n)?;
             }
             if let Some(s) = seed {
                 scene.seed = s;
             }
-            scene.lod.enabled = lod == OnOff::On;
-            let request = RenderRequest {
-                scene,
-                width,
-                height,
-                msaa,
-                view,
-                animation: Animation { frames, fps, start },
-                gpu: device.options(),
-            };
+            if let Some(lod) = lod {
+                scene.lod.enabled = lod == OnOff::On;
+            }
+            let mut request = RenderRequest::from_scene(scene, device.options());
+            let a = &mut request.animation;
+            a.frames = frames.unwrap_or(a.frames);
+            a.fps = fps.unwrap_or(a.fps);
+            a.start = start.unwrap_or(a.start);
+            request.width = width.unwrap_or(request.width);
+            request.height = height.unwrap_or(request.height);
+            request.msaa = msaa.unwrap_or(request.msaa);
+            request.view = view.unwrap_or(request.view);
             let report = render_to_dir(&request, &out)?;
             for w in &report.warnings {
                 eprintln!("meadow: warning: {w}");
@@ -264,7 +267,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             if steps == 0 || steps > 1_000_000 {
                 anyhow::bail!("--steps {steps} is not allowed, use 1..=1000000");
             }
-            let scene = Scene::builtin(&scene)?;
+            let scene = Scene::load(&scene)?;
             let r = meadow::wind_job::wind_to_dir(&scene, steps, &device.options(), &out)?;
             for w in &r.warnings {
                 eprintln!("meadow: warning: {w}");
@@ -311,7 +314,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             out,
             device,
         } => {
-            let scene = Scene::builtin(&scene)?;
+            let scene = Scene::load(&scene)?;
             let counts = blades
                 .split(',')
                 .map(meadow::grass_job::parse_count)
@@ -365,11 +368,17 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             }
             Ok(())
         }
-        Command::Scenes => {
-            for name in scene::BUILTIN {
+        Command::Scenes { print: Some(name) } => {
+            let scene = Scene::load(&name)?;
+            print!("{}", scene::file::to_toml(&scene));
+            Ok(())
+        }
+        Command::Scenes { print: None } => {
+            for (name, _) in scene::BUILTIN {
                 let s = Scene::builtin(name)?;
-                println!("{name}  ({} blades)", s.blade_count());
+                println!("{name:<24} {:>8} blades  {}", s.blade_count(), s.caption);
             }
+            println!("(each is also scenes/<name>.toml; docs/scenes.md describes the format)");
             Ok(())
         }
     }

@@ -125,7 +125,7 @@ fn run(
         let rms_divergence_before =
             (fluid.iter().sum::<f64>() / fluid.len().max(1) as f64).sqrt() as f32;
         let max_speed = max_speed(&field);
-        let tip_height = scene.shape.height[1] * 0.8;
+        let tip_height = scene.grass.shape.height[1] * 0.8;
         let center = grid.origin + grid.size() / 2.0;
         for (name, slice) in [
             (

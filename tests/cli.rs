@@ -162,7 +162,7 @@ fn render_writes_frame_and_report_with_validation_clean() {
         &[
             "render",
             "--scene",
-            "few-bunches",
+            "fig10-few-bunches",
             "--width",
             "160",
             "--height",
@@ -246,7 +246,7 @@ fn bench_grass_times_small_counts_and_refuses_bad_ones() {
 fn work_over_the_device_memory_budget_is_refused_before_allocating() {
     // The paper's 60x20x60 wind grid needs about 3.6 MiB.
     assert_refused(
-        &["wind", "--scene", "few-bunches", "--gpu-memory-mib", "1"],
+        &["wind", "--scene", "fig10-few-bunches", "--gpu-memory-mib", "1"],
         &[],
         "the 60x20x60 wind grid needs 3.6 MiB of GPU memory, more than the --gpu-memory-mib budget (1.0 MiB)",
     );
@@ -255,7 +255,7 @@ fn work_over_the_device_memory_budget_is_refused_before_allocating() {
         &[
             "render",
             "--scene",
-            "meadow",
+            "table1",
             "--blades",
             "10000000",
             "--gpu-memory-mib",

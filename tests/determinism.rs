@@ -9,7 +9,7 @@ use meadow::scene::Scene;
 #[test]
 fn same_scene_and_seed_give_byte_identical_png() {
     std::env::set_var("MEADOW_QUIET_VALIDATION", "1");
-    let mut scene = Scene::builtin("several-bunches").unwrap();
+    let mut scene = Scene::builtin("fig10-several-bunches").unwrap();
     scene.set_blade_count(2000).unwrap();
     let request = RenderRequest {
         scene,

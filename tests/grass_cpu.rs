@@ -260,9 +260,9 @@ fn storm(x: Vec3, t: f32) -> Vec3 {
 
 #[test]
 fn roots_stay_fixed_and_edges_keep_their_length_in_a_storm() {
-    let scene = Scene::builtin("few-bunches").unwrap();
-    let blades = field::generate(&scene.grass, &scene.shape, scene.seed);
-    let dynamic = field::dynamic_blades(&blades, &scene.dynamics, scene.seed).unwrap();
+    let scene = Scene::builtin("fig10-few-bunches").unwrap();
+    let blades = field::generate(&scene.grass, scene.seed);
+    let dynamic = field::dynamic_blades(&blades, &scene.grass.dynamics, scene.seed).unwrap();
     let mut grass = grass::GrassField::new(dynamic, DT).unwrap();
     for i in 0..2000 {
         let t = i as f32 * DT;
@@ -292,13 +292,10 @@ fn roots_stay_fixed_and_edges_keep_their_length_in_a_storm() {
 
 #[test]
 fn drooping_blades_are_split_and_others_are_not() {
-    let scene = Scene::builtin("meadow").unwrap();
-    let mut patches = scene.grass.clone();
-    if let meadow::scene::GrassPatch::Meadow { count, .. } = &mut patches[0] {
-        *count = 2000;
-    }
-    let blades = field::generate(&patches, &scene.shape, 5);
-    let dynamic = field::dynamic_blades(&blades, &scene.dynamics, 5).unwrap();
+    let mut scene = Scene::builtin("table1").unwrap();
+    scene.set_blade_count(2000).unwrap();
+    let blades = field::generate(&scene.grass, 5);
+    let dynamic = field::dynamic_blades(&blades, &scene.grass.dynamics, 5).unwrap();
     for (b, d) in blades.iter().zip(&dynamic) {
         let expected = if b.kind == BladeKind::Drooping { 2 } else { 3 };
         assert_eq!(d.split(), expected, "{:?}", b.kind);

@@ -17,9 +17,9 @@ use meadow::sim::{BladeVertex, GrassBlade, GrassState};
 const DT: f32 = 1.0 / 60.0;
 
 fn few_bunches() -> (Scene, Vec<GrassBlade>) {
-    let scene = Scene::builtin("few-bunches").unwrap();
-    let blades = field::generate(&scene.grass, &scene.shape, scene.seed);
-    let dynamic = field::dynamic_blades(&blades, &scene.dynamics, scene.seed).unwrap();
+    let scene = Scene::builtin("fig10-few-bunches").unwrap();
+    let blades = field::generate(&scene.grass, scene.seed);
+    let dynamic = field::dynamic_blades(&blades, &scene.grass.dynamics, scene.seed).unwrap();
     (scene, dynamic)
 }
 

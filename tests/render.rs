@@ -6,11 +6,11 @@ mod common;
 use common::{finish, mean_rgb, pixel, render, strict_gpu};
 use glam::Vec3;
 use meadow::render::ViewMode;
-use meadow::scene::{field, GrassPatch, Scene};
+use meadow::scene::{field, Meadow, Scene};
 use meadow::sim::{Blade, BladeKind};
 
 fn meadow_scene() -> Scene {
-    Scene::builtin("meadow").unwrap()
+    Scene::builtin("table1").unwrap()
 }
 
 fn is_grass(p: [u8; 3]) -> bool {
@@ -22,7 +22,7 @@ fn is_grass(p: [u8; 3]) -> bool {
 fn meadow_is_grass_below_and_sky_above_and_moves_with_the_camera() {
     let gpu = strict_gpu();
     let scene = meadow_scene();
-    let blades = field::generate(&scene.grass, &scene.shape, scene.seed);
+    let blades = field::generate(&scene.grass, scene.seed);
     let (w, h) = (320, 180);
     let frame = render(&gpu, &scene, &blades, w, h, ViewMode::Shaded);
 
@@ -81,7 +81,7 @@ fn single_blade(root: Vec3, facing: Vec3, half_width: f32) -> Blade {
 #[test]
 fn level_of_detail_gives_20_10_3_segments_by_distance_and_20_without() {
     let gpu = strict_gpu();
-    let mut scene = Scene::builtin("few-bunches").unwrap();
+    let mut scene = Scene::builtin("fig10-few-bunches").unwrap();
     scene.camera.position = [0.0, 1.0, 0.0];
     scene.camera.target = [0.0, 0.5, -5.0];
     scene.lod.close_distance = 4.0;
@@ -115,7 +115,7 @@ fn level_of_detail_gives_20_10_3_segments_by_distance_and_20_without() {
 #[test]
 fn lighting_is_two_sided() {
     let gpu = strict_gpu();
-    let mut scene = Scene::builtin("few-bunches").unwrap();
+    let mut scene = Scene::builtin("fig10-few-bunches").unwrap();
     scene.camera.position = [0.0, 0.5, 2.0];
     scene.camera.target = [0.0, 0.5, 0.0];
     scene.camera.fov_y = 30.0;
@@ -150,12 +150,13 @@ fn lighting_is_two_sided() {
 fn lod_view_colours_blades_by_level() {
     let gpu = strict_gpu();
     let mut scene = meadow_scene();
-    scene.grass = vec![GrassPatch::Meadow {
+    scene.grass.meadow = vec![Meadow {
         center: [0.0, 0.0],
         size: [8.0, 24.0],
-        count: 20_000,
+        count: Some(20_000),
+        density: None,
     }];
-    let blades = field::generate(&scene.grass, &scene.shape, 5);
+    let blades = field::generate(&scene.grass, 5);
     let frame = render(&gpu, &scene, &blades, 320, 180, ViewMode::Lod);
     let count = |pred: fn([u8; 3]) -> bool| {
         (0..frame.height)
@@ -193,7 +194,7 @@ fn the_wind_from_the_left_sways_the_grass_to_the_right_over_frames() {
     use meadow::job::{render_to_dir, Animation, RenderRequest};
     std::env::set_var("MEADOW_QUIET_VALIDATION", "1");
     let request = RenderRequest {
-        scene: Scene::builtin("few-bunches").unwrap(),
+        scene: Scene::builtin("fig10-few-bunches").unwrap(),
         width: 320,
         height: 180,
         msaa: 4,
@@ -239,7 +240,7 @@ fn motion_view_is_blue_at_rest_and_warms_as_the_wind_bends_the_blades() {
     std::env::set_var("MEADOW_QUIET_VALIDATION", "1");
     let dir = std::env::temp_dir().join(format!("meadow-motion-{}", std::process::id()));
     let mut request = RenderRequest {
-        scene: Scene::builtin("few-bunches").unwrap(),
+        scene: Scene::builtin("fig10-few-bunches").unwrap(),
         width: 240,
         height: 135,
         msaa: 1,

@@ -5,18 +5,7 @@ use glam::{Mat4, Vec3};
 
 use crate::scene::Scene;
 
-/// What the fragment stage shows.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum ViewMode {
-    /// The lit, coloured grass.
-    #[default]
-    Shaded,
-    /// Blades coloured by tessellation level: red 20, yellow 10, blue 3.
-    Lod,
-    /// Blades coloured by angular displacement from rest.
-    Motion,
-}
+pub use crate::scene::ViewMode;
 
 /// std140 mirror of `Frame` in glsl/common/frame.glsl; a test compares the
 /// member offsets with naga's reading of the compiled shader.
@@ -34,10 +23,10 @@ pub struct FrameUniforms {
     pub view: [u32; 4],
 }
 
-/// Vulkan clip space: y points down and depth runs 0..1.
-pub fn view_projection(scene: &Scene, aspect: f32) -> Mat4 {
-    let eye = Vec3::from(scene.camera.position);
-    let target = Vec3::from(scene.camera.target);
+/// The camera at simulated time `time`, in Vulkan clip space: y points
+/// down and depth runs 0..1.
+pub fn view_projection(scene: &Scene, aspect: f32, time: f32) -> Mat4 {
+    let (eye, target) = scene.camera.at(time);
     let view = Mat4::look_at_rh(eye, target, Vec3::Y);
     let mut proj = Mat4::perspective_rh(scene.camera.fov_y.to_radians(), aspect, 0.05, 200.0);
     proj.y_axis.y = -proj.y_axis.y;
@@ -45,8 +34,9 @@ pub fn view_projection(scene: &Scene, aspect: f32) -> Mat4 {
 }
 
 impl FrameUniforms {
-    pub fn new(scene: &Scene, width: u32, height: u32, view: ViewMode) -> Self {
-        let view_proj = view_projection(scene, width as f32 / height as f32);
+    pub fn new(scene: &Scene, width: u32, height: u32, view: ViewMode, time: f32) -> Self {
+        let view_proj = view_projection(scene, width as f32 / height as f32, time);
+        let (eye, _) = scene.camera.at(time);
         let light = Vec3::from(scene.light.direction)
             .try_normalize()
             .unwrap_or(Vec3::Y);
@@ -55,7 +45,7 @@ impl FrameUniforms {
         Self {
             view_proj: view_proj.to_cols_array(),
             inv_view_proj: view_proj.inverse().to_cols_array(),
-            camera_pos: Vec3::from(scene.camera.position).extend(1.0).to_array(),
+            camera_pos: eye.extend(1.0).to_array(),
             light_dir: light.extend(scene.light.ambient).to_array(),
             light_color: Vec3::from(scene.light.color).extend(0.0).to_array(),
             lod_distance: [
@@ -70,7 +60,7 @@ impl FrameUniforms {
                 lod.levels[2] as f32,
                 0.0,
             ],
-            ground: [ground.x, ground.z, scene.ground_half_extent, 0.0],
+            ground: [ground.x, ground.z, scene.ground.half_extent, 0.0],
             view: [view as u32, 0, 0, 0],
         }
     }

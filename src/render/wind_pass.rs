@@ -20,7 +20,7 @@ use crate::shaders::{self, Spirv};
 use crate::sim::wind::{FaceKind, WindField, WindGrid, WindSettings, WindSource};
 
 /// Waypoints a source's path may have on the GPU.
-pub const MAX_PATH_POINTS: usize = 8;
+pub use crate::sim::wind::MAX_PATH_POINTS;
 const LOCAL_SIZE: u32 = 64;
 
 /// Push constants of every wind kernel (`Push` in glsl/wind/wind_kernel.glsl).

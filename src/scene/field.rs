@@ -8,12 +8,14 @@ use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64Mcg;
 
 use crate::error::Result;
-use crate::scene::{BladeShape, GrassDynamics, GrassPatch};
+use crate::scene::{BladeShape, Grass, GrassDynamics, GrassPatch};
 use crate::sim::{Blade, BladeKind, BladePhysics, GrassBlade};
 
-/// Generates every blade of every patch. The same patches, shape and seed
-/// always give the same blades, on every machine.
-pub fn generate(patches: &[GrassPatch], shape: &BladeShape, seed: u64) -> Vec<Blade> {
+/// Generates every blade of every patch. The same grass and seed always
+/// give the same blades, on every machine.
+pub fn generate(grass: &Grass, seed: u64) -> Vec<Blade> {
+    let shape = &grass.shape;
+    let patches = grass.patches();
     let mut blades = Vec::with_capacity(patches.iter().map(GrassPatch::count).sum());
     for (index, patch) in patches.iter().enumerate() {
         // One stream per patch, so editing one patch leaves the others alone.
@@ -138,18 +140,18 @@ mod tests {
 
     #[test]
     fn same_seed_same_field_other_seed_other_field() {
-        let scene = Scene::builtin("few-bunches").unwrap();
-        let a = generate(&scene.grass, &scene.shape, 7);
-        let b = generate(&scene.grass, &scene.shape, 7);
-        let c = generate(&scene.grass, &scene.shape, 8);
+        let scene = Scene::builtin("fig10-few-bunches").unwrap();
+        let a = generate(&scene.grass, 7);
+        let b = generate(&scene.grass, 7);
+        let c = generate(&scene.grass, 8);
         assert_eq!(a, b);
         assert_ne!(a, c);
     }
 
     #[test]
     fn all_three_kinds_appear_with_varied_heights() {
-        let scene = Scene::builtin("meadow").unwrap();
-        let blades = generate(&scene.grass, &scene.shape, 1);
+        let scene = Scene::builtin("table1").unwrap();
+        let blades = generate(&scene.grass, 1);
         for kind in [BladeKind::Upright, BladeKind::Curved, BladeKind::Drooping] {
             assert!(blades.iter().any(|b| b.kind == kind), "{kind:?} missing");
         }

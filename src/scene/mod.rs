@@ -1,7 +1,11 @@
-//! Scenes: what grass grows where, the camera, the light and the level of
-//! detail. Built-in scenes live here; scene files (TOML) use the same types.
+//! Scenes: what grass grows where, the wind, the camera, the light, the
+//! level of detail and the render settings. A scene is a TOML file
+//! (docs/scenes.md); the built-in scenes are the files under `scenes/`,
+//! compiled in, so a user can copy one and edit it.
 
+pub mod check;
 pub mod field;
+pub mod file;
 
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
@@ -12,58 +16,72 @@ use crate::sim::wind::{
 };
 use crate::sim::BladePhysics;
 
-/// A region of grass.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase", deny_unknown_fields)]
-pub enum GrassPatch {
-    /// A tuft of `count` blades within `radius` of `center` (world x, z).
-    Bunch {
-        center: [f32; 2],
-        radius: f32,
-        count: usize,
-    },
-    /// `count` blades spread over a `size` (x, z) rectangle around `center`.
-    Meadow {
-        center: [f32; 2],
-        size: [f32; 2],
-        count: usize,
-    },
+/// The most blades one scene may hold: beyond this the blade buffer alone
+/// passes 1 GiB, and lavapipe would take hours per frame.
+pub const MAX_BLADES: usize = 10_000_000;
+
+/// What the fragment stage shows.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ViewMode {
+    /// The lit, coloured grass.
+    #[default]
+    Shaded,
+    /// Blades coloured by tessellation level: red 20, yellow 10, blue 3.
+    Lod,
+    /// Blades coloured by angular displacement from rest.
+    Motion,
 }
 
-impl GrassPatch {
-    pub fn count(&self) -> usize {
-        match *self {
-            GrassPatch::Bunch { count, .. } | GrassPatch::Meadow { count, .. } => count,
-        }
-    }
-
-    fn set_count(&mut self, n: usize) {
-        match self {
-            GrassPatch::Bunch { count, .. } | GrassPatch::Meadow { count, .. } => *count = n,
-        }
-    }
-}
-
-/// How blade shapes are drawn: the mix of kinds (relative weights) and the
-/// ranges of height and full width, in metres.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct BladeShape {
-    pub upright: f32,
-    pub curved: f32,
-    pub drooping: f32,
-    pub height: [f32; 2],
-    pub width: [f32; 2],
+pub struct Scene {
+    pub name: String,
+    /// What the scene shows (for a paper figure: the figure and its caption).
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub caption: String,
+    /// Seed of the grass field and the blades' physics.
+    pub seed: u64,
+    #[serde(default)]
+    pub render: RenderSettings,
+    pub camera: Camera,
+    #[serde(default)]
+    pub light: Light,
+    #[serde(default)]
+    pub lod: Lod,
+    #[serde(default)]
+    pub ground: Ground,
+    pub grass: Grass,
+    #[serde(default)]
+    pub wind: WindConfig,
 }
 
-impl Default for BladeShape {
+/// How the scene is rendered unless the command line says otherwise.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct RenderSettings {
+    pub width: u32,
+    pub height: u32,
+    /// MSAA samples asked for; the largest supported count up to this is used.
+    pub msaa: u32,
+    pub view: ViewMode,
+    /// Frames to render; frame f shows simulated time `start + f / fps`.
+    pub frames: u32,
+    pub fps: f32,
+    /// Simulated seconds before the first frame (the grass starts at rest).
+    pub start: f32,
+}
+
+impl Default for RenderSettings {
     fn default() -> Self {
         Self {
-            upright: 0.4,
-            curved: 0.4,
-            drooping: 0.2,
-            height: [0.35, 0.75],
-            width: [0.012, 0.022],
+            width: 1280,
+            height: 720,
+            msaa: 8,
+            view: ViewMode::Shaded,
+            frames: 1,
+            fps: 30.0,
+            start: 0.0,
         }
     }
 }
@@ -75,6 +93,42 @@ pub struct Camera {
     pub target: [f32; 3],
     /// Vertical field of view in degrees.
     pub fov_y: f32,
+    /// Optional keyframes: the camera moves linearly between them in
+    /// simulated time, and holds the first and last beyond them.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub path: Vec<CameraKey>,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CameraKey {
+    /// Simulated time (s).
+    pub time: f32,
+    pub position: [f32; 3],
+    pub target: [f32; 3],
+}
+
+impl Camera {
+    /// Position and target at simulated time `t`.
+    pub fn at(&self, t: f32) -> (Vec3, Vec3) {
+        let key = |k: &CameraKey| (Vec3::from(k.position), Vec3::from(k.target));
+        let (Some(first), Some(last)) = (self.path.first(), self.path.last()) else {
+            return (Vec3::from(self.position), Vec3::from(self.target));
+        };
+        if t <= first.time {
+            return key(first);
+        }
+        for pair in self.path.windows(2) {
+            let (a, b) = (&pair[0], &pair[1]);
+            if t <= b.time {
+                let f = (t - a.time) / (b.time - a.time);
+                let (pa, ta) = key(a);
+                let (pb, tb) = key(b);
+                return (pa.lerp(pb, f), ta.lerp(tb, f));
+            }
+        }
+        key(last)
+    }
 }
 
 /// A directional light (the sun).
@@ -84,12 +138,24 @@ pub struct Light {
     /// Direction toward the light (normalised on use).
     pub direction: [f32; 3],
     pub color: [f32; 3],
+    /// Share of the light that reaches everything (0..1).
     pub ambient: f32,
+}
+
+impl Default for Light {
+    /// The afternoon sun of every built-in scene.
+    fn default() -> Self {
+        Self {
+            direction: [0.45, 0.75, 0.35],
+            color: [1.0, 0.96, 0.86],
+            ambient: 0.28,
+        }
+    }
 }
 
 /// Level of detail (paper section 5.1): tessellation level by distance.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, default)]
 pub struct Lod {
     pub enabled: bool,
     /// Closer than this: the close level.
@@ -111,22 +177,151 @@ impl Default for Lod {
     }
 }
 
+/// The ground square, centred under the grass.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct Scene {
-    pub name: String,
-    pub seed: u64,
-    pub grass: Vec<GrassPatch>,
+pub struct Ground {
+    /// Half the side of the square (m).
+    pub half_extent: f32,
+}
+
+impl Default for Ground {
+    fn default() -> Self {
+        Self { half_extent: 10.0 }
+    }
+}
+
+/// The grass: where it grows and what blades it has.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Grass {
+    #[serde(default)]
     pub shape: BladeShape,
-    pub camera: Camera,
-    pub light: Light,
-    pub lod: Lod,
-    /// Half the side of the ground square, centred under the grass.
-    pub ground_half_extent: f32,
-    pub wind: WindConfig,
     /// The blades' physical parameters (method.md section 4).
     #[serde(default)]
     pub dynamics: GrassDynamics,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub bunch: Vec<Bunch>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub meadow: Vec<Meadow>,
+}
+
+/// A tuft of `count` blades within `radius` of `center` (world x, z).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Bunch {
+    pub center: [f32; 2],
+    pub radius: f32,
+    pub count: usize,
+}
+
+/// Blades spread over a `size` (x, z) rectangle around `center`: `count` of
+/// them, or `density` per square metre (exactly one of the two).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Meadow {
+    pub center: [f32; 2],
+    pub size: [f32; 2],
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub count: Option<usize>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub density: Option<f32>,
+}
+
+impl Meadow {
+    /// The blade count, from `count` or from `density` times the area.
+    pub fn blades(&self) -> usize {
+        match (self.count, self.density) {
+            (Some(n), _) => n,
+            (None, Some(d)) => (d as f64 * self.size[0] as f64 * self.size[1] as f64)
+                .round()
+                .clamp(0.0, usize::MAX as f64) as usize,
+            (None, None) => 0,
+        }
+    }
+}
+
+/// One patch of grass as the field generator walks them: the bunches in
+/// file order, then the meadows.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum GrassPatch {
+    Bunch {
+        center: [f32; 2],
+        radius: f32,
+        count: usize,
+    },
+    Meadow {
+        center: [f32; 2],
+        size: [f32; 2],
+        count: usize,
+    },
+}
+
+impl GrassPatch {
+    pub fn count(&self) -> usize {
+        match *self {
+            GrassPatch::Bunch { count, .. } | GrassPatch::Meadow { count, .. } => count,
+        }
+    }
+
+    pub fn center(&self) -> [f32; 2] {
+        match *self {
+            GrassPatch::Bunch { center, .. } | GrassPatch::Meadow { center, .. } => center,
+        }
+    }
+
+    /// Half extents of the patch's bounding box (x, z).
+    pub fn half_extent(&self) -> [f32; 2] {
+        match *self {
+            GrassPatch::Bunch { radius, .. } => [radius, radius],
+            GrassPatch::Meadow { size, .. } => [size[0] / 2.0, size[1] / 2.0],
+        }
+    }
+}
+
+impl Grass {
+    pub fn patches(&self) -> Vec<GrassPatch> {
+        let bunches = self.bunch.iter().map(|b| GrassPatch::Bunch {
+            center: b.center,
+            radius: b.radius,
+            count: b.count,
+        });
+        let meadows = self.meadow.iter().map(|m| GrassPatch::Meadow {
+            center: m.center,
+            size: m.size,
+            count: m.blades(),
+        });
+        bunches.chain(meadows).collect()
+    }
+
+    pub fn blade_count(&self) -> usize {
+        self.bunch.iter().map(|b| b.count).sum::<usize>()
+            + self.meadow.iter().map(Meadow::blades).sum::<usize>()
+    }
+}
+
+/// How blade shapes are drawn: the mix of kinds (relative weights) and the
+/// ranges of height and full width, in metres.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct BladeShape {
+    pub upright: f32,
+    pub curved: f32,
+    pub drooping: f32,
+    pub height: [f32; 2],
+    pub width: [f32; 2],
+}
+
+impl Default for BladeShape {
+    fn default() -> Self {
+        Self {
+            upright: 0.4,
+            curved: 0.4,
+            drooping: 0.2,
+            height: [0.35, 0.75],
+            width: [0.012, 0.022],
+        }
+    }
 }
 
 /// The grass's physical parameters, which the paper does not give (ours):
@@ -135,7 +330,7 @@ pub struct Scene {
 /// about 1-2 Hz and a tip-edge deflection of about 0.3 rad in a 2.5 m/s wind
 /// for the default blade shapes (docs/architecture.md, "Grass dynamics").
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, default)]
 pub struct GrassDynamics {
     /// Mass of each edge (kg).
     pub edge_mass: [f32; 2],
@@ -162,8 +357,19 @@ impl Default for GrassDynamics {
 }
 
 impl GrassDynamics {
+    /// The named ranges, in file order.
+    pub fn ranges(&self) -> [(&'static str, [f32; 2]); 5] {
+        [
+            ("edge_mass", self.edge_mass),
+            ("sigma", self.sigma),
+            ("tip_stiffness", self.tip_stiffness),
+            ("stiffness_ratio", self.stiffness_ratio),
+            ("damping_ratio", self.damping_ratio),
+        ]
+    }
+
     /// The corners of the ranges as blade parameters.
-    fn corners(&self) -> [BladePhysics; 2] {
+    pub fn corners(&self) -> [BladePhysics; 2] {
         std::array::from_fn(|i| BladePhysics {
             edge_mass: self.edge_mass[i],
             sigma: self.sigma[i],
@@ -176,30 +382,14 @@ impl GrassDynamics {
     /// Rejects ranges that are reversed or allow a bad blade (zero mass,
     /// negative stiffness, NaN), naming the parameter.
     pub fn validate(&self) -> Result<()> {
-        for (name, [lo, hi]) in [
-            ("edge_mass", self.edge_mass),
-            ("sigma", self.sigma),
-            ("tip_stiffness", self.tip_stiffness),
-            ("stiffness_ratio", self.stiffness_ratio),
-            ("damping_ratio", self.damping_ratio),
-        ] {
-            if lo > hi {
-                return Err(Error::InvalidInput(format!(
-                    "grass dynamics: {name} range [{lo}, {hi}] is reversed, write [min, max]"
-                )));
-            }
-        }
-        for corner in self.corners() {
-            corner.validate()?;
-        }
-        Ok(())
+        check::dynamics(self).map_err(|e| e.at("grass.dynamics").into())
     }
 }
 
 /// The wind of a scene (method.md section 3): the grid spans the grass's
 /// bounding box plus a margin, from the ground up to `height`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, default)]
 pub struct WindConfig {
     /// Cells along x, y (up), z: the paper's grid is 60 x 20 x 60.
     pub cells: [u32; 3],
@@ -207,18 +397,22 @@ pub struct WindConfig {
     pub height: f32,
     /// Horizontal margin around the grass (m).
     pub margin: f32,
-    /// Jacobi iterations of the pressure solve per step.
+    /// Jacobi iterations of the pressure solve per step (docs/architecture.md
+    /// on why 30).
     pub jacobi_iterations: u32,
     /// Simulation step (s); the frame rate never changes it.
     pub dt: f32,
+    #[serde(rename = "source", skip_serializing_if = "Vec::is_empty")]
     pub sources: Vec<WindSource>,
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub inflow: Option<Inflow>,
+    #[serde(rename = "obstacle", skip_serializing_if = "Vec::is_empty")]
     pub obstacles: Vec<Obstacle>,
 }
 
-impl WindConfig {
-    /// Wind from the left (paper Fig. 10): a gusting inflow along +x.
-    pub fn from_the_left(speed: f32) -> Self {
+impl Default for WindConfig {
+    /// The paper's grid, still air.
+    fn default() -> Self {
         Self {
             cells: [60, 20, 60],
             height: 3.0,
@@ -226,6 +420,16 @@ impl WindConfig {
             jacobi_iterations: DEFAULT_JACOBI_ITERATIONS,
             dt: 1.0 / 60.0,
             sources: Vec::new(),
+            inflow: None,
+            obstacles: Vec::new(),
+        }
+    }
+}
+
+impl WindConfig {
+    /// Wind from the left (paper Fig. 10): a gusting inflow along +x.
+    pub fn from_the_left(speed: f32) -> Self {
+        Self {
             inflow: Some(Inflow {
                 speed,
                 gust: Gust {
@@ -234,7 +438,7 @@ impl WindConfig {
                     seed: 1,
                 },
             }),
-            obstacles: Vec::new(),
+            ..Self::default()
         }
     }
 
@@ -248,110 +452,64 @@ impl WindConfig {
     }
 }
 
-/// Names of the built-in scenes.
-pub const BUILTIN: &[&str] = &["few-bunches", "several-bunches", "meadow"];
-
-/// The most blades one scene may hold: beyond this the blade buffer alone
-/// passes 1 GiB, and lavapipe would take hours per frame.
-pub const MAX_BLADES: usize = 10_000_000;
-
-fn sun() -> Light {
-    Light {
-        direction: [0.45, 0.75, 0.35],
-        color: [1.0, 0.96, 0.86],
-        ambient: 0.28,
-    }
-}
+/// The built-in scenes: the files under `scenes/`, compiled in.
+pub const BUILTIN: &[(&str, &str)] = &[
+    (
+        "fig10-few-bunches",
+        include_str!("../../scenes/fig10-few-bunches.toml"),
+    ),
+    (
+        "fig10-several-bunches",
+        include_str!("../../scenes/fig10-several-bunches.toml"),
+    ),
+    (
+        "fig11-meadow-rotating",
+        include_str!("../../scenes/fig11-meadow-rotating.toml"),
+    ),
+    ("fig12-lod", include_str!("../../scenes/fig12-lod.toml")),
+    (
+        "fig13-obstacles",
+        include_str!("../../scenes/fig13-obstacles.toml"),
+    ),
+    ("table1", include_str!("../../scenes/table1.toml")),
+];
 
 impl Scene {
     /// A built-in scene by name.
     pub fn builtin(name: &str) -> Result<Scene> {
-        let scene = match name {
-            // Paper Fig. 10 (left): a few bunches, seen from close by.
-            "few-bunches" => Scene {
-                name: name.into(),
-                seed: 1,
-                grass: [[-0.55, 0.1], [0.0, -0.25], [0.55, 0.15]]
-                    .into_iter()
-                    .map(|c| GrassPatch::Bunch {
-                        center: c,
-                        radius: 0.12,
-                        count: 70,
-                    })
-                    .collect(),
-                shape: BladeShape::default(),
-                camera: Camera {
-                    position: [0.0, 0.75, 2.3],
-                    target: [0.0, 0.3, 0.0],
-                    fov_y: 40.0,
-                },
-                light: sun(),
-                lod: Lod::default(),
-                ground_half_extent: 6.0,
-                wind: WindConfig::from_the_left(2.5),
-                dynamics: GrassDynamics::default(),
-            },
-            // Paper Fig. 10 (right): several bunches on a 3 x 3 layout.
-            "several-bunches" => Scene {
-                name: name.into(),
-                seed: 2,
-                grass: (0..9)
-                    .map(|i| GrassPatch::Bunch {
-                        center: [((i % 3) as f32 - 1.0) * 0.9, ((i / 3) as f32 - 1.0) * 0.9],
-                        radius: 0.14,
-                        count: 70,
-                    })
-                    .collect(),
-                shape: BladeShape::default(),
-                camera: Camera {
-                    position: [0.0, 1.4, 3.4],
-                    target: [0.0, 0.2, 0.0],
-                    fov_y: 45.0,
-                },
-                light: sun(),
-                lod: Lod::default(),
-                ground_half_extent: 8.0,
-                wind: WindConfig::from_the_left(2.5),
-                dynamics: GrassDynamics::default(),
-            },
-            // A meadow seen from standing height, reaching to the medium and
-            // far levels of detail.
-            "meadow" => Scene {
-                name: name.into(),
-                seed: 3,
-                grass: vec![GrassPatch::Meadow {
-                    center: [0.0, 0.0],
-                    size: [30.0, 30.0],
-                    count: 200_000,
-                }],
-                shape: BladeShape::default(),
-                camera: Camera {
-                    position: [0.0, 1.5, 7.5],
-                    target: [0.0, 0.2, 0.0],
-                    fov_y: 50.0,
-                },
-                light: sun(),
-                lod: Lod::default(),
-                ground_half_extent: 40.0,
-                wind: WindConfig::from_the_left(3.0),
-                dynamics: GrassDynamics::default(),
-            },
-            other => {
-                return Err(Error::InvalidInput(format!(
-                    "unknown scene {other:?}; the built-in scenes are: {}",
-                    BUILTIN.join(", ")
-                )))
-            }
+        let Some((_, text)) = BUILTIN.iter().find(|(n, _)| *n == name) else {
+            let names: Vec<&str> = BUILTIN.iter().map(|(n, _)| *n).collect();
+            return Err(Error::InvalidInput(format!(
+                "unknown scene {name:?}; the built-in scenes are: {} (or give a path to a .toml file)",
+                names.join(", ")
+            )));
         };
-        Ok(scene)
+        file::parse(text, &format!("scenes/{name}.toml"))
+    }
+
+    /// `--scene`: a built-in name, or a path to a TOML file (anything
+    /// ending in .toml or containing a path separator).
+    pub fn load(name_or_path: &str) -> Result<Scene> {
+        if name_or_path.ends_with(".toml") || name_or_path.contains(std::path::MAIN_SEPARATOR) {
+            file::load(std::path::Path::new(name_or_path))
+        } else {
+            Self::builtin(name_or_path)
+        }
+    }
+
+    /// Every check a scene must pass before anything is allocated; the
+    /// error names the field (`grass.meadow[0].count`) and the allowed range.
+    pub fn validate(&self) -> Result<()> {
+        check::scene(self).map_err(Into::into)
     }
 
     pub fn blade_count(&self) -> usize {
-        self.grass.iter().map(GrassPatch::count).sum()
+        self.grass.blade_count()
     }
 
     /// Sets the total blade count, shared among the patches in proportion
     /// to their current counts (the remainder goes to the first patches).
+    /// Meadows given by density get an explicit count.
     pub fn set_blade_count(&mut self, total: usize) -> Result<()> {
         if total == 0 || total > MAX_BLADES {
             return Err(Error::InvalidInput(format!(
@@ -359,15 +517,24 @@ impl Scene {
             )));
         }
         let old = self.blade_count().max(1);
-        let mut counts: Vec<usize> = self.grass.iter().map(|p| p.count() * total / old).collect();
+        let patches = self.grass.patches();
+        let mut counts: Vec<usize> = patches
+            .iter()
+            .map(|p| (p.count() as u128 * total as u128 / old as u128) as usize)
+            .collect();
         // Each share is rounded down by less than one, so fewer than
         // `counts.len()` blades are left over.
         let left = total - counts.iter().sum::<usize>();
         for c in counts.iter_mut().take(left) {
             *c += 1;
         }
-        for (p, c) in self.grass.iter_mut().zip(counts) {
-            p.set_count(c);
+        let (for_bunches, for_meadows) = counts.split_at(self.grass.bunch.len());
+        for (b, &c) in self.grass.bunch.iter_mut().zip(for_bunches) {
+            b.count = c;
+        }
+        for (m, &c) in self.grass.meadow.iter_mut().zip(for_meadows) {
+            m.count = Some(c);
+            m.density = None;
         }
         Ok(())
     }
@@ -376,11 +543,8 @@ impl Scene {
     pub fn grass_bounds(&self) -> ([f32; 2], [f32; 2]) {
         let mut lo = [f32::MAX; 2];
         let mut hi = [f32::MIN; 2];
-        for p in &self.grass {
-            let (c, half) = match *p {
-                GrassPatch::Bunch { center, radius, .. } => (center, [radius, radius]),
-                GrassPatch::Meadow { center, size, .. } => (center, [size[0] / 2.0, size[1] / 2.0]),
-            };
+        for p in self.grass.patches() {
+            let (c, half) = (p.center(), p.half_extent());
             for a in 0..2 {
                 lo[a] = lo[a].min(c[a] - half[a]);
                 hi[a] = hi[a].max(c[a] + half[a]);
@@ -392,6 +556,7 @@ impl Scene {
     /// The wind grid: the grass's bounding box plus the margin, ground to `height`.
     pub fn wind_grid(&self) -> Result<WindGrid> {
         let w = &self.wind;
+        check::wind(w).map_err(|e| e.at("wind"))?;
         let (lo, hi) = self.grass_bounds();
         let origin = Vec3::new(lo[0] - w.margin, 0.0, lo[1] - w.margin);
         let size = Vec3::new(
@@ -399,28 +564,15 @@ impl Scene {
             w.height,
             hi[1] - lo[1] + 2.0 * w.margin,
         );
-        if !(w.dt.is_finite() && w.dt > 0.0 && w.dt <= 0.1) {
-            return Err(Error::InvalidInput(format!(
-                "wind.dt {} is not allowed, use 0 < dt <= 0.1 s",
-                w.dt
-            )));
-        }
-        if w.jacobi_iterations > 10_000 {
-            return Err(Error::InvalidInput(format!(
-                "wind.jacobi_iterations {} is not allowed, use 0..=10000",
-                w.jacobi_iterations
-            )));
-        }
         WindGrid::new(glam::UVec3::from(w.cells), origin, size)
     }
 
     /// Centre of the grass (x, z), for the ground square.
     pub fn grass_center(&self) -> Vec3 {
-        let n = self.grass.len().max(1) as f32;
-        let sum = self.grass.iter().fold(Vec3::ZERO, |acc, p| {
-            let c = match p {
-                GrassPatch::Bunch { center, .. } | GrassPatch::Meadow { center, .. } => *center,
-            };
+        let patches = self.grass.patches();
+        let n = patches.len().max(1) as f32;
+        let sum = patches.iter().fold(Vec3::ZERO, |acc, p| {
+            let c = p.center();
             acc + Vec3::new(c[0], 0.0, c[1])
         });
         sum / n
@@ -433,7 +585,7 @@ mod tests {
 
     #[test]
     fn blade_count_is_shared_exactly() {
-        let mut s = Scene::builtin("several-bunches").unwrap();
+        let mut s = Scene::builtin("fig10-several-bunches").unwrap();
         for total in [1, 8, 9, 10, 1000, 12345] {
             s.set_blade_count(total).unwrap();
             assert_eq!(s.blade_count(), total);
@@ -445,6 +597,40 @@ mod tests {
     #[test]
     fn unknown_scene_names_the_choices() {
         let e = Scene::builtin("nope").unwrap_err().to_string();
-        assert!(e.contains("unknown scene") && e.contains("meadow"), "{e}");
+        assert!(e.contains("unknown scene") && e.contains("table1"), "{e}");
+    }
+
+    #[test]
+    fn camera_path_interpolates_and_holds_its_ends() {
+        let key = |time: f32, x: f32| CameraKey {
+            time,
+            position: [x, 1.0, 0.0],
+            target: [0.0; 3],
+        };
+        let camera = Camera {
+            position: [9.0; 3],
+            target: [0.0; 3],
+            fov_y: 45.0,
+            path: vec![key(1.0, 0.0), key(3.0, 4.0)],
+        };
+        assert_eq!(camera.at(0.0).0.x, 0.0);
+        assert_eq!(camera.at(2.0).0.x, 2.0);
+        assert_eq!(camera.at(5.0).0.x, 4.0);
+        let still = Camera {
+            path: Vec::new(),
+            ..camera
+        };
+        assert_eq!(still.at(2.0).0, Vec3::splat(9.0));
+    }
+
+    #[test]
+    fn meadow_density_gives_count() {
+        let m = Meadow {
+            center: [0.0; 2],
+            size: [2.0, 3.0],
+            count: None,
+            density: Some(100.0),
+        };
+        assert_eq!(m.blades(), 600);
     }
 }

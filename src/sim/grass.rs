@@ -64,7 +64,8 @@ pub struct BladePhysics {
 
 impl BladePhysics {
     /// One line per problem, naming the parameter and the allowed range.
-    pub fn validate(&self) -> Result<()> {
+    /// The first parameter out of its range: (name, value, allowed range).
+    pub fn first_invalid(&self) -> Option<(&'static str, f32, &'static str)> {
         let checks: [(&str, f32, bool, &str); 5] = [
             ("edge_mass", self.edge_mass, self.edge_mass > 0.0, "> 0 kg"),
             ("sigma", self.sigma, self.sigma >= 0.0, ">= 0"),
@@ -87,14 +88,19 @@ impl BladePhysics {
                 "0..=10",
             ),
         ];
-        for (name, value, ok, allowed) in checks {
-            if !(value.is_finite() && ok) {
-                return Err(Error::InvalidInput(format!(
-                    "grass dynamics: {name} {value} is not allowed, use {allowed}"
-                )));
-            }
+        checks
+            .into_iter()
+            .find(|&(_, value, ok, _)| !(value.is_finite() && ok))
+            .map(|(name, value, _, allowed)| (name, value, allowed))
+    }
+
+    pub fn validate(&self) -> Result<()> {
+        match self.first_invalid() {
+            Some((name, value, allowed)) => Err(Error::InvalidInput(format!(
+                "grass dynamics: {name} {value} is not allowed, use {allowed}"
+            ))),
+            None => Ok(()),
         }
-        Ok(())
     }
 }
 

@@ -31,6 +31,9 @@ pub struct WindGrid {
 }
 
 /// The most cells one grid may have (the paper's is 72,000).
+/// The most waypoints of a source's path (the GPU source record holds 8).
+pub const MAX_PATH_POINTS: usize = 8;
+
 pub const MAX_CELLS: u64 = 64 * 1024 * 1024;
 
 impl WindGrid {
@@ -112,6 +115,7 @@ fn lattice(d: UVec3) -> impl Iterator<Item = (usize, [u32; 3])> {
 /// g(t) = 0.5 sin(2 pi f t + p0) + 0.3 sin(2 pi 2.17 f t + p1) + 0.2 sin(2 pi 4.73 f t + p2)
 /// and the phases p drawn from the seed. a = 0 is a steady source.
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Gust {
     pub amplitude: f32,
     /// Base frequency, Hz.
@@ -154,6 +158,7 @@ impl Gust {
 
 /// A wind source (method.md section 3): a ball of force.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct WindSource {
     pub position: Vec3,
     /// Direction of the force at t = 0 (normalised on use).
@@ -163,13 +168,18 @@ pub struct WindSource {
     /// Radius of influence (m); the force falls off smoothly to zero there.
     pub radius: f32,
     /// The direction turns about the vertical at this rate (rad/s): paper Fig. 11.
+    #[serde(default)]
     pub rotation_speed: f32,
     /// Waypoints of a closed path the source moves along (empty: it stays put).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub path: Vec<Vec3>,
     /// Speed along the path (m/s).
+    #[serde(default)]
     pub path_speed: f32,
+    #[serde(default)]
     pub gust: Gust,
     /// Sources can be switched off at this time (s); None: never.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub off_after: Option<f32>,
 }
 
@@ -270,19 +280,33 @@ pub fn falloff(distance: f32, radius: f32) -> f32 {
 
 /// Wind entering through one side of the domain (paper Fig. 10: from the left).
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Inflow {
     /// Velocity of the incoming air; its sign along x picks the side
     /// (positive: enters at x = min). Only x is supported: paper Fig. 10.
     pub speed: f32,
+    #[serde(default)]
     pub gust: Gust,
 }
 
-/// Axis-aligned box or sphere obstacle in world space (paper Fig. 13).
+/// An obstacle in world space (paper Fig. 13): an axis-aligned box, a
+/// sphere, or an upright cylinder (a tree trunk, a post) standing on `base`.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-#[serde(rename_all = "lowercase")]
+#[serde(rename_all = "lowercase", tag = "kind", deny_unknown_fields)]
 pub enum Obstacle {
-    Box { min: Vec3, max: Vec3 },
-    Sphere { center: Vec3, radius: f32 },
+    Box {
+        min: Vec3,
+        max: Vec3,
+    },
+    Sphere {
+        center: Vec3,
+        radius: f32,
+    },
+    Cylinder {
+        base: Vec3,
+        radius: f32,
+        height: f32,
+    },
 }
 
 impl Obstacle {
@@ -290,6 +314,14 @@ impl Obstacle {
         match *self {
             Obstacle::Box { min, max } => p.cmpge(min).all() && p.cmple(max).all(),
             Obstacle::Sphere { center, radius } => p.distance_squared(center) <= radius * radius,
+            Obstacle::Cylinder {
+                base,
+                radius,
+                height,
+            } => {
+                let d = p - base;
+                (0.0..=height).contains(&d.y) && d.x * d.x + d.z * d.z <= radius * radius
+            }
         }
     }
 }

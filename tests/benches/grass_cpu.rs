@@ -10,10 +10,10 @@ use meadow::sim::GrassField;
 
 fn grass_step(c: &mut Criterion) {
     const BLADES: usize = 10_000;
-    let mut scene = Scene::builtin("meadow").unwrap();
+    let mut scene = Scene::builtin("table1").unwrap();
     scene.set_blade_count(BLADES).unwrap();
-    let blades = field::generate(&scene.grass, &scene.shape, scene.seed);
-    let dynamic = field::dynamic_blades(&blades, &scene.dynamics, scene.seed).unwrap();
+    let blades = field::generate(&scene.grass, scene.seed);
+    let dynamic = field::dynamic_blades(&blades, &scene.grass.dynamics, scene.seed).unwrap();
     let settings = scene.wind.settings();
     let mut wind = WindField::new(scene.wind_grid().unwrap(), &settings);
     for _ in 0..30 {

@@ -1,0 +1,459 @@
+//! The checks a scene must pass, each naming the field by its path in the
+//! scene file (`grass.meadow[0].count`) and the range it allows. The file
+//! loader turns the path into a line and column.
+
+use std::fmt::Display;
+use std::ops::RangeInclusive;
+
+use super::{Camera, Grass, GrassDynamics, Light, Lod, RenderSettings, Scene, MAX_BLADES};
+use crate::error::Error;
+use crate::sim::wind::{Obstacle, WindSource, MAX_CELLS};
+use crate::sim::BladePhysics;
+
+/// The most frames one run may write.
+pub const MAX_FRAMES: u32 = 100_000;
+
+/// The largest image side accepted before asking the device (lavapipe's
+/// maxImageDimension2D; most GPUs allow as much).
+pub const MAX_IMAGE_SIDE: u32 = 16384;
+
+/// A scene value out of its range: where, and what is allowed.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FieldError {
+    /// Dotted path from the file's root, with [index] for array entries.
+    pub path: String,
+    pub message: String,
+}
+
+impl FieldError {
+    pub fn new(path: impl Into<String>, message: impl Into<String>) -> Self {
+        Self {
+            path: path.into(),
+            message: message.into(),
+        }
+    }
+
+    /// The same error one level further down: `prefix.path`.
+    pub fn at(self, prefix: &str) -> Self {
+        let path = if self.path.is_empty() {
+            prefix.to_string()
+        } else if self.path.starts_with('[') {
+            format!("{prefix}{}", self.path)
+        } else {
+            format!("{prefix}.{}", self.path)
+        };
+        Self { path, ..self }
+    }
+}
+
+impl From<FieldError> for Error {
+    fn from(e: FieldError) -> Self {
+        Error::InvalidInput(format!("{}: {}", e.path, e.message))
+    }
+}
+
+type Check = std::result::Result<(), FieldError>;
+
+/// `value` must lie in `range`.
+pub fn in_range<T: PartialOrd + Display>(name: &str, value: T, range: RangeInclusive<T>) -> Check {
+    if range.contains(&value) {
+        Ok(())
+    } else {
+        Err(FieldError::new(
+            name,
+            format!(
+                "{value} is not allowed, use {}..={}",
+                range.start(),
+                range.end()
+            ),
+        ))
+    }
+}
+
+/// A finite number above zero and at most `max`.
+pub fn positive(name: &str, value: f32, max: f32) -> Check {
+    if value.is_finite() && value > 0.0 && value <= max {
+        Ok(())
+    } else {
+        Err(FieldError::new(
+            name,
+            format!("{value} is not allowed, use a number above 0 and at most {max}"),
+        ))
+    }
+}
+
+fn finite(name: &str, values: &[f32]) -> Check {
+    if values.iter().all(|v| v.is_finite()) {
+        Ok(())
+    } else {
+        Err(FieldError::new(
+            name,
+            format!("{values:?} is not allowed, every value must be a finite number"),
+        ))
+    }
+}
+
+/// A [min, max] range inside `allowed`, not reversed.
+fn range_within(name: &str, [lo, hi]: [f32; 2], allowed: RangeInclusive<f32>) -> Check {
+    finite(name, &[lo, hi])?;
+    if lo > hi {
+        return Err(FieldError::new(
+            name,
+            format!("[{lo}, {hi}] is reversed, write [min, max]"),
+        ));
+    }
+    if !(allowed.contains(&lo) && allowed.contains(&hi)) {
+        return Err(FieldError::new(
+            name,
+            format!(
+                "[{lo}, {hi}] is not allowed, keep both ends within {}..={}",
+                allowed.start(),
+                allowed.end()
+            ),
+        ));
+    }
+    Ok(())
+}
+
+pub fn scene(s: &Scene) -> Check {
+    if s.name.trim().is_empty() {
+        return Err(FieldError::new("name", "is empty, give the scene a name"));
+    }
+    render(&s.render).map_err(|e| e.at("render"))?;
+    camera(&s.camera).map_err(|e| e.at("camera"))?;
+    light(&s.light).map_err(|e| e.at("light"))?;
+    lod(&s.lod).map_err(|e| e.at("lod"))?;
+    positive("ground.half_extent", s.ground.half_extent, 10_000.0)?;
+    grass(&s.grass).map_err(|e| e.at("grass"))?;
+    wind(&s.wind).map_err(|e| e.at("wind"))?;
+    Ok(())
+}
+
+pub fn render(r: &RenderSettings) -> Check {
+    in_range("width", r.width, 1..=MAX_IMAGE_SIDE)?;
+    in_range("height", r.height, 1..=MAX_IMAGE_SIDE)?;
+    if !r.msaa.is_power_of_two() || r.msaa > 64 {
+        return Err(FieldError::new(
+            "msaa",
+            format!(
+                "{} is not a sample count, use 1, 2, 4, 8, 16, 32 or 64",
+                r.msaa
+            ),
+        ));
+    }
+    in_range("frames", r.frames, 1..=MAX_FRAMES)?;
+    positive("fps", r.fps, 1000.0)?;
+    if !(r.start.is_finite() && (0.0..=86_400.0).contains(&r.start)) {
+        return Err(FieldError::new(
+            "start",
+            format!("{} is not allowed, use 0..=86400 seconds", r.start),
+        ));
+    }
+    Ok(())
+}
+
+pub fn camera(c: &Camera) -> Check {
+    let points = std::iter::once((c.position, c.target))
+        .chain(c.path.iter().map(|k| (k.position, k.target)));
+    for (i, (position, target)) in points.enumerate() {
+        let at = |name: &str| {
+            if i == 0 {
+                name.to_string()
+            } else {
+                format!("path[{}].{name}", i - 1)
+            }
+        };
+        finite(&at("position"), &position)?;
+        finite(&at("target"), &target)?;
+        if position == target {
+            return Err(FieldError::new(
+                at("target"),
+                "equals the position; the camera must look somewhere",
+            ));
+        }
+    }
+    if !(c.fov_y.is_finite() && c.fov_y > 1.0 && c.fov_y < 170.0) {
+        return Err(FieldError::new(
+            "fov_y",
+            format!("{} is not allowed, use 1 < fov_y < 170 degrees", c.fov_y),
+        ));
+    }
+    for (i, k) in c.path.iter().enumerate() {
+        finite(&format!("path[{i}].time"), &[k.time])?;
+    }
+    for (i, pair) in c.path.windows(2).enumerate() {
+        if pair[1].time <= pair[0].time {
+            return Err(FieldError::new(
+                format!("path[{}].time", i + 1),
+                format!(
+                    "{} is not after the previous key's {}; keyframe times must increase",
+                    pair[1].time, pair[0].time
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+pub fn light(l: &Light) -> Check {
+    finite("direction", &l.direction)?;
+    if glam::Vec3::from(l.direction).length() < 1e-6 {
+        return Err(FieldError::new(
+            "direction",
+            "is zero, give the direction toward the light",
+        ));
+    }
+    finite("color", &l.color)?;
+    if l.color.iter().any(|&c| !(0.0..=100.0).contains(&c)) {
+        return Err(FieldError::new(
+            "color",
+            format!("{:?} is not allowed, use values in 0..=100", l.color),
+        ));
+    }
+    if !(0.0..=1.0).contains(&l.ambient) {
+        return Err(FieldError::new(
+            "ambient",
+            format!("{} is not allowed, use 0..=1", l.ambient),
+        ));
+    }
+    Ok(())
+}
+
+pub fn lod(l: &Lod) -> Check {
+    positive("close_distance", l.close_distance, 1e6)?;
+    positive("far_distance", l.far_distance, 1e6)?;
+    if l.far_distance < l.close_distance {
+        return Err(FieldError::new(
+            "far_distance",
+            format!(
+                "{} is nearer than close_distance {}; use close <= far",
+                l.far_distance, l.close_distance
+            ),
+        ));
+    }
+    for (i, &level) in l.levels.iter().enumerate() {
+        in_range(&format!("levels[{i}]"), level, 1..=64)?;
+    }
+    Ok(())
+}
+
+pub fn grass(g: &Grass) -> Check {
+    if g.bunch.is_empty() && g.meadow.is_empty() {
+        return Err(FieldError::new(
+            "",
+            "the scene has no grass; add a [[grass.bunch]] or a [[grass.meadow]]",
+        ));
+    }
+    let shape = &g.shape;
+    let weights = [shape.upright, shape.curved, shape.drooping];
+    for (name, w) in ["upright", "curved", "drooping"].into_iter().zip(weights) {
+        if !(w.is_finite() && w >= 0.0) {
+            return Err(FieldError::new(
+                format!("shape.{name}"),
+                format!("{w} is not allowed, use a weight >= 0"),
+            ));
+        }
+    }
+    if weights.iter().sum::<f32>() <= 0.0 {
+        return Err(FieldError::new(
+            "shape",
+            "the weights upright, curved and drooping are all zero; make one positive",
+        ));
+    }
+    range_within("shape.height", shape.height, 0.01..=10.0)?;
+    range_within("shape.width", shape.width, 0.0005..=1.0)?;
+    dynamics(&g.dynamics).map_err(|e| e.at("dynamics"))?;
+
+    for (i, b) in g.bunch.iter().enumerate() {
+        let at = format!("bunch[{i}]");
+        finite(&format!("{at}.center"), &b.center)?;
+        positive(&format!("{at}.radius"), b.radius, 10_000.0)?;
+        in_range(&format!("{at}.count"), b.count, 1..=MAX_BLADES)?;
+    }
+    for (i, m) in g.meadow.iter().enumerate() {
+        let at = format!("meadow[{i}]");
+        finite(&format!("{at}.center"), &m.center)?;
+        positive(&format!("{at}.size[0]"), m.size[0], 10_000.0)?;
+        positive(&format!("{at}.size[1]"), m.size[1], 10_000.0)?;
+        match (m.count, m.density) {
+            (Some(n), None) => in_range(&format!("{at}.count"), n, 1..=MAX_BLADES)?,
+            (None, Some(d)) => {
+                positive(&format!("{at}.density"), d, 1e6)?;
+                in_range(&format!("{at}.density"), m.blades(), 1..=MAX_BLADES).map_err(
+                    |_| {
+                        FieldError::new(
+                            format!("{at}.density"),
+                            format!(
+                                "{d} per square metre gives {} blades, use a density giving 1..={MAX_BLADES}",
+                                m.blades()
+                            ),
+                        )
+                    },
+                )?
+            }
+            (Some(_), Some(_)) => {
+                return Err(FieldError::new(
+                    at,
+                    "has both count and density; give one of them",
+                ))
+            }
+            (None, None) => {
+                return Err(FieldError::new(
+                    at,
+                    "has neither count nor density; give one of them",
+                ))
+            }
+        }
+    }
+    let total = g.blade_count();
+    if total > MAX_BLADES {
+        return Err(FieldError::new(
+            "",
+            format!("{total} blades in all is not allowed, use at most {MAX_BLADES}"),
+        ));
+    }
+    Ok(())
+}
+
+pub fn dynamics(d: &GrassDynamics) -> Check {
+    for (name, range) in d.ranges() {
+        range_within(name, range, f32::MIN..=f32::MAX)?;
+    }
+    for corner in d.corners() {
+        blade_physics(&corner)?;
+    }
+    Ok(())
+}
+
+/// One blade's parameters, named as in `[grass.dynamics]`.
+fn blade_physics(p: &BladePhysics) -> Check {
+    match p.first_invalid() {
+        Some((name, value, allowed)) => Err(FieldError::new(
+            name,
+            format!("a range reaching {value} is not allowed, use {allowed}"),
+        )),
+        None => Ok(()),
+    }
+}
+
+pub fn wind(w: &super::WindConfig) -> Check {
+    for (a, &n) in w.cells.iter().enumerate() {
+        in_range(&format!("cells[{a}]"), n, 1..=4096)?;
+    }
+    let cells: u64 = w.cells.iter().map(|&n| n as u64).product();
+    if cells > MAX_CELLS {
+        return Err(FieldError::new(
+            "cells",
+            format!("{cells} cells is not allowed, use at most {MAX_CELLS}"),
+        ));
+    }
+    positive("height", w.height, 1000.0)?;
+    if !(w.margin.is_finite() && (0.0..=1000.0).contains(&w.margin)) {
+        return Err(FieldError::new(
+            "margin",
+            format!("{} is not allowed, use 0..=1000 m", w.margin),
+        ));
+    }
+    in_range("jacobi_iterations", w.jacobi_iterations, 0..=10_000)?;
+    positive("dt", w.dt, 0.1)?;
+    for (i, s) in w.sources.iter().enumerate() {
+        source(s).map_err(|e| e.at(&format!("source[{i}]")))?;
+    }
+    if let Some(inflow) = &w.inflow {
+        finite("inflow.speed", &[inflow.speed])?;
+        if inflow.speed.abs() > 100.0 {
+            return Err(FieldError::new(
+                "inflow.speed",
+                format!("{} is not allowed, use -100..=100 m/s", inflow.speed),
+            ));
+        }
+        gust(&inflow.gust).map_err(|e| e.at("inflow.gust"))?;
+    }
+    for (i, o) in w.obstacles.iter().enumerate() {
+        obstacle(o).map_err(|e| e.at(&format!("obstacle[{i}]")))?;
+    }
+    Ok(())
+}
+
+fn gust(g: &crate::sim::wind::Gust) -> Check {
+    if !(g.amplitude.is_finite() && (0.0..=10.0).contains(&g.amplitude)) {
+        return Err(FieldError::new(
+            "amplitude",
+            format!("{} is not allowed, use 0..=10", g.amplitude),
+        ));
+    }
+    if !(g.frequency.is_finite() && (0.0..=100.0).contains(&g.frequency)) {
+        return Err(FieldError::new(
+            "frequency",
+            format!("{} is not allowed, use 0..=100 Hz", g.frequency),
+        ));
+    }
+    Ok(())
+}
+
+fn source(s: &WindSource) -> Check {
+    finite("position", &s.position.to_array())?;
+    finite("direction", &s.direction.to_array())?;
+    finite("strength", &[s.strength])?;
+    if s.strength.abs() > 1000.0 {
+        return Err(FieldError::new(
+            "strength",
+            format!("{} is not allowed, use -1000..=1000 m/s^2", s.strength),
+        ));
+    }
+    positive("radius", s.radius, 10_000.0)?;
+    finite("rotation_speed", &[s.rotation_speed])?;
+    for (i, p) in s.path.iter().enumerate() {
+        finite(&format!("path[{i}]"), &p.to_array())?;
+    }
+    if s.path.len() > crate::sim::wind::MAX_PATH_POINTS {
+        return Err(FieldError::new(
+            "path",
+            format!(
+                "{} points is not allowed, use at most {}",
+                s.path.len(),
+                crate::sim::wind::MAX_PATH_POINTS
+            ),
+        ));
+    }
+    if !(s.path_speed.is_finite() && s.path_speed >= 0.0) {
+        return Err(FieldError::new(
+            "path_speed",
+            format!("{} is not allowed, use a speed >= 0", s.path_speed),
+        ));
+    }
+    gust(&s.gust).map_err(|e| e.at("gust"))?;
+    if let Some(off) = s.off_after {
+        finite("off_after", &[off])?;
+    }
+    Ok(())
+}
+
+fn obstacle(o: &Obstacle) -> Check {
+    match *o {
+        Obstacle::Box { min, max } => {
+            finite("min", &min.to_array())?;
+            finite("max", &max.to_array())?;
+            if min.cmpge(max).any() {
+                return Err(FieldError::new(
+                    "max",
+                    format!("{max} is not above min {min} on every axis"),
+                ));
+            }
+        }
+        Obstacle::Sphere { center, radius } => {
+            finite("center", &center.to_array())?;
+            positive("radius", radius, 10_000.0)?;
+        }
+        Obstacle::Cylinder {
+            base,
+            radius,
+            height,
+        } => {
+            finite("base", &base.to_array())?;
+            positive("radius", radius, 10_000.0)?;
+            positive("height", height, 10_000.0)?;
+        }
+    }
+    Ok(())
+}

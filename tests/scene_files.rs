@@ -1,0 +1,314 @@
+//! Scene files: the shipped ones parse and are the built-ins, built-ins
+//! survive a round trip through TOML, and malformed files are refused with
+//! one line naming the file, line, column, field and allowed range.
+
+use meadow::scene::{file, Scene, BUILTIN};
+
+/// The smallest complete scene; the cases below break it one way each.
+const MINIMAL: &str = r#"name = "minimal"
+seed = 1
+
+[camera]
+position = [0.0, 1.0, 3.0]
+target = [0.0, 0.0, 0.0]
+fov_y = 45.0
+
+[[grass.bunch]]
+center = [0.0, 0.0]
+radius = 0.2
+count = 10
+"#;
+
+#[test]
+fn the_minimal_scene_is_valid_and_fills_in_defaults() {
+    let scene = file::parse(MINIMAL, "minimal.toml").expect("minimal scene");
+    assert_eq!(scene.blade_count(), 10);
+    assert_eq!(scene.render.width, 1280);
+    assert_eq!(scene.wind.cells, [60, 20, 60]);
+    assert_eq!(scene.wind.jacobi_iterations, 30);
+    assert!(scene.wind.inflow.is_none());
+}
+
+#[test]
+fn shipped_scene_files_are_the_builtins() {
+    for (name, _) in BUILTIN {
+        let path = format!("{}/scenes/{name}.toml", env!("CARGO_MANIFEST_DIR"));
+        let from_file = Scene::load(&path).unwrap_or_else(|e| panic!("{path}: {e}"));
+        assert_eq!(from_file, Scene::builtin(name).unwrap(), "{name}");
+        assert_eq!(&from_file.name, name);
+        assert!(!from_file.caption.is_empty(), "{name} has no caption");
+    }
+}
+
+#[test]
+fn builtins_survive_a_round_trip_through_toml() {
+    for (name, _) in BUILTIN {
+        let scene = Scene::builtin(name).unwrap();
+        let text = file::to_toml(&scene);
+        let back = file::parse(&text, name).unwrap_or_else(|e| panic!("{name}: {e}\n{text}"));
+        assert_eq!(back, scene, "{name}");
+    }
+    // Meadows given by density and keyframed cameras too.
+    let mut scene = file::parse(MINIMAL, "minimal.toml").unwrap();
+    scene.grass.meadow.push(meadow::scene::Meadow {
+        center: [1.0, 2.0],
+        size: [3.0, 4.0],
+        count: None,
+        density: Some(12.5),
+    });
+    scene.camera.path.push(meadow::scene::CameraKey {
+        time: 1.5,
+        position: [1.0, 1.0, 1.0],
+        target: [0.0, 0.1, 0.0],
+    });
+    let back = file::parse(&file::to_toml(&scene), "again").unwrap();
+    assert_eq!(back, scene);
+}
+
+/// Replaces `from` (which must occur) by `to` in the minimal scene.
+fn with(from: &str, to: &str) -> String {
+    assert!(MINIMAL.contains(from), "{from:?} not in the minimal scene");
+    MINIMAL.replacen(from, to, 1)
+}
+
+fn plus(extra: &str) -> String {
+    format!("{MINIMAL}\n{extra}\n")
+}
+
+#[test]
+fn malformed_scene_files_are_refused_with_line_column_field_and_range() {
+    // (what is wrong, the file, the line the error must point at, the
+    // message fragment expected after "bad.toml:LINE:COLUMN: ").
+    let cases: Vec<(&str, String, usize, &str)> = vec![
+        (
+            "empty file",
+            String::new(),
+            1,
+            "missing field `name` (the file is empty; docs/scenes.md has a complete example)",
+        ),
+        (
+            "wrong type",
+            with("seed = 1", "seed = \"one\""),
+            2,
+            "seed: invalid type: string \"one\", expected u64",
+        ),
+        (
+            "unknown top-level key",
+            with("seed = 1", "seed = 1\ncolour = 3"),
+            3,
+            "colour: unknown field `colour`, expected one of `name`",
+        ),
+        (
+            "unknown key in a section",
+            plus("[grass.shape]\nhue = 0.3"),
+            15,
+            "grass.shape.hue: unknown field `hue`",
+        ),
+        (
+            "missing section",
+            MINIMAL.replace("[camera]\nposition = [0.0, 1.0, 3.0]\ntarget = [0.0, 0.0, 0.0]\nfov_y = 45.0\n", ""),
+            1,
+            "missing field `camera`",
+        ),
+        (
+            "no grass patch",
+            MINIMAL.replace("[[grass.bunch]]\ncenter = [0.0, 0.0]\nradius = 0.2\ncount = 10\n", "[grass]\n"),
+            9,
+            "grass: the scene has no grass; add a [[grass.bunch]] or a [[grass.meadow]]",
+        ),
+        (
+            "zero count",
+            with("count = 10", "count = 0"),
+            12,
+            "grass.bunch[0].count: 0 is not allowed, use 1..=10000000",
+        ),
+        (
+            "huge count",
+            with("count = 10", "count = 99999999999"),
+            12,
+            "grass.bunch[0].count: 99999999999 is not allowed, use 1..=10000000",
+        ),
+        (
+            "negative count",
+            with("count = 10", "count = -5"),
+            12,
+            "grass.bunch[0].count: invalid value: integer `-5`, expected usize",
+        ),
+        (
+            "negative radius",
+            with("radius = 0.2", "radius = -1.0"),
+            11,
+            "grass.bunch[0].radius: -1 is not allowed, use a number above 0 and at most 10000",
+        ),
+        (
+            "NaN",
+            plus("[wind.inflow]\nspeed = nan"),
+            15,
+            "wind.inflow.speed: [NaN] is not allowed, every value must be a finite number",
+        ),
+        (
+            "infinite field of view",
+            with("fov_y = 45.0", "fov_y = inf"),
+            7,
+            "camera.fov_y: inf is not allowed, use 1 < fov_y < 170 degrees",
+        ),
+        (
+            "reversed range",
+            plus("[grass.shape]\nheight = [0.8, 0.3]"),
+            15,
+            "grass.shape.height: [0.8, 0.3] is reversed, write [min, max]",
+        ),
+        (
+            "zero image width",
+            plus("[render]\nwidth = 0"),
+            15,
+            "render.width: 0 is not allowed, use 1..=16384",
+        ),
+        (
+            "MSAA that is not a sample count",
+            plus("[render]\nmsaa = 3"),
+            15,
+            "render.msaa: 3 is not a sample count, use 1, 2, 4, 8, 16, 32 or 64",
+        ),
+        (
+            "unknown view",
+            plus("[render]\nview = \"xray\""),
+            15,
+            "render.view: unknown variant `xray`, expected one of `shaded`, `lod`, `motion`",
+        ),
+        (
+            "meadow with count and density",
+            plus("[[grass.meadow]]\ncenter = [0.0, 0.0]\nsize = [2.0, 2.0]\ncount = 5\ndensity = 3.0"),
+            14,
+            "grass.meadow[0]: has both count and density; give one of them",
+        ),
+        (
+            "meadow density giving too many blades",
+            plus("[[grass.meadow]]\ncenter = [0.0, 0.0]\nsize = [1000.0, 1000.0]\ndensity = 50.0"),
+            17,
+            "grass.meadow[0].density: 50 per square metre gives 50000000 blades",
+        ),
+        (
+            "zero wind cells",
+            plus("[wind]\ncells = [60, 0, 60]"),
+            15,
+            "wind.cells[1]: 0 is not allowed, use 1..=4096",
+        ),
+        (
+            "too many wind cells",
+            plus("[wind]\ncells = [4096, 4096, 10]"),
+            15,
+            "wind.cells: 167772160 cells is not allowed, use at most 67108864",
+        ),
+        (
+            "simulation step too long",
+            plus("[wind]\ndt = 0.5"),
+            15,
+            "wind.dt: 0.5 is not allowed, use a number above 0 and at most 0.1",
+        ),
+        (
+            "negative stiffness range",
+            plus("[grass.dynamics]\ntip_stiffness = [-1.0, 0.01]"),
+            15,
+            "grass.dynamics.tip_stiffness: a range reaching -1 is not allowed, use > 0 N/rad",
+        ),
+        (
+            "unknown wind source key",
+            plus("[[wind.source]]\nposition = [0.0, 0.5, 0.0]\ndirection = [1.0, 0.0, 0.0]\nstrength = 5.0\nradius = 1.0\nspin = 2.0"),
+            19,
+            "wind.source[0].spin: unknown field `spin`",
+        ),
+        (
+            "wind source radius zero",
+            plus("[[wind.source]]\nposition = [0.0, 0.5, 0.0]\ndirection = [1.0, 0.0, 0.0]\nstrength = 5.0\nradius = 0.0"),
+            18,
+            "wind.source[0].radius: 0 is not allowed, use a number above 0",
+        ),
+        (
+            "unknown obstacle kind",
+            plus("[[wind.obstacle]]\nkind = \"cone\""),
+            15,
+            "wind.obstacle[0].kind: unknown variant `cone`, expected one of `box`, `sphere`, `cylinder`",
+        ),
+        (
+            "inside-out box",
+            plus("[[wind.obstacle]]\nkind = \"box\"\nmin = [1.0, 0.0, 1.0]\nmax = [0.0, 1.0, 2.0]"),
+            17,
+            "wind.obstacle[0].max: [0, 1, 2] is not above min [1, 0, 1] on every axis",
+        ),
+        (
+            "camera looking at itself",
+            with("target = [0.0, 0.0, 0.0]", "target = [0.0, 1.0, 3.0]"),
+            6,
+            "camera.target: equals the position; the camera must look somewhere",
+        ),
+        (
+            "camera keyframes out of order",
+            plus("[[camera.path]]\ntime = 2.0\nposition = [0.0, 1.0, 3.0]\ntarget = [0.0, 0.0, 0.0]\n[[camera.path]]\ntime = 1.0\nposition = [0.0, 1.0, 4.0]\ntarget = [0.0, 0.0, 0.0]"),
+            19,
+            "camera.path[1].time: 1 is not after the previous key's 2; keyframe times must increase",
+        ),
+        (
+            "LOD distances reversed",
+            plus("[lod]\nclose_distance = 9.0\nfar_distance = 4.0"),
+            16,
+            "lod.far_distance: 4 is nearer than close_distance 9; use close <= far",
+        ),
+        (
+            "syntax error",
+            with("seed = 1", "seed = "),
+            2,
+            "string values must be quoted",
+        ),
+        (
+            "ambient out of range",
+            plus("[light]\ndirection = [0.0, 1.0, 0.0]\ncolor = [1.0, 1.0, 1.0]\nambient = 2.0"),
+            17,
+            "light.ambient: 2 is not allowed, use 0..=1",
+        ),
+    ];
+    assert!(cases.len() >= 15);
+    let mut wrong = Vec::new();
+    for (what, text, line, fragment) in &cases {
+        let result = std::panic::catch_unwind(|| file::parse(text, "bad.toml"));
+        let err = match result {
+            Ok(Ok(_)) => {
+                wrong.push(format!("{what}: accepted"));
+                continue;
+            }
+            Ok(Err(e)) => e.to_string(),
+            Err(_) => {
+                wrong.push(format!("{what}: panicked"));
+                continue;
+            }
+        };
+        let prefix = format!("bad.toml:{line}:");
+        if err.lines().count() != 1 || !err.starts_with(&prefix) || !err.contains(fragment) {
+            wrong.push(format!(
+                "{what}: {err:?} is not one line starting {prefix:?} with {fragment:?}"
+            ));
+        }
+    }
+    assert!(wrong.is_empty(), "{}", wrong.join("\n"));
+}
+
+#[test]
+fn unreadable_files_name_the_path() {
+    let dir = std::env::temp_dir().join(format!("meadow-scene-files-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let missing = dir.join("missing.toml");
+    let e = Scene::load(missing.to_str().unwrap())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("missing.toml") && e.contains("No such file"),
+        "{e}"
+    );
+    let binary = dir.join("binary.toml");
+    std::fs::write(&binary, [0x6e, 0x61, 0xff, 0xfe, 0x00]).unwrap();
+    let e = Scene::load(binary.to_str().unwrap())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("binary.toml: not UTF-8 text (byte 2)"), "{e}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
