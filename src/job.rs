@@ -51,6 +51,11 @@ pub struct RenderRequest {
     pub msaa: u32,
     pub view: ViewMode,
     pub animation: Animation,
+    /// Write only every K-th frame (frames 0, K, 2K, ...); the simulation
+    /// still runs through the frames in between.
+    pub every: u32,
+    /// With more than one frame written: also DIR/animation.gif.
+    pub gif: bool,
     pub gpu: GpuOptions,
 }
 
@@ -69,8 +74,15 @@ impl RenderRequest {
                 fps: r.fps,
                 start: r.start,
             },
+            every: 1,
+            gif: true,
             gpu,
         }
+    }
+
+    /// The frame numbers written, in order.
+    pub fn frames_written(&self) -> impl Iterator<Item = u32> {
+        (0..self.animation.frames).step_by(self.every.max(1) as usize)
     }
 
     /// Checks what can be checked without a GPU; one line per problem. The
@@ -117,7 +129,14 @@ pub struct RenderReport {
     pub substeps: u32,
     /// Simulation steps run in all.
     pub sim_steps: u64,
+    /// Frames asked for (after --every) and the files written, in order.
+    pub frames_planned: u32,
     pub frames: Vec<String>,
+    /// The animated GIF of the written frames, when there are several.
+    pub gif: Option<String>,
+    /// Stopped early (Ctrl-C): `frames` says how far it got, and every
+    /// file listed is complete.
+    pub interrupted: bool,
     /// What the scene will do less than it says (e.g. a wind source outside
     /// the grid), one line each.
     pub warnings: Vec<String>,
@@ -131,11 +150,29 @@ pub struct RenderReport {
 /// validation failed) `report.json` is written; a validation error still
 /// returns `Err` after the report is on disk.
 pub fn render_to_dir(request: &RenderRequest, out_dir: &Path) -> Result<RenderReport> {
+    render_to_dir_observed(request, out_dir, &mut |_| true)
+}
+
+/// How far a render has got, for a progress display.
+#[derive(Clone, Copy, Debug)]
+pub struct FrameProgress {
+    pub written: u32,
+    pub planned: u32,
+}
+
+/// As `render_to_dir`, calling `observer` after each frame written; when it
+/// returns false the render stops there (Ctrl-C), finishes the GIF with
+/// the frames so far and reports itself interrupted.
+pub fn render_to_dir_observed(
+    request: &RenderRequest,
+    out_dir: &Path,
+    observer: &mut dyn FnMut(FrameProgress) -> bool,
+) -> Result<RenderReport> {
     request.validate()?;
     output::ensure_dir(out_dir)?;
     let started = Instant::now();
     let gpu = Gpu::new(&request.gpu)?;
-    let rendered = render_with(&gpu, request, out_dir);
+    let rendered = render_with(&gpu, request, out_dir, observer);
     let validation = gpu.destroy();
     let mut report = rendered?;
     report.validation = validation;
@@ -165,7 +202,12 @@ pub fn render_blades(
     Ok((frame?, samples))
 }
 
-fn render_with(gpu: &Gpu, request: &RenderRequest, out_dir: &Path) -> Result<RenderReport> {
+fn render_with(
+    gpu: &Gpu,
+    request: &RenderRequest,
+    out_dir: &Path,
+    observer: &mut dyn FnMut(FrameProgress) -> bool,
+) -> Result<RenderReport> {
     let scene = &request.scene;
     let warnings = scene.wind.settings().check(&scene.wind_grid()?)?;
     // The grass and the frame's targets (colour and depth per sample, the
@@ -202,7 +244,14 @@ fn render_with(gpu: &Gpu, request: &RenderRequest, out_dir: &Path) -> Result<Ren
             return Err(e);
         }
     };
-    let result = animate(gpu, request, &mut renderer, &mut simulation, out_dir);
+    let result = animate(
+        gpu,
+        request,
+        &mut renderer,
+        &mut simulation,
+        out_dir,
+        observer,
+    );
     let (sim_dt, substeps, sim_steps) = (
         simulation.dt(),
         simulation.substeps(),
@@ -211,7 +260,7 @@ fn render_with(gpu: &Gpu, request: &RenderRequest, out_dir: &Path) -> Result<Ren
     let msaa_used = renderer.samples();
     simulation.destroy(gpu);
     renderer.destroy(gpu);
-    let (frames, statistics) = result?;
+    let done = result?;
 
     let info = gpu.info();
     Ok(RenderReport {
@@ -234,26 +283,59 @@ fn render_with(gpu: &Gpu, request: &RenderRequest, out_dir: &Path) -> Result<Ren
         sim_dt,
         substeps,
         sim_steps,
-        frames,
+        frames_planned: request.frames_written().count() as u32,
+        frames: done.names,
+        gif: done.gif,
+        interrupted: done.interrupted,
         warnings,
-        pipeline_statistics: statistics,
+        pipeline_statistics: done.statistics,
         wall_seconds: 0.0,
         validation: ValidationReport::default(),
     })
 }
 
-/// Simulates up to each frame's time and renders it, in one submission per
-/// frame; writes each frame as it is read back.
+/// What the frame loop got done.
+struct Animated {
+    names: Vec<String>,
+    gif: Option<String>,
+    statistics: Option<PipelineStatistics>,
+    interrupted: bool,
+}
+
+const GIF_NAME: &str = "animation.gif";
+
+/// Simulates up to each written frame's time and renders it, in one
+/// submission per frame; writes each frame (and adds it to the GIF) as it
+/// is read back. A failure names the frame it happened at; the frames
+/// written before it stay complete.
 fn animate(
     gpu: &Gpu,
     request: &RenderRequest,
     renderer: &mut Renderer,
     simulation: &mut Simulation,
     out_dir: &Path,
-) -> Result<(Vec<String>, Option<PipelineStatistics>)> {
-    let mut names = Vec::new();
-    let mut statistics = None;
-    for f in 0..request.animation.frames {
+    observer: &mut dyn FnMut(FrameProgress) -> bool,
+) -> Result<Animated> {
+    let planned = request.frames_written().count() as u32;
+    let mut gif = if request.gif && planned > 1 {
+        let seconds = request.every as f32 / request.animation.fps;
+        Some(output::GifWriter::create(&out_dir.join(GIF_NAME), seconds)?)
+    } else {
+        None
+    };
+    let mut done = Animated {
+        names: Vec::new(),
+        gif: None,
+        statistics: None,
+        interrupted: false,
+    };
+    for f in request.frames_written() {
+        let at_frame = |e: Error| match e {
+            Error::DeviceLost { during } => Error::DeviceLost {
+                during: format!("{during} (frame {f}; the frames before it are complete)"),
+            },
+            other => other,
+        };
         let time = request.animation.time_of(f);
         let steps = simulation.steps_until(time)?;
         let uniforms = FrameUniforms::new(
@@ -263,12 +345,28 @@ fn animate(
             request.view,
             time as f32,
         );
-        let frame =
-            renderer.render_after(gpu, &uniforms, |cmd| simulation.record(gpu, cmd, steps))?;
+        let frame = renderer
+            .render_after(gpu, &uniforms, |cmd| simulation.record(gpu, cmd, steps))
+            .map_err(at_frame)?;
         let name = format!("frame_{f:04}.png");
         output::write_png(&out_dir.join(&name), &frame)?;
-        names.push(name);
-        statistics = frame.statistics;
+        if let Some(gif) = gif.as_mut() {
+            gif.add(&frame)?;
+        }
+        done.names.push(name);
+        done.statistics = frame.statistics;
+        let progress = FrameProgress {
+            written: done.names.len() as u32,
+            planned,
+        };
+        if !observer(progress) && progress.written < planned {
+            done.interrupted = true;
+            break;
+        }
     }
-    Ok((names, statistics))
+    if let Some(gif) = gif {
+        gif.finish()?;
+        done.gif = Some(GIF_NAME.to_string());
+    }
+    Ok(done)
 }

@@ -7,7 +7,7 @@ use anyhow::Context as _;
 use clap::{Parser, Subcommand, ValueEnum};
 
 use meadow::gpu::{Gpu, GpuOptions, ValidationOptions};
-use meadow::job::{render_to_dir, RenderRequest};
+use meadow::job::{render_to_dir_observed, RenderRequest};
 use meadow::scene::{self, Scene, ViewMode};
 
 #[derive(Parser)]
@@ -106,6 +106,13 @@ enum Command {
         /// Simulated seconds before the first frame (the grass starts at rest).
         #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
         start: Option<f32>,
+        /// Write only every K-th frame (0, K, 2K, ...); the simulation still
+        /// runs through the others.
+        #[arg(long, value_name = "K", default_value_t = 1)]
+        every: u32,
+        /// Do not write DIR/animation.gif (written when there are several frames).
+        #[arg(long)]
+        no_gif: bool,
         #[arg(long, default_value = "out")]
         out: PathBuf,
         #[command(flatten)]
@@ -158,10 +165,62 @@ enum Command {
     },
 }
 
+/// A run stopped by Ctrl-C (already reported): exit status 130, as shells
+/// expect of a program ended by SIGINT.
+#[derive(Debug)]
+struct Interrupted;
+
+impl std::fmt::Display for Interrupted {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("interrupted")
+    }
+}
+
+impl std::error::Error for Interrupted {}
+
+/// Renders with a progress bar on a terminal (none when stderr is not
+/// one) and stops after the current frame on Ctrl-C.
+fn render_with_progress(
+    request: &RenderRequest,
+    out: &std::path::Path,
+) -> anyhow::Result<meadow::job::RenderReport> {
+    use std::sync::atomic::{AtomicBool, Ordering};
+    use std::sync::Arc;
+
+    let stop = Arc::new(AtomicBool::new(false));
+    let flag = stop.clone();
+    ctrlc::set_handler(move || {
+        if !flag.swap(true, Ordering::SeqCst) {
+            eprintln!("\nmeadow: stopping after the frame in progress (Ctrl-C)");
+        }
+    })
+    .context("installing the Ctrl-C handler")?;
+
+    let planned = request.frames_written().count() as u64;
+    let bar = if planned > 1 {
+        indicatif::ProgressBar::new(planned)
+    } else {
+        indicatif::ProgressBar::hidden()
+    };
+    bar.set_style(
+        indicatif::ProgressStyle::with_template(
+            "{bar:30} {pos}/{len} frames  {per_sec}  {elapsed} elapsed, {eta} left",
+        )
+        .expect("a valid progress template"),
+    );
+    let report = render_to_dir_observed(request, out, &mut |p| {
+        bar.set_position(p.written as u64);
+        !stop.load(Ordering::SeqCst)
+    });
+    bar.finish_and_clear();
+    Ok(report?)
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match run(cli) {
         Ok(()) => ExitCode::SUCCESS,
+        Err(e) if e.is::<Interrupted>() => ExitCode::from(130),
         Err(e) => {
             // One line: the cause chain, outermost first.
             let msg: Vec<String> = e.chain().map(|c| c.to_string()).collect();
@@ -185,6 +244,8 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             frames,
             fps,
             start,
+            every,
+            no_gif,
             out,
             device,
         } => {
@@ -207,7 +268,9 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             request.height = height.unwrap_or(request.height);
             request.msaa = msaa.unwrap_or(request.msaa);
             request.view = view.unwrap_or(request.view);
-            let report = render_to_dir(&request, &out)?;
+            request.every = every;
+            request.gif = !no_gif;
+            let report = render_with_progress(&request, &out)?;
             for w in &report.warnings {
                 eprintln!("meadow: warning: {w}");
             }
@@ -255,6 +318,18 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                     out.join(last).display()
                 ),
                 [] => {}
+            }
+            if let Some(gif) = &report.gif {
+                println!("wrote {}", out.join(gif).display());
+            }
+            if report.interrupted {
+                eprintln!(
+                    "meadow: interrupted after {} of {} frames; the files written are complete ({})",
+                    report.frames.len(),
+                    report.frames_planned,
+                    out.join("report.json").display()
+                );
+                return Err(Interrupted.into());
             }
             Ok(())
         }

@@ -59,3 +59,103 @@ pub fn write_rgb_png(path: &Path, width: u32, height: u32, rgb: &[u8]) -> Result
         })?;
     write_atomic(path, &encoded)
 }
+
+/// An animated GIF written frame by frame under a temporary name, renamed
+/// into place by `finish`; `abandon` (or dropping it) removes the partial
+/// file, so a GIF under its real name is always complete.
+pub struct GifWriter {
+    path: PathBuf,
+    tmp: PathBuf,
+    encoder: Option<image::codecs::gif::GifEncoder<SharedFile>>,
+    file: SharedFile,
+    delay: image::Delay,
+    frames: u32,
+}
+
+impl GifWriter {
+    /// `frame_seconds`: how long each frame shows (GIF delays are in
+    /// hundredths of a second, so 30 fps plays at about 33 fps).
+    pub fn create(path: &Path, frame_seconds: f32) -> Result<Self> {
+        let tmp = temp_name(path);
+        let file = std::fs::File::create(&tmp).map_err(|e| Error::io(path, e))?;
+        let file = SharedFile(std::rc::Rc::new(std::cell::RefCell::new(
+            std::io::BufWriter::new(file),
+        )));
+        // Speed 10 of 1..=30: NeuQuant's default trade of colour for time.
+        let mut encoder = image::codecs::gif::GifEncoder::new_with_speed(file.clone(), 10);
+        encoder
+            .set_repeat(image::codecs::gif::Repeat::Infinite)
+            .map_err(|source| Error::Image {
+                path: path.display().to_string(),
+                source,
+            })?;
+        let centis = (frame_seconds * 100.0).round().clamp(2.0, 65535.0) as u32;
+        Ok(Self {
+            path: path.to_path_buf(),
+            tmp,
+            encoder: Some(encoder),
+            file,
+            delay: image::Delay::from_numer_denom_ms(centis * 10, 1),
+            frames: 0,
+        })
+    }
+
+    pub fn add(&mut self, frame: &Frame) -> Result<()> {
+        let image = image::RgbaImage::from_raw(frame.width, frame.height, frame.rgba.clone())
+            .expect("a frame holds width x height RGBA pixels");
+        let encoder = self.encoder.as_mut().expect("GIF writer used after finish");
+        encoder
+            .encode_frame(image::Frame::from_parts(image, 0, 0, self.delay))
+            .map_err(|source| Error::Image {
+                path: self.path.display().to_string(),
+                source,
+            })?;
+        self.frames += 1;
+        Ok(())
+    }
+
+    pub fn frames(&self) -> u32 {
+        self.frames
+    }
+
+    /// Ends the GIF (trailer, flush, sync) and renames it into place.
+    pub fn finish(mut self) -> Result<()> {
+        // Dropping the encoder writes the GIF trailer into the buffer.
+        drop(self.encoder.take());
+        let result = (|| {
+            let mut w = self.file.0.borrow_mut();
+            w.flush()?;
+            w.get_ref().sync_all()?;
+            std::fs::rename(&self.tmp, &self.path)
+        })();
+        result.map_err(|e| {
+            let _ = std::fs::remove_file(&self.tmp);
+            Error::io(&self.path, e)
+        })
+    }
+}
+
+impl Drop for GifWriter {
+    fn drop(&mut self) {
+        if self.encoder.is_some() {
+            // Not finished: never leave a partial GIF behind.
+            self.encoder = None;
+            let _ = std::fs::remove_file(&self.tmp);
+        }
+    }
+}
+
+/// The GIF's file, shared between the encoder (which writes into it and
+/// finishes it on drop) and the writer (which flushes and syncs it after).
+#[derive(Clone)]
+struct SharedFile(std::rc::Rc<std::cell::RefCell<std::io::BufWriter<std::fs::File>>>);
+
+impl Write for SharedFile {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        self.0.borrow_mut().write(buf)
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.0.borrow_mut().flush()
+    }
+}

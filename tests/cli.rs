@@ -111,6 +111,56 @@ fn bad_animation_settings_are_refused() {
         &[],
         "--start -1 is not allowed",
     );
+    assert_refused(
+        &["render", "--every", "0"],
+        &[],
+        "--every 0 is not allowed, use 1..=100000",
+    );
+}
+
+#[test]
+fn every_kth_frame_is_written_with_a_gif_of_them() {
+    let out = temp_out("every");
+    let result = meadow(
+        &[
+            "render",
+            "--scene",
+            "fig10-few-bunches",
+            "--frames",
+            "7",
+            "--every",
+            "3",
+            "--width",
+            "96",
+            "--height",
+            "64",
+            "--validation",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        &[],
+    );
+    assert_succeeded(&result);
+    let report: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("report.json")).unwrap()).unwrap();
+    assert_eq!(
+        report["frames"],
+        serde_json::json!(["frame_0000.png", "frame_0003.png", "frame_0006.png"])
+    );
+    assert_eq!(report["gif"], "animation.gif");
+    assert_eq!(report["interrupted"], false);
+    use image::AnimationDecoder;
+    let gif = std::io::BufReader::new(std::fs::File::open(out.join("animation.gif")).unwrap());
+    let frames = image::codecs::gif::GifDecoder::new(gif)
+        .unwrap()
+        .into_frames()
+        .collect_frames()
+        .unwrap();
+    assert_eq!(frames.len(), 3);
+    // 3 frames of 1/30 s apart: 10 hundredths of a second each.
+    let (num, den) = frames[0].delay().numer_denom_ms();
+    assert_eq!(num / den, 100);
+    let _ = std::fs::remove_dir_all(&out);
 }
 
 #[test]
@@ -264,4 +314,79 @@ fn work_over_the_device_memory_budget_is_refused_before_allocating() {
         &[],
         "10000000 blades at 1280x720 with 8x MSAA needs",
     );
+}
+
+#[test]
+fn an_interrupted_render_leaves_only_complete_files_and_says_how_far_it_got() {
+    let out = temp_out("interrupted");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_meadow"))
+        .args([
+            "render",
+            "--scene",
+            "fig10-few-bunches",
+            "--frames",
+            "2000",
+            "--width",
+            "160",
+            "--height",
+            "90",
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .env("MEADOW_QUIET_VALIDATION", "1")
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("start meadow");
+    // Wait for a few frames, then Ctrl-C (SIGINT) mid-run.
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(180);
+    while !out.join("frame_0003.png").exists() {
+        assert!(std::time::Instant::now() < deadline, "no frames written");
+        assert!(child.try_wait().unwrap().is_none(), "meadow ended early");
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    let sent = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(sent.success());
+    let result = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    assert_eq!(result.status.code(), Some(130), "{stderr}");
+    assert!(stderr.contains("interrupted after"), "{stderr}");
+
+    let report: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("report.json")).unwrap()).unwrap();
+    assert_eq!(report["interrupted"], true);
+    assert_eq!(report["frames_planned"], 2000);
+    let listed: Vec<String> = report["frames"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_str().unwrap().to_string())
+        .collect();
+    assert!(listed.len() >= 4 && listed.len() < 2000, "{}", listed.len());
+    // On disk: exactly the listed frames, the GIF and the report, all complete.
+    let mut on_disk: Vec<String> = std::fs::read_dir(&out)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    on_disk.sort();
+    let mut expected = listed.clone();
+    expected.extend(["animation.gif".to_string(), "report.json".to_string()]);
+    expected.sort();
+    assert_eq!(on_disk, expected);
+    for name in &listed {
+        let img = image::open(out.join(name)).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_eq!((img.width(), img.height()), (160, 90));
+    }
+    use image::AnimationDecoder;
+    let gif = std::io::BufReader::new(std::fs::File::open(out.join("animation.gif")).unwrap());
+    let frames = image::codecs::gif::GifDecoder::new(gif)
+        .unwrap()
+        .into_frames()
+        .collect_frames()
+        .expect("the GIF decodes");
+    assert_eq!(frames.len(), listed.len());
+    let _ = std::fs::remove_dir_all(&out);
 }
