@@ -23,6 +23,8 @@ fn same_scene_and_seed_give_byte_identical_png() {
             fps: 2.0,
             start: 0.5,
         },
+        every: 1,
+        gif: true,
         gpu: GpuOptions {
             validation: ValidationOptions::strict(),
             ..Default::default()

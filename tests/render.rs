@@ -204,6 +204,8 @@ fn the_wind_from_the_left_sways_the_grass_to_the_right_over_frames() {
             fps: 1.0,
             start: 0.0,
         },
+        every: 1,
+        gif: true,
         gpu: GpuOptions {
             validation: ValidationOptions::strict(),
             ..Default::default()
@@ -246,6 +248,8 @@ fn motion_view_is_blue_at_rest_and_warms_as_the_wind_bends_the_blades() {
         msaa: 1,
         view: ViewMode::Motion,
         animation: Animation::default(),
+        every: 1,
+        gif: false,
         gpu: GpuOptions {
             validation: ValidationOptions::strict(),
             ..Default::default()
