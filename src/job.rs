@@ -99,6 +99,12 @@ impl RenderRequest {
         };
         crate::scene::check::render(&settings)
             .map_err(|e| Error::InvalidInput(format!("--{} {}", e.path, e.message)))?;
+        if !(1..=MAX_FRAMES).contains(&self.every) {
+            return Err(Error::InvalidInput(format!(
+                "--every {} is not allowed, use 1..={MAX_FRAMES}",
+                self.every
+            )));
+        }
         self.scene.validate()?;
         self.scene.wind_grid()?;
         Ok(())

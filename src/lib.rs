@@ -18,6 +18,7 @@ pub mod job;
 pub mod output;
 pub mod reflect;
 pub mod render;
+pub mod reproduce;
 pub mod scene;
 pub mod shaders;
 pub mod sim;

@@ -339,3 +339,32 @@ fn every_shipped_scene_renders_a_small_frame_validation_clean() {
         let _ = std::fs::remove_dir_all(&dir);
     }
 }
+
+#[test]
+fn the_documented_example_is_a_valid_scene_using_every_section() {
+    let doc =
+        std::fs::read_to_string(format!("{}/docs/scenes.md", env!("CARGO_MANIFEST_DIR"))).unwrap();
+    let start = doc.find("```toml\n").expect("a toml block") + "```toml\n".len();
+    let text = &doc[start..start + doc[start..].find("```").unwrap()];
+    let scene = file::parse(text, "docs/scenes.md").unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(scene.camera.path.len(), 2);
+    assert_eq!(scene.grass.bunch.len() + scene.grass.meadow.len(), 2);
+    assert_eq!(scene.wind.sources.len(), 1);
+    assert_eq!(scene.wind.obstacles.len(), 3);
+    assert!(scene.wind.inflow.is_some());
+    // Every field it sets is a field the scene has: printing the parsed
+    // scene back gives every key the example uses.
+    let printed = file::to_toml(&scene);
+    for line in text.lines() {
+        let line = line.trim();
+        if let Some((key, value)) = line.split_once(" = ") {
+            // Inline tables come back as sub-tables: skip those keys.
+            if !key.starts_with('#') && !value.starts_with('{') {
+                assert!(
+                    printed.contains(&format!("{key} =")),
+                    "{key} not printed back"
+                );
+            }
+        }
+    }
+}
