@@ -200,7 +200,7 @@ pub fn render_blades(
     msaa: u32,
     view: ViewMode,
 ) -> Result<(Frame, u32)> {
-    let mut renderer = Renderer::new(gpu, width, height, msaa, blades)?;
+    let mut renderer = Renderer::new(gpu, width, height, msaa, scene.light.shadow_map, blades)?;
     let uniforms = FrameUniforms::new(scene, width, height, view, 0.0);
     let frame = renderer.render(gpu, &uniforms);
     let samples = renderer.samples();
@@ -229,11 +229,19 @@ fn render_with(
             request.msaa
         ),
         crate::render::grass_pass::device_bytes(scene.blade_count())
-            + pixels * (8 * request.msaa as u64 + 8),
+            + pixels * (8 * request.msaa as u64 + 8)
+            + 4 * (scene.light.shadow_map as u64).pow(2),
     )?;
     let blades = field::generate(&scene.grass, scene.seed);
     let dynamic = field::dynamic_blades(&blades, &scene.grass.dynamics, scene.seed)?;
-    let mut renderer = Renderer::new(gpu, request.width, request.height, request.msaa, &blades)?;
+    let mut renderer = Renderer::new(
+        gpu,
+        request.width,
+        request.height,
+        request.msaa,
+        scene.light.shadow_map,
+        &blades,
+    )?;
     let commands = match Commands::new(gpu, "simulation set-up commands") {
         Ok(c) => c,
         Err(e) => {

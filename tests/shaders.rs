@@ -11,7 +11,7 @@ use meadow::gpu::descriptors::LayoutBinding;
 use meadow::reflect::{self, Binding};
 use meadow::render::grass_pass::{GrassPush, GRASS_SET};
 use meadow::render::pipelines::{
-    BLADE_ATTRIBUTES, BLADE_STAGES, FRAME_SET, GROUND_STAGES, SKY_STAGES,
+    BLADE_ATTRIBUTES, BLADE_STAGES, FRAME_SET, GROUND_STAGES, SHADOW_STAGES, SKY_STAGES,
 };
 use meadow::render::wind_pass::{GpuWindSource, WindPush, WIND_KERNELS, WIND_SET};
 use meadow::render::FrameUniforms;
@@ -92,9 +92,17 @@ fn check_pipeline(name: &str, stages: &[&Spirv], layout: &[LayoutBinding]) {
 
 #[test]
 fn descriptor_layouts_match_reflection() {
-    check_pipeline("blade", BLADE_STAGES, FRAME_SET);
-    check_pipeline("sky", SKY_STAGES, FRAME_SET);
-    check_pipeline("ground", GROUND_STAGES, FRAME_SET);
+    // The colour pass's pipelines share the frame set: together they use
+    // every binding of it (the sky reads no shadow map).
+    let colour_pass: Vec<&Spirv> = BLADE_STAGES
+        .iter()
+        .chain(SKY_STAGES)
+        .chain(GROUND_STAGES)
+        .copied()
+        .collect();
+    check_pipeline("colour pass", &colour_pass, FRAME_SET);
+    // The shadow pass: the blade stages up to the geometry shader.
+    check_pipeline("shadow", SHADOW_STAGES, &FRAME_SET[..1]);
     // The five wind kernels share one set layout.
     check_pipeline("wind", &WIND_KERNELS, WIND_SET);
     check_pipeline("grass", &[&shaders::GRASS_STEP_COMP], GRASS_SET);
@@ -138,6 +146,8 @@ fn frame_uniforms_match_the_glsl_block() {
         ("tess_level", offset_of!(FrameUniforms, tess_level)),
         ("ground", offset_of!(FrameUniforms, ground)),
         ("view", offset_of!(FrameUniforms, view)),
+        ("light_view_proj", offset_of!(FrameUniforms, light_view_proj)),
+        ("shadow", offset_of!(FrameUniforms, shadow)),
     ];
     let glsl: Vec<(String, usize)> = members.into_iter().map(|(n, o)| (n, o as usize)).collect();
     let rust: Vec<(String, usize)> = rust.iter().map(|(n, o)| (n.to_string(), *o)).collect();

@@ -1,7 +1,9 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// Ground: soil with a little low-frequency variation, lit by the sun.
+// Ground: soil with a little low-frequency variation, lit by the sun and
+// darkened where the grass shadows it.
 #include "frame.glsl"
+#include "shadow.glsl"
 
 layout(location = 0) in vec3 v_world;
 layout(location = 0) out vec4 out_color;
@@ -21,6 +23,6 @@ void main() {
     float n = 0.6 * value_noise(v_world.xz * 1.7) + 0.4 * value_noise(v_world.xz * 7.3);
     vec3 albedo = mix(vec3(0.075, 0.050, 0.025), vec3(0.14, 0.11, 0.05), n);
     float lambert = max(frame.light_dir.y, 0.0);
-    vec3 lit = albedo * (frame.light_dir.w + frame.light_color.rgb * lambert);
+    vec3 lit = albedo * (frame.light_dir.w + frame.light_color.rgb * lambert * sun_visibility(v_world));
     out_color = vec4(lit, 1.0);
 }

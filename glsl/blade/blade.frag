@@ -1,8 +1,11 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 // Fragment stage: two-sided lighting of the blade (the normal is flipped on
-// back faces), a procedural grass colour along the blade, and debug views.
+// back faces, and light passes through to the back a little), shadows from
+// the sun's shadow map, a procedural grass colour along the blade, and
+// debug views.
 #include "frame.glsl"
+#include "shadow.glsl"
 
 layout(location = 0) in vec3 g_world;
 layout(location = 1) in vec3 g_normal;
@@ -51,6 +54,9 @@ void main() {
     } else {
         albedo = grass_albedo(g_uv.y, g_blade_rand);
     }
-    vec3 lit = albedo * (ambient + frame.light_color.rgb * (lambert + translucent)) * occlusion;
+    // The sun reaches both faces only where the shadow map says it is not
+    // blocked (by this blade, its neighbours, or the tuft in front).
+    float sun = sun_visibility(g_world);
+    vec3 lit = albedo * (ambient + frame.light_color.rgb * (lambert + translucent) * sun) * occlusion;
     out_color = vec4(lit, 1.0);
 }

@@ -18,6 +18,8 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     vec4 tess_level;    // x: close (20), y: medium (10), z: far (3): paper section 5
     vec4 ground;        // xy: centre (world x, z); z: half extent of the ground square
     uvec4 view;         // x: view mode
+    mat4 light_view_proj; // world -> the shadow map's clip space (orthographic, from the sun)
+    vec4 shadow;        // x: one texel (uv units), y: 1 = shadows on, z: depth bias, w: PCF radius (texels)
 } frame;
 
 #endif

@@ -79,8 +79,21 @@ pub fn create_pipeline_layout(
     Ok(layout)
 }
 
-/// One descriptor set whose bindings are whole buffers, in a pool sized
-/// for exactly it.
+/// What one binding of a set points at.
+#[derive(Clone, Copy, Debug)]
+pub enum Bound {
+    /// A whole buffer (uniform or storage).
+    Buffer(vk::Buffer),
+    /// An image view with its sampler, in the layout it is read in.
+    Image {
+        view: vk::ImageView,
+        sampler: vk::Sampler,
+        layout: vk::ImageLayout,
+    },
+}
+
+/// One descriptor set whose bindings are whole buffers (and sampled
+/// images), in a pool sized for exactly it.
 pub struct BufferSet {
     pool: vk::DescriptorPool,
     pub set: vk::DescriptorSet,
@@ -96,11 +109,24 @@ impl BufferSet {
         buffers: &[vk::Buffer],
         name: &str,
     ) -> Result<Self> {
-        if bindings.len() != buffers.len() {
+        let bound: Vec<Bound> = buffers.iter().map(|&b| Bound::Buffer(b)).collect();
+        Self::with(gpu, layout, bindings, &bound, name)
+    }
+
+    /// Allocates a set of `layout` and points binding `bindings[i]` at
+    /// `bound[i]`.
+    pub fn with(
+        gpu: &Gpu,
+        layout: vk::DescriptorSetLayout,
+        bindings: &[LayoutBinding],
+        bound: &[Bound],
+        name: &str,
+    ) -> Result<Self> {
+        if bindings.len() != bound.len() {
             return Err(Error::InvalidInput(format!(
-                "{name}: {} bindings but {} buffers",
+                "{name}: {} bindings but {} resources",
                 bindings.len(),
-                buffers.len()
+                bound.len()
             )));
         }
         let device = &gpu.device.raw;
@@ -134,25 +160,45 @@ impl BufferSet {
             }
         };
         gpu.device.name(set, name);
-        let infos: Vec<[vk::DescriptorBufferInfo; 1]> = buffers
+        let buffer_infos: Vec<[vk::DescriptorBufferInfo; 1]> = bound
             .iter()
-            .map(|&buffer| {
-                [vk::DescriptorBufferInfo {
+            .map(|r| match *r {
+                Bound::Buffer(buffer) => [vk::DescriptorBufferInfo {
                     buffer,
                     offset: 0,
                     range: vk::WHOLE_SIZE,
-                }]
+                }],
+                Bound::Image { .. } => [vk::DescriptorBufferInfo::default()],
+            })
+            .collect();
+        let image_infos: Vec<[vk::DescriptorImageInfo; 1]> = bound
+            .iter()
+            .map(|r| match *r {
+                Bound::Image {
+                    view,
+                    sampler,
+                    layout,
+                } => [vk::DescriptorImageInfo {
+                    sampler,
+                    image_view: view,
+                    image_layout: layout,
+                }],
+                Bound::Buffer(_) => [vk::DescriptorImageInfo::default()],
             })
             .collect();
         let writes: Vec<_> = bindings
             .iter()
-            .zip(&infos)
-            .map(|(b, info)| {
-                vk::WriteDescriptorSet::default()
+            .zip(bound)
+            .zip(buffer_infos.iter().zip(&image_infos))
+            .map(|((b, r), (buffer_info, image_info))| {
+                let write = vk::WriteDescriptorSet::default()
                     .dst_set(set)
                     .dst_binding(b.binding)
-                    .descriptor_type(b.ty.vk())
-                    .buffer_info(info)
+                    .descriptor_type(b.ty.vk());
+                match r {
+                    Bound::Buffer(_) => write.buffer_info(buffer_info),
+                    Bound::Image { .. } => write.image_info(image_info),
+                }
             })
             .collect();
         // SAFETY: the set is new and not used by any command buffer.

@@ -6,11 +6,12 @@ use ash::vk;
 
 use crate::error::{Error, Result};
 use crate::gpu::commands::Commands;
-use crate::gpu::descriptors::BufferSet;
+use crate::gpu::descriptors::{Bound, BufferSet};
 use crate::gpu::timing::{PipelineStatistics, StatisticsQuery};
 use crate::gpu::{Buffer, Gpu, Image, MemoryLocation};
 use crate::render::frame_uniforms::FrameUniforms;
 use crate::render::pipelines::{RenderPipelines, FRAME_SET};
+use crate::render::shadow::ShadowMap;
 use crate::render::targets::{choose_samples, RenderTargets};
 use crate::sim::{Blade, BladeVertex};
 
@@ -28,6 +29,7 @@ pub struct Frame {
 pub struct Renderer {
     pub targets: RenderTargets,
     pipelines: RenderPipelines,
+    shadow: ShadowMap,
     frame_set: BufferSet,
     uniforms: Buffer,
     /// The blades' control points: the vertex buffer of the blade pipeline.
@@ -42,6 +44,7 @@ pub struct Renderer {
 struct Partial {
     targets: Option<RenderTargets>,
     pipelines: Option<RenderPipelines>,
+    shadow: Option<ShadowMap>,
     frame_set: Option<BufferSet>,
     uniforms: Option<Buffer>,
     blade_vertices: Option<Buffer>,
@@ -66,6 +69,9 @@ impl Partial {
         if let Some(x) = self.frame_set {
             x.destroy(gpu);
         }
+        if let Some(x) = self.shadow {
+            x.destroy(gpu);
+        }
         if let Some(x) = self.pipelines {
             x.destroy(gpu);
         }
@@ -77,10 +83,18 @@ impl Partial {
 
 impl Renderer {
     /// Builds the targets and pipelines for a `width` x `height` image with
-    /// up to `msaa` samples, and uploads the blades' rest shape.
-    pub fn new(gpu: &Gpu, width: u32, height: u32, msaa: u32, blades: &[Blade]) -> Result<Self> {
+    /// up to `msaa` samples and a `shadow_map` x `shadow_map` shadow map (0:
+    /// no shadows), and uploads the blades' rest shape.
+    pub fn new(
+        gpu: &Gpu,
+        width: u32,
+        height: u32,
+        msaa: u32,
+        shadow_map: u32,
+        blades: &[Blade],
+    ) -> Result<Self> {
         let mut partial = Partial::default();
-        match Self::build(gpu, width, height, msaa, blades, &mut partial) {
+        match Self::build(gpu, width, height, msaa, shadow_map, blades, &mut partial) {
             Ok(r) => Ok(r),
             Err(e) => {
                 partial.destroy(gpu);
@@ -94,6 +108,7 @@ impl Renderer {
         width: u32,
         height: u32,
         msaa: u32,
+        shadow_map: u32,
         blades: &[Blade],
         p: &mut Partial,
     ) -> Result<Self> {
@@ -112,7 +127,18 @@ impl Renderer {
             .targets
             .insert(RenderTargets::new(gpu, width, height, samples)?);
         let formats = targets.formats();
-        let pipelines = p.pipelines.insert(RenderPipelines::new(gpu, formats)?);
+        let pipelines = p
+            .pipelines
+            .insert(RenderPipelines::new(gpu, formats, shadow_map > 0)?);
+        let max_side = gpu.device.limits().max_image_dimension2_d;
+        if shadow_map > max_side {
+            return Err(Error::InvalidInput(format!(
+                "--shadow-map {shadow_map} is larger than this device's largest image ({max_side}); use 0..={max_side}"
+            )));
+        }
+        let shadow = p
+            .shadow
+            .insert(ShadowMap::new(gpu, shadow_map, pipelines.set_layout)?);
 
         let uniforms = p.uniforms.insert(Buffer::new(
             gpu,
@@ -121,11 +147,11 @@ impl Renderer {
             vk::BufferUsageFlags::UNIFORM_BUFFER,
             MemoryLocation::CpuToGpu,
         )?);
-        p.frame_set = Some(BufferSet::new(
+        p.frame_set = Some(BufferSet::with(
             gpu,
             pipelines.set_layout,
             FRAME_SET,
-            &[uniforms.raw],
+            &[Bound::Buffer(uniforms.raw), shadow.binding()],
             "frame descriptor set",
         )?);
 
@@ -151,6 +177,7 @@ impl Renderer {
         Ok(Self {
             targets: p.targets.unwrap(),
             pipelines: p.pipelines.unwrap(),
+            shadow: p.shadow.unwrap(),
             frame_set: p.frame_set.unwrap(),
             uniforms: p.uniforms.unwrap(),
             blade_vertices: p.blade_vertices.unwrap(),
@@ -179,9 +206,20 @@ impl Renderer {
         uniforms: &FrameUniforms,
         simulate: impl FnOnce(vk::CommandBuffer),
     ) -> Result<Frame> {
-        self.uniforms.write(0, std::slice::from_ref(uniforms));
+        let mut uniforms = *uniforms;
+        uniforms.shadow = self.shadow.params();
+        self.uniforms.write(0, std::slice::from_ref(&uniforms));
+        self.shadow.write_uniforms(&uniforms);
         let cmd = self.commands.begin(gpu)?;
         simulate(cmd);
+        self.shadow.record(
+            gpu,
+            cmd,
+            self.pipelines.shadow,
+            self.pipelines.layout,
+            self.blade_vertices.raw,
+            self.blade_count,
+        );
         self.record(gpu, cmd);
         self.commands.submit_and_wait(gpu, "rendering a frame")?;
         let statistics = self.statistics.read(gpu)?;
@@ -390,6 +428,7 @@ impl Renderer {
         Partial {
             targets: Some(self.targets),
             pipelines: Some(self.pipelines),
+            shadow: Some(self.shadow),
             frame_set: Some(self.frame_set),
             uniforms: Some(self.uniforms),
             blade_vertices: Some(self.blade_vertices),

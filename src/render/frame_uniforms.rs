@@ -21,6 +21,11 @@ pub struct FrameUniforms {
     pub tess_level: [f32; 4],
     pub ground: [f32; 4],
     pub view: [u32; 4],
+    /// World to the shadow map's clip space (see `render::shadow`).
+    pub light_view_proj: [f32; 16],
+    /// x: one shadow-map texel in uv, y: 1 = shadows on, z: depth bias,
+    /// w: PCF tap spacing in texels. Set by the renderer, which owns the map.
+    pub shadow: [f32; 4],
 }
 
 /// The camera at simulated time `time`, in Vulkan clip space: y points
@@ -62,6 +67,8 @@ impl FrameUniforms {
             ],
             ground: [ground.x, ground.z, scene.ground.half_extent, 0.0],
             view: [view as u32, 0, 0, 0],
+            light_view_proj: crate::render::shadow::light_view_proj(scene).to_cols_array(),
+            shadow: [0.0; 4],
         }
     }
 }

@@ -4,6 +4,7 @@
 pub mod frame;
 pub mod frame_uniforms;
 pub mod grass_pass;
+pub mod shadow;
 pub mod pipelines;
 pub mod simulation;
 pub mod targets;

@@ -11,19 +11,28 @@ use crate::reflect::DescriptorKind;
 use crate::shaders::{self, Spirv};
 use crate::sim::BladeVertex;
 
-/// Set 0 of every render pipeline: the per-frame uniforms.
-pub const FRAME_SET: &[LayoutBinding] = &[LayoutBinding {
-    set: 0,
-    binding: 0,
-    ty: DescriptorKind::UniformBuffer,
-    stages: vk::ShaderStageFlags::from_raw(
-        vk::ShaderStageFlags::VERTEX.as_raw()
-            | vk::ShaderStageFlags::TESSELLATION_CONTROL.as_raw()
-            | vk::ShaderStageFlags::TESSELLATION_EVALUATION.as_raw()
-            | vk::ShaderStageFlags::GEOMETRY.as_raw()
-            | vk::ShaderStageFlags::FRAGMENT.as_raw(),
-    ),
-}];
+/// Set 0 of every render pipeline: the per-frame uniforms and the sun's
+/// shadow map (read by the fragment stages of the colour pass).
+pub const FRAME_SET: &[LayoutBinding] = &[
+    LayoutBinding {
+        set: 0,
+        binding: 0,
+        ty: DescriptorKind::UniformBuffer,
+        stages: vk::ShaderStageFlags::from_raw(
+            vk::ShaderStageFlags::VERTEX.as_raw()
+                | vk::ShaderStageFlags::TESSELLATION_CONTROL.as_raw()
+                | vk::ShaderStageFlags::TESSELLATION_EVALUATION.as_raw()
+                | vk::ShaderStageFlags::GEOMETRY.as_raw()
+                | vk::ShaderStageFlags::FRAGMENT.as_raw(),
+        ),
+    },
+    LayoutBinding {
+        set: 0,
+        binding: 1,
+        ty: DescriptorKind::CombinedImageSampler,
+        stages: vk::ShaderStageFlags::FRAGMENT,
+    },
+];
 
 /// The shaders of each pipeline, for creation and for the reflection test.
 pub const BLADE_STAGES: &[&Spirv] = &[
@@ -32,6 +41,14 @@ pub const BLADE_STAGES: &[&Spirv] = &[
     &shaders::BLADE_BLADE_TESE,
     &shaders::BLADE_BLADE_GEOM,
     &shaders::BLADE_BLADE_FRAG,
+];
+/// The shadow pass draws the blades through the same stages up to the
+/// geometry shader (their real deformed shape and LOD), depth only.
+pub const SHADOW_STAGES: &[&Spirv] = &[
+    &shaders::BLADE_BLADE_VERT,
+    &shaders::BLADE_BLADE_TESC,
+    &shaders::BLADE_BLADE_TESE,
+    &shaders::BLADE_BLADE_GEOM,
 ];
 pub const SKY_STAGES: &[&Spirv] = &[&shaders::BACKDROP_SKY_VERT, &shaders::BACKDROP_SKY_FRAG];
 pub const GROUND_STAGES: &[&Spirv] = &[
@@ -67,6 +84,8 @@ pub struct RenderPipelines {
     pub set_layout: vk::DescriptorSetLayout,
     pub layout: vk::PipelineLayout,
     pub blade: vk::Pipeline,
+    /// Depth-only blades into the shadow map (None when shadows are off).
+    pub shadow: Option<vk::Pipeline>,
     pub sky: vk::Pipeline,
     pub ground: vk::Pipeline,
 }
@@ -80,10 +99,12 @@ struct PipelineDesc<'a> {
     vertex_attributes: &'a [vk::VertexInputAttributeDescription],
     patch_control_points: u32,
     depth_test: bool,
+    /// Render into the shadow map: no colour, one sample, depth bias.
+    shadow: bool,
 }
 
 impl RenderPipelines {
-    pub fn new(gpu: &Gpu, formats: TargetFormats) -> Result<Self> {
+    pub fn new(gpu: &Gpu, formats: TargetFormats, shadows: bool) -> Result<Self> {
         let device = &gpu.device.raw;
         let set_layout = create_set_layout(gpu, FRAME_SET, "frame set layout")?;
         let layout = match create_pipeline_layout(gpu, set_layout, None, "render pipeline layout") {
@@ -109,6 +130,7 @@ impl RenderPipelines {
                 vertex_attributes: &BLADE_ATTRIBUTES,
                 patch_control_points: 4,
                 depth_test: true,
+                shadow: false,
             },
             PipelineDesc {
                 name: "sky pipeline",
@@ -118,6 +140,7 @@ impl RenderPipelines {
                 vertex_attributes: &[],
                 patch_control_points: 0,
                 depth_test: false,
+                shadow: false,
             },
             PipelineDesc {
                 name: "ground pipeline",
@@ -127,10 +150,22 @@ impl RenderPipelines {
                 vertex_attributes: &[],
                 patch_control_points: 0,
                 depth_test: true,
+                shadow: false,
+            },
+            PipelineDesc {
+                name: "shadow pipeline (vert/tesc/tese/geom, depth only)",
+                stages: SHADOW_STAGES,
+                topology: vk::PrimitiveTopology::PATCH_LIST,
+                vertex_bindings: &blade_binding,
+                vertex_attributes: &BLADE_ATTRIBUTES,
+                patch_control_points: 4,
+                depth_test: true,
+                shadow: true,
             },
         ];
+        let descs = if shadows { &descs[..] } else { &descs[..3] };
         let mut pipelines = Vec::new();
-        for desc in &descs {
+        for desc in descs {
             match create_pipeline(gpu, layout, formats, desc) {
                 Ok(p) => pipelines.push(p),
                 Err(e) => {
@@ -152,6 +187,7 @@ impl RenderPipelines {
             blade: pipelines[0],
             sky: pipelines[1],
             ground: pipelines[2],
+            shadow: pipelines.get(3).copied(),
         })
     }
 
@@ -162,6 +198,9 @@ impl RenderPipelines {
             device.destroy_pipeline(self.blade, None);
             device.destroy_pipeline(self.sky, None);
             device.destroy_pipeline(self.ground, None);
+            if let Some(p) = self.shadow {
+                device.destroy_pipeline(p, None);
+            }
             device.destroy_pipeline_layout(self.layout, None);
             device.destroy_descriptor_set_layout(self.set_layout, None);
         }
@@ -216,21 +255,47 @@ fn create_pipeline(
         .cull_mode(vk::CullModeFlags::NONE)
         .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
         .line_width(1.0);
+    // The shadow map is single-sampled; its depth is pushed back by a
+    // constant and a slope term so a blade does not shadow itself where it
+    // is the occluder (shadow acne).
+    let raster = if desc.shadow {
+        raster
+            .depth_bias_enable(true)
+            .depth_bias_constant_factor(2.0)
+            .depth_bias_slope_factor(2.5)
+    } else {
+        raster
+    };
+    let samples = if desc.shadow {
+        vk::SampleCountFlags::TYPE_1
+    } else {
+        formats.samples
+    };
     let multisample =
-        vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(formats.samples);
+        vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(samples);
     let depth = vk::PipelineDepthStencilStateCreateInfo::default()
         .depth_test_enable(desc.depth_test)
         .depth_write_enable(desc.depth_test)
         .depth_compare_op(vk::CompareOp::LESS);
     let blend_attachments = [vk::PipelineColorBlendAttachmentState::default()
         .color_write_mask(vk::ColorComponentFlags::RGBA)];
-    let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);
+    let blend_attachments: &[_] = if desc.shadow {
+        &[]
+    } else {
+        &blend_attachments
+    };
+    let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(blend_attachments);
     let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
     let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
     let color_formats = [formats.color];
+    let color_formats: &[_] = if desc.shadow { &[] } else { &color_formats };
     let mut rendering = vk::PipelineRenderingCreateInfo::default()
-        .color_attachment_formats(&color_formats)
-        .depth_attachment_format(formats.depth);
+        .color_attachment_formats(color_formats)
+        .depth_attachment_format(if desc.shadow {
+            super::shadow::SHADOW_FORMAT
+        } else {
+            formats.depth
+        });
 
     let mut info = vk::GraphicsPipelineCreateInfo::default()
         .stages(&stage_infos)

@@ -210,6 +210,7 @@ pub fn light(l: &Light) -> Check {
             format!("{:?} is not allowed, use values in 0..=100", l.color),
         ));
     }
+    in_range("shadow_map", l.shadow_map, 0..=MAX_IMAGE_SIDE)?;
     if !(0.0..=1.0).contains(&l.ambient) {
         return Err(FieldError::new(
             "ambient",

@@ -140,6 +140,14 @@ pub struct Light {
     pub color: [f32; 3],
     /// Share of the light that reaches everything (0..1).
     pub ambient: f32,
+    /// Side of the square shadow map in texels: the paper's 8192 by
+    /// default; smaller for quick previews, 0 for no shadows.
+    #[serde(default = "default_shadow_map")]
+    pub shadow_map: u32,
+}
+
+fn default_shadow_map() -> u32 {
+    crate::render::shadow::DEFAULT_SHADOW_MAP
 }
 
 impl Default for Light {
@@ -149,6 +157,7 @@ impl Default for Light {
             direction: [0.45, 0.75, 0.35],
             color: [1.0, 0.96, 0.86],
             ambient: 0.28,
+            shadow_map: default_shadow_map(),
         }
     }
 }

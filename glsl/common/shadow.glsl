@@ -1,0 +1,38 @@
+// The sun's shadow map (paper section 5: an 8192 x 8192 depth map from the
+// light, drawn through the same tessellation and geometry stages as the
+// blades themselves), sampled with percentage-closer filtering.
+#ifndef MEADOW_SHADOW_GLSL
+#define MEADOW_SHADOW_GLSL
+
+#include "frame.glsl"
+
+// Depth comparison in the sampler (compareOp LESS_OR_EQUAL): each tap
+// returns the bilinearly filtered fraction of texels nearer the sun than
+// the reference depth is not.
+layout(set = 0, binding = 1) uniform sampler2DShadow shadow_map;
+
+// How much sunlight reaches `world`: 1 lit, 0 in shadow. Outside the
+// map's footprint everything is lit.
+float sun_visibility(vec3 world) {
+    if (frame.shadow.y == 0.0) {
+        return 1.0;
+    }
+    vec4 clip = frame.light_view_proj * vec4(world, 1.0);
+    vec3 ndc = clip.xyz / clip.w;
+    vec2 uv = ndc.xy * 0.5 + 0.5;
+    if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0))) || ndc.z >= 1.0) {
+        return 1.0;
+    }
+    float reference = ndc.z - frame.shadow.z;
+    vec2 step_uv = vec2(frame.shadow.x * frame.shadow.w);
+    // 3 x 3 bilinear PCF taps: a soft edge some 4 texels wide.
+    float lit = 0.0;
+    for (int y = -1; y <= 1; y++) {
+        for (int x = -1; x <= 1; x++) {
+            lit += texture(shadow_map, vec3(uv + vec2(x, y) * step_uv, reference));
+        }
+    }
+    return lit / 9.0;
+}
+
+#endif
