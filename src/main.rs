@@ -113,6 +113,10 @@ enum Command {
         /// Do not write DIR/animation.gif (written when there are several frames).
         #[arg(long)]
         no_gif: bool,
+        /// Shadow map side in texels (default: the scene's, the paper's 8192;
+        /// smaller for quick previews; 0 turns shadows off).
+        #[arg(long, value_name = "TEXELS")]
+        shadow_map: Option<u32>,
         #[arg(long, default_value = "out")]
         out: PathBuf,
         #[command(flatten)]
@@ -258,10 +262,14 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             start,
             every,
             no_gif,
+            shadow_map,
             out,
             device,
         } => {
             let mut scene = Scene::load(&scene)?;
+            if let Some(n) = shadow_map {
+                scene.light.shadow_map = n;
+            }
             if let Some(n) = blades {
                 scene.set_blade_count(n)?;
             }

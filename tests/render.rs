@@ -288,3 +288,76 @@ fn motion_view_is_blue_at_rest_and_warms_as_the_wind_bends_the_blades() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Pixel (x, y) where a world point lands in a `w` x `h` frame of `scene`.
+fn project(scene: &Scene, p: Vec3, w: u32, h: u32) -> (f32, f32) {
+    let clip = meadow::render::frame_uniforms::view_projection(scene, w as f32 / h as f32, 0.0)
+        * p.extend(1.0);
+    let ndc = clip.truncate() / clip.w;
+    (
+        (ndc.x * 0.5 + 0.5) * w as f32,
+        (ndc.y * 0.5 + 0.5) * h as f32,
+    )
+}
+
+#[test]
+fn a_tall_blade_shadows_the_ground_on_the_side_away_from_the_light() {
+    let gpu = strict_gpu();
+    let mut scene = Scene::builtin("fig10-few-bunches").unwrap();
+    // Seen from above; the sun low in the +x direction (45 degrees up).
+    scene.camera.position = [0.0, 3.0, 0.6];
+    scene.camera.target = [0.0, 0.0, 0.0];
+    scene.light.direction = [1.0, 1.0, 0.0];
+    scene.light.shadow_map = 2048;
+    // One wide 1 m blade at the origin, its face to the sun (width along z).
+    let blades = [single_blade(Vec3::ZERO, Vec3::X, 0.03)];
+    let (w, h) = (320, 320);
+    let lit = render(&gpu, &scene, &blades, w, h, ViewMode::Shaded);
+    let mut unshadowed = scene.clone();
+    unshadowed.light.shadow_map = 0;
+    let plain = render(&gpu, &unshadowed, &blades, w, h, ViewMode::Shaded);
+
+    // Darkened pixels: where the shadow pass takes light away.
+    let (root_x, _) = project(&scene, Vec3::ZERO, w, h);
+    let (tip_shadow_x, _) = project(&scene, Vec3::new(-1.0, 0.0, 0.0), w, h);
+    let mut left = 0;
+    let mut right = 0;
+    for y in 0..h {
+        for x in 0..w {
+            let a = pixel(&lit, x, y).iter().map(|&c| c as i32).sum::<i32>();
+            let b = pixel(&plain, x, y).iter().map(|&c| c as i32).sum::<i32>();
+            if b - a > 30 {
+                if (x as f32) < root_x - 3.0 {
+                    left += 1;
+                } else if (x as f32) > root_x + 3.0 {
+                    right += 1;
+                }
+            }
+        }
+    }
+    // A blade 1 m tall under a 45-degree sun casts a shadow 1 m long: on
+    // the -x side, reaching about to where x = -1 lands.
+    assert!(
+        left > 100,
+        "too few shadowed pixels on the far side: {left} (light side {right})"
+    );
+    assert!(
+        right * 50 < left,
+        "shadow on the light's side: {right} vs {left}"
+    );
+    let far_end = (0..w)
+        .filter(|&x| {
+            (0..h).any(|y| {
+                let a = pixel(&lit, x, y).iter().map(|&c| c as i32).sum::<i32>();
+                let b = pixel(&plain, x, y).iter().map(|&c| c as i32).sum::<i32>();
+                b - a > 30
+            })
+        })
+        .min()
+        .unwrap() as f32;
+    assert!(
+        (far_end - tip_shadow_x).abs() < 0.1 * (root_x - tip_shadow_x),
+        "shadow ends at x = {far_end}, the tip's shadow should be near {tip_shadow_x}"
+    );
+    finish(gpu);
+}

@@ -146,7 +146,10 @@ fn frame_uniforms_match_the_glsl_block() {
         ("tess_level", offset_of!(FrameUniforms, tess_level)),
         ("ground", offset_of!(FrameUniforms, ground)),
         ("view", offset_of!(FrameUniforms, view)),
-        ("light_view_proj", offset_of!(FrameUniforms, light_view_proj)),
+        (
+            "light_view_proj",
+            offset_of!(FrameUniforms, light_view_proj),
+        ),
         ("shadow", offset_of!(FrameUniforms, shadow)),
     ];
     let glsl: Vec<(String, usize)> = members.into_iter().map(|(n, o)| (n, o as usize)).collect();

@@ -7,9 +7,16 @@
 #include "frame.glsl"
 
 // Depth comparison in the sampler (compareOp LESS_OR_EQUAL): each tap
-// returns the bilinearly filtered fraction of texels nearer the sun than
-// the reference depth is not.
-layout(set = 0, binding = 1) uniform sampler2DShadow shadow_map;
+// returns the bilinearly filtered fraction of texels not nearer the sun
+// than the reference depth. Image and sampler are bound apart (not as a
+// combined sampler2DShadow): naga's SPIR-V reader, which the reflection
+// tests use, does not take combined image samplers.
+layout(set = 0, binding = 1) uniform texture2D shadow_map;
+layout(set = 0, binding = 2) uniform samplerShadow shadow_sampler;
+
+float shadow_tap(vec2 uv, float reference) {
+    return texture(sampler2DShadow(shadow_map, shadow_sampler), vec3(uv, reference));
+}
 
 // How much sunlight reaches `world`: 1 lit, 0 in shadow. Outside the
 // map's footprint everything is lit.
@@ -26,12 +33,15 @@ float sun_visibility(vec3 world) {
     float reference = ndc.z - frame.shadow.z;
     vec2 step_uv = vec2(frame.shadow.x * frame.shadow.w);
     // 3 x 3 bilinear PCF taps: a soft edge some 4 texels wide.
-    float lit = 0.0;
-    for (int y = -1; y <= 1; y++) {
-        for (int x = -1; x <= 1; x++) {
-            lit += texture(shadow_map, vec3(uv + vec2(x, y) * step_uv, reference));
-        }
-    }
+    float lit = shadow_tap(uv, reference)
+              + shadow_tap(uv + vec2(-1.0, -1.0) * step_uv, reference)
+              + shadow_tap(uv + vec2( 0.0, -1.0) * step_uv, reference)
+              + shadow_tap(uv + vec2( 1.0, -1.0) * step_uv, reference)
+              + shadow_tap(uv + vec2(-1.0,  0.0) * step_uv, reference)
+              + shadow_tap(uv + vec2( 1.0,  0.0) * step_uv, reference)
+              + shadow_tap(uv + vec2(-1.0,  1.0) * step_uv, reference)
+              + shadow_tap(uv + vec2( 0.0,  1.0) * step_uv, reference)
+              + shadow_tap(uv + vec2( 1.0,  1.0) * step_uv, reference);
     return lit / 9.0;
 }
 

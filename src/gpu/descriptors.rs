@@ -84,12 +84,13 @@ pub fn create_pipeline_layout(
 pub enum Bound {
     /// A whole buffer (uniform or storage).
     Buffer(vk::Buffer),
-    /// An image view with its sampler, in the layout it is read in.
+    /// A sampled image view, in the layout it is read in.
     Image {
         view: vk::ImageView,
-        sampler: vk::Sampler,
         layout: vk::ImageLayout,
     },
+    /// A sampler on its own.
+    Sampler(vk::Sampler),
 }
 
 /// One descriptor set whose bindings are whole buffers (and sampled
@@ -168,20 +169,20 @@ impl BufferSet {
                     offset: 0,
                     range: vk::WHOLE_SIZE,
                 }],
-                Bound::Image { .. } => [vk::DescriptorBufferInfo::default()],
+                Bound::Image { .. } | Bound::Sampler(_) => [vk::DescriptorBufferInfo::default()],
             })
             .collect();
         let image_infos: Vec<[vk::DescriptorImageInfo; 1]> = bound
             .iter()
             .map(|r| match *r {
-                Bound::Image {
-                    view,
-                    sampler,
-                    layout,
-                } => [vk::DescriptorImageInfo {
-                    sampler,
+                Bound::Image { view, layout } => [vk::DescriptorImageInfo {
+                    sampler: vk::Sampler::null(),
                     image_view: view,
                     image_layout: layout,
+                }],
+                Bound::Sampler(sampler) => [vk::DescriptorImageInfo {
+                    sampler,
+                    ..Default::default()
                 }],
                 Bound::Buffer(_) => [vk::DescriptorImageInfo::default()],
             })
@@ -197,7 +198,7 @@ impl BufferSet {
                     .descriptor_type(b.ty.vk());
                 match r {
                     Bound::Buffer(_) => write.buffer_info(buffer_info),
-                    Bound::Image { .. } => write.image_info(image_info),
+                    Bound::Image { .. } | Bound::Sampler(_) => write.image_info(image_info),
                 }
             })
             .collect();

@@ -151,7 +151,11 @@ impl Renderer {
             gpu,
             pipelines.set_layout,
             FRAME_SET,
-            &[Bound::Buffer(uniforms.raw), shadow.binding()],
+            &[
+                Bound::Buffer(uniforms.raw),
+                shadow.bindings()[0],
+                shadow.bindings()[1],
+            ],
             "frame descriptor set",
         )?);
 

@@ -4,8 +4,8 @@
 pub mod frame;
 pub mod frame_uniforms;
 pub mod grass_pass;
-pub mod shadow;
 pub mod pipelines;
+pub mod shadow;
 pub mod simulation;
 pub mod targets;
 pub mod wind_pass;

@@ -29,7 +29,13 @@ pub const FRAME_SET: &[LayoutBinding] = &[
     LayoutBinding {
         set: 0,
         binding: 1,
-        ty: DescriptorKind::CombinedImageSampler,
+        ty: DescriptorKind::SampledImage,
+        stages: vk::ShaderStageFlags::FRAGMENT,
+    },
+    LayoutBinding {
+        set: 0,
+        binding: 2,
+        ty: DescriptorKind::Sampler,
         stages: vk::ShaderStageFlags::FRAGMENT,
     },
 ];
@@ -279,11 +285,7 @@ fn create_pipeline(
         .depth_compare_op(vk::CompareOp::LESS);
     let blend_attachments = [vk::PipelineColorBlendAttachmentState::default()
         .color_write_mask(vk::ColorComponentFlags::RGBA)];
-    let blend_attachments: &[_] = if desc.shadow {
-        &[]
-    } else {
-        &blend_attachments
-    };
+    let blend_attachments: &[_] = if desc.shadow { &[] } else { &blend_attachments };
     let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(blend_attachments);
     let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
     let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);

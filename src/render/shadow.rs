@@ -51,8 +51,10 @@ pub fn light_view_proj(scene: &Scene) -> Mat4 {
         lo_v = lo_v.min(p);
         hi_v = hi_v.max(p);
     }
-    // The view looks down -z: near is the largest z, far the smallest.
-    let near = (-hi_v.z).max(0.0);
+    // The view looks down -z from 2 radii away: the near plane at the eye
+    // keeps whatever stands above the box (a blade taller than the
+    // scene's shapes) in the map.
+    let near = 0.0;
     let far = -lo_v.z + 8.0 * radius;
     Mat4::orthographic_rh(lo_v.x, hi_v.x, lo_v.y, hi_v.y, near, far) * view
 }
@@ -65,8 +67,8 @@ pub struct ShadowMap {
     pub sampler: vk::Sampler,
     /// The frame uniforms as seen from the light.
     uniforms: Buffer,
-    /// Set 0 of the shadow pass: the light's uniforms (binding 1, the map
-    /// itself, is not read by the depth-only pipeline).
+    /// Set 0 of the shadow pass: the light's uniforms (bindings 1 and 2,
+    /// the map itself, are not read by the depth-only pipeline).
     set: Option<BufferSet>,
 }
 
@@ -84,8 +86,7 @@ impl ShadowMap {
                     height: side,
                 },
                 samples: vk::SampleCountFlags::TYPE_1,
-                usage: vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT
-                    | vk::ImageUsageFlags::SAMPLED,
+                usage: vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::SAMPLED,
                 aspect: vk::ImageAspectFlags::DEPTH,
             },
         )?;
@@ -139,7 +140,11 @@ impl ShadowMap {
             gpu,
             set_layout,
             FRAME_SET,
-            &[Bound::Buffer(map.uniforms.raw), map.binding()],
+            &[
+                Bound::Buffer(map.uniforms.raw),
+                map.bindings()[0],
+                map.bindings()[1],
+            ],
             "shadow pass descriptor set",
         ) {
             Ok(set) => map.set = Some(set),
@@ -151,13 +156,16 @@ impl ShadowMap {
         Ok(map)
     }
 
-    /// The map as the colour pass binds it.
-    pub fn binding(&self) -> Bound {
-        Bound::Image {
-            view: self.image.view,
-            sampler: self.sampler,
-            layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-        }
+    /// The map and its comparison sampler as the colour pass binds them
+    /// (bindings 1 and 2 of the frame set).
+    pub fn bindings(&self) -> [Bound; 2] {
+        [
+            Bound::Image {
+                view: self.image.view,
+                layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+            },
+            Bound::Sampler(self.sampler),
+        ]
     }
 
     /// The `shadow` vector of the frame uniforms.
