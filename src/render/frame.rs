@@ -316,34 +316,13 @@ impl Renderer {
                 .resolve_image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL);
         }
         let color_attachments = [color_attachment];
-        let depth_attachment = vk::RenderingAttachmentInfo::default()
-            .image_view(t.depth.view)
-            .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
-            .load_op(vk::AttachmentLoadOp::CLEAR)
-            .store_op(vk::AttachmentStoreOp::DONT_CARE)
-            .clear_value(vk::ClearValue {
-                depth_stencil: vk::ClearDepthStencilValue {
-                    depth: 1.0,
-                    stencil: 0,
-                },
-            });
-        let area = vk::Rect2D {
-            offset: vk::Offset2D { x: 0, y: 0 },
-            extent,
-        };
+        let depth_attachment = depth_cleared(t.depth.view, vk::AttachmentStoreOp::DONT_CARE);
+        let (area, viewport) = full_area(extent);
         let rendering = vk::RenderingInfo::default()
             .render_area(area)
             .layer_count(1)
             .color_attachments(&color_attachments)
             .depth_attachment(&depth_attachment);
-        let viewport = vk::Viewport {
-            x: 0.0,
-            y: 0.0,
-            width: extent.width as f32,
-            height: extent.height as f32,
-            min_depth: 0.0,
-            max_depth: 1.0,
-        };
         let p = &self.pipelines;
         unsafe {
             device.cmd_begin_rendering(cmd, &rendering);
@@ -443,7 +422,42 @@ impl Renderer {
     }
 }
 
-fn image_barrier(
+/// A depth attachment cleared to the far plane (1.0) on load.
+pub(crate) fn depth_cleared(
+    view: vk::ImageView,
+    store: vk::AttachmentStoreOp,
+) -> vk::RenderingAttachmentInfo<'static> {
+    vk::RenderingAttachmentInfo::default()
+        .image_view(view)
+        .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
+        .load_op(vk::AttachmentLoadOp::CLEAR)
+        .store_op(store)
+        .clear_value(vk::ClearValue {
+            depth_stencil: vk::ClearDepthStencilValue {
+                depth: 1.0,
+                stencil: 0,
+            },
+        })
+}
+
+/// The render area and viewport covering all of `extent`, depth 0..1.
+pub(crate) fn full_area(extent: vk::Extent2D) -> (vk::Rect2D, vk::Viewport) {
+    let area = vk::Rect2D {
+        offset: vk::Offset2D { x: 0, y: 0 },
+        extent,
+    };
+    let viewport = vk::Viewport {
+        x: 0.0,
+        y: 0.0,
+        width: extent.width as f32,
+        height: extent.height as f32,
+        min_depth: 0.0,
+        max_depth: 1.0,
+    };
+    (area, viewport)
+}
+
+pub(crate) fn image_barrier(
     image: &Image,
     src_stage: vk::PipelineStageFlags2,
     src_access: vk::AccessFlags2,

@@ -10,6 +10,7 @@ use glam::{Mat4, Vec3};
 use crate::error::{Result, VkResultExt};
 use crate::gpu::descriptors::{Bound, BufferSet};
 use crate::gpu::{Buffer, Gpu, Image, ImageDesc, MemoryLocation};
+use crate::render::frame::{depth_cleared, full_area, image_barrier};
 use crate::render::frame_uniforms::FrameUniforms;
 use crate::render::pipelines::FRAME_SET;
 use crate::scene::Scene;
@@ -195,65 +196,36 @@ impl ShadowMap {
         blade_count: u32,
     ) {
         let device = &gpu.device.raw;
-        let range = self.image.subresource_range();
         // The previous frame's colour pass sampled the map: its reads must
         // finish before the clear (an execution dependency suffices for a
         // read-before-write hazard).
-        let to_depth = [vk::ImageMemoryBarrier2::default()
-            .src_stage_mask(vk::PipelineStageFlags2::FRAGMENT_SHADER)
-            .src_access_mask(vk::AccessFlags2::NONE)
-            .dst_stage_mask(
-                vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS
-                    | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS,
-            )
-            .dst_access_mask(
-                vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ
-                    | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE,
-            )
-            .old_layout(vk::ImageLayout::UNDEFINED)
-            .new_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
-            .image(self.image.raw)
-            .subresource_range(range)];
-        let to_sampled = [vk::ImageMemoryBarrier2::default()
-            .src_stage_mask(
-                vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS
-                    | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS,
-            )
-            .src_access_mask(vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE)
-            .dst_stage_mask(vk::PipelineStageFlags2::FRAGMENT_SHADER)
-            .dst_access_mask(vk::AccessFlags2::SHADER_SAMPLED_READ)
-            .old_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
-            .new_layout(vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL)
-            .image(self.image.raw)
-            .subresource_range(range)];
-        let extent = self.image.extent;
-        let area = vk::Rect2D {
-            offset: vk::Offset2D { x: 0, y: 0 },
-            extent,
-        };
-        let depth_attachment = vk::RenderingAttachmentInfo::default()
-            .image_view(self.image.view)
-            .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
-            .load_op(vk::AttachmentLoadOp::CLEAR)
-            .store_op(vk::AttachmentStoreOp::STORE)
-            .clear_value(vk::ClearValue {
-                depth_stencil: vk::ClearDepthStencilValue {
-                    depth: 1.0,
-                    stencil: 0,
-                },
-            });
+        let to_depth = [image_barrier(
+            &self.image,
+            vk::PipelineStageFlags2::FRAGMENT_SHADER,
+            vk::AccessFlags2::NONE,
+            vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS
+                | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS,
+            vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ
+                | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE,
+            vk::ImageLayout::UNDEFINED,
+            vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
+        )];
+        let to_sampled = [image_barrier(
+            &self.image,
+            vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS
+                | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS,
+            vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE,
+            vk::PipelineStageFlags2::FRAGMENT_SHADER,
+            vk::AccessFlags2::SHADER_SAMPLED_READ,
+            vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
+            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+        )];
+        let (area, viewport) = full_area(self.image.extent);
+        let depth_attachment = depth_cleared(self.image.view, vk::AttachmentStoreOp::STORE);
         let rendering = vk::RenderingInfo::default()
             .render_area(area)
             .layer_count(1)
             .depth_attachment(&depth_attachment);
-        let viewport = vk::Viewport {
-            x: 0.0,
-            y: 0.0,
-            width: extent.width as f32,
-            height: extent.height as f32,
-            min_depth: 0.0,
-            max_depth: 1.0,
-        };
         let set = self.set.as_ref().expect("shadow set made in new").set;
         // SAFETY (this block): recording into the caller's command buffer;
         // the image, set, pipeline and vertex buffer are alive and owned by
