@@ -166,6 +166,8 @@ pub struct Rendered {
     pub figure: usize,
     pub label: String,
     pub dir: String,
+    /// The scene as rendered (for the parameters shown beside it).
+    pub scene: Scene,
     pub report: RenderReport,
 }
 
@@ -196,6 +198,7 @@ pub fn reproduce(
                 figure: index,
                 label: s.label.clone(),
                 dir: s.dir.clone(),
+                scene: s.scene.clone(),
                 report,
             });
         }
@@ -280,7 +283,7 @@ fn markdown(figures: &[Figure], rendered: &[Rendered], quick: bool) -> String {
         let _ = writeln!(md, "## {}\n", figure.title);
         let _ = writeln!(md, "Paper: {}\n", figure.paper);
         for r in rendered.iter().filter(|r| r.figure == i) {
-            let scene = &figure.shots.iter().find(|s| s.dir == r.dir).unwrap().scene;
+            let scene = &r.scene;
             let _ = writeln!(md, "**{}** ({})\n", r.label, scene.caption);
             for frame in &r.report.frames {
                 let _ = write!(md, "![{}]({}/{}) ", r.label, r.dir, frame);
@@ -322,13 +325,15 @@ fn html(figures: &[Figure], rendered: &[Rendered], out: &Path, quick: bool) -> R
         let _ = writeln!(h, "<h2>{}</h2>", escape(figure.title));
         let _ = writeln!(h, "<p class=\"paper\">Paper: {}</p>", escape(figure.paper));
         for r in rendered.iter().filter(|r| r.figure == i) {
-            let scene = &figure.shots.iter().find(|s| s.dir == r.dir).unwrap().scene;
+            let scene = &r.scene;
             let _ = writeln!(
                 h,
                 "<h3>{} <small>({})</small></h3>",
                 escape(&r.label),
                 escape(&scene.caption)
             );
+            // Every frame of a shot is written (no --every): the n-th file
+            // is frame n.
             for (frame, time) in r.report.frames.iter().zip(0..) {
                 let path = out.join(&r.dir).join(frame);
                 let png = std::fs::read(&path).map_err(|e| crate::Error::io(&path, e))?;

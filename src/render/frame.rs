@@ -147,15 +147,12 @@ impl Renderer {
             vk::BufferUsageFlags::UNIFORM_BUFFER,
             MemoryLocation::CpuToGpu,
         )?);
+        let [map_binding, sampler_binding] = shadow.bindings();
         p.frame_set = Some(BufferSet::with(
             gpu,
             pipelines.set_layout,
             FRAME_SET,
-            &[
-                Bound::Buffer(uniforms.raw),
-                shadow.bindings()[0],
-                shadow.bindings()[1],
-            ],
+            &[Bound::Buffer(uniforms.raw), map_binding, sampler_binding],
             "frame descriptor set",
         )?);
 

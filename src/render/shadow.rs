@@ -137,14 +137,15 @@ impl ShadowMap {
             uniforms,
             set: None,
         };
+        let [map_binding, sampler_binding] = map.bindings();
         match BufferSet::with(
             gpu,
             set_layout,
             FRAME_SET,
             &[
                 Bound::Buffer(map.uniforms.raw),
-                map.bindings()[0],
-                map.bindings()[1],
+                map_binding,
+                sampler_binding,
             ],
             "shadow pass descriptor set",
         ) {
