@@ -11,7 +11,7 @@ use meadow::gpu::descriptors::LayoutBinding;
 use meadow::reflect::{self, Binding};
 use meadow::render::grass_pass::{GrassPush, GRASS_SET};
 use meadow::render::pipelines::{
-    BLADE_ATTRIBUTES, BLADE_STAGES, FRAME_SET, GROUND_STAGES, SHADOW_STAGES, SKY_STAGES,
+    BLADE_ATTRIBUTES, BLADE_STAGES, FRAME_SET, GROUND_STAGES, SHADOW_SET, SHADOW_STAGES, SKY_STAGES,
 };
 use meadow::render::wind_pass::{GpuWindSource, WindPush, WIND_KERNELS, WIND_SET};
 use meadow::render::FrameUniforms;
@@ -102,7 +102,7 @@ fn descriptor_layouts_match_reflection() {
         .collect();
     check_pipeline("colour pass", &colour_pass, FRAME_SET);
     // The shadow pass: the blade stages up to the geometry shader.
-    check_pipeline("shadow", SHADOW_STAGES, &FRAME_SET[..1]);
+    check_pipeline("shadow", SHADOW_STAGES, SHADOW_SET);
     // The five wind kernels share one set layout.
     check_pipeline("wind", &WIND_KERNELS, WIND_SET);
     check_pipeline("grass", &[&shaders::GRASS_STEP_COMP], GRASS_SET);

@@ -1,9 +1,11 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// Ground: soil with a little low-frequency variation, lit by the sun and
-// darkened where the grass shadows it.
+// Ground: the soil texture, tiled, with a slow brightness variation over
+// it so the tiling does not show, lit by the sun and darkened where the
+// grass shadows it.
 #include "frame.glsl"
 #include "shadow.glsl"
+#include "surfaces.glsl"
 
 layout(location = 0) in vec3 v_world;
 layout(location = 0) out vec4 out_color;
@@ -20,8 +22,8 @@ float value_noise(vec2 p) {
 }
 
 void main() {
-    float n = 0.6 * value_noise(v_world.xz * 1.7) + 0.4 * value_noise(v_world.xz * 7.3);
-    vec3 albedo = mix(vec3(0.075, 0.050, 0.025), vec3(0.14, 0.11, 0.05), n);
+    vec3 soil = texture(sampler2D(ground_texture, surface_sampler), v_world.xz / GROUND_TILE_M).rgb;
+    vec3 albedo = soil * mix(0.85, 1.1, value_noise(v_world.xz * 0.37));
     float lambert = max(frame.light_dir.y, 0.0);
     vec3 lit = albedo * (frame.light_dir.w + frame.light_color.rgb * lambert * sun_visibility(v_world));
     out_color = vec4(lit, 1.0);

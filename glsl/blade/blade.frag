@@ -2,10 +2,11 @@
 #extension GL_GOOGLE_include_directive : require
 // Fragment stage: two-sided lighting of the blade (the normal is flipped on
 // back faces, and light passes through to the back a little), shadows from
-// the sun's shadow map, a procedural grass colour along the blade, and
-// debug views.
+// the sun's shadow map, the grass texture along the blade tinted per blade,
+// and debug views.
 #include "frame.glsl"
 #include "shadow.glsl"
+#include "surfaces.glsl"
 
 layout(location = 0) in vec3 g_world;
 layout(location = 1) in vec3 g_normal;
@@ -16,14 +17,14 @@ layout(location = 5) flat in float g_motion;
 
 layout(location = 0) out vec4 out_color;
 
-vec3 grass_albedo(float v, float r) {
-    // Darker and bluer at the root, lighter and yellower toward the tip;
-    // each blade shifts a little (r) so a meadow is not one flat colour.
-    vec3 root = mix(vec3(0.030, 0.085, 0.012), vec3(0.045, 0.095, 0.010), r);
-    vec3 tip = mix(vec3(0.20, 0.42, 0.05), vec3(0.42, 0.48, 0.10), r);
-    // Fine veins along the blade.
-    float vein = 0.92 + 0.08 * cos(g_uv.x * 6.2831853 * 3.0);
-    return mix(root, tip, smoothstep(0.0, 1.0, v)) * vein;
+vec3 grass_albedo(vec2 uv, float r) {
+    // The texture is the meadow's average blade (dark root, light tip,
+    // midrib and veins); each blade is tinted by its random number r,
+    // fresher green or yellower, more toward the tip, so a meadow is not
+    // one flat colour.
+    vec3 base = texture(sampler2D(grass_texture, surface_sampler), uv).rgb;
+    vec3 tint = mix(vec3(0.70, 0.93, 0.70), vec3(1.35, 1.07, 1.30), r);
+    return base * mix(vec3(1.0), tint, uv.y);
 }
 
 vec3 lod_color(float level) {
@@ -52,7 +53,7 @@ void main() {
     } else if (frame.view.x == VIEW_MOTION) {
         albedo = mix(vec3(0.05, 0.15, 0.6), vec3(0.9, 0.1, 0.05), clamp(g_motion / 0.6, 0.0, 1.0));
     } else {
-        albedo = grass_albedo(g_uv.y, g_blade_rand);
+        albedo = grass_albedo(g_uv, g_blade_rand);
     }
     // The sun reaches both faces only where the shadow map says it is not
     // blocked (by this blade, its neighbours, or the tuft in front).

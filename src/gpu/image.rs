@@ -1,4 +1,5 @@
-//! 2D images with one view each: render targets and (later) textures.
+//! 2D images with one view each: render targets, the shadow map and the
+//! mipmapped surface textures.
 
 use ash::vk;
 use gpu_allocator::vulkan::Allocation;
@@ -14,6 +15,7 @@ pub struct Image {
     pub extent: vk::Extent2D,
     pub samples: vk::SampleCountFlags,
     pub aspect: vk::ImageAspectFlags,
+    pub mip_levels: u32,
     allocation: Allocation,
 }
 
@@ -24,6 +26,8 @@ pub struct ImageDesc<'a> {
     pub samples: vk::SampleCountFlags,
     pub usage: vk::ImageUsageFlags,
     pub aspect: vk::ImageAspectFlags,
+    /// 1 for render targets; a full chain for textures.
+    pub mip_levels: u32,
 }
 
 impl Image {
@@ -37,7 +41,7 @@ impl Image {
                 height: desc.extent.height,
                 depth: 1,
             })
-            .mip_levels(1)
+            .mip_levels(desc.mip_levels)
             .array_layers(1)
             .samples(desc.samples)
             .tiling(vk::ImageTiling::OPTIMAL)
@@ -72,7 +76,7 @@ impl Image {
             .image(raw)
             .view_type(vk::ImageViewType::TYPE_2D)
             .format(desc.format)
-            .subresource_range(subresource_range(desc.aspect));
+            .subresource_range(subresource_range(desc.aspect, desc.mip_levels));
         let view = match unsafe { device.create_image_view(&view_info, None) } {
             Ok(v) => v,
             Err(r) => {
@@ -89,12 +93,13 @@ impl Image {
             extent: desc.extent,
             samples: desc.samples,
             aspect: desc.aspect,
+            mip_levels: desc.mip_levels,
             allocation,
         })
     }
 
     pub fn subresource_range(&self) -> vk::ImageSubresourceRange {
-        subresource_range(self.aspect)
+        subresource_range(self.aspect, self.mip_levels)
     }
 
     pub fn destroy(self, gpu: &Gpu) {
@@ -107,11 +112,11 @@ impl Image {
     }
 }
 
-pub fn subresource_range(aspect: vk::ImageAspectFlags) -> vk::ImageSubresourceRange {
+pub fn subresource_range(aspect: vk::ImageAspectFlags, levels: u32) -> vk::ImageSubresourceRange {
     vk::ImageSubresourceRange {
         aspect_mask: aspect,
         base_mip_level: 0,
-        level_count: 1,
+        level_count: levels,
         base_array_layer: 0,
         layer_count: 1,
     }

@@ -13,6 +13,7 @@ use crate::render::frame_uniforms::FrameUniforms;
 use crate::render::pipelines::{RenderPipelines, FRAME_SET};
 use crate::render::shadow::ShadowMap;
 use crate::render::targets::{choose_samples, RenderTargets};
+use crate::render::textures::SurfaceTextures;
 use crate::sim::{Blade, BladeVertex};
 
 /// A finished frame on the host.
@@ -30,6 +31,7 @@ pub struct Renderer {
     pub targets: RenderTargets,
     pipelines: RenderPipelines,
     shadow: ShadowMap,
+    textures: SurfaceTextures,
     frame_set: BufferSet,
     uniforms: Buffer,
     /// The blades' control points: the vertex buffer of the blade pipeline.
@@ -45,6 +47,7 @@ struct Partial {
     targets: Option<RenderTargets>,
     pipelines: Option<RenderPipelines>,
     shadow: Option<ShadowMap>,
+    textures: Option<SurfaceTextures>,
     frame_set: Option<BufferSet>,
     uniforms: Option<Buffer>,
     blade_vertices: Option<Buffer>,
@@ -67,6 +70,9 @@ impl Partial {
             x.destroy(gpu);
         }
         if let Some(x) = self.frame_set {
+            x.destroy(gpu);
+        }
+        if let Some(x) = self.textures {
             x.destroy(gpu);
         }
         if let Some(x) = self.shadow {
@@ -136,9 +142,11 @@ impl Renderer {
                 "--shadow-map {shadow_map} is larger than this device's largest image ({max_side}); use 0..={max_side}"
             )));
         }
-        let shadow = p
-            .shadow
-            .insert(ShadowMap::new(gpu, shadow_map, pipelines.set_layout)?);
+        let shadow = p.shadow.insert(ShadowMap::new(
+            gpu,
+            shadow_map,
+            pipelines.shadow_set_layout,
+        )?);
 
         let uniforms = p.uniforms.insert(Buffer::new(
             gpu,
@@ -147,18 +155,27 @@ impl Renderer {
             vk::BufferUsageFlags::UNIFORM_BUFFER,
             MemoryLocation::CpuToGpu,
         )?);
+        let commands = p.commands.insert(Commands::new(gpu, "frame commands")?);
+        let textures = p.textures.insert(SurfaceTextures::new(gpu, commands)?);
         let [map_binding, sampler_binding] = shadow.bindings();
+        let [grass_binding, ground_binding, surface_sampler] = textures.bindings();
         p.frame_set = Some(BufferSet::with(
             gpu,
             pipelines.set_layout,
             FRAME_SET,
-            &[Bound::Buffer(uniforms.raw), map_binding, sampler_binding],
+            &[
+                Bound::Buffer(uniforms.raw),
+                map_binding,
+                sampler_binding,
+                grass_binding,
+                ground_binding,
+                surface_sampler,
+            ],
             "frame descriptor set",
         )?);
 
         let vertices: Vec<BladeVertex> = blades.iter().flat_map(Blade::vertices).collect();
         p.statistics = Some(StatisticsQuery::new(gpu)?);
-        let commands = p.commands.insert(Commands::new(gpu, "frame commands")?);
         // The grass dynamics (compute) writes this buffer in place each
         // step; the draw reads it as its vertex buffer. Device-local; the
         // rest shape is uploaded once here.
@@ -179,6 +196,7 @@ impl Renderer {
             targets: p.targets.unwrap(),
             pipelines: p.pipelines.unwrap(),
             shadow: p.shadow.unwrap(),
+            textures: p.textures.unwrap(),
             frame_set: p.frame_set.unwrap(),
             uniforms: p.uniforms.unwrap(),
             blade_vertices: p.blade_vertices.unwrap(),
@@ -217,7 +235,7 @@ impl Renderer {
             gpu,
             cmd,
             self.pipelines.shadow,
-            self.pipelines.layout,
+            self.pipelines.shadow_layout,
             self.blade_vertices.raw,
             self.blade_count,
         );
@@ -409,6 +427,7 @@ impl Renderer {
             targets: Some(self.targets),
             pipelines: Some(self.pipelines),
             shadow: Some(self.shadow),
+            textures: Some(self.textures),
             frame_set: Some(self.frame_set),
             uniforms: Some(self.uniforms),
             blade_vertices: Some(self.blade_vertices),

@@ -8,6 +8,8 @@ pub mod pipelines;
 pub mod shadow;
 pub mod simulation;
 pub mod targets;
+pub mod texture_maps;
+pub mod textures;
 pub mod wind_pass;
 pub mod wind_slices;
 

@@ -11,8 +11,10 @@ use crate::reflect::DescriptorKind;
 use crate::shaders::{self, Spirv};
 use crate::sim::BladeVertex;
 
-/// Set 0 of every render pipeline: the per-frame uniforms and the sun's
-/// shadow map (read by the fragment stages of the colour pass).
+/// Set 0 of every render pipeline: the per-frame uniforms, the sun's
+/// shadow map, and the grass and soil textures (the last five read by the
+/// fragment stages of the colour pass). Images and samplers are bound apart
+/// (glsl/common/shadow.glsl says why).
 pub const FRAME_SET: &[LayoutBinding] = &[
     LayoutBinding {
         set: 0,
@@ -38,7 +40,32 @@ pub const FRAME_SET: &[LayoutBinding] = &[
         ty: DescriptorKind::Sampler,
         stages: vk::ShaderStageFlags::FRAGMENT,
     },
+    LayoutBinding {
+        set: 0,
+        binding: 3,
+        ty: DescriptorKind::SampledImage,
+        stages: vk::ShaderStageFlags::FRAGMENT,
+    },
+    LayoutBinding {
+        set: 0,
+        binding: 4,
+        ty: DescriptorKind::SampledImage,
+        stages: vk::ShaderStageFlags::FRAGMENT,
+    },
+    LayoutBinding {
+        set: 0,
+        binding: 5,
+        ty: DescriptorKind::Sampler,
+        stages: vk::ShaderStageFlags::FRAGMENT,
+    },
 ];
+
+/// Set 0 of the shadow pass: the light's uniforms alone. A layout of its
+/// own rather than the frame set partly written: the depth-only pipeline
+/// reads nothing else, and lavapipe crashes drawing with a bound set whose
+/// unused image bindings were never written (legal Vulkan, but nothing is
+/// gained by it).
+pub const SHADOW_SET: &[LayoutBinding] = FRAME_SET.split_at(1).0;
 
 /// The shaders of each pipeline, for creation and for the reflection test.
 pub const BLADE_STAGES: &[&Spirv] = &[
@@ -89,6 +116,8 @@ pub struct TargetFormats {
 pub struct RenderPipelines {
     pub set_layout: vk::DescriptorSetLayout,
     pub layout: vk::PipelineLayout,
+    pub shadow_set_layout: vk::DescriptorSetLayout,
+    pub shadow_layout: vk::PipelineLayout,
     pub blade: vk::Pipeline,
     /// Depth-only blades into the shadow map (None when shadows are off).
     pub shadow: Option<vk::Pipeline>,
@@ -112,12 +141,11 @@ struct PipelineDesc<'a> {
 impl RenderPipelines {
     pub fn new(gpu: &Gpu, formats: TargetFormats, shadows: bool) -> Result<Self> {
         let device = &gpu.device.raw;
-        let set_layout = create_set_layout(gpu, FRAME_SET, "frame set layout")?;
-        let layout = match create_pipeline_layout(gpu, set_layout, None, "render pipeline layout") {
+        let (set_layout, layout) = layouts(gpu, FRAME_SET, "frame")?;
+        let (shadow_set_layout, shadow_layout) = match layouts(gpu, SHADOW_SET, "shadow pass") {
             Ok(l) => l,
             Err(e) => {
-                // SAFETY: nothing uses the set layout yet.
-                unsafe { device.destroy_descriptor_set_layout(set_layout, None) };
+                destroy_layouts(gpu, set_layout, layout);
                 return Err(e);
             }
         };
@@ -172,17 +200,18 @@ impl RenderPipelines {
         let descs = if shadows { &descs[..] } else { &descs[..3] };
         let mut pipelines = Vec::new();
         for desc in descs {
-            match create_pipeline(gpu, layout, formats, desc) {
+            let pipeline_layout = if desc.shadow { shadow_layout } else { layout };
+            match create_pipeline(gpu, pipeline_layout, formats, desc) {
                 Ok(p) => pipelines.push(p),
                 Err(e) => {
-                    // SAFETY: nothing has used these objects yet.
+                    // SAFETY: nothing has used these pipelines yet.
                     unsafe {
                         for p in pipelines {
                             device.destroy_pipeline(p, None);
                         }
-                        device.destroy_pipeline_layout(layout, None);
-                        device.destroy_descriptor_set_layout(set_layout, None);
                     }
+                    destroy_layouts(gpu, shadow_set_layout, shadow_layout);
+                    destroy_layouts(gpu, set_layout, layout);
                     return Err(e);
                 }
             }
@@ -190,6 +219,8 @@ impl RenderPipelines {
         Ok(Self {
             set_layout,
             layout,
+            shadow_set_layout,
+            shadow_layout,
             blade: pipelines[0],
             sky: pipelines[1],
             ground: pipelines[2],
@@ -207,9 +238,41 @@ impl RenderPipelines {
             if let Some(p) = self.shadow {
                 device.destroy_pipeline(p, None);
             }
-            device.destroy_pipeline_layout(self.layout, None);
-            device.destroy_descriptor_set_layout(self.set_layout, None);
         }
+        destroy_layouts(gpu, self.shadow_set_layout, self.shadow_layout);
+        destroy_layouts(gpu, self.set_layout, self.layout);
+    }
+}
+
+/// A set layout of `bindings` and the pipeline layout of that one set.
+fn layouts(
+    gpu: &Gpu,
+    bindings: &[LayoutBinding],
+    name: &str,
+) -> Result<(vk::DescriptorSetLayout, vk::PipelineLayout)> {
+    let set_layout = create_set_layout(gpu, bindings, &format!("{name} set layout"))?;
+    match create_pipeline_layout(gpu, set_layout, None, &format!("{name} pipeline layout")) {
+        Ok(layout) => Ok((set_layout, layout)),
+        Err(e) => {
+            // SAFETY: nothing uses the set layout yet.
+            unsafe {
+                gpu.device
+                    .raw
+                    .destroy_descriptor_set_layout(set_layout, None)
+            };
+            Err(e)
+        }
+    }
+}
+
+fn destroy_layouts(gpu: &Gpu, set_layout: vk::DescriptorSetLayout, layout: vk::PipelineLayout) {
+    // SAFETY: the owner guarantees no pipeline or command buffer in flight
+    // still uses them.
+    unsafe {
+        gpu.device.raw.destroy_pipeline_layout(layout, None);
+        gpu.device
+            .raw
+            .destroy_descriptor_set_layout(set_layout, None);
     }
 }
 

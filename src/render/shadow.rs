@@ -12,7 +12,7 @@ use crate::gpu::descriptors::{Bound, BufferSet};
 use crate::gpu::{Buffer, Gpu, Image, ImageDesc, MemoryLocation};
 use crate::render::frame::{depth_cleared, full_area, image_barrier};
 use crate::render::frame_uniforms::FrameUniforms;
-use crate::render::pipelines::FRAME_SET;
+use crate::render::pipelines::SHADOW_SET;
 use crate::scene::Scene;
 
 pub const SHADOW_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
@@ -68,8 +68,8 @@ pub struct ShadowMap {
     pub sampler: vk::Sampler,
     /// The frame uniforms as seen from the light.
     uniforms: Buffer,
-    /// Set 0 of the shadow pass: the light's uniforms (bindings 1 and 2,
-    /// the map itself, are not read by the depth-only pipeline).
+    /// Set 0 of the shadow pass: the light's uniforms only (the other
+    /// bindings are read by fragment shaders, which this pass has none of).
     set: Option<BufferSet>,
 }
 
@@ -89,6 +89,7 @@ impl ShadowMap {
                 samples: vk::SampleCountFlags::TYPE_1,
                 usage: vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::SAMPLED,
                 aspect: vk::ImageAspectFlags::DEPTH,
+                mip_levels: 1,
             },
         )?;
         // Hardware depth comparison with bilinear filtering: each tap is
@@ -137,16 +138,11 @@ impl ShadowMap {
             uniforms,
             set: None,
         };
-        let [map_binding, sampler_binding] = map.bindings();
         match BufferSet::with(
             gpu,
             set_layout,
-            FRAME_SET,
-            &[
-                Bound::Buffer(map.uniforms.raw),
-                map_binding,
-                sampler_binding,
-            ],
+            SHADOW_SET,
+            &[Bound::Buffer(map.uniforms.raw)],
             "shadow pass descriptor set",
         ) {
             Ok(set) => map.set = Some(set),

@@ -67,6 +67,7 @@ impl RenderTargets {
                     vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC
                 },
                 aspect: vk::ImageAspectFlags::COLOR,
+                mip_levels: 1,
             },
         )?;
         let rest = (|| {
@@ -80,6 +81,7 @@ impl RenderTargets {
                     usage: vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT
                         | vk::ImageUsageFlags::TRANSIENT_ATTACHMENT,
                     aspect: vk::ImageAspectFlags::DEPTH,
+                    mip_levels: 1,
                 },
             )?;
             let resolve = if multisampled {
@@ -93,6 +95,7 @@ impl RenderTargets {
                         usage: vk::ImageUsageFlags::COLOR_ATTACHMENT
                             | vk::ImageUsageFlags::TRANSFER_SRC,
                         aspect: vk::ImageAspectFlags::COLOR,
+                        mip_levels: 1,
                     },
                 ) {
                     Ok(i) => Some(i),
