@@ -203,8 +203,8 @@ mod tests {
     fn linear_mean(img: &RgbaImage) -> [f32; 3] {
         let mut m = [0.0f64; 3];
         for p in img.pixels() {
-            for c in 0..3 {
-                m[c] += srgb_to_linear(p.0[c]) as f64;
+            for (sum, &c) in m.iter_mut().zip(&p.0[..3]) {
+                *sum += srgb_to_linear(c) as f64;
             }
         }
         let n = (img.width() * img.height()) as f64;
