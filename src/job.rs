@@ -7,7 +7,7 @@ use std::time::Instant;
 
 use crate::error::{Error, Result};
 use crate::gpu::commands::Commands;
-use crate::gpu::timing::PipelineStatistics;
+use crate::gpu::timing::{FrameTimings, PipelineStatistics, TimingSummary};
 use crate::gpu::{Gpu, GpuOptions, ValidationReport};
 use crate::output;
 use crate::render::simulation::Simulation;
@@ -147,7 +147,9 @@ pub struct RenderReport {
     /// the grid), one line each.
     pub warnings: Vec<String>,
     pub pipeline_statistics: Option<PipelineStatistics>,
-    /// Wall-clock of the last frame's grass draw.
+    /// Per-phase GPU time (median, p95), wall-clock frame time and FPS.
+    pub timing: TimingSummary,
+    /// Wall-clock seconds of the whole job (GPU start-up to teardown).
     pub wall_seconds: f64,
     pub validation: ValidationReport,
 }
@@ -303,6 +305,7 @@ fn render_with(
         interrupted: done.interrupted,
         warnings,
         pipeline_statistics: done.statistics,
+        timing: TimingSummary::of(&done.gpu_timings, &done.wall_ms),
         wall_seconds: 0.0,
         validation: ValidationReport::default(),
     })
@@ -313,6 +316,8 @@ struct Animated {
     names: Vec<String>,
     gif: Option<String>,
     statistics: Option<PipelineStatistics>,
+    gpu_timings: Vec<Option<FrameTimings>>,
+    wall_ms: Vec<f64>,
     interrupted: bool,
 }
 
@@ -341,6 +346,8 @@ fn animate(
         names: Vec::new(),
         gif: None,
         statistics: None,
+        gpu_timings: Vec::new(),
+        wall_ms: Vec::new(),
         interrupted: false,
     };
     for f in request.frames_written() {
@@ -359,9 +366,14 @@ fn animate(
             request.view,
             time as f32,
         );
+        let started = Instant::now();
         let frame = renderer
-            .render_after(gpu, &uniforms, |cmd| simulation.record(gpu, cmd, steps))
+            .render_after(gpu, &uniforms, steps, |cmd, timer| {
+                simulation.record(gpu, cmd, steps, timer)
+            })
             .map_err(at_frame)?;
+        done.wall_ms.push(started.elapsed().as_secs_f64() * 1e3);
+        done.gpu_timings.push(frame.timings);
         let name = format!("frame_{f:04}.png");
         output::write_png(&out_dir.join(&name), &frame)?;
         if let Some(gif) = gif.as_mut() {

@@ -322,6 +322,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                     report.validation.errors, report.validation.warnings
                 );
             }
+            print!("{}", report.timing.table());
             println!(
                 "simulated {:.2} s in {} steps of {:.4} s ({} substeps each)",
                 report.sim_steps as f64 * report.sim_dt as f64,

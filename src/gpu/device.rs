@@ -106,8 +106,12 @@ pub fn enumerate(instance: &Instance, pretend_missing: &[String]) -> Result<Vec<
                     .contains(vk::QueueFlags::GRAPHICS | vk::QueueFlags::COMPUTE)
             })
             .map(|i| i as u32);
+        // Optional features: meadow runs without them and says what it
+        // cannot report. `pretend_missing` turns them off for tests too.
+        let pretend = |name: &str| pretend_missing.iter().any(|p| p == name);
         let timestamps = properties.limits.timestamp_compute_and_graphics == vk::TRUE
-            && queue_family.is_some_and(|q| families[q as usize].timestamp_valid_bits > 0);
+            && queue_family.is_some_and(|q| families[q as usize].timestamp_valid_bits > 0)
+            && !pretend("timestamps");
         let name = properties
             .device_name_as_c_str()
             .map(|s| s.to_string_lossy().into_owned())
@@ -132,7 +136,8 @@ pub fn enumerate(instance: &Instance, pretend_missing: &[String]) -> Result<Vec<
             driver: format!("{driver_name} {driver_info}").trim().to_string(),
             missing: missing_feature(&core, &v13, api, queue_family, pretend_missing),
             max_msaa,
-            pipeline_statistics: core.pipeline_statistics_query == vk::TRUE,
+            pipeline_statistics: core.pipeline_statistics_query == vk::TRUE
+                && !pretend("pipelineStatisticsQuery"),
             timestamps,
         };
         adapters.push(Adapter {

@@ -28,9 +28,11 @@ pub struct GpuOptions {
     pub validation: ValidationOptions,
     /// Pick the first device whose name contains this (case-insensitive).
     pub device_name: Option<String>,
-    /// Treat these features as absent (tests of the refusal path):
-    /// e.g. "tessellationShader". Also read from MEADOW_PRETEND_MISSING
-    /// (comma-separated) by the binary.
+    /// Treat these features as absent (tests of the refusal and fallback
+    /// paths): a required one such as "tessellationShader" makes the device
+    /// unusable; the optional "timestamps" and "pipelineStatisticsQuery"
+    /// make timings and statistics report as unavailable. Also read from
+    /// MEADOW_PRETEND_MISSING (comma-separated) by the binary.
     pub pretend_missing: Vec<String>,
     /// The most device memory (bytes) one piece of work may ask for; the
     /// default is half the largest device-local heap. For sharing a GPU, and

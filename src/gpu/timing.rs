@@ -1,5 +1,6 @@
 //! GPU queries: pipeline statistics around the grass draw, which prove the
-//! level of detail (segments per blade) and count the work each stage did.
+//! level of detail (segments per blade) and count the work each stage did;
+//! timestamps around each phase of a frame.
 
 use ash::vk;
 
@@ -199,6 +200,244 @@ impl TimestampQueries {
     }
 }
 
+/// The phases of a frame that are timed apart. `GrassDraw` lies inside
+/// `Colour` (the blade draw alone, without sky and ground, for the floor
+/// comparison); `Frame` spans everything.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Phase {
+    /// Wind solver steps (forces, advection, divergence, Jacobi, projection).
+    Wind,
+    /// Grass dynamics steps (swing, bend, twist).
+    Grass,
+    /// The depth-only pass from the sun into the shadow map.
+    Shadow,
+    /// Sky, ground and grass into the multisampled image, resolved at the
+    /// end of the pass.
+    Colour,
+    /// The blade draw alone (vert/tesc/tese/geom/frag), inside `Colour`.
+    GrassDraw,
+    /// The copy of the resolved image into the host-visible buffer.
+    Readback,
+    /// From the first command of the frame to the last.
+    Frame,
+}
+
+impl Phase {
+    pub const ALL: [Phase; 7] = [
+        Phase::Wind,
+        Phase::Grass,
+        Phase::Shadow,
+        Phase::Colour,
+        Phase::GrassDraw,
+        Phase::Readback,
+        Phase::Frame,
+    ];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Phase::Wind => "wind",
+            Phase::Grass => "grass",
+            Phase::Shadow => "shadow",
+            Phase::Colour => "colour",
+            Phase::GrassDraw => "grass_draw",
+            Phase::Readback => "readback",
+            Phase::Frame => "frame",
+        }
+    }
+}
+
+/// GPU milliseconds of one frame per phase (a phase recorded several times,
+/// such as one wind step per simulation step, is summed; one not recorded
+/// is 0: a frame with no simulation step has no wind work).
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+pub struct FrameTimings {
+    pub wind: f64,
+    pub grass: f64,
+    pub shadow: f64,
+    pub colour: f64,
+    pub grass_draw: f64,
+    pub readback: f64,
+    pub frame: f64,
+}
+
+impl FrameTimings {
+    pub fn get(&self, phase: Phase) -> f64 {
+        match phase {
+            Phase::Wind => self.wind,
+            Phase::Grass => self.grass,
+            Phase::Shadow => self.shadow,
+            Phase::Colour => self.colour,
+            Phase::GrassDraw => self.grass_draw,
+            Phase::Readback => self.readback,
+            Phase::Frame => self.frame,
+        }
+    }
+
+    fn get_mut(&mut self, phase: Phase) -> &mut f64 {
+        match phase {
+            Phase::Wind => &mut self.wind,
+            Phase::Grass => &mut self.grass,
+            Phase::Shadow => &mut self.shadow,
+            Phase::Colour => &mut self.colour,
+            Phase::GrassDraw => &mut self.grass_draw,
+            Phase::Readback => &mut self.readback,
+            Phase::Frame => &mut self.frame,
+        }
+    }
+}
+
+/// A begin/end pair handed out by `PhaseTimer::begin`.
+#[derive(Clone, Copy, Debug)]
+pub struct Span(Option<u32>);
+
+/// Timestamps around the phases of one frame: one query pool, reset at the
+/// start of each frame's command buffer, read after the frame's fence (the
+/// frame loop waits for each frame anyway, for its read-back, so reading
+/// the results never stalls the next frame). Both stamps of a pair are
+/// written at ALL_COMMANDS: a pair measures from the end of the work before
+/// it to the end of its own.
+pub struct PhaseTimer {
+    pool: vk::QueryPool,
+    capacity: u32,
+    pairs: Vec<Phase>,
+    period_ns: f64,
+    valid_mask: u64,
+}
+
+impl PhaseTimer {
+    /// Room for `pairs` pairs; `None` where the device has no timestamps.
+    pub fn new(gpu: &Gpu, pairs: u32) -> Result<Option<Self>> {
+        if !gpu.info().timestamps {
+            return Ok(None);
+        }
+        let pool = Self::create_pool(gpu, pairs)?;
+        let bits = gpu.device.timestamp_valid_bits;
+        Ok(Some(Self {
+            pool,
+            capacity: pairs,
+            pairs: Vec::new(),
+            period_ns: gpu.device.limits().timestamp_period as f64,
+            valid_mask: if bits >= 64 {
+                u64::MAX
+            } else {
+                (1u64 << bits) - 1
+            },
+        }))
+    }
+
+    fn create_pool(gpu: &Gpu, pairs: u32) -> Result<vk::QueryPool> {
+        let info = vk::QueryPoolCreateInfo::default()
+            .query_type(vk::QueryType::TIMESTAMP)
+            .query_count(2 * pairs);
+        // SAFETY: valid create info on a live device.
+        let pool = unsafe { gpu.device.raw.create_query_pool(&info, None) }
+            .vk_context("vkCreateQueryPool", "frame phase timestamps")?;
+        gpu.device.name(pool, "frame phase timestamps");
+        Ok(pool)
+    }
+
+    /// Makes room for `pairs` pairs. Only between frames: the caller has
+    /// waited for the last submission that used the pool.
+    pub fn reserve(&mut self, gpu: &Gpu, pairs: u32) -> Result<()> {
+        if pairs <= self.capacity {
+            return Ok(());
+        }
+        let capacity = pairs.max(2 * self.capacity);
+        let pool = Self::create_pool(gpu, capacity)?;
+        // SAFETY: no submission using the old pool is in flight (above).
+        unsafe { gpu.device.raw.destroy_query_pool(self.pool, None) };
+        self.pool = pool;
+        self.capacity = capacity;
+        Ok(())
+    }
+
+    /// Starts a frame: resets every query (outside any render pass).
+    pub fn reset(&mut self, gpu: &Gpu, cmd: vk::CommandBuffer) {
+        self.pairs.clear();
+        // SAFETY: recording, outside any render pass instance.
+        unsafe {
+            gpu.device
+                .raw
+                .cmd_reset_query_pool(cmd, self.pool, 0, 2 * self.capacity)
+        };
+    }
+
+    /// Writes the begin stamp of a `phase` pair (not timed when the pool
+    /// is full: `reserve` sizes it for the frame).
+    pub fn begin(&mut self, gpu: &Gpu, cmd: vk::CommandBuffer, phase: Phase) -> Span {
+        let index = self.pairs.len() as u32;
+        if index >= self.capacity {
+            return Span(None);
+        }
+        self.pairs.push(phase);
+        self.stamp(gpu, cmd, 2 * index);
+        Span(Some(index))
+    }
+
+    pub fn end(&self, gpu: &Gpu, cmd: vk::CommandBuffer, span: Span) {
+        if let Some(index) = span.0 {
+            self.stamp(gpu, cmd, 2 * index + 1);
+        }
+    }
+
+    fn stamp(&self, gpu: &Gpu, cmd: vk::CommandBuffer, query: u32) {
+        // SAFETY: the query index is within the pool and was reset in this
+        // command buffer; recording.
+        unsafe {
+            gpu.device.raw.cmd_write_timestamp2(
+                cmd,
+                vk::PipelineStageFlags2::ALL_COMMANDS,
+                self.pool,
+                query,
+            )
+        };
+    }
+
+    /// The frame's phases in ms, after its submission finished.
+    pub fn read(&self, gpu: &Gpu) -> Result<FrameTimings> {
+        let mut times = FrameTimings::default();
+        if self.pairs.is_empty() {
+            return Ok(times);
+        }
+        let mut data = vec![0u64; 2 * self.pairs.len()];
+        // SAFETY: every query in range was written by a finished submission.
+        unsafe {
+            gpu.device.raw.get_query_pool_results(
+                self.pool,
+                0,
+                &mut data,
+                vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT,
+            )
+        }
+        .vk_context("vkGetQueryPoolResults", "frame phase timestamps")?;
+        for (phase, p) in self.pairs.iter().zip(data.chunks_exact(2)) {
+            let ticks =
+                (p[1] & self.valid_mask).wrapping_sub(p[0] & self.valid_mask) & self.valid_mask;
+            *times.get_mut(*phase) += ticks as f64 * self.period_ns / 1e6;
+        }
+        Ok(times)
+    }
+
+    pub fn destroy(self, gpu: &Gpu) {
+        // SAFETY: no submission using the pool is in flight.
+        unsafe { gpu.device.raw.destroy_query_pool(self.pool, None) };
+    }
+}
+
+/// Median and 95th percentile of one quantity over many frames.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct Spread {
+    pub median: f64,
+    pub p95: f64,
+}
+
+impl Spread {
+    pub fn of(values: &[f64]) -> Option<Self> {
+        median_p95(values).map(|(median, p95)| Self { median, p95 })
+    }
+}
+
 /// Median and 95th percentile of a set of timings.
 pub fn median_p95(values: &[f64]) -> Option<(f64, f64)> {
     if values.is_empty() {
@@ -208,4 +447,113 @@ pub fn median_p95(values: &[f64]) -> Option<(f64, f64)> {
     v.sort_by(f64::total_cmp);
     let at = |q: f64| v[((v.len() - 1) as f64 * q).round() as usize];
     Some((at(0.5), at(0.95)))
+}
+
+/// Median and p95 GPU ms of each phase over a run of frames.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct PhaseSpreads {
+    pub wind: Spread,
+    pub grass: Spread,
+    pub shadow: Spread,
+    pub colour: Spread,
+    pub grass_draw: Spread,
+    pub readback: Spread,
+    pub frame: Spread,
+}
+
+impl PhaseSpreads {
+    pub fn get(&self, phase: Phase) -> Spread {
+        match phase {
+            Phase::Wind => self.wind,
+            Phase::Grass => self.grass,
+            Phase::Shadow => self.shadow,
+            Phase::Colour => self.colour,
+            Phase::GrassDraw => self.grass_draw,
+            Phase::Readback => self.readback,
+            Phase::Frame => self.frame,
+        }
+    }
+}
+
+/// Timings of a run of frames, as `report.json` and `bench.json` hold them.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct TimingSummary {
+    /// Frames the figures cover.
+    pub frames: usize,
+    /// GPU ms per phase (timestamp queries); None when unavailable, with
+    /// the reason in `gpu_unavailable` (never reported as zero).
+    pub gpu_ms: Option<PhaseSpreads>,
+    pub gpu_unavailable: Option<String>,
+    /// Wall-clock ms per frame on the host: recording, submission, the GPU
+    /// work and the wait for the read-back (not PNG encoding).
+    pub wall_frame_ms: Option<Spread>,
+    /// 1000 / the median wall-clock frame.
+    pub fps: Option<f64>,
+}
+
+impl TimingSummary {
+    /// From each frame's GPU timings (None: no timestamps on this device)
+    /// and wall-clock ms.
+    pub fn of(gpu: &[Option<FrameTimings>], wall_ms: &[f64]) -> Self {
+        let all: Option<Vec<FrameTimings>> = gpu.iter().copied().collect();
+        let gpu_ms = all.filter(|v| !v.is_empty()).map(|v| {
+            let spread = |p: Phase| {
+                Spread::of(&v.iter().map(|t| t.get(p)).collect::<Vec<_>>()).expect("not empty")
+            };
+            PhaseSpreads {
+                wind: spread(Phase::Wind),
+                grass: spread(Phase::Grass),
+                shadow: spread(Phase::Shadow),
+                colour: spread(Phase::Colour),
+                grass_draw: spread(Phase::GrassDraw),
+                readback: spread(Phase::Readback),
+                frame: spread(Phase::Frame),
+            }
+        });
+        let gpu_unavailable = match (&gpu_ms, gpu.is_empty()) {
+            (Some(_), _) => None,
+            (None, true) => Some("no frames were timed".to_string()),
+            (None, false) => Some(
+                "the device has no timestamp queries on its graphics+compute queue".to_string(),
+            ),
+        };
+        let wall = Spread::of(wall_ms);
+        Self {
+            frames: wall_ms.len(),
+            gpu_ms,
+            gpu_unavailable,
+            wall_frame_ms: wall,
+            fps: wall.filter(|w| w.median > 0.0).map(|w| 1000.0 / w.median),
+        }
+    }
+
+    /// A short table for the terminal.
+    pub fn table(&self) -> String {
+        let mut out = String::new();
+        match &self.gpu_ms {
+            Some(g) => {
+                out += &format!(
+                    "GPU ms per frame over {} frames (timestamps): phase, median, p95\n",
+                    self.frames
+                );
+                for p in Phase::ALL {
+                    let s = g.get(p);
+                    out += &format!("  {:<11} {:>9.3} {:>9.3}\n", p.name(), s.median, s.p95);
+                }
+            }
+            None => {
+                out += &format!(
+                    "GPU time per phase: unavailable ({})\n",
+                    self.gpu_unavailable.as_deref().unwrap_or("unknown")
+                );
+            }
+        }
+        if let (Some(w), Some(fps)) = (self.wall_frame_ms, self.fps) {
+            out += &format!(
+                "wall clock per frame: median {:.3} ms, p95 {:.3} ms ({fps:.2} FPS)\n",
+                w.median, w.p95
+            );
+        }
+        out
+    }
 }

@@ -7,7 +7,7 @@ use ash::vk;
 use crate::error::{Error, Result};
 use crate::gpu::commands::Commands;
 use crate::gpu::descriptors::{Bound, BufferSet};
-use crate::gpu::timing::{PipelineStatistics, StatisticsQuery};
+use crate::gpu::timing::{FrameTimings, Phase, PhaseTimer, PipelineStatistics, StatisticsQuery};
 use crate::gpu::{Buffer, Gpu, Image, MemoryLocation};
 use crate::render::frame_uniforms::FrameUniforms;
 use crate::render::pipelines::{RenderPipelines, FRAME_SET};
@@ -24,6 +24,8 @@ pub struct Frame {
     pub rgba: Vec<u8>,
     /// Counters of the grass draw alone (None where unsupported).
     pub statistics: Option<PipelineStatistics>,
+    /// GPU time of each phase (None where the device has no timestamps).
+    pub timings: Option<FrameTimings>,
 }
 
 /// Everything one offscreen view of the grass needs on the GPU.
@@ -38,6 +40,7 @@ pub struct Renderer {
     pub blade_vertices: Buffer,
     blade_count: u32,
     statistics: StatisticsQuery,
+    timer: Option<PhaseTimer>,
     commands: Commands,
 }
 
@@ -52,6 +55,7 @@ struct Partial {
     uniforms: Option<Buffer>,
     blade_vertices: Option<Buffer>,
     statistics: Option<StatisticsQuery>,
+    timer: Option<PhaseTimer>,
     commands: Option<Commands>,
 }
 
@@ -61,6 +65,9 @@ impl Partial {
             x.destroy(gpu);
         }
         if let Some(x) = self.statistics {
+            x.destroy(gpu);
+        }
+        if let Some(x) = self.timer {
             x.destroy(gpu);
         }
         if let Some(x) = self.blade_vertices {
@@ -176,6 +183,7 @@ impl Renderer {
 
         let vertices: Vec<BladeVertex> = blades.iter().flat_map(Blade::vertices).collect();
         p.statistics = Some(StatisticsQuery::new(gpu)?);
+        p.timer = PhaseTimer::new(gpu, 16)?;
         // The grass dynamics (compute) writes this buffer in place each
         // step; the draw reads it as its vertex buffer. Device-local; the
         // rest shape is uploaded once here.
@@ -202,6 +210,7 @@ impl Renderer {
             blade_vertices: p.blade_vertices.unwrap(),
             blade_count,
             statistics: p.statistics.unwrap(),
+            timer: p.timer,
             commands: p.commands.unwrap(),
         })
     }
@@ -213,24 +222,41 @@ impl Renderer {
 
     /// Renders one frame and reads it back.
     pub fn render(&mut self, gpu: &Gpu, uniforms: &FrameUniforms) -> Result<Frame> {
-        self.render_after(gpu, uniforms, |_| {})
+        self.render_after(gpu, uniforms, 0, |_, _| {})
     }
 
-    /// Records `simulate` (the wind and grass steps, which end with the
-    /// blade vertices visible to the vertex input stage) and then the frame
-    /// into one command buffer, submits it and reads the frame back.
+    /// Records `simulate` (`steps` wind and grass steps, which end with the
+    /// blade vertices visible to the vertex input stage; it is handed the
+    /// phase timer to time them) and then the frame into one command
+    /// buffer, submits it and reads the frame back.
     pub fn render_after(
         &mut self,
         gpu: &Gpu,
         uniforms: &FrameUniforms,
-        simulate: impl FnOnce(vk::CommandBuffer),
+        steps: u64,
+        simulate: impl FnOnce(vk::CommandBuffer, Option<&mut PhaseTimer>),
     ) -> Result<Frame> {
         let mut uniforms = *uniforms;
         uniforms.shadow = self.shadow.params();
         self.uniforms.write(0, std::slice::from_ref(&uniforms));
         self.shadow.write_uniforms(&uniforms);
+        // Two pairs per simulation step, five for the frame's own phases.
+        if let Some(timer) = self.timer.as_mut() {
+            let pairs = u32::try_from(steps.saturating_mul(2).saturating_add(5)).map_err(|_| {
+                Error::InvalidInput(format!(
+                    "{steps} simulation steps in one frame are too many to time"
+                ))
+            })?;
+            timer.reserve(gpu, pairs)?;
+        }
         let cmd = self.commands.begin(gpu)?;
-        simulate(cmd);
+        let mut timer = self.timer.take();
+        let frame_span = timer.as_mut().map(|t| {
+            t.reset(gpu, cmd);
+            t.begin(gpu, cmd, Phase::Frame)
+        });
+        simulate(cmd, timer.as_mut());
+        let span = timer.as_mut().map(|t| t.begin(gpu, cmd, Phase::Shadow));
         self.shadow.record(
             gpu,
             cmd,
@@ -239,9 +265,20 @@ impl Renderer {
             self.blade_vertices.raw,
             self.blade_count,
         );
-        self.record(gpu, cmd);
+        if let (Some(t), Some(span)) = (&timer, span) {
+            t.end(gpu, cmd, span);
+        }
+        self.record(gpu, cmd, timer.as_mut());
+        if let (Some(t), Some(span)) = (&timer, frame_span) {
+            t.end(gpu, cmd, span);
+        }
+        self.timer = timer;
         self.commands.submit_and_wait(gpu, "rendering a frame")?;
         let statistics = self.statistics.read(gpu)?;
+        let timings = match &self.timer {
+            Some(t) => Some(t.read(gpu)?),
+            None => None,
+        };
         let extent = self.targets.extent;
         let rgba = self
             .targets
@@ -254,14 +291,18 @@ impl Renderer {
             height: extent.height,
             rgba,
             statistics,
+            timings,
         })
     }
 
-    fn record(&self, gpu: &Gpu, cmd: vk::CommandBuffer) {
+    fn record(&self, gpu: &Gpu, cmd: vk::CommandBuffer, mut timer: Option<&mut PhaseTimer>) {
         let device = &gpu.device.raw;
         let t = &self.targets;
         let extent = t.extent;
         self.statistics.reset(gpu, cmd);
+        let colour_span = timer
+            .as_deref_mut()
+            .map(|t| t.begin(gpu, cmd, Phase::Colour));
 
         // Layout transitions into attachment layouts. The previous frame
         // wrote these images (and copied from the final one), so wait for
@@ -360,11 +401,25 @@ impl Renderer {
             // The grass: one 4-point patch per blade, counted by the query.
             device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, p.blade);
             device.cmd_bind_vertex_buffers(cmd, 0, &[self.blade_vertices.raw], &[0]);
+        }
+        let draw_span = timer
+            .as_deref_mut()
+            .map(|t| t.begin(gpu, cmd, Phase::GrassDraw));
+        unsafe {
             self.statistics.begin(gpu, cmd);
             device.cmd_draw(cmd, self.blade_count * 4, 1, 0, 0);
             self.statistics.end(gpu, cmd);
-            device.cmd_end_rendering(cmd);
         }
+        if let (Some(t), Some(span)) = (timer.as_deref(), draw_span) {
+            t.end(gpu, cmd, span);
+        }
+        unsafe { device.cmd_end_rendering(cmd) };
+        if let (Some(t), Some(span)) = (timer.as_deref(), colour_span) {
+            t.end(gpu, cmd, span);
+        }
+        let readback_span = timer
+            .as_deref_mut()
+            .map(|t| t.begin(gpu, cmd, Phase::Readback));
 
         // Final image -> copy source; then copy into the host buffer.
         let final_image = t.final_image();
@@ -419,6 +474,9 @@ impl Renderer {
                 &vk::DependencyInfo::default().buffer_memory_barriers(&to_host),
             );
         }
+        if let (Some(t), Some(span)) = (timer.as_deref(), readback_span) {
+            t.end(gpu, cmd, span);
+        }
     }
 
     pub fn destroy(self, gpu: &Gpu) {
@@ -432,6 +490,7 @@ impl Renderer {
             uniforms: Some(self.uniforms),
             blade_vertices: Some(self.blade_vertices),
             statistics: Some(self.statistics),
+            timer: self.timer,
             commands: Some(self.commands),
         }
         .destroy(gpu);

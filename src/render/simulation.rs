@@ -8,6 +8,7 @@ use ash::vk;
 
 use crate::error::{Error, Result};
 use crate::gpu::commands::Commands;
+use crate::gpu::timing::{Phase, PhaseTimer};
 use crate::gpu::{Buffer, Gpu};
 use crate::render::grass_pass::GrassPass;
 use crate::render::wind_pass::WindPass;
@@ -65,12 +66,29 @@ impl Simulation {
         Ok((target as u64).saturating_sub(self.steps_done))
     }
 
-    /// Records `steps` wind + grass steps into `cmd`.
-    pub fn record(&mut self, gpu: &Gpu, cmd: vk::CommandBuffer, steps: u64) {
+    /// Records `steps` wind + grass steps into `cmd`, each phase of each
+    /// step between timestamps when a timer is given.
+    pub fn record(
+        &mut self,
+        gpu: &Gpu,
+        cmd: vk::CommandBuffer,
+        steps: u64,
+        mut timer: Option<&mut PhaseTimer>,
+    ) {
         for _ in 0..steps {
             let time = (self.steps_done as f64 * self.dt as f64) as f32;
+            let span = timer.as_deref_mut().map(|t| t.begin(gpu, cmd, Phase::Wind));
             self.wind.record_step(gpu, cmd, time, self.dt);
+            if let (Some(t), Some(span)) = (timer.as_deref(), span) {
+                t.end(gpu, cmd, span);
+            }
+            let span = timer
+                .as_deref_mut()
+                .map(|t| t.begin(gpu, cmd, Phase::Grass));
             self.grass.record_step(gpu, cmd, 0);
+            if let (Some(t), Some(span)) = (timer.as_deref(), span) {
+                t.end(gpu, cmd, span);
+            }
             self.steps_done += 1;
         }
     }

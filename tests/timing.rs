@@ -1,0 +1,186 @@
+//! GPU timing of a frame's phases (timestamp queries) and the report built
+//! from them, with the validation layer on.
+
+mod common;
+
+use common::{finish, strict_gpu};
+use meadow::gpu::commands::Commands;
+use meadow::gpu::timing::{FrameTimings, Phase};
+use meadow::gpu::{GpuOptions, ValidationOptions};
+use meadow::job::{render_to_dir, Animation, RenderRequest};
+use meadow::render::simulation::Simulation;
+use meadow::render::{FrameUniforms, Renderer};
+use meadow::scene::{field, Scene, ViewMode};
+
+/// The sequential phases of a frame: they do not overlap, so together they
+/// fit in the frame's own span.
+const SEQUENTIAL: [Phase; 5] = [
+    Phase::Wind,
+    Phase::Grass,
+    Phase::Shadow,
+    Phase::Colour,
+    Phase::Readback,
+];
+
+fn check_frame(t: &FrameTimings, steps: u64, what: &str) {
+    for p in Phase::ALL {
+        let ms = t.get(p);
+        assert!(ms.is_finite() && ms >= 0.0, "{what}: {} = {ms}", p.name());
+        assert!(
+            ms <= t.frame,
+            "{what}: {} {ms} > frame {}",
+            p.name(),
+            t.frame
+        );
+    }
+    for p in [
+        Phase::Shadow,
+        Phase::Colour,
+        Phase::GrassDraw,
+        Phase::Readback,
+        Phase::Frame,
+    ] {
+        assert!(t.get(p) > 0.0, "{what}: {} was not timed", p.name());
+    }
+    // Simulation phases are timed when the frame stepped, and are exactly
+    // zero (not recorded) when it did not.
+    for p in [Phase::Wind, Phase::Grass] {
+        assert_eq!(
+            t.get(p) > 0.0,
+            steps > 0,
+            "{what}: {} with {steps} steps",
+            p.name()
+        );
+    }
+    let sum: f64 = SEQUENTIAL.iter().map(|&p| t.get(p)).sum();
+    assert!(
+        sum <= t.frame * 1.0001,
+        "{what}: phases {sum} > frame {}",
+        t.frame
+    );
+    assert!(
+        t.grass_draw <= t.colour,
+        "{what}: the grass draw lies inside the colour pass"
+    );
+}
+
+#[test]
+fn every_phase_is_timed_positive_finite_and_within_the_frame() {
+    let gpu = strict_gpu();
+    let mut scene = Scene::builtin("fig10-few-bunches").unwrap();
+    scene.light.shadow_map = 1024;
+    let blades = field::generate(&scene.grass, scene.seed);
+    let dynamic = field::dynamic_blades(&blades, &scene.grass.dynamics, scene.seed).unwrap();
+    let mut renderer = Renderer::new(&gpu, 160, 90, 4, 1024, &blades).unwrap();
+    let commands = Commands::new(&gpu, "test set-up").unwrap();
+    let mut simulation =
+        Simulation::new(&gpu, &commands, &scene, &dynamic, &renderer.blade_vertices).unwrap();
+    commands.destroy(&gpu);
+    // A frame at rest, one step, and several steps in one frame (the
+    // timer's pool grows to hold them).
+    for steps in [0u64, 1, 8] {
+        let uniforms = FrameUniforms::new(&scene, 160, 90, ViewMode::Shaded, 0.0);
+        let frame = renderer
+            .render_after(&gpu, &uniforms, steps, |cmd, timer| {
+                simulation.record(&gpu, cmd, steps, timer)
+            })
+            .unwrap();
+        let t = frame.timings.expect("lavapipe has timestamps");
+        eprintln!("{steps} steps: {t:?}");
+        check_frame(&t, steps, &format!("{steps} steps"));
+        // The statistics of the same frames: 210 blades, one patch each.
+        let stats = frame.statistics.expect("pipeline statistics");
+        assert_eq!(stats.tessellation_control_patches, 210);
+        assert_eq!(
+            stats.geometry_shader_primitives,
+            2 * stats.geometry_shader_invocations
+        );
+    }
+    simulation.destroy(&gpu);
+    renderer.destroy(&gpu);
+    finish(gpu);
+}
+
+fn request(pretend_missing: Vec<String>) -> RenderRequest {
+    std::env::set_var("MEADOW_QUIET_VALIDATION", "1");
+    let mut scene = Scene::builtin("fig10-few-bunches").unwrap();
+    scene.light.shadow_map = 512;
+    RenderRequest {
+        scene,
+        width: 96,
+        height: 64,
+        msaa: 4,
+        view: ViewMode::Shaded,
+        animation: Animation {
+            frames: 3,
+            fps: 10.0,
+            start: 0.1,
+        },
+        every: 1,
+        gif: false,
+        gpu: GpuOptions {
+            validation: ValidationOptions::strict(),
+            pretend_missing,
+            ..Default::default()
+        },
+    }
+}
+
+#[test]
+fn report_json_holds_per_phase_medians_wall_time_and_fps() {
+    let dir = std::env::temp_dir().join(format!("meadow-timing-{}", std::process::id()));
+    let report = render_to_dir(&request(Vec::new()), &dir).unwrap();
+    let t = &report.timing;
+    assert_eq!(t.frames, 3);
+    let gpu = t.gpu_ms.expect("timed");
+    assert!(t.gpu_unavailable.is_none());
+    for p in Phase::ALL {
+        let s = gpu.get(p);
+        assert!(
+            s.median > 0.0 && s.median.is_finite(),
+            "{}: {s:?}",
+            p.name()
+        );
+        assert!(s.p95 >= s.median, "{}: {s:?}", p.name());
+    }
+    let wall = t.wall_frame_ms.unwrap();
+    assert!(wall.median > 0.0 && wall.p95 >= wall.median);
+    // The wall clock holds the GPU work of the frame.
+    assert!(
+        wall.median >= gpu.frame.median * 0.9,
+        "{wall:?} vs {:?}",
+        gpu.frame
+    );
+    assert!((t.fps.unwrap() - 1000.0 / wall.median).abs() < 1e-9);
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.join("report.json")).unwrap()).unwrap();
+    for p in Phase::ALL {
+        let median = &json["timing"]["gpu_ms"][p.name()]["median"];
+        assert!(
+            median.as_f64().is_some_and(|v| v > 0.0),
+            "{}: {median}",
+            p.name()
+        );
+    }
+    assert!(json["timing"]["fps"].as_f64().is_some());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn without_timestamps_the_report_says_unavailable_not_zero() {
+    let dir = std::env::temp_dir().join(format!("meadow-no-timestamps-{}", std::process::id()));
+    let report = render_to_dir(&request(vec!["timestamps".into()]), &dir).unwrap();
+    assert_eq!(report.frames.len(), 3, "the render still runs");
+    assert!(report.timing.gpu_ms.is_none());
+    let why = report.timing.gpu_unavailable.as_deref().unwrap();
+    assert!(why.contains("timestamp"), "{why}");
+    assert!(
+        report.timing.wall_frame_ms.is_some(),
+        "the wall clock is still measured"
+    );
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.join("report.json")).unwrap()).unwrap();
+    assert!(json["timing"]["gpu_ms"].is_null(), "{}", json["timing"]);
+    assert!(json["timing"]["gpu_unavailable"].is_string());
+    let _ = std::fs::remove_dir_all(&dir);
+}
