@@ -210,6 +210,29 @@ pub fn render_blades(
     Ok((frame?, samples))
 }
 
+/// Refuses, before anything is allocated, a render whose grass buffers,
+/// frame targets (colour and depth per sample, the resolved image and its
+/// read-back copy) and shadow map would not fit the GPU memory budget; the
+/// wind grid checks its own.
+pub fn check_render_fits(
+    gpu: &Gpu,
+    scene: &Scene,
+    width: u32,
+    height: u32,
+    msaa: u32,
+) -> Result<()> {
+    let pixels = width as u64 * height as u64;
+    gpu.check_fits(
+        &format!(
+            "{} blades at {width}x{height} with {msaa}x MSAA",
+            scene.blade_count()
+        ),
+        crate::render::grass_pass::device_bytes(scene.blade_count())
+            + pixels * (8 * msaa as u64 + 8)
+            + 4 * (scene.light.shadow_map as u64).pow(2),
+    )
+}
+
 fn render_with(
     gpu: &Gpu,
     request: &RenderRequest,
@@ -218,22 +241,7 @@ fn render_with(
 ) -> Result<RenderReport> {
     let scene = &request.scene;
     let warnings = scene.wind.settings().check(&scene.wind_grid()?)?;
-    // The grass and the frame's targets (colour and depth per sample, the
-    // resolved image and its read-back copy), before anything is allocated;
-    // the wind grid checks its own.
-    let pixels = request.width as u64 * request.height as u64;
-    gpu.check_fits(
-        &format!(
-            "{} blades at {}x{} with {}x MSAA",
-            scene.blade_count(),
-            request.width,
-            request.height,
-            request.msaa
-        ),
-        crate::render::grass_pass::device_bytes(scene.blade_count())
-            + pixels * (8 * request.msaa as u64 + 8)
-            + 4 * (scene.light.shadow_map as u64).pow(2),
-    )?;
+    check_render_fits(gpu, scene, request.width, request.height, request.msaa)?;
     let blades = field::generate(&scene.grass, scene.seed);
     let dynamic = field::dynamic_blades(&blades, &scene.grass.dynamics, scene.seed)?;
     let mut renderer = Renderer::new(

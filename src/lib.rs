@@ -11,6 +11,7 @@
 //! - `job`, `wind_job`, `grass_job`: what the `meadow` commands run.
 //! - `shaders` / `reflect`: the embedded SPIR-V and its binding reflection.
 
+pub mod bench;
 pub mod error;
 pub mod gpu;
 pub mod grass_job;

@@ -27,6 +27,13 @@ enum OnOff {
     Off,
 }
 
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum LodArg {
+    Both,
+    On,
+    Off,
+}
+
 #[derive(clap::Args)]
 struct DeviceArgs {
     /// Use the first Vulkan device whose name contains this text.
@@ -132,6 +139,38 @@ enum Command {
         #[arg(long, default_value_t = 120)]
         steps: u32,
         #[arg(long, default_value = "out/wind")]
+        out: PathBuf,
+        #[command(flatten)]
+        device: DeviceArgs,
+    },
+    /// The paper's Table 1 on this device: the table1 scene at each blade
+    /// count, with and without LOD, every frame phase timed on the GPU, plus
+    /// the vertex+fragment floor; writes DIR/bench.json, bench.md, bench.svg.
+    Bench {
+        /// A built-in scene or a scene file (.toml).
+        #[arg(long, default_value = "table1")]
+        scene: String,
+        /// Blade counts, comma-separated (50k, 1.5m, 1200); counts past 200K
+        /// run when asked, after a check that they fit the GPU's memory.
+        #[arg(long, default_value = "50k,100k,150k,200k")]
+        blades: String,
+        #[arg(long, value_enum, default_value = "both")]
+        lod: LodArg,
+        /// Timed frames per row (each one simulation step).
+        #[arg(long, default_value_t = 20)]
+        frames: u32,
+        /// Untimed frames before them.
+        #[arg(long, default_value_t = 3)]
+        warmup: u32,
+        #[arg(long, default_value_t = 1280)]
+        width: u32,
+        #[arg(long, default_value_t = 720)]
+        height: u32,
+        /// MSAA samples asked for (the paper's 8; the largest supported up
+        /// to this is used and reported).
+        #[arg(long, default_value_t = 8)]
+        msaa: u32,
+        #[arg(long, default_value = "out/bench")]
         out: PathBuf,
         #[command(flatten)]
         device: DeviceArgs,
@@ -399,6 +438,45 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 "wrote {} and {}",
                 out.join("wind_horizontal.png").display(),
                 out.join("wind_vertical.png").display()
+            );
+            Ok(())
+        }
+        Command::Bench {
+            scene,
+            blades,
+            lod,
+            frames,
+            warmup,
+            width,
+            height,
+            msaa,
+            out,
+            device,
+        } => {
+            let counts = blades
+                .split(',')
+                .map(meadow::grass_job::parse_count)
+                .collect::<Result<Vec<_>, _>>()?;
+            let request = meadow::bench::BenchRequest {
+                scene: Scene::load(&scene)?,
+                counts,
+                lod: match lod {
+                    LodArg::Both => meadow::bench::LodChoice::Both,
+                    LodArg::On => meadow::bench::LodChoice::On,
+                    LodArg::Off => meadow::bench::LodChoice::Off,
+                },
+                frames,
+                warmup,
+                width,
+                height,
+                msaa,
+                gpu: device.options(),
+            };
+            let bench = meadow::bench::bench_to_dir(&request, &out)?;
+            print!("{}", meadow::bench::markdown(&bench));
+            println!(
+                "wrote {}, bench.md and bench.svg",
+                out.join("bench.json").display()
             );
             Ok(())
         }

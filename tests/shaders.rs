@@ -106,6 +106,12 @@ fn descriptor_layouts_match_reflection() {
     // The five wind kernels share one set layout.
     check_pipeline("wind", &WIND_KERNELS, WIND_SET);
     check_pipeline("grass", &[&shaders::GRASS_STEP_COMP], GRASS_SET);
+    // The bench's floor: vertex and fragment only.
+    check_pipeline(
+        "floor",
+        meadow::render::floor::FLOOR_STAGES,
+        meadow::render::floor::FLOOR_SET,
+    );
     // Every stage the Rust layout exposes the block to is a stage that
     // declares it somewhere.
     let mut declaring = vk::ShaderStageFlags::empty();

@@ -156,18 +156,18 @@ impl TimestampQueries {
         };
     }
 
-    /// Writes the begin (`end == false`) or end stamp of pair `pair`.
+    /// Writes the begin (`end == false`) or end stamp of pair `pair`. Both
+    /// at ALL_COMMANDS, as `PhaseTimer` does: a pair measures from the end
+    /// of the work before it to the end of its own.
     pub fn stamp(&self, gpu: &Gpu, cmd: vk::CommandBuffer, pair: u32, end: bool) {
-        let stage = if end {
-            vk::PipelineStageFlags2::ALL_COMMANDS
-        } else {
-            vk::PipelineStageFlags2::TOP_OF_PIPE
-        };
         // SAFETY: the query index is within the pool; recording.
         unsafe {
-            gpu.device
-                .raw
-                .cmd_write_timestamp2(cmd, stage, self.pool, 2 * pair + end as u32)
+            gpu.device.raw.cmd_write_timestamp2(
+                cmd,
+                vk::PipelineStageFlags2::ALL_COMMANDS,
+                self.pool,
+                2 * pair + end as u32,
+            )
         };
     }
 

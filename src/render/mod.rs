@@ -1,6 +1,7 @@
 //! The GPU side of both phases: the simulation passes (wind, grass) and the
 //! rendering (pipelines, targets, frame orchestration).
 
+pub mod floor;
 pub mod frame;
 pub mod frame_uniforms;
 pub mod grass_pass;

@@ -126,16 +126,16 @@ pub struct RenderPipelines {
 }
 
 /// The fixed-function choices that differ between our pipelines.
-struct PipelineDesc<'a> {
-    name: &'a str,
-    stages: &'a [&'a Spirv],
-    topology: vk::PrimitiveTopology,
-    vertex_bindings: &'a [vk::VertexInputBindingDescription],
-    vertex_attributes: &'a [vk::VertexInputAttributeDescription],
-    patch_control_points: u32,
-    depth_test: bool,
+pub(crate) struct PipelineDesc<'a> {
+    pub name: &'a str,
+    pub stages: &'a [&'a Spirv],
+    pub topology: vk::PrimitiveTopology,
+    pub vertex_bindings: &'a [vk::VertexInputBindingDescription],
+    pub vertex_attributes: &'a [vk::VertexInputAttributeDescription],
+    pub patch_control_points: u32,
+    pub depth_test: bool,
     /// Render into the shadow map: no colour, one sample, depth bias.
-    shadow: bool,
+    pub shadow: bool,
 }
 
 impl RenderPipelines {
@@ -276,7 +276,7 @@ fn destroy_layouts(gpu: &Gpu, set_layout: vk::DescriptorSetLayout, layout: vk::P
     }
 }
 
-fn create_pipeline(
+pub(crate) fn create_pipeline(
     gpu: &Gpu,
     layout: vk::PipelineLayout,
     formats: TargetFormats,

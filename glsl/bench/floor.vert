@@ -1,0 +1,50 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// The bench's floor (not part of the paper's pipeline): the grass's own
+// triangles drawn with a vertex and a fragment shader only. Each blade
+// becomes `segments` quads along its Bezier curve, evaluated here from the
+// same control points the tessellation stages read, so the floor covers
+// the same pixels with the same number of triangles; the ratio of the
+// grass draw to this is what tessellation and geometry shaders cost.
+#include "frame.glsl"
+#include "blade_vertex.glsl"
+
+struct ControlPoint {
+    vec4 position;
+    vec4 width;
+};
+
+layout(set = 0, binding = 1, std430) readonly buffer Blades {
+    ControlPoint points[];
+} blades;
+
+layout(push_constant) uniform Push {
+    uint segments;
+} push;
+
+layout(location = 0) out float v_along;
+
+// Two triangles per quad: (along, side) of each corner.
+const vec2 CORNERS[6] = vec2[6](
+    vec2(0.0, -1.0), vec2(0.0, 1.0), vec2(1.0, -1.0),
+    vec2(1.0, -1.0), vec2(0.0, 1.0), vec2(1.0, 1.0));
+
+void main() {
+    uint quad = uint(gl_VertexIndex) / 6u;
+    vec2 corner = CORNERS[uint(gl_VertexIndex) % 6u];
+    uint blade = quad / push.segments;
+    uint segment = quad % push.segments;
+    uint base = blade * BLADE_CONTROL_POINTS;
+    vec3 p0 = blades.points[base + 0u].position.xyz;
+    vec3 p1 = blades.points[base + 1u].position.xyz;
+    vec3 p2 = blades.points[base + 2u].position.xyz;
+    vec3 p3 = blades.points[base + 3u].position.xyz;
+    float v = (float(segment) + corner.x) / float(push.segments);
+    float u = 1.0 - v;
+    vec3 p = u * u * u * p0 + 3.0 * u * u * v * p1 + 3.0 * u * v * v * p2 + v * v * v * p3;
+    vec3 half_width = mix(blades.points[base].width.xyz, blades.points[base + 3u].width.xyz, v)
+                    * sqrt(max(1.0 - v, 0.0));
+    p += corner.y * half_width;
+    v_along = v;
+    gl_Position = frame.view_proj * vec4(p, 1.0);
+}

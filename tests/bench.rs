@@ -1,0 +1,226 @@
+//! `meadow bench` at tiny counts, through the binary, with the validation
+//! layer on: every field of bench.json, the Markdown table, an SVG that
+//! parses as XML; the memory check before a huge count; the no-timestamp
+//! path.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn meadow(args: &[&str], env: &[(&str, &str)]) -> Output {
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_meadow"));
+    cmd.args(args).env("MEADOW_QUIET_VALIDATION", "1");
+    for (k, v) in env {
+        cmd.env(k, v);
+    }
+    cmd.output().expect("run meadow")
+}
+
+fn temp_out(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("meadow-bench-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    dir
+}
+
+fn tiny_bench(out: &Path, env: &[(&str, &str)]) -> serde_json::Value {
+    let out_s = out.to_str().unwrap();
+    let result = meadow(
+        &[
+            "bench",
+            "--blades",
+            "1k,2k",
+            "--frames",
+            "2",
+            "--warmup",
+            "1",
+            "--width",
+            "96",
+            "--height",
+            "64",
+            "--validation",
+            "--out",
+            out_s,
+        ],
+        env,
+    );
+    assert!(
+        result.status.success(),
+        "{}",
+        String::from_utf8_lossy(&result.stderr)
+    );
+    serde_json::from_slice(&std::fs::read(out.join("bench.json")).unwrap()).unwrap()
+}
+
+const PHASES: [&str; 7] = [
+    "wind",
+    "grass",
+    "shadow",
+    "colour",
+    "grass_draw",
+    "readback",
+    "frame",
+];
+
+#[test]
+fn tiny_bench_writes_every_field_a_table_and_an_svg() {
+    let out = temp_out("tiny");
+    let b = tiny_bench(&out, &[]);
+    for key in [
+        "scene",
+        "device",
+        "device_type",
+        "driver",
+        "width",
+        "height",
+        "msaa_requested",
+        "msaa_used",
+        "shadow_map",
+        "wind_grid",
+        "jacobi_iterations",
+        "rows",
+        "paper_table_1",
+        "validation",
+    ] {
+        assert!(!b[key].is_null(), "bench.json lacks {key}");
+    }
+    assert_eq!(b["scene"], "table1");
+    assert_eq!(b["validation"]["errors"], 0);
+    assert_eq!(b["paper_table_1"].as_array().unwrap().len(), 4);
+    let rows = b["rows"].as_array().unwrap();
+    // Two counts, each without and with LOD.
+    let keys: Vec<(u64, bool)> = rows
+        .iter()
+        .map(|r| (r["blades"].as_u64().unwrap(), r["lod"].as_bool().unwrap()))
+        .collect();
+    assert_eq!(
+        keys,
+        [(1000, false), (1000, true), (2000, false), (2000, true)]
+    );
+    for r in rows {
+        let what = format!("{} blades, LOD {}", r["blades"], r["lod"]);
+        assert_eq!(r["frames"], 2);
+        assert_eq!(r["timing"]["frames"], 2);
+        let frame = r["timing"]["gpu_ms"]["frame"]["median"].as_f64().unwrap();
+        for p in PHASES {
+            let m = r["timing"]["gpu_ms"][p]["median"].as_f64().unwrap();
+            assert!(
+                m > 0.0 && m.is_finite() && m <= frame,
+                "{what}: {p} {m} (frame {frame})"
+            );
+        }
+        assert!(r["timing"]["fps"].as_f64().unwrap() > 0.0, "{what}");
+        assert!(r["render_ms"]["median"].as_f64().unwrap() > 0.0, "{what}");
+        let triangles = r["triangles"].as_u64().unwrap();
+        assert_eq!(
+            triangles,
+            r["statistics"]["geometry_shader_primitives"]
+                .as_u64()
+                .unwrap()
+        );
+        let blades = r["blades"].as_u64().unwrap();
+        if r["lod"] == false {
+            // 20 segments of 2 triangles per blade without LOD.
+            assert_eq!(triangles, 40 * blades, "{what}");
+        } else {
+            assert!(triangles < 40 * blades && triangles >= 6 * blades, "{what}");
+        }
+        let floor = &r["floor"];
+        assert!(floor["draw_ms"]["median"].as_f64().unwrap() > 0.0, "{what}");
+        assert!(floor["grass_over_floor"].as_f64().unwrap() > 0.0, "{what}");
+        let floor_triangles = floor["triangles"].as_u64().unwrap() as f64;
+        assert!(
+            (floor_triangles - triangles as f64).abs() <= blades as f64,
+            "{what}: the floor draws {floor_triangles} triangles for the grass's {triangles}"
+        );
+        assert!(r["paper"].is_null(), "no paper row at {blades}");
+    }
+    let md = std::fs::read_to_string(out.join("bench.md")).unwrap();
+    assert!(md.contains("| blades | LOD | wind ms | paper |"), "{md}");
+    assert!(md.contains("grass / floor"), "{md}");
+    assert_eq!(md.matches("\n| 1000 |").count(), 4, "{md}");
+    let svg = std::fs::read_to_string(out.join("bench.svg")).unwrap();
+    let doc = roxmltree::Document::parse(&svg).expect("bench.svg is XML");
+    assert_eq!(doc.root_element().tag_name().name(), "svg");
+    let lines = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("polyline"))
+        .count();
+    // Ours: five phases x two LOD settings; the paper's: four.
+    assert_eq!(lines, 14);
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+#[test]
+fn without_timestamps_the_bench_reports_unavailable_not_zero() {
+    let out = temp_out("no-timestamps");
+    let b = tiny_bench(&out, &[("MEADOW_PRETEND_MISSING", "timestamps")]);
+    for r in b["rows"].as_array().unwrap() {
+        assert!(r["timing"]["gpu_ms"].is_null(), "{}", r["timing"]);
+        assert!(r["timing"]["gpu_unavailable"].is_string());
+        assert!(r["floor"].is_null());
+        assert!(r["floor_unavailable"]
+            .as_str()
+            .unwrap()
+            .contains("timestamps"));
+        assert!(
+            r["timing"]["fps"].as_f64().unwrap() > 0.0,
+            "wall clock still measured"
+        );
+    }
+    let md = std::fs::read_to_string(out.join("bench.md")).unwrap();
+    assert!(
+        md.contains("n/a") && md.contains("GPU times unavailable"),
+        "{md}"
+    );
+    let svg = std::fs::read_to_string(out.join("bench.svg")).unwrap();
+    roxmltree::Document::parse(&svg).expect("bench.svg is XML");
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+#[test]
+fn a_count_that_does_not_fit_is_refused_before_allocation() {
+    let out = temp_out("huge");
+    let result = meadow(
+        &[
+            "bench",
+            "--blades",
+            "10m",
+            "--lod",
+            "on",
+            "--frames",
+            "1",
+            "--gpu-memory-mib",
+            "256",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        &[],
+    );
+    assert!(!result.status.success());
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    assert!(
+        stderr.contains("10000000 blades") && stderr.contains("--gpu-memory-mib"),
+        "{stderr}"
+    );
+    assert!(!out.join("bench.json").exists());
+}
+
+#[test]
+fn bad_bench_arguments_are_refused_in_one_line() {
+    for (args, fragment) in [
+        (vec!["--blades", "0"], "blade count"),
+        (vec!["--frames", "0"], "--frames 0"),
+        (vec!["--width", "0"], "width"),
+    ] {
+        let out = temp_out("bad");
+        let mut full = vec!["bench"];
+        full.extend(args.iter().copied());
+        let out_s = out.to_str().unwrap().to_string();
+        full.extend(["--out", &out_s]);
+        let result = meadow(&full, &[]);
+        let stderr = String::from_utf8_lossy(&result.stderr);
+        assert!(!result.status.success(), "{args:?}");
+        assert_eq!(stderr.lines().count(), 1, "{args:?}: {stderr}");
+        assert!(stderr.contains(fragment), "{args:?}: {stderr}");
+    }
+}
