@@ -277,8 +277,15 @@ fn main() -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) if e.is::<Interrupted>() => ExitCode::from(130),
         Err(e) => {
-            // One line: the cause chain, outermost first.
-            let msg: Vec<String> = e.chain().map(|c| c.to_string()).collect();
+            // One line: the cause chain, outermost first, without repeating
+            // a cause its parent's message already ends with.
+            let mut msg: Vec<String> = Vec::new();
+            for cause in e.chain() {
+                let text = cause.to_string();
+                if !msg.last().is_some_and(|last| last.ends_with(&text)) {
+                    msg.push(text);
+                }
+            }
             eprintln!("meadow: error: {}", msg.join(": "));
             ExitCode::FAILURE
         }

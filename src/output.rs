@@ -12,7 +12,13 @@ use crate::render::Frame;
 
 /// Creates `dir` (and parents), with an error that names it.
 pub fn ensure_dir(dir: &Path) -> Result<()> {
-    std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))
+    std::fs::create_dir_all(dir).map_err(|e| Error::Io {
+        path: format!(
+            "output directory {} (pass --out a directory you can write)",
+            dir.display()
+        ),
+        source: e,
+    })
 }
 
 fn temp_name(path: &Path) -> PathBuf {

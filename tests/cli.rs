@@ -444,3 +444,26 @@ fn reproduce_quick_renders_every_figure_with_both_indexes() {
     assert!(md.contains("MSAA") && md.contains("Jacobi iterations"));
     let _ = std::fs::remove_dir_all(&out);
 }
+
+#[test]
+fn an_output_directory_that_cannot_be_made_is_one_line_and_no_file() {
+    // The tests run as root, which permissions do not stop: a path under a
+    // regular file cannot be a directory for anyone.
+    let blocker = temp_out("blocker");
+    std::fs::write(&blocker, b"not a directory").unwrap();
+    let out = blocker.join("frames");
+    for cmd in ["render", "wind", "bench", "reproduce"] {
+        let result = meadow(&[cmd, "--out", out.to_str().unwrap()], &[]);
+        let stderr = String::from_utf8_lossy(&result.stderr);
+        assert!(!result.status.success(), "{cmd}");
+        assert_eq!(stderr.lines().count(), 1, "{cmd}: {stderr}");
+        assert!(
+            stderr.contains("output directory") && stderr.contains("Not a directory"),
+            "{cmd}: {stderr}"
+        );
+        // The cause is said once.
+        assert_eq!(stderr.matches("os error").count(), 1, "{cmd}: {stderr}");
+    }
+    assert_eq!(std::fs::read(&blocker).unwrap(), b"not a directory");
+    let _ = std::fs::remove_file(&blocker);
+}

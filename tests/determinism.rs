@@ -53,3 +53,48 @@ fn same_scene_and_seed_give_byte_identical_png() {
     assert!(png_a != png_c, "a different seed rendered the same picture");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The frame rate and the number of frames choose which moments become
+/// pictures; they do not change the simulation. The moment t = 1 s is the
+/// same picture whether it is frame 1 at 1 fps or frame 4 at 4 fps.
+#[test]
+fn the_frame_rate_does_not_change_the_simulation() {
+    std::env::set_var("MEADOW_QUIET_VALIDATION", "1");
+    let mut scene = Scene::builtin("fig10-few-bunches").unwrap();
+    scene.light.shadow_map = 1024;
+    let request = |frames: u32, fps: f32| RenderRequest {
+        scene: scene.clone(),
+        width: 160,
+        height: 90,
+        msaa: 4,
+        view: ViewMode::Shaded,
+        animation: Animation {
+            frames,
+            fps,
+            start: 0.0,
+        },
+        every: 1,
+        gif: false,
+        gpu: GpuOptions {
+            validation: ValidationOptions::strict(),
+            ..Default::default()
+        },
+    };
+    let dir = std::env::temp_dir().join(format!("meadow-frame-rate-{}", std::process::id()));
+    let slow = render_to_dir(&request(2, 1.0), &dir.join("slow")).expect("1 fps");
+    let fast = render_to_dir(&request(5, 4.0), &dir.join("fast")).expect("4 fps");
+    assert_eq!(slow.sim_steps, 60);
+    assert_eq!(fast.sim_steps, 60, "the same fixed steps to reach 1 s");
+    let at_one_second = [
+        std::fs::read(dir.join("slow/frame_0001.png")).unwrap(),
+        std::fs::read(dir.join("fast/frame_0004.png")).unwrap(),
+    ];
+    assert!(
+        at_one_second[0] == at_one_second[1],
+        "t = 1 s differs between 1 fps and 4 fps"
+    );
+    // The check can fail: t = 0.75 s is a different picture.
+    let earlier = std::fs::read(dir.join("fast/frame_0003.png")).unwrap();
+    assert!(earlier != at_one_second[1]);
+    let _ = std::fs::remove_dir_all(&dir);
+}
