@@ -117,27 +117,23 @@ impl StatisticsQuery {
 pub struct TimestampQueries {
     pool: vk::QueryPool,
     capacity: u32,
+    name: &'static str,
     period_ns: f64,
     valid_mask: u64,
 }
 
 impl TimestampQueries {
     /// Room for `pairs` begin/end pairs; `None` where the queue has no timestamps.
-    pub fn new(gpu: &Gpu, pairs: u32, name: &str) -> Result<Option<Self>> {
+    pub fn new(gpu: &Gpu, pairs: u32, name: &'static str) -> Result<Option<Self>> {
         if !gpu.info().timestamps {
             return Ok(None);
         }
-        let info = vk::QueryPoolCreateInfo::default()
-            .query_type(vk::QueryType::TIMESTAMP)
-            .query_count(2 * pairs);
-        // SAFETY: valid create info on a live device.
-        let pool = unsafe { gpu.device.raw.create_query_pool(&info, None) }
-            .vk_context("vkCreateQueryPool", name)?;
-        gpu.device.name(pool, name);
+        let pool = create_timestamp_pool(gpu, pairs, name)?;
         let bits = gpu.device.timestamp_valid_bits;
         Ok(Some(Self {
             pool,
             capacity: pairs,
+            name,
             period_ns: gpu.device.limits().timestamp_period as f64,
             valid_mask: if bits >= 64 {
                 u64::MAX
@@ -145,6 +141,25 @@ impl TimestampQueries {
                 (1u64 << bits) - 1
             },
         }))
+    }
+
+    pub fn capacity(&self) -> u32 {
+        self.capacity
+    }
+
+    /// Makes room for `pairs` pairs (at least doubling). Only between
+    /// submissions: the caller has waited for the last one that used the pool.
+    pub fn reserve(&mut self, gpu: &Gpu, pairs: u32) -> Result<()> {
+        if pairs <= self.capacity {
+            return Ok(());
+        }
+        let capacity = pairs.max(self.capacity.saturating_mul(2));
+        let pool = create_timestamp_pool(gpu, capacity, self.name)?;
+        // SAFETY: no submission using the old pool is in flight (above).
+        unsafe { gpu.device.raw.destroy_query_pool(self.pool, None) };
+        self.pool = pool;
+        self.capacity = capacity;
+        Ok(())
     }
 
     pub fn reset(&self, gpu: &Gpu, cmd: vk::CommandBuffer) {
@@ -183,7 +198,7 @@ impl TimestampQueries {
                 vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT,
             )
         }
-        .vk_context("vkGetQueryPoolResults", "timestamps")?;
+        .vk_context("vkGetQueryPoolResults", self.name)?;
         Ok(data
             .chunks_exact(2)
             .map(|p| {
@@ -298,100 +313,50 @@ pub struct Span(Option<u32>);
 /// written at ALL_COMMANDS: a pair measures from the end of the work before
 /// it to the end of its own.
 pub struct PhaseTimer {
-    pool: vk::QueryPool,
-    capacity: u32,
+    queries: TimestampQueries,
+    /// The phase of each pair written this frame, in order.
     pairs: Vec<Phase>,
-    period_ns: f64,
-    valid_mask: u64,
 }
 
 impl PhaseTimer {
     /// Room for `pairs` pairs; `None` where the device has no timestamps.
     pub fn new(gpu: &Gpu, pairs: u32) -> Result<Option<Self>> {
-        if !gpu.info().timestamps {
-            return Ok(None);
-        }
-        let pool = Self::create_pool(gpu, pairs)?;
-        let bits = gpu.device.timestamp_valid_bits;
-        Ok(Some(Self {
-            pool,
-            capacity: pairs,
-            pairs: Vec::new(),
-            period_ns: gpu.device.limits().timestamp_period as f64,
-            valid_mask: if bits >= 64 {
-                u64::MAX
-            } else {
-                (1u64 << bits) - 1
-            },
-        }))
-    }
-
-    fn create_pool(gpu: &Gpu, pairs: u32) -> Result<vk::QueryPool> {
-        let info = vk::QueryPoolCreateInfo::default()
-            .query_type(vk::QueryType::TIMESTAMP)
-            .query_count(2 * pairs);
-        // SAFETY: valid create info on a live device.
-        let pool = unsafe { gpu.device.raw.create_query_pool(&info, None) }
-            .vk_context("vkCreateQueryPool", "frame phase timestamps")?;
-        gpu.device.name(pool, "frame phase timestamps");
-        Ok(pool)
+        Ok(
+            TimestampQueries::new(gpu, pairs, "frame phase timestamps")?.map(|queries| Self {
+                queries,
+                pairs: Vec::new(),
+            }),
+        )
     }
 
     /// Makes room for `pairs` pairs. Only between frames: the caller has
     /// waited for the last submission that used the pool.
     pub fn reserve(&mut self, gpu: &Gpu, pairs: u32) -> Result<()> {
-        if pairs <= self.capacity {
-            return Ok(());
-        }
-        let capacity = pairs.max(2 * self.capacity);
-        let pool = Self::create_pool(gpu, capacity)?;
-        // SAFETY: no submission using the old pool is in flight (above).
-        unsafe { gpu.device.raw.destroy_query_pool(self.pool, None) };
-        self.pool = pool;
-        self.capacity = capacity;
-        Ok(())
+        self.queries.reserve(gpu, pairs)
     }
 
     /// Starts a frame: resets every query (outside any render pass).
     pub fn reset(&mut self, gpu: &Gpu, cmd: vk::CommandBuffer) {
         self.pairs.clear();
-        // SAFETY: recording, outside any render pass instance.
-        unsafe {
-            gpu.device
-                .raw
-                .cmd_reset_query_pool(cmd, self.pool, 0, 2 * self.capacity)
-        };
+        self.queries.reset(gpu, cmd);
     }
 
     /// Writes the begin stamp of a `phase` pair (not timed when the pool
     /// is full: `reserve` sizes it for the frame).
     pub fn begin(&mut self, gpu: &Gpu, cmd: vk::CommandBuffer, phase: Phase) -> Span {
         let index = self.pairs.len() as u32;
-        if index >= self.capacity {
+        if index >= self.queries.capacity() {
             return Span(None);
         }
         self.pairs.push(phase);
-        self.stamp(gpu, cmd, 2 * index);
+        self.queries.stamp(gpu, cmd, index, false);
         Span(Some(index))
     }
 
     pub fn end(&self, gpu: &Gpu, cmd: vk::CommandBuffer, span: Span) {
         if let Some(index) = span.0 {
-            self.stamp(gpu, cmd, 2 * index + 1);
+            self.queries.stamp(gpu, cmd, index, true);
         }
-    }
-
-    fn stamp(&self, gpu: &Gpu, cmd: vk::CommandBuffer, query: u32) {
-        // SAFETY: the query index is within the pool and was reset in this
-        // command buffer; recording.
-        unsafe {
-            gpu.device.raw.cmd_write_timestamp2(
-                cmd,
-                vk::PipelineStageFlags2::ALL_COMMANDS,
-                self.pool,
-                query,
-            )
-        };
     }
 
     /// The frame's phases in ms, after its submission finished.
@@ -400,29 +365,30 @@ impl PhaseTimer {
         if self.pairs.is_empty() {
             return Ok(times);
         }
-        let mut data = vec![0u64; 2 * self.pairs.len()];
-        // SAFETY: every query in range was written by a finished submission.
-        unsafe {
-            gpu.device.raw.get_query_pool_results(
-                self.pool,
-                0,
-                &mut data,
-                vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT,
-            )
-        }
-        .vk_context("vkGetQueryPoolResults", "frame phase timestamps")?;
-        for (phase, p) in self.pairs.iter().zip(data.chunks_exact(2)) {
-            let ticks =
-                (p[1] & self.valid_mask).wrapping_sub(p[0] & self.valid_mask) & self.valid_mask;
-            *times.get_mut(*phase) += ticks as f64 * self.period_ns / 1e6;
+        let ms = self.queries.read_ms(gpu, self.pairs.len() as u32)?;
+        for (phase, ms) in self.pairs.iter().zip(ms) {
+            *times.get_mut(*phase) += ms;
         }
         Ok(times)
     }
 
     pub fn destroy(self, gpu: &Gpu) {
-        // SAFETY: no submission using the pool is in flight.
-        unsafe { gpu.device.raw.destroy_query_pool(self.pool, None) };
+        self.queries.destroy(gpu);
     }
+}
+
+fn create_timestamp_pool(gpu: &Gpu, pairs: u32, name: &str) -> Result<vk::QueryPool> {
+    let queries = pairs.checked_mul(2).ok_or_else(|| {
+        crate::error::Error::InvalidInput(format!("{name}: {pairs} timestamp pairs are too many"))
+    })?;
+    let info = vk::QueryPoolCreateInfo::default()
+        .query_type(vk::QueryType::TIMESTAMP)
+        .query_count(queries);
+    // SAFETY: valid create info on a live device.
+    let pool = unsafe { gpu.device.raw.create_query_pool(&info, None) }
+        .vk_context("vkCreateQueryPool", name)?;
+    gpu.device.name(pool, name);
+    Ok(pool)
 }
 
 /// Median and 95th percentile of one quantity over many frames.

@@ -14,7 +14,7 @@ use crate::gpu::descriptors::{
 use crate::gpu::timing::TimestampQueries;
 use crate::gpu::{Buffer, Gpu, MemoryLocation};
 use crate::reflect::DescriptorKind;
-use crate::render::frame::{depth_cleared, full_area, image_barrier};
+use crate::render::frame::{depth_cleared, full_area, to_attachments};
 use crate::render::frame_uniforms::FrameUniforms;
 use crate::render::pipelines::{create_pipeline, PipelineDesc, TargetFormats};
 use crate::render::targets::RenderTargets;
@@ -163,31 +163,9 @@ impl FloorPass {
         for _ in 0..frames {
             let cmd = commands.begin(gpu)?;
             self.timestamps.reset(gpu, cmd);
-            let barriers = [
-                image_barrier(
-                    &targets.color,
-                    vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT
-                        | vk::PipelineStageFlags2::COPY,
-                    vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
-                    vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
-                    vk::AccessFlags2::COLOR_ATTACHMENT_WRITE
-                        | vk::AccessFlags2::COLOR_ATTACHMENT_READ,
-                    vk::ImageLayout::UNDEFINED,
-                    vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-                ),
-                image_barrier(
-                    &targets.depth,
-                    vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS
-                        | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS,
-                    vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE,
-                    vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS
-                        | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS,
-                    vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ
-                        | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE,
-                    vk::ImageLayout::UNDEFINED,
-                    vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
-                ),
-            ];
+            // The same transitions as a frame's (the resolve image too,
+            // unused here: the next frame transitions it again).
+            let barriers = to_attachments(targets);
             let color = [vk::RenderingAttachmentInfo::default()
                 .image_view(targets.color.view)
                 .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)

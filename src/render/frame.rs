@@ -304,47 +304,7 @@ impl Renderer {
             .as_deref_mut()
             .map(|t| t.begin(gpu, cmd, Phase::Colour));
 
-        // Layout transitions into attachment layouts. The previous frame
-        // wrote these images (and copied from the final one), so wait for
-        // those writes and reads before discarding the contents.
-        let mut to_attachment = vec![
-            image_barrier(
-                &t.color,
-                vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
-                vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
-                vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
-                vk::AccessFlags2::COLOR_ATTACHMENT_WRITE | vk::AccessFlags2::COLOR_ATTACHMENT_READ,
-                vk::ImageLayout::UNDEFINED,
-                vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-            ),
-            image_barrier(
-                &t.depth,
-                vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS
-                    | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS,
-                vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE,
-                vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS
-                    | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS,
-                vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ
-                    | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE,
-                vk::ImageLayout::UNDEFINED,
-                vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
-            ),
-        ];
-        if t.resolve.is_none() {
-            // At 1x the colour target is also the copy source of the last frame.
-            to_attachment[0].src_stage_mask |= vk::PipelineStageFlags2::COPY;
-        }
-        if let Some(resolve) = &t.resolve {
-            to_attachment.push(image_barrier(
-                resolve,
-                vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT | vk::PipelineStageFlags2::COPY,
-                vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
-                vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
-                vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
-                vk::ImageLayout::UNDEFINED,
-                vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-            ));
-        }
+        let to_attachment = to_attachments(t);
         // SAFETY (this and the commands below): recording into our own
         // command buffer; every handle is owned by this Renderer and alive.
         unsafe {
@@ -495,6 +455,51 @@ impl Renderer {
         }
         .destroy(gpu);
     }
+}
+
+/// Layout transitions of `t`'s images into attachment layouts, contents
+/// discarded. The previous frame (or the bench's floor) wrote these images
+/// and copied from the final one, so wait for those writes and reads first.
+pub(crate) fn to_attachments(t: &RenderTargets) -> Vec<vk::ImageMemoryBarrier2<'static>> {
+    let mut to_attachment = vec![
+        image_barrier(
+            &t.color,
+            vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+            vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
+            vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+            vk::AccessFlags2::COLOR_ATTACHMENT_WRITE | vk::AccessFlags2::COLOR_ATTACHMENT_READ,
+            vk::ImageLayout::UNDEFINED,
+            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+        ),
+        image_barrier(
+            &t.depth,
+            vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS
+                | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS,
+            vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE,
+            vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS
+                | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS,
+            vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ
+                | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE,
+            vk::ImageLayout::UNDEFINED,
+            vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
+        ),
+    ];
+    if t.resolve.is_none() {
+        // At 1x the colour target is also the copy source of the last frame.
+        to_attachment[0].src_stage_mask |= vk::PipelineStageFlags2::COPY;
+    }
+    if let Some(resolve) = &t.resolve {
+        to_attachment.push(image_barrier(
+            resolve,
+            vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT | vk::PipelineStageFlags2::COPY,
+            vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
+            vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+            vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
+            vk::ImageLayout::UNDEFINED,
+            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+        ));
+    }
+    to_attachment
 }
 
 /// A depth attachment cleared to the far plane (1.0) on load.
