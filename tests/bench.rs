@@ -3,23 +3,11 @@
 //! parses as XML; the memory check before a huge count; the no-timestamp
 //! path.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
 
-fn meadow(args: &[&str], env: &[(&str, &str)]) -> Output {
-    let mut cmd = Command::new(env!("CARGO_BIN_EXE_meadow"));
-    cmd.args(args).env("MEADOW_QUIET_VALIDATION", "1");
-    for (k, v) in env {
-        cmd.env(k, v);
-    }
-    cmd.output().expect("run meadow")
-}
+use std::path::Path;
 
-fn temp_out(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("meadow-bench-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    dir
-}
+use common::binary::{meadow, temp_out};
 
 fn tiny_bench(out: &Path, env: &[(&str, &str)]) -> serde_json::Value {
     let out_s = out.to_str().unwrap();

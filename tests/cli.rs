@@ -1,17 +1,11 @@
 //! The `meadow` binary: bad input gives one clear line and a non-zero exit
 //! and leaves no frame behind; a good run writes the frame and the report.
 
-use std::path::PathBuf;
+mod common;
+
 use std::process::{Command, Output};
 
-fn meadow(args: &[&str], env: &[(&str, &str)]) -> Output {
-    let mut cmd = Command::new(env!("CARGO_BIN_EXE_meadow"));
-    cmd.args(args).env("MEADOW_QUIET_VALIDATION", "1");
-    for (k, v) in env {
-        cmd.env(k, v);
-    }
-    cmd.output().expect("run meadow")
-}
+use common::binary::{meadow, temp_out};
 
 fn assert_succeeded(result: &Output) {
     assert!(
@@ -19,12 +13,6 @@ fn assert_succeeded(result: &Output) {
         "{}",
         String::from_utf8_lossy(&result.stderr)
     );
-}
-
-fn temp_out(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("meadow-cli-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    dir
 }
 
 /// Fails with exactly one stderr line containing `fragment`, and no frame.

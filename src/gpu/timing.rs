@@ -262,34 +262,33 @@ impl Phase {
     }
 }
 
-/// GPU milliseconds of one frame per phase (a phase recorded several times,
-/// such as one wind step per simulation step, is summed; one not recorded
-/// is 0: a frame with no simulation step has no wind work).
+/// One value per phase of a frame, named as the phases are in reports.
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
-pub struct FrameTimings {
-    pub wind: f64,
-    pub grass: f64,
-    pub shadow: f64,
-    pub colour: f64,
-    pub grass_draw: f64,
-    pub readback: f64,
-    pub frame: f64,
+pub struct PerPhase<T> {
+    pub wind: T,
+    pub grass: T,
+    pub shadow: T,
+    pub colour: T,
+    pub grass_draw: T,
+    pub readback: T,
+    pub frame: T,
 }
 
-impl FrameTimings {
-    pub fn get(&self, phase: Phase) -> f64 {
-        match phase {
-            Phase::Wind => self.wind,
-            Phase::Grass => self.grass,
-            Phase::Shadow => self.shadow,
-            Phase::Colour => self.colour,
-            Phase::GrassDraw => self.grass_draw,
-            Phase::Readback => self.readback,
-            Phase::Frame => self.frame,
+impl<T> PerPhase<T> {
+    /// Each phase's value from `f`.
+    pub fn from_fn(mut f: impl FnMut(Phase) -> T) -> Self {
+        Self {
+            wind: f(Phase::Wind),
+            grass: f(Phase::Grass),
+            shadow: f(Phase::Shadow),
+            colour: f(Phase::Colour),
+            grass_draw: f(Phase::GrassDraw),
+            readback: f(Phase::Readback),
+            frame: f(Phase::Frame),
         }
     }
 
-    fn get_mut(&mut self, phase: Phase) -> &mut f64 {
+    pub fn get_mut(&mut self, phase: Phase) -> &mut T {
         match phase {
             Phase::Wind => &mut self.wind,
             Phase::Grass => &mut self.grass,
@@ -301,6 +300,25 @@ impl FrameTimings {
         }
     }
 }
+
+impl<T: Copy> PerPhase<T> {
+    pub fn get(&self, phase: Phase) -> T {
+        match phase {
+            Phase::Wind => self.wind,
+            Phase::Grass => self.grass,
+            Phase::Shadow => self.shadow,
+            Phase::Colour => self.colour,
+            Phase::GrassDraw => self.grass_draw,
+            Phase::Readback => self.readback,
+            Phase::Frame => self.frame,
+        }
+    }
+}
+
+/// GPU milliseconds of one frame per phase (a phase recorded several times,
+/// such as one wind step per simulation step, is summed; one not recorded
+/// is 0: a frame with no simulation step has no wind work).
+pub type FrameTimings = PerPhase<f64>;
 
 /// A begin/end pair handed out by `PhaseTimer::begin`.
 #[derive(Clone, Copy, Debug)]
@@ -416,30 +434,7 @@ pub fn median_p95(values: &[f64]) -> Option<(f64, f64)> {
 }
 
 /// Median and p95 GPU ms of each phase over a run of frames.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
-pub struct PhaseSpreads {
-    pub wind: Spread,
-    pub grass: Spread,
-    pub shadow: Spread,
-    pub colour: Spread,
-    pub grass_draw: Spread,
-    pub readback: Spread,
-    pub frame: Spread,
-}
-
-impl PhaseSpreads {
-    pub fn get(&self, phase: Phase) -> Spread {
-        match phase {
-            Phase::Wind => self.wind,
-            Phase::Grass => self.grass,
-            Phase::Shadow => self.shadow,
-            Phase::Colour => self.colour,
-            Phase::GrassDraw => self.grass_draw,
-            Phase::Readback => self.readback,
-            Phase::Frame => self.frame,
-        }
-    }
-}
+pub type PhaseSpreads = PerPhase<Spread>;
 
 /// Timings of a run of frames, as `report.json` and `bench.json` hold them.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
@@ -463,18 +458,9 @@ impl TimingSummary {
     pub fn of(gpu: &[Option<FrameTimings>], wall_ms: &[f64]) -> Self {
         let all: Option<Vec<FrameTimings>> = gpu.iter().copied().collect();
         let gpu_ms = all.filter(|v| !v.is_empty()).map(|v| {
-            let spread = |p: Phase| {
+            PhaseSpreads::from_fn(|p| {
                 Spread::of(&v.iter().map(|t| t.get(p)).collect::<Vec<_>>()).expect("not empty")
-            };
-            PhaseSpreads {
-                wind: spread(Phase::Wind),
-                grass: spread(Phase::Grass),
-                shadow: spread(Phase::Shadow),
-                colour: spread(Phase::Colour),
-                grass_draw: spread(Phase::GrassDraw),
-                readback: spread(Phase::Readback),
-                frame: spread(Phase::Frame),
-            }
+            })
         });
         let gpu_unavailable = match (&gpu_ms, gpu.is_empty()) {
             (Some(_), _) => None,

@@ -4,6 +4,7 @@
 
 #![allow(dead_code)]
 
+pub mod binary;
 pub mod wind_scenes;
 
 use meadow::gpu::{Gpu, GpuOptions, ValidationOptions};

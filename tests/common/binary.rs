@@ -1,0 +1,22 @@
+//! Running the `meadow` binary from the CLI tests.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+/// Runs `meadow args` with `env` added; validation messages counted, not echoed.
+pub fn meadow(args: &[&str], env: &[(&str, &str)]) -> Output {
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_meadow"));
+    cmd.args(args).env("MEADOW_QUIET_VALIDATION", "1");
+    for (k, v) in env {
+        cmd.env(k, v);
+    }
+    cmd.output().expect("run meadow")
+}
+
+/// A fresh (removed) directory path under the system temp dir, unique to
+/// this test process.
+pub fn temp_out(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("meadow-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    dir
+}
