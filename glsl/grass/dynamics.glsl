@@ -145,13 +145,28 @@ vec3 guard_wind(vec3 v) {
     return speed > MAX_WIND_SPEED ? v * (MAX_WIND_SPEED / speed) : v;
 }
 
+// Whether a control point left the ground plane (y = 0) downward.
+bool below_ground(Pose p) {
+    return min(min(p.points[1].y, p.points[2].y), p.points[3].y) < 0.0;
+}
+
+// Ground contact (ours): a substep that would bend the blade into the
+// ground keeps its bending angles from before it and stops them.
+void ground_contact(inout GrassState s, GrassState before) {
+    s.angle[BEND_A] = before.angle[BEND_A];
+    s.velocity[BEND_A] = 0.0;
+    s.angle[BEND_B] = before.angle[BEND_B];
+    s.velocity[BEND_B] = 0.0;
+}
+
 // One simulation step in `substeps` symplectic Euler substeps of h:
 // omega' = omega + (N / I) h, theta' = theta + omega' h.
 void blade_step(GrassBlade b, inout GrassState s, vec3 wind, float h, uint substeps) {
     wind = guard_wind(wind);
+    Pose p = blade_pose(b, s.angle);
     for (uint k = 0u; k < substeps; ++k) {
-        Pose p = blade_pose(b, s.angle);
         vec4 torque = torques(b, p, s, wind);
+        GrassState before = s;
         for (int m = 0; m < 4; ++m) {
             float omega = s.velocity[m] + torque[m] / b.inertia[m] * h;
             float theta = s.angle[m] + omega * h;
@@ -162,6 +177,11 @@ void blade_step(GrassBlade b, inout GrassState s, vec3 wind, float h, uint subst
                 s.angle[m] = theta;
                 s.velocity[m] = omega;
             }
+        }
+        p = blade_pose(b, s.angle);
+        if (below_ground(p)) {
+            ground_contact(s, before);
+            p = blade_pose(b, s.angle);
         }
     }
 }

@@ -440,9 +440,10 @@ pub fn guard_wind(v: Vec3) -> Vec3 {
 pub fn step(blade: &GrassBlade, state: &mut GrassState, wind: Vec3, dt: f32, substeps: u32) {
     let wind = guard_wind(wind);
     let h = dt / substeps as f32;
+    let mut current = pose(blade, state.angle);
     for _ in 0..substeps {
-        let pose = pose(blade, state.angle);
-        let torque = torques(blade, &pose, state, wind);
+        let torque = torques(blade, &current, state, wind);
+        let before = *state;
         #[allow(clippy::needless_range_loop)] // four parallel per-motion arrays
         for m in 0..4 {
             let omega = state.velocity[m] + torque[m] / blade.inertia[m] * h;
@@ -456,6 +457,31 @@ pub fn step(blade: &GrassBlade, state: &mut GrassState, wind: Vec3, dt: f32, sub
                 state.velocity[m] = omega;
             }
         }
+        current = pose(blade, state.angle);
+        if below_ground(&current) {
+            ground_contact(state, &before);
+            current = pose(blade, state.angle);
+        }
+    }
+}
+
+/// Whether a control point left the ground plane (y = 0) downward. The
+/// drawn curve lies in its control points' convex hull, so it stays above
+/// the ground when they do.
+pub fn below_ground(pose: &Pose) -> bool {
+    pose.points[1..].iter().any(|p| p.y < 0.0)
+}
+
+/// Ground contact (ours; the paper has no ground): only bending lowers a
+/// point (swinging turns about the vertical, twisting turns only the
+/// width), so a substep that would bend a blade into the ground keeps its
+/// bending angles from `before` and stops them, an inelastic contact like
+/// the MAX_ANGLE guard. The blade lies on the ground while the wind holds
+/// it there and rises when the restoring force wins.
+pub fn ground_contact(state: &mut GrassState, before: &GrassState) {
+    for m in [BEND_A, BEND_B] {
+        state.angle[m] = before.angle[m];
+        state.velocity[m] = 0.0;
     }
 }
 
