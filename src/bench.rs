@@ -206,8 +206,7 @@ pub fn bench_to_dir(request: &BenchRequest, out: &Path) -> Result<Bench> {
         }
     }
     let info = gpu.info().clone();
-    let validation = gpu.destroy();
-    result?;
+    let ((), validation) = gpu.finish(result)?;
     let grid = request.scene.wind_grid()?;
     let bench = Bench {
         scene: request.scene.name.clone(),
@@ -244,7 +243,7 @@ fn bench_row(
     scene.lod.enabled = lod;
     let (w, h) = (request.width, request.height);
     check_render_fits(gpu, &scene, w, h, request.msaa)?;
-    let blades = field::generate(&scene.grass, scene.seed);
+    let blades = field::generate(&scene.grass, scene.seed)?;
     let dynamic = field::dynamic_blades(&blades, &scene.grass.dynamics, scene.seed)?;
     let mut renderer = Renderer::new(gpu, w, h, request.msaa, scene.light.shadow_map, &blades)?;
     let commands = match Commands::new(gpu, "bench commands") {

@@ -29,10 +29,10 @@ pub enum Error {
     #[error("{0}")]
     WouldNotFit(String),
 
-    #[error("out of host memory while creating {what}")]
+    #[error("out of host memory while creating {what}; use fewer blades or a smaller image")]
     OutOfHostMemory { what: String },
 
-    #[error("the Vulkan device was lost during {during} (VK_ERROR_DEVICE_LOST); the driver reset or crashed")]
+    #[error("the Vulkan device was lost (VK_ERROR_DEVICE_LOST) during {during}; the driver reset or crashed: run again, and update the driver if it keeps happening")]
     DeviceLost { during: String },
 
     #[error("Vulkan call {call} failed with {result:?}")]
@@ -51,7 +51,7 @@ pub enum Error {
     #[error("{0}")]
     InvalidInput(String),
 
-    #[error("{path}: {source}")]
+    #[error("{path}: {source}{}", io_advice(.source))]
     Io {
         path: String,
         #[source]
@@ -65,12 +65,30 @@ pub enum Error {
         source: image::ImageError,
     },
 
+    /// A failure after which validation reported errors as well.
+    #[error("{cause}; and {validation}")]
+    AlsoInvalid {
+        cause: Box<Error>,
+        validation: Box<Error>,
+    },
+
     #[error("validation reported {errors} error(s) ({distinct} distinct message IDs); the first: {first}")]
     Validation {
         errors: u64,
         distinct: usize,
         first: String,
     },
+}
+
+/// What to do about a write that failed for want of room.
+fn io_advice(e: &std::io::Error) -> &'static str {
+    match e.kind() {
+        std::io::ErrorKind::StorageFull | std::io::ErrorKind::QuotaExceeded => {
+            "; free some space or pass --out a folder on another disk (the files already written are complete)"
+        }
+        std::io::ErrorKind::FileTooLarge => "; pass --out a folder on a disk that allows larger files",
+        _ => "",
+    }
 }
 
 impl Error {
@@ -107,6 +125,32 @@ impl Error {
             source,
         }
     }
+}
+
+/// An empty vector with room for `len` items (one per blade, a count the
+/// user chooses), failing with `OutOfHostMemory` instead of aborting the
+/// process when the machine cannot hold them.
+pub fn try_with_capacity<T>(len: usize, what: &str) -> Result<Vec<T>> {
+    let mut v = Vec::new();
+    v.try_reserve_exact(len)
+        .map_err(|_| Error::OutOfHostMemory {
+            what: format!(
+                "{what} ({:.1} MiB)",
+                len as f64 * std::mem::size_of::<T>() as f64 / (1u64 << 20) as f64
+            ),
+        })?;
+    Ok(v)
+}
+
+/// `try_with_capacity(len)` filled from `items` (at most `len` of them).
+pub fn try_collect<T>(
+    len: usize,
+    items: impl IntoIterator<Item = T>,
+    what: &str,
+) -> Result<Vec<T>> {
+    let mut v = try_with_capacity(len, what)?;
+    v.extend(items.into_iter().take(len));
+    Ok(v)
 }
 
 /// `result.vk_context("vkCreateBuffer", "blade vertex buffer")?`

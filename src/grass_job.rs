@@ -72,12 +72,12 @@ pub fn bench_grass(
         .map(|&n| bench_count(&gpu, scene, n, steps, warmup))
         .collect::<Result<Vec<_>>>();
     let info = gpu.info().clone();
-    let validation = gpu.destroy();
+    let (rows, validation) = gpu.finish(rows)?;
     let bench = GrassBench {
         scene: scene.name.clone(),
         device: info.name,
         device_type: info.device_type,
-        rows: rows?,
+        rows,
         validation,
     };
     bench.validation.check()?;
@@ -93,7 +93,7 @@ fn bench_count(
 ) -> Result<GrassBenchRow> {
     let mut scene = scene.clone();
     scene.set_blade_count(count)?;
-    let blades = field::generate(&scene.grass, scene.seed);
+    let blades = field::generate(&scene.grass, scene.seed)?;
     let dynamic = field::dynamic_blades(&blades, &scene.grass.dynamics, scene.seed)?;
     gpu.check_fits(
         &format!("{count} blades"),

@@ -181,8 +181,7 @@ pub fn render_to_dir_observed(
     let started = Instant::now();
     let gpu = Gpu::new(&request.gpu)?;
     let rendered = render_with(&gpu, request, out_dir, observer);
-    let validation = gpu.destroy();
-    let mut report = rendered?;
+    let (mut report, validation) = gpu.finish(rendered)?;
     report.validation = validation;
     report.wall_seconds = started.elapsed().as_secs_f64();
     let json = serde_json::to_vec_pretty(&report).expect("report serialises");
@@ -242,7 +241,7 @@ fn render_with(
     let scene = &request.scene;
     let warnings = scene.wind.settings().check(&scene.wind_grid()?)?;
     check_render_fits(gpu, scene, request.width, request.height, request.msaa)?;
-    let blades = field::generate(&scene.grass, scene.seed);
+    let blades = field::generate(&scene.grass, scene.seed)?;
     let dynamic = field::dynamic_blades(&blades, &scene.grass.dynamics, scene.seed)?;
     let mut renderer = Renderer::new(
         gpu,
@@ -361,7 +360,7 @@ fn animate(
     for f in request.frames_written() {
         let at_frame = |e: Error| match e {
             Error::DeviceLost { during } => Error::DeviceLost {
-                during: format!("{during} (frame {f}; the frames before it are complete)"),
+                during: format!("frame {f}, {during} (the frames before it are complete)"),
             },
             other => other,
         };

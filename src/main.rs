@@ -6,7 +6,7 @@ use std::process::ExitCode;
 use anyhow::Context as _;
 use clap::{Parser, Subcommand, ValueEnum};
 
-use meadow::gpu::{Gpu, GpuOptions, ValidationOptions};
+use meadow::gpu::{FaultPlan, Gpu, GpuOptions, ValidationOptions};
 use meadow::job::{render_to_dir_observed, RenderRequest};
 use meadow::scene::{self, Scene, ViewMode};
 
@@ -53,8 +53,8 @@ struct DeviceArgs {
 }
 
 impl DeviceArgs {
-    fn options(&self) -> GpuOptions {
-        GpuOptions {
+    fn options(&self) -> anyhow::Result<GpuOptions> {
+        Ok(GpuOptions {
             validation: ValidationOptions {
                 enabled: self.validation,
                 synchronization: self.validation,
@@ -71,7 +71,9 @@ impl DeviceArgs {
                 })
                 .unwrap_or_default(),
             memory_budget: self.gpu_memory_mib.map(|m| m << 20),
-        }
+            // A test hook: fail the N-th allocation or submission.
+            faults: FaultPlan::parse(&std::env::var("MEADOW_INJECT_FAULT").unwrap_or_default())?,
+        })
     }
 }
 
@@ -325,7 +327,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             if let Some(lod) = lod {
                 scene.lod.enabled = lod == OnOff::On;
             }
-            let mut request = RenderRequest::from_scene(scene, device.options());
+            let mut request = RenderRequest::from_scene(scene, device.options()?);
             let a = &mut request.animation;
             a.frames = frames.unwrap_or(a.frames);
             a.fps = fps.unwrap_or(a.fps);
@@ -410,7 +412,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 anyhow::bail!("--steps {steps} is not allowed, use 1..=1000000");
             }
             let scene = Scene::load(&scene)?;
-            let r = meadow::wind_job::wind_to_dir(&scene, steps, &device.options(), &out)?;
+            let r = meadow::wind_job::wind_to_dir(&scene, steps, &device.options()?, &out)?;
             for w in &r.warnings {
                 eprintln!("meadow: warning: {w}");
             }
@@ -477,7 +479,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 width,
                 height,
                 msaa,
-                gpu: device.options(),
+                gpu: device.options()?,
             };
             let bench = meadow::bench::bench_to_dir(&request, &out)?;
             print!("{}", meadow::bench::markdown(&bench));
@@ -502,7 +504,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 .collect::<Result<Vec<_>, _>>()?;
             meadow::output::ensure_dir(&out)?;
             let bench =
-                meadow::grass_job::bench_grass(&scene, &counts, steps, warmup, &device.options())?;
+                meadow::grass_job::bench_grass(&scene, &counts, steps, warmup, &device.options()?)?;
             let json = serde_json::to_vec_pretty(&bench).expect("bench serialises");
             let path = out.join("grass_bench.json");
             meadow::output::write_atomic(&path, &json)?;
@@ -533,7 +535,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             let rendered = meadow::reproduce::reproduce(
                 &out,
                 quick,
-                &device.options(),
+                &device.options()?,
                 &mut |figure, shot| {
                     eprintln!("meadow: {figure}: {shot}");
                 },
@@ -549,7 +551,8 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             Ok(())
         }
         Command::Devices { device } => {
-            let devices = Gpu::list_devices(&device.options()).context("listing Vulkan devices")?;
+            let devices =
+                Gpu::list_devices(&device.options()?).context("listing Vulkan devices")?;
             if devices.is_empty() {
                 anyhow::bail!(meadow::Error::NoDevice);
             }

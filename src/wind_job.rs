@@ -53,8 +53,7 @@ pub fn wind_to_dir(
     output::ensure_dir(out_dir)?;
     let gpu = Gpu::new(gpu_options)?;
     let result = run(&gpu, scene, grid, &settings, steps, out_dir);
-    let validation = gpu.destroy();
-    let mut report = result?;
+    let (mut report, validation) = gpu.finish(result)?;
     report.warnings = warnings;
     report.validation = validation;
     let json = serde_json::to_vec_pretty(&report).expect("report serialises");

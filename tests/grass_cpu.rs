@@ -261,7 +261,7 @@ fn storm(x: Vec3, t: f32) -> Vec3 {
 #[test]
 fn roots_stay_fixed_and_edges_keep_their_length_in_a_storm() {
     let scene = Scene::builtin("fig10-few-bunches").unwrap();
-    let blades = field::generate(&scene.grass, scene.seed);
+    let blades = field::generate(&scene.grass, scene.seed).unwrap();
     let dynamic = field::dynamic_blades(&blades, &scene.grass.dynamics, scene.seed).unwrap();
     let mut grass = grass::GrassField::new(dynamic, DT).unwrap();
     for i in 0..2000 {
@@ -325,7 +325,7 @@ fn a_blade_pressed_down_stays_on_the_ground_and_rises_when_released() {
 fn drooping_blades_are_split_and_others_are_not() {
     let mut scene = Scene::builtin("table1").unwrap();
     scene.set_blade_count(2000).unwrap();
-    let blades = field::generate(&scene.grass, 5);
+    let blades = field::generate(&scene.grass, 5).unwrap();
     let dynamic = field::dynamic_blades(&blades, &scene.grass.dynamics, 5).unwrap();
     for (b, d) in blades.iter().zip(&dynamic) {
         let expected = if b.kind == BladeKind::Drooping { 2 } else { 3 };

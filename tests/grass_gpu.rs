@@ -18,7 +18,7 @@ const DT: f32 = 1.0 / 60.0;
 
 fn few_bunches() -> (Scene, Vec<GrassBlade>) {
     let scene = Scene::builtin("fig10-few-bunches").unwrap();
-    let blades = field::generate(&scene.grass, scene.seed);
+    let blades = field::generate(&scene.grass, scene.seed).unwrap();
     let dynamic = field::dynamic_blades(&blades, &scene.grass.dynamics, scene.seed).unwrap();
     (scene, dynamic)
 }

@@ -22,7 +22,7 @@ fn is_grass(p: [u8; 3]) -> bool {
 fn meadow_is_grass_below_and_sky_above_and_moves_with_the_camera() {
     let gpu = strict_gpu();
     let scene = meadow_scene();
-    let blades = field::generate(&scene.grass, scene.seed);
+    let blades = field::generate(&scene.grass, scene.seed).unwrap();
     let (w, h) = (320, 180);
     let frame = render(&gpu, &scene, &blades, w, h, ViewMode::Shaded);
 
@@ -156,7 +156,7 @@ fn lod_view_colours_blades_by_level() {
         count: Some(20_000),
         density: None,
     }];
-    let blades = field::generate(&scene.grass, 5);
+    let blades = field::generate(&scene.grass, 5).unwrap();
     let frame = render(&gpu, &scene, &blades, 320, 180, ViewMode::Lod);
     let count = |pred: fn([u8; 3]) -> bool| {
         (0..frame.height)

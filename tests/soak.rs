@@ -65,7 +65,7 @@ fn to_vec3(v: [f32; 4]) -> Vec3 {
 fn soak(blades: usize, steps: u64, check_every: u64) -> Figures {
     assert_eq!(check_every % STEPS_PER_SUBMIT, 0);
     let scene = storm(blades);
-    let rest = field::generate(&scene.grass, scene.seed);
+    let rest = field::generate(&scene.grass, scene.seed).unwrap();
     let blades = field::dynamic_blades(&rest, &scene.grass.dynamics, scene.seed).unwrap();
     let grid = scene.wind_grid().unwrap();
     let dt = scene.wind.dt;

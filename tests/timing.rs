@@ -69,7 +69,7 @@ fn every_phase_is_timed_positive_finite_and_within_the_frame() {
     let gpu = strict_gpu();
     let mut scene = Scene::builtin("fig10-few-bunches").unwrap();
     scene.light.shadow_map = 1024;
-    let blades = field::generate(&scene.grass, scene.seed);
+    let blades = field::generate(&scene.grass, scene.seed).unwrap();
     let dynamic = field::dynamic_blades(&blades, &scene.grass.dynamics, scene.seed).unwrap();
     let mut renderer = Renderer::new(&gpu, 160, 90, 4, 1024, &blades).unwrap();
     let commands = Commands::new(&gpu, "test set-up").unwrap();

@@ -38,7 +38,7 @@ impl Buffer {
         gpu.device.name(raw, name);
         // SAFETY: `raw` was just created on this device.
         let requirements = unsafe { device.get_buffer_memory_requirements(raw) };
-        let allocation = match gpu.memory.allocate(name, requirements, location, true) {
+        let allocation = match gpu.allocate(name, requirements, location, true) {
             Ok(a) => a,
             Err(e) => {
                 // SAFETY: unbound and unused.

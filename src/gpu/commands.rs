@@ -73,6 +73,7 @@ impl Commands {
         let device = &gpu.device.raw;
         // SAFETY: `cmd` is in the recording state (begun by `begin`).
         unsafe { device.end_command_buffer(self.cmd) }.vk_context("vkEndCommandBuffer", what)?;
+        gpu.faults.submission(what)?;
         let cmds = [vk::CommandBufferSubmitInfo::default().command_buffer(self.cmd)];
         let submit = [vk::SubmitInfo2::default().command_buffer_infos(&cmds)];
         // SAFETY: the fence is unsignalled (reset after every wait) and the

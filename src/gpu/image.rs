@@ -53,17 +53,14 @@ impl Image {
             unsafe { device.create_image(&info, None) }.vk_context("vkCreateImage", desc.name)?;
         gpu.device.name(raw, desc.name);
         let requirements = unsafe { device.get_image_memory_requirements(raw) };
-        let allocation =
-            match gpu
-                .memory
-                .allocate(desc.name, requirements, MemoryLocation::GpuOnly, false)
-            {
-                Ok(a) => a,
-                Err(e) => {
-                    unsafe { device.destroy_image(raw, None) };
-                    return Err(e);
-                }
-            };
+        let allocation = match gpu.allocate(desc.name, requirements, MemoryLocation::GpuOnly, false)
+        {
+            Ok(a) => a,
+            Err(e) => {
+                unsafe { device.destroy_image(raw, None) };
+                return Err(e);
+            }
+        };
         // SAFETY: fresh image, fresh allocation that satisfies its requirements.
         if let Err(r) =
             unsafe { device.bind_image_memory(raw, allocation.memory(), allocation.offset()) }

@@ -6,6 +6,7 @@ pub mod buffer;
 pub mod commands;
 pub mod descriptors;
 pub mod device;
+pub mod fault;
 pub mod image;
 pub mod instance;
 pub mod memory;
@@ -14,6 +15,7 @@ pub mod timing;
 
 pub use buffer::Buffer;
 pub use device::{Device, DeviceInfo};
+pub use fault::FaultPlan;
 pub use image::{Image, ImageDesc};
 pub use instance::{Instance, ValidationOptions, ValidationReport};
 pub use memory::{Memory, MemoryLocation};
@@ -38,6 +40,9 @@ pub struct GpuOptions {
     /// default is half the largest device-local heap. For sharing a GPU, and
     /// for testing the refusal without a huge allocation.
     pub memory_budget: Option<u64>,
+    /// Failures to inject (tests of the out-of-memory and device-loss
+    /// paths); none by default.
+    pub faults: FaultPlan,
 }
 
 /// The instance, the device and its memory: everything a frame needs that
@@ -47,6 +52,7 @@ pub struct Gpu {
     pub device: Device,
     pub instance: Instance,
     memory_budget: Option<u64>,
+    pub(crate) faults: fault::Faults,
 }
 
 impl Gpu {
@@ -75,6 +81,7 @@ impl Gpu {
             device,
             instance,
             memory_budget: options.memory_budget,
+            faults: fault::Faults::new(options.faults),
         })
     }
 
@@ -125,9 +132,37 @@ impl Gpu {
         Ok(())
     }
 
+    /// Device memory for `name`: every buffer and image allocates here.
+    pub fn allocate(
+        &self,
+        name: &str,
+        requirements: ash::vk::MemoryRequirements,
+        location: MemoryLocation,
+        linear: bool,
+    ) -> Result<gpu_allocator::vulkan::Allocation> {
+        self.faults.allocation(name)?;
+        self.memory.allocate(name, requirements, location, linear)
+    }
+
     pub fn wait_idle(&self) {
         // SAFETY: a live device; failure (device lost) leaves nothing to wait for.
         let _ = unsafe { self.device.raw.device_wait_idle() };
+    }
+
+    /// Tears the GPU down after `work` and pairs its result with what
+    /// validation reported. When the work failed and validation reported
+    /// errors too (a failure path that leaked objects, say), the error
+    /// names both: a broken failure path must not go unseen.
+    pub fn finish<T>(self, work: Result<T>) -> Result<(T, ValidationReport)> {
+        let report = self.destroy();
+        match (work, report.check()) {
+            (Ok(value), _) => Ok((value, report)),
+            (Err(e), Ok(())) => Err(e),
+            (Err(e), Err(validation)) => Err(crate::Error::AlsoInvalid {
+                cause: Box::new(e),
+                validation: Box::new(validation),
+            }),
+        }
     }
 
     /// Tears down in order: allocator, device, messenger, instance. Returns

@@ -4,7 +4,7 @@
 
 use ash::vk;
 
-use crate::error::{Error, Result};
+use crate::error::{try_collect, Error, Result};
 use crate::gpu::commands::Commands;
 use crate::gpu::descriptors::{Bound, BufferSet};
 use crate::gpu::timing::{FrameTimings, Phase, PhaseTimer, PipelineStatistics, StatisticsQuery};
@@ -181,7 +181,11 @@ impl Renderer {
             "frame descriptor set",
         )?);
 
-        let vertices: Vec<BladeVertex> = blades.iter().flat_map(Blade::vertices).collect();
+        let vertices: Vec<BladeVertex> = try_collect(
+            4 * blades.len(),
+            blades.iter().flat_map(Blade::vertices),
+            "the blades' control points",
+        )?;
         p.statistics = Some(StatisticsQuery::new(gpu)?);
         p.timer = PhaseTimer::new(gpu, 16)?;
         // The grass dynamics (compute) writes this buffer in place each

@@ -9,7 +9,7 @@
 
 use ash::vk;
 
-use crate::error::{Error, Result};
+use crate::error::{try_collect, Error, Result};
 use crate::gpu::commands::Commands;
 use crate::gpu::descriptors::{
     create_pipeline_layout, create_set_layout, BufferSet, LayoutBinding,
@@ -106,7 +106,11 @@ impl GrassPass {
             compute,
             vk::AccessFlags2::SHADER_STORAGE_READ,
         )?;
-        let rest = vec![GrassState::default(); blades.len()];
+        let rest = try_collect(
+            blades.len(),
+            std::iter::repeat(GrassState::default()),
+            "the grass state",
+        )?;
         let states = match Buffer::with_data(
             gpu,
             commands,

@@ -7,16 +7,19 @@ use glam::{Vec2, Vec3};
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64Mcg;
 
-use crate::error::Result;
+use crate::error::{try_with_capacity, Result};
 use crate::scene::{BladeShape, Grass, GrassDynamics, GrassPatch};
 use crate::sim::{Blade, BladeKind, BladePhysics, GrassBlade};
 
 /// Generates every blade of every patch. The same grass and seed always
 /// give the same blades, on every machine.
-pub fn generate(grass: &Grass, seed: u64) -> Vec<Blade> {
+pub fn generate(grass: &Grass, seed: u64) -> Result<Vec<Blade>> {
     let shape = &grass.shape;
     let patches = grass.patches();
-    let mut blades = Vec::with_capacity(patches.iter().map(GrassPatch::count).sum());
+    let mut blades = try_with_capacity(
+        patches.iter().map(GrassPatch::count).sum(),
+        "the grass field's blades",
+    )?;
     for (index, patch) in patches.iter().enumerate() {
         // One stream per patch, so editing one patch leaves the others alone.
         let mut rng =
@@ -53,23 +56,23 @@ pub fn generate(grass: &Grass, seed: u64) -> Vec<Blade> {
             }
         }
     }
-    blades
+    Ok(blades)
 }
 
 /// Draws each blade's physical parameters from the scene's ranges. A stream
 /// of its own, so the shapes do not change when the physics ranges do.
-pub fn physics(count: usize, dynamics: &GrassDynamics, seed: u64) -> Vec<BladePhysics> {
+pub fn physics(dynamics: &GrassDynamics, seed: u64) -> impl Iterator<Item = BladePhysics> + '_ {
     let mut rng = Pcg64Mcg::seed_from_u64(seed ^ 0xD1B5_4A32_D192_ED03);
-    let mut draw = |[lo, hi]: [f32; 2]| lo + (hi - lo) * rng.random::<f32>();
-    (0..count)
-        .map(|_| BladePhysics {
+    std::iter::repeat_with(move || {
+        let mut draw = |[lo, hi]: [f32; 2]| lo + (hi - lo) * rng.random::<f32>();
+        BladePhysics {
             edge_mass: draw(dynamics.edge_mass),
             sigma: draw(dynamics.sigma),
             tip_stiffness: draw(dynamics.tip_stiffness),
             stiffness_ratio: draw(dynamics.stiffness_ratio),
             damping_ratio: draw(dynamics.damping_ratio),
-        })
-        .collect()
+        }
+    })
 }
 
 /// The blades as the grass dynamics reads them: shape plus physics.
@@ -79,11 +82,11 @@ pub fn dynamic_blades(
     seed: u64,
 ) -> Result<Vec<GrassBlade>> {
     dynamics.validate()?;
-    blades
-        .iter()
-        .zip(physics(blades.len(), dynamics, seed))
-        .map(|(b, p)| GrassBlade::new(b, &p))
-        .collect()
+    let mut out = try_with_capacity(blades.len(), "the blades' dynamics")?;
+    for (b, p) in blades.iter().zip(physics(dynamics, seed)) {
+        out.push(GrassBlade::new(b, &p)?);
+    }
+    Ok(out)
 }
 
 fn blade(rng: &mut Pcg64Mcg, shape: &BladeShape, root: Vec2, facing_angle: f32) -> Blade {
@@ -141,9 +144,9 @@ mod tests {
     #[test]
     fn same_seed_same_field_other_seed_other_field() {
         let scene = Scene::builtin("fig10-few-bunches").unwrap();
-        let a = generate(&scene.grass, 7);
-        let b = generate(&scene.grass, 7);
-        let c = generate(&scene.grass, 8);
+        let a = generate(&scene.grass, 7).unwrap();
+        let b = generate(&scene.grass, 7).unwrap();
+        let c = generate(&scene.grass, 8).unwrap();
         assert_eq!(a, b);
         assert_ne!(a, c);
     }
@@ -151,7 +154,7 @@ mod tests {
     #[test]
     fn all_three_kinds_appear_with_varied_heights() {
         let scene = Scene::builtin("table1").unwrap();
-        let blades = generate(&scene.grass, 1);
+        let blades = generate(&scene.grass, 1).unwrap();
         for kind in [BladeKind::Upright, BladeKind::Curved, BladeKind::Drooping] {
             assert!(blades.iter().any(|b| b.kind == kind), "{kind:?} missing");
         }

@@ -12,7 +12,7 @@ fn grass_step(c: &mut Criterion) {
     const BLADES: usize = 10_000;
     let mut scene = Scene::builtin("table1").unwrap();
     scene.set_blade_count(BLADES).unwrap();
-    let blades = field::generate(&scene.grass, scene.seed);
+    let blades = field::generate(&scene.grass, scene.seed).unwrap();
     let dynamic = field::dynamic_blades(&blades, &scene.grass.dynamics, scene.seed).unwrap();
     let settings = scene.wind.settings();
     let mut wind = WindField::new(scene.wind_grid().unwrap(), &settings);

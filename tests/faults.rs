@@ -1,0 +1,286 @@
+//! Faults, injected and real, through the `meadow` binary with validation
+//! on: device memory running out at every allocation in turn (injected,
+//! MEADOW_INJECT_FAULT) and for real under an address-space limit; the
+//! device lost at every submission in turn (injected); the disk filling up
+//! while frames are written (a real, tiny tmpfs). Each must give one line
+//! naming the cause, a non-zero exit, no validation error on the failure
+//! path (every object destroyed), and only complete files on disk.
+
+mod common;
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+use common::binary::{meadow, temp_out};
+
+/// The most operations any command here makes; a loop past it means the
+/// injected fault never fired.
+const MAX_OPERATIONS: u64 = 400;
+
+fn stderr_of(result: &Output) -> String {
+    String::from_utf8_lossy(&result.stderr).into_owned()
+}
+
+/// A failure: exit status 1 (not a panic's 101 or an abort's 134), one
+/// line, no panic, and validation had nothing to add.
+fn assert_one_clean_line(what: &str, result: &Output) -> String {
+    let stderr = stderr_of(result);
+    assert_eq!(result.status.code(), Some(1), "{what}: {stderr}");
+    assert_eq!(stderr.trim_end().lines().count(), 1, "{what}: {stderr}");
+    assert!(stderr.starts_with("meadow: error: "), "{what}: {stderr}");
+    assert!(!stderr.contains("panicked"), "{what}: {stderr}");
+    assert!(
+        !stderr.contains("validation reported"),
+        "{what}: the failure path upset validation: {stderr}"
+    );
+    stderr
+}
+
+/// The files in `dir` (none when it does not exist), sorted.
+fn files_in(dir: &Path) -> Vec<String> {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return Vec::new();
+    };
+    let mut names: Vec<String> = entries
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
+}
+
+/// Nothing half-written: no temporary file, every image decodes, every
+/// JSON parses.
+fn assert_only_complete_files(what: &str, dir: &Path) {
+    for name in files_in(dir) {
+        let path = dir.join(&name);
+        assert!(!name.contains(".partial"), "{what}: left {name}");
+        if name.ends_with(".png") || name.ends_with(".gif") {
+            image::open(&path).unwrap_or_else(|e| panic!("{what}: {name} is broken: {e}"));
+        } else if name.ends_with(".json") {
+            let bytes = std::fs::read(&path).unwrap();
+            serde_json::from_slice::<serde_json::Value>(&bytes)
+                .unwrap_or_else(|e| panic!("{what}: {name} is broken: {e}"));
+        }
+    }
+}
+
+/// Small runs of each command that allocates device memory.
+fn commands(out: &str) -> Vec<(&'static str, Vec<String>)> {
+    let tiny = |args: &[&str]| -> Vec<String> {
+        let mut v: Vec<String> = args.iter().map(|s| s.to_string()).collect();
+        v.extend(["--validation".into(), "--out".into(), out.into()]);
+        v
+    };
+    vec![
+        (
+            "render",
+            tiny(&[
+                "render",
+                "--scene",
+                "fig10-few-bunches",
+                "--width",
+                "64",
+                "--height",
+                "48",
+                "--shadow-map",
+                "256",
+                "--frames",
+                "4",
+            ]),
+        ),
+        (
+            "wind",
+            tiny(&["wind", "--scene", "fig13-obstacles", "--steps", "2"]),
+        ),
+        (
+            "bench",
+            tiny(&[
+                "bench", "--blades", "1k", "--lod", "on", "--frames", "1", "--warmup", "0",
+                "--width", "64", "--height", "48",
+            ]),
+        ),
+        (
+            "bench-grass",
+            tiny(&[
+                "bench-grass",
+                "--blades",
+                "1k",
+                "--steps",
+                "1",
+                "--warmup",
+                "0",
+            ]),
+        ),
+    ]
+}
+
+#[test]
+fn every_device_memory_allocation_failing_in_turn_is_one_clean_line() {
+    let out = temp_out("oom-each");
+    let out_s = out.to_str().unwrap().to_string();
+    for (name, args) in commands(&out_s) {
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let mut failed = 0;
+        for n in 1..=MAX_OPERATIONS {
+            let _ = std::fs::remove_dir_all(&out);
+            let fault = format!("out-of-device-memory@{n}");
+            let result = meadow(&args, &[("MEADOW_INJECT_FAULT", &fault)]);
+            if result.status.success() {
+                break;
+            }
+            let what = format!("{name} with {fault}");
+            let stderr = assert_one_clean_line(&what, &result);
+            assert!(
+                stderr.contains("out of GPU memory while creating")
+                    && stderr.contains(&format!("(injected: allocation {n})")),
+                "{what}: {stderr}"
+            );
+            assert_only_complete_files(&what, &out);
+            failed += 1;
+            assert!(n < MAX_OPERATIONS, "{name}: the fault never stopped firing");
+        }
+        // Every render target, texture, wind and grass buffer and staging
+        // copy is one allocation; fewer would mean the hook is dead.
+        assert!(failed >= 10, "{name}: only {failed} allocations failed");
+        eprintln!("{name}: {failed} allocations, each failing cleanly in turn");
+    }
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+#[test]
+fn a_lost_device_is_named_with_its_frame_and_the_frames_before_stay_valid() {
+    let out = temp_out("device-lost");
+    let out_s = out.to_str().unwrap().to_string();
+    let (_, args) = commands(&out_s).swap_remove(0);
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let mut lost_frames = Vec::new();
+    for n in 1..=MAX_OPERATIONS {
+        let _ = std::fs::remove_dir_all(&out);
+        let fault = format!("device-lost@{n}");
+        let result = meadow(&args, &[("MEADOW_INJECT_FAULT", &fault)]);
+        if result.status.success() {
+            break;
+        }
+        let what = format!("render with {fault}");
+        let stderr = assert_one_clean_line(&what, &result);
+        assert!(
+            stderr.contains("lost (VK_ERROR_DEVICE_LOST)")
+                && stderr.contains(&format!("(injected: submission {n})")),
+            "{what}: {stderr}"
+        );
+        assert_only_complete_files(&what, &out);
+        // Lost while rendering frame k: frames 0..k are on disk, whole.
+        let frame = stderr
+            .split("during frame ")
+            .nth(1)
+            .map(|rest| rest.split(',').next().unwrap().parse::<u32>().unwrap());
+        let expected: Vec<String> = (0..frame.unwrap_or(0))
+            .map(|k| format!("frame_{k:04}.png"))
+            .collect();
+        assert_eq!(files_in(&out), expected, "{what}: {stderr}");
+        if let Some(k) = frame {
+            assert!(
+                stderr.contains("(the frames before it are complete)"),
+                "{stderr}"
+            );
+            lost_frames.push(k);
+        }
+        assert!(n < MAX_OPERATIONS, "the fault never stopped firing");
+    }
+    assert_eq!(lost_frames, [0, 1, 2, 3], "one loss per frame's submission");
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+#[test]
+fn a_disk_filling_up_while_frames_are_written_is_one_line_and_leaves_only_complete_frames() {
+    // A private mount namespace (unshare, as root or through a user
+    // namespace) with a 300 KiB tmpfs: room for a few 320x180 frames. What
+    // meadow leaves there is copied out before the namespace goes.
+    let keep = temp_out("disk-full");
+    std::fs::create_dir_all(keep.join("out")).unwrap();
+    let mount = keep.join("mnt");
+    std::fs::create_dir_all(&mount).unwrap();
+    let script = r#"
+        mount -t tmpfs -o size=300k meadow-full "$MNT" || exit 90
+        MEADOW_QUIET_VALIDATION=1 "$MEADOW" render --scene fig10-few-bunches \
+            --width 320 --height 180 --shadow-map 1024 --frames 12 --validation \
+            --out "$MNT/out" 2>"$KEEP/stderr"
+        echo $? >"$KEEP/rc"
+        cp -a "$MNT/out/." "$KEEP/out/"
+    "#;
+    let status = Command::new("unshare")
+        .args(["-rm", "sh", "-c", script])
+        .env("MNT", &mount)
+        .env("KEEP", &keep)
+        .env("MEADOW", env!("CARGO_BIN_EXE_meadow"))
+        .status()
+        .expect("unshare (util-linux) runs");
+    assert!(
+        status.success(),
+        "could not mount a tmpfs in a private namespace ({status}); the test needs unshare -rm"
+    );
+    let rc = std::fs::read_to_string(keep.join("rc")).unwrap();
+    let stderr = std::fs::read_to_string(keep.join("stderr")).unwrap();
+    assert_eq!(rc.trim(), "1", "{stderr}");
+    assert_eq!(stderr.trim_end().lines().count(), 1, "{stderr}");
+    assert!(
+        stderr.contains("No space left on device") && stderr.contains("free some space"),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("validation reported"), "{stderr}");
+    let out = keep.join("out");
+    assert_only_complete_files("disk full", &out);
+    let left = files_in(&out);
+    // Some frames fitted, in order from the first, and not all of them.
+    let expected: Vec<String> = (0..left.len())
+        .map(|k| format!("frame_{k:04}.png"))
+        .collect();
+    assert!(!left.is_empty() && left.len() < 12, "{left:?}");
+    assert_eq!(left, expected, "only whole frames, no GIF, no report");
+    let _ = std::fs::remove_dir_all(&keep);
+}
+
+#[test]
+fn a_huge_blade_count_under_a_memory_limit_runs_out_of_device_memory_cleanly() {
+    // Ten million blades, past the default budget check (--gpu-memory-mib
+    // at its maximum), in a process limited to 6 GiB of address space.
+    // lavapipe's device memory is host memory, so its vkAllocateMemory
+    // meets the limit: a real VK_ERROR_OUT_OF_DEVICE_MEMORY. On a GPU the
+    // limit meets the host arrays first; either way, one clean line.
+    let out = temp_out("huge-count");
+    let result = Command::new("prlimit")
+        .arg(format!("--as={}", 6u64 << 30))
+        .arg(env!("CARGO_BIN_EXE_meadow"))
+        .args([
+            "render",
+            "--blades",
+            "10000000",
+            "--gpu-memory-mib",
+            "16777216",
+            "--width",
+            "64",
+            "--height",
+            "64",
+            "--shadow-map",
+            "0",
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .output()
+        .expect("prlimit (util-linux) runs");
+    let stderr = assert_one_clean_line("10M blades in 6 GiB", &result);
+    let devices = meadow(&["devices"], &[]);
+    let only_lavapipe = String::from_utf8_lossy(&devices.stdout)
+        .lines()
+        .all(|d| d.contains("llvmpipe"));
+    if only_lavapipe {
+        assert!(
+            stderr.contains("out of GPU memory while creating blade control points"),
+            "{stderr}"
+        );
+    } else {
+        assert!(stderr.contains("memory while creating"), "{stderr}");
+    }
+    assert!(files_in(&out).is_empty(), "{:?}", files_in(&out));
+    let _ = std::fs::remove_dir_all(&out);
+}
