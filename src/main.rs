@@ -551,7 +551,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             Ok(())
         }
         Command::Devices { device } => {
-            let devices =
+            let (devices, validation) =
                 Gpu::list_devices(&device.options()?).context("listing Vulkan devices")?;
             if devices.is_empty() {
                 anyhow::bail!(meadow::Error::NoDevice);
@@ -569,6 +569,13 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                         Some(f) => format!("does not qualify: lacks {f}"),
                     }
                 );
+            }
+            if validation.enabled {
+                println!(
+                    "validation: {} errors, {} warnings",
+                    validation.errors, validation.warnings
+                );
+                validation.check()?;
             }
             Ok(())
         }

@@ -382,58 +382,6 @@ fn an_interrupted_render_leaves_only_complete_files_and_says_how_far_it_got() {
 }
 
 #[test]
-fn reproduce_quick_renders_every_figure_with_both_indexes() {
-    let out = temp_out("reproduce");
-    let result = meadow(
-        &[
-            "reproduce",
-            "--quick",
-            "--validation",
-            "--out",
-            out.to_str().unwrap(),
-        ],
-        &[],
-    );
-    assert_succeeded(&result);
-    let md = std::fs::read_to_string(out.join("index.md")).unwrap();
-    let html = std::fs::read_to_string(out.join("index.html")).unwrap();
-    for title in [
-        "Fig. 10 (left)",
-        "Fig. 10 (right)",
-        "Fig. 11",
-        "Fig. 12",
-        "Fig. 13",
-    ] {
-        assert!(
-            md.contains(&format!("## {title}")),
-            "index.md lacks {title}"
-        );
-        assert!(
-            html.contains(&format!("<h2>{title}")),
-            "index.html lacks {title}"
-        );
-    }
-    // Every image index.md links exists and decodes; index.html inlines
-    // each one (it is self-contained: no file links).
-    let links: Vec<&str> = md
-        .split("](")
-        .skip(1)
-        .map(|rest| &rest[..rest.find(')').unwrap()])
-        .collect();
-    assert_eq!(links.len(), 13, "{links:?}");
-    for link in &links {
-        image::open(out.join(link)).unwrap_or_else(|e| panic!("{link}: {e}"));
-    }
-    assert_eq!(
-        html.matches("src=\"data:image/png;base64,").count(),
-        links.len()
-    );
-    assert!(!html.contains(".png\""), "index.html links a file");
-    assert!(md.contains("MSAA") && md.contains("Jacobi iterations"));
-    let _ = std::fs::remove_dir_all(&out);
-}
-
-#[test]
 fn an_output_directory_that_cannot_be_made_is_one_line_and_no_file() {
     // The tests run as root, which permissions do not stop: a path under a
     // regular file cannot be a directory for anyone.

@@ -19,9 +19,10 @@ const SUBMIT_TIMEOUT_NS: u64 = 600 * 1_000_000_000;
 impl Commands {
     pub fn new(gpu: &Gpu, name: &str) -> Result<Self> {
         let device = &gpu.device.raw;
-        let pool_info = vk::CommandPoolCreateInfo::default()
-            .queue_family_index(gpu.device.queue_family)
-            .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
+        // One buffer per pool: resetting the pool resets it, cheaper than
+        // a pool that tracks buffers for resetting one by one.
+        let pool_info =
+            vk::CommandPoolCreateInfo::default().queue_family_index(gpu.device.queue_family);
         // SAFETY: valid create info on a live device.
         let pool = unsafe { device.create_command_pool(&pool_info, None) }
             .vk_context("vkCreateCommandPool", name)?;
@@ -49,14 +50,14 @@ impl Commands {
         Ok(Self { pool, cmd, fence })
     }
 
-    /// Resets the command buffer and begins recording.
+    /// Resets the pool (and so its one command buffer) and begins recording.
     pub fn begin(&self, gpu: &Gpu) -> Result<vk::CommandBuffer> {
         let device = &gpu.device.raw;
         // SAFETY: the previous submission (if any) was waited for in `submit_and_wait`.
         unsafe {
             device
-                .reset_command_buffer(self.cmd, vk::CommandBufferResetFlags::empty())
-                .vk_context("vkResetCommandBuffer", "frame commands")?;
+                .reset_command_pool(self.pool, vk::CommandPoolResetFlags::empty())
+                .vk_context("vkResetCommandPool", "frame commands")?;
             device
                 .begin_command_buffer(
                     self.cmd,

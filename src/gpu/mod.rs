@@ -85,12 +85,13 @@ impl Gpu {
         })
     }
 
-    /// Every device on this machine, for `meadow devices`.
-    pub fn list_devices(options: &GpuOptions) -> Result<Vec<DeviceInfo>> {
+    /// Every device on this machine, for `meadow devices`, and what
+    /// validation said of the instance.
+    pub fn list_devices(options: &GpuOptions) -> Result<(Vec<DeviceInfo>, ValidationReport)> {
         let instance = Instance::new(options.validation)?;
         let adapters = device::enumerate(&instance, &options.pretend_missing);
-        instance.destroy();
-        Ok(adapters?.into_iter().map(|a| a.info).collect())
+        let report = instance.destroy();
+        Ok((adapters?.into_iter().map(|a| a.info).collect(), report))
     }
 
     pub fn info(&self) -> &DeviceInfo {

@@ -1,0 +1,270 @@
+//! Every command line path through the `meadow` binary with the validation
+//! layer's core, synchronization and best-practices checks on: no error,
+//! and no best-practices warning that docs/validation.md does not accept
+//! (its "Accepted" table is read here, so the document and the layer's
+//! output cannot drift apart).
+
+mod common;
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use common::binary::{meadow, temp_out};
+use meadow::scene::BUILTIN;
+
+/// The message IDs docs/validation.md accepts: the first cell of each row
+/// of its "### Accepted" table.
+fn accepted_warnings() -> Vec<String> {
+    let doc = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/validation.md"))
+        .unwrap();
+    let table = doc
+        .split("### Accepted")
+        .nth(1)
+        .and_then(|rest| rest.split("\n### ").next())
+        .expect("docs/validation.md has an Accepted section");
+    let ids: Vec<String> = table
+        .lines()
+        .filter_map(|l| l.strip_prefix("| `"))
+        .map(|l| l[..l.find('`').unwrap()].to_string())
+        .collect();
+    assert!(!ids.is_empty(), "no accepted IDs parsed");
+    ids
+}
+
+/// Every warning ID seen, with where.
+#[derive(Default)]
+struct Seen(BTreeMap<String, Vec<String>>);
+
+impl Seen {
+    /// Checks one report's `validation`: enabled, no error; records the
+    /// warning IDs.
+    fn report(&mut self, case: &str, path: &Path) {
+        let json: serde_json::Value = serde_json::from_slice(
+            &std::fs::read(path).unwrap_or_else(|e| panic!("{case}: {}: {e}", path.display())),
+        )
+        .unwrap();
+        let v = &json["validation"];
+        assert_eq!(v["enabled"], true, "{case}: validation was off");
+        assert_eq!(v["errors"], 0, "{case}: {:#}", v["messages"]);
+        for m in v["messages"].as_array().unwrap() {
+            let id = m["id"].as_str().unwrap().to_string();
+            self.0.entry(id).or_default().push(case.to_string());
+        }
+    }
+}
+
+/// Runs `meadow args --validation --best-practices [--out DIR]`, asserting
+/// success.
+fn run(case: &str, args: &[&str], env: &[(&str, &str)], out: Option<&Path>) {
+    let mut full: Vec<String> = args.iter().map(|s| s.to_string()).collect();
+    full.extend(["--validation".into(), "--best-practices".into()]);
+    if let Ok(device) = std::env::var("MEADOW_TEST_DEVICE") {
+        full.extend(["--device".into(), device]);
+    }
+    if let Some(out) = out {
+        full.extend(["--out".into(), out.to_str().unwrap().into()]);
+    }
+    let full: Vec<&str> = full.iter().map(String::as_str).collect();
+    let result = meadow(&full, env);
+    assert!(
+        result.status.success(),
+        "{case}: {}",
+        String::from_utf8_lossy(&result.stderr)
+    );
+}
+
+fn scene_file(name: &str) -> String {
+    format!("{}/scenes/{name}.toml", env!("CARGO_MANIFEST_DIR"))
+}
+
+#[test]
+fn every_command_line_path_is_validation_clean_with_best_practices() {
+    let base = temp_out("validation-matrix");
+    let mut seen = Seen::default();
+    let small = ["--width", "96", "--height", "64"];
+    let mut case = 0;
+    let mut render = |name: &str, args: &[&str], env: &[(&str, &str)], seen: &mut Seen| {
+        case += 1;
+        let out: PathBuf = base.join(format!("render-{case}"));
+        let mut full = vec!["render"];
+        full.extend(small);
+        full.extend(args);
+        run(name, &full, env, Some(&out));
+        seen.report(name, &out.join("report.json"));
+    };
+
+    // Every shipped scene file, at its own blade count, one frame.
+    for (scene, _) in BUILTIN {
+        let path = scene_file(scene);
+        render(scene, &["--scene", &path, "--frames", "1"], &[], &mut seen);
+    }
+    let few = scene_file("fig10-few-bunches");
+    let lod = scene_file("fig12-lod");
+    render(
+        "animated, GIF",
+        &["--scene", &few, "--frames", "3", "--fps", "10"],
+        &[],
+        &mut seen,
+    );
+    render(
+        "every 2nd frame",
+        &["--scene", &few, "--frames", "4", "--every", "2"],
+        &[],
+        &mut seen,
+    );
+    for (lod_flag, view) in [
+        ("on", "lod"),
+        ("off", "lod"),
+        ("on", "shaded"),
+        ("off", "motion"),
+    ] {
+        render(
+            &format!("--lod {lod_flag} --view {view}"),
+            &[
+                "--scene", &lod, "--frames", "2", "--fps", "5", "--lod", lod_flag, "--view", view,
+            ],
+            &[],
+            &mut seen,
+        );
+    }
+    render(
+        "--msaa 1",
+        &["--scene", &few, "--msaa", "1"],
+        &[],
+        &mut seen,
+    );
+    render(
+        "--shadow-map 0",
+        &["--scene", &few, "--shadow-map", "0"],
+        &[],
+        &mut seen,
+    );
+    render(
+        "no timestamps or statistics",
+        &["--scene", &few, "--frames", "2"],
+        &[(
+            "MEADOW_PRETEND_MISSING",
+            "timestamps,pipelineStatisticsQuery",
+        )],
+        &mut seen,
+    );
+
+    let wind = base.join("wind");
+    run(
+        "wind",
+        &["wind", "--scene", "fig13-obstacles", "--steps", "5"],
+        &[],
+        Some(&wind),
+    );
+    seen.report("wind", &wind.join("wind_report.json"));
+
+    let bench = base.join("bench");
+    run(
+        "bench",
+        &[
+            "bench", "--blades", "1k,2k", "--lod", "both", "--frames", "2", "--warmup", "1",
+            "--width", "96", "--height", "64",
+        ],
+        &[],
+        Some(&bench),
+    );
+    seen.report("bench", &bench.join("bench.json"));
+
+    let grass = base.join("bench-grass");
+    run(
+        "bench-grass",
+        &[
+            "bench-grass",
+            "--blades",
+            "1k",
+            "--steps",
+            "2",
+            "--warmup",
+            "1",
+        ],
+        &[],
+        Some(&grass),
+    );
+    seen.report("bench-grass", &grass.join("grass_bench.json"));
+
+    run("devices", &["devices"], &[], None);
+
+    let accepted = accepted_warnings();
+    let unaccepted: Vec<String> = seen
+        .0
+        .iter()
+        .filter(|(id, _)| !accepted.contains(id))
+        .map(|(id, cases)| format!("{id} (in {})", cases.join(", ")))
+        .collect();
+    assert!(
+        unaccepted.is_empty(),
+        "best-practices warnings docs/validation.md does not accept: {unaccepted:#?}"
+    );
+    for (id, cases) in &seen.0 {
+        eprintln!("accepted {id}: {} cases", cases.len());
+    }
+    let _ = std::fs::remove_dir_all(&base);
+}
+
+#[test]
+fn reproduce_quick_renders_every_figure_validation_clean_with_both_indexes() {
+    let out = temp_out("reproduce");
+    run("reproduce", &["reproduce", "--quick"], &[], Some(&out));
+    let md = std::fs::read_to_string(out.join("index.md")).unwrap();
+    let html = std::fs::read_to_string(out.join("index.html")).unwrap();
+    for title in [
+        "Fig. 10 (left)",
+        "Fig. 10 (right)",
+        "Fig. 11",
+        "Fig. 12",
+        "Fig. 13",
+    ] {
+        assert!(
+            md.contains(&format!("## {title}")),
+            "index.md lacks {title}"
+        );
+        assert!(
+            html.contains(&format!("<h2>{title}")),
+            "index.html lacks {title}"
+        );
+    }
+    // Every image index.md links exists and decodes; index.html inlines
+    // each one (it is self-contained: no file links).
+    let links: Vec<&str> = md
+        .split("](")
+        .skip(1)
+        .map(|rest| &rest[..rest.find(')').unwrap()])
+        .collect();
+    assert_eq!(links.len(), 13, "{links:?}");
+    for link in &links {
+        image::open(out.join(link)).unwrap_or_else(|e| panic!("{link}: {e}"));
+    }
+    assert_eq!(
+        html.matches("src=\"data:image/png;base64,").count(),
+        links.len()
+    );
+    assert!(!html.contains(".png\""), "index.html links a file");
+    assert!(md.contains("MSAA") && md.contains("Jacobi iterations"));
+
+    // Each shot's own report: validation clean, warnings accepted.
+    let mut seen = Seen::default();
+    let mut shots = 0;
+    let mut dirs = vec![out.clone()];
+    while let Some(dir) = dirs.pop() {
+        for entry in std::fs::read_dir(&dir).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                dirs.push(path);
+            } else if path.file_name().unwrap() == "report.json" {
+                seen.report(&path.display().to_string(), &path);
+                shots += 1;
+            }
+        }
+    }
+    assert_eq!(shots, 11, "one report per shot");
+    let accepted = accepted_warnings();
+    for id in seen.0.keys() {
+        assert!(accepted.contains(id), "unaccepted warning {id}");
+    }
+    let _ = std::fs::remove_dir_all(&out);
+}
