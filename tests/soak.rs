@@ -10,13 +10,10 @@
 
 mod common;
 
+use common::sim::SimRig;
 use common::{finish, strict_gpu};
 use glam::{Vec3, Vec4};
-use meadow::gpu::commands::Commands;
-use meadow::render::grass_pass::{vertex_buffer, GrassPass};
-use meadow::render::wind_pass::WindPass;
-use meadow::scene::{field, Scene};
-use meadow::sim::{BladeVertex, GrassState};
+use meadow::scene::Scene;
 
 /// How far below the ground plane (y = 0) any control point may go, in
 /// metres. The curve lies in its control points' convex hull, so this
@@ -25,10 +22,6 @@ const GROUND_TOLERANCE: f32 = 0.01;
 
 /// Relative change of any edge's length from rest (f32 rotations).
 const EDGE_TOLERANCE: f32 = 1e-5;
-
-/// Steps per command buffer: long enough to keep submissions few, short
-/// enough to stay far inside the submission timeout on lavapipe.
-const STEPS_PER_SUBMIT: u64 = 250;
 
 #[derive(Debug, Default)]
 struct Figures {
@@ -63,51 +56,20 @@ fn to_vec3(v: [f32; 4]) -> Vec3 {
 /// checking the state every `check_every` steps; panics naming the first
 /// broken invariant and the step it was seen at.
 fn soak(blades: usize, steps: u64, check_every: u64) -> Figures {
-    assert_eq!(check_every % STEPS_PER_SUBMIT, 0);
     let scene = storm(blades);
-    let rest = field::generate(&scene.grass, scene.seed).unwrap();
-    let blades = field::dynamic_blades(&rest, &scene.grass.dynamics, scene.seed).unwrap();
-    let grid = scene.wind_grid().unwrap();
-    let dt = scene.wind.dt;
-
     let gpu = strict_gpu();
-    let commands = Commands::new(&gpu, "soak commands").unwrap();
-    let wind = WindPass::new(&gpu, &commands, grid, &scene.wind.settings()).unwrap();
-    let vertices = vertex_buffer(&gpu, "soak blade vertices", blades.len()).unwrap();
-    let grass = GrassPass::new(
-        &gpu,
-        &commands,
-        &blades,
-        &vertices,
-        wind.velocity(),
-        &grid,
-        dt,
-    )
-    .unwrap();
+    let mut rig = SimRig::new(&gpu, &scene);
 
     let mut figures = Figures {
-        blades: blades.len(),
+        blades: rig.blades.len(),
         lowest_point: f32::INFINITY,
         ..Default::default()
     };
-    let mut done = 0u64;
-    while done < steps {
-        let batch = STEPS_PER_SUBMIT.min(steps - done);
-        let cmd = commands.begin(&gpu).unwrap();
-        for s in done..done + batch {
-            // Simulated time as the renderer computes it (simulation.rs).
-            let t = (s as f64 * dt as f64) as f32;
-            wind.record_step(&gpu, cmd, t, dt);
-            grass.record_step(&gpu, cmd, 0);
-        }
-        commands.submit_and_wait(&gpu, "soak steps").unwrap();
-        done += batch;
-        if done % check_every != 0 && done != steps {
-            continue;
-        }
-
+    while rig.steps_done() < steps {
+        rig.run(&gpu, check_every.min(steps - rig.steps_done()));
+        let done = rig.steps_done();
         figures.checks += 1;
-        let velocity = wind.read_velocity(&gpu, &commands).unwrap();
+        let velocity = rig.velocity(&gpu);
         for (axis, v) in velocity.iter().enumerate() {
             if let Some(i) = v.iter().position(|x| !x.is_finite()) {
                 panic!("step {done}: wind component {axis} at face {i} is {}", v[i]);
@@ -115,11 +77,9 @@ fn soak(blades: usize, steps: u64, check_every: u64) -> Figures {
             let fastest = v.iter().fold(0.0f32, |m, x| m.max(x.abs()));
             figures.max_wind = figures.max_wind.max(fastest);
         }
-        let states: Vec<GrassState> = grass.read_states(&gpu, &commands).unwrap();
-        let out: Vec<BladeVertex> = vertices
-            .read_back(&gpu, &commands, blades.len() * 4)
-            .unwrap();
-        for (i, blade) in blades.iter().enumerate() {
+        let states = rig.states(&gpu);
+        let out = rig.vertices(&gpu);
+        for (i, blade) in rig.blades.iter().enumerate() {
             let s = &states[i];
             assert!(
                 s.angle.iter().chain(&s.velocity).all(|x| x.is_finite()),
@@ -160,12 +120,8 @@ fn soak(blades: usize, steps: u64, check_every: u64) -> Figures {
             figures.worst_edge
         );
     }
-    figures.steps = done;
-
-    grass.destroy(&gpu);
-    vertices.destroy(&gpu);
-    wind.destroy(&gpu);
-    commands.destroy(&gpu);
+    figures.steps = rig.steps_done();
+    rig.destroy(&gpu);
     finish(gpu);
     eprintln!(
         "soak: {} steps over {} blades, {} checks: max wind {:.1} m/s, lowest point {:.4} m, worst edge length change {:.2e}, farthest tip {:.3} m, largest angle {:.3} rad",

@@ -5,6 +5,7 @@
 #![allow(dead_code)]
 
 pub mod binary;
+pub mod sim;
 pub mod wind_scenes;
 
 use meadow::gpu::{Gpu, GpuOptions, ValidationOptions};
