@@ -245,8 +245,9 @@ fn a_huge_blade_count_under_a_memory_limit_runs_out_of_device_memory_cleanly() {
     // Ten million blades, past the default budget check (--gpu-memory-mib
     // at its maximum), in a process limited to 6 GiB of address space.
     // lavapipe's device memory is host memory, so its vkAllocateMemory
-    // meets the limit: a real VK_ERROR_OUT_OF_DEVICE_MEMORY. On a GPU the
-    // limit meets the host arrays first; either way, one clean line.
+    // meets the limit: a real VK_ERROR_OUT_OF_DEVICE_MEMORY. A GPU with
+    // enough memory of its own renders it (an H100 did, docs/reliability.md);
+    // one without must fail as cleanly.
     let out = temp_out("huge-count");
     let result = Command::new("prlimit")
         .arg(format!("--as={}", 6u64 << 30))
@@ -268,19 +269,23 @@ fn a_huge_blade_count_under_a_memory_limit_runs_out_of_device_memory_cleanly() {
         ])
         .output()
         .expect("prlimit (util-linux) runs");
-    let stderr = assert_one_clean_line("10M blades in 6 GiB", &result);
     let devices = meadow(&["devices"], &[]);
     let only_lavapipe = String::from_utf8_lossy(&devices.stdout)
         .lines()
         .all(|d| d.contains("llvmpipe"));
     if only_lavapipe {
+        let stderr = assert_one_clean_line("10M blades in 6 GiB", &result);
         assert!(
             stderr.contains("out of GPU memory while creating blade control points"),
             "{stderr}"
         );
-    } else {
+        assert!(files_in(&out).is_empty(), "{:?}", files_in(&out));
+    } else if !result.status.success() {
+        let stderr = assert_one_clean_line("10M blades in 6 GiB", &result);
         assert!(stderr.contains("memory while creating"), "{stderr}");
+        assert!(files_in(&out).is_empty(), "{:?}", files_in(&out));
+    } else {
+        eprintln!("10M blades fit this device's own memory: nothing ran out");
     }
-    assert!(files_in(&out).is_empty(), "{:?}", files_in(&out));
     let _ = std::fs::remove_dir_all(&out);
 }

@@ -1,28 +1,13 @@
 //! A bounded fuzz of the scene-file parser in the normal suite (the
-//! unbounded one is issue 8's cargo-fuzz target): no input makes it panic,
-//! every refusal is one line, and whatever it accepts is a checked scene
-//! that survives a round trip through TOML.
+//! unbounded one is the cargo-fuzz target in tests/fuzz, run by
+//! scripts/fuzz), checking tests/common/scene_property.rs on arbitrary
+//! text, TOML-shaped text and shipped scenes with an edit.
 
-use meadow::scene::{file, Scene, BUILTIN};
+mod common;
+
+use common::scene_property::check;
+use meadow::scene::{Scene, BUILTIN};
 use proptest::prelude::*;
-
-fn check(text: &str) {
-    match file::parse(text, "fuzz.toml") {
-        Err(e) => {
-            let msg = e.to_string();
-            assert!(!msg.contains('\n'), "a refusal over several lines: {msg:?}");
-            assert!(
-                msg.starts_with("fuzz.toml"),
-                "the refusal does not name the file: {msg}"
-            );
-        }
-        Ok(scene) => {
-            scene.validate().expect("accepted scenes are checked");
-            let again = file::parse(&file::to_toml(&scene), "round trip").expect("round trip");
-            assert_eq!(again, scene);
-        }
-    }
-}
 
 /// A shipped scene with one edit: a span deleted, or text put in.
 fn mutated() -> impl Strategy<Value = String> {
