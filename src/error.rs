@@ -163,3 +163,60 @@ impl<T> VkResultExt<T> for std::result::Result<T, vk::Result> {
         self.map_err(|r| Error::vk(call, what, r))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A failed Vulkan call is mapped by its result's name, so a real
+    /// device loss or memory exhaustion anywhere reads like the injected
+    /// ones the fault tests walk.
+    #[test]
+    fn vulkan_results_map_by_name() {
+        let e = Error::vk(
+            "vkQueueSubmit2",
+            "rendering a frame",
+            vk::Result::ERROR_DEVICE_LOST,
+        );
+        assert!(matches!(e, Error::DeviceLost { .. }));
+        assert!(e
+            .to_string()
+            .contains("lost (VK_ERROR_DEVICE_LOST) during rendering a frame"));
+        let e = Error::vk(
+            "vkAllocateMemory",
+            "shadow map",
+            vk::Result::ERROR_OUT_OF_DEVICE_MEMORY,
+        );
+        assert_eq!(
+            e.to_string(),
+            "out of GPU memory while creating shadow map; use fewer blades or a smaller image"
+        );
+        let e = Error::vk("vkCreateBuffer", "x", vk::Result::ERROR_OUT_OF_HOST_MEMORY);
+        assert!(matches!(e, Error::OutOfHostMemory { .. }));
+        let e = Error::alloc("grass", gpu_allocator::AllocationError::OutOfMemory);
+        assert!(matches!(e, Error::OutOfDeviceMemory { .. }));
+    }
+
+    #[test]
+    fn a_full_disk_says_what_to_do() {
+        let full = std::io::Error::from(std::io::ErrorKind::StorageFull);
+        let e = Error::io("out/frame_0003.png", full).to_string();
+        assert!(e.starts_with("out/frame_0003.png: "), "{e}");
+        assert!(
+            e.ends_with("(the files already written are complete)"),
+            "{e}"
+        );
+        let other = std::io::Error::from(std::io::ErrorKind::NotFound);
+        assert!(!Error::io("x", other)
+            .to_string()
+            .contains("free some space"));
+    }
+
+    #[test]
+    fn per_blade_arrays_too_big_for_the_machine_are_an_error() {
+        let e = try_with_capacity::<[u8; 64]>(usize::MAX / 64, "the test's blades").unwrap_err();
+        assert!(matches!(e, Error::OutOfHostMemory { .. }), "{e}");
+        assert!(e.to_string().contains("the test's blades"), "{e}");
+        assert_eq!(try_collect(3, 0..10, "three").unwrap(), [0, 1, 2]);
+    }
+}

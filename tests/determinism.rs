@@ -4,35 +4,17 @@
 mod common;
 
 use common::sim::SimRig;
-use meadow::gpu::{GpuOptions, ValidationOptions};
-use meadow::job::{render_to_dir, Animation, RenderRequest};
-use meadow::render::ViewMode;
+use meadow::job::{render_to_dir, RenderRequest};
 use meadow::scene::Scene;
 
 #[test]
 fn same_scene_and_seed_give_byte_identical_png() {
-    std::env::set_var("MEADOW_QUIET_VALIDATION", "1");
     let mut scene = Scene::builtin("fig10-several-bunches").unwrap();
     scene.set_blade_count(2000).unwrap();
-    let request = RenderRequest {
-        scene,
-        width: 320,
-        height: 200,
-        msaa: 8,
-        view: ViewMode::Shaded,
-        // Two frames of a swaying field: 0.5 s and 1.0 s into the wind.
-        animation: Animation {
-            frames: 2,
-            fps: 2.0,
-            start: 0.5,
-        },
-        every: 1,
-        gif: true,
-        gpu: GpuOptions {
-            validation: ValidationOptions::strict(),
-            ..Default::default()
-        },
-    };
+    // Two frames of a swaying field: 0.5 s and 1.0 s into the wind.
+    let mut request = common::strict_request(scene, 320, 200, 2, 2.0);
+    request.msaa = 8;
+    request.animation.start = 0.5;
     let dir = std::env::temp_dir().join(format!("meadow-determinism-{}", std::process::id()));
     let a = render_to_dir(&request, &dir.join("a")).expect("first render");
     let b = render_to_dir(&request, &dir.join("b")).expect("second render");
@@ -62,26 +44,11 @@ fn same_scene_and_seed_give_byte_identical_png() {
 /// same picture whether it is frame 1 at 1 fps or frame 4 at 4 fps.
 #[test]
 fn the_frame_rate_does_not_change_the_simulation() {
-    std::env::set_var("MEADOW_QUIET_VALIDATION", "1");
     let mut scene = Scene::builtin("fig10-few-bunches").unwrap();
     scene.light.shadow_map = 1024;
     let request = |frames: u32, fps: f32| RenderRequest {
-        scene: scene.clone(),
-        width: 160,
-        height: 90,
-        msaa: 4,
-        view: ViewMode::Shaded,
-        animation: Animation {
-            frames,
-            fps,
-            start: 0.0,
-        },
-        every: 1,
         gif: false,
-        gpu: GpuOptions {
-            validation: ValidationOptions::strict(),
-            ..Default::default()
-        },
+        ..common::strict_request(scene.clone(), 160, 90, frames, fps)
     };
     let dir = std::env::temp_dir().join(format!("meadow-frame-rate-{}", std::process::id()));
     let slow = render_to_dir(&request(2, 1.0), &dir.join("slow")).expect("1 fps");

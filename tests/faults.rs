@@ -114,31 +114,54 @@ fn commands(out: &str) -> Vec<(&'static str, Vec<String>)> {
     ]
 }
 
+/// Runs `args` with the fault `kind@N` for N = 1, 2, ... until a run
+/// succeeds. Each failure must be one clean line saying the N-th operation
+/// failed, with only complete files in `out`; `check` sees its stderr.
+/// Returns how many runs failed.
+fn each_failing_in_turn(
+    kind: &str,
+    operation: &str,
+    args: &[&str],
+    out: &Path,
+    mut check: impl FnMut(&str, &str),
+) -> u64 {
+    for n in 1..=MAX_OPERATIONS {
+        let _ = std::fs::remove_dir_all(out);
+        let fault = format!("{kind}@{n}");
+        let result = meadow(args, &[("MEADOW_INJECT_FAULT", &fault)]);
+        if result.status.success() {
+            return n - 1;
+        }
+        let what = format!("{} with {fault}", args[0]);
+        let stderr = assert_one_clean_line(&what, &result);
+        assert!(
+            stderr.contains(&format!("(injected: {operation} {n})")),
+            "{what}: {stderr}"
+        );
+        assert_only_complete_files(&what, out);
+        check(&what, &stderr);
+    }
+    panic!("{}: {kind} never stopped failing", args[0]);
+}
+
 #[test]
 fn every_device_memory_allocation_failing_in_turn_is_one_clean_line() {
     let out = temp_out("oom-each");
     let out_s = out.to_str().unwrap().to_string();
     for (name, args) in commands(&out_s) {
         let args: Vec<&str> = args.iter().map(String::as_str).collect();
-        let mut failed = 0;
-        for n in 1..=MAX_OPERATIONS {
-            let _ = std::fs::remove_dir_all(&out);
-            let fault = format!("out-of-device-memory@{n}");
-            let result = meadow(&args, &[("MEADOW_INJECT_FAULT", &fault)]);
-            if result.status.success() {
-                break;
-            }
-            let what = format!("{name} with {fault}");
-            let stderr = assert_one_clean_line(&what, &result);
-            assert!(
-                stderr.contains("out of GPU memory while creating")
-                    && stderr.contains(&format!("(injected: allocation {n})")),
-                "{what}: {stderr}"
-            );
-            assert_only_complete_files(&what, &out);
-            failed += 1;
-            assert!(n < MAX_OPERATIONS, "{name}: the fault never stopped firing");
-        }
+        let failed = each_failing_in_turn(
+            "out-of-device-memory",
+            "allocation",
+            &args,
+            &out,
+            |what, e| {
+                assert!(
+                    e.contains("out of GPU memory while creating"),
+                    "{what}: {e}"
+                );
+            },
+        );
         // Every render target, texture, wind and grass buffer and staging
         // copy is one allocation; fewer would mean the hook is dead.
         assert!(failed >= 10, "{name}: only {failed} allocations failed");
@@ -154,39 +177,22 @@ fn a_lost_device_is_named_with_its_frame_and_the_frames_before_stay_valid() {
     let (_, args) = commands(&out_s).swap_remove(0);
     let args: Vec<&str> = args.iter().map(String::as_str).collect();
     let mut lost_frames = Vec::new();
-    for n in 1..=MAX_OPERATIONS {
-        let _ = std::fs::remove_dir_all(&out);
-        let fault = format!("device-lost@{n}");
-        let result = meadow(&args, &[("MEADOW_INJECT_FAULT", &fault)]);
-        if result.status.success() {
-            break;
-        }
-        let what = format!("render with {fault}");
-        let stderr = assert_one_clean_line(&what, &result);
-        assert!(
-            stderr.contains("lost (VK_ERROR_DEVICE_LOST)")
-                && stderr.contains(&format!("(injected: submission {n})")),
-            "{what}: {stderr}"
-        );
-        assert_only_complete_files(&what, &out);
+    each_failing_in_turn("device-lost", "submission", &args, &out, |what, e| {
+        assert!(e.contains("lost (VK_ERROR_DEVICE_LOST)"), "{what}: {e}");
         // Lost while rendering frame k: frames 0..k are on disk, whole.
-        let frame = stderr
+        let frame = e
             .split("during frame ")
             .nth(1)
             .map(|rest| rest.split(',').next().unwrap().parse::<u32>().unwrap());
         let expected: Vec<String> = (0..frame.unwrap_or(0))
             .map(|k| format!("frame_{k:04}.png"))
             .collect();
-        assert_eq!(files_in(&out), expected, "{what}: {stderr}");
+        assert_eq!(files_in(&out), expected, "{what}: {e}");
         if let Some(k) = frame {
-            assert!(
-                stderr.contains("(the frames before it are complete)"),
-                "{stderr}"
-            );
+            assert!(e.contains("(the frames before it are complete)"), "{e}");
             lost_frames.push(k);
         }
-        assert!(n < MAX_OPERATIONS, "the fault never stopped firing");
-    }
+    });
     assert_eq!(lost_frames, [0, 1, 2, 3], "one loss per frame's submission");
     let _ = std::fs::remove_dir_all(&out);
 }

@@ -8,9 +8,7 @@
 
 mod common;
 
-use meadow::gpu::{GpuOptions, ValidationOptions};
-use meadow::job::{render_to_dir_observed, Animation, RenderRequest};
-use meadow::render::ViewMode;
+use meadow::job::render_to_dir_observed;
 use meadow::scene::Scene;
 
 /// Resident set size of this process, from /proc/self/status (bytes).
@@ -71,30 +69,12 @@ const MAX_IN_USE_GROWTH: u64 = 512 << 10;
 
 #[test]
 fn two_hundred_frames_do_not_grow_host_memory_after_warm_up() {
-    std::env::set_var("MEADOW_QUIET_VALIDATION", "1");
     let mut scene = Scene::builtin("fig10-few-bunches").unwrap();
     scene.light.shadow_map = 1024;
     // A coarser wind grid than the scene's, for time: the frames are what
     // is measured here, not the solver.
     scene.wind.cells = [24, 10, 24];
-    let request = RenderRequest {
-        scene,
-        width: 320,
-        height: 180,
-        msaa: 4,
-        view: ViewMode::Shaded,
-        animation: Animation {
-            frames: FRAMES,
-            fps: 30.0,
-            start: 0.0,
-        },
-        every: 1,
-        gif: true,
-        gpu: GpuOptions {
-            validation: ValidationOptions::strict(),
-            ..Default::default()
-        },
-    };
+    let request = common::strict_request(scene, 320, 180, FRAMES, 30.0);
     let dir = common::binary::temp_out("rss");
     let mut rss = Vec::new();
     let mut in_use = Vec::new();

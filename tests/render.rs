@@ -190,27 +190,14 @@ fn grass_centroid(path: &std::path::Path) -> (f64, usize) {
 
 #[test]
 fn the_wind_from_the_left_sways_the_grass_to_the_right_over_frames() {
-    use meadow::gpu::{GpuOptions, ValidationOptions};
-    use meadow::job::{render_to_dir, Animation, RenderRequest};
-    std::env::set_var("MEADOW_QUIET_VALIDATION", "1");
-    let request = RenderRequest {
-        scene: Scene::builtin("fig10-few-bunches").unwrap(),
-        width: 320,
-        height: 180,
-        msaa: 4,
-        view: ViewMode::Shaded,
-        animation: Animation {
-            frames: 3,
-            fps: 1.0,
-            start: 0.0,
-        },
-        every: 1,
-        gif: true,
-        gpu: GpuOptions {
-            validation: ValidationOptions::strict(),
-            ..Default::default()
-        },
-    };
+    use meadow::job::render_to_dir;
+    let request = common::strict_request(
+        Scene::builtin("fig10-few-bunches").unwrap(),
+        320,
+        180,
+        3,
+        1.0,
+    );
     let dir = std::env::temp_dir().join(format!("meadow-sway-{}", std::process::id()));
     let report = render_to_dir(&request, &dir).expect("animation");
     assert_eq!(report.validation.errors, 0);

@@ -149,29 +149,25 @@ fn every_command_line_path_is_validation_clean_with_best_practices() {
         &mut seen,
     );
 
-    let wind = base.join("wind");
-    run(
+    let mut command = |name: &str, args: &[&str], report: &str| {
+        let out = base.join(name);
+        run(name, args, &[], Some(&out));
+        seen.report(name, &out.join(report));
+    };
+    command(
         "wind",
         &["wind", "--scene", "fig13-obstacles", "--steps", "5"],
-        &[],
-        Some(&wind),
+        "wind_report.json",
     );
-    seen.report("wind", &wind.join("wind_report.json"));
-
-    let bench = base.join("bench");
-    run(
+    command(
         "bench",
         &[
             "bench", "--blades", "1k,2k", "--lod", "both", "--frames", "2", "--warmup", "1",
             "--width", "96", "--height", "64",
         ],
-        &[],
-        Some(&bench),
+        "bench.json",
     );
-    seen.report("bench", &bench.join("bench.json"));
-
-    let grass = base.join("bench-grass");
-    run(
+    command(
         "bench-grass",
         &[
             "bench-grass",
@@ -182,11 +178,8 @@ fn every_command_line_path_is_validation_clean_with_best_practices() {
             "--warmup",
             "1",
         ],
-        &[],
-        Some(&grass),
+        "grass_bench.json",
     );
-    seen.report("bench-grass", &grass.join("grass_bench.json"));
-
     run("devices", &["devices"], &[], None);
 
     let accepted = accepted_warnings();

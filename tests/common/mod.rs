@@ -10,6 +10,7 @@ pub mod sim;
 pub mod wind_scenes;
 
 use meadow::gpu::{Gpu, GpuOptions, ValidationOptions};
+use meadow::job::{Animation, RenderRequest};
 use meadow::render::{Frame, ViewMode};
 use meadow::scene::Scene;
 use meadow::sim::Blade;
@@ -41,6 +42,37 @@ pub fn finish(gpu: Gpu) {
         "validation errors: {:#?}",
         report.messages
     );
+}
+
+/// A render request as the tests make them: strict validation (messages
+/// counted, not echoed), shaded, 4x MSAA asked, `frames` frames at `fps`
+/// from t = 0, every one written, a GIF when there are several.
+pub fn strict_request(
+    scene: Scene,
+    width: u32,
+    height: u32,
+    frames: u32,
+    fps: f32,
+) -> RenderRequest {
+    std::env::set_var("MEADOW_QUIET_VALIDATION", "1");
+    RenderRequest {
+        scene,
+        width,
+        height,
+        msaa: 4,
+        view: ViewMode::Shaded,
+        animation: Animation {
+            frames,
+            fps,
+            start: 0.0,
+        },
+        every: 1,
+        gif: true,
+        gpu: GpuOptions {
+            validation: ValidationOptions::strict(),
+            ..Default::default()
+        },
+    }
 }
 
 pub fn render(
