@@ -249,7 +249,8 @@ fn a_disk_filling_up_while_frames_are_written_is_one_line_and_leaves_only_comple
 #[test]
 fn a_huge_blade_count_under_a_memory_limit_runs_out_of_device_memory_cleanly() {
     // Ten million blades, past the default budget check (--gpu-memory-mib
-    // at its maximum), in a process limited to 6 GiB of address space.
+    // at its maximum), in a process limited to 6 GiB of address space,
+    // with validation (the failure path must leave nothing behind).
     // lavapipe's device memory is host memory, so its vkAllocateMemory
     // meets the limit: a real VK_ERROR_OUT_OF_DEVICE_MEMORY. A GPU with
     // enough memory of its own renders it (an H100 did, docs/reliability.md);
@@ -270,9 +271,11 @@ fn a_huge_blade_count_under_a_memory_limit_runs_out_of_device_memory_cleanly() {
             "64",
             "--shadow-map",
             "0",
+            "--validation",
             "--out",
             out.to_str().unwrap(),
         ])
+        .env("MEADOW_QUIET_VALIDATION", "1")
         .output()
         .expect("prlimit (util-linux) runs");
     let devices = meadow(&["devices"], &[]);

@@ -54,6 +54,11 @@ pub struct ValidationReport {
     pub errors: u64,
     pub warnings: u64,
     pub messages: Vec<ValidationMessage>,
+    /// General messages (not validation or performance ones): what the
+    /// driver or loader says of its own results, e.g. Mesa naming the
+    /// source line behind a VK_ERROR_OUT_OF_DEVICE_MEMORY it returns. The
+    /// failed call already reports the error; these are kept, not counted.
+    pub driver_messages: Vec<ValidationMessage>,
 }
 
 impl ValidationReport {
@@ -252,7 +257,7 @@ fn messenger_create_info(log: &MessageLog) -> vk::DebugUtilsMessengerCreateInfoE
 
 unsafe extern "system" fn on_message(
     severity: vk::DebugUtilsMessageSeverityFlagsEXT,
-    _types: vk::DebugUtilsMessageTypeFlagsEXT,
+    types: vk::DebugUtilsMessageTypeFlagsEXT,
     data: *const vk::DebugUtilsMessengerCallbackDataEXT<'_>,
     user: *mut c_void,
 ) -> vk::Bool32 {
@@ -274,23 +279,35 @@ unsafe extern "system" fn on_message(
     } else {
         "warning"
     };
+    // The layer's findings come as validation or performance messages;
+    // a general one is the driver or loader speaking of itself.
+    let from_layer = types.intersects(
+        vk::DebugUtilsMessageTypeFlagsEXT::VALIDATION
+            | vk::DebugUtilsMessageTypeFlagsEXT::PERFORMANCE,
+    );
     if log.echo {
-        eprintln!("validation {severity_name}: {text}");
+        let source = if from_layer { "validation" } else { "driver" };
+        eprintln!("{source} {severity_name}: {text}");
     }
     let Ok(mut report) = log.report.lock() else {
         return vk::FALSE;
     };
-    match severity_name {
-        "error" => report.errors += 1,
-        _ => report.warnings += 1,
-    }
-    match report
-        .messages
+    let report = &mut *report;
+    let messages = if from_layer {
+        match severity_name {
+            "error" => report.errors += 1,
+            _ => report.warnings += 1,
+        }
+        &mut report.messages
+    } else {
+        &mut report.driver_messages
+    };
+    match messages
         .iter_mut()
         .find(|m| m.severity == severity_name && m.id == id)
     {
         Some(m) => m.count += 1,
-        None => report.messages.push(ValidationMessage {
+        None => messages.push(ValidationMessage {
             id,
             severity: severity_name,
             count: 1,

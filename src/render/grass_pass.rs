@@ -94,6 +94,12 @@ impl GrassPass {
             step: [dt, dt / substeps as f32, 0.0, 0.0],
         };
 
+        // Host memory first: failing here leaves nothing on the GPU to undo.
+        let rest = try_collect(
+            blades.len(),
+            std::iter::repeat(GrassState::default()),
+            "the grass state",
+        )?;
         let compute = vk::PipelineStageFlags2::COMPUTE_SHADER;
         let rw = vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE;
         let usage = vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC;
@@ -105,11 +111,6 @@ impl GrassPass {
             usage,
             compute,
             vk::AccessFlags2::SHADER_STORAGE_READ,
-        )?;
-        let rest = try_collect(
-            blades.len(),
-            std::iter::repeat(GrassState::default()),
-            "the grass state",
         )?;
         let states = match Buffer::with_data(
             gpu,
