@@ -3,8 +3,8 @@
 
 mod common;
 
-use common::{finish, strict_gpu};
-use glam::{UVec3, Vec3, Vec4};
+use common::{finish, strict_gpu, to_vec3};
+use glam::{UVec3, Vec3};
 use meadow::gpu::commands::Commands;
 use meadow::gpu::Buffer;
 use meadow::render::grass_pass::{vertex_buffer, GrassPass};
@@ -55,10 +55,6 @@ fn turning_gusts(scene: &Scene, speed: f32, strength: f32) -> WindSettings {
         jacobi_iterations: scene.wind.jacobi_iterations,
         ..Default::default()
     }
-}
-
-fn to_vec3(v: [f32; 4]) -> Vec3 {
-    Vec4::from(v).truncate()
 }
 
 #[test]

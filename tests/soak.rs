@@ -11,8 +11,8 @@
 mod common;
 
 use common::sim::SimRig;
-use common::{finish, strict_gpu};
-use glam::{Vec3, Vec4};
+use common::{finish, strict_gpu, to_vec3};
+use glam::Vec3;
 use meadow::scene::Scene;
 
 /// How far below the ground plane (y = 0) any control point may go, in
@@ -46,10 +46,6 @@ fn storm(blades: usize) -> Scene {
     scene.set_blade_count(blades).unwrap();
     scene.validate().unwrap();
     scene
-}
-
-fn to_vec3(v: [f32; 4]) -> Vec3 {
-    Vec4::from(v).truncate()
 }
 
 /// Runs `steps` wind + grass steps of the storm over `blades` blades,

@@ -88,6 +88,11 @@ pub fn render(
         .0
 }
 
+/// The xyz of a vec4 as the GLSL side stores positions and widths.
+pub fn to_vec3(v: [f32; 4]) -> glam::Vec3 {
+    glam::Vec4::from(v).truncate()
+}
+
 pub fn pixel(frame: &Frame, x: u32, y: u32) -> [u8; 3] {
     let i = ((y * frame.width + x) * 4) as usize;
     [frame.rgba[i], frame.rgba[i + 1], frame.rgba[i + 2]]

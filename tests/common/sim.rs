@@ -6,14 +6,13 @@ use meadow::gpu::{Buffer, Gpu};
 use meadow::render::grass_pass::{vertex_buffer, GrassPass};
 use meadow::render::wind_pass::WindPass;
 use meadow::scene::{field, Scene};
-use meadow::sim::{Blade, BladeVertex, GrassBlade, GrassState};
+use meadow::sim::{BladeVertex, GrassBlade, GrassState};
 
 /// Steps per command buffer: long enough to keep submissions few, short
 /// enough to stay far inside the submission timeout on lavapipe.
 pub const STEPS_PER_SUBMIT: u64 = 250;
 
 pub struct SimRig {
-    pub rest: Vec<Blade>,
     pub blades: Vec<GrassBlade>,
     commands: Commands,
     wind: WindPass,
@@ -44,7 +43,6 @@ impl SimRig {
         )
         .unwrap();
         Self {
-            rest,
             blades,
             commands,
             wind,
