@@ -58,14 +58,34 @@ const FRAMES: u32 = 200;
 /// serving later frames from a heap that then stays, the report's
 /// per-frame records doubling), measured at about 1.3 MiB by frame 25.
 const WARM_UP: usize = 50;
+/// Each level is the least of this many consecutive samples. A leak raises
+/// even the least; a transient does not: lavapipe now and then holds about
+/// 3.7 MiB more at one frame's end, gone by the next frame (seen in one run
+/// of three, at a frame that varies), and a single-sample peak made that
+/// look like growth.
+const WINDOW: usize = 10;
 /// The resident set may step up once or twice after warm-up (glibc growing
 /// a heap or arena, seen up to 1.4 MiB, at a frame that varies run to run);
 /// one 320x180 frame (225 KiB of RGBA) kept per frame would add 33 MiB.
 const MAX_RSS_GROWTH: u64 = 4 << 20;
 /// malloc's bytes in use grow only by the report's per-frame records
-/// (names, timings: 59 KiB measured over 150 frames); 3.5 KiB kept per
+/// (names, timings: 60-160 KiB measured over 150 frames); 3.5 KiB kept per
 /// frame would pass this.
 const MAX_IN_USE_GROWTH: u64 = 512 << 10;
+
+/// Host memory held across the warm-up's last frames and across the run's
+/// last frames: what stays, not what passes.
+fn settled(samples: &[u64]) -> (u64, u64) {
+    let least = |w: &[u64]| *w.iter().min().unwrap();
+    (
+        least(&samples[WARM_UP - WINDOW..WARM_UP]),
+        least(&samples[samples.len() - WINDOW..]),
+    )
+}
+
+fn kib(samples: &[u64]) -> Vec<u64> {
+    samples.iter().map(|b| b / 1024).collect()
+}
 
 #[test]
 fn two_hundred_frames_do_not_grow_host_memory_after_warm_up() {
@@ -87,34 +107,35 @@ fn two_hundred_frames_do_not_grow_host_memory_after_warm_up() {
     assert_eq!(report.frames.len(), FRAMES as usize);
     assert_eq!(report.validation.errors, 0);
     assert_eq!(rss.len(), FRAMES as usize);
-    let after_warm_up = rss[WARM_UP - 1];
-    let peak = *rss[WARM_UP..].iter().max().unwrap();
-    let last = *rss.last().unwrap();
+    let mib = |b: u64| b as f64 / 1048576.0;
+    let (rss_warm, rss_end) = settled(&rss);
+    let (held_warm, held_end) = settled(&in_use);
     eprintln!(
-        "RSS after frame {WARM_UP}: {:.1} MiB; at frame {FRAMES}: {:.1} MiB; peak after warm-up {:.1} MiB",
-        after_warm_up as f64 / 1048576.0,
-        last as f64 / 1048576.0,
-        peak as f64 / 1048576.0
+        "RSS (least of {WINDOW} frames) at frame {WARM_UP}: {:.1} MiB; at frame {FRAMES}: {:.1} MiB; \
+         highest after warm-up {:.1} MiB",
+        mib(rss_warm),
+        mib(rss_end),
+        mib(*rss[WARM_UP..].iter().max().unwrap())
     );
-    let held = in_use[WARM_UP - 1];
-    let held_peak = *in_use[WARM_UP..].iter().max().unwrap();
     eprintln!(
-        "malloc in use after frame {WARM_UP}: {:.1} MiB; peak after: {:.1} MiB (+{} KiB)",
-        held as f64 / 1048576.0,
-        held_peak as f64 / 1048576.0,
-        held_peak.saturating_sub(held) / 1024
+        "malloc in use (least of {WINDOW} frames) at frame {WARM_UP}: {:.1} MiB; at frame {FRAMES}: \
+         {:.1} MiB ({:+} KiB); highest after warm-up {:.1} MiB",
+        mib(held_warm),
+        mib(held_end),
+        (held_end as i64 - held_warm as i64) / 1024,
+        mib(*in_use[WARM_UP..].iter().max().unwrap())
     );
     assert!(
-        peak <= after_warm_up + MAX_RSS_GROWTH,
+        rss_end <= rss_warm + MAX_RSS_GROWTH,
         "the RSS grew by {} KiB over frames {WARM_UP}..{FRAMES}: {:?}",
-        (peak - after_warm_up) / 1024,
-        rss.iter().map(|b| b / 1024).collect::<Vec<_>>()
+        (rss_end - rss_warm) / 1024,
+        kib(&rss)
     );
     assert!(
-        held_peak <= held + MAX_IN_USE_GROWTH,
+        held_end <= held_warm + MAX_IN_USE_GROWTH,
         "malloc's bytes in use grew by {} KiB over frames {WARM_UP}..{FRAMES}: {:?}",
-        (held_peak - held) / 1024,
-        in_use.iter().map(|b| b / 1024).collect::<Vec<_>>()
+        (held_end - held_warm) / 1024,
+        kib(&in_use)
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
