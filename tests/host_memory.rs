@@ -60,9 +60,9 @@ const FRAMES: u32 = 200;
 const WARM_UP: usize = 50;
 /// Each level is the least of this many consecutive samples. A leak raises
 /// even the least; a transient does not: lavapipe now and then holds about
-/// 3.7 MiB more at one frame's end, gone by the next frame (seen in one run
-/// of three, at a frame that varies), and a single-sample peak made that
-/// look like growth.
+/// 3.7 MiB more at one frame's end, gone by the next frame (about one run
+/// in four, at a frame that varies, with the layer off too), and a
+/// single-sample peak made that look like growth.
 const WINDOW: usize = 10;
 /// The resident set may step up once or twice after warm-up (glibc growing
 /// a heap or arena, seen up to 1.4 MiB, at a frame that varies run to run);
