@@ -5,7 +5,7 @@ mod common;
 
 use std::process::{Command, Output};
 
-use common::binary::{meadow, temp_out};
+use common::binary::{files_in, meadow, temp_out};
 
 fn assert_succeeded(result: &Output) {
     assert!(
@@ -38,13 +38,8 @@ fn assert_refused(args: &[&str], env: &[(&str, &str)], fragment: &str) {
         !out.join("frame_0000.png").exists(),
         "{args:?} left a frame"
     );
-    if out.exists() {
-        let left: Vec<_> = std::fs::read_dir(&out)
-            .unwrap()
-            .map(|e| e.unwrap().path())
-            .collect();
-        assert!(left.is_empty(), "{args:?} left {left:?}");
-    }
+    let left = files_in(&out);
+    assert!(left.is_empty(), "{args:?} left {left:?}");
     let _ = std::fs::remove_dir_all(&out);
 }
 
@@ -357,11 +352,7 @@ fn an_interrupted_render_leaves_only_complete_files_and_says_how_far_it_got() {
         .collect();
     assert!(listed.len() >= 4 && listed.len() < 2000, "{}", listed.len());
     // On disk: exactly the listed frames, the GIF and the report, all complete.
-    let mut on_disk: Vec<String> = std::fs::read_dir(&out)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    on_disk.sort();
+    let on_disk = files_in(&out);
     let mut expected = listed.clone();
     expected.extend(["animation.gif".to_string(), "report.json".to_string()]);
     expected.sort();

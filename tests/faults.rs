@@ -11,7 +11,7 @@ mod common;
 use std::path::Path;
 use std::process::{Command, Output};
 
-use common::binary::{meadow, temp_out};
+use common::binary::{files_in, meadow, temp_out};
 
 /// The most operations any command here makes; a loop past it means the
 /// injected fault never fired.
@@ -34,18 +34,6 @@ fn assert_one_clean_line(what: &str, result: &Output) -> String {
         "{what}: the failure path upset validation: {stderr}"
     );
     stderr
-}
-
-/// The files in `dir` (none when it does not exist), sorted.
-fn files_in(dir: &Path) -> Vec<String> {
-    let Ok(entries) = std::fs::read_dir(dir) else {
-        return Vec::new();
-    };
-    let mut names: Vec<String> = entries
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    names.sort();
-    names
 }
 
 /// Nothing half-written: no temporary file, every image decodes, every

@@ -1,6 +1,6 @@
 //! Running the `meadow` binary from the CLI tests.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 /// Runs `meadow args` with `env` added; validation messages counted, not echoed.
@@ -19,4 +19,18 @@ pub fn temp_out(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("meadow-{name}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     dir
+}
+
+/// The names of the files in `dir` (none when it does not exist), sorted:
+/// what a run left in its output directory.
+pub fn files_in(dir: &Path) -> Vec<String> {
+    let entries = match std::fs::read_dir(dir) {
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Vec::new(),
+        entries => entries.unwrap_or_else(|e| panic!("{}: {e}", dir.display())),
+    };
+    let mut names: Vec<String> = entries
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
 }
