@@ -3,12 +3,12 @@
 
 mod common;
 
+use common::sim::{Figures, SimRig};
 use common::{finish, strict_gpu, to_vec3};
 use glam::{UVec3, Vec3};
 use meadow::gpu::commands::Commands;
 use meadow::gpu::Buffer;
 use meadow::render::grass_pass::{vertex_buffer, GrassPass};
-use meadow::render::wind_pass::WindPass;
 use meadow::scene::{field, Scene};
 use meadow::sim::grass::GrassField;
 use meadow::sim::wind::{Gust, Inflow, WindField, WindGrid, WindSettings, WindSource};
@@ -151,66 +151,25 @@ fn gpu_and_cpu_agree_over_500_steps_of_recorded_wind() {
 
 #[test]
 fn roots_and_edge_lengths_hold_on_the_gpu_in_2000_stormy_steps() {
-    let (scene, blades) = few_bunches();
-    let grid = small_grid(&scene, [20, 8, 20]);
+    let mut scene = Scene::builtin("fig10-few-bunches").unwrap();
+    scene.wind.cells = [20, 8, 20];
+    scene.wind.dt = DT;
     // A storm: a 12 m/s inflow gusting by 80 % and a strong source turning
     // over the grass.
-    let settings = turning_gusts(&scene, 12.0, 60.0);
+    let storm = turning_gusts(&scene, 12.0, 60.0);
+    scene.wind.sources = storm.sources;
+    scene.wind.inflow = storm.inflow;
+    scene.wind.obstacles = storm.obstacles;
 
     let gpu = strict_gpu();
-    let commands = Commands::new(&gpu, "grass storm commands").unwrap();
-    let wind = WindPass::new(&gpu, &commands, grid, &settings).unwrap();
-    let vertices = vertex_buffer(&gpu, "grass storm vertices", blades.len()).unwrap();
-    let pass = GrassPass::new(
-        &gpu,
-        &commands,
-        &blades,
-        &vertices,
-        wind.velocity(),
-        &grid,
-        DT,
-    )
-    .unwrap();
-    for batch in 0..4 {
-        let cmd = commands.begin(&gpu).unwrap();
-        for s in 0..500 {
-            let t = (batch * 500 + s) as f32 * DT;
-            wind.record_step(&gpu, cmd, t, DT);
-            pass.record_step(&gpu, cmd, 0);
-        }
-        commands.submit_and_wait(&gpu, "stormy steps").unwrap();
-    }
-    let states = pass.read_states(&gpu, &commands).unwrap();
-    let out: Vec<BladeVertex> = vertices
-        .read_back(&gpu, &commands, blades.len() * 4)
-        .unwrap();
-    pass.destroy(&gpu);
-    vertices.destroy(&gpu);
-    wind.destroy(&gpu);
-    commands.destroy(&gpu);
+    let mut rig = SimRig::new(&gpu, &scene);
+    rig.run(&gpu, 2000);
+    let mut figures = Figures::default();
+    rig.check(&gpu, &mut figures);
+    rig.destroy(&gpu);
     finish(gpu);
 
-    let mut worst = 0.0f32;
-    let mut moved = 0.0f32;
-    for (i, blade) in blades.iter().enumerate() {
-        let s = &states[i];
-        assert!(
-            s.angle.iter().chain(&s.velocity).all(|x| x.is_finite()),
-            "blade {i}: {s:?}"
-        );
-        let p: Vec<Vec3> = (0..4).map(|j| to_vec3(out[4 * i + j].position)).collect();
-        assert!(out[4 * i..4 * i + 4].iter().all(|v| v
-            .position
-            .iter()
-            .chain(&v.width)
-            .all(|x| x.is_finite())));
-        assert_eq!(p[0], blade.rest_point(0), "blade {i}: root moved");
-        for e in 0..3 {
-            let rest = blade.rest_point(e + 1).distance(blade.rest_point(e));
-            worst = worst.max((p[e + 1].distance(p[e]) - rest).abs() / rest);
-        }
-        moved = moved.max(p[3].distance(blade.rest_point(3)));
-    }
+    let (worst, moved) = (figures.worst_edge, figures.farthest_tip);
     eprintln!("GPU storm: edge length error {worst:e}, largest tip travel {moved} m");
     assert!(worst < 2e-6, "edge lengths drifted by {worst:e}");
     assert!(moved > 0.1, "the storm barely moved the grass: {moved} m");

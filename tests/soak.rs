@@ -1,8 +1,9 @@
 //! Numerical stability: the strongest gusting, rotating wind the scene
 //! format documents (tests/soak/storm.toml) blowing over a meadow for many
-//! steps on the GPU, checked every few hundred steps: no NaN or infinite
-//! value in the wind field or the blades' state, no blade below the ground
-//! by more than `GROUND_TOLERANCE`, roots fixed and edge lengths kept.
+//! steps on the GPU, checked every few hundred steps (`SimRig::check`): no
+//! NaN or infinite value in the wind field or the blades' state, no blade
+//! below the ground by more than `GROUND_TOLERANCE`, roots fixed, and edge
+//! lengths kept to `EDGE_TOLERANCE`.
 //!
 //! The suite runs a short version; `scripts/soak` runs the ignored
 //! 100,000-step one in release mode and prints the figures that
@@ -10,35 +11,12 @@
 
 mod common;
 
-use common::sim::SimRig;
-use common::{finish, strict_gpu, to_vec3};
-use glam::Vec3;
+use common::sim::{Figures, SimRig};
+use common::{finish, strict_gpu};
 use meadow::scene::Scene;
-
-/// How far below the ground plane (y = 0) any control point may go, in
-/// metres. The curve lies in its control points' convex hull, so this
-/// bounds the drawn blade too.
-const GROUND_TOLERANCE: f32 = 0.01;
 
 /// Relative change of any edge's length from rest (f32 rotations).
 const EDGE_TOLERANCE: f32 = 1e-5;
-
-#[derive(Debug, Default)]
-struct Figures {
-    steps: u64,
-    blades: usize,
-    checks: u32,
-    /// The fastest wind anywhere in the grid at any check (m/s).
-    max_wind: f32,
-    /// The lowest control point at any check (m; negative is below ground).
-    lowest_point: f32,
-    /// The largest relative edge-length change at any check.
-    worst_edge: f32,
-    /// The farthest any tip got from its rest place (m).
-    farthest_tip: f32,
-    /// The largest angle of any motion at any check (rad).
-    largest_angle: f32,
-}
 
 fn storm(blades: usize) -> Scene {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/soak/storm.toml");
@@ -56,67 +34,17 @@ fn soak(blades: usize, steps: u64, check_every: u64) -> Figures {
     let gpu = strict_gpu();
     let mut rig = SimRig::new(&gpu, &scene);
 
-    let mut figures = Figures {
-        blades: rig.blades.len(),
-        lowest_point: f32::INFINITY,
-        ..Default::default()
-    };
+    let mut figures = Figures::default();
     while rig.steps_done() < steps {
         rig.run(&gpu, check_every.min(steps - rig.steps_done()));
-        let done = rig.steps_done();
-        figures.checks += 1;
-        let velocity = rig.velocity(&gpu);
-        for (axis, v) in velocity.iter().enumerate() {
-            if let Some(i) = v.iter().position(|x| !x.is_finite()) {
-                panic!("step {done}: wind component {axis} at face {i} is {}", v[i]);
-            }
-            let fastest = v.iter().fold(0.0f32, |m, x| m.max(x.abs()));
-            figures.max_wind = figures.max_wind.max(fastest);
-        }
-        let states = rig.states(&gpu);
-        let out = rig.vertices(&gpu);
-        for (i, blade) in rig.blades.iter().enumerate() {
-            let s = &states[i];
-            assert!(
-                s.angle.iter().chain(&s.velocity).all(|x| x.is_finite()),
-                "step {done}: blade {i} state {s:?}"
-            );
-            figures.largest_angle = s
-                .angle
-                .iter()
-                .fold(figures.largest_angle, |m, a| m.max(a.abs()));
-            let v = &out[4 * i..4 * i + 4];
-            assert!(
-                v.iter()
-                    .all(|v| v.position.iter().chain(&v.width).all(|x| x.is_finite())),
-                "step {done}: blade {i} vertices {v:?}"
-            );
-            let p: Vec<Vec3> = v.iter().map(|v| to_vec3(v.position)).collect();
-            assert_eq!(
-                p[0],
-                blade.rest_point(0),
-                "step {done}: blade {i} root moved"
-            );
-            for e in 0..3 {
-                let rest = blade.rest_point(e + 1).distance(blade.rest_point(e));
-                let error = (p[e + 1].distance(p[e]) - rest).abs() / rest;
-                figures.worst_edge = figures.worst_edge.max(error);
-            }
-            let lowest = p.iter().map(|p| p.y).fold(f32::INFINITY, f32::min);
-            figures.lowest_point = figures.lowest_point.min(lowest);
-            assert!(
-                lowest >= -GROUND_TOLERANCE,
-                "step {done}: blade {i} reaches {lowest} m below the ground (tolerance {GROUND_TOLERANCE} m): {p:?}"
-            );
-            figures.farthest_tip = figures.farthest_tip.max(p[3].distance(blade.rest_point(3)));
-        }
+        rig.check(&gpu, &mut figures);
         assert!(
             figures.worst_edge < EDGE_TOLERANCE,
-            "step {done}: an edge length changed by {:e} of its rest length",
+            "step {}: an edge length changed by {:e} of its rest length",
+            rig.steps_done(),
             figures.worst_edge
         );
     }
-    figures.steps = rig.steps_done();
     rig.destroy(&gpu);
     finish(gpu);
     eprintln!(

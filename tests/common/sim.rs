@@ -1,12 +1,39 @@
 //! The simulating phase alone, wind then grass each step as the renderer
-//! records it (src/render/simulation.rs), for tests that read its state.
+//! records it (src/render/simulation.rs), for tests that read its state,
+//! and the invariants that state must keep at any step.
 
+use glam::Vec3;
 use meadow::gpu::commands::Commands;
 use meadow::gpu::{Buffer, Gpu};
 use meadow::render::grass_pass::{vertex_buffer, GrassPass};
 use meadow::render::wind_pass::WindPass;
 use meadow::scene::{field, Scene};
 use meadow::sim::{BladeVertex, GrassBlade, GrassState};
+
+use super::to_vec3;
+
+/// How far below the ground plane (y = 0) any control point may go, in
+/// metres. The curve lies in its control points' convex hull, so this
+/// bounds the drawn blade too.
+pub const GROUND_TOLERANCE: f32 = 0.01;
+
+/// What the checks of a run saw, over all of them.
+#[derive(Debug)]
+pub struct Figures {
+    pub steps: u64,
+    pub blades: usize,
+    pub checks: u32,
+    /// The fastest wind anywhere in the grid at any check (m/s).
+    pub max_wind: f32,
+    /// The lowest control point at any check (m; negative is below ground).
+    pub lowest_point: f32,
+    /// The largest relative edge-length change at any check.
+    pub worst_edge: f32,
+    /// The farthest any tip got from its rest place (m).
+    pub farthest_tip: f32,
+    /// The largest angle of any motion at any check (rad).
+    pub largest_angle: f32,
+}
 
 /// Steps per command buffer: long enough to keep submissions few, short
 /// enough to stay far inside the submission timeout on lavapipe.
@@ -93,10 +120,82 @@ impl SimRig {
         self.wind.read_velocity(gpu, &self.commands).unwrap()
     }
 
+    /// Reads the wind and the blades back and checks what must hold at any
+    /// step: no NaN or infinite value in the wind or the blades' state, roots
+    /// where they grew, no control point more than GROUND_TOLERANCE under the
+    /// ground; panics naming the step and blade. The rest (fastest wind,
+    /// edge-length change, tip travel, angles) goes into `figures`, for the
+    /// caller's bounds.
+    pub fn check(&self, gpu: &Gpu, figures: &mut Figures) {
+        let done = self.steps_done;
+        figures.steps = done;
+        figures.blades = self.blades.len();
+        figures.checks += 1;
+        for (axis, v) in self.velocity(gpu).iter().enumerate() {
+            if let Some(i) = v.iter().position(|x| !x.is_finite()) {
+                panic!("step {done}: wind component {axis} at face {i} is {}", v[i]);
+            }
+            let fastest = v.iter().fold(0.0f32, |m, x| m.max(x.abs()));
+            figures.max_wind = figures.max_wind.max(fastest);
+        }
+        let states = self.states(gpu);
+        let out = self.vertices(gpu);
+        for (i, blade) in self.blades.iter().enumerate() {
+            let s = &states[i];
+            assert!(
+                s.angle.iter().chain(&s.velocity).all(|x| x.is_finite()),
+                "step {done}: blade {i} state {s:?}"
+            );
+            figures.largest_angle = s
+                .angle
+                .iter()
+                .fold(figures.largest_angle, |m, a| m.max(a.abs()));
+            let v = &out[4 * i..4 * i + 4];
+            assert!(
+                v.iter()
+                    .all(|v| v.position.iter().chain(&v.width).all(|x| x.is_finite())),
+                "step {done}: blade {i} vertices {v:?}"
+            );
+            let p: Vec<Vec3> = v.iter().map(|v| to_vec3(v.position)).collect();
+            assert_eq!(
+                p[0],
+                blade.rest_point(0),
+                "step {done}: blade {i} root moved"
+            );
+            for e in 0..3 {
+                let rest = blade.rest_point(e + 1).distance(blade.rest_point(e));
+                let error = (p[e + 1].distance(p[e]) - rest).abs() / rest;
+                figures.worst_edge = figures.worst_edge.max(error);
+            }
+            let lowest = p.iter().map(|p| p.y).fold(f32::INFINITY, f32::min);
+            figures.lowest_point = figures.lowest_point.min(lowest);
+            assert!(
+                lowest >= -GROUND_TOLERANCE,
+                "step {done}: blade {i} reaches {lowest} m below the ground (tolerance {GROUND_TOLERANCE} m): {p:?}"
+            );
+            figures.farthest_tip = figures.farthest_tip.max(p[3].distance(blade.rest_point(3)));
+        }
+    }
+
     pub fn destroy(self, gpu: &Gpu) {
         self.grass.destroy(gpu);
         self.vertices.destroy(gpu);
         self.wind.destroy(gpu);
         self.commands.destroy(gpu);
+    }
+}
+
+impl Default for Figures {
+    fn default() -> Self {
+        Self {
+            steps: 0,
+            blades: 0,
+            checks: 0,
+            max_wind: 0.0,
+            lowest_point: f32::INFINITY,
+            worst_edge: 0.0,
+            farthest_tip: 0.0,
+            largest_angle: 0.0,
+        }
     }
 }
