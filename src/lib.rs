@@ -1,28 +1,27 @@
 //! meadow: the grass-swaying method of Lee, Lo, Chu and Chang, "A simulation
 //! on grass swaying with dynamic wind force" (The Visual Computer, 2016), on
-//! raw Vulkan.
+//! raw Vulkan. Layers, each importing only those below it:
 //!
-//! - `gpu`: instance, device, memory, buffers, images, commands, queries.
-//! - `scene`: scenes and the grass field generator.
-//! - `sim`: the grass model and the CPU references of the wind and the
-//!   grass dynamics.
-//! - `render`: the GPU passes of both phases (wind, grass, the paper's
-//!   render pipeline) and frame orchestration.
-//! - `job`, `wind_job`, `grass_job`: what the `meadow` commands run.
-//! - `shaders` / `reflect`: the embedded SPIR-V and its binding reflection.
+//! 1. `gpu`: Vulkan (the only `unsafe`), and `error`.
+//! 2. `scene` and `sim`: scenes, and the paper's model on the CPU (the
+//!    reference the GPU is checked against); `shaders`, the embedded SPIR-V.
+//! 3. `simulate` (wind and grass on GPU compute) and `render` (the paper's
+//!    render pipeline, shadow map, targets, read-back): siblings.
+//! 4. `frame`: the blade buffer both share, and the frame recorder.
+//! 5. `report`: files, pictures, tables and charts from results.
+//! 6. `commands`: one file per `meadow` command.
+//!
+//! docs/architecture.md has the map.
 
-pub mod bench;
+pub mod commands;
 pub mod error;
+pub mod frame;
 pub mod gpu;
-pub mod grass_job;
-pub mod job;
-pub mod output;
-pub mod reflect;
 pub mod render;
-pub mod reproduce;
+pub mod report;
 pub mod scene;
 pub mod shaders;
 pub mod sim;
-pub mod wind_job;
+pub mod simulate;
 
 pub use error::{Error, Result};

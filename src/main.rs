@@ -6,8 +6,8 @@ use std::process::ExitCode;
 use anyhow::Context as _;
 use clap::{Parser, Subcommand, ValueEnum};
 
-use meadow::gpu::{FaultPlan, Gpu, GpuOptions, ValidationOptions};
-use meadow::job::{render_to_dir_observed, RenderRequest};
+use meadow::commands::render::{render_to_dir_observed, RenderRequest};
+use meadow::gpu::{FaultPlan, GpuOptions, ValidationOptions};
 use meadow::scene::{self, Scene, ViewMode};
 
 #[derive(Parser)]
@@ -240,7 +240,7 @@ impl std::error::Error for Interrupted {}
 fn render_with_progress(
     request: &RenderRequest,
     out: &std::path::Path,
-) -> anyhow::Result<meadow::job::RenderReport> {
+) -> anyhow::Result<meadow::commands::render::RenderReport> {
     use std::sync::atomic::{AtomicBool, Ordering};
     use std::sync::Arc;
 
@@ -370,7 +370,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                     report.validation.errors, report.validation.warnings
                 );
             }
-            print!("{}", report.timing.table());
+            print!("{}", meadow::report::timing::table(&report.timing));
             println!(
                 "simulated {:.2} s in {} steps of {:.4} s ({} substeps each)",
                 report.sim_steps as f64 * report.sim_dt as f64,
@@ -412,7 +412,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 anyhow::bail!("--steps {steps} is not allowed, use 1..=1000000");
             }
             let scene = Scene::load(&scene)?;
-            let r = meadow::wind_job::wind_to_dir(&scene, steps, &device.options()?, &out)?;
+            let r = meadow::commands::wind::wind_to_dir(&scene, steps, &device.options()?, &out)?;
             for w in &r.warnings {
                 eprintln!("meadow: warning: {w}");
             }
@@ -464,15 +464,15 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         } => {
             let counts = blades
                 .split(',')
-                .map(meadow::grass_job::parse_count)
+                .map(meadow::commands::bench_grass::parse_count)
                 .collect::<Result<Vec<_>, _>>()?;
-            let request = meadow::bench::BenchRequest {
+            let request = meadow::commands::bench::BenchRequest {
                 scene: Scene::load(&scene)?,
                 counts,
                 lod: match lod {
-                    LodArg::Both => meadow::bench::LodChoice::Both,
-                    LodArg::On => meadow::bench::LodChoice::On,
-                    LodArg::Off => meadow::bench::LodChoice::Off,
+                    LodArg::Both => meadow::commands::bench::LodChoice::Both,
+                    LodArg::On => meadow::commands::bench::LodChoice::On,
+                    LodArg::Off => meadow::commands::bench::LodChoice::Off,
                 },
                 frames,
                 warmup,
@@ -481,8 +481,8 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 msaa,
                 gpu: device.options()?,
             };
-            let bench = meadow::bench::bench_to_dir(&request, &out)?;
-            print!("{}", meadow::bench::markdown(&bench));
+            let bench = meadow::commands::bench::bench_to_dir(&request, &out)?;
+            print!("{}", meadow::commands::bench::markdown(&bench));
             println!(
                 "wrote {}, bench.md and bench.svg",
                 out.join("bench.json").display()
@@ -500,14 +500,19 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             let scene = Scene::load(&scene)?;
             let counts = blades
                 .split(',')
-                .map(meadow::grass_job::parse_count)
+                .map(meadow::commands::bench_grass::parse_count)
                 .collect::<Result<Vec<_>, _>>()?;
-            meadow::output::ensure_dir(&out)?;
-            let bench =
-                meadow::grass_job::bench_grass(&scene, &counts, steps, warmup, &device.options()?)?;
+            meadow::report::files::ensure_dir(&out)?;
+            let bench = meadow::commands::bench_grass::bench_grass(
+                &scene,
+                &counts,
+                steps,
+                warmup,
+                &device.options()?,
+            )?;
             let json = serde_json::to_vec_pretty(&bench).expect("bench serialises");
             let path = out.join("grass_bench.json");
-            meadow::output::write_atomic(&path, &json)?;
+            meadow::report::files::write_atomic(&path, &json)?;
             println!(
                 "grass step on {} [{}], scene {}, {} timed steps per count (medians)",
                 bench.device, bench.device_type, bench.scene, steps
@@ -532,7 +537,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         }
         Command::Reproduce { out, quick, device } => {
             let started = std::time::Instant::now();
-            let rendered = meadow::reproduce::reproduce(
+            let rendered = meadow::commands::reproduce::reproduce(
                 &out,
                 quick,
                 &device.options()?,
@@ -551,24 +556,13 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             Ok(())
         }
         Command::Devices { device } => {
-            let (devices, validation) =
-                Gpu::list_devices(&device.options()?).context("listing Vulkan devices")?;
+            let (devices, validation) = meadow::commands::devices::devices(&device.options()?)
+                .context("listing Vulkan devices")?;
             if devices.is_empty() {
                 anyhow::bail!(meadow::Error::NoDevice);
             }
-            for d in devices {
-                println!(
-                    "{}  [{}]  Vulkan {}  {}  max MSAA {}x  {}",
-                    d.name,
-                    d.device_type,
-                    d.api_version,
-                    d.driver,
-                    d.max_msaa,
-                    match &d.missing {
-                        None => "qualifies".to_string(),
-                        Some(f) => format!("does not qualify: lacks {f}"),
-                    }
-                );
+            for d in &devices {
+                println!("{}", meadow::commands::devices::line(d));
             }
             if validation.enabled {
                 println!(

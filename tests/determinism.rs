@@ -4,7 +4,7 @@
 mod common;
 
 use common::sim::SimRig;
-use meadow::job::{render_to_dir, RenderRequest};
+use meadow::commands::render::{render_to_dir, RenderRequest};
 use meadow::scene::Scene;
 
 #[test]
@@ -81,13 +81,13 @@ fn same_scene_and_seed_give_identical_blade_and_wind_state() {
     scene.wind.cells = [24, 10, 24];
     let run = |scene: &Scene| {
         let mut rig = SimRig::new(&gpu, scene);
-        rig.run(&gpu, 120);
+        rig.run(120);
         let state = (
             bytemuck::cast_slice::<_, u8>(&rig.states(&gpu)).to_vec(),
             bytemuck::cast_slice::<_, u8>(&rig.vertices(&gpu)).to_vec(),
             rig.velocity(&gpu).concat(),
         );
-        rig.destroy(&gpu);
+        drop(rig);
         state
     };
     let (states_a, vertices_a, wind_a) = run(&scene);

@@ -33,8 +33,8 @@
 use std::path::{Path, PathBuf};
 
 use glam::Vec3;
+use meadow::commands::render::{render_to_dir, Animation, RenderRequest};
 use meadow::gpu::{GpuOptions, ValidationOptions};
-use meadow::job::{render_to_dir, Animation, RenderRequest};
 use meadow::scene::{Scene, ViewMode};
 
 /// FLIP's viewing condition: 0.7 m from a 0.7 m wide 3840-pixel monitor

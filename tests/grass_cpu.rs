@@ -1,5 +1,5 @@
 //! The grass dynamics CPU reference (src/sim/grass.rs) against the
-//! behaviour method.md section 5 asks for and against closed forms.
+//! behaviour docs/method.md section 6 asks for and against closed forms.
 
 use glam::Vec3;
 use meadow::scene::{field, GrassDynamics, Scene};

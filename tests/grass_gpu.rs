@@ -6,13 +6,13 @@ mod common;
 use common::sim::{Figures, SimRig};
 use common::{finish, strict_gpu, to_vec3};
 use glam::{UVec3, Vec3};
-use meadow::gpu::commands::Commands;
-use meadow::gpu::Buffer;
-use meadow::render::grass_pass::{vertex_buffer, GrassPass};
+use meadow::frame::BladeBuffer;
+use meadow::gpu::{Access, Buffer, Commands};
 use meadow::scene::{field, Scene};
 use meadow::sim::grass::GrassField;
 use meadow::sim::wind::{Gust, Inflow, WindField, WindGrid, WindSettings, WindSource};
 use meadow::sim::{BladeVertex, GrassBlade, GrassState};
+use meadow::simulate::GrassPass;
 
 const DT: f32 = 1.0 / 60.0;
 
@@ -94,27 +94,24 @@ fn gpu_and_cpu_agree_over_500_steps_of_recorded_wind() {
         "recorded wind",
         bytemuck::cast_slice(&recorded),
         ash::vk::BufferUsageFlags::STORAGE_BUFFER,
-        ash::vk::PipelineStageFlags2::COMPUTE_SHADER,
-        ash::vk::AccessFlags2::SHADER_STORAGE_READ,
+        Access::COMPUTE_READ,
     )
     .unwrap();
-    let vertices = vertex_buffer(&gpu, "grass test vertices", blades.len()).unwrap();
-    let pass =
-        GrassPass::new(&gpu, &commands, &blades, &vertices, &wind_buffer, &grid, DT).unwrap();
+    let blade_buffer =
+        BladeBuffer::uninitialised(&gpu, "grass test vertices", blades.len()).unwrap();
+    let vertices = blade_buffer.buffer();
+    let pass = GrassPass::new(&gpu, &commands, &blades, vertices, &wind_buffer, &grid, DT).unwrap();
     assert_eq!(pass.substeps(), cpu.substeps);
-    let cmd = commands.begin(&gpu).unwrap();
+    let rec = commands.begin().unwrap();
     for step in 0..500 {
-        pass.record_step(&gpu, cmd, (snapshot_at(step) * face_count) as u32);
+        pass.record_step(&rec, (snapshot_at(step) * face_count) as u32);
     }
-    commands.submit_and_wait(&gpu, "500 grass steps").unwrap();
+    rec.submit_and_wait("500 grass steps").unwrap();
     let states: Vec<GrassState> = pass.read_states(&gpu, &commands).unwrap();
     let gpu_vertices: Vec<BladeVertex> = vertices
         .read_back(&gpu, &commands, blades.len() * 4)
         .unwrap();
-    pass.destroy(&gpu);
-    vertices.destroy(&gpu);
-    wind_buffer.destroy(&gpu);
-    commands.destroy(&gpu);
+    drop((pass, blade_buffer, wind_buffer, commands));
     finish(gpu);
 
     let cpu_vertices = cpu.vertices();
@@ -163,10 +160,10 @@ fn roots_and_edge_lengths_hold_on_the_gpu_in_2000_stormy_steps() {
 
     let gpu = strict_gpu();
     let mut rig = SimRig::new(&gpu, &scene);
-    rig.run(&gpu, 2000);
+    rig.run(2000);
     let mut figures = Figures::default();
     rig.check(&gpu, &mut figures);
-    rig.destroy(&gpu);
+    drop(rig);
     finish(gpu);
 
     let (worst, moved) = (figures.worst_edge, figures.farthest_tip);

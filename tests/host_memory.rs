@@ -8,7 +8,7 @@
 
 mod common;
 
-use meadow::job::render_to_dir_observed;
+use meadow::commands::render::render_to_dir_observed;
 use meadow::scene::Scene;
 
 /// Resident set size of this process, from /proc/self/status (bytes).

@@ -190,7 +190,7 @@ fn grass_centroid(path: &std::path::Path) -> (f64, usize) {
 
 #[test]
 fn the_wind_from_the_left_sways_the_grass_to_the_right_over_frames() {
-    use meadow::job::render_to_dir;
+    use meadow::commands::render::render_to_dir;
     let request = common::strict_request(
         Scene::builtin("fig10-few-bunches").unwrap(),
         320,
@@ -224,8 +224,8 @@ fn the_wind_from_the_left_sways_the_grass_to_the_right_over_frames() {
 
 #[test]
 fn motion_view_is_blue_at_rest_and_warms_as_the_wind_bends_the_blades() {
+    use meadow::commands::render::{render_to_dir, Animation, RenderRequest};
     use meadow::gpu::{GpuOptions, ValidationOptions};
-    use meadow::job::{render_to_dir, Animation, RenderRequest};
     std::env::set_var("MEADOW_QUIET_VALIDATION", "1");
     let dir = std::env::temp_dir().join(format!("meadow-motion-{}", std::process::id()));
     let mut request = RenderRequest {

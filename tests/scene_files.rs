@@ -29,6 +29,26 @@ fn the_minimal_scene_is_valid_and_fills_in_defaults() {
     assert!(scene.wind.inflow.is_none());
 }
 
+/// Every field of an optional table is optional on its own: what is
+/// written is taken, the rest keeps the documented default.
+#[test]
+fn optional_tables_take_each_field_on_its_own() {
+    let defaults = file::parse(MINIMAL, "minimal.toml").unwrap();
+    let ambient_only = file::parse(&plus("[light]\nambient = 0.5"), "light.toml")
+        .unwrap_or_else(|e| panic!("[light] with only ambient: {e}"));
+    assert_eq!(ambient_only.light.ambient, 0.5);
+    assert_eq!(ambient_only.light.direction, defaults.light.direction);
+    assert_eq!(ambient_only.light.color, defaults.light.color);
+    assert_eq!(ambient_only.light.shadow_map, 8192);
+    let map_only = file::parse(&plus("[light]\nshadow_map = 1024"), "light.toml")
+        .unwrap_or_else(|e| panic!("[light] with only shadow_map: {e}"));
+    assert_eq!(map_only.light.shadow_map, 1024);
+    assert_eq!(map_only.light.ambient, defaults.light.ambient);
+    let ground = file::parse(&plus("[ground]"), "ground.toml")
+        .unwrap_or_else(|e| panic!("an empty [ground]: {e}"));
+    assert_eq!(ground.ground, defaults.ground);
+}
+
 #[test]
 fn shipped_scene_files_are_the_builtins() {
     for (name, _) in BUILTIN {

@@ -6,17 +6,19 @@
 use std::collections::BTreeSet;
 use std::mem::offset_of;
 
+mod common;
+
 use ash::vk;
-use meadow::gpu::descriptors::LayoutBinding;
-use meadow::reflect::{self, Binding};
-use meadow::render::grass_pass::{GrassPush, GRASS_SET};
+use common::reflect::{self, Binding};
+use meadow::gpu::LayoutBinding;
 use meadow::render::pipelines::{
     BLADE_ATTRIBUTES, BLADE_STAGES, FRAME_SET, GROUND_STAGES, SHADOW_SET, SHADOW_STAGES, SKY_STAGES,
 };
-use meadow::render::wind_pass::{GpuWindSource, WindPush, WIND_KERNELS, WIND_SET};
 use meadow::render::FrameUniforms;
 use meadow::shaders::{self, ShaderStage, Spirv};
 use meadow::sim::{BladeVertex, GrassBlade, GrassState};
+use meadow::simulate::grass_pass::{GrassPush, GRASS_SET};
+use meadow::simulate::wind_pass::{GpuWindSource, WindPush, WIND_KERNELS, WIND_SET};
 
 #[test]
 fn every_stage_naga_supports_parses_and_validates() {

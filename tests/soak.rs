@@ -36,7 +36,7 @@ fn soak(blades: usize, steps: u64, check_every: u64) -> Figures {
 
     let mut figures = Figures::default();
     while rig.steps_done() < steps {
-        rig.run(&gpu, check_every.min(steps - rig.steps_done()));
+        rig.run(check_every.min(steps - rig.steps_done()));
         rig.check(&gpu, &mut figures);
         assert!(
             figures.worst_edge < EDGE_TOLERANCE,
@@ -45,7 +45,7 @@ fn soak(blades: usize, steps: u64, check_every: u64) -> Figures {
             figures.worst_edge
         );
     }
-    rig.destroy(&gpu);
+    drop(rig);
     finish(gpu);
     eprintln!(
         "soak: {} steps over {} blades, {} checks: max wind {:.1} m/s, lowest point {:.4} m, worst edge length change {:.2e}, farthest tip {:.3} m, largest angle {:.3} rad",

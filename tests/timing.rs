@@ -4,12 +4,11 @@
 mod common;
 
 use common::{finish, strict_gpu};
-use meadow::gpu::commands::Commands;
-use meadow::gpu::timing::{FrameTimings, Phase};
+use meadow::commands::render::{render_to_dir, Animation, RenderRequest};
+use meadow::frame::timing::{FrameTimings, Phase};
+use meadow::frame::FrameRecorder;
 use meadow::gpu::{GpuOptions, ValidationOptions};
-use meadow::job::{render_to_dir, Animation, RenderRequest};
-use meadow::render::simulation::Simulation;
-use meadow::render::{FrameUniforms, Renderer};
+use meadow::render::FrameUniforms;
 use meadow::scene::{field, Scene, ViewMode};
 
 /// The sequential phases of a frame: they do not overlap, so together they
@@ -18,7 +17,7 @@ const SEQUENTIAL: [Phase; 5] = [
     Phase::Wind,
     Phase::Grass,
     Phase::Shadow,
-    Phase::Colour,
+    Phase::Color,
     Phase::Readback,
 ];
 
@@ -35,7 +34,7 @@ fn check_frame(t: &FrameTimings, steps: u64, what: &str) {
     }
     for p in [
         Phase::Shadow,
-        Phase::Colour,
+        Phase::Color,
         Phase::GrassDraw,
         Phase::Readback,
         Phase::Frame,
@@ -59,7 +58,7 @@ fn check_frame(t: &FrameTimings, steps: u64, what: &str) {
         t.frame
     );
     assert!(
-        t.grass_draw <= t.colour,
+        t.grass_draw <= t.color,
         "{what}: the grass draw lies inside the colour pass"
     );
 }
@@ -71,20 +70,13 @@ fn every_phase_is_timed_positive_finite_and_within_the_frame() {
     scene.light.shadow_map = 1024;
     let blades = field::generate(&scene.grass, scene.seed).unwrap();
     let dynamic = field::dynamic_blades(&blades, &scene.grass.dynamics, scene.seed).unwrap();
-    let mut renderer = Renderer::new(&gpu, 160, 90, 4, 1024, &blades).unwrap();
-    let commands = Commands::new(&gpu, "test set-up").unwrap();
-    let mut simulation =
-        Simulation::new(&gpu, &commands, &scene, &dynamic, &renderer.blade_vertices).unwrap();
-    commands.destroy(&gpu);
+    let mut recorder =
+        FrameRecorder::new(&gpu, &scene, (160, 90), 4, &blades, Some(&dynamic)).unwrap();
     // A frame at rest, one step, and several steps in one frame (the
     // timer's pool grows to hold them).
     for steps in [0u64, 1, 8] {
         let uniforms = FrameUniforms::new(&scene, 160, 90, ViewMode::Shaded, 0.0);
-        let frame = renderer
-            .render_after(&gpu, &uniforms, steps, |cmd, timer| {
-                simulation.record(&gpu, cmd, steps, timer)
-            })
-            .unwrap();
+        let frame = recorder.render(&gpu, &uniforms, steps).unwrap();
         let t = frame.timings.expect("lavapipe has timestamps");
         eprintln!("{steps} steps: {t:?}");
         check_frame(&t, steps, &format!("{steps} steps"));
@@ -96,8 +88,7 @@ fn every_phase_is_timed_positive_finite_and_within_the_frame() {
             2 * stats.geometry_shader_invocations
         );
     }
-    simulation.destroy(&gpu);
-    renderer.destroy(&gpu);
+    drop(recorder);
     finish(gpu);
 }
 

@@ -1,4 +1,4 @@
-//! The wind solver's CPU reference against what method.md section 5 asks of
+//! The wind solver's CPU reference against what docs/method.md section 6 asks of
 //! any implementation. (The GPU solver is compared with this reference.)
 
 mod common;

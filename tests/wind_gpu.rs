@@ -6,11 +6,11 @@ mod common;
 use common::wind_scenes::{self, behaviour_grid, blowing_source};
 use common::{finish, strict_gpu};
 use glam::{UVec3, Vec3};
-use meadow::gpu::commands::Commands;
-use meadow::render::wind_pass::WindPass;
+use meadow::gpu::Commands;
 use meadow::sim::wind::{
     FaceKind, Gust, Inflow, Obstacle, WindField, WindGrid, WindSettings, WindSource,
 };
+use meadow::simulate::WindPass;
 
 fn grid(cells: UVec3) -> WindGrid {
     WindGrid::new(
@@ -69,15 +69,12 @@ fn run_gpu(
 ) -> [Vec<f32>; 3] {
     let commands = Commands::new(gpu, "wind test commands").unwrap();
     let pass = WindPass::new(gpu, &commands, grid, settings).unwrap();
-    let cmd = commands.begin(gpu).unwrap();
+    let rec = commands.begin().unwrap();
     for n in 0..steps {
-        pass.record_step(gpu, cmd, n as f32 * dt, dt);
+        pass.record_step(&rec, n as f32 * dt, dt);
     }
-    commands.submit_and_wait(gpu, "wind steps").unwrap();
-    let vel = pass.read_velocity(gpu, &commands).unwrap();
-    pass.destroy(gpu);
-    commands.destroy(gpu);
-    vel
+    rec.submit_and_wait("wind steps").unwrap();
+    pass.read_velocity(gpu, &commands).unwrap()
 }
 
 fn relative_l2(a: &[Vec<f32>; 3], b: &[Vec<f32>; 3]) -> f64 {
@@ -155,11 +152,11 @@ fn gpu_wind_stays_finite_for_10000_steps_at_the_strongest_settings() {
     let pass = WindPass::new(&gpu, &commands, grid, &settings).unwrap();
     let dt = 1.0 / 60.0;
     for batch in 0..10 {
-        let cmd = commands.begin(&gpu).unwrap();
+        let rec = commands.begin().unwrap();
         for n in 0..1000 {
-            pass.record_step(&gpu, cmd, (batch * 1000 + n) as f32 * dt, dt);
+            pass.record_step(&rec, (batch * 1000 + n) as f32 * dt, dt);
         }
-        commands.submit_and_wait(&gpu, "wind soak").unwrap();
+        rec.submit_and_wait("wind soak").unwrap();
     }
     let vel = pass.read_velocity(&gpu, &commands).unwrap();
     assert!(vel.iter().flatten().all(|v| v.is_finite()));
@@ -167,8 +164,7 @@ fn gpu_wind_stays_finite_for_10000_steps_at_the_strongest_settings() {
         vel.iter().flatten().any(|v| v.abs() > 0.1),
         "no wind at all"
     );
-    pass.destroy(&gpu);
-    commands.destroy(&gpu);
+    drop((pass, commands));
     finish(gpu);
 }
 
@@ -196,15 +192,12 @@ impl<'a> GpuWind<'a> {
     }
 
     fn step(&mut self, n: u32, dt: f32) {
-        let cmd = self.commands.begin(self.gpu).unwrap();
+        let rec = self.commands.begin().unwrap();
         for _ in 0..n {
-            self.pass
-                .record_step(self.gpu, cmd, self.steps as f32 * dt, dt);
+            self.pass.record_step(&rec, self.steps as f32 * dt, dt);
             self.steps += 1;
         }
-        self.commands
-            .submit_and_wait(self.gpu, "wind steps")
-            .unwrap();
+        rec.submit_and_wait("wind steps").unwrap();
     }
 
     fn field(&self) -> WindField {
@@ -217,11 +210,6 @@ impl<'a> GpuWind<'a> {
     fn divergence_before(&self) -> f32 {
         let d = self.pass.read_divergence(self.gpu, &self.commands).unwrap();
         d.iter().fold(0.0, |m, x| m.max(x.abs()))
-    }
-
-    fn destroy(self) {
-        self.pass.destroy(self.gpu);
-        self.commands.destroy(self.gpu);
     }
 }
 
@@ -246,7 +234,7 @@ fn gpu_projection_residual_falls_with_jacobi_iterations() {
         field.compute_divergence();
         residual.push(field.max_divergence());
         before = before.max(wind.divergence_before());
-        wind.destroy();
+        drop(wind);
     }
     finish(gpu);
     eprintln!("GPU max |div| before projection {before}, after 5/20/80 Jacobi {residual:?}");
@@ -265,7 +253,7 @@ fn gpu_obstacle_lee_is_calmer_and_a_rotating_source_turns_the_wind() {
     let mut wind = GpuWind::new(&gpu, &settings);
     wind.step(150, 1.0 / 30.0);
     let field = wind.field();
-    wind.destroy();
+    drop(wind);
     let (lee, beside) = wind_scenes::lee_and_beside(|x| field.sample(x));
     assert!(lee < 0.6 * beside, "GPU: lee {lee} vs beside {beside}");
     assert!(beside > 1.0, "GPU: no wind beside the wall: {beside}");
@@ -277,7 +265,7 @@ fn gpu_obstacle_lee_is_calmer_and_a_rotating_source_turns_the_wind() {
         let v = wind.field().sample(Vec3::new(0.0, 1.5, 0.0));
         angle_at.push((-v.z).atan2(v.x));
     }
-    wind.destroy();
+    drop(wind);
     finish(gpu);
     assert!(
         angle_at.windows(2).all(|w| w[1] > w[0]),
@@ -303,7 +291,7 @@ fn gpu_field_decays_after_its_source_switches_off() {
         );
         last = e;
     }
-    wind.destroy();
+    drop(wind);
     finish(gpu);
     assert!(
         last < 0.5 * at_off,

@@ -30,7 +30,7 @@ float taper(float v) {
 void emit_side(int i, float side) {
     vec3 half_width = e_width[i] * taper(e_v[i]);
     vec3 p = e_position[i] + side * half_width;
-    // E_n = E_w x E_e (method.md section 2). Guard a zero tangent or width.
+    // E_n = E_w x E_e (docs/method.md section 2). Guard a zero tangent or width.
     vec3 n = cross(e_width[i], e_tangent[i]);
     float len2 = dot(n, n);
     g_world = p;

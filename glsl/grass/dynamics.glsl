@@ -1,4 +1,4 @@
-// Grass dynamics (paper section 4; method.md section 4): swinging, bending
+// Grass dynamics (paper section 4; docs/method.md section 4): swinging, bending
 // and twisting of one blade driven by the wind at its tip. The same model,
 // function for function and in the same f32 arithmetic, as the CPU
 // reference src/sim/grass.rs, whose header gives the reading it takes.

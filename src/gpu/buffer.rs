@@ -1,17 +1,24 @@
-//! Buffers: a `vk::Buffer` and the memory behind it, owned together.
+//! Buffers: a `vk::Buffer` and the memory behind it, owned together and
+//! released together in `Drop`.
+
+use std::sync::Arc;
 
 use ash::vk;
 use gpu_allocator::vulkan::Allocation;
 
 use crate::error::{Error, Result, VkResultExt};
+use crate::gpu::barrier::Access;
 use crate::gpu::commands::Commands;
+use crate::gpu::device::Device;
 use crate::gpu::memory::MemoryLocation;
 use crate::gpu::Gpu;
 
 pub struct Buffer {
-    pub raw: vk::Buffer,
+    device: Arc<Device>,
+    pub(super) raw: vk::Buffer,
     pub size: vk::DeviceSize,
-    allocation: Allocation,
+    /// None only while `new` has not bound memory yet.
+    allocation: Option<Allocation>,
 }
 
 impl Buffer {
@@ -27,47 +34,43 @@ impl Buffer {
                 "buffer {name:?} would be empty"
             )));
         }
+        let device = gpu.device();
         let info = vk::BufferCreateInfo::default()
             .size(size)
             .usage(usage)
             .sharing_mode(vk::SharingMode::EXCLUSIVE);
-        let device = &gpu.device.raw;
         // SAFETY: a valid create info on a live device.
         let raw =
-            unsafe { device.create_buffer(&info, None) }.vk_context("vkCreateBuffer", name)?;
-        gpu.device.name(raw, name);
-        // SAFETY: `raw` was just created on this device.
-        let requirements = unsafe { device.get_buffer_memory_requirements(raw) };
-        let allocation = match gpu.allocate(name, requirements, location, true) {
-            Ok(a) => a,
-            Err(e) => {
-                // SAFETY: unbound and unused.
-                unsafe { device.destroy_buffer(raw, None) };
-                return Err(e);
-            }
-        };
-        // SAFETY: the allocation satisfies `requirements` and is not bound elsewhere.
-        if let Err(r) =
-            unsafe { device.bind_buffer_memory(raw, allocation.memory(), allocation.offset()) }
-        {
-            unsafe { device.destroy_buffer(raw, None) };
-            gpu.memory.free(allocation);
-            return Err(Error::vk("vkBindBufferMemory", name, r));
-        }
-        Ok(Self {
+            unsafe { device.raw.create_buffer(&info, None) }.vk_context("vkCreateBuffer", name)?;
+        device.name(raw, name);
+        // Owned from here on: a failure below drops it, which releases it.
+        let mut buffer = Self {
+            device: device.clone(),
             raw,
             size,
-            allocation,
-        })
+            allocation: None,
+        };
+        // SAFETY: `raw` was just created on this device.
+        let requirements = unsafe { device.raw.get_buffer_memory_requirements(raw) };
+        let allocation = device.allocate(name, requirements, location, true)?;
+        // SAFETY: the memory handle is only bound, never freed, here; the
+        // allocation (kept with the object) owns it.
+        let memory = unsafe { allocation.memory() };
+        let offset = allocation.offset();
+        buffer.allocation = Some(allocation);
+        // SAFETY: the allocation satisfies `requirements` and is bound once.
+        unsafe { device.raw.bind_buffer_memory(raw, memory, offset) }
+            .vk_context("vkBindBufferMemory", name)?;
+        Ok(buffer)
     }
 
     /// The mapped bytes of a host-visible buffer.
     pub fn mapped(&self) -> Option<&[u8]> {
-        self.allocation.mapped_slice()
+        self.allocation.as_ref()?.mapped_slice()
     }
 
     pub fn mapped_mut(&mut self) -> Option<&mut [u8]> {
-        self.allocation.mapped_slice_mut()
+        self.allocation.as_mut()?.mapped_slice_mut()
     }
 
     /// Copies `data` into a host-visible buffer at `offset`.
@@ -80,15 +83,15 @@ impl Buffer {
     }
 
     /// A device-local buffer filled with `bytes` through a staging copy,
-    /// made visible to `dst_stage`/`dst_access`. Blocks until the copy is done.
+    /// made visible to `then` (the access that reads it next). Blocks until
+    /// the copy is done.
     pub fn with_data(
         gpu: &Gpu,
         commands: &Commands,
         name: &str,
         bytes: &[u8],
         usage: vk::BufferUsageFlags,
-        dst_stage: vk::PipelineStageFlags2,
-        dst_access: vk::AccessFlags2,
+        then: Access,
     ) -> Result<Self> {
         let dst = Buffer::new(
             gpu,
@@ -97,55 +100,19 @@ impl Buffer {
             usage | vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::GpuOnly,
         )?;
-        let mut staging = match Buffer::new(
+        let mut staging = Buffer::new(
             gpu,
             &format!("{name} (staging)"),
             bytes.len() as u64,
             vk::BufferUsageFlags::TRANSFER_SRC,
             MemoryLocation::CpuToGpu,
-        ) {
-            Ok(s) => s,
-            Err(e) => {
-                dst.destroy(gpu);
-                return Err(e);
-            }
-        };
+        )?;
         staging.write(0, bytes);
-        let result = (|| {
-            let cmd = commands.begin(gpu)?;
-            let barrier = [vk::BufferMemoryBarrier2::default()
-                .src_stage_mask(vk::PipelineStageFlags2::COPY)
-                .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
-                .dst_stage_mask(dst_stage)
-                .dst_access_mask(dst_access)
-                .buffer(dst.raw)
-                .offset(0)
-                .size(vk::WHOLE_SIZE)];
-            let region = vk::BufferCopy {
-                src_offset: 0,
-                dst_offset: 0,
-                size: dst.size,
-            };
-            // SAFETY: both buffers are live and `size` bytes long; recording.
-            unsafe {
-                gpu.device
-                    .raw
-                    .cmd_copy_buffer(cmd, staging.raw, dst.raw, &[region]);
-                gpu.device.raw.cmd_pipeline_barrier2(
-                    cmd,
-                    &vk::DependencyInfo::default().buffer_memory_barriers(&barrier),
-                );
-            }
-            commands.submit_and_wait(gpu, &format!("uploading {name}"))
-        })();
-        staging.destroy(gpu);
-        match result {
-            Ok(()) => Ok(dst),
-            Err(e) => {
-                dst.destroy(gpu);
-                Err(e)
-            }
-        }
+        let rec = commands.begin()?;
+        rec.copy_buffer(&staging, &dst, dst.size);
+        rec.buffer_barrier(&dst, Access::COPY_WRITE, then);
+        rec.submit_and_wait(&format!("uploading {name}"))?;
+        Ok(dst)
     }
 
     /// Copies the first `count` values of a device buffer (made with
@@ -171,51 +138,25 @@ impl Buffer {
             vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::GpuToCpu,
         )?;
-        let result = (|| {
-            let cmd = commands.begin(gpu)?;
-            let to_copy = [vk::MemoryBarrier2::default()
-                .src_stage_mask(vk::PipelineStageFlags2::ALL_COMMANDS)
-                .src_access_mask(vk::AccessFlags2::MEMORY_WRITE)
-                .dst_stage_mask(vk::PipelineStageFlags2::COPY)
-                .dst_access_mask(vk::AccessFlags2::TRANSFER_READ)];
-            let to_host = [vk::MemoryBarrier2::default()
-                .src_stage_mask(vk::PipelineStageFlags2::COPY)
-                .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
-                .dst_stage_mask(vk::PipelineStageFlags2::HOST)
-                .dst_access_mask(vk::AccessFlags2::HOST_READ)];
-            // SAFETY: recording; both buffers are live and at least `bytes` long.
-            unsafe {
-                let device = &gpu.device.raw;
-                device.cmd_pipeline_barrier2(
-                    cmd,
-                    &vk::DependencyInfo::default().memory_barriers(&to_copy),
-                );
-                if bytes > 0 {
-                    let region = vk::BufferCopy {
-                        src_offset: 0,
-                        dst_offset: 0,
-                        size: bytes,
-                    };
-                    device.cmd_copy_buffer(cmd, self.raw, host.raw, &[region]);
-                }
-                device.cmd_pipeline_barrier2(
-                    cmd,
-                    &vk::DependencyInfo::default().memory_barriers(&to_host),
-                );
-            }
-            commands.submit_and_wait(gpu, "reading a buffer back")
-        })();
-        let out = result.map(|()| {
-            let mapped = host.mapped().expect("readback memory is host-visible");
-            bytemuck::pod_collect_to_vec(&mapped[..bytes as usize])
-        });
-        host.destroy(gpu);
-        out
+        let rec = commands.begin()?;
+        rec.barrier(Access::ANY_WRITE, Access::COPY_READ);
+        if bytes > 0 {
+            rec.copy_buffer(self, &host, bytes);
+        }
+        rec.barrier(Access::COPY_WRITE, Access::HOST_READ);
+        rec.submit_and_wait("reading a buffer back")?;
+        let mapped = host.mapped().expect("readback memory is host-visible");
+        Ok(bytemuck::pod_collect_to_vec(&mapped[..bytes as usize]))
     }
+}
 
-    pub fn destroy(self, gpu: &Gpu) {
-        // SAFETY: the owner guarantees the GPU no longer uses the buffer.
-        unsafe { gpu.device.raw.destroy_buffer(self.raw, None) };
-        gpu.memory.free(self.allocation);
+impl Drop for Buffer {
+    fn drop(&mut self) {
+        // SAFETY: made from this device in `new`, destroyed only here; every
+        // submission is waited for before it returns, so no GPU work uses it.
+        unsafe { self.device.raw.destroy_buffer(self.raw, None) };
+        if let Some(allocation) = self.allocation.take() {
+            self.device.memory.free(allocation);
+        }
     }
 }

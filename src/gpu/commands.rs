@@ -1,15 +1,26 @@
-//! A command pool with one primary command buffer and a fence: record,
-//! submit, wait. Offscreen rendering needs nothing more.
+//! A command pool with one primary command buffer and a fence: begin a
+//! `Recording`, record into it, submit and wait. Offscreen rendering needs
+//! nothing more. `Recording` is the only way commands are recorded: each
+//! method is one Vulkan command on objects this module's types own.
+
+use std::sync::Arc;
 
 use ash::vk;
 
 use crate::error::{Error, Result, VkResultExt};
-use crate::gpu::Gpu;
+use crate::gpu::barrier::{Access, ImageTransition};
+use crate::gpu::descriptors::DescriptorSet;
+use crate::gpu::device::Device;
+use crate::gpu::owned::Owned;
+use crate::gpu::pipeline::Pipeline;
+use crate::gpu::{Buffer, Gpu, Image};
 
 pub struct Commands {
-    pool: vk::CommandPool,
-    pub cmd: vk::CommandBuffer,
-    fence: vk::Fence,
+    device: Arc<Device>,
+    /// Declared before the pool: a fence's drop needs nothing else.
+    fence: Owned<vk::Fence>,
+    pool: Owned<vk::CommandPool>,
+    cmd: vk::CommandBuffer,
 }
 
 /// How long one submission may run before we call the device hung (lavapipe
@@ -18,94 +29,388 @@ const SUBMIT_TIMEOUT_NS: u64 = 600 * 1_000_000_000;
 
 impl Commands {
     pub fn new(gpu: &Gpu, name: &str) -> Result<Self> {
-        let device = &gpu.device.raw;
+        let device = gpu.device();
         // One buffer per pool: resetting the pool resets it, cheaper than
         // a pool that tracks buffers for resetting one by one.
         let pool_info =
-            vk::CommandPoolCreateInfo::default().queue_family_index(gpu.device.queue_family);
-        // SAFETY: valid create info on a live device.
-        let pool = unsafe { device.create_command_pool(&pool_info, None) }
+            vk::CommandPoolCreateInfo::default().queue_family_index(device.queue_family);
+        // SAFETY: a valid create info on a live device.
+        let pool = unsafe { device.raw.create_command_pool(&pool_info, None) }
             .vk_context("vkCreateCommandPool", name)?;
-        gpu.device.name(pool, &format!("{name} pool"));
+        let pool = Owned::new(device, pool, &format!("{name} pool"));
         let alloc = vk::CommandBufferAllocateInfo::default()
-            .command_pool(pool)
+            .command_pool(pool.raw())
             .level(vk::CommandBufferLevel::PRIMARY)
             .command_buffer_count(1);
-        let cmd = match unsafe { device.allocate_command_buffers(&alloc) } {
-            Ok(v) => v[0],
-            Err(r) => {
-                unsafe { device.destroy_command_pool(pool, None) };
-                return Err(Error::vk("vkAllocateCommandBuffers", name, r));
-            }
-        };
-        gpu.device.name(cmd, name);
-        let fence = match unsafe { device.create_fence(&vk::FenceCreateInfo::default(), None) } {
-            Ok(f) => f,
-            Err(r) => {
-                unsafe { device.destroy_command_pool(pool, None) };
-                return Err(Error::vk("vkCreateFence", name, r));
-            }
-        };
-        gpu.device.name(fence, &format!("{name} fence"));
-        Ok(Self { pool, cmd, fence })
+        // SAFETY: the pool is live; its buffers are freed with it.
+        let cmd = unsafe { device.raw.allocate_command_buffers(&alloc) }
+            .vk_context("vkAllocateCommandBuffers", name)?[0];
+        device.name(cmd, name);
+        // SAFETY: a valid create info on a live device.
+        let fence = unsafe {
+            device
+                .raw
+                .create_fence(&vk::FenceCreateInfo::default(), None)
+        }
+        .vk_context("vkCreateFence", name)?;
+        let fence = Owned::new(device, fence, &format!("{name} fence"));
+        Ok(Self {
+            device: device.clone(),
+            fence,
+            pool,
+            cmd,
+        })
     }
 
     /// Resets the pool (and so its one command buffer) and begins recording.
-    pub fn begin(&self, gpu: &Gpu) -> Result<vk::CommandBuffer> {
-        let device = &gpu.device.raw;
-        // SAFETY: the previous submission (if any) was waited for in `submit_and_wait`.
-        unsafe {
-            device
-                .reset_command_pool(self.pool, vk::CommandPoolResetFlags::empty())
-                .vk_context("vkResetCommandPool", "frame commands")?;
-            device
-                .begin_command_buffer(
-                    self.cmd,
-                    &vk::CommandBufferBeginInfo::default()
-                        .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT),
-                )
-                .vk_context("vkBeginCommandBuffer", "frame commands")?;
-        }
-        Ok(self.cmd)
+    pub fn begin(&self) -> Result<Recording<'_>> {
+        let device = &self.device.raw;
+        // SAFETY: the previous submission (if any) was waited for in
+        // `submit_and_wait`, so the pool's buffer is not in flight.
+        unsafe { device.reset_command_pool(self.pool.raw(), vk::CommandPoolResetFlags::empty()) }
+            .vk_context("vkResetCommandPool", "frame commands")?;
+        let info = vk::CommandBufferBeginInfo::default()
+            .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
+        // SAFETY: the buffer was just reset (initial state).
+        unsafe { device.begin_command_buffer(self.cmd, &info) }
+            .vk_context("vkBeginCommandBuffer", "frame commands")?;
+        Ok(Recording {
+            device: &self.device,
+            cmd: self.cmd,
+            commands: self,
+        })
     }
+}
 
+/// What a render pass instance draws into: a colour target (with the
+/// single-sample image it resolves into, when multisampled) and a depth
+/// target, cleared on load (colour to opaque black, depth to the far plane).
+pub struct Attachments<'a> {
+    pub color: Option<(&'a Image, Option<&'a Image>)>,
+    pub depth: &'a Image,
+    /// Keep the depth after the pass (a shadow map) or drop it.
+    pub store_depth: bool,
+}
+
+/// A command buffer being recorded. Dropping it without submitting leaves
+/// the buffer to the next `begin`, which resets it.
+pub struct Recording<'a> {
+    pub(super) device: &'a Device,
+    pub(super) cmd: vk::CommandBuffer,
+    commands: &'a Commands,
+}
+
+impl Recording<'_> {
     /// Ends recording, submits, and blocks until the GPU is done.
-    pub fn submit_and_wait(&self, gpu: &Gpu, what: &str) -> Result<()> {
-        let device = &gpu.device.raw;
+    pub fn submit_and_wait(self, what: &str) -> Result<()> {
+        let device = &self.device.raw;
+        let fence = self.commands.fence.raw();
         // SAFETY: `cmd` is in the recording state (begun by `begin`).
         unsafe { device.end_command_buffer(self.cmd) }.vk_context("vkEndCommandBuffer", what)?;
-        gpu.faults.submission(what)?;
+        self.device.faults.submission(what)?;
         let cmds = [vk::CommandBufferSubmitInfo::default().command_buffer(self.cmd)];
         let submit = [vk::SubmitInfo2::default().command_buffer_infos(&cmds)];
         // SAFETY: the fence is unsignalled (reset after every wait) and the
         // command buffer is not in flight.
-        unsafe {
-            device
-                .queue_submit2(gpu.device.queue, &submit, self.fence)
-                .vk_context("vkQueueSubmit2", what)?;
-        }
-        let waited = unsafe { device.wait_for_fences(&[self.fence], true, SUBMIT_TIMEOUT_NS) };
+        unsafe { device.queue_submit2(self.device.queue, &submit, fence) }
+            .vk_context("vkQueueSubmit2", what)?;
+        // SAFETY: the fence belongs to this device.
+        let waited = unsafe { device.wait_for_fences(&[fence], true, SUBMIT_TIMEOUT_NS) };
         match waited {
             Ok(()) => {}
             Err(vk::Result::TIMEOUT) => {
+                // Nothing may be released while the work could still run.
+                self.device.wait_idle();
                 return Err(Error::DeviceLost {
                     during: format!(
                         "{what} (no answer within {} s)",
                         SUBMIT_TIMEOUT_NS / 1_000_000_000
                     ),
-                })
+                });
             }
             Err(r) => return Err(Error::vk("vkWaitForFences", what, r)),
         }
-        unsafe { device.reset_fences(&[self.fence]) }.vk_context("vkResetFences", what)?;
+        // SAFETY: the fence is signalled and no submission waits on it.
+        unsafe { device.reset_fences(&[fence]) }.vk_context("vkResetFences", what)?;
         Ok(())
     }
 
-    pub fn destroy(self, gpu: &Gpu) {
-        // SAFETY: no submission is in flight (each is waited for).
+    /// Earlier `from` accesses to any memory finish (and their writes are
+    /// visible) before later `to` accesses.
+    pub fn barrier(&self, from: Access, to: Access) {
+        let barrier = [vk::MemoryBarrier2::default()
+            .src_stage_mask(from.stage)
+            .src_access_mask(from.writes())
+            .dst_stage_mask(to.stage)
+            .dst_access_mask(to.access)];
+        // SAFETY: recording into a live command buffer.
         unsafe {
-            gpu.device.raw.destroy_fence(self.fence, None);
-            gpu.device.raw.destroy_command_pool(self.pool, None);
-        }
+            self.device.raw.cmd_pipeline_barrier2(
+                self.cmd,
+                &vk::DependencyInfo::default().memory_barriers(&barrier),
+            )
+        };
+    }
+
+    /// As `barrier`, for one buffer.
+    pub fn buffer_barrier(&self, buffer: &Buffer, from: Access, to: Access) {
+        let barrier = [vk::BufferMemoryBarrier2::default()
+            .src_stage_mask(from.stage)
+            .src_access_mask(from.writes())
+            .dst_stage_mask(to.stage)
+            .dst_access_mask(to.access)
+            .buffer(buffer.raw)
+            .offset(0)
+            .size(vk::WHOLE_SIZE)];
+        // SAFETY: recording; the buffer is live.
+        unsafe {
+            self.device.raw.cmd_pipeline_barrier2(
+                self.cmd,
+                &vk::DependencyInfo::default().buffer_memory_barriers(&barrier),
+            )
+        };
+    }
+
+    /// Layout transitions (and the dependencies) of images.
+    pub fn transition(&self, transitions: &[ImageTransition]) {
+        let barriers: Vec<_> = transitions.iter().map(ImageTransition::vk).collect();
+        // SAFETY: recording; every image is live.
+        unsafe {
+            self.device.raw.cmd_pipeline_barrier2(
+                self.cmd,
+                &vk::DependencyInfo::default().image_memory_barriers(&barriers),
+            )
+        };
+    }
+
+    /// Sets every 32-bit word of `buffer` to `value`.
+    pub fn fill_buffer(&self, buffer: &Buffer, value: u32) {
+        // SAFETY: recording; the buffer is live and made with TRANSFER_DST.
+        unsafe {
+            self.device
+                .raw
+                .cmd_fill_buffer(self.cmd, buffer.raw, 0, vk::WHOLE_SIZE, value)
+        };
+    }
+
+    /// Copies the first `bytes` of `src` to the start of `dst`.
+    pub fn copy_buffer(&self, src: &Buffer, dst: &Buffer, bytes: u64) {
+        let region = vk::BufferCopy {
+            src_offset: 0,
+            dst_offset: 0,
+            size: bytes,
+        };
+        // SAFETY: recording; both buffers are live and at least `bytes` long
+        // (the callers size them so).
+        unsafe {
+            self.device
+                .raw
+                .cmd_copy_buffer(self.cmd, src.raw, dst.raw, &[region])
+        };
+    }
+
+    /// Copies mip levels packed one after another in `src` into `dst`,
+    /// which is in the COPY_WRITE layout.
+    pub fn copy_buffer_to_image(&self, src: &Buffer, dst: &Image, levels: &[vk::Extent2D]) {
+        let mut offset = 0u64;
+        let regions: Vec<_> = levels
+            .iter()
+            .enumerate()
+            .map(|(level, extent)| {
+                let region = vk::BufferImageCopy {
+                    buffer_offset: offset,
+                    buffer_row_length: 0,
+                    buffer_image_height: 0,
+                    image_subresource: layers(dst.aspect, level as u32),
+                    image_offset: vk::Offset3D::default(),
+                    image_extent: vk::Extent3D {
+                        width: extent.width,
+                        height: extent.height,
+                        depth: 1,
+                    },
+                };
+                offset += 4 * extent.width as u64 * extent.height as u64;
+                region
+            })
+            .collect();
+        // SAFETY: recording; both are live and every region lies inside both.
+        unsafe {
+            self.device.raw.cmd_copy_buffer_to_image(
+                self.cmd,
+                src.raw,
+                dst.raw,
+                Access::COPY_WRITE.layout,
+                &regions,
+            )
+        };
+    }
+
+    /// Copies mip level 0 of `src`, in the COPY_READ layout, into `dst`.
+    pub fn copy_image_to_buffer(&self, src: &Image, dst: &Buffer) {
+        let region = vk::BufferImageCopy {
+            buffer_offset: 0,
+            buffer_row_length: 0,
+            buffer_image_height: 0,
+            image_subresource: layers(src.aspect, 0),
+            image_offset: vk::Offset3D::default(),
+            image_extent: vk::Extent3D {
+                width: src.extent.width,
+                height: src.extent.height,
+                depth: 1,
+            },
+        };
+        // SAFETY: recording; both are live and `dst` holds the whole level.
+        unsafe {
+            self.device.raw.cmd_copy_image_to_buffer(
+                self.cmd,
+                src.raw,
+                Access::COPY_READ.layout,
+                dst.raw,
+                &[region],
+            )
+        };
+    }
+
+    pub fn bind_pipeline(&self, pipeline: &Pipeline) {
+        // SAFETY: recording; the pipeline is live.
+        unsafe {
+            self.device
+                .raw
+                .cmd_bind_pipeline(self.cmd, pipeline.bind_point, pipeline.raw())
+        };
+    }
+
+    /// Binds `set` as set 0 of `pipeline`'s layout.
+    pub fn bind_set(&self, pipeline: &Pipeline, set: &DescriptorSet) {
+        // SAFETY: recording; the set was made for this layout's set 0.
+        unsafe {
+            self.device.raw.cmd_bind_descriptor_sets(
+                self.cmd,
+                pipeline.bind_point,
+                pipeline.layout.raw(),
+                0,
+                &[set.raw],
+                &[],
+            )
+        };
+    }
+
+    /// Sets `pipeline`'s push constants (its layout's one range) to `value`.
+    pub fn push_constants<T: bytemuck::Pod>(&self, pipeline: &Pipeline, value: &T) {
+        // SAFETY: recording; the layout declares a range of this size at 0
+        // for these stages (`PipelineLayout::new` takes both from T).
+        unsafe {
+            self.device.raw.cmd_push_constants(
+                self.cmd,
+                pipeline.layout.raw(),
+                pipeline.layout.push_stages,
+                0,
+                bytemuck::bytes_of(value),
+            )
+        };
+    }
+
+    pub fn dispatch(&self, groups: u32) {
+        // SAFETY: recording, with a compute pipeline and its set bound.
+        unsafe { self.device.raw.cmd_dispatch(self.cmd, groups, 1, 1) };
+    }
+
+    /// Begins rendering into `targets` over their whole extent, with the
+    /// viewport and scissor set to it.
+    pub fn begin_rendering(&self, targets: &Attachments) {
+        let extent = targets.depth.extent;
+        let clear_color = vk::ClearValue {
+            color: vk::ClearColorValue {
+                float32: [0.0, 0.0, 0.0, 1.0],
+            },
+        };
+        let color: Vec<_> = targets
+            .color
+            .iter()
+            .map(|(image, resolve)| {
+                let attachment = vk::RenderingAttachmentInfo::default()
+                    .image_view(image.view)
+                    .image_layout(Access::COLOR_ATTACHMENT.layout)
+                    .load_op(vk::AttachmentLoadOp::CLEAR)
+                    .store_op(vk::AttachmentStoreOp::STORE)
+                    .clear_value(clear_color);
+                match resolve {
+                    Some(resolve) => attachment
+                        .store_op(vk::AttachmentStoreOp::DONT_CARE)
+                        .resolve_mode(vk::ResolveModeFlags::AVERAGE)
+                        .resolve_image_view(resolve.view)
+                        .resolve_image_layout(Access::COLOR_ATTACHMENT.layout),
+                    None => attachment,
+                }
+            })
+            .collect();
+        let depth = vk::RenderingAttachmentInfo::default()
+            .image_view(targets.depth.view)
+            .image_layout(Access::DEPTH_ATTACHMENT.layout)
+            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .store_op(if targets.store_depth {
+                vk::AttachmentStoreOp::STORE
+            } else {
+                vk::AttachmentStoreOp::DONT_CARE
+            })
+            .clear_value(vk::ClearValue {
+                depth_stencil: vk::ClearDepthStencilValue {
+                    depth: 1.0,
+                    stencil: 0,
+                },
+            });
+        let area = vk::Rect2D {
+            offset: vk::Offset2D { x: 0, y: 0 },
+            extent,
+        };
+        let rendering = vk::RenderingInfo::default()
+            .render_area(area)
+            .layer_count(1)
+            .color_attachments(&color)
+            .depth_attachment(&depth);
+        let viewport = vk::Viewport {
+            x: 0.0,
+            y: 0.0,
+            width: extent.width as f32,
+            height: extent.height as f32,
+            min_depth: 0.0,
+            max_depth: 1.0,
+        };
+        // SAFETY: recording, outside rendering; the views are live and in
+        // the attachment layouts (the caller's transitions put them there).
+        unsafe { self.device.raw.cmd_begin_rendering(self.cmd, &rendering) };
+        // SAFETY: recording; every pipeline here takes viewport and scissor
+        // as dynamic state.
+        unsafe { self.device.raw.cmd_set_viewport(self.cmd, 0, &[viewport]) };
+        // SAFETY: as above.
+        unsafe { self.device.raw.cmd_set_scissor(self.cmd, 0, &[area]) };
+    }
+
+    pub fn end_rendering(&self) {
+        // SAFETY: recording, inside the rendering begun by `begin_rendering`.
+        unsafe { self.device.raw.cmd_end_rendering(self.cmd) };
+    }
+
+    pub fn bind_vertex_buffer(&self, buffer: &Buffer) {
+        // SAFETY: recording; the buffer is live and made with VERTEX_BUFFER.
+        unsafe {
+            self.device
+                .raw
+                .cmd_bind_vertex_buffers(self.cmd, 0, &[buffer.raw], &[0])
+        };
+    }
+
+    pub fn draw(&self, vertices: u32) {
+        // SAFETY: recording inside rendering with a graphics pipeline bound.
+        unsafe { self.device.raw.cmd_draw(self.cmd, vertices, 1, 0, 0) };
+    }
+}
+
+fn layers(aspect: vk::ImageAspectFlags, mip_level: u32) -> vk::ImageSubresourceLayers {
+    vk::ImageSubresourceLayers {
+        aspect_mask: aspect,
+        mip_level,
+        base_array_layer: 0,
+        layer_count: 1,
     }
 }

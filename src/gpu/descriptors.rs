@@ -1,11 +1,40 @@
-//! Descriptor-set layouts, pipeline layouts, and a descriptor set of
-//! buffers with a pool of its own: what every pass binds, made one way.
+//! Descriptor-set bindings as Rust declares them, the pipeline layout of
+//! one such set (with at most one push-constant range), and a descriptor
+//! set of buffers, images and samplers with a pool of its own: what every
+//! pass binds, made one way.
+
+use std::sync::Arc;
 
 use ash::vk;
 
 use crate::error::{Error, Result, VkResultExt};
-use crate::gpu::Gpu;
-use crate::reflect::DescriptorKind;
+use crate::gpu::device::Device;
+use crate::gpu::owned::{Owned, Sampler};
+use crate::gpu::{Buffer, Gpu, Image};
+
+/// The descriptor types meadow uses, comparable with `vk::DescriptorType`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub enum DescriptorKind {
+    UniformBuffer,
+    StorageBuffer,
+    CombinedImageSampler,
+    SampledImage,
+    StorageImage,
+    Sampler,
+}
+
+impl DescriptorKind {
+    pub fn vk(self) -> vk::DescriptorType {
+        match self {
+            DescriptorKind::UniformBuffer => vk::DescriptorType::UNIFORM_BUFFER,
+            DescriptorKind::StorageBuffer => vk::DescriptorType::STORAGE_BUFFER,
+            DescriptorKind::CombinedImageSampler => vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+            DescriptorKind::SampledImage => vk::DescriptorType::SAMPLED_IMAGE,
+            DescriptorKind::StorageImage => vk::DescriptorType::STORAGE_IMAGE,
+            DescriptorKind::Sampler => vk::DescriptorType::SAMPLER,
+        }
+    }
+}
 
 /// One binding of a descriptor-set layout, as Rust declares it. The
 /// reflection tests check these against the compiled shaders.
@@ -29,96 +58,94 @@ impl LayoutBinding {
     }
 }
 
-pub fn create_set_layout(
-    gpu: &Gpu,
-    bindings: &[LayoutBinding],
-    name: &str,
-) -> Result<vk::DescriptorSetLayout> {
-    let vk_bindings: Vec<_> = bindings
-        .iter()
-        .map(|b| {
-            vk::DescriptorSetLayoutBinding::default()
-                .binding(b.binding)
-                .descriptor_type(b.ty.vk())
-                .descriptor_count(1)
-                .stage_flags(b.stages)
-        })
-        .collect();
-    let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&vk_bindings);
-    // SAFETY: valid create info on a live device.
-    let layout = unsafe { gpu.device.raw.create_descriptor_set_layout(&info, None) }
-        .vk_context("vkCreateDescriptorSetLayout", name)?;
-    gpu.device.name(layout, name);
-    Ok(layout)
+/// A set layout of some bindings and the pipeline layout of that one set,
+/// with an optional push-constant range at offset 0.
+pub struct PipelineLayout {
+    pub(super) raw: Owned<vk::PipelineLayout>,
+    pub(super) set_layout: Owned<vk::DescriptorSetLayout>,
+    pub(super) push_stages: vk::ShaderStageFlags,
 }
 
-/// A pipeline layout of one set layout and, when `push` is given, one
-/// push-constant range (stages, bytes) at offset 0.
-pub fn create_pipeline_layout(
-    gpu: &Gpu,
-    set_layout: vk::DescriptorSetLayout,
-    push: Option<(vk::ShaderStageFlags, u32)>,
-    name: &str,
-) -> Result<vk::PipelineLayout> {
-    let set_layouts = [set_layout];
-    let ranges: Vec<vk::PushConstantRange> = push
-        .map(|(stage_flags, size)| vk::PushConstantRange {
-            stage_flags,
-            offset: 0,
-            size,
-        })
-        .into_iter()
-        .collect();
-    let info = vk::PipelineLayoutCreateInfo::default()
-        .set_layouts(&set_layouts)
-        .push_constant_ranges(&ranges);
-    // SAFETY: valid create info; the set layout is live.
-    let layout = unsafe { gpu.device.raw.create_pipeline_layout(&info, None) }
-        .vk_context("vkCreatePipelineLayout", name)?;
-    gpu.device.name(layout, name);
-    Ok(layout)
-}
-
-/// What one binding of a set points at.
-#[derive(Clone, Copy, Debug)]
-pub enum Bound {
-    /// A whole buffer (uniform or storage).
-    Buffer(vk::Buffer),
-    /// A sampled image view, in the layout it is read in.
-    Image {
-        view: vk::ImageView,
-        layout: vk::ImageLayout,
-    },
-    /// A sampler on its own.
-    Sampler(vk::Sampler),
-}
-
-/// One descriptor set whose bindings are whole buffers (and sampled
-/// images), in a pool sized for exactly it.
-pub struct BufferSet {
-    pool: vk::DescriptorPool,
-    pub set: vk::DescriptorSet,
-}
-
-impl BufferSet {
-    /// Allocates a set of `layout` and points binding `bindings[i]` at
-    /// `buffers[i]`.
-    pub fn new(
+impl PipelineLayout {
+    /// `push`: the stages that read a push-constant block of `P`'s size;
+    /// use `()` and empty stages for none.
+    pub fn new<P>(
         gpu: &Gpu,
-        layout: vk::DescriptorSetLayout,
         bindings: &[LayoutBinding],
-        buffers: &[vk::Buffer],
+        push_stages: vk::ShaderStageFlags,
         name: &str,
-    ) -> Result<Self> {
-        let bound: Vec<Bound> = buffers.iter().map(|&b| Bound::Buffer(b)).collect();
-        Self::with(gpu, layout, bindings, &bound, name)
+    ) -> Result<Arc<Self>> {
+        let device = gpu.device();
+        let vk_bindings: Vec<_> = bindings
+            .iter()
+            .map(|b| {
+                vk::DescriptorSetLayoutBinding::default()
+                    .binding(b.binding)
+                    .descriptor_type(b.ty.vk())
+                    .descriptor_count(1)
+                    .stage_flags(b.stages)
+            })
+            .collect();
+        let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&vk_bindings);
+        let set_name = format!("{name} set layout");
+        // SAFETY: a valid create info on a live device.
+        let set_layout = unsafe { device.raw.create_descriptor_set_layout(&info, None) }
+            .vk_context("vkCreateDescriptorSetLayout", &set_name)?;
+        let set_layout = Owned::new(device, set_layout, &set_name);
+        let size = std::mem::size_of::<P>() as u32;
+        let ranges: Vec<vk::PushConstantRange> = (size > 0 && !push_stages.is_empty())
+            .then_some(vk::PushConstantRange {
+                stage_flags: push_stages,
+                offset: 0,
+                size,
+            })
+            .into_iter()
+            .collect();
+        let set_layouts = [set_layout.raw()];
+        let info = vk::PipelineLayoutCreateInfo::default()
+            .set_layouts(&set_layouts)
+            .push_constant_ranges(&ranges);
+        let layout_name = format!("{name} pipeline layout");
+        // SAFETY: a valid create info; the set layout is live.
+        let raw = unsafe { device.raw.create_pipeline_layout(&info, None) }
+            .vk_context("vkCreatePipelineLayout", &layout_name)?;
+        Ok(Arc::new(Self {
+            raw: Owned::new(device, raw, &layout_name),
+            set_layout,
+            push_stages,
+        }))
     }
 
-    /// Allocates a set of `layout` and points binding `bindings[i]` at
-    /// `bound[i]`.
-    pub fn with(
+    pub(super) fn raw(&self) -> vk::PipelineLayout {
+        self.raw.raw()
+    }
+}
+
+/// What one binding of a set points at. The set does not own it: the
+/// owner keeps it alive as long as the set is used.
+#[derive(Clone, Copy)]
+pub enum Bound<'a> {
+    /// A whole buffer (uniform or storage).
+    Buffer(&'a Buffer),
+    /// A sampled image, read in the shader-read-only layout.
+    Image(&'a Image),
+    /// A sampler on its own.
+    Sampler(&'a Sampler),
+}
+
+/// One descriptor set in a pool sized for exactly it; dropping it drops
+/// the pool, which frees the set.
+pub struct DescriptorSet {
+    _pool: Owned<vk::DescriptorPool>,
+    pub(super) raw: vk::DescriptorSet,
+}
+
+impl DescriptorSet {
+    /// Allocates set 0 of `layout` and points binding `bindings[i]` at
+    /// `bound[i]` (`bindings` being the ones the layout was made from).
+    pub fn new(
         gpu: &Gpu,
-        layout: vk::DescriptorSetLayout,
+        layout: &PipelineLayout,
         bindings: &[LayoutBinding],
         bound: &[Bound],
         name: &str,
@@ -130,7 +157,7 @@ impl BufferSet {
                 bound.len()
             )));
         }
-        let device = &gpu.device.raw;
+        let device: &Arc<Device> = gpu.device();
         let mut sizes: Vec<vk::DescriptorPoolSize> = Vec::new();
         for b in bindings {
             match sizes.iter_mut().find(|s| s.ty == b.ty.vk()) {
@@ -144,44 +171,39 @@ impl BufferSet {
         let pool_info = vk::DescriptorPoolCreateInfo::default()
             .max_sets(1)
             .pool_sizes(&sizes);
-        // SAFETY: valid create info on a live device.
-        let pool = unsafe { device.create_descriptor_pool(&pool_info, None) }
+        // SAFETY: a valid create info on a live device.
+        let pool = unsafe { device.raw.create_descriptor_pool(&pool_info, None) }
             .vk_context("vkCreateDescriptorPool", name)?;
-        gpu.device.name(pool, &format!("{name} pool"));
-        let layouts = [layout];
+        let pool = Owned::new(device, pool, &format!("{name} pool"));
+        let layouts = [layout.set_layout.raw()];
         let alloc = vk::DescriptorSetAllocateInfo::default()
-            .descriptor_pool(pool)
+            .descriptor_pool(pool.raw())
             .set_layouts(&layouts);
         // SAFETY: the pool was sized for exactly this set.
-        let set = match unsafe { device.allocate_descriptor_sets(&alloc) } {
-            Ok(sets) => sets[0],
-            Err(r) => {
-                unsafe { device.destroy_descriptor_pool(pool, None) };
-                return Err(Error::vk("vkAllocateDescriptorSets", name, r));
-            }
-        };
-        gpu.device.name(set, name);
+        let raw = unsafe { device.raw.allocate_descriptor_sets(&alloc) }
+            .vk_context("vkAllocateDescriptorSets", name)?[0];
+        device.name(raw, name);
         let buffer_infos: Vec<[vk::DescriptorBufferInfo; 1]> = bound
             .iter()
-            .map(|r| match *r {
+            .map(|r| match r {
                 Bound::Buffer(buffer) => [vk::DescriptorBufferInfo {
-                    buffer,
+                    buffer: buffer.raw,
                     offset: 0,
                     range: vk::WHOLE_SIZE,
                 }],
-                Bound::Image { .. } | Bound::Sampler(_) => [vk::DescriptorBufferInfo::default()],
+                Bound::Image(_) | Bound::Sampler(_) => [vk::DescriptorBufferInfo::default()],
             })
             .collect();
         let image_infos: Vec<[vk::DescriptorImageInfo; 1]> = bound
             .iter()
-            .map(|r| match *r {
-                Bound::Image { view, layout } => [vk::DescriptorImageInfo {
+            .map(|r| match r {
+                Bound::Image(image) => [vk::DescriptorImageInfo {
                     sampler: vk::Sampler::null(),
-                    image_view: view,
-                    image_layout: layout,
+                    image_view: image.view,
+                    image_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
                 }],
                 Bound::Sampler(sampler) => [vk::DescriptorImageInfo {
-                    sampler,
+                    sampler: sampler.raw(),
                     ..Default::default()
                 }],
                 Bound::Buffer(_) => [vk::DescriptorImageInfo::default()],
@@ -193,23 +215,18 @@ impl BufferSet {
             .zip(buffer_infos.iter().zip(&image_infos))
             .map(|((b, r), (buffer_info, image_info))| {
                 let write = vk::WriteDescriptorSet::default()
-                    .dst_set(set)
+                    .dst_set(raw)
                     .dst_binding(b.binding)
                     .descriptor_type(b.ty.vk());
                 match r {
                     Bound::Buffer(_) => write.buffer_info(buffer_info),
-                    Bound::Image { .. } | Bound::Sampler(_) => write.image_info(image_info),
+                    Bound::Image(_) | Bound::Sampler(_) => write.image_info(image_info),
                 }
             })
             .collect();
-        // SAFETY: the set is new and not used by any command buffer.
-        unsafe { device.update_descriptor_sets(&writes, &[]) };
-        Ok(Self { pool, set })
-    }
-
-    pub fn destroy(self, gpu: &Gpu) {
-        // SAFETY: the owner waited for the GPU to finish with the set;
-        // destroying the pool frees it.
-        unsafe { gpu.device.raw.destroy_descriptor_pool(self.pool, None) };
+        // SAFETY: the set is new and not used by any command buffer; every
+        // resource written is live.
+        unsafe { device.raw.update_descriptor_sets(&writes, &[]) };
+        Ok(Self { _pool: pool, raw })
     }
 }

@@ -2,11 +2,15 @@
 //! paper's pipeline needs (tessellation and geometry shaders).
 
 use std::ffi::CStr;
+use std::sync::Arc;
 
 use ash::vk;
+use gpu_allocator::vulkan::Allocation;
 
 use crate::error::{Error, Result, VkResultExt};
+use crate::gpu::fault::Faults;
 use crate::gpu::instance::Instance;
+use crate::gpu::memory::{Memory, MemoryLocation};
 
 /// What `meadow devices` shows about one physical device.
 #[derive(Clone, Debug, serde::Serialize)]
@@ -84,6 +88,8 @@ pub fn enumerate(instance: &Instance, pretend_missing: &[String]) -> Result<Vec<
     for raw in raws {
         let mut v13 = vk::PhysicalDeviceVulkan13Features::default();
         let mut driver = vk::PhysicalDeviceDriverProperties::default();
+        // SAFETY: queries on a physical device of this live instance; the
+        // chained structs live across the calls.
         let (properties, core, families) = unsafe {
             let mut props2 = vk::PhysicalDeviceProperties2::default().push_next(&mut driver);
             instance
@@ -116,7 +122,9 @@ pub fn enumerate(instance: &Instance, pretend_missing: &[String]) -> Result<Vec<
             .device_name_as_c_str()
             .map(|s| s.to_string_lossy().into_owned())
             .unwrap_or_else(|_| "(unnamed)".into());
+        // SAFETY: Vulkan fills both arrays with NUL-terminated strings.
         let driver_info = unsafe { CStr::from_ptr(driver.driver_info.as_ptr()) }.to_string_lossy();
+        // SAFETY: as above.
         let driver_name = unsafe { CStr::from_ptr(driver.driver_name.as_ptr()) }.to_string_lossy();
         let (type_name, rank) = type_name_and_rank(properties.device_type);
         let api = properties.api_version;
@@ -195,31 +203,42 @@ pub fn choose(adapters: &[Adapter], name_filter: Option<&str>) -> Result<Adapter
     }
 }
 
-/// The logical device, its one queue, and the limits we read often.
+/// The logical device, its one queue, its memory and the limits read
+/// often. Every GPU object holds an `Arc` of it and releases itself in
+/// `Drop`, so the device (and, after it, the instance it holds) goes away
+/// only when the last object made from it has.
 pub struct Device {
-    pub raw: ash::Device,
+    pub(super) raw: ash::Device,
     pub adapter: Adapter,
-    pub queue: vk::Queue,
+    pub(super) queue: vk::Queue,
     pub queue_family: u32,
-    pub debug_utils: Option<ash::ext::debug_utils::Device>,
+    debug_utils: Option<ash::ext::debug_utils::Device>,
     pub pipeline_statistics: bool,
     /// Valid bits of the queue's timestamps (0: none).
     pub timestamp_valid_bits: u32,
+    pub(super) memory: Memory,
+    pub(super) faults: Faults,
+    /// Declared last: dropped after the device is destroyed.
+    pub(super) instance: Arc<Instance>,
 }
 
 impl Device {
-    pub fn new(instance: &Instance, adapter: Adapter) -> Result<Self> {
+    pub(super) fn new(
+        instance: Arc<Instance>,
+        adapter: Adapter,
+        faults: Faults,
+    ) -> Result<Arc<Self>> {
         let queue_family = adapter.queue_family.ok_or_else(|| Error::FeatureMissing {
             device: adapter.info.name.clone(),
             feature: "a graphics+compute queue".into(),
         })?;
         // SAFETY: a plain query on a physical device of this instance.
-        let timestamp_valid_bits = unsafe {
+        let families = unsafe {
             instance
                 .raw
                 .get_physical_device_queue_family_properties(adapter.raw)
-        }[queue_family as usize]
-            .timestamp_valid_bits;
+        };
+        let timestamp_valid_bits = families[queue_family as usize].timestamp_valid_bits;
         let priorities = [1.0f32];
         let queue_info = [vk::DeviceQueueCreateInfo::default()
             .queue_family_index(queue_family)
@@ -247,6 +266,16 @@ impl Device {
                 r => Error::vk("vkCreateDevice", "logical device", r),
             },
         )?;
+        // The allocator is made before the device is wrapped: should it
+        // fail, the device is destroyed here, with nothing made from it.
+        let memory = match Memory::new(&instance.raw, &raw, adapter.raw) {
+            Ok(m) => m,
+            Err(e) => {
+                // SAFETY: nothing was created from this device yet.
+                unsafe { raw.destroy_device(None) };
+                return Err(e);
+            }
+        };
         // SAFETY: the queue family was requested with one queue above.
         let queue = unsafe { raw.get_device_queue(queue_family, 0) };
         let debug_utils = instance
@@ -261,14 +290,17 @@ impl Device {
             queue,
             queue_family,
             debug_utils,
+            memory,
+            faults,
+            instance,
         };
         device.name(queue, "main queue");
-        Ok(device)
+        Ok(Arc::new(device))
     }
 
     /// Gives a Vulkan object a debug name, so validation messages and
     /// RenderDoc say what it is. A no-op without debug utils.
-    pub fn name<H: vk::Handle>(&self, handle: H, name: &str) {
+    pub(super) fn name<H: vk::Handle>(&self, handle: H, name: &str) {
         let Some(du) = &self.debug_utils else { return };
         let Ok(cname) = std::ffi::CString::new(name) else {
             return;
@@ -284,10 +316,34 @@ impl Device {
         &self.adapter.properties.limits
     }
 
-    /// Destroys the logical device. Everything made from it must be gone.
-    pub fn destroy(self) {
-        // SAFETY: the owner (`Gpu::destroy`) has destroyed every child object
-        // and waited for the queue to go idle.
+    /// Device memory for `name`: every buffer and image allocates here.
+    pub(super) fn allocate(
+        &self,
+        name: &str,
+        requirements: vk::MemoryRequirements,
+        location: MemoryLocation,
+        linear: bool,
+    ) -> Result<Allocation> {
+        self.faults.allocation(name)?;
+        self.memory.allocate(name, requirements, location, linear)
+    }
+
+    /// Waits until the queue has nothing in flight. A failure (device lost)
+    /// leaves nothing to wait for.
+    pub(super) fn wait_idle(&self) {
+        // SAFETY: a live device; external synchronisation of the queue is
+        // ours (one thread submits).
+        let _ = unsafe { self.raw.device_wait_idle() };
+    }
+}
+
+impl Drop for Device {
+    fn drop(&mut self) {
+        self.wait_idle();
+        // The allocator frees its memory blocks before the device goes.
+        self.memory.destroy();
+        // SAFETY: every object made from this device held an Arc of it, so
+        // all of them are gone; the queue is idle (above).
         unsafe { self.raw.destroy_device(None) };
     }
 }

@@ -1,22 +1,28 @@
 //! 2D images with one view each: render targets, the shadow map and the
-//! mipmapped surface textures.
+//! mipmapped surface textures. The image, its memory and its view are
+//! released together in `Drop`.
+
+use std::sync::Arc;
 
 use ash::vk;
 use gpu_allocator::vulkan::Allocation;
 
-use crate::error::{Error, Result, VkResultExt};
+use crate::error::{Result, VkResultExt};
+use crate::gpu::device::Device;
 use crate::gpu::memory::MemoryLocation;
 use crate::gpu::Gpu;
 
 pub struct Image {
-    pub raw: vk::Image,
-    pub view: vk::ImageView,
+    device: Arc<Device>,
+    pub(super) raw: vk::Image,
+    pub(super) view: vk::ImageView,
     pub format: vk::Format,
     pub extent: vk::Extent2D,
     pub samples: vk::SampleCountFlags,
     pub aspect: vk::ImageAspectFlags,
     pub mip_levels: u32,
-    allocation: Allocation,
+    /// None only while `new` has not bound memory yet.
+    allocation: Option<Allocation>,
 }
 
 pub struct ImageDesc<'a> {
@@ -32,7 +38,7 @@ pub struct ImageDesc<'a> {
 
 impl Image {
     pub fn new(gpu: &Gpu, desc: &ImageDesc) -> Result<Self> {
-        let device = &gpu.device.raw;
+        let device = gpu.device();
         let info = vk::ImageCreateInfo::default()
             .image_type(vk::ImageType::TYPE_2D)
             .format(desc.format)
@@ -48,73 +54,68 @@ impl Image {
             .usage(desc.usage)
             .sharing_mode(vk::SharingMode::EXCLUSIVE)
             .initial_layout(vk::ImageLayout::UNDEFINED);
-        // SAFETY: valid create info on a live device.
-        let raw =
-            unsafe { device.create_image(&info, None) }.vk_context("vkCreateImage", desc.name)?;
-        gpu.device.name(raw, desc.name);
-        let requirements = unsafe { device.get_image_memory_requirements(raw) };
-        let allocation = match gpu.allocate(desc.name, requirements, MemoryLocation::GpuOnly, false)
-        {
-            Ok(a) => a,
-            Err(e) => {
-                unsafe { device.destroy_image(raw, None) };
-                return Err(e);
-            }
-        };
-        // SAFETY: fresh image, fresh allocation that satisfies its requirements.
-        if let Err(r) =
-            unsafe { device.bind_image_memory(raw, allocation.memory(), allocation.offset()) }
-        {
-            unsafe { device.destroy_image(raw, None) };
-            gpu.memory.free(allocation);
-            return Err(Error::vk("vkBindImageMemory", desc.name, r));
-        }
-        let view_info = vk::ImageViewCreateInfo::default()
-            .image(raw)
-            .view_type(vk::ImageViewType::TYPE_2D)
-            .format(desc.format)
-            .subresource_range(subresource_range(desc.aspect, desc.mip_levels));
-        let view = match unsafe { device.create_image_view(&view_info, None) } {
-            Ok(v) => v,
-            Err(r) => {
-                unsafe { device.destroy_image(raw, None) };
-                gpu.memory.free(allocation);
-                return Err(Error::vk("vkCreateImageView", desc.name, r));
-            }
-        };
-        gpu.device.name(view, &format!("{} view", desc.name));
-        Ok(Self {
+        // SAFETY: a valid create info on a live device.
+        let raw = unsafe { device.raw.create_image(&info, None) }
+            .vk_context("vkCreateImage", desc.name)?;
+        device.name(raw, desc.name);
+        // Owned from here on: a failure below drops it, which releases it.
+        let mut image = Self {
+            device: device.clone(),
             raw,
-            view,
+            view: vk::ImageView::null(),
             format: desc.format,
             extent: desc.extent,
             samples: desc.samples,
             aspect: desc.aspect,
             mip_levels: desc.mip_levels,
-            allocation,
-        })
+            allocation: None,
+        };
+        // SAFETY: `raw` was just created on this device.
+        let requirements = unsafe { device.raw.get_image_memory_requirements(raw) };
+        let allocation =
+            device.allocate(desc.name, requirements, MemoryLocation::GpuOnly, false)?;
+        // SAFETY: the memory handle is only bound, never freed, here; the
+        // allocation (kept with the object) owns it.
+        let memory = unsafe { allocation.memory() };
+        let offset = allocation.offset();
+        image.allocation = Some(allocation);
+        // SAFETY: a fresh image and an allocation that satisfies its
+        // requirements, bound once.
+        unsafe { device.raw.bind_image_memory(raw, memory, offset) }
+            .vk_context("vkBindImageMemory", desc.name)?;
+        let view_info = vk::ImageViewCreateInfo::default()
+            .image(raw)
+            .view_type(vk::ImageViewType::TYPE_2D)
+            .format(desc.format)
+            .subresource_range(image.subresource_range());
+        // SAFETY: the image is live and bound; the info describes all of it.
+        image.view = unsafe { device.raw.create_image_view(&view_info, None) }
+            .vk_context("vkCreateImageView", desc.name)?;
+        device.name(image.view, &format!("{} view", desc.name));
+        Ok(image)
     }
 
     pub fn subresource_range(&self) -> vk::ImageSubresourceRange {
-        subresource_range(self.aspect, self.mip_levels)
-    }
-
-    pub fn destroy(self, gpu: &Gpu) {
-        // SAFETY: the owner guarantees the GPU no longer uses the image.
-        unsafe {
-            gpu.device.raw.destroy_image_view(self.view, None);
-            gpu.device.raw.destroy_image(self.raw, None);
+        vk::ImageSubresourceRange {
+            aspect_mask: self.aspect,
+            base_mip_level: 0,
+            level_count: self.mip_levels,
+            base_array_layer: 0,
+            layer_count: 1,
         }
-        gpu.memory.free(self.allocation);
     }
 }
 
-pub fn subresource_range(aspect: vk::ImageAspectFlags, levels: u32) -> vk::ImageSubresourceRange {
-    vk::ImageSubresourceRange {
-        aspect_mask: aspect,
-        base_mip_level: 0,
-        level_count: levels,
-        base_array_layer: 0,
-        layer_count: 1,
+impl Drop for Image {
+    fn drop(&mut self) {
+        // SAFETY: the view and the image were made from this device in
+        // `new` and are destroyed only here (a null view is a no-op); every
+        // submission is waited for before it returns, so no GPU work uses them.
+        unsafe { self.device.raw.destroy_image_view(self.view, None) };
+        // SAFETY: as above.
+        unsafe { self.device.raw.destroy_image(self.raw, None) };
+        if let Some(allocation) = self.allocation.take() {
+            self.device.memory.free(allocation);
+        }
     }
 }

@@ -2,7 +2,7 @@
 //! messenger, which counts what the layer reports.
 
 use std::ffi::{c_void, CStr};
-use std::sync::Mutex;
+use std::sync::{Arc, Mutex};
 
 use ash::vk;
 
@@ -88,22 +88,34 @@ impl ValidationReport {
     }
 }
 
-/// Shared with the debug callback through its user-data pointer.
+/// Shared with the debug callback through its user-data pointer, and with
+/// `Gpu`, which reads it after the instance is gone.
 #[derive(Default)]
-struct MessageLog {
+pub(super) struct MessageLog {
     report: Mutex<ValidationReport>,
     echo: bool,
 }
 
-/// The loader, the instance and (with validation) the debug messenger.
+impl MessageLog {
+    /// What the layer has reported so far.
+    pub(super) fn report(&self) -> ValidationReport {
+        self.report
+            .lock()
+            .unwrap_or_else(|p| p.into_inner())
+            .clone()
+    }
+}
+
+/// The loader, the instance and (with validation) the debug messenger,
+/// destroyed in `Drop` (after the device, which holds an `Arc` of it).
 pub struct Instance {
-    pub entry: ash::Entry,
-    pub raw: ash::Instance,
-    pub debug_utils: Option<ash::ext::debug_utils::Instance>,
+    _entry: ash::Entry,
+    pub(super) raw: ash::Instance,
+    pub(super) debug_utils: Option<ash::ext::debug_utils::Instance>,
     messenger: vk::DebugUtilsMessengerEXT,
-    // Boxed so its address is stable: the messenger holds a raw pointer to it
-    // until `destroy`.
-    log: Box<MessageLog>,
+    // In an Arc so its address is stable: the messenger holds a raw pointer
+    // to it until `drop`, and `Gpu` reads it after that.
+    pub(super) log: Arc<MessageLog>,
 }
 
 impl Instance {
@@ -112,9 +124,10 @@ impl Instance {
         let entry =
             unsafe { ash::Entry::load() }.map_err(|e| Error::LoaderMissing(e.to_string()))?;
 
-        // SAFETY: plain queries on a loaded entry.
+        // SAFETY: a plain query on a loaded entry.
         let layers = unsafe { entry.enumerate_instance_layer_properties() }
             .vk_context("vkEnumerateInstanceLayerProperties", "instance layers")?;
+        // SAFETY: as above.
         let extensions = unsafe { entry.enumerate_instance_extension_properties(None) }
             .vk_context(
                 "vkEnumerateInstanceExtensionProperties",
@@ -149,7 +162,7 @@ impl Instance {
             vec![]
         };
 
-        let log = Box::new(MessageLog {
+        let log = Arc::new(MessageLog {
             report: Mutex::new(ValidationReport {
                 enabled: validation.enabled,
                 ..Default::default()
@@ -187,9 +200,9 @@ impl Instance {
         let debug_utils =
             has_debug_utils.then(|| ash::ext::debug_utils::Instance::new(&entry, &raw));
         let messenger = match (&debug_utils, validation.enabled) {
-            // SAFETY: the user-data pointer targets `log`, boxed and owned by
-            // the returned Instance, which destroys the messenger before it.
             (Some(du), true) => {
+                // SAFETY: the user-data pointer targets `log`, held by the
+                // returned Instance, which destroys the messenger first.
                 match unsafe { du.create_debug_utils_messenger(&messenger_create_info(&log), None) }
                 {
                     Ok(m) => m,
@@ -208,35 +221,26 @@ impl Instance {
         };
 
         Ok(Self {
-            entry,
+            _entry: entry,
             raw,
             debug_utils,
             messenger,
             log,
         })
     }
+}
 
-    /// What the layer has reported so far.
-    pub fn validation_report(&self) -> ValidationReport {
-        self.log.report.lock().unwrap().clone()
-    }
-
-    /// Destroys the messenger and the instance. Call after the device is
-    /// gone, so that leaks reported at `vkDestroyDevice` are counted; the
-    /// returned report includes them.
-    pub fn destroy(self) -> ValidationReport {
-        // SAFETY: the device and every object made from this instance are
-        // already destroyed (the owner's `destroy` order guarantees it).
-        unsafe {
-            if let Some(du) = &self.debug_utils {
-                if self.messenger != vk::DebugUtilsMessengerEXT::null() {
-                    du.destroy_debug_utils_messenger(self.messenger, None);
-                }
+impl Drop for Instance {
+    fn drop(&mut self) {
+        if let Some(du) = &self.debug_utils {
+            if self.messenger != vk::DebugUtilsMessengerEXT::null() {
+                // SAFETY: made from this instance in `new`, destroyed once.
+                unsafe { du.destroy_debug_utils_messenger(self.messenger, None) };
             }
-            self.raw.destroy_instance(None);
         }
-        let report = self.log.report.lock().unwrap().clone();
-        report
+        // SAFETY: the device and every object made from this instance are
+        // gone: the device holds an Arc of the instance and is dropped first.
+        unsafe { self.raw.destroy_instance(None) };
     }
 }
 
@@ -267,9 +271,11 @@ unsafe extern "system" fn on_message(
     // SAFETY: `user` is the `MessageLog` the Instance owns for the
     // messenger's whole life; `data` is valid for this call (Vulkan spec).
     let (log, data) = unsafe { (&*(user as *const MessageLog), &*data) };
+    // SAFETY: `data` is valid for this call, its strings NUL-terminated.
     let text = unsafe { data.message_as_c_str() }
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_default();
+    // SAFETY: as above.
     let id = unsafe { data.message_id_name_as_c_str() }
         .map(|s| s.to_string_lossy().into_owned())
         .filter(|s| !s.is_empty())

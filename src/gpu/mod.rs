@@ -1,7 +1,11 @@
-//! Thin, explicit Vulkan: the instance, the device, memory, buffers, images,
-//! shader modules, command submission and GPU queries. `Gpu` bundles the
-//! long-lived objects and tears them down in the right order.
+//! Thin, explicit Vulkan, and the only place meadow calls it: the
+//! instance, the device, memory, buffers, images, samplers, pipelines,
+//! descriptor sets, command recording with named barrier presets, and GPU
+//! queries. Every object holds an `Arc` of the device and releases itself
+//! in `Drop`; nothing above this module sees a raw handle or writes
+//! `unsafe`. It knows nothing of grass or wind.
 
+pub mod barrier;
 pub mod buffer;
 pub mod commands;
 pub mod descriptors;
@@ -10,15 +14,24 @@ pub mod fault;
 pub mod image;
 pub mod instance;
 pub mod memory;
+pub mod owned;
+pub mod pipeline;
+pub mod query;
 pub mod shader;
-pub mod timing;
 
+use std::sync::Arc;
+
+pub use barrier::{Access, ImageTransition};
 pub use buffer::Buffer;
+pub use commands::{Attachments, Commands, Recording};
+pub use descriptors::{Bound, DescriptorKind, DescriptorSet, LayoutBinding, PipelineLayout};
 pub use device::{Device, DeviceInfo};
 pub use fault::FaultPlan;
 pub use image::{Image, ImageDesc};
 pub use instance::{Instance, ValidationOptions, ValidationReport};
-pub use memory::{Memory, MemoryLocation};
+pub use memory::MemoryLocation;
+pub use owned::Sampler;
+pub use pipeline::{GraphicsDesc, Pipeline, TargetFormats};
 
 use crate::error::Result;
 
@@ -45,43 +58,26 @@ pub struct GpuOptions {
     pub faults: FaultPlan,
 }
 
-/// The instance, the device and its memory: everything a frame needs that
-/// lives as long as the program.
+/// The open GPU: the device (which holds the instance) and what the
+/// validation layer has said. Objects made through it hold the device
+/// alive; `finish` tears it down and reports any still alive as leaks.
 pub struct Gpu {
-    pub memory: Memory,
-    pub device: Device,
-    pub instance: Instance,
+    device: Arc<Device>,
+    log: Arc<instance::MessageLog>,
     memory_budget: Option<u64>,
-    pub(crate) faults: fault::Faults,
 }
 
 impl Gpu {
     pub fn new(options: &GpuOptions) -> Result<Self> {
-        let instance = Instance::new(options.validation)?;
-        let opened = device::enumerate(&instance, &options.pretend_missing)
-            .and_then(|adapters| device::choose(&adapters, options.device_name.as_deref()))
-            .and_then(|adapter| Device::new(&instance, adapter));
-        let device = match opened {
-            Ok(d) => d,
-            Err(e) => {
-                instance.destroy();
-                return Err(e);
-            }
-        };
-        let memory = match Memory::new(&instance.raw, &device.raw, device.adapter.raw) {
-            Ok(m) => m,
-            Err(e) => {
-                device.destroy();
-                instance.destroy();
-                return Err(e);
-            }
-        };
+        let instance = Arc::new(Instance::new(options.validation)?);
+        let log = instance.log.clone();
+        let adapter = device::enumerate(&instance, &options.pretend_missing)
+            .and_then(|adapters| device::choose(&adapters, options.device_name.as_deref()))?;
+        let device = Device::new(instance, adapter, fault::Faults::new(options.faults))?;
         Ok(Self {
-            memory,
             device,
-            instance,
+            log,
             memory_budget: options.memory_budget,
-            faults: fault::Faults::new(options.faults),
         })
     }
 
@@ -90,22 +86,33 @@ impl Gpu {
     pub fn list_devices(options: &GpuOptions) -> Result<(Vec<DeviceInfo>, ValidationReport)> {
         let instance = Instance::new(options.validation)?;
         let adapters = device::enumerate(&instance, &options.pretend_missing);
-        let report = instance.destroy();
-        Ok((adapters?.into_iter().map(|a| a.info).collect(), report))
+        let log = instance.log.clone();
+        drop(instance);
+        Ok((
+            adapters?.into_iter().map(|a| a.info).collect(),
+            log.report(),
+        ))
     }
 
     pub fn info(&self) -> &DeviceInfo {
         &self.device.adapter.info
     }
 
+    /// The device, for the objects made from it.
+    pub(crate) fn device(&self) -> &Arc<Device> {
+        &self.device
+    }
+
+    pub fn limits(&self) -> &ash::vk::PhysicalDeviceLimits {
+        self.device.limits()
+    }
+
     /// Size of the largest device-local memory heap, in bytes.
     pub fn device_local_bytes(&self) -> u64 {
+        let instance = &self.device.instance.raw;
         // SAFETY: a plain query on this instance's physical device.
-        let props = unsafe {
-            self.instance
-                .raw
-                .get_physical_device_memory_properties(self.device.adapter.raw)
-        };
+        let props =
+            unsafe { instance.get_physical_device_memory_properties(self.device.adapter.raw) };
         props.memory_heaps[..props.memory_heap_count as usize]
             .iter()
             .filter(|h| h.flags.contains(ash::vk::MemoryHeapFlags::DEVICE_LOCAL))
@@ -133,21 +140,8 @@ impl Gpu {
         Ok(())
     }
 
-    /// Device memory for `name`: every buffer and image allocates here.
-    pub fn allocate(
-        &self,
-        name: &str,
-        requirements: ash::vk::MemoryRequirements,
-        location: MemoryLocation,
-        linear: bool,
-    ) -> Result<gpu_allocator::vulkan::Allocation> {
-        self.faults.allocation(name)?;
-        self.memory.allocate(name, requirements, location, linear)
-    }
-
     pub fn wait_idle(&self) {
-        // SAFETY: a live device; failure (device lost) leaves nothing to wait for.
-        let _ = unsafe { self.device.raw.device_wait_idle() };
+        self.device.wait_idle();
     }
 
     /// Tears the GPU down after `work` and pairs its result with what
@@ -166,23 +160,43 @@ impl Gpu {
         }
     }
 
-    /// Tears down in order: allocator, device, messenger, instance. Returns
-    /// what validation reported over the whole life, leaks at device
-    /// destruction included; live allocations count as errors.
+    /// Tears down: the device (its allocator first), then the messenger and
+    /// the instance. Returns what validation reported over the whole life,
+    /// leaks at device destruction included. GPU objects or allocations
+    /// still alive here count as errors: their owner forgot them, and the
+    /// device stays until the last of them is dropped.
     pub fn destroy(self) -> ValidationReport {
-        self.wait_idle();
-        let leaked = self.memory.live_allocations();
-        self.memory.destroy();
-        self.device.destroy();
-        let mut report = self.instance.destroy();
-        if !leaked.is_empty() {
-            report.errors += leaked.len() as u64;
+        self.device.wait_idle();
+        let leaked_allocations = self.device.memory.live_allocations();
+        let leaked_objects = Arc::strong_count(&self.device) - 1;
+        let Self { device, log, .. } = self;
+        drop(device);
+        let mut report = log.report();
+        let mut leak = |id: &str, count: usize, text: String| {
+            report.errors += count as u64;
             report.messages.push(instance::ValidationMessage {
-                id: "meadow-leaked-allocation".into(),
+                id: id.into(),
                 severity: "error",
-                count: leaked.len() as u64,
-                first_text: format!("GPU allocations alive at teardown: {}", leaked.join(", ")),
+                count: count as u64,
+                first_text: text,
             });
+        };
+        if !leaked_allocations.is_empty() {
+            leak(
+                "meadow-leaked-allocation",
+                leaked_allocations.len(),
+                format!(
+                    "GPU allocations alive at teardown: {}",
+                    leaked_allocations.join(", ")
+                ),
+            );
+        }
+        if leaked_objects > 0 {
+            leak(
+                "meadow-leaked-object",
+                leaked_objects,
+                format!("{leaked_objects} GPU object(s) still alive at teardown"),
+            );
         }
         report
     }

@@ -1,18 +1,17 @@
-//! The GPU side of both phases: the simulation passes (wind, grass) and the
-//! rendering (pipelines, targets, frame orchestration).
+//! The rendering phase (paper section 5): the paper's pipeline (vertex ->
+//! tessellation control -> tessellation evaluation -> geometry ->
+//! fragment), the shadow map, the surface textures, the render targets
+//! and the read-back; and the bench's vertex+fragment floor. It draws the
+//! blade buffer it is handed and knows nothing of the simulation.
 
 pub mod floor;
-pub mod frame;
 pub mod frame_uniforms;
-pub mod grass_pass;
 pub mod pipelines;
+pub mod renderer;
 pub mod shadow;
-pub mod simulation;
 pub mod targets;
 pub mod texture_maps;
 pub mod textures;
-pub mod wind_pass;
-pub mod wind_slices;
 
-pub use frame::{Frame, Renderer};
 pub use frame_uniforms::{FrameUniforms, ViewMode};
+pub use renderer::Renderer;

@@ -5,77 +5,35 @@
 //! samples the map with percentage-closer filtering (glsl/common/shadow.glsl).
 
 use ash::vk;
-use glam::{Mat4, Vec3};
 
-use crate::error::{Result, VkResultExt};
-use crate::gpu::descriptors::{Bound, BufferSet};
-use crate::gpu::{Buffer, Gpu, Image, ImageDesc, MemoryLocation};
-use crate::render::frame::{depth_cleared, full_area, image_barrier};
+use crate::error::Result;
+use crate::gpu::{
+    Access, Attachments, Bound, Buffer, DescriptorSet, Gpu, Image, ImageDesc, ImageTransition,
+    MemoryLocation, Pipeline, PipelineLayout, Recording, Sampler,
+};
 use crate::render::frame_uniforms::FrameUniforms;
-use crate::render::pipelines::SHADOW_SET;
-use crate::scene::Scene;
-
-pub const SHADOW_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
-
-/// The paper's shadow map side, in texels.
-pub const DEFAULT_SHADOW_MAP: u32 = 8192;
+use crate::render::pipelines::{SHADOW_FORMAT, SHADOW_SET};
 
 /// Depth bias in the shader, on top of the pipeline's constant and slope
 /// bias: a blade is a thin sheet that is often both occluder and receiver.
 const SHADER_DEPTH_BIAS: f32 = 2e-4;
-
-/// World to the shadow map's clip space: an orthographic view from the sun
-/// that holds the grass (its footprint grown by the tallest blade, which
-/// may lean that far) from the ground up to the tallest blade. The far
-/// plane reaches well past the ground so shadows cast there are found.
-pub fn light_view_proj(scene: &Scene) -> Mat4 {
-    let dir = Vec3::from(scene.light.direction)
-        .try_normalize()
-        .unwrap_or(Vec3::Y);
-    let (lo, hi) = scene.grass_bounds();
-    let h = scene.grass.shape.height[1];
-    let min = Vec3::new(lo[0] - h, 0.0, lo[1] - h);
-    let max = Vec3::new(hi[0] + h, h, hi[1] + h);
-    let center = (min + max) * 0.5;
-    let radius = (max - min).length() * 0.5;
-    let up = if dir.y.abs() > 0.99 { Vec3::Z } else { Vec3::Y };
-    let view = Mat4::look_at_rh(center + dir * 2.0 * radius, center, up);
-    let mut lo_v = Vec3::splat(f32::MAX);
-    let mut hi_v = Vec3::splat(f32::MIN);
-    for i in 0..8 {
-        let corner = Vec3::new(
-            if i & 1 == 0 { min.x } else { max.x },
-            if i & 2 == 0 { min.y } else { max.y },
-            if i & 4 == 0 { min.z } else { max.z },
-        );
-        let p = view.transform_point3(corner);
-        lo_v = lo_v.min(p);
-        hi_v = hi_v.max(p);
-    }
-    // The view looks down -z from 2 radii away: the near plane at the eye
-    // keeps whatever stands above the box (a blade taller than the
-    // scene's shapes) in the map.
-    let near = 0.0;
-    let far = -lo_v.z + 8.0 * radius;
-    Mat4::orthographic_rh(lo_v.x, hi_v.x, lo_v.y, hi_v.y, near, far) * view
-}
 
 pub struct ShadowMap {
     /// Side in texels; 0 when shadows are off (a 1 x 1 map cleared to
     /// "lit" keeps the colour pass's descriptor valid).
     pub size: u32,
     pub image: Image,
-    pub sampler: vk::Sampler,
+    pub sampler: Sampler,
     /// The frame uniforms as seen from the light.
     uniforms: Buffer,
     /// Set 0 of the shadow pass: the light's uniforms only (the other
     /// bindings are read by fragment shaders, which this pass has none of).
-    set: Option<BufferSet>,
+    set: DescriptorSet,
 }
 
 impl ShadowMap {
     /// `size` 0 turns shadows off.
-    pub fn new(gpu: &Gpu, size: u32, set_layout: vk::DescriptorSetLayout) -> Result<Self> {
+    pub fn new(gpu: &Gpu, size: u32, layout: &PipelineLayout) -> Result<Self> {
         let side = size.max(1);
         let image = Image::new(
             gpu,
@@ -105,65 +63,34 @@ impl ShadowMap {
             .compare_enable(true)
             .compare_op(vk::CompareOp::LESS_OR_EQUAL)
             .max_lod(0.0);
-        // SAFETY: valid create info on a live device.
-        let sampler = match unsafe { gpu.device.raw.create_sampler(&info, None) }
-            .vk_context("vkCreateSampler", "shadow map sampler")
-        {
-            Ok(s) => s,
-            Err(e) => {
-                image.destroy(gpu);
-                return Err(e);
-            }
-        };
-        gpu.device.name(sampler, "shadow map sampler");
-        let uniforms = match Buffer::new(
+        let sampler = Sampler::sampler(gpu, &info, "shadow map sampler")?;
+        let uniforms = Buffer::new(
             gpu,
             "shadow pass uniforms",
             std::mem::size_of::<FrameUniforms>() as u64,
             vk::BufferUsageFlags::UNIFORM_BUFFER,
             MemoryLocation::CpuToGpu,
-        ) {
-            Ok(b) => b,
-            Err(e) => {
-                // SAFETY: nothing uses the sampler yet.
-                unsafe { gpu.device.raw.destroy_sampler(sampler, None) };
-                image.destroy(gpu);
-                return Err(e);
-            }
-        };
-        let mut map = Self {
+        )?;
+        let set = DescriptorSet::new(
+            gpu,
+            layout,
+            SHADOW_SET,
+            &[Bound::Buffer(&uniforms)],
+            "shadow pass descriptor set",
+        )?;
+        Ok(Self {
             size,
             image,
             sampler,
             uniforms,
-            set: None,
-        };
-        match BufferSet::with(
-            gpu,
-            set_layout,
-            SHADOW_SET,
-            &[Bound::Buffer(map.uniforms.raw)],
-            "shadow pass descriptor set",
-        ) {
-            Ok(set) => map.set = Some(set),
-            Err(e) => {
-                map.destroy(gpu);
-                return Err(e);
-            }
-        }
-        Ok(map)
+            set,
+        })
     }
 
     /// The map and its comparison sampler as the colour pass binds them
     /// (bindings 1 and 2 of the frame set).
-    pub fn bindings(&self) -> [Bound; 2] {
-        [
-            Bound::Image {
-                view: self.image.view,
-                layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-            },
-            Bound::Sampler(self.sampler),
-        ]
+    pub fn bindings(&self) -> [Bound<'_>; 2] {
+        [Bound::Image(&self.image), Bound::Sampler(&self.sampler)]
     }
 
     /// The `shadow` vector of the frame uniforms.
@@ -181,88 +108,40 @@ impl ShadowMap {
         self.uniforms.write(0, std::slice::from_ref(&light));
     }
 
-    /// Records the shadow pass: clear, draw the blades depth-only from the
-    /// light (when shadows are on), and hand the map to the fragment stage.
+    /// Records the shadow pass: clear, draw `blade_count` blades from
+    /// `blades` depth-only from the light (when shadows are on), and hand
+    /// the map to the fragment stage.
     pub fn record(
         &self,
-        gpu: &Gpu,
-        cmd: vk::CommandBuffer,
-        pipeline: Option<vk::Pipeline>,
-        layout: vk::PipelineLayout,
-        blade_vertices: vk::Buffer,
+        rec: &Recording,
+        pipeline: Option<&Pipeline>,
+        blades: &Buffer,
         blade_count: u32,
     ) {
-        let device = &gpu.device.raw;
         // The previous frame's colour pass sampled the map: its reads must
         // finish before the clear (an execution dependency suffices for a
         // read-before-write hazard).
-        let to_depth = [image_barrier(
+        rec.transition(&[ImageTransition::discarding(
             &self.image,
-            vk::PipelineStageFlags2::FRAGMENT_SHADER,
-            vk::AccessFlags2::NONE,
-            vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS
-                | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS,
-            vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ
-                | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE,
-            vk::ImageLayout::UNDEFINED,
-            vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
-        )];
-        let to_sampled = [image_barrier(
+            Access::FRAGMENT_SAMPLED,
+            Access::DEPTH_ATTACHMENT,
+        )]);
+        rec.begin_rendering(&Attachments {
+            color: None,
+            depth: &self.image,
+            store_depth: true,
+        });
+        if let (Some(pipeline), true) = (pipeline, self.size > 0) {
+            rec.bind_set(pipeline, &self.set);
+            rec.bind_pipeline(pipeline);
+            rec.bind_vertex_buffer(blades);
+            rec.draw(blade_count * 4);
+        }
+        rec.end_rendering();
+        rec.transition(&[ImageTransition::new(
             &self.image,
-            vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS
-                | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS,
-            vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE,
-            vk::PipelineStageFlags2::FRAGMENT_SHADER,
-            vk::AccessFlags2::SHADER_SAMPLED_READ,
-            vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
-            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-        )];
-        let (area, viewport) = full_area(self.image.extent);
-        let depth_attachment = depth_cleared(self.image.view, vk::AttachmentStoreOp::STORE);
-        let rendering = vk::RenderingInfo::default()
-            .render_area(area)
-            .layer_count(1)
-            .depth_attachment(&depth_attachment);
-        let set = self.set.as_ref().expect("shadow set made in new").set;
-        // SAFETY (this block): recording into the caller's command buffer;
-        // the image, set, pipeline and vertex buffer are alive and owned by
-        // the renderer that waits for the GPU before destroying them.
-        unsafe {
-            device.cmd_pipeline_barrier2(
-                cmd,
-                &vk::DependencyInfo::default().image_memory_barriers(&to_depth),
-            );
-            device.cmd_begin_rendering(cmd, &rendering);
-            if let (Some(pipeline), true) = (pipeline, self.size > 0) {
-                device.cmd_set_viewport(cmd, 0, &[viewport]);
-                device.cmd_set_scissor(cmd, 0, &[area]);
-                device.cmd_bind_descriptor_sets(
-                    cmd,
-                    vk::PipelineBindPoint::GRAPHICS,
-                    layout,
-                    0,
-                    &[set],
-                    &[],
-                );
-                device.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
-                device.cmd_bind_vertex_buffers(cmd, 0, &[blade_vertices], &[0]);
-                device.cmd_draw(cmd, blade_count * 4, 1, 0, 0);
-            }
-            device.cmd_end_rendering(cmd);
-            device.cmd_pipeline_barrier2(
-                cmd,
-                &vk::DependencyInfo::default().image_memory_barriers(&to_sampled),
-            );
-        }
-    }
-
-    pub fn destroy(self, gpu: &Gpu) {
-        if let Some(set) = self.set {
-            set.destroy(gpu);
-        }
-        self.uniforms.destroy(gpu);
-        // SAFETY: the owner waited for the GPU to finish with the map.
-        unsafe { gpu.device.raw.destroy_sampler(self.sampler, None) };
-        self.image.destroy(gpu);
+            Access::DEPTH_ATTACHMENT,
+            Access::FRAGMENT_SAMPLED,
+        )]);
     }
 }

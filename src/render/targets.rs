@@ -4,8 +4,7 @@
 use ash::vk;
 
 use crate::error::{Error, Result};
-use crate::gpu::{Buffer, Gpu, Image, ImageDesc, MemoryLocation};
-use crate::render::pipelines::TargetFormats;
+use crate::gpu::{Buffer, Gpu, Image, ImageDesc, MemoryLocation, TargetFormats};
 
 /// sRGB storage: shaders work in linear light, the PNG gets sRGB bytes.
 pub const COLOR_FORMAT: vk::Format = vk::Format::R8G8B8A8_SRGB;
@@ -25,7 +24,7 @@ pub struct RenderTargets {
 /// The largest sample count the device supports for colour and depth that
 /// is not above `requested` (a power of two).
 pub fn choose_samples(gpu: &Gpu, requested: u32) -> vk::SampleCountFlags {
-    let limits = gpu.device.limits();
+    let limits = gpu.limits();
     let supported = limits.framebuffer_color_sample_counts & limits.framebuffer_depth_sample_counts;
     [64u32, 32, 16, 8, 4, 2, 1]
         .into_iter()
@@ -37,7 +36,7 @@ pub fn choose_samples(gpu: &Gpu, requested: u32) -> vk::SampleCountFlags {
 
 impl RenderTargets {
     pub fn new(gpu: &Gpu, width: u32, height: u32, samples: vk::SampleCountFlags) -> Result<Self> {
-        let limits = gpu.device.limits();
+        let limits = gpu.limits();
         let max = limits
             .max_framebuffer_width
             .min(limits.max_framebuffer_height)
@@ -70,22 +69,22 @@ impl RenderTargets {
                 mip_levels: 1,
             },
         )?;
-        let rest = (|| {
-            let depth = Image::new(
-                gpu,
-                &ImageDesc {
-                    name: "depth target",
-                    format: DEPTH_FORMAT,
-                    extent,
-                    samples,
-                    usage: vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT
-                        | vk::ImageUsageFlags::TRANSIENT_ATTACHMENT,
-                    aspect: vk::ImageAspectFlags::DEPTH,
-                    mip_levels: 1,
-                },
-            )?;
-            let resolve = if multisampled {
-                match Image::new(
+        let depth = Image::new(
+            gpu,
+            &ImageDesc {
+                name: "depth target",
+                format: DEPTH_FORMAT,
+                extent,
+                samples,
+                usage: vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT
+                    | vk::ImageUsageFlags::TRANSIENT_ATTACHMENT,
+                aspect: vk::ImageAspectFlags::DEPTH,
+                mip_levels: 1,
+            },
+        )?;
+        let resolve = multisampled
+            .then(|| {
+                Image::new(
                     gpu,
                     &ImageDesc {
                         name: "colour resolve target",
@@ -97,52 +96,28 @@ impl RenderTargets {
                         aspect: vk::ImageAspectFlags::COLOR,
                         mip_levels: 1,
                     },
-                ) {
-                    Ok(i) => Some(i),
-                    Err(e) => {
-                        depth.destroy(gpu);
-                        return Err(e);
-                    }
-                }
-            } else {
-                None
-            };
-            let size = width as u64 * height as u64 * 4;
-            match Buffer::new(
-                gpu,
-                "frame readback",
-                size,
-                vk::BufferUsageFlags::TRANSFER_DST,
-                MemoryLocation::GpuToCpu,
-            ) {
-                Ok(readback) => Ok((depth, resolve, readback)),
-                Err(e) => {
-                    depth.destroy(gpu);
-                    if let Some(r) = resolve {
-                        r.destroy(gpu);
-                    }
-                    Err(e)
-                }
-            }
-        })();
-        match rest {
-            Ok((depth, resolve, readback)) => Ok(Self {
-                extent,
-                color,
-                depth,
-                resolve,
-                readback,
-            }),
-            Err(e) => {
-                color.destroy(gpu);
-                Err(e)
-            }
-        }
+                )
+            })
+            .transpose()?;
+        let readback = Buffer::new(
+            gpu,
+            "frame readback",
+            width as u64 * height as u64 * 4,
+            vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuToCpu,
+        )?;
+        Ok(Self {
+            extent,
+            color,
+            depth,
+            resolve,
+            readback,
+        })
     }
 
     pub fn formats(&self) -> TargetFormats {
         TargetFormats {
-            color: COLOR_FORMAT,
+            color: Some(COLOR_FORMAT),
             depth: DEPTH_FORMAT,
             samples: self.color.samples,
         }
@@ -151,14 +126,5 @@ impl RenderTargets {
     /// The single-sample image holding the final frame.
     pub fn final_image(&self) -> &Image {
         self.resolve.as_ref().unwrap_or(&self.color)
-    }
-
-    pub fn destroy(self, gpu: &Gpu) {
-        self.color.destroy(gpu);
-        self.depth.destroy(gpu);
-        if let Some(r) = self.resolve {
-            r.destroy(gpu);
-        }
-        self.readback.destroy(gpu);
     }
 }

@@ -1,7 +1,7 @@
 //! The grass field generator: seeded and deterministic. Bunches are tufts of
 //! blades splaying out from a point; meadows fill a rectangle. Each blade is
 //! upright, curved or drooping, with random height, width, facing and
-//! curvature (method.md section 2).
+//! curvature (docs/method.md section 2).
 
 use glam::{Vec2, Vec3};
 use rand::{Rng, SeedableRng};

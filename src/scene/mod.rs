@@ -131,9 +131,13 @@ impl Camera {
     }
 }
 
-/// A directional light (the sun).
+/// The paper's shadow map side, in texels.
+pub const DEFAULT_SHADOW_MAP: u32 = 8192;
+
+/// A directional light (the sun). Every field is optional on its own; a
+/// missing one takes the default below.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, default)]
 pub struct Light {
     /// Direction toward the light (normalised on use).
     pub direction: [f32; 3],
@@ -142,12 +146,7 @@ pub struct Light {
     pub ambient: f32,
     /// Side of the square shadow map in texels: the paper's 8192 by
     /// default; smaller for quick previews, 0 for no shadows.
-    #[serde(default = "default_shadow_map")]
     pub shadow_map: u32,
-}
-
-fn default_shadow_map() -> u32 {
-    crate::render::shadow::DEFAULT_SHADOW_MAP
 }
 
 impl Default for Light {
@@ -157,7 +156,7 @@ impl Default for Light {
             direction: [0.45, 0.75, 0.35],
             color: [1.0, 0.96, 0.86],
             ambient: 0.28,
-            shadow_map: default_shadow_map(),
+            shadow_map: DEFAULT_SHADOW_MAP,
         }
     }
 }
@@ -188,7 +187,7 @@ impl Default for Lod {
 
 /// The ground square, centred under the grass.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, default)]
 pub struct Ground {
     /// Half the side of the square (m).
     pub half_extent: f32,
@@ -206,7 +205,7 @@ impl Default for Ground {
 pub struct Grass {
     #[serde(default)]
     pub shape: BladeShape,
-    /// The blades' physical parameters (method.md section 4).
+    /// The blades' physical parameters (docs/method.md, grass dynamics).
     #[serde(default)]
     pub dynamics: GrassDynamics,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
@@ -395,7 +394,7 @@ impl GrassDynamics {
     }
 }
 
-/// The wind of a scene (method.md section 3): the grid spans the grass's
+/// The wind of a scene (docs/method.md section 3): the grid spans the grass's
 /// bounding box plus a margin, from the ground up to `height`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]

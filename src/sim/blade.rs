@@ -1,4 +1,4 @@
-//! The grass model of the paper (section 3.1; method.md section 2): a blade
+//! The grass model of the paper (section 3.1; docs/method.md section 2): a blade
 //! is a cubic Bezier curve with control points P0 (root) .. P3 (tip), and
 //! each of its three edges P_i P_{i+1} carries an orthonormal frame
 //! (E_e along the edge, E_w across the blade, E_n its face normal).
@@ -17,7 +17,7 @@ pub enum BladeKind {
     Drooping,
 }
 
-/// The orientation of one edge (method.md section 2).
+/// The orientation of one edge (docs/method.md section 2).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct EdgeFrame {
     /// Along the edge, P_i -> P_{i+1}.

@@ -1,9 +1,9 @@
-//! Grass dynamics, the CPU reference (paper section 4; method.md section 4):
+//! Grass dynamics, the CPU reference (paper section 4; docs/method.md section 4):
 //! swinging, bending and twisting of every blade, driven by the wind at its
 //! tip. glsl/grass/dynamics.glsl is the same model, line for line, in f32;
 //! tests/grass_gpu.rs compares the two.
 //!
-//! The reading this project takes (method.md: "ours"):
+//! The reading this project takes (docs/method.md: "ours"):
 //! - each motion keeps one scalar angle and angular velocity per blade (two
 //!   bending angles for a drooping blade, one per slope group);
 //! - forces are the paper's vectors W + R, the torque is lever x F taken
@@ -273,7 +273,7 @@ impl GrassBlade {
 }
 
 /// Substeps each simulation step of `dt` needs so that explicit
-/// (symplectic) Euler stays stable for every blade (method.md: dt < 2 /
+/// (symplectic) Euler stays stable for every blade (docs/method.md: dt < 2 /
 /// sqrt(k / I), with margin). Refuses blades that would need too many.
 pub fn substeps(blades: &[GrassBlade], dt: f32) -> Result<u32> {
     let rate = blades

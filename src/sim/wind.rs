@@ -1,4 +1,4 @@
-//! CPU reference of the wind solver (paper section 3.2; method.md section 3):
+//! CPU reference of the wind solver (paper section 3.2; docs/method.md section 3):
 //! inviscid, incompressible Navier-Stokes on a grid, one step =
 //! add source forces -> semi-Lagrangian advection -> divergence -> pressure
 //! by Jacobi iterations -> subtract the pressure gradient.
@@ -8,7 +8,7 @@
 //! are then compact differences and the projection converges to a
 //! divergence-free field as the Jacobi count grows.
 //!
-//! Boundaries (ours, method.md): the ground (y = 0) and solid cells are
+//! Boundaries (ours, docs/method.md): the ground (y = 0) and solid cells are
 //! no-through (their faces hold zero); the top is free-slip (no flow through
 //! it, tangential flow free); the four sides are open: the pressure outside
 //! is zero, so wind leaves the domain. An inflow side holds its faces at the
@@ -156,7 +156,7 @@ impl Gust {
     }
 }
 
-/// A wind source (method.md section 3): a ball of force.
+/// A wind source (docs/method.md section 3): a ball of force.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct WindSource {
@@ -332,7 +332,7 @@ pub struct WindSettings {
     pub sources: Vec<WindSource>,
     pub inflow: Option<Inflow>,
     pub obstacles: Vec<Obstacle>,
-    /// Jacobi iterations of the pressure solve (default 30: method.md's 20-40).
+    /// Jacobi iterations of the pressure solve (default 30; docs/method.md section 3).
     pub jacobi_iterations: u32,
 }
 

@@ -5,13 +5,15 @@
 #![allow(dead_code)]
 
 pub mod binary;
+pub mod reflect;
 pub mod scene_property;
 pub mod sim;
 pub mod wind_scenes;
 
+use meadow::commands::render::{Animation, RenderRequest};
+use meadow::frame::Frame;
 use meadow::gpu::{Gpu, GpuOptions, ValidationOptions};
-use meadow::job::{Animation, RenderRequest};
-use meadow::render::{Frame, ViewMode};
+use meadow::render::ViewMode;
 use meadow::scene::Scene;
 use meadow::sim::Blade;
 
@@ -83,7 +85,7 @@ pub fn render(
     height: u32,
     view: ViewMode,
 ) -> Frame {
-    meadow::job::render_blades(gpu, scene, blades, width, height, 4, view)
+    meadow::frame::render_blades(gpu, scene, blades, (width, height), 4, view)
         .unwrap_or_else(|e| panic!("render failed: {e}"))
         .0
 }

@@ -1,14 +1,13 @@
-//! The simulating phase alone, wind then grass each step as the renderer
-//! records it (src/render/simulation.rs), for tests that read its state,
-//! and the invariants that state must keep at any step.
+//! The simulating phase alone (src/simulate/), wind then grass each step
+//! as a frame records it, for tests that read its state, and the
+//! invariants that state must keep at any step.
 
 use glam::Vec3;
-use meadow::gpu::commands::Commands;
-use meadow::gpu::{Buffer, Gpu};
-use meadow::render::grass_pass::{vertex_buffer, GrassPass};
-use meadow::render::wind_pass::WindPass;
+use meadow::frame::BladeBuffer;
+use meadow::gpu::{Commands, Gpu};
 use meadow::scene::{field, Scene};
 use meadow::sim::{BladeVertex, GrassBlade, GrassState};
+use meadow::simulate::Simulation;
 
 use super::to_vec3;
 
@@ -41,12 +40,10 @@ pub const STEPS_PER_SUBMIT: u64 = 250;
 
 pub struct SimRig {
     pub blades: Vec<GrassBlade>,
+    // Declared before the buffer it writes: dropped first.
+    simulation: Simulation,
+    vertices: BladeBuffer,
     commands: Commands,
-    wind: WindPass,
-    grass: GrassPass,
-    vertices: Buffer,
-    dt: f32,
-    steps_done: u64,
 }
 
 impl SimRig {
@@ -54,70 +51,56 @@ impl SimRig {
     pub fn new(gpu: &Gpu, scene: &Scene) -> Self {
         let rest = field::generate(&scene.grass, scene.seed).unwrap();
         let blades = field::dynamic_blades(&rest, &scene.grass.dynamics, scene.seed).unwrap();
-        let grid = scene.wind_grid().unwrap();
-        let dt = scene.wind.dt;
         let commands = Commands::new(gpu, "test simulation commands").unwrap();
-        let wind = WindPass::new(gpu, &commands, grid, &scene.wind.settings()).unwrap();
-        let vertices = vertex_buffer(gpu, "test blade vertices", blades.len()).unwrap();
-        let grass = GrassPass::new(
-            gpu,
-            &commands,
-            &blades,
-            &vertices,
-            wind.velocity(),
-            &grid,
-            dt,
-        )
-        .unwrap();
+        let vertices =
+            BladeBuffer::uninitialised(gpu, "test blade vertices", blades.len()).unwrap();
+        let simulation =
+            Simulation::new(gpu, &commands, scene, &blades, vertices.buffer()).unwrap();
         Self {
             blades,
-            commands,
-            wind,
-            grass,
+            simulation,
             vertices,
-            dt,
-            steps_done: 0,
+            commands,
         }
     }
 
     /// Runs `steps` wind + grass steps, at most STEPS_PER_SUBMIT a submission.
-    pub fn run(&mut self, gpu: &Gpu, steps: u64) {
-        let end = self.steps_done + steps;
-        while self.steps_done < end {
-            let batch = STEPS_PER_SUBMIT.min(end - self.steps_done);
-            let cmd = self.commands.begin(gpu).unwrap();
-            for s in self.steps_done..self.steps_done + batch {
-                // Simulated time as the renderer computes it.
-                let t = (s as f64 * self.dt as f64) as f32;
-                self.wind.record_step(gpu, cmd, t, self.dt);
-                self.grass.record_step(gpu, cmd, 0);
-            }
-            self.commands
-                .submit_and_wait(gpu, "test simulation steps")
-                .unwrap();
-            self.steps_done += batch;
+    pub fn run(&mut self, steps: u64) {
+        let end = self.steps_done() + steps;
+        while self.steps_done() < end {
+            let batch = STEPS_PER_SUBMIT.min(end - self.steps_done());
+            let rec = self.commands.begin().unwrap();
+            self.simulation.record_steps(&rec, batch);
+            rec.submit_and_wait("test simulation steps").unwrap();
         }
     }
 
     pub fn steps_done(&self) -> u64 {
-        self.steps_done
+        self.simulation.steps_done()
     }
 
     /// Each blade's angles and angular velocities.
     pub fn states(&self, gpu: &Gpu) -> Vec<GrassState> {
-        self.grass.read_states(gpu, &self.commands).unwrap()
+        self.simulation
+            .grass()
+            .read_states(gpu, &self.commands)
+            .unwrap()
     }
 
     /// The 4 control points (and width vectors) of each blade, as drawn.
     pub fn vertices(&self, gpu: &Gpu) -> Vec<BladeVertex> {
         self.vertices
+            .buffer()
             .read_back(gpu, &self.commands, self.blades.len() * 4)
             .unwrap()
     }
 
     /// The wind velocity's x, y and z face components.
     pub fn velocity(&self, gpu: &Gpu) -> [Vec<f32>; 3] {
-        self.wind.read_velocity(gpu, &self.commands).unwrap()
+        self.simulation
+            .wind()
+            .read_velocity(gpu, &self.commands)
+            .unwrap()
     }
 
     /// Reads the wind and the blades back and checks what must hold at any
@@ -127,7 +110,7 @@ impl SimRig {
     /// edge-length change, tip travel, angles) goes into `figures`, for the
     /// caller's bounds.
     pub fn check(&self, gpu: &Gpu, figures: &mut Figures) {
-        let done = self.steps_done;
+        let done = self.steps_done();
         figures.steps = done;
         figures.blades = self.blades.len();
         figures.checks += 1;
@@ -175,13 +158,6 @@ impl SimRig {
             );
             figures.farthest_tip = figures.farthest_tip.max(p[3].distance(blade.rest_point(3)));
         }
-    }
-
-    pub fn destroy(self, gpu: &Gpu) {
-        self.grass.destroy(gpu);
-        self.vertices.destroy(gpu);
-        self.wind.destroy(gpu);
-        self.commands.destroy(gpu);
     }
 }
 

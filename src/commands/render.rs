@@ -5,13 +5,14 @@
 use std::path::Path;
 use std::time::Instant;
 
+use crate::commands::{on_gpu, write_json};
 use crate::error::{Error, Result};
-use crate::gpu::commands::Commands;
-use crate::gpu::timing::{FrameTimings, PipelineStatistics, TimingSummary};
+use crate::frame::timing::{FrameTimings, TimingSummary};
+use crate::frame::FrameRecorder;
+use crate::gpu::query::PipelineStatistics;
 use crate::gpu::{Gpu, GpuOptions, ValidationReport};
-use crate::output;
-use crate::render::simulation::Simulation;
-use crate::render::{Frame, FrameUniforms, Renderer};
+use crate::render::FrameUniforms;
+use crate::report::files;
 use crate::scene::{field, Scene, ViewMode};
 
 pub use crate::scene::check::{MAX_FRAMES, MAX_IMAGE_SIDE};
@@ -177,59 +178,16 @@ pub fn render_to_dir_observed(
     observer: &mut dyn FnMut(FrameProgress) -> bool,
 ) -> Result<RenderReport> {
     request.validate()?;
-    output::ensure_dir(out_dir)?;
+    files::ensure_dir(out_dir)?;
     let started = Instant::now();
-    let gpu = Gpu::new(&request.gpu)?;
-    let rendered = render_with(&gpu, request, out_dir, observer);
-    let (mut report, validation) = gpu.finish(rendered)?;
+    let (mut report, validation) = on_gpu(&request.gpu, |gpu| {
+        render_with(gpu, request, out_dir, observer)
+    })?;
     report.validation = validation;
     report.wall_seconds = started.elapsed().as_secs_f64();
-    let json = serde_json::to_vec_pretty(&report).expect("report serialises");
-    output::write_atomic(&out_dir.join("report.json"), &json)?;
+    write_json(&out_dir.join("report.json"), &report)?;
     report.validation.check()?;
     Ok(report)
-}
-
-/// Renders one frame of `blades` as `scene` sets them up: the building block
-/// of the CLI and the tests. Returns the frame and the MSAA count used.
-pub fn render_blades(
-    gpu: &Gpu,
-    scene: &Scene,
-    blades: &[crate::sim::Blade],
-    width: u32,
-    height: u32,
-    msaa: u32,
-    view: ViewMode,
-) -> Result<(Frame, u32)> {
-    let mut renderer = Renderer::new(gpu, width, height, msaa, scene.light.shadow_map, blades)?;
-    let uniforms = FrameUniforms::new(scene, width, height, view, 0.0);
-    let frame = renderer.render(gpu, &uniforms);
-    let samples = renderer.samples();
-    renderer.destroy(gpu);
-    Ok((frame?, samples))
-}
-
-/// Refuses, before anything is allocated, a render whose grass buffers,
-/// frame targets (colour and depth per sample, the resolved image and its
-/// read-back copy) and shadow map would not fit the GPU memory budget; the
-/// wind grid checks its own.
-pub fn check_render_fits(
-    gpu: &Gpu,
-    scene: &Scene,
-    width: u32,
-    height: u32,
-    msaa: u32,
-) -> Result<()> {
-    let pixels = width as u64 * height as u64;
-    gpu.check_fits(
-        &format!(
-            "{} blades at {width}x{height} with {msaa}x MSAA",
-            scene.blade_count()
-        ),
-        crate::render::grass_pass::device_bytes(scene.blade_count())
-            + pixels * (8 * msaa as u64 + 8)
-            + 4 * (scene.light.shadow_map as u64).pow(2),
-    )
 }
 
 fn render_with(
@@ -240,50 +198,25 @@ fn render_with(
 ) -> Result<RenderReport> {
     let scene = &request.scene;
     let warnings = scene.wind.settings().check(&scene.wind_grid()?)?;
-    check_render_fits(gpu, scene, request.width, request.height, request.msaa)?;
+    crate::frame::check_fits(gpu, scene, request.width, request.height, request.msaa)?;
     let blades = field::generate(&scene.grass, scene.seed)?;
     let dynamic = field::dynamic_blades(&blades, &scene.grass.dynamics, scene.seed)?;
-    let mut renderer = Renderer::new(
+    let mut recorder = FrameRecorder::new(
         gpu,
-        request.width,
-        request.height,
+        scene,
+        (request.width, request.height),
         request.msaa,
-        scene.light.shadow_map,
         &blades,
+        Some(&dynamic),
     )?;
-    let commands = match Commands::new(gpu, "simulation set-up commands") {
-        Ok(c) => c,
-        Err(e) => {
-            renderer.destroy(gpu);
-            return Err(e);
-        }
-    };
-    let simulation = Simulation::new(gpu, &commands, scene, &dynamic, &renderer.blade_vertices);
-    commands.destroy(gpu);
-    let mut simulation = match simulation {
-        Ok(s) => s,
-        Err(e) => {
-            renderer.destroy(gpu);
-            return Err(e);
-        }
-    };
-    let result = animate(
-        gpu,
-        request,
-        &mut renderer,
-        &mut simulation,
-        out_dir,
-        observer,
-    );
+    let done = animate(gpu, request, &mut recorder, out_dir, observer)?;
+    let simulation = recorder.simulation().expect("made with dynamics");
     let (sim_dt, substeps, sim_steps) = (
         simulation.dt(),
         simulation.substeps(),
         simulation.steps_done(),
     );
-    let msaa_used = renderer.samples();
-    simulation.destroy(gpu);
-    renderer.destroy(gpu);
-    let done = result?;
+    let msaa_used = recorder.samples();
 
     let info = gpu.info();
     Ok(RenderReport {
@@ -337,15 +270,14 @@ const GIF_NAME: &str = "animation.gif";
 fn animate(
     gpu: &Gpu,
     request: &RenderRequest,
-    renderer: &mut Renderer,
-    simulation: &mut Simulation,
+    recorder: &mut FrameRecorder,
     out_dir: &Path,
     observer: &mut dyn FnMut(FrameProgress) -> bool,
 ) -> Result<Animated> {
     let planned = request.frames_written().count() as u32;
     let mut gif = if request.gif && planned > 1 {
         let seconds = request.every as f32 / request.animation.fps;
-        Some(output::GifWriter::create(&out_dir.join(GIF_NAME), seconds)?)
+        Some(files::GifWriter::create(&out_dir.join(GIF_NAME), seconds)?)
     } else {
         None
     };
@@ -365,7 +297,7 @@ fn animate(
             other => other,
         };
         let time = request.animation.time_of(f);
-        let steps = simulation.steps_until(time)?;
+        let steps = recorder.steps_until(time)?;
         let uniforms = FrameUniforms::new(
             &request.scene,
             request.width,
@@ -374,15 +306,11 @@ fn animate(
             time as f32,
         );
         let started = Instant::now();
-        let frame = renderer
-            .render_after(gpu, &uniforms, steps, |cmd, timer| {
-                simulation.record(gpu, cmd, steps, timer)
-            })
-            .map_err(at_frame)?;
+        let frame = recorder.render(gpu, &uniforms, steps).map_err(at_frame)?;
         done.wall_ms.push(started.elapsed().as_secs_f64() * 1e3);
         done.gpu_timings.push(frame.timings);
         let name = format!("frame_{f:04}.png");
-        output::write_png(&out_dir.join(&name), &frame)?;
+        files::write_png(&out_dir.join(&name), &frame)?;
         if let Some(gif) = gif.as_mut() {
             gif.add(&frame)?;
         }

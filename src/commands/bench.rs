@@ -9,15 +9,15 @@
 use std::path::Path;
 use std::time::Instant;
 
+use crate::commands::{on_gpu, write_json};
 use crate::error::{Error, Result};
-use crate::gpu::commands::Commands;
-use crate::gpu::timing::{FrameTimings, Phase, PipelineStatistics, Spread, TimingSummary};
+use crate::frame::timing::{FrameTimings, Phase, Spread, TimingSummary};
+use crate::frame::FrameRecorder;
+use crate::gpu::query::PipelineStatistics;
 use crate::gpu::{Gpu, GpuOptions, ValidationReport};
-use crate::job::check_render_fits;
-use crate::output;
 use crate::render::floor::{FloorPass, FloorShape};
-use crate::render::simulation::Simulation;
-use crate::render::{FrameUniforms, Renderer, ViewMode};
+use crate::render::{FrameUniforms, ViewMode};
+use crate::report::files;
 use crate::scene::{field, Scene, MAX_BLADES};
 
 /// One row of the paper's Table 1 (GTX 670, 8x MSAA, 8192^2 shadow map).
@@ -186,27 +186,19 @@ pub struct Bench {
 /// Runs the bench and writes DIR/bench.json, bench.md and bench.svg.
 pub fn bench_to_dir(request: &BenchRequest, out: &Path) -> Result<Bench> {
     request.validate()?;
-    output::ensure_dir(out)?;
-    let gpu = Gpu::new(&request.gpu)?;
-    let mut rows = Vec::new();
-    let mut msaa_used = 0;
-    let mut result = Ok(());
-    'counts: for &count in &request.counts {
-        for &lod in request.lod.settings() {
-            match bench_row(&gpu, request, count, lod) {
-                Ok((row, used)) => {
-                    msaa_used = used;
-                    rows.push(row);
-                }
-                Err(e) => {
-                    result = Err(e);
-                    break 'counts;
-                }
+    files::ensure_dir(out)?;
+    let ((rows, msaa_used, info), validation) = on_gpu(&request.gpu, |gpu| {
+        let mut rows = Vec::new();
+        let mut msaa_used = 0;
+        for &count in &request.counts {
+            for &lod in request.lod.settings() {
+                let (row, used) = bench_row(gpu, request, count, lod)?;
+                msaa_used = used;
+                rows.push(row);
             }
         }
-    }
-    let info = gpu.info().clone();
-    let ((), validation) = gpu.finish(result)?;
+        Ok((rows, msaa_used, gpu.info().clone()))
+    })?;
     let grid = request.scene.wind_grid()?;
     let bench = Bench {
         scene: request.scene.name.clone(),
@@ -224,10 +216,9 @@ pub fn bench_to_dir(request: &BenchRequest, out: &Path) -> Result<Bench> {
         paper_table_1: PAPER_TABLE_1.to_vec(),
         validation,
     };
-    let json = serde_json::to_vec_pretty(&bench).expect("bench serialises");
-    output::write_atomic(&out.join("bench.json"), &json)?;
-    output::write_atomic(&out.join("bench.md"), markdown(&bench).as_bytes())?;
-    output::write_atomic(&out.join("bench.svg"), svg(&bench).as_bytes())?;
+    write_json(&out.join("bench.json"), &bench)?;
+    files::write_atomic(&out.join("bench.md"), markdown(&bench).as_bytes())?;
+    files::write_atomic(&out.join("bench.svg"), svg(&bench).as_bytes())?;
     bench.validation.check()?;
     Ok(bench)
 }
@@ -242,51 +233,27 @@ fn bench_row(
     scene.set_blade_count(count)?;
     scene.lod.enabled = lod;
     let (w, h) = (request.width, request.height);
-    check_render_fits(gpu, &scene, w, h, request.msaa)?;
+    crate::frame::check_fits(gpu, &scene, w, h, request.msaa)?;
     let blades = field::generate(&scene.grass, scene.seed)?;
     let dynamic = field::dynamic_blades(&blades, &scene.grass.dynamics, scene.seed)?;
-    let mut renderer = Renderer::new(gpu, w, h, request.msaa, scene.light.shadow_map, &blades)?;
-    let commands = match Commands::new(gpu, "bench commands") {
-        Ok(c) => c,
-        Err(e) => {
-            renderer.destroy(gpu);
-            return Err(e);
-        }
-    };
-    let result = (|| {
-        let mut simulation =
-            Simulation::new(gpu, &commands, &scene, &dynamic, &renderer.blade_vertices)?;
-        let timed = run_frames(gpu, request, &scene, &mut renderer, &mut simulation);
-        simulation.destroy(gpu);
-        let (timings, wall, statistics) = timed?;
-        let floor = floor(
-            gpu,
-            &commands,
-            request,
-            &scene,
-            &renderer,
-            &statistics,
-            &timings,
-            blades.len(),
-        );
-        Ok((timings, wall, statistics, floor?))
-    })();
-    let samples = renderer.samples();
-    let (timings, wall, statistics, floor) = match result {
-        Ok(r) => r,
-        Err(e) => {
-            commands.destroy(gpu);
-            renderer.destroy(gpu);
-            return Err(e);
-        }
-    };
-    commands.destroy(gpu);
-    renderer.destroy(gpu);
+    let mut recorder =
+        FrameRecorder::new(gpu, &scene, (w, h), request.msaa, &blades, Some(&dynamic))?;
+    let (timings, wall, statistics) = run_frames(gpu, request, &scene, &mut recorder)?;
+    let floor = floor(
+        gpu,
+        request,
+        &scene,
+        &recorder,
+        &statistics,
+        &timings,
+        blades.len(),
+    )?;
+    let samples = recorder.samples();
 
     let timing = TimingSummary::of(&timings, &wall);
     let render: Option<Vec<f64>> = timings
         .iter()
-        .map(|t| t.map(|t| t.shadow + t.colour))
+        .map(|t| t.map(|t| t.shadow + t.color))
         .collect();
     let (floor, floor_unavailable) = match floor {
         Ok(f) => (Some(f), None),
@@ -322,20 +289,21 @@ fn run_frames(
     gpu: &Gpu,
     request: &BenchRequest,
     scene: &Scene,
-    renderer: &mut Renderer,
-    simulation: &mut Simulation,
+    recorder: &mut FrameRecorder,
 ) -> Result<Timed> {
+    let simulation = recorder.simulation().expect("made with dynamics");
+    let dt = simulation.dt();
+    let mut steps_done = simulation.steps_done();
     let mut timings = Vec::new();
     let mut wall = Vec::new();
     let mut statistics = None;
     for f in 0..request.warmup + request.frames {
-        let time = (simulation.steps_done() + 1) as f32 * simulation.dt();
+        steps_done += 1;
+        let time = steps_done as f32 * dt;
         let uniforms =
             FrameUniforms::new(scene, request.width, request.height, ViewMode::Shaded, time);
         let started = Instant::now();
-        let frame = renderer.render_after(gpu, &uniforms, 1, |cmd, timer| {
-            simulation.record(gpu, cmd, 1, timer)
-        })?;
+        let frame = recorder.render(gpu, &uniforms, 1)?;
         if f >= request.warmup {
             wall.push(started.elapsed().as_secs_f64() * 1e3);
             timings.push(frame.timings);
@@ -346,13 +314,11 @@ fn run_frames(
 }
 
 /// The floor for this row, or why there is none.
-#[allow(clippy::too_many_arguments)]
 fn floor(
     gpu: &Gpu,
-    commands: &Commands,
     request: &BenchRequest,
     scene: &Scene,
-    renderer: &Renderer,
+    recorder: &FrameRecorder,
     statistics: &Option<PipelineStatistics>,
     timings: &[Option<FrameTimings>],
     blades: usize,
@@ -368,15 +334,15 @@ fn floor(
     };
     let segments =
         ((stats.geometry_shader_primitives as f64 / (2.0 * blades as f64)).round() as u32).max(1);
-    let Some(mut pass) = FloorPass::new(gpu, renderer.targets.formats(), &renderer.blade_vertices)?
-    else {
+    let blade_vertices = recorder.blades().buffer();
+    let Some(mut pass) = FloorPass::new(gpu, recorder.renderer().formats(), blade_vertices)? else {
         return Ok(Err("no timestamps on this device".into()));
     };
     let uniforms = FrameUniforms::new(scene, request.width, request.height, ViewMode::Shaded, 0.0);
     let times = pass.time(
-        gpu,
-        commands,
-        &renderer.targets,
+        recorder.commands(),
+        recorder.renderer().targets(),
+        blade_vertices,
         &uniforms,
         FloorShape {
             blades: blades as u32,
@@ -384,7 +350,6 @@ fn floor(
         },
         request.frames,
     );
-    pass.destroy(gpu);
     let draw_ms = Spread::of(&times?).expect("at least one frame");
     Ok(Ok(FloorResult {
         segments_per_blade: segments,
@@ -475,7 +440,7 @@ pub fn markdown(b: &Bench) -> String {
             r.blades,
             if r.lod { "on" } else { "off" },
             ms(g.map(|g| g.shadow)),
-            ms(g.map(|g| g.colour)),
+            ms(g.map(|g| g.color)),
             ms(g.map(|g| g.grass_draw)),
             ms(g.map(|g| g.readback)),
             ms(g.map(|g| g.frame)),
@@ -515,14 +480,14 @@ pub fn svg(b: &Bench) -> String {
     let plot_w = width - left - right;
     let plot_h = height - top - bottom;
 
-    // Series: (label, colour, dashed, opacity, points).
+    // Series: (label, color, dashed, opacity, points).
     type Series = (String, &'static str, bool, f64, Vec<(f64, f64)>);
     let mut series: Vec<Series> = Vec::new();
     let phases = [
         (Phase::Wind, "#1f77b4"),
         (Phase::Grass, "#2ca02c"),
         (Phase::Shadow, "#7f7f7f"),
-        (Phase::Colour, "#ff7f0e"),
+        (Phase::Color, "#ff7f0e"),
         (Phase::Frame, "#d62728"),
     ];
     for lod in [true, false] {
@@ -530,7 +495,7 @@ pub fn svg(b: &Bench) -> String {
         if rows.is_empty() {
             continue;
         }
-        for (phase, colour) in phases {
+        for (phase, color) in phases {
             let points: Vec<(f64, f64)> = rows
                 .iter()
                 .filter_map(|r| {
@@ -546,7 +511,7 @@ pub fn svg(b: &Bench) -> String {
                         phase.name(),
                         if lod { "on" } else { "off" }
                     ),
-                    colour,
+                    color,
                     false,
                     if lod { 1.0 } else { 0.45 },
                     points,
@@ -650,7 +615,7 @@ pub fn svg(b: &Bench) -> String {
         top + plot_h / 2.0,
         top + plot_h / 2.0
     );
-    for (i, (label, colour, dashed, opacity, points)) in series.iter().enumerate() {
+    for (i, (label, color, dashed, opacity, points)) in series.iter().enumerate() {
         let path: Vec<String> = points
             .iter()
             .map(|&(x, y)| format!("{:.1},{:.1}", sx(x), sy(y)))
@@ -661,13 +626,13 @@ pub fn svg(b: &Bench) -> String {
             ""
         };
         out += &format!(
-            "<polyline points=\"{}\" fill=\"none\" stroke=\"{colour}\" stroke-width=\"2\" stroke-opacity=\"{opacity}\"{dash}/>\n",
+            "<polyline points=\"{}\" fill=\"none\" stroke=\"{color}\" stroke-width=\"2\" stroke-opacity=\"{opacity}\"{dash}/>\n",
             path.join(" ")
         );
         let ly = top + 10.0 + i as f64 * 18.0;
         let lx = left + plot_w + 12.0;
         out += &format!(
-            "<line x1=\"{lx:.1}\" y1=\"{ly:.1}\" x2=\"{:.1}\" y2=\"{ly:.1}\" stroke=\"{colour}\" stroke-width=\"2\" stroke-opacity=\"{opacity}\"{dash}/>\n\
+            "<line x1=\"{lx:.1}\" y1=\"{ly:.1}\" x2=\"{:.1}\" y2=\"{ly:.1}\" stroke=\"{color}\" stroke-width=\"2\" stroke-opacity=\"{opacity}\"{dash}/>\n\
              <text x=\"{:.1}\" y=\"{:.1}\">{}</text>\n",
             lx + 24.0,
             lx + 30.0,

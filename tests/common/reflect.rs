@@ -9,9 +9,8 @@
 
 use std::collections::BTreeMap;
 
-use ash::vk;
-
-use crate::shaders::Spirv;
+pub use meadow::gpu::DescriptorKind;
+use meadow::shaders::Spirv;
 
 /// One descriptor binding a shader declares.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
@@ -19,30 +18,6 @@ pub struct Binding {
     pub set: u32,
     pub binding: u32,
     pub ty: DescriptorKind,
-}
-
-/// The descriptor types meadow uses, comparable with `vk::DescriptorType`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
-pub enum DescriptorKind {
-    UniformBuffer,
-    StorageBuffer,
-    CombinedImageSampler,
-    SampledImage,
-    StorageImage,
-    Sampler,
-}
-
-impl DescriptorKind {
-    pub fn vk(self) -> vk::DescriptorType {
-        match self {
-            DescriptorKind::UniformBuffer => vk::DescriptorType::UNIFORM_BUFFER,
-            DescriptorKind::StorageBuffer => vk::DescriptorType::STORAGE_BUFFER,
-            DescriptorKind::CombinedImageSampler => vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
-            DescriptorKind::SampledImage => vk::DescriptorType::SAMPLED_IMAGE,
-            DescriptorKind::StorageImage => vk::DescriptorType::STORAGE_IMAGE,
-            DescriptorKind::Sampler => vk::DescriptorType::SAMPLER,
-        }
-    }
 }
 
 /// Parses and validates a module with naga and returns the bindings its
@@ -148,7 +123,7 @@ pub fn scan_bindings(spirv: &Spirv) -> Result<Vec<Binding>, String> {
     const SC_UNIFORM: u32 = 2;
     const SC_STORAGE_BUFFER: u32 = 12;
 
-    let words = crate::gpu::shader::words(spirv).map_err(|e| e.to_string())?;
+    let words = spirv.words().map_err(|e| e.to_string())?;
     if words.len() < 5 || words[0] != 0x0723_0203 {
         return Err(format!("{}: not SPIR-V", spirv.path));
     }

@@ -8,7 +8,7 @@ use image::ImageEncoder;
 use std::path::{Path, PathBuf};
 
 use crate::error::{Error, Result};
-use crate::render::Frame;
+use crate::frame::Frame;
 
 /// Creates `dir` (and parents), with an error that names it.
 pub fn ensure_dir(dir: &Path) -> Result<()> {

@@ -8,10 +8,10 @@ use std::path::Path;
 
 use base64::Engine as _;
 
+use crate::commands::render::{render_to_dir, RenderReport, RenderRequest};
 use crate::error::Result;
 use crate::gpu::GpuOptions;
-use crate::job::{render_to_dir, RenderReport, RenderRequest};
-use crate::output;
+use crate::report::files;
 use crate::scene::{Scene, ViewMode};
 
 /// One rendered picture (or frame sequence) of a figure.
@@ -29,7 +29,7 @@ pub struct Shot {
 
 pub struct Figure {
     pub title: &'static str,
-    /// What the paper's figure shows (method.md section 6).
+    /// What the paper's figure shows.
     pub paper: &'static str,
     pub shots: Vec<Shot>,
 }
@@ -181,7 +181,7 @@ pub fn reproduce(
 ) -> Result<Vec<Rendered>> {
     let b = budget(quick);
     let figures = plan(quick)?;
-    output::ensure_dir(out)?;
+    files::ensure_dir(out)?;
     let mut rendered = Vec::new();
     for (index, figure) in figures.iter().enumerate() {
         for s in &figure.shots {
@@ -203,11 +203,11 @@ pub fn reproduce(
             });
         }
     }
-    output::write_atomic(
+    files::write_atomic(
         &out.join("index.md"),
         markdown(&figures, &rendered, quick).as_bytes(),
     )?;
-    output::write_atomic(
+    files::write_atomic(
         &out.join("index.html"),
         html(&figures, &rendered, out, quick)?.as_bytes(),
     )?;

@@ -4,13 +4,14 @@
 //! 100K / 150K / 200K blades on a GTX 670). The wind is solved for a while
 //! first so that the blades move, and then held: only the grass is timed.
 
+use crate::commands::on_gpu;
 use crate::error::{Error, Result};
-use crate::gpu::commands::Commands;
-use crate::gpu::timing::{median_p95, TimestampQueries};
-use crate::gpu::{Buffer, Gpu, GpuOptions, ValidationReport};
-use crate::render::grass_pass::{vertex_buffer, GrassPass};
-use crate::render::wind_pass::WindPass;
+use crate::frame::timing::median_p95;
+use crate::frame::BladeBuffer;
+use crate::gpu::query::TimestampQueries;
+use crate::gpu::{Commands, Gpu, GpuOptions, ValidationReport};
 use crate::scene::{field, Scene, MAX_BLADES};
+use crate::simulate::{GrassPass, WindPass};
 
 /// The paper's grass-step times (ms) on a GTX 670, by blade count.
 pub const PAPER_GRASS_MS: [(usize, f64); 4] = [
@@ -66,13 +67,13 @@ pub fn bench_grass(
     }
     scene.wind_grid()?;
     scene.grass.dynamics.validate()?;
-    let gpu = Gpu::new(options)?;
-    let rows = counts
-        .iter()
-        .map(|&n| bench_count(&gpu, scene, n, steps, warmup))
-        .collect::<Result<Vec<_>>>();
-    let info = gpu.info().clone();
-    let (rows, validation) = gpu.finish(rows)?;
+    let ((rows, info), validation) = on_gpu(options, |gpu| {
+        let rows = counts
+            .iter()
+            .map(|&n| bench_count(gpu, scene, n, steps, warmup))
+            .collect::<Result<Vec<_>>>()?;
+        Ok((rows, gpu.info().clone()))
+    })?;
     let bench = GrassBench {
         scene: scene.name.clone(),
         device: info.name,
@@ -97,86 +98,64 @@ fn bench_count(
     let dynamic = field::dynamic_blades(&blades, &scene.grass.dynamics, scene.seed)?;
     gpu.check_fits(
         &format!("{count} blades"),
-        crate::render::grass_pass::device_bytes(count),
+        crate::simulate::grass_pass::device_bytes(count),
     )?;
 
     let grid = scene.wind_grid()?;
     let dt = scene.wind.dt;
     let commands = Commands::new(gpu, "grass bench commands")?;
-    let mut owned: Vec<Buffer> = Vec::new();
-    let mut wind = None;
-    let mut grass = None;
-    let mut timestamps = None;
-    let result = (|| {
-        let w = wind.insert(WindPass::new(gpu, &commands, grid, &scene.wind.settings())?);
-        let cmd = commands.begin(gpu)?;
-        for i in 0..WIND_WARMUP_STEPS {
-            w.record_step(gpu, cmd, i as f32 * dt, dt);
-        }
-        commands.submit_and_wait(gpu, "wind warm-up")?;
-        owned.push(vertex_buffer(gpu, "grass bench vertices", count)?);
-        let g = grass.insert(GrassPass::new(
-            gpu,
-            &commands,
-            &dynamic,
-            &owned[0],
-            w.velocity(),
-            &grid,
-            dt,
-        )?);
-        let t = TimestampQueries::new(gpu, steps, "grass step timestamps")?;
-        let t = timestamps.insert(t);
+    let wind = WindPass::new(gpu, &commands, grid, &scene.wind.settings())?;
+    let rec = commands.begin()?;
+    for i in 0..WIND_WARMUP_STEPS {
+        wind.record_step(&rec, i as f32 * dt, dt);
+    }
+    rec.submit_and_wait("wind warm-up")?;
+    let vertices = BladeBuffer::uninitialised(gpu, "grass bench vertices", count)?;
+    let grass = GrassPass::new(
+        gpu,
+        &commands,
+        &dynamic,
+        vertices.buffer(),
+        wind.velocity(),
+        &grid,
+        dt,
+    )?;
+    let timestamps = TimestampQueries::new(gpu, steps, "grass step timestamps")?;
 
-        let cmd = commands.begin(gpu)?;
-        for _ in 0..warmup {
-            g.record_step(gpu, cmd, 0);
+    let rec = commands.begin()?;
+    for _ in 0..warmup {
+        grass.record_step(&rec, 0);
+    }
+    if let Some(t) = &timestamps {
+        t.reset(&rec);
+    }
+    for n in 0..steps {
+        if let Some(t) = &timestamps {
+            t.stamp(&rec, n, false);
         }
-        if let Some(t) = t {
-            t.reset(gpu, cmd);
+        grass.record_step(&rec, 0);
+        if let Some(t) = &timestamps {
+            t.stamp(&rec, n, true);
         }
-        for n in 0..steps {
-            if let Some(t) = t {
-                t.stamp(gpu, cmd, n, false);
-            }
-            g.record_step(gpu, cmd, 0);
-            if let Some(t) = t {
-                t.stamp(gpu, cmd, n, true);
-            }
-        }
-        commands.submit_and_wait(gpu, "grass steps")?;
-        let times = match t {
-            Some(t) => t.read_ms(gpu, steps)?,
-            None => Vec::new(),
-        };
-        let timing = median_p95(&times);
-        Ok(GrassBenchRow {
-            blades: count,
-            substeps: g.substeps(),
-            steps,
-            warmup,
-            step_ms_median: timing.map(|t| t.0),
-            step_ms_p95: timing.map(|t| t.1),
-            paper_ms: PAPER_GRASS_MS
-                .iter()
-                .find(|(n, _)| *n == count)
-                .map(|(_, ms)| *ms),
-        })
-    })();
-    gpu.wait_idle();
-    if let Some(Some(t)) = timestamps {
-        t.destroy(gpu);
     }
-    if let Some(g) = grass {
-        g.destroy(gpu);
-    }
-    for b in owned {
-        b.destroy(gpu);
-    }
-    if let Some(w) = wind {
-        w.destroy(gpu);
-    }
-    commands.destroy(gpu);
-    result
+    rec.submit_and_wait("grass steps")?;
+    let times = match &timestamps {
+        Some(t) => t.read_ms(steps)?,
+        None => Vec::new(),
+    };
+    let timing = median_p95(&times);
+    Ok(GrassBenchRow {
+        blades: count,
+        substeps: grass.substeps(),
+        steps,
+        warmup,
+        step_ms_median: timing.map(|t| t.0),
+        step_ms_p95: timing.map(|t| t.1),
+        paper_ms: PAPER_GRASS_MS
+            .iter()
+            .find(|(n, _)| *n == count)
+            .map(|(_, ms)| *ms),
+    })
 }
 
 /// "50k" -> 50000, "1.5m" -> 1500000, "1200" -> 1200.

@@ -1,0 +1,26 @@
+//! `meadow devices`: every Vulkan device on this machine, whether it can
+//! run meadow (and if not, what it lacks), one line each.
+
+use crate::error::Result;
+use crate::gpu::{DeviceInfo, Gpu, GpuOptions, ValidationReport};
+
+/// The devices and what validation said of the instance.
+pub fn devices(options: &GpuOptions) -> Result<(Vec<DeviceInfo>, ValidationReport)> {
+    Gpu::list_devices(options)
+}
+
+/// One line for a device.
+pub fn line(d: &DeviceInfo) -> String {
+    format!(
+        "{}  [{}]  Vulkan {}  {}  max MSAA {}x  {}",
+        d.name,
+        d.device_type,
+        d.api_version,
+        d.driver,
+        d.max_msaa,
+        match &d.missing {
+            None => "qualifies".to_string(),
+            Some(f) => format!("does not qualify: lacks {f}"),
+        }
+    )
+}

@@ -1,0 +1,244 @@
+//! One frame, both of the paper's phases: the blade buffer they share, and
+//! the frame recorder, which owns the command buffer, the phase timer and
+//! the pipeline-statistics query, and records, in one submission:
+//!
+//! simulate (wind step, grass step) x steps -> shadow pass -> colour pass
+//! (sky, ground, grass) -> read-back.
+//!
+//! The simulating and rendering phases do not know each other; this is the
+//! one place that puts them in order.
+
+pub mod blades;
+pub mod timing;
+
+use crate::error::{Error, Result};
+use crate::gpu::query::{PipelineStatistics, Span, SpanTimer, StatisticsQuery};
+use crate::gpu::{Commands, Gpu, Recording};
+use crate::render::{FrameUniforms, Renderer};
+use crate::scene::{Scene, ViewMode};
+use crate::sim::{Blade, GrassBlade};
+use crate::simulate::Simulation;
+
+pub use blades::BladeBuffer;
+use timing::{FrameTimings, Phase};
+
+/// A finished frame on the host.
+pub struct Frame {
+    pub width: u32,
+    pub height: u32,
+    /// RGBA8, sRGB-encoded, rows top to bottom.
+    pub rgba: Vec<u8>,
+    /// Counters of the grass draw alone (None where unsupported).
+    pub statistics: Option<PipelineStatistics>,
+    /// GPU time of each phase (None where the device has no timestamps).
+    pub timings: Option<FrameTimings>,
+}
+
+/// What a frame needs: the blades, the simulating phase (none for a still
+/// of blades at rest), the rendering phase, and the recording of both.
+pub struct FrameRecorder {
+    // Declared first, dropped first: the grass kernel's set names the
+    // blade buffer.
+    simulation: Option<Simulation>,
+    renderer: Renderer,
+    blades: BladeBuffer,
+    statistics: StatisticsQuery,
+    timer: Option<SpanTimer<Phase>>,
+    commands: Commands,
+    extent: (u32, u32),
+}
+
+impl FrameRecorder {
+    /// A `width` x `height` view with up to `msaa` samples of `blades` as
+    /// `scene` lights them; with `dynamics` (one per blade) they move in
+    /// the scene's wind, else they stay at rest.
+    pub fn new(
+        gpu: &Gpu,
+        scene: &Scene,
+        (width, height): (u32, u32),
+        msaa: u32,
+        blades: &[Blade],
+        dynamics: Option<&[GrassBlade]>,
+    ) -> Result<Self> {
+        let commands = Commands::new(gpu, "frame commands")?;
+        let renderer = Renderer::new(gpu, &commands, width, height, msaa, scene.light.shadow_map)?;
+        let statistics = StatisticsQuery::new(gpu, "grass pipeline statistics")?;
+        let timer = SpanTimer::new(gpu, 16, "frame phase timestamps")?;
+        let blade_buffer = BladeBuffer::new(gpu, &commands, blades)?;
+        let simulation = dynamics
+            .map(|d| Simulation::new(gpu, &commands, scene, d, blade_buffer.buffer()))
+            .transpose()?;
+        Ok(Self {
+            simulation,
+            renderer,
+            blades: blade_buffer,
+            statistics,
+            timer,
+            commands,
+            extent: (width, height),
+        })
+    }
+
+    /// The MSAA sample count actually used.
+    pub fn samples(&self) -> u32 {
+        self.renderer.samples()
+    }
+
+    pub fn simulation(&self) -> Option<&Simulation> {
+        self.simulation.as_ref()
+    }
+
+    pub fn renderer(&self) -> &Renderer {
+        &self.renderer
+    }
+
+    pub fn blades(&self) -> &BladeBuffer {
+        &self.blades
+    }
+
+    pub fn commands(&self) -> &Commands {
+        &self.commands
+    }
+
+    /// Simulation steps needed to reach `time` (0 without a simulation).
+    pub fn steps_until(&self, time: f64) -> Result<u64> {
+        self.simulation
+            .as_ref()
+            .map_or(Ok(0), |s| s.steps_until(time))
+    }
+
+    /// Records `steps` simulation steps and then the frame into one command
+    /// buffer, submits it and reads the frame back.
+    pub fn render(&mut self, gpu: &Gpu, uniforms: &FrameUniforms, steps: u64) -> Result<Frame> {
+        if steps > 0 && self.simulation.is_none() {
+            return Err(Error::InvalidInput(
+                "a still of blades at rest cannot be simulated".into(),
+            ));
+        }
+        self.renderer.set_uniforms(uniforms);
+        // Two spans per simulation step, five for the frame's own phases.
+        if let Some(timer) = self.timer.as_mut() {
+            let pairs = u32::try_from(steps.saturating_mul(2).saturating_add(5)).map_err(|_| {
+                Error::InvalidInput(format!(
+                    "{steps} simulation steps in one frame are too many to time"
+                ))
+            })?;
+            timer.reserve(gpu, pairs)?;
+        }
+        let Self {
+            simulation,
+            renderer,
+            blades,
+            statistics,
+            timer,
+            commands,
+            ..
+        } = self;
+        let (buffer, count) = (blades.buffer(), blades.count());
+        let rec = commands.begin()?;
+        let mut t = Timer(timer.as_mut());
+        t.reset(&rec);
+        let frame = t.begin(&rec, Phase::Frame);
+        if let Some(simulation) = simulation {
+            for _ in 0..steps {
+                t.span(&rec, Phase::Wind, |rec| simulation.record_wind_step(rec));
+                t.span(&rec, Phase::Grass, |rec| simulation.record_grass_step(rec));
+            }
+        }
+        t.span(&rec, Phase::Shadow, |rec| {
+            renderer.record_shadow(rec, buffer, count)
+        });
+        statistics.reset(&rec);
+        let color = t.begin(&rec, Phase::Color);
+        renderer.begin_color(&rec);
+        t.span(&rec, Phase::GrassDraw, |rec| {
+            statistics.begin(rec);
+            renderer.draw_grass(rec, buffer, count);
+            statistics.end(rec);
+        });
+        renderer.end_color(&rec);
+        t.end(&rec, color);
+        t.span(&rec, Phase::Readback, |rec| renderer.record_readback(rec));
+        t.end(&rec, frame);
+        rec.submit_and_wait("rendering a frame")?;
+
+        let timings = match &self.timer {
+            Some(t) => {
+                let mut times = FrameTimings::default();
+                for (phase, ms) in t.read()? {
+                    *times.get_mut(phase) += ms;
+                }
+                Some(times)
+            }
+            None => None,
+        };
+        Ok(Frame {
+            width: self.extent.0,
+            height: self.extent.1,
+            rgba: self.renderer.pixels(),
+            statistics: self.statistics.read()?,
+            timings,
+        })
+    }
+}
+
+/// The phase timer where the device has one: spans around recorded work.
+struct Timer<'t>(Option<&'t mut SpanTimer<Phase>>);
+
+impl Timer<'_> {
+    fn reset(&mut self, rec: &Recording) {
+        if let Some(t) = self.0.as_deref_mut() {
+            t.reset(rec);
+        }
+    }
+
+    fn begin(&mut self, rec: &Recording, phase: Phase) -> Option<Span> {
+        self.0.as_deref_mut().map(|t| t.begin(rec, phase))
+    }
+
+    fn end(&self, rec: &Recording, span: Option<Span>) {
+        if let (Some(t), Some(span)) = (self.0.as_deref(), span) {
+            t.end(rec, span);
+        }
+    }
+
+    fn span(&mut self, rec: &Recording, phase: Phase, work: impl FnOnce(&Recording)) {
+        let span = self.begin(rec, phase);
+        work(rec);
+        self.end(rec, span);
+    }
+}
+
+/// Renders one frame of `blades` at rest as `scene` lights them: the
+/// building block of the still-picture tests. Returns the frame and the
+/// MSAA count used.
+pub fn render_blades(
+    gpu: &Gpu,
+    scene: &Scene,
+    blades: &[Blade],
+    (width, height): (u32, u32),
+    msaa: u32,
+    view: ViewMode,
+) -> Result<(Frame, u32)> {
+    let mut recorder = FrameRecorder::new(gpu, scene, (width, height), msaa, blades, None)?;
+    let uniforms = FrameUniforms::new(scene, width, height, view, 0.0);
+    let frame = recorder.render(gpu, &uniforms, 0)?;
+    Ok((frame, recorder.samples()))
+}
+
+/// Refuses, before anything is allocated, a view whose grass buffers,
+/// frame targets (colour and depth per sample, the resolved image and its
+/// read-back copy) and shadow map would not fit the GPU memory budget; the
+/// wind grid checks its own.
+pub fn check_fits(gpu: &Gpu, scene: &Scene, width: u32, height: u32, msaa: u32) -> Result<()> {
+    let pixels = width as u64 * height as u64;
+    gpu.check_fits(
+        &format!(
+            "{} blades at {width}x{height} with {msaa}x MSAA",
+            scene.blade_count()
+        ),
+        crate::simulate::grass_pass::device_bytes(scene.blade_count())
+            + pixels * (8 * msaa as u64 + 8)
+            + 4 * (scene.light.shadow_map as u64).pow(2),
+    )
+}

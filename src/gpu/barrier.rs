@@ -1,0 +1,185 @@
+//! Barriers by name. An `Access` is what a stage does to a resource (and
+//! the image layout it does it in); a barrier goes from the accesses that
+//! must finish to those that wait. Only writes need making available, so
+//! the read flags of the earlier side are dropped: `from` may name a read
+//! (the previous frame sampled the shadow map) for an execution dependency.
+
+use ash::vk;
+
+use crate::gpu::Image;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Access {
+    pub(super) stage: vk::PipelineStageFlags2,
+    pub(super) access: vk::AccessFlags2,
+    /// The layout an image is in for this access (UNDEFINED for buffers).
+    pub(super) layout: vk::ImageLayout,
+}
+
+const fn access(
+    stage: vk::PipelineStageFlags2,
+    access: vk::AccessFlags2,
+    layout: vk::ImageLayout,
+) -> Access {
+    Access {
+        stage,
+        access,
+        layout,
+    }
+}
+
+const NO_LAYOUT: vk::ImageLayout = vk::ImageLayout::UNDEFINED;
+const FRAGMENT_TESTS: vk::PipelineStageFlags2 = vk::PipelineStageFlags2::from_raw(
+    vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS.as_raw()
+        | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS.as_raw(),
+);
+
+impl Access {
+    /// Nothing before: a fresh resource.
+    pub const NONE: Self = access(
+        vk::PipelineStageFlags2::NONE,
+        vk::AccessFlags2::NONE,
+        NO_LAYOUT,
+    );
+    /// Any earlier write by any command.
+    pub const ANY_WRITE: Self = access(
+        vk::PipelineStageFlags2::ALL_COMMANDS,
+        vk::AccessFlags2::MEMORY_WRITE,
+        NO_LAYOUT,
+    );
+    /// Transfers writing (fills and copies).
+    pub const TRANSFER_WRITE: Self = access(
+        vk::PipelineStageFlags2::ALL_TRANSFER,
+        vk::AccessFlags2::TRANSFER_WRITE,
+        NO_LAYOUT,
+    );
+    pub const COPY_READ: Self = access(
+        vk::PipelineStageFlags2::COPY,
+        vk::AccessFlags2::TRANSFER_READ,
+        vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+    );
+    pub const COPY_WRITE: Self = access(
+        vk::PipelineStageFlags2::COPY,
+        vk::AccessFlags2::TRANSFER_WRITE,
+        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+    );
+    pub const HOST_READ: Self = access(
+        vk::PipelineStageFlags2::HOST,
+        vk::AccessFlags2::HOST_READ,
+        NO_LAYOUT,
+    );
+    pub const COMPUTE_READ: Self = access(
+        vk::PipelineStageFlags2::COMPUTE_SHADER,
+        vk::AccessFlags2::SHADER_STORAGE_READ,
+        NO_LAYOUT,
+    );
+    pub const COMPUTE_WRITE: Self = access(
+        vk::PipelineStageFlags2::COMPUTE_SHADER,
+        vk::AccessFlags2::SHADER_STORAGE_WRITE,
+        NO_LAYOUT,
+    );
+    pub const COMPUTE_READ_WRITE: Self = Self::COMPUTE_READ.and(Self::COMPUTE_WRITE);
+    /// The vertex stage reading a storage buffer.
+    pub const VERTEX_SHADER_READ: Self = access(
+        vk::PipelineStageFlags2::VERTEX_SHADER,
+        vk::AccessFlags2::SHADER_STORAGE_READ,
+        NO_LAYOUT,
+    );
+    /// Vertex input reading a vertex buffer.
+    pub const VERTEX_INPUT: Self = access(
+        vk::PipelineStageFlags2::VERTEX_ATTRIBUTE_INPUT,
+        vk::AccessFlags2::VERTEX_ATTRIBUTE_READ,
+        NO_LAYOUT,
+    );
+    pub const COLOR_ATTACHMENT_WRITE: Self = access(
+        vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+        vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
+        vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+    );
+    pub const COLOR_ATTACHMENT: Self = Self::COLOR_ATTACHMENT_WRITE.and(access(
+        vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+        vk::AccessFlags2::COLOR_ATTACHMENT_READ,
+        NO_LAYOUT,
+    ));
+    pub const DEPTH_ATTACHMENT: Self = access(
+        FRAGMENT_TESTS,
+        vk::AccessFlags2::from_raw(
+            vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ.as_raw()
+                | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE.as_raw(),
+        ),
+        vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
+    );
+    /// Fragment shaders sampling an image.
+    pub const FRAGMENT_SAMPLED: Self = access(
+        vk::PipelineStageFlags2::FRAGMENT_SHADER,
+        vk::AccessFlags2::SHADER_SAMPLED_READ,
+        vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+    );
+
+    /// Both accesses (stages and flags); the layout stays `self`'s.
+    pub const fn and(self, other: Self) -> Self {
+        access(
+            vk::PipelineStageFlags2::from_raw(self.stage.as_raw() | other.stage.as_raw()),
+            vk::AccessFlags2::from_raw(self.access.as_raw() | other.access.as_raw()),
+            self.layout,
+        )
+    }
+
+    /// The write flags alone: what an earlier side must make available.
+    pub(super) fn writes(self) -> vk::AccessFlags2 {
+        let writes = vk::AccessFlags2::SHADER_WRITE
+            | vk::AccessFlags2::SHADER_STORAGE_WRITE
+            | vk::AccessFlags2::COLOR_ATTACHMENT_WRITE
+            | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE
+            | vk::AccessFlags2::TRANSFER_WRITE
+            | vk::AccessFlags2::HOST_WRITE
+            | vk::AccessFlags2::MEMORY_WRITE;
+        self.access & writes
+    }
+}
+
+/// An image going from one access to another. `discard` drops its contents
+/// (the old layout is UNDEFINED): for targets cleared or overwritten next.
+#[derive(Clone, Copy)]
+pub struct ImageTransition<'a> {
+    pub image: &'a Image,
+    pub from: Access,
+    pub to: Access,
+    pub discard: bool,
+}
+
+impl<'a> ImageTransition<'a> {
+    pub fn new(image: &'a Image, from: Access, to: Access) -> Self {
+        Self {
+            image,
+            from,
+            to,
+            discard: false,
+        }
+    }
+
+    /// As `new`, dropping the contents.
+    pub fn discarding(image: &'a Image, from: Access, to: Access) -> Self {
+        Self {
+            discard: true,
+            ..Self::new(image, from, to)
+        }
+    }
+
+    pub(super) fn vk(&self) -> vk::ImageMemoryBarrier2<'static> {
+        let old = if self.discard {
+            vk::ImageLayout::UNDEFINED
+        } else {
+            self.from.layout
+        };
+        vk::ImageMemoryBarrier2::default()
+            .src_stage_mask(self.from.stage)
+            .src_access_mask(self.from.writes())
+            .dst_stage_mask(self.to.stage)
+            .dst_access_mask(self.to.access)
+            .old_layout(old)
+            .new_layout(self.to.layout)
+            .image(self.image.raw)
+            .subresource_range(self.image.subresource_range())
+    }
+}

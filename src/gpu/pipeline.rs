@@ -1,0 +1,165 @@
+//! Compute and graphics pipelines, each made with a `PipelineLayout`.
+
+use std::sync::Arc;
+
+use ash::vk;
+
+use crate::error::{Error, Result};
+use crate::gpu::descriptors::PipelineLayout;
+use crate::gpu::owned::Owned;
+use crate::gpu::shader::{self, Spirv};
+use crate::gpu::Gpu;
+
+/// Formats and sample count a graphics pipeline renders into.
+#[derive(Clone, Copy, Debug)]
+pub struct TargetFormats {
+    /// None: depth only.
+    pub color: Option<vk::Format>,
+    pub depth: vk::Format,
+    pub samples: vk::SampleCountFlags,
+}
+
+/// The fixed-function choices that differ between meadow's graphics
+/// pipelines. All are two-sided (blades are thin sheets seen from both
+/// sides) with dynamic viewport and scissor.
+pub struct GraphicsDesc<'a> {
+    pub name: &'a str,
+    pub stages: &'a [&'a Spirv],
+    pub topology: vk::PrimitiveTopology,
+    pub vertex_bindings: &'a [vk::VertexInputBindingDescription],
+    pub vertex_attributes: &'a [vk::VertexInputAttributeDescription],
+    /// Control points per patch; 0 without tessellation.
+    pub patch_control_points: u32,
+    pub depth_test: bool,
+    /// Constant and slope depth bias (shadow maps), or none.
+    pub depth_bias: Option<(f32, f32)>,
+    pub targets: TargetFormats,
+}
+
+pub struct Pipeline {
+    pub(super) layout: Arc<PipelineLayout>,
+    raw: Owned<vk::Pipeline>,
+    pub(super) bind_point: vk::PipelineBindPoint,
+}
+
+impl Pipeline {
+    pub(super) fn raw(&self) -> vk::Pipeline {
+        self.raw.raw()
+    }
+
+    /// A compute pipeline running `spirv`'s `main`, named after its file.
+    pub fn compute(gpu: &Gpu, layout: &Arc<PipelineLayout>, spirv: &Spirv) -> Result<Self> {
+        let device = gpu.device();
+        let module = shader::module(gpu, spirv)?;
+        let stage = vk::PipelineShaderStageCreateInfo::default()
+            .stage(vk::ShaderStageFlags::COMPUTE)
+            .module(module.raw())
+            .name(c"main");
+        let info = vk::ComputePipelineCreateInfo::default()
+            .stage(stage)
+            .layout(layout.raw());
+        // SAFETY: a valid create info whose module and layout are live.
+        let raw = unsafe {
+            device
+                .raw
+                .create_compute_pipelines(vk::PipelineCache::null(), &[info], None)
+        }
+        .map_err(|(_, r)| Error::vk("vkCreateComputePipelines", spirv.path, r))?[0];
+        Ok(Self {
+            layout: layout.clone(),
+            raw: Owned::new(device, raw, spirv.path),
+            bind_point: vk::PipelineBindPoint::COMPUTE,
+        })
+    }
+
+    pub fn graphics(gpu: &Gpu, layout: &Arc<PipelineLayout>, desc: &GraphicsDesc) -> Result<Self> {
+        let device = gpu.device();
+        let modules = desc
+            .stages
+            .iter()
+            .map(|spirv| shader::module(gpu, spirv))
+            .collect::<Result<Vec<_>>>()?;
+        let stage_infos: Vec<_> = desc
+            .stages
+            .iter()
+            .zip(&modules)
+            .map(|(spirv, module)| {
+                vk::PipelineShaderStageCreateInfo::default()
+                    .stage(spirv.stage.vk())
+                    .module(module.raw())
+                    .name(c"main")
+            })
+            .collect();
+        let vertex_input = vk::PipelineVertexInputStateCreateInfo::default()
+            .vertex_binding_descriptions(desc.vertex_bindings)
+            .vertex_attribute_descriptions(desc.vertex_attributes);
+        let input_assembly =
+            vk::PipelineInputAssemblyStateCreateInfo::default().topology(desc.topology);
+        let tessellation = vk::PipelineTessellationStateCreateInfo::default()
+            .patch_control_points(desc.patch_control_points);
+        let viewport = vk::PipelineViewportStateCreateInfo::default()
+            .viewport_count(1)
+            .scissor_count(1);
+        let raster = vk::PipelineRasterizationStateCreateInfo::default()
+            .polygon_mode(vk::PolygonMode::FILL)
+            .cull_mode(vk::CullModeFlags::NONE)
+            .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
+            .line_width(1.0);
+        let raster = match desc.depth_bias {
+            Some((constant, slope)) => raster
+                .depth_bias_enable(true)
+                .depth_bias_constant_factor(constant)
+                .depth_bias_slope_factor(slope),
+            None => raster,
+        };
+        let multisample = vk::PipelineMultisampleStateCreateInfo::default()
+            .rasterization_samples(desc.targets.samples);
+        let depth = vk::PipelineDepthStencilStateCreateInfo::default()
+            .depth_test_enable(desc.depth_test)
+            .depth_write_enable(desc.depth_test)
+            .depth_compare_op(vk::CompareOp::LESS);
+        let color_formats: Vec<vk::Format> = desc.targets.color.into_iter().collect();
+        let blend_attachments: Vec<_> = color_formats
+            .iter()
+            .map(|_| {
+                vk::PipelineColorBlendAttachmentState::default()
+                    .color_write_mask(vk::ColorComponentFlags::RGBA)
+            })
+            .collect();
+        let blend =
+            vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);
+        let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
+        let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
+        let mut rendering = vk::PipelineRenderingCreateInfo::default()
+            .color_attachment_formats(&color_formats)
+            .depth_attachment_format(desc.targets.depth);
+        let mut info = vk::GraphicsPipelineCreateInfo::default()
+            .stages(&stage_infos)
+            .vertex_input_state(&vertex_input)
+            .input_assembly_state(&input_assembly)
+            .viewport_state(&viewport)
+            .rasterization_state(&raster)
+            .multisample_state(&multisample)
+            .depth_stencil_state(&depth)
+            .color_blend_state(&blend)
+            .dynamic_state(&dynamic)
+            .layout(layout.raw())
+            .push_next(&mut rendering);
+        if desc.patch_control_points > 0 {
+            info = info.tessellation_state(&tessellation);
+        }
+        // SAFETY: every structure the info points at lives until the call
+        // returns; the modules and the layout are live.
+        let raw = unsafe {
+            device
+                .raw
+                .create_graphics_pipelines(vk::PipelineCache::null(), &[info], None)
+        }
+        .map_err(|(_, r)| Error::vk("vkCreateGraphicsPipelines", desc.name, r))?[0];
+        Ok(Self {
+            layout: layout.clone(),
+            raw: Owned::new(device, raw, desc.name),
+            bind_point: vk::PipelineBindPoint::GRAPHICS,
+        })
+    }
+}

@@ -1,0 +1,191 @@
+//! The rendering phase of a frame (paper section 5): the shadow pass from
+//! the sun, then the colour pass (sky, ground, and the grass through the
+//! tessellation and geometry stages) resolved from MSAA, then the copy of
+//! the frame into host memory. Each step records into the frame's command
+//! buffer; the frame recorder calls them in order and times them.
+
+use ash::vk;
+
+use crate::error::{Error, Result};
+use crate::gpu::{
+    Access, Attachments, Bound, Buffer, Commands, DescriptorSet, Gpu, ImageTransition,
+    MemoryLocation, Recording, TargetFormats,
+};
+use crate::render::frame_uniforms::FrameUniforms;
+use crate::render::pipelines::{RenderPipelines, FRAME_SET};
+use crate::render::shadow::ShadowMap;
+use crate::render::targets::{choose_samples, RenderTargets};
+use crate::render::textures::SurfaceTextures;
+
+/// Everything one offscreen view of the grass needs on the GPU, besides
+/// the blades themselves.
+pub struct Renderer {
+    // Declared first, dropped first: the set points at what follows.
+    frame_set: DescriptorSet,
+    uniforms: Buffer,
+    /// Held for the frame set, which samples them.
+    _textures: SurfaceTextures,
+    shadow: ShadowMap,
+    pipelines: RenderPipelines,
+    targets: RenderTargets,
+}
+
+impl Renderer {
+    /// Builds the targets and pipelines for a `width` x `height` image with
+    /// up to `msaa` samples and a `shadow_map` x `shadow_map` shadow map (0:
+    /// no shadows). `commands` uploads the surface textures.
+    pub fn new(
+        gpu: &Gpu,
+        commands: &Commands,
+        width: u32,
+        height: u32,
+        msaa: u32,
+        shadow_map: u32,
+    ) -> Result<Self> {
+        let targets = RenderTargets::new(gpu, width, height, choose_samples(gpu, msaa))?;
+        let pipelines = RenderPipelines::new(gpu, targets.formats(), shadow_map > 0)?;
+        let max_side = gpu.limits().max_image_dimension2_d;
+        if shadow_map > max_side {
+            return Err(Error::InvalidInput(format!(
+                "--shadow-map {shadow_map} is larger than this device's largest image ({max_side}); use 0..={max_side}"
+            )));
+        }
+        let shadow = ShadowMap::new(gpu, shadow_map, &pipelines.shadow_layout)?;
+        let uniforms = Buffer::new(
+            gpu,
+            "frame uniforms",
+            std::mem::size_of::<FrameUniforms>() as u64,
+            vk::BufferUsageFlags::UNIFORM_BUFFER,
+            MemoryLocation::CpuToGpu,
+        )?;
+        let textures = SurfaceTextures::new(gpu, commands)?;
+        let [map, map_sampler] = shadow.bindings();
+        let [grass, ground, surface_sampler] = textures.bindings();
+        let frame_set = DescriptorSet::new(
+            gpu,
+            &pipelines.frame_layout,
+            FRAME_SET,
+            &[
+                Bound::Buffer(&uniforms),
+                map,
+                map_sampler,
+                grass,
+                ground,
+                surface_sampler,
+            ],
+            "frame descriptor set",
+        )?;
+        Ok(Self {
+            frame_set,
+            uniforms,
+            _textures: textures,
+            shadow,
+            pipelines,
+            targets,
+        })
+    }
+
+    /// The MSAA sample count actually used.
+    pub fn samples(&self) -> u32 {
+        self.targets.color.samples.as_raw()
+    }
+
+    pub fn formats(&self) -> TargetFormats {
+        self.targets.formats()
+    }
+
+    pub fn targets(&self) -> &RenderTargets {
+        &self.targets
+    }
+
+    /// Sets this frame's camera, light and LOD (and the shadow map's own
+    /// parameters) for both passes. Only between frames.
+    pub fn set_uniforms(&mut self, uniforms: &FrameUniforms) {
+        let mut uniforms = *uniforms;
+        uniforms.shadow = self.shadow.params();
+        self.uniforms.write(0, std::slice::from_ref(&uniforms));
+        self.shadow.write_uniforms(&uniforms);
+    }
+
+    /// The shadow pass: `blade_count` blades of `blades` from the sun.
+    pub fn record_shadow(&self, rec: &Recording, blades: &Buffer, blade_count: u32) {
+        self.shadow
+            .record(rec, self.pipelines.shadow.as_ref(), blades, blade_count);
+    }
+
+    /// Opens the colour pass: the targets into attachment layouts (the
+    /// previous frame's writes and read-back done), cleared; sky and ground.
+    pub fn begin_color(&self, rec: &Recording) {
+        rec.transition(&to_attachments(&self.targets));
+        let t = &self.targets;
+        rec.begin_rendering(&Attachments {
+            color: Some((&t.color, t.resolve.as_ref())),
+            depth: &t.depth,
+            store_depth: false,
+        });
+        let p = &self.pipelines;
+        rec.bind_set(&p.sky, &self.frame_set);
+        rec.bind_pipeline(&p.sky);
+        rec.draw(3);
+        rec.bind_pipeline(&p.ground);
+        rec.draw(6);
+    }
+
+    /// The grass: one 4-point patch per blade, through all five stages.
+    pub fn draw_grass(&self, rec: &Recording, blades: &Buffer, blade_count: u32) {
+        rec.bind_pipeline(&self.pipelines.blade);
+        rec.bind_vertex_buffer(blades);
+        rec.draw(blade_count * 4);
+    }
+
+    /// Closes the colour pass (the MSAA image resolves at its end).
+    pub fn end_color(&self, rec: &Recording) {
+        rec.end_rendering();
+    }
+
+    /// Copies the final image into the host-visible read-back buffer.
+    pub fn record_readback(&self, rec: &Recording) {
+        let t = &self.targets;
+        let final_image = t.final_image();
+        rec.transition(&[ImageTransition::new(
+            final_image,
+            Access::COLOR_ATTACHMENT_WRITE,
+            Access::COPY_READ,
+        )]);
+        rec.copy_image_to_buffer(final_image, &t.readback);
+        rec.buffer_barrier(&t.readback, Access::COPY_WRITE, Access::HOST_READ);
+    }
+
+    /// The frame read back by the last submitted `record_readback`: RGBA8,
+    /// sRGB-encoded, rows top to bottom.
+    pub fn pixels(&self) -> Vec<u8> {
+        self.targets
+            .readback
+            .mapped()
+            .expect("readback buffer is host-visible")
+            .to_vec()
+    }
+}
+
+/// Layout transitions of `t`'s images into attachment layouts, contents
+/// discarded. The previous frame (or the bench's floor) wrote these images
+/// and copied from the final one, so wait for those writes and reads first.
+pub fn to_attachments(t: &RenderTargets) -> Vec<ImageTransition<'_>> {
+    // At 1x the colour target is also the copy source of the last frame.
+    let color_before = match t.resolve {
+        None => Access::COLOR_ATTACHMENT_WRITE.and(Access::COPY_READ),
+        Some(_) => Access::COLOR_ATTACHMENT_WRITE,
+    };
+    let mut transitions = vec![
+        ImageTransition::discarding(&t.color, color_before, Access::COLOR_ATTACHMENT),
+        ImageTransition::discarding(&t.depth, Access::DEPTH_ATTACHMENT, Access::DEPTH_ATTACHMENT),
+    ];
+    if let Some(resolve) = &t.resolve {
+        transitions.push(ImageTransition::discarding(
+            resolve,
+            Access::COLOR_ATTACHMENT_WRITE.and(Access::COPY_READ),
+            Access::COLOR_ATTACHMENT_WRITE,
+        ));
+    }
+    transitions
+}

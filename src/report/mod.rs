@@ -1,0 +1,7 @@
+//! Writing results: files written whole or not at all (PNG, GIF, JSON,
+//! text), the wind-slice pictures, and the tables printed or saved. It
+//! computes nothing: the commands hand it what they measured.
+
+pub mod files;
+pub mod timing;
+pub mod wind_slices;

@@ -1,0 +1,33 @@
+//! The per-phase timing table `meadow render` prints.
+
+use crate::frame::timing::{Phase, TimingSummary};
+
+/// A short table of `summary` for the terminal.
+pub fn table(summary: &TimingSummary) -> String {
+    let mut out = String::new();
+    match &summary.gpu_ms {
+        Some(g) => {
+            out += &format!(
+                "GPU ms per frame over {} frames (timestamps): phase, median, p95\n",
+                summary.frames
+            );
+            for p in Phase::ALL {
+                let s = g.get(p);
+                out += &format!("  {:<11} {:>9.3} {:>9.3}\n", p.name(), s.median, s.p95);
+            }
+        }
+        None => {
+            out += &format!(
+                "GPU time per phase: unavailable ({})\n",
+                summary.gpu_unavailable.as_deref().unwrap_or("unknown")
+            );
+        }
+    }
+    if let (Some(w), Some(fps)) = (summary.wall_frame_ms, summary.fps) {
+        out += &format!(
+            "wall clock per frame: median {:.3} ms, p95 {:.3} ms ({fps:.2} FPS)\n",
+            w.median, w.p95
+        );
+    }
+    out
+}

@@ -1,0 +1,195 @@
+//! The grass dynamics on GPU compute (paper section 4): glsl/grass/step.comp,
+//! one invocation per blade, recorded into the frame's command buffer right
+//! after the wind step. It samples the wind velocity buffer at each tip and
+//! writes the deformed control points into the vertex buffer the blade
+//! pipeline draws: the vertex data never goes through the CPU.
+//!
+//! The pass binds two buffers it does not own (the vertex buffer and the
+//! wind velocity); their owners must outlive it.
+
+use ash::vk;
+
+use crate::error::{try_collect, Error, Result};
+use crate::gpu::{
+    Access, Bound, Buffer, Commands, DescriptorSet, Gpu, LayoutBinding, Pipeline, PipelineLayout,
+    Recording,
+};
+use crate::sim::grass::{substeps, GrassBlade, GrassState};
+use crate::sim::wind::WindGrid;
+use crate::sim::BladeVertex;
+
+const LOCAL_SIZE: u32 = 64;
+
+/// Push constants of glsl/grass/step.comp.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct GrassPush {
+    pub cells: [u32; 4],
+    pub origin: [f32; 4],
+    pub cell_size: [f32; 4],
+    /// x: blades, y: substeps, z: offset (floats) of the wind copy to sample.
+    pub control: [u32; 4],
+    /// x: simulation step dt, y: substep h = dt / substeps (s).
+    pub step: [f32; 4],
+}
+
+/// Set 0 of the grass kernel.
+pub const GRASS_SET: &[LayoutBinding] = &[
+    LayoutBinding::compute_storage(0), // blades (rest shape and physics)
+    LayoutBinding::compute_storage(1), // state (angles, angular velocities)
+    LayoutBinding::compute_storage(2), // vertices: the blade pipeline's vertex buffer
+    LayoutBinding::compute_storage(3), // wind velocity
+];
+
+pub struct GrassPass {
+    // Declared first, dropped first: the set points at the buffers.
+    set: DescriptorSet,
+    pipeline: Pipeline,
+    /// Held for the set: the kernel reads the rest shapes and physics.
+    _blades: Buffer,
+    states: Buffer,
+    push: GrassPush,
+    blade_count: u32,
+}
+
+impl GrassPass {
+    /// Uploads the blades and their rest state and builds the kernel.
+    /// `vertices` must hold 4 `BladeVertex` per blade; `wind_velocity`
+    /// holds velocity copies in the layout of glsl/common/wind_grid.glsl
+    /// for `grid`. The simulation step is `dt`; substeps follow from the
+    /// stiffest blade (`sim::grass::substeps`).
+    pub fn new(
+        gpu: &Gpu,
+        commands: &Commands,
+        blades: &[GrassBlade],
+        vertices: &Buffer,
+        wind_velocity: &Buffer,
+        grid: &WindGrid,
+        dt: f32,
+    ) -> Result<Self> {
+        let blade_count = u32::try_from(blades.len())
+            .ok()
+            .filter(|&n| n > 0 && n <= u32::MAX / 4)
+            .ok_or_else(|| {
+                Error::InvalidInput(format!("{} blades cannot be simulated", blades.len()))
+            })?;
+        let needed = blades.len() as u64 * 4 * std::mem::size_of::<BladeVertex>() as u64;
+        if vertices.size < needed {
+            return Err(Error::InvalidInput(format!(
+                "the vertex buffer holds {} bytes, {needed} needed for {} blades",
+                vertices.size,
+                blades.len()
+            )));
+        }
+        let substeps = substeps(blades, dt)?;
+        let face_count: u64 = (0..3)
+            .map(|a| grid.face_dims(a).as_u64vec3().element_product())
+            .sum();
+        let push = GrassPush {
+            cells: [grid.cells.x, grid.cells.y, grid.cells.z, face_count as u32],
+            origin: grid.origin.extend(0.0).to_array(),
+            cell_size: grid.cell.extend(0.0).to_array(),
+            control: [blade_count, substeps, 0, 0],
+            step: [dt, dt / substeps as f32, 0.0, 0.0],
+        };
+
+        // Host memory first: failing here leaves nothing on the GPU to undo.
+        let rest = try_collect(
+            blades.len(),
+            std::iter::repeat(GrassState::default()),
+            "the grass state",
+        )?;
+        let usage = vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC;
+        let blades_buffer = Buffer::with_data(
+            gpu,
+            commands,
+            "grass blades (rest shape, physics)",
+            bytemuck::cast_slice(blades),
+            usage,
+            Access::COMPUTE_READ,
+        )?;
+        let states = Buffer::with_data(
+            gpu,
+            commands,
+            "grass state (angles, angular velocities)",
+            bytemuck::cast_slice(&rest),
+            usage,
+            Access::COMPUTE_READ_WRITE,
+        )?;
+        let layout = PipelineLayout::new::<GrassPush>(
+            gpu,
+            GRASS_SET,
+            vk::ShaderStageFlags::COMPUTE,
+            "grass",
+        )?;
+        let pipeline = Pipeline::compute(gpu, &layout, &crate::shaders::GRASS_STEP_COMP)?;
+        let set = DescriptorSet::new(
+            gpu,
+            &layout,
+            GRASS_SET,
+            &[
+                Bound::Buffer(&blades_buffer),
+                Bound::Buffer(&states),
+                Bound::Buffer(vertices),
+                Bound::Buffer(wind_velocity),
+            ],
+            "grass descriptor set",
+        )?;
+        Ok(Self {
+            set,
+            pipeline,
+            _blades: blades_buffer,
+            states,
+            push,
+            blade_count,
+        })
+    }
+
+    pub fn blade_count(&self) -> u32 {
+        self.blade_count
+    }
+
+    /// Symplectic Euler substeps per simulation step.
+    pub fn substeps(&self) -> u32 {
+        self.push.control[1]
+    }
+
+    /// Records one simulation step, sampling the wind velocity copy that
+    /// starts `wind_offset` floats into the wind buffer (0 for `WindPass`'s
+    /// state). Waits for earlier compute (the wind step, the previous grass
+    /// step), uploads, and the previous draw's vertex reads; ends with the
+    /// vertices visible to the vertex input stage and to compute.
+    pub fn record_step(&self, rec: &Recording, wind_offset: u32) {
+        let mut push = self.push;
+        push.control[2] = wind_offset;
+        rec.barrier(
+            Access::COMPUTE_WRITE
+                .and(Access::VERTEX_INPUT)
+                .and(Access::COPY_WRITE),
+            Access::COMPUTE_READ_WRITE,
+        );
+        rec.bind_pipeline(&self.pipeline);
+        rec.bind_set(&self.pipeline, &self.set);
+        rec.push_constants(&self.pipeline, &push);
+        rec.dispatch(self.blade_count.div_ceil(LOCAL_SIZE));
+        rec.barrier(
+            Access::COMPUTE_WRITE,
+            Access::VERTEX_INPUT.and(Access::COMPUTE_READ_WRITE),
+        );
+    }
+
+    /// Every blade's angles and angular velocities (for tests and reports).
+    pub fn read_states(&self, gpu: &Gpu, commands: &Commands) -> Result<Vec<GrassState>> {
+        self.states
+            .read_back(gpu, commands, self.blade_count as usize)
+    }
+}
+
+/// Device memory the grass of `blades` blades needs: the vertex buffer the
+/// pipeline draws, the rest shapes with physics, and the state.
+pub fn device_bytes(blades: usize) -> u64 {
+    use std::mem::size_of;
+    let per_blade =
+        4 * size_of::<BladeVertex>() + size_of::<GrassBlade>() + size_of::<GrassState>();
+    blades as u64 * per_blade as u64
+}

@@ -1,0 +1,105 @@
+//! The simulating phase of a frame (paper section 4 and 3.2): the wind
+//! solver and the grass dynamics on GPU compute. One simulation step is a
+//! wind step and then a grass step; the frame recorder records as many as
+//! the frame's time needs, ahead of the draw. The frame rate never changes
+//! the physics: frame f shows simulated time start + f / fps, reached in
+//! whole steps of the scene's dt. It writes the blade buffer it is handed
+//! and knows nothing of the rendering.
+
+pub mod grass_pass;
+pub mod wind_pass;
+
+use crate::error::{Error, Result};
+use crate::gpu::{Buffer, Commands, Gpu, Recording};
+use crate::scene::Scene;
+use crate::sim::GrassBlade;
+
+pub use grass_pass::GrassPass;
+pub use wind_pass::WindPass;
+
+pub struct Simulation {
+    // Declared first, dropped first: the grass kernel's set names the
+    // wind's velocity buffer.
+    grass: GrassPass,
+    wind: WindPass,
+    dt: f32,
+    steps_done: u64,
+}
+
+impl Simulation {
+    /// Builds the wind solver for the scene and the grass dynamics writing
+    /// into `vertices` (the blade buffer, which must outlive this).
+    pub fn new(
+        gpu: &Gpu,
+        commands: &Commands,
+        scene: &Scene,
+        blades: &[GrassBlade],
+        vertices: &Buffer,
+    ) -> Result<Self> {
+        let grid = scene.wind_grid()?;
+        let settings = scene.wind.settings();
+        let dt = scene.wind.dt;
+        let wind = WindPass::new(gpu, commands, grid, &settings)?;
+        let grass = GrassPass::new(gpu, commands, blades, vertices, wind.velocity(), &grid, dt)?;
+        Ok(Self {
+            grass,
+            wind,
+            dt,
+            steps_done: 0,
+        })
+    }
+
+    /// Steps needed so that the simulation reaches `time` (whole steps,
+    /// rounded to the nearest; never backwards).
+    pub fn steps_until(&self, time: f64) -> Result<u64> {
+        let target = (time / self.dt as f64).round();
+        if !target.is_finite() || target < 0.0 || target > u32::MAX as f64 {
+            return Err(Error::InvalidInput(format!(
+                "simulated time {time} s is out of range for a {} s step",
+                self.dt
+            )));
+        }
+        Ok((target as u64).saturating_sub(self.steps_done))
+    }
+
+    /// Records the wind half of the next step (paper section 3.2).
+    pub fn record_wind_step(&self, rec: &Recording) {
+        let time = (self.steps_done as f64 * self.dt as f64) as f32;
+        self.wind.record_step(rec, time, self.dt);
+    }
+
+    /// Records the grass half of the next step (paper section 4), which
+    /// completes it.
+    pub fn record_grass_step(&mut self, rec: &Recording) {
+        self.grass.record_step(rec, 0);
+        self.steps_done += 1;
+    }
+
+    /// Records `steps` whole steps, untimed.
+    pub fn record_steps(&mut self, rec: &Recording, steps: u64) {
+        for _ in 0..steps {
+            self.record_wind_step(rec);
+            self.record_grass_step(rec);
+        }
+    }
+
+    pub fn steps_done(&self) -> u64 {
+        self.steps_done
+    }
+
+    pub fn substeps(&self) -> u32 {
+        self.grass.substeps()
+    }
+
+    pub fn dt(&self) -> f32 {
+        self.dt
+    }
+
+    pub fn wind(&self) -> &WindPass {
+        &self.wind
+    }
+
+    pub fn grass(&self) -> &GrassPass {
+        &self.grass
+    }
+}

@@ -1,0 +1,344 @@
+//! The wind solver on GPU compute (paper section 3.2): five kernels in
+//! glsl/wind/, recorded into the frame's command buffer with a barrier
+//! between each. All buffers are made once; a step allocates and uploads
+//! nothing (the time and Jacobi parity travel as push constants).
+//!
+//! Obstacle voxelisation and the classification of every face (free, wall,
+//! inflow) happen once on the CPU through `sim::wind::WindField`, the same
+//! code the CPU reference steps with, and are uploaded.
+
+use std::sync::Arc;
+
+use ash::vk;
+use bytemuck::Zeroable;
+
+use crate::error::{Error, Result};
+use crate::gpu::{
+    Access, Bound, Buffer, Commands, DescriptorSet, Gpu, LayoutBinding, MemoryLocation, Pipeline,
+    PipelineLayout, Recording,
+};
+use crate::shaders::{self, Spirv};
+use crate::sim::wind::{FaceKind, WindField, WindGrid, WindSettings, WindSource};
+
+/// Waypoints a source's path may have on the GPU.
+pub use crate::sim::wind::MAX_PATH_POINTS;
+const LOCAL_SIZE: u32 = 64;
+
+/// Push constants of every wind kernel (`Push` in glsl/wind/wind_kernel.glsl).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct WindPush {
+    pub cells: [u32; 4],
+    pub origin: [f32; 4],
+    pub cell_size: [f32; 4],
+    pub step: [f32; 4],
+    pub control: [u32; 4],
+    pub inflow: [f32; 4],
+    pub inflow_phases: [f32; 4],
+}
+
+/// One wind source as the kernels read it (`WindSource` in wind_kernel.glsl).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct GpuWindSource {
+    pub position_radius: [f32; 4],
+    pub direction_strength: [f32; 4],
+    pub motion: [f32; 4],
+    pub gust: [f32; 4],
+    pub gust_phases: [f32; 4],
+    pub path: [[f32; 4]; MAX_PATH_POINTS],
+}
+
+impl GpuWindSource {
+    pub fn from_source(s: &WindSource) -> Result<Self> {
+        if s.path.len() > MAX_PATH_POINTS {
+            return Err(Error::InvalidInput(format!(
+                "a wind source path has {} points, use at most {MAX_PATH_POINTS}",
+                s.path.len()
+            )));
+        }
+        let mut path = [[0.0; 4]; MAX_PATH_POINTS];
+        for (dst, p) in path.iter_mut().zip(&s.path) {
+            *dst = p.extend(0.0).to_array();
+        }
+        let dir = s.direction.try_normalize().unwrap_or(glam::Vec3::X);
+        let p = s.gust.phases();
+        Ok(Self {
+            position_radius: s.position.extend(s.radius).to_array(),
+            direction_strength: dir.extend(s.strength).to_array(),
+            motion: [
+                s.rotation_speed,
+                s.path_speed,
+                s.path.len() as f32,
+                s.off_after.unwrap_or(f32::INFINITY),
+            ],
+            gust: [s.gust.amplitude, s.gust.frequency, 0.0, 0.0],
+            gust_phases: [p[0], p[1], p[2], 0.0],
+            path,
+        })
+    }
+}
+
+/// Set 0 of the wind kernels.
+pub const WIND_SET: &[LayoutBinding] = &[
+    LayoutBinding::compute_storage(0), // velocity (two copies)
+    LayoutBinding::compute_storage(1), // face kinds
+    LayoutBinding::compute_storage(2), // solid cells
+    LayoutBinding::compute_storage(3), // pressure (two copies)
+    LayoutBinding::compute_storage(4), // divergence
+    LayoutBinding::compute_storage(5), // sources
+];
+
+/// The kernels in the order a step runs them.
+pub const WIND_KERNELS: [&Spirv; 5] = [
+    &shaders::WIND_FORCES_COMP,
+    &shaders::WIND_ADVECT_COMP,
+    &shaders::WIND_DIVERGENCE_COMP,
+    &shaders::WIND_JACOBI_COMP,
+    &shaders::WIND_PROJECT_COMP,
+];
+const FORCES: usize = 0;
+const ADVECT: usize = 1;
+const DIVERGENCE: usize = 2;
+const JACOBI: usize = 3;
+const PROJECT: usize = 4;
+
+/// The solver's buffers, made once.
+struct WindBuffers {
+    /// Velocity, two copies of every face: A (state) then B (advected).
+    velocity: Buffer,
+    faces: Buffer,
+    solid: Buffer,
+    pressure: Buffer,
+    divergence: Buffer,
+    sources: Buffer,
+}
+
+impl WindBuffers {
+    /// The buffers, made and filled in binding order (`WIND_SET`); the
+    /// velocity and pressure cleared to zero: the air starts at rest, and
+    /// the first Jacobi solve starts from zero pressure (later ones from
+    /// the previous step's).
+    fn new(
+        gpu: &Gpu,
+        commands: &Commands,
+        field: &WindField,
+        gpu_sources: &[GpuWindSource],
+        face_count: u32,
+        cell_count: u32,
+    ) -> Result<Self> {
+        let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+        let rw = storage | vk::BufferUsageFlags::TRANSFER_DST | vk::BufferUsageFlags::TRANSFER_SRC;
+        let device_buffer = |name: &str, floats: u64| {
+            Buffer::new(gpu, name, 4 * floats, rw, MemoryLocation::GpuOnly)
+        };
+        let uploaded = |name: &str, bytes: &[u8]| {
+            Buffer::with_data(gpu, commands, name, bytes, storage, Access::COMPUTE_READ)
+        };
+        let kinds = field.faces.iter().flatten().map(|k| match k {
+            FaceKind::Free => 0,
+            FaceKind::Wall => 1,
+            FaceKind::Inflow => 2,
+        });
+        // At least one source entry so the binding is never empty.
+        let sources: &[GpuWindSource] = if gpu_sources.is_empty() {
+            &[GpuWindSource::zeroed()]
+        } else {
+            gpu_sources
+        };
+        let buffers = Self {
+            velocity: device_buffer("wind velocity (A, B)", 2 * face_count as u64)?,
+            faces: uploaded("wind face kinds", &u32_bytes(kinds))?,
+            solid: uploaded(
+                "wind solid cells",
+                &u32_bytes(field.solid.iter().map(|&s| s as u32)),
+            )?,
+            pressure: device_buffer("wind pressure (ping, pong)", 2 * cell_count as u64)?,
+            divergence: device_buffer("wind divergence", cell_count as u64)?,
+            sources: uploaded("wind sources", bytemuck::cast_slice(sources))?,
+        };
+        let rec = commands.begin()?;
+        rec.fill_buffer(&buffers.velocity, 0);
+        rec.fill_buffer(&buffers.pressure, 0);
+        rec.barrier(Access::TRANSFER_WRITE, Access::COMPUTE_READ_WRITE);
+        rec.submit_and_wait("clearing the wind")?;
+        Ok(buffers)
+    }
+
+    /// In the order of `WIND_SET`.
+    fn bound(&self) -> [Bound<'_>; 6] {
+        [
+            Bound::Buffer(&self.velocity),
+            Bound::Buffer(&self.faces),
+            Bound::Buffer(&self.solid),
+            Bound::Buffer(&self.pressure),
+            Bound::Buffer(&self.divergence),
+            Bound::Buffer(&self.sources),
+        ]
+    }
+}
+
+pub struct WindPass {
+    pub grid: WindGrid,
+    settings: WindSettings,
+    // Declared first, dropped first: the set points at the buffers.
+    set: DescriptorSet,
+    /// The five kernels in `WIND_KERNELS` order, sharing one layout.
+    kernels: Vec<Pipeline>,
+    buffers: WindBuffers,
+    face_count: u32,
+    cell_count: u32,
+}
+
+fn u32_bytes(values: impl Iterator<Item = u32>) -> Vec<u8> {
+    values.flat_map(u32::to_le_bytes).collect()
+}
+
+impl WindPass {
+    pub fn new(
+        gpu: &Gpu,
+        commands: &Commands,
+        grid: WindGrid,
+        settings: &WindSettings,
+    ) -> Result<Self> {
+        let face_count: u64 = (0..3)
+            .map(|a| grid.face_dims(a).as_u64vec3().element_product())
+            .sum();
+        let cell_count = grid.cell_count() as u64;
+        // Velocity x2, face kinds, pressure x2, divergence, solid cells: 4 bytes each.
+        gpu.check_fits(
+            &format!(
+                "the {}x{}x{} wind grid",
+                grid.cells.x, grid.cells.y, grid.cells.z
+            ),
+            4 * (3 * face_count + 4 * cell_count),
+        )?;
+        let (face_count, cell_count) = match (u32::try_from(face_count), u32::try_from(cell_count))
+        {
+            (Ok(f), Ok(c)) => (f, c),
+            _ => {
+                return Err(Error::InvalidInput(
+                    "wind grid too large for 32-bit indices".into(),
+                ))
+            }
+        };
+        let gpu_sources = settings
+            .sources
+            .iter()
+            .map(GpuWindSource::from_source)
+            .collect::<Result<Vec<_>>>()?;
+        let field = WindField::new(grid, settings);
+        let buffers =
+            WindBuffers::new(gpu, commands, &field, &gpu_sources, face_count, cell_count)?;
+        let layout: Arc<PipelineLayout> =
+            PipelineLayout::new::<WindPush>(gpu, WIND_SET, vk::ShaderStageFlags::COMPUTE, "wind")?;
+        let kernels = WIND_KERNELS
+            .iter()
+            .map(|spirv| Pipeline::compute(gpu, &layout, spirv))
+            .collect::<Result<Vec<_>>>()?;
+        let set = DescriptorSet::new(
+            gpu,
+            &layout,
+            WIND_SET,
+            &buffers.bound(),
+            "wind descriptor set",
+        )?;
+        Ok(Self {
+            grid,
+            settings: settings.clone(),
+            set,
+            kernels,
+            buffers,
+            face_count,
+            cell_count,
+        })
+    }
+
+    fn push(&self, time: f32, dt: f32, control: [u32; 4]) -> WindPush {
+        let inflow = self.settings.inflow;
+        let phases = inflow.map(|i| i.gust.phases()).unwrap_or_default();
+        WindPush {
+            cells: [
+                self.grid.cells.x,
+                self.grid.cells.y,
+                self.grid.cells.z,
+                self.face_count,
+            ],
+            origin: self.grid.origin.extend(0.0).to_array(),
+            cell_size: self.grid.cell.extend(0.0).to_array(),
+            step: [time, dt, 0.0, 0.0],
+            control,
+            inflow: inflow
+                .map(|i| [i.speed, i.gust.amplitude, i.gust.frequency, 0.0])
+                .unwrap_or_default(),
+            inflow_phases: [phases[0], phases[1], phases[2], 0.0],
+        }
+    }
+
+    /// Records one solver step at simulation time `time`. Ends with the
+    /// new velocity (copy A) written by compute; a reader must wait on
+    /// COMPUTE_SHADER writes.
+    pub fn record_step(&self, rec: &Recording, time: f32, dt: f32) {
+        let sources = self.settings.sources.len() as u32;
+        let iterations = self.settings.jacobi_iterations;
+        let result_half = iterations % 2;
+        let face_groups = self.face_count.div_ceil(LOCAL_SIZE);
+        let cell_groups = self.cell_count.div_ceil(LOCAL_SIZE);
+        let dispatch = |kernel: usize, groups: u32, read: u32| {
+            let pipeline = &self.kernels[kernel];
+            rec.bind_pipeline(pipeline);
+            rec.push_constants(
+                pipeline,
+                &self.push(time, dt, [sources, read, result_half, 0]),
+            );
+            rec.dispatch(groups);
+        };
+        let between_kernels = || rec.barrier(Access::COMPUTE_WRITE, Access::COMPUTE_READ_WRITE);
+        // Whatever read or wrote the wind before (the previous step, the
+        // grass sampling it) finishes first.
+        rec.barrier(Access::ANY_WRITE, Access::COMPUTE_READ_WRITE);
+        rec.bind_set(&self.kernels[FORCES], &self.set);
+        dispatch(FORCES, face_groups, 0);
+        between_kernels();
+        dispatch(ADVECT, face_groups, 0);
+        between_kernels();
+        dispatch(DIVERGENCE, cell_groups, 0);
+        between_kernels();
+        for i in 0..iterations {
+            dispatch(JACOBI, cell_groups, i % 2);
+            between_kernels();
+        }
+        dispatch(PROJECT, face_groups, 0);
+    }
+
+    /// Copies the velocity (copy A: x, y, z components) back to the host:
+    /// for tests, pictures and statistics, not per frame.
+    pub fn read_velocity(&self, gpu: &Gpu, commands: &Commands) -> Result<[Vec<f32>; 3]> {
+        let all: Vec<f32> =
+            self.buffers
+                .velocity
+                .read_back(gpu, commands, self.face_count as usize)?;
+        let mut split = [Vec::new(), Vec::new(), Vec::new()];
+        let mut start = 0;
+        for (axis, dst) in split.iter_mut().enumerate() {
+            let d = self.grid.face_dims(axis);
+            let n = (d.x * d.y * d.z) as usize;
+            *dst = all[start..start + n].to_vec();
+            start += n;
+        }
+        Ok(split)
+    }
+
+    /// The divergence of the last step's advected field, before projection.
+    pub fn read_divergence(&self, gpu: &Gpu, commands: &Commands) -> Result<Vec<f32>> {
+        self.buffers
+            .divergence
+            .read_back(gpu, commands, self.cell_count as usize)
+    }
+
+    /// The velocity buffer: copy A (the state between steps) starts at 0,
+    /// in the layout of glsl/common/wind_grid.glsl. The grass samples it.
+    pub fn velocity(&self) -> &Buffer {
+        &self.buffers.velocity
+    }
+}
