@@ -128,9 +128,10 @@ fn tiny_bench_writes_every_field_a_table_and_an_svg() {
     let svg = std::fs::read_to_string(out.join("bench.svg")).unwrap();
     let doc = roxmltree::Document::parse(&svg).expect("bench.svg is XML");
     assert_eq!(doc.root_element().tag_name().name(), "svg");
+    // The data lines are the 2-px polylines (axes and ticks are 1 px).
     let lines = doc
         .descendants()
-        .filter(|n| n.has_tag_name("polyline"))
+        .filter(|n| n.has_tag_name("polyline") && n.attribute("stroke-width") == Some("2"))
         .count();
     // Ours: five phases x two LOD settings; the paper's: four.
     assert_eq!(lines, 14);

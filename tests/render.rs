@@ -147,7 +147,7 @@ fn lighting_is_two_sided() {
 }
 
 #[test]
-fn lod_view_colours_blades_by_level() {
+fn lod_view_colors_blades_by_level() {
     let gpu = strict_gpu();
     let mut scene = meadow_scene();
     scene.grass.meadow = vec![Meadow {

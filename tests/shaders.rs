@@ -96,13 +96,13 @@ fn check_pipeline(name: &str, stages: &[&Spirv], layout: &[LayoutBinding]) {
 fn descriptor_layouts_match_reflection() {
     // The colour pass's pipelines share the frame set: together they use
     // every binding of it (the sky reads no shadow map).
-    let colour_pass: Vec<&Spirv> = BLADE_STAGES
+    let color_pass: Vec<&Spirv> = BLADE_STAGES
         .iter()
         .chain(SKY_STAGES)
         .chain(GROUND_STAGES)
         .copied()
         .collect();
-    check_pipeline("colour pass", &colour_pass, FRAME_SET);
+    check_pipeline("colour pass", &color_pass, FRAME_SET);
     // The shadow pass: the blade stages up to the geometry shader.
     check_pipeline("shadow", SHADOW_STAGES, SHADOW_SET);
     // The five wind kernels share one set layout.

@@ -2,6 +2,7 @@
 //! text), the wind-slice pictures, and the tables printed or saved. It
 //! computes nothing: the commands hand it what they measured.
 
+pub mod bench;
 pub mod files;
 pub mod timing;
 pub mod wind_slices;
