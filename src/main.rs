@@ -8,7 +8,7 @@ use clap::{Parser, Subcommand, ValueEnum};
 
 use meadow::commands::render::{render_to_dir_observed, RenderRequest};
 use meadow::gpu::{FaultPlan, GpuOptions, ValidationOptions};
-use meadow::scene::{self, Scene, ViewMode};
+use meadow::scene::{Scene, ViewMode};
 
 #[derive(Parser)]
 #[command(
@@ -342,55 +342,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             for w in &report.warnings {
                 eprintln!("meadow: warning: {w}");
             }
-            println!(
-                "rendered {} ({} blades, {}x{}, MSAA {}x of {}x asked, LOD {}) on {} [{}] in {:.1} s",
-                report.scene,
-                report.blades,
-                report.width,
-                report.height,
-                report.msaa_used,
-                report.msaa_requested,
-                if report.lod { "on" } else { "off" },
-                report.device,
-                report.device_type,
-                report.wall_seconds
-            );
-            if let Some(s) = &report.pipeline_statistics {
-                println!(
-                    "grass: {} patches, {} tessellation-evaluation invocations, {} geometry-shader invocations (segments), {} primitives",
-                    s.tessellation_control_patches,
-                    s.tessellation_evaluation_invocations,
-                    s.geometry_shader_invocations,
-                    s.geometry_shader_primitives
-                );
-            }
-            if report.validation.enabled {
-                println!(
-                    "validation: {} errors, {} warnings",
-                    report.validation.errors, report.validation.warnings
-                );
-            }
-            print!("{}", meadow::report::timing::table(&report.timing));
-            println!(
-                "simulated {:.2} s in {} steps of {:.4} s ({} substeps each)",
-                report.sim_steps as f64 * report.sim_dt as f64,
-                report.sim_steps,
-                report.sim_dt,
-                report.substeps
-            );
-            match report.frames.as_slice() {
-                [one] => println!("wrote {}", out.join(one).display()),
-                [first, .., last] => println!(
-                    "wrote {} frames, {} .. {}",
-                    report.frames.len(),
-                    out.join(first).display(),
-                    out.join(last).display()
-                ),
-                [] => {}
-            }
-            if let Some(gif) = &report.gif {
-                println!("wrote {}", out.join(gif).display());
-            }
+            print!("{}", meadow::report::render::summary(&report, &out));
             if report.interrupted {
                 eprintln!(
                     "meadow: interrupted after {} of {} frames; the files written are complete ({})",
@@ -574,16 +526,11 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             Ok(())
         }
         Command::Scenes { print: Some(name) } => {
-            let scene = Scene::load(&name)?;
-            print!("{}", scene::file::to_toml(&scene));
+            print!("{}", meadow::commands::scenes::print(&name)?);
             Ok(())
         }
         Command::Scenes { print: None } => {
-            for (name, _) in scene::BUILTIN {
-                let s = Scene::builtin(name)?;
-                println!("{name:<24} {:>8} blades  {}", s.blade_count(), s.caption);
-            }
-            println!("(each is also scenes/<name>.toml; docs/scenes.md describes the format)");
+            print!("{}", meadow::commands::scenes::list()?);
             Ok(())
         }
     }

@@ -10,6 +10,7 @@ pub mod bench_grass;
 pub mod devices;
 pub mod render;
 pub mod reproduce;
+pub mod scenes;
 pub mod wind;
 
 use std::path::Path;

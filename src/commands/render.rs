@@ -8,40 +8,16 @@ use std::time::Instant;
 use crate::commands::{on_gpu, write_json};
 use crate::error::{Error, Result};
 use crate::frame::timing::{FrameTimings, TimingSummary};
+pub use crate::frame::Animation;
 use crate::frame::FrameRecorder;
 use crate::gpu::query::PipelineStatistics;
 use crate::gpu::{Gpu, GpuOptions, ValidationReport};
 use crate::render::FrameUniforms;
 use crate::report::files;
+pub use crate::report::render::RenderReport;
 use crate::scene::{field, Scene, ViewMode};
 
 pub use crate::scene::check::{MAX_FRAMES, MAX_IMAGE_SIDE};
-
-/// Which moments of the simulation become frames: frame f shows simulated
-/// time `start + f / fps` (seconds). The simulation starts at rest at time
-/// 0 and advances in the scene's fixed steps, whatever the frame rate.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
-pub struct Animation {
-    pub frames: u32,
-    pub fps: f32,
-    pub start: f32,
-}
-
-impl Default for Animation {
-    fn default() -> Self {
-        Self {
-            frames: 1,
-            fps: 30.0,
-            start: 0.0,
-        }
-    }
-}
-
-impl Animation {
-    pub fn time_of(&self, frame: u32) -> f64 {
-        self.start as f64 + frame as f64 / self.fps as f64
-    }
-}
 
 #[derive(Clone, Debug)]
 pub struct RenderRequest {
@@ -110,49 +86,6 @@ impl RenderRequest {
         self.scene.wind_grid()?;
         Ok(())
     }
-}
-
-/// What `report.json` holds.
-#[derive(Clone, Debug, serde::Serialize)]
-pub struct RenderReport {
-    pub scene: String,
-    pub seed: u64,
-    pub device: String,
-    pub device_type: String,
-    pub driver: String,
-    pub api_version: String,
-    pub msaa_requested: u32,
-    pub msaa_used: u32,
-    pub blades: usize,
-    pub width: u32,
-    pub height: u32,
-    pub lod: bool,
-    pub tess_levels: [u32; 3],
-    pub lod_distances: [f32; 2],
-    pub view: ViewMode,
-    pub animation: Animation,
-    /// The simulation step (s) and its symplectic Euler substeps.
-    pub sim_dt: f32,
-    pub substeps: u32,
-    /// Simulation steps run in all.
-    pub sim_steps: u64,
-    /// Frames asked for (after --every) and the files written, in order.
-    pub frames_planned: u32,
-    pub frames: Vec<String>,
-    /// The animated GIF of the written frames, when there are several.
-    pub gif: Option<String>,
-    /// Stopped early (Ctrl-C): `frames` says how far it got, and every
-    /// file listed is complete.
-    pub interrupted: bool,
-    /// What the scene will do less than it says (e.g. a wind source outside
-    /// the grid), one line each.
-    pub warnings: Vec<String>,
-    pub pipeline_statistics: Option<PipelineStatistics>,
-    /// Per-phase GPU time (median, p95), wall-clock frame time and FPS.
-    pub timing: TimingSummary,
-    /// Wall-clock seconds of the whole job (GPU start-up to teardown).
-    pub wall_seconds: f64,
-    pub validation: ValidationReport,
 }
 
 /// Renders the request's frame into `out_dir`. On success (and when only

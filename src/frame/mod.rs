@@ -22,6 +22,32 @@ use crate::simulate::Simulation;
 pub use blades::BladeBuffer;
 use timing::{FrameTimings, Phase};
 
+/// Which moments of the simulation become frames: frame f shows simulated
+/// time `start + f / fps` (seconds). The simulation starts at rest at time
+/// 0 and advances in the scene's fixed steps, whatever the frame rate.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct Animation {
+    pub frames: u32,
+    pub fps: f32,
+    pub start: f32,
+}
+
+impl Default for Animation {
+    fn default() -> Self {
+        Self {
+            frames: 1,
+            fps: 30.0,
+            start: 0.0,
+        }
+    }
+}
+
+impl Animation {
+    pub fn time_of(&self, frame: u32) -> f64 {
+        self.start as f64 + frame as f64 / self.fps as f64
+    }
+}
+
 /// A finished frame on the host.
 pub struct Frame {
     pub width: u32,

@@ -12,7 +12,7 @@ use crate::error::{Error, Result};
 use crate::gpu::query::TimestampQueries;
 use crate::gpu::{
     Access, Attachments, Bound, Buffer, Commands, DescriptorKind, DescriptorSet, Gpu, GraphicsDesc,
-    LayoutBinding, MemoryLocation, Pipeline, PipelineLayout, TargetFormats,
+    LayoutBinding, Pipeline, PipelineLayout, TargetFormats,
 };
 use crate::render::frame_uniforms::FrameUniforms;
 use crate::render::renderer::to_attachments;
@@ -78,13 +78,7 @@ impl FloorPass {
                 targets: formats,
             },
         )?;
-        let uniforms = Buffer::new(
-            gpu,
-            "floor uniforms",
-            std::mem::size_of::<FrameUniforms>() as u64,
-            vk::BufferUsageFlags::UNIFORM_BUFFER,
-            MemoryLocation::CpuToGpu,
-        )?;
+        let uniforms = FrameUniforms::buffer(gpu, "floor uniforms")?;
         let set = DescriptorSet::new(
             gpu,
             &layout,

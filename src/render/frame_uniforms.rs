@@ -1,8 +1,11 @@
 //! The per-frame uniform block (glsl/common/frame.glsl), built from the
 //! scene's camera, light and level-of-detail settings.
 
+use ash::vk;
 use glam::{Mat4, Vec3};
 
+use crate::error::Result;
+use crate::gpu::{Buffer, Gpu, MemoryLocation};
 use crate::scene::Scene;
 
 pub use crate::scene::ViewMode;
@@ -39,6 +42,17 @@ pub fn view_projection(scene: &Scene, aspect: f32, time: f32) -> Mat4 {
 }
 
 impl FrameUniforms {
+    /// A host-visible uniform buffer holding one block, written each frame.
+    pub fn buffer(gpu: &Gpu, name: &str) -> Result<Buffer> {
+        Buffer::new(
+            gpu,
+            name,
+            std::mem::size_of::<Self>() as u64,
+            vk::BufferUsageFlags::UNIFORM_BUFFER,
+            MemoryLocation::CpuToGpu,
+        )
+    }
+
     pub fn new(scene: &Scene, width: u32, height: u32, view: ViewMode, time: f32) -> Self {
         let view_proj = view_projection(scene, width as f32 / height as f32, time);
         let (eye, _) = scene.camera.at(time);

@@ -4,12 +4,10 @@
 //! the frame into host memory. Each step records into the frame's command
 //! buffer; the frame recorder calls them in order and times them.
 
-use ash::vk;
-
 use crate::error::{Error, Result};
 use crate::gpu::{
-    Access, Attachments, Bound, Buffer, Commands, DescriptorSet, Gpu, ImageTransition,
-    MemoryLocation, Recording, TargetFormats,
+    Access, Attachments, Bound, Buffer, Commands, DescriptorSet, Gpu, ImageTransition, Recording,
+    TargetFormats,
 };
 use crate::render::frame_uniforms::FrameUniforms;
 use crate::render::pipelines::{RenderPipelines, FRAME_SET};
@@ -51,13 +49,7 @@ impl Renderer {
             )));
         }
         let shadow = ShadowMap::new(gpu, shadow_map, &pipelines.shadow_layout)?;
-        let uniforms = Buffer::new(
-            gpu,
-            "frame uniforms",
-            std::mem::size_of::<FrameUniforms>() as u64,
-            vk::BufferUsageFlags::UNIFORM_BUFFER,
-            MemoryLocation::CpuToGpu,
-        )?;
+        let uniforms = FrameUniforms::buffer(gpu, "frame uniforms")?;
         let textures = SurfaceTextures::new(gpu, commands)?;
         let [map, map_sampler] = shadow.bindings();
         let [grass, ground, surface_sampler] = textures.bindings();

@@ -9,7 +9,7 @@ use ash::vk;
 use crate::error::Result;
 use crate::gpu::{
     Access, Attachments, Bound, Buffer, DescriptorSet, Gpu, Image, ImageDesc, ImageTransition,
-    MemoryLocation, Pipeline, PipelineLayout, Recording, Sampler,
+    Pipeline, PipelineLayout, Recording, Sampler,
 };
 use crate::render::frame_uniforms::FrameUniforms;
 use crate::render::pipelines::{SHADOW_FORMAT, SHADOW_SET};
@@ -64,13 +64,7 @@ impl ShadowMap {
             .compare_op(vk::CompareOp::LESS_OR_EQUAL)
             .max_lod(0.0);
         let sampler = Sampler::sampler(gpu, &info, "shadow map sampler")?;
-        let uniforms = Buffer::new(
-            gpu,
-            "shadow pass uniforms",
-            std::mem::size_of::<FrameUniforms>() as u64,
-            vk::BufferUsageFlags::UNIFORM_BUFFER,
-            MemoryLocation::CpuToGpu,
-        )?;
+        let uniforms = FrameUniforms::buffer(gpu, "shadow pass uniforms")?;
         let set = DescriptorSet::new(
             gpu,
             layout,

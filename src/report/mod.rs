@@ -4,5 +4,7 @@
 
 pub mod bench;
 pub mod files;
+pub mod render;
+pub mod reproduce;
 pub mod timing;
 pub mod wind_slices;

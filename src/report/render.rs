@@ -1,0 +1,111 @@
+//! What `meadow render` reports: report.json's content, and the summary
+//! the command prints.
+
+use std::path::Path;
+
+use crate::frame::timing::TimingSummary;
+use crate::frame::Animation;
+use crate::gpu::query::PipelineStatistics;
+use crate::gpu::ValidationReport;
+use crate::scene::ViewMode;
+
+/// What `report.json` holds.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct RenderReport {
+    pub scene: String,
+    pub seed: u64,
+    pub device: String,
+    pub device_type: String,
+    pub driver: String,
+    pub api_version: String,
+    pub msaa_requested: u32,
+    pub msaa_used: u32,
+    pub blades: usize,
+    pub width: u32,
+    pub height: u32,
+    pub lod: bool,
+    pub tess_levels: [u32; 3],
+    pub lod_distances: [f32; 2],
+    pub view: ViewMode,
+    pub animation: Animation,
+    /// The simulation step (s) and its symplectic Euler substeps.
+    pub sim_dt: f32,
+    pub substeps: u32,
+    /// Simulation steps run in all.
+    pub sim_steps: u64,
+    /// Frames asked for (after --every) and the files written, in order.
+    pub frames_planned: u32,
+    pub frames: Vec<String>,
+    /// The animated GIF of the written frames, when there are several.
+    pub gif: Option<String>,
+    /// Stopped early (Ctrl-C): `frames` says how far it got, and every
+    /// file listed is complete.
+    pub interrupted: bool,
+    /// What the scene will do less than it says (e.g. a wind source outside
+    /// the grid), one line each.
+    pub warnings: Vec<String>,
+    pub pipeline_statistics: Option<PipelineStatistics>,
+    /// Per-phase GPU time (median, p95), wall-clock frame time and FPS.
+    pub timing: TimingSummary,
+    /// Wall-clock seconds of the whole job (GPU start-up to teardown).
+    pub wall_seconds: f64,
+    pub validation: ValidationReport,
+}
+
+/// What `meadow render` prints when it is done: the device and settings,
+/// the grass draw's counters, validation, the per-phase timing table, the
+/// simulated time and the files written under `out`.
+pub fn summary(report: &RenderReport, out: &Path) -> String {
+    let mut text = format!(
+        "rendered {} ({} blades, {}x{}, MSAA {}x of {}x asked, LOD {}) on {} [{}] in {:.1} s\n",
+        report.scene,
+        report.blades,
+        report.width,
+        report.height,
+        report.msaa_used,
+        report.msaa_requested,
+        if report.lod { "on" } else { "off" },
+        report.device,
+        report.device_type,
+        report.wall_seconds
+    );
+    if let Some(s) = &report.pipeline_statistics {
+        text += &format!(
+            "grass: {} patches, {} tessellation-evaluation invocations, {} geometry-shader invocations (segments), {} primitives\n",
+            s.tessellation_control_patches,
+            s.tessellation_evaluation_invocations,
+            s.geometry_shader_invocations,
+            s.geometry_shader_primitives
+        );
+    }
+    if report.validation.enabled {
+        text += &format!(
+            "validation: {} errors, {} warnings\n",
+            report.validation.errors, report.validation.warnings
+        );
+    }
+    text += &super::timing::table(&report.timing);
+    text += &format!(
+        "simulated {:.2} s in {} steps of {:.4} s ({} substeps each)\n",
+        report.sim_steps as f64 * report.sim_dt as f64,
+        report.sim_steps,
+        report.sim_dt,
+        report.substeps
+    );
+    match report.frames.as_slice() {
+        [one] => text += &format!("wrote {}\n", out.join(one).display()),
+        [first, .., last] => {
+            text += &format!(
+                "wrote {} frames, {} .. {}\n",
+                report.frames.len(),
+                out.join(first).display(),
+                out.join(last).display()
+            )
+        }
+        [] => {}
+    }
+    if let Some(gif) = &report.gif {
+        text += &format!("wrote {}\n", out.join(gif).display());
+    }
+    text
+}

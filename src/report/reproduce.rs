@@ -1,0 +1,184 @@
+//! The index of `meadow reproduce`: what each paper figure shows, the shots
+//! rendered for it and their parameters, as DIR/index.md and a
+//! self-contained DIR/index.html (images inlined).
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use base64::Engine as _;
+
+use crate::error::Result;
+use crate::report::render::RenderReport;
+use crate::scene::{Scene, ViewMode};
+
+/// One rendered picture (or frame sequence) of a figure.
+pub struct Shot {
+    pub label: String,
+    /// Folder under DIR for its frames.
+    pub dir: String,
+    pub scene: Scene,
+    pub view: ViewMode,
+    pub frames: u32,
+    pub fps: f32,
+    /// Simulated seconds before the first frame.
+    pub start: f32,
+}
+
+pub struct Figure {
+    pub title: &'static str,
+    /// What the paper's figure shows.
+    pub paper: &'static str,
+    pub shots: Vec<Shot>,
+}
+
+/// One shot's result, for the index.
+pub struct Rendered {
+    pub figure: usize,
+    pub label: String,
+    pub dir: String,
+    /// The scene as rendered (for the parameters shown beside it).
+    pub scene: Scene,
+    pub report: RenderReport,
+}
+
+/// The parameters a reader needs to judge one shot.
+fn parameters(r: &RenderReport, scene: &Scene) -> String {
+    let wind = &scene.wind;
+    let mut drivers = Vec::new();
+    if let Some(inflow) = &wind.inflow {
+        drivers.push(format!(
+            "inflow {} m/s from the left, gust amplitude {}",
+            inflow.speed, inflow.gust.amplitude
+        ));
+    }
+    for s in &wind.sources {
+        drivers.push(format!(
+            "source of {} m/s^2, radius {} m, turning {} rad/s",
+            s.strength, s.radius, s.rotation_speed
+        ));
+    }
+    if !wind.obstacles.is_empty() {
+        drivers.push(format!("{} obstacles", wind.obstacles.len()));
+    }
+    if drivers.is_empty() {
+        drivers.push("still air".into());
+    }
+    format!(
+        "{} blades, seed {}; {}x{}, MSAA {}x of {}x asked, LOD {}, {} view; frames at {} s of simulated time ({} steps of {:.4} s); wind grid {}x{}x{}, {} Jacobi iterations, {}; {} [{}]",
+        r.blades,
+        r.seed,
+        r.width,
+        r.height,
+        r.msaa_used,
+        r.msaa_requested,
+        if r.lod { "on" } else { "off" },
+        serde_json::to_value(r.view).ok().and_then(|v| v.as_str().map(String::from)).unwrap_or_default(),
+        frame_times(r),
+        r.sim_steps,
+        r.sim_dt,
+        wind.cells[0],
+        wind.cells[1],
+        wind.cells[2],
+        wind.jacobi_iterations,
+        drivers.join(", "),
+        r.device,
+        r.device_type,
+    )
+}
+
+fn frame_times(r: &RenderReport) -> String {
+    let a = &r.animation;
+    let times: Vec<String> = (0..a.frames)
+        .map(|f| format!("{:.2}", a.time_of(f)))
+        .collect();
+    times.join(", ")
+}
+
+pub fn markdown(figures: &[Figure], rendered: &[Rendered], quick: bool) -> String {
+    let mut md = String::new();
+    let _ = writeln!(md, "# meadow: the paper's figures, reproduced\n");
+    let _ = writeln!(
+        md,
+        "Lee, Lo, Chu and Chang, \"A simulation on grass swaying with dynamic wind force\" (The Visual Computer, 2016).{}\n",
+        if quick {
+            " Quick mode: small images and short simulated times."
+        } else {
+            ""
+        }
+    );
+    for (i, figure) in figures.iter().enumerate() {
+        let _ = writeln!(md, "## {}\n", figure.title);
+        let _ = writeln!(md, "Paper: {}\n", figure.paper);
+        for r in rendered.iter().filter(|r| r.figure == i) {
+            let scene = &r.scene;
+            let _ = writeln!(md, "**{}** ({})\n", r.label, scene.caption);
+            for frame in &r.report.frames {
+                let _ = write!(md, "![{}]({}/{}) ", r.label, r.dir, frame);
+            }
+            let _ = writeln!(md, "\n\n{}\n", parameters(&r.report, scene));
+        }
+    }
+    md
+}
+
+fn escape(text: &str) -> String {
+    text.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+}
+
+pub fn html(figures: &[Figure], rendered: &[Rendered], out: &Path, quick: bool) -> Result<String> {
+    let mut h = String::new();
+    h.push_str(
+        "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\
+         <title>meadow: the paper's figures, reproduced</title>\
+         <style>body{font-family:sans-serif;max-width:1400px;margin:auto;padding:1em}\
+         figure{display:inline-block;margin:0.5em;vertical-align:top}\
+         img{max-width:640px;width:100%}.params{color:#444;font-size:0.9em}\
+         .paper{background:#f4f1e8;padding:0.5em;border-left:4px solid #b8a070}</style>\
+         </head><body>\n<h1>meadow: the paper's figures, reproduced</h1>\n",
+    );
+    let _ = writeln!(
+        h,
+        "<p>Lee, Lo, Chu and Chang, &ldquo;A simulation on grass swaying with dynamic wind force&rdquo; (The Visual Computer, 2016).{}</p>",
+        if quick {
+            " Quick mode: small images and short simulated times."
+        } else {
+            ""
+        }
+    );
+    for (i, figure) in figures.iter().enumerate() {
+        let _ = writeln!(h, "<h2>{}</h2>", escape(figure.title));
+        let _ = writeln!(h, "<p class=\"paper\">Paper: {}</p>", escape(figure.paper));
+        for r in rendered.iter().filter(|r| r.figure == i) {
+            let scene = &r.scene;
+            let _ = writeln!(
+                h,
+                "<h3>{} <small>({})</small></h3>",
+                escape(&r.label),
+                escape(&scene.caption)
+            );
+            // Every frame of a shot is written (no --every): the n-th file
+            // is frame n.
+            for (frame, time) in r.report.frames.iter().zip(0..) {
+                let path = out.join(&r.dir).join(frame);
+                let png = std::fs::read(&path).map_err(|e| crate::Error::io(&path, e))?;
+                let data = base64::engine::general_purpose::STANDARD.encode(png);
+                let _ = writeln!(
+                    h,
+                    "<figure><img alt=\"{}\" src=\"data:image/png;base64,{data}\"><figcaption>t = {:.2} s</figcaption></figure>",
+                    escape(&r.label),
+                    r.report.animation.time_of(time)
+                );
+            }
+            let _ = writeln!(
+                h,
+                "<p class=\"params\">{}</p>",
+                escape(&parameters(&r.report, scene))
+            );
+        }
+    }
+    h.push_str("</body></html>\n");
+    Ok(h)
+}
