@@ -1,0 +1,48 @@
+//! The ownership model's promise: an object alive at teardown is reported
+//! as a leak (its allocation by name), and the device outlives it safely.
+
+mod common;
+
+use common::strict_gpu;
+use meadow::gpu::{Buffer, MemoryLocation};
+
+#[test]
+fn an_object_kept_past_teardown_is_reported_by_name() {
+    let gpu = strict_gpu();
+    let kept = Buffer::new(
+        &gpu,
+        "buffer kept too long",
+        256,
+        ash::vk::BufferUsageFlags::STORAGE_BUFFER,
+        MemoryLocation::GpuOnly,
+    )
+    .unwrap();
+    let report = gpu.destroy();
+    let ids: Vec<&str> = report.messages.iter().map(|m| m.id.as_str()).collect();
+    assert!(ids.contains(&"meadow-leaked-object"), "{ids:?}");
+    let allocation = report
+        .messages
+        .iter()
+        .find(|m| m.id == "meadow-leaked-allocation")
+        .expect("the allocation is reported");
+    assert!(allocation.first_text.contains("buffer kept too long"));
+    assert!(report.check().is_err(), "a leak fails the run");
+    // The device is still there for it: dropping it now releases it, and
+    // then the device and the instance go.
+    drop(kept);
+}
+
+#[test]
+fn nothing_is_reported_when_every_object_went_first() {
+    let gpu = strict_gpu();
+    let buffer = Buffer::new(
+        &gpu,
+        "short-lived buffer",
+        256,
+        ash::vk::BufferUsageFlags::STORAGE_BUFFER,
+        MemoryLocation::GpuOnly,
+    )
+    .unwrap();
+    drop(buffer);
+    common::finish(gpu);
+}
