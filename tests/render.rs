@@ -66,6 +66,30 @@ fn meadow_is_grass_below_and_sky_above_and_moves_with_the_camera() {
     finish(gpu);
 }
 
+/// A camera looking straight down (or straight up) has no world up to
+/// orient by; it must still render what it looks at, not only sky.
+#[test]
+fn a_camera_looking_straight_down_sees_the_meadow() {
+    let gpu = strict_gpu();
+    let mut scene = meadow_scene();
+    let blades = field::generate(&scene.grass, scene.seed).unwrap();
+    scene.camera.position = [0.0, 6.0, 0.0];
+    scene.camera.target = [0.0, 0.0, 0.0];
+    let (w, h) = (160, 90);
+    let frame = render(&gpu, &scene, &blades, w, h, ViewMode::Shaded);
+    let grass = (0..h)
+        .flat_map(|y| (0..w).map(move |x| (x, y)))
+        .filter(|&(x, y)| is_grass(pixel(&frame, x, y)))
+        .count();
+    let share = grass as f64 / (w * h) as f64;
+    assert!(
+        share > 0.5,
+        "looking down on the meadow, only {:.0}% of the frame is grass",
+        share * 100.0
+    );
+    finish(gpu);
+}
+
 /// One straight blade rooted at `root`, leaning nowhere.
 fn single_blade(root: Vec3, facing: Vec3, half_width: f32) -> Blade {
     Blade::from_profile(

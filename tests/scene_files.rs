@@ -44,6 +44,14 @@ fn optional_tables_take_each_field_on_its_own() {
         .unwrap_or_else(|e| panic!("[light] with only shadow_map: {e}"));
     assert_eq!(map_only.light.shadow_map, 1024);
     assert_eq!(map_only.light.ambient, defaults.light.ambient);
+    let gust = plus("[wind.inflow]\nspeed = 2.0\ngust = { amplitude = 0.5, frequency = 0.3 }");
+    let gust = file::parse(&gust, "gust.toml")
+        .unwrap_or_else(|e| panic!("a gust without a seed: {e}"))
+        .wind
+        .inflow
+        .expect("inflow")
+        .gust;
+    assert_eq!((gust.amplitude, gust.frequency, gust.seed), (0.5, 0.3, 0));
     let ground = file::parse(&plus("[ground]"), "ground.toml")
         .unwrap_or_else(|e| panic!("an empty [ground]: {e}"));
     assert_eq!(ground.ground, defaults.ground);
@@ -285,6 +293,38 @@ fn malformed_scene_files_are_refused_with_line_column_field_and_range() {
             plus("[light]\ndirection = [0.0, 1.0, 0.0]\ncolor = [1.0, 1.0, 1.0]\nambient = 2.0"),
             17,
             "light.ambient: 2 is not allowed, use 0..=1",
+        ),
+        // Too long is refused as too short is (serde alone would drop the
+        // extra values silently).
+        (
+            "bunch centre with three values",
+            with("center = [0.0, 0.0]", "center = [1.0, 0.0, 2.0]"),
+            10,
+            "grass.bunch[0].center: has 3 values, use exactly 2",
+        ),
+        (
+            "camera position with four values",
+            with("position = [0.0, 1.0, 3.0]", "position = [0.0, 1.0, 3.0, 1.0]"),
+            5,
+            "camera.position: has 4 values, use exactly 3",
+        ),
+        (
+            "four LOD levels",
+            plus("[lod]\nlevels = [20, 10, 3, 1]"),
+            15,
+            "lod.levels: has 4 values, use exactly 3",
+        ),
+        (
+            "four wind cell counts",
+            plus("[wind]\ncells = [10, 10, 10, 10]"),
+            15,
+            "wind.cells: has 4 values, use exactly 3",
+        ),
+        (
+            "a source path point with four values",
+            plus("[[wind.source]]\nposition = [0.0, 0.5, 0.0]\ndirection = [1.0, 0.0, 0.0]\nstrength = 5.0\nradius = 1.0\npath = [[0.0, 0.5, 0.0], [1.0, 0.5, 0.0, 7.0]]"),
+            19,
+            "wind.source[0].path[1]: has 4 values, use exactly 3",
         ),
     ];
     assert!(cases.len() >= 15);

@@ -35,10 +35,22 @@ pub struct FrameUniforms {
 /// down and depth runs 0..1.
 pub fn view_projection(scene: &Scene, aspect: f32, time: f32) -> Mat4 {
     let (eye, target) = scene.camera.at(time);
-    let view = Mat4::look_at_rh(eye, target, Vec3::Y);
+    let view = Mat4::look_at_rh(eye, target, camera_up(target - eye));
     let mut proj = Mat4::perspective_rh(scene.camera.fov_y.to_radians(), aspect, 0.05, 200.0);
     proj.y_axis.y = -proj.y_axis.y;
     proj * view
+}
+
+/// The camera's up vector: the world's up, unless the camera looks (almost)
+/// along it, where it is undefined: then the screen's up is world -z, as a
+/// map shows north.
+pub fn camera_up(forward: Vec3) -> Vec3 {
+    let forward = forward.normalize_or_zero();
+    if forward.y.abs() > 0.999 {
+        Vec3::NEG_Z
+    } else {
+        Vec3::Y
+    }
 }
 
 impl FrameUniforms {

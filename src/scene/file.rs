@@ -66,8 +66,56 @@ pub fn parse(text: &str, origin: &str) -> Result<Scene> {
             )));
         }
     };
+    check_lengths(text, &scene).map_err(|e| located(text, origin, e))?;
     check::scene(&scene).map_err(|e| located(text, origin, e))?;
     Ok(scene)
+}
+
+/// Refuses an array of another length than its field holds. serde reads a
+/// fixed-size field (`center = [x, z]`) from the first values of a longer
+/// array and drops the rest silently; a shorter one it refuses itself. The
+/// scene written back as TOML has every array at its field's length, so
+/// the file's arrays are compared with it, path by path.
+fn check_lengths(text: &str, scene: &Scene) -> std::result::Result<(), FieldError> {
+    fn walk(
+        raw: &DeValue<'_>,
+        read: &toml::Value,
+        path: &str,
+    ) -> std::result::Result<(), FieldError> {
+        match (raw, read) {
+            (DeValue::Table(raw), toml::Value::Table(read)) => {
+                for (key, value) in raw.iter() {
+                    let key: &str = key.get_ref();
+                    if let Some(read) = read.get(key) {
+                        let path = if path.is_empty() {
+                            key.to_string()
+                        } else {
+                            format!("{path}.{key}")
+                        };
+                        walk(value.get_ref(), read, &path)?;
+                    }
+                }
+                Ok(())
+            }
+            (DeValue::Array(raw), toml::Value::Array(read)) => {
+                if raw.len() != read.len() {
+                    return Err(FieldError::new(
+                        path,
+                        format!("has {} values, use exactly {}", raw.len(), read.len()),
+                    ));
+                }
+                for (i, (raw, read)) in raw.iter().zip(read).enumerate() {
+                    walk(raw.get_ref(), read, &format!("{path}[{i}]"))?;
+                }
+                Ok(())
+            }
+            _ => Ok(()),
+        }
+    }
+    let (Ok(doc), Ok(read)) = (DeTable::parse(text), toml::Value::try_from(scene)) else {
+        return Ok(());
+    };
+    walk(&DeValue::Table(doc.into_inner()), &read, "")
 }
 
 /// A scene as TOML, as `meadow scenes --print` writes it.

@@ -113,9 +113,10 @@ fn lattice(d: UVec3) -> impl Iterator<Item = (usize, [u32; 3])> {
 
 /// Strength over time: s(t) = s0 * max(0, 1 + a * g(t)), with
 /// g(t) = 0.5 sin(2 pi f t + p0) + 0.3 sin(2 pi 2.17 f t + p1) + 0.2 sin(2 pi 4.73 f t + p2)
-/// and the phases p drawn from the seed. a = 0 is a steady source.
+/// and the phases p drawn from the seed. a = 0 is a steady source. In a
+/// scene file every field is optional on its own (default 0).
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, default)]
 pub struct Gust {
     pub amplitude: f32,
     /// Base frequency, Hz.
