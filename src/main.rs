@@ -172,6 +172,10 @@ enum Command {
         /// to this is used and reported).
         #[arg(long, default_value_t = 8)]
         msaa: u32,
+        /// Shadow map side in texels (default: the scene's, the paper's 8192;
+        /// 0 turns shadows off).
+        #[arg(long, value_name = "TEXELS")]
+        shadow_map: Option<u32>,
         #[arg(long, default_value = "out/bench")]
         out: PathBuf,
         #[command(flatten)]
@@ -316,7 +320,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         } => {
             let mut scene = Scene::load(&scene)?;
             if let Some(n) = shadow_map {
-                scene.light.shadow_map = n;
+                scene.set_shadow_map(n)?;
             }
             if let Some(n) = blades {
                 scene.set_blade_count(n)?;
@@ -411,6 +415,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             width,
             height,
             msaa,
+            shadow_map,
             out,
             device,
         } => {
@@ -418,8 +423,12 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 .split(',')
                 .map(meadow::commands::bench_grass::parse_count)
                 .collect::<Result<Vec<_>, _>>()?;
+            let mut scene = Scene::load(&scene)?;
+            if let Some(n) = shadow_map {
+                scene.set_shadow_map(n)?;
+            }
             let request = meadow::commands::bench::BenchRequest {
-                scene: Scene::load(&scene)?,
+                scene,
                 counts,
                 lod: match lod {
                     LodArg::Both => meadow::commands::bench::LodChoice::Both,

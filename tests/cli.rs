@@ -157,6 +157,28 @@ fn zero_blades_are_refused() {
     );
 }
 
+/// A flag's value out of range is refused by the flag's name, not by the
+/// scene field it sets.
+#[test]
+fn flags_out_of_range_are_refused_by_their_own_name() {
+    assert_refused(
+        &["render", "--shadow-map", "20000"],
+        &[],
+        "--shadow-map 20000 is not allowed, use 0..=16384",
+    );
+    assert_refused(
+        &["bench", "--shadow-map", "20000"],
+        &[],
+        "--shadow-map 20000 is not allowed, use 0..=16384",
+    );
+    // Fewer blades than patches would leave a patch empty.
+    assert_refused(
+        &["render", "--scene", "fig10-few-bunches", "--blades", "1"],
+        &[],
+        "--blades 1 is fewer than the scene's 3 patches of grass",
+    );
+}
+
 #[test]
 fn a_device_without_tessellation_is_refused_by_name() {
     assert_refused(

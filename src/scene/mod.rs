@@ -526,6 +526,13 @@ impl Scene {
         }
         let old = self.blade_count().max(1);
         let patches = self.grass.patches();
+        if total < patches.len() {
+            return Err(Error::InvalidInput(format!(
+                "--blades {total} is fewer than the scene's {} patches of grass (bunches and meadows), each of which needs a blade; use at least {}",
+                patches.len(),
+                patches.len()
+            )));
+        }
         let mut counts: Vec<usize> = patches
             .iter()
             .map(|p| (p.count() as u128 * total as u128 / old as u128) as usize)
@@ -544,6 +551,15 @@ impl Scene {
             m.count = Some(c);
             m.density = None;
         }
+        Ok(())
+    }
+
+    /// Sets the shadow map's side from the command line (`--shadow-map`),
+    /// refusing it by the flag's name.
+    pub fn set_shadow_map(&mut self, side: u32) -> Result<()> {
+        check::in_range("--shadow-map", side, 0..=check::MAX_IMAGE_SIDE)
+            .map_err(|e| Error::InvalidInput(format!("{} {}", e.path, e.message)))?;
+        self.light.shadow_map = side;
         Ok(())
     }
 
