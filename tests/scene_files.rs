@@ -118,7 +118,7 @@ fn malformed_scene_files_are_refused_with_line_column_field_and_range() {
             "wrong type",
             with("seed = 1", "seed = \"one\""),
             2,
-            "seed: invalid type: string \"one\", expected u64",
+            "seed: invalid type: string \"one\", expected a whole number, 0 or more",
         ),
         (
             "unknown top-level key",
@@ -160,7 +160,7 @@ fn malformed_scene_files_are_refused_with_line_column_field_and_range() {
             "negative count",
             with("count = 10", "count = -5"),
             12,
-            "grass.bunch[0].count: invalid value: integer `-5`, expected usize",
+            "grass.bunch[0].count: invalid value: integer `-5`, expected a whole number, 0 or more",
         ),
         (
             "negative radius",
@@ -293,6 +293,24 @@ fn malformed_scene_files_are_refused_with_line_column_field_and_range() {
             plus("[light]\ndirection = [0.0, 1.0, 0.0]\ncolor = [1.0, 1.0, 1.0]\nambient = 2.0"),
             17,
             "light.ambient: 2 is not allowed, use 0..=1",
+        ),
+        (
+            "no grass at all: the top level lacks it, no field is blamed",
+            MINIMAL.replace("[[grass.bunch]]\ncenter = [0.0, 0.0]\nradius = 0.2\ncount = 10\n", ""),
+            1,
+            "bad.toml:1:1: missing field `grass`",
+        ),
+        (
+            "a key written twice is named",
+            with("seed = 1", "seed = 1\nseed = 2"),
+            3,
+            "duplicate key `seed`; write each key once per table",
+        ),
+        (
+            "a number where text is not: no Rust type names",
+            with("radius = 0.2", "radius = \"wide\""),
+            11,
+            "grass.bunch[0].radius: invalid type: string \"wide\", expected a number",
         ),
         // Too long is refused as too short is (serde alone would drop the
         // extra values silently).

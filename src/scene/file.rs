@@ -45,7 +45,15 @@ pub fn parse(text: &str, origin: &str) -> Result<Scene> {
         Ok(s) => s,
         Err(e) => {
             let span = e.span().unwrap_or(0..0);
+            // toml's messages can run over lines; keep them to one.
+            let message =
+                plain_words(&e.message().split_whitespace().collect::<Vec<_>>().join(" "));
+            // A missing field is reported at the table that lacks it; at the
+            // file's top level that is no field at all.
+            let top_level = span.start == 0 && message.starts_with("missing field");
             let path = DeTable::parse(text)
+                .ok()
+                .filter(|_| !top_level)
                 .map(|doc| path_at(&doc, span.start))
                 .unwrap_or_default();
             let field = if path.is_empty() {
@@ -53,8 +61,15 @@ pub fn parse(text: &str, origin: &str) -> Result<Scene> {
             } else {
                 format!("{path}: ")
             };
-            // toml's messages can run over lines; keep them to one.
-            let message = e.message().split_whitespace().collect::<Vec<_>>().join(" ");
+            // A duplicate key: name it (the document does not parse, so no
+            // path can be found for it).
+            let message = match (message.as_str(), text.get(span.clone())) {
+                ("duplicate key", Some(key)) if !key.trim().is_empty() => format!(
+                    "duplicate key `{}`; write each key once per table",
+                    key.trim()
+                ),
+                _ => message,
+            };
             let message = if text.trim().is_empty() {
                 format!("{message} (the file is empty; docs/scenes.md has a complete example)")
             } else {
@@ -116,6 +131,22 @@ fn check_lengths(text: &str, scene: &Scene) -> std::result::Result<(), FieldErro
         return Ok(());
     };
     walk(&DeValue::Table(doc.into_inner()), &read, "")
+}
+
+/// serde's messages name Rust types (`expected usize`); say what a scene
+/// author writes instead.
+fn plain_words(message: &str) -> String {
+    [
+        ("expected usize", "expected a whole number, 0 or more"),
+        ("expected u64", "expected a whole number, 0 or more"),
+        ("expected u32", "expected a whole number, 0 or more"),
+        ("expected f32", "expected a number"),
+        ("expected f64", "expected a number"),
+    ]
+    .iter()
+    .fold(message.to_string(), |m, (rust, plain)| {
+        m.replace(rust, plain)
+    })
 }
 
 /// A scene as TOML, as `meadow scenes --print` writes it.

@@ -487,8 +487,14 @@ impl Scene {
     pub fn builtin(name: &str) -> Result<Scene> {
         let Some((_, text)) = BUILTIN.iter().find(|(n, _)| *n == name) else {
             let names: Vec<&str> = BUILTIN.iter().map(|(n, _)| *n).collect();
+            let closest = names
+                .iter()
+                .map(|n| (strsim::damerau_levenshtein(name, n), *n))
+                .min()
+                .filter(|&(distance, n)| distance <= n.len().div_ceil(3).max(2));
+            let guess = closest.map_or(String::new(), |(_, n)| format!("did you mean {n:?}? "));
             return Err(Error::InvalidInput(format!(
-                "unknown scene {name:?}; the built-in scenes are: {} (or give a path to a .toml file)",
+                "unknown scene {name:?}; {guess}the built-in scenes are: {} (or give a path to a .toml file)",
                 names.join(", ")
             )));
         };
@@ -610,9 +616,14 @@ mod tests {
     #[test]
     fn blade_count_is_shared_exactly() {
         let mut s = Scene::builtin("fig10-several-bunches").unwrap();
-        for total in [1, 8, 9, 10, 1000, 12345] {
+        for total in [9, 10, 1000, 12345] {
             s.set_blade_count(total).unwrap();
             assert_eq!(s.blade_count(), total);
+        }
+        // Fewer blades than its 9 bunches would leave a bunch empty.
+        for total in [1, 8] {
+            let e = s.set_blade_count(total).unwrap_err().to_string();
+            assert!(e.contains("fewer than the scene's 9 patches"), "{e}");
         }
         assert!(s.set_blade_count(0).is_err());
         assert!(s.set_blade_count(MAX_BLADES + 1).is_err());
@@ -622,6 +633,12 @@ mod tests {
     fn unknown_scene_names_the_choices() {
         let e = Scene::builtin("nope").unwrap_err().to_string();
         assert!(e.contains("unknown scene") && e.contains("table1"), "{e}");
+        let e = Scene::builtin("tabel1").unwrap_err().to_string();
+        assert!(e.contains("did you mean \"table1\"?"), "{e}");
+        let e = Scene::builtin("fig10-few-bunch").unwrap_err().to_string();
+        assert!(e.contains("did you mean \"fig10-few-bunches\"?"), "{e}");
+        let e = Scene::builtin("sunset").unwrap_err().to_string();
+        assert!(!e.contains("did you mean"), "{e}");
     }
 
     #[test]
