@@ -85,9 +85,10 @@ enum Command {
         /// A built-in scene (`meadow scenes` lists them) or a scene file (.toml).
         #[arg(long, default_value = "table1")]
         scene: String,
-        /// Total number of blades (shared among the scene's patches).
+        /// Total number of blades, shared among the scene's patches (200000,
+        /// 200k, 1.5m).
         #[arg(long)]
-        blades: Option<usize>,
+        blades: Option<String>,
         /// Image width (default: the scene's [render] width).
         #[arg(long)]
         width: Option<u32>,
@@ -277,6 +278,15 @@ fn render_with_progress(
     Ok(report?)
 }
 
+/// `--blades` as every command reads it: 1200, 50k, 1.5m. A plain
+/// number is passed on as it is, for the scene to refuse by range.
+fn blade_count(text: &str) -> anyhow::Result<usize> {
+    match text.trim().parse::<usize>() {
+        Ok(n) => Ok(n),
+        Err(_) => Ok(meadow::commands::bench_grass::parse_count(text)?),
+    }
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match run(cli) {
@@ -322,8 +332,8 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             if let Some(n) = shadow_map {
                 scene.set_shadow_map(n)?;
             }
-            if let Some(n) = blades {
-                scene.set_blade_count(n)?;
+            if let Some(text) = blades {
+                scene.set_blade_count(blade_count(&text)?)?;
             }
             if let Some(s) = seed {
                 scene.seed = s;

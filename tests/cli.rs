@@ -157,6 +157,40 @@ fn zero_blades_are_refused() {
     );
 }
 
+/// `render --blades` reads counts as `bench --blades` does (50k, 1.5m).
+#[test]
+fn render_reads_blade_counts_as_bench_does() {
+    let out = temp_out("blades-2k");
+    let result = meadow(
+        &[
+            "render",
+            "--scene",
+            "fig10-few-bunches",
+            "--blades",
+            "2k",
+            "--shadow-map",
+            "0",
+            "--width",
+            "64",
+            "--height",
+            "36",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        &[],
+    );
+    assert_succeeded(&result);
+    let report: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("report.json")).unwrap()).unwrap();
+    assert_eq!(report["blades"], 2000);
+    let _ = std::fs::remove_dir_all(&out);
+    assert_refused(
+        &["render", "--blades", "1.5x"],
+        &[],
+        "blade count \"1.5x\" is not a count, write e.g. 50k, 1.5m or 1200",
+    );
+}
+
 /// A flag's value out of range is refused by the flag's name, not by the
 /// scene field it sets.
 #[test]
