@@ -221,4 +221,24 @@ fn bad_wind_input_is_refused_or_warned() {
         warnings[0].contains("outside the wind domain"),
         "{warnings:?}"
     );
+    // An obstacle that covers no cell blocks nothing: said, as a source
+    // outside the grid is; one inside says nothing.
+    let far = Obstacle::Sphere {
+        center: Vec3::new(500.0, 1.0, 0.0),
+        radius: 1.0,
+    };
+    let near = Obstacle::Sphere {
+        center: g.origin + g.size() / 2.0,
+        radius: 1.0,
+    };
+    let settings = WindSettings {
+        obstacles: vec![near, far],
+        ..Default::default()
+    };
+    let warnings = settings.check(&g).unwrap();
+    assert_eq!(warnings.len(), 1, "{warnings:?}");
+    assert!(
+        warnings[0].contains("obstacle 1 covers no cell"),
+        "{warnings:?}"
+    );
 }

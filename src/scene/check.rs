@@ -395,6 +395,12 @@ fn gust(g: &crate::sim::wind::Gust) -> Check {
 fn source(s: &WindSource) -> Check {
     finite("position", &s.position.to_array())?;
     finite("direction", &s.direction.to_array())?;
+    if s.direction.length() < 1e-6 {
+        return Err(FieldError::new(
+            "direction",
+            "is zero, give the direction the source pushes the air",
+        ));
+    }
     finite("strength", &[s.strength])?;
     if s.strength.abs() > 1000.0 {
         return Err(FieldError::new(
@@ -421,6 +427,12 @@ fn source(s: &WindSource) -> Check {
         return Err(FieldError::new(
             "path_speed",
             format!("{} is not allowed, use a speed >= 0", s.path_speed),
+        ));
+    }
+    if s.path_speed > 0.0 && s.path.len() < 2 {
+        return Err(FieldError::new(
+            "path_speed",
+            "moves the source along its path, which needs at least 2 points (give `path`, or drop path_speed)",
         ));
     }
     gust(&s.gust).map_err(|e| e.at("gust"))?;

@@ -347,6 +347,18 @@ impl WindSettings {
         for source in &self.sources {
             warnings.extend(source.validate(grid)?);
         }
+        for (i, obstacle) in self.obstacles.iter().enumerate() {
+            let solid = grid
+                .each_cell()
+                .any(|(_, [x, y, z])| obstacle.contains(grid.cell_center(x, y, z)));
+            if !solid {
+                warnings.push(format!(
+                    "wind obstacle {i} covers no cell of the wind domain {}..{}; it blocks no air",
+                    grid.origin,
+                    grid.origin + grid.size()
+                ));
+            }
+        }
         Ok(warnings)
     }
 }
