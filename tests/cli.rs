@@ -282,6 +282,88 @@ fn render_writes_frame_and_report_with_validation_clean() {
     let _ = std::fs::remove_dir_all(&out);
 }
 
+/// What a render leaves is enough to redo it: report.json holds the command
+/// line, the shadow-map size and the camera, and scene.toml the scene as
+/// rendered, overrides applied; rendering that file gives the same frames.
+#[test]
+fn a_render_can_be_redone_from_the_scene_it_leaves() {
+    let first = temp_out("redo-first");
+    let again = temp_out("redo-again");
+    let args = [
+        "render",
+        "--scene",
+        "fig10-few-bunches",
+        "--blades",
+        "300",
+        "--seed",
+        "7",
+        "--shadow-map",
+        "512",
+        "--width",
+        "96",
+        "--height",
+        "54",
+        "--msaa",
+        "1",
+        "--frames",
+        "2",
+        "--fps",
+        "10",
+        "--start",
+        "0.5",
+        "--view",
+        "motion",
+    ];
+    let mut with_out = args.to_vec();
+    with_out.extend(["--out", first.to_str().unwrap()]);
+    assert_succeeded(&meadow(&with_out, &[]));
+    let report: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(first.join("report.json")).unwrap()).unwrap();
+    assert_eq!(report["scene_file"], "scene.toml");
+    assert_eq!(report["shadow_map"], 512);
+    assert!(report["camera"]["position"].is_array(), "{report}");
+    let line: Vec<&str> = report["command_line"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_str().unwrap())
+        .collect();
+    assert!(line.ends_with(&with_out), "{line:?}");
+
+    let scene = first.join("scene.toml");
+    assert_succeeded(&meadow(
+        &[
+            "render",
+            "--scene",
+            scene.to_str().unwrap(),
+            "--out",
+            again.to_str().unwrap(),
+        ],
+        &[],
+    ));
+    for name in ["frame_0000.png", "frame_0001.png"] {
+        let a = std::fs::read(first.join(name)).unwrap();
+        let b = std::fs::read(again.join(name)).unwrap();
+        assert!(a == b, "{name} differs when rendered again from scene.toml");
+    }
+    let again_report: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(again.join("report.json")).unwrap()).unwrap();
+    for key in [
+        "blades",
+        "seed",
+        "width",
+        "height",
+        "msaa_requested",
+        "view",
+        "animation",
+        "shadow_map",
+    ] {
+        assert_eq!(report[key], again_report[key], "{key}");
+    }
+    let _ = std::fs::remove_dir_all(&first);
+    let _ = std::fs::remove_dir_all(&again);
+}
+
 #[test]
 fn devices_lists_at_least_one_qualifying_device() {
     let result = meadow(&["devices"], &[]);
@@ -407,10 +489,11 @@ fn an_interrupted_render_leaves_only_complete_files_and_says_how_far_it_got() {
         .map(|v| v.as_str().unwrap().to_string())
         .collect();
     assert!(listed.len() >= 4 && listed.len() < 2000, "{}", listed.len());
-    // On disk: exactly the listed frames, the GIF and the report, all complete.
+    // On disk: exactly the listed frames, the GIF, the report and the scene
+    // as rendered, all complete.
     let on_disk = files_in(&out);
     let mut expected = listed.clone();
-    expected.extend(["animation.gif".to_string(), "report.json".to_string()]);
+    expected.extend(["animation.gif", "report.json", "scene.toml"].map(String::from));
     expected.sort();
     assert_eq!(on_disk, expected);
     for name in &listed {

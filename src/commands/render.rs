@@ -57,6 +57,24 @@ impl RenderRequest {
         }
     }
 
+    /// The scene as this request renders it: the command line's overrides
+    /// applied and its `[render]` table set to the request's size, MSAA,
+    /// view and animation. Written beside the report as scene.toml, so
+    /// `meadow render --scene DIR/scene.toml` renders the run again.
+    pub fn scene_as_rendered(&self) -> Scene {
+        let mut scene = self.scene.clone();
+        scene.render = crate::scene::RenderSettings {
+            width: self.width,
+            height: self.height,
+            msaa: self.msaa,
+            view: self.view,
+            frames: self.animation.frames,
+            fps: self.animation.fps,
+            start: self.animation.start,
+        };
+        scene
+    }
+
     /// The frame numbers written, in order.
     pub fn frames_written(&self) -> impl Iterator<Item = u32> {
         (0..self.animation.frames).step_by(self.every.max(1) as usize)
@@ -118,6 +136,8 @@ pub fn render_to_dir_observed(
     })?;
     report.validation = validation;
     report.wall_seconds = started.elapsed().as_secs_f64();
+    let scene = crate::scene::file::to_toml(&request.scene_as_rendered());
+    files::write_atomic(&out_dir.join(SCENE_NAME), scene.as_bytes())?;
     write_json(&out_dir.join("report.json"), &report)?;
     report.validation.check()?;
     Ok(report)
@@ -153,6 +173,10 @@ fn render_with(
 
     let info = gpu.info();
     Ok(RenderReport {
+        command_line: std::env::args().collect(),
+        scene_file: SCENE_NAME.into(),
+        shadow_map: scene.light.shadow_map,
+        camera: scene.camera.clone(),
         scene: scene.name.clone(),
         seed: scene.seed,
         device: info.name.clone(),
@@ -195,6 +219,8 @@ struct Animated {
 }
 
 const GIF_NAME: &str = "animation.gif";
+/// The scene as rendered, beside the report.
+const SCENE_NAME: &str = "scene.toml";
 
 /// Simulates up to each written frame's time and renders it, in one
 /// submission per frame; writes each frame (and adds it to the GIF) as it

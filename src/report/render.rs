@@ -7,11 +7,19 @@ use crate::frame::timing::TimingSummary;
 use crate::frame::Animation;
 use crate::gpu::query::PipelineStatistics;
 use crate::gpu::ValidationReport;
-use crate::scene::ViewMode;
+use crate::scene::{Camera, ViewMode};
 
 /// What `report.json` holds.
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct RenderReport {
+    /// The process's command line, to run it again.
+    pub command_line: Vec<String>,
+    /// The scene as rendered (overrides applied, `[render]` set to this
+    /// run's settings), written beside this report.
+    pub scene_file: String,
+    /// Side of the shadow map in texels (0: no shadows).
+    pub shadow_map: u32,
+    pub camera: Camera,
     pub scene: String,
     pub seed: u64,
     pub device: String,
