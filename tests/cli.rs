@@ -364,6 +364,67 @@ fn a_render_can_be_redone_from_the_scene_it_leaves() {
     let _ = std::fs::remove_dir_all(&again);
 }
 
+/// A render into a folder an earlier render used replaces that run's files
+/// (frames, GIF, report, scene) and leaves anything else there alone; a
+/// refused run changes nothing.
+#[test]
+fn a_reused_output_folder_never_mixes_two_runs() {
+    let out = temp_out("reused");
+    let out_s = out.to_str().unwrap();
+    let render = |frames: &str| {
+        meadow(
+            &[
+                "render",
+                "--scene",
+                "fig10-few-bunches",
+                "--shadow-map",
+                "0",
+                "--width",
+                "64",
+                "--height",
+                "36",
+                "--fps",
+                "10",
+                "--frames",
+                frames,
+                "--out",
+                out_s,
+            ],
+            &[],
+        )
+    };
+    assert_succeeded(&render("6"));
+    std::fs::write(out.join("notes.txt"), "mine").unwrap();
+    let six = files_in(&out);
+    assert_eq!(six.len(), 6 + 4, "{six:?}");
+    // A refused run leaves everything as it was.
+    let refused = meadow(&["render", "--msaa", "3", "--out", out_s], &[]);
+    assert!(!refused.status.success());
+    assert_eq!(files_in(&out), six);
+    assert_succeeded(&render("2"));
+    assert_eq!(
+        files_in(&out),
+        [
+            "animation.gif",
+            "frame_0000.png",
+            "frame_0001.png",
+            "notes.txt",
+            "report.json",
+            "scene.toml"
+        ]
+    );
+    assert_succeeded(&render("1"));
+    assert_eq!(
+        files_in(&out),
+        ["frame_0000.png", "notes.txt", "report.json", "scene.toml"]
+    );
+    assert_eq!(
+        std::fs::read_to_string(out.join("notes.txt")).unwrap(),
+        "mine"
+    );
+    let _ = std::fs::remove_dir_all(&out);
+}
+
 #[test]
 fn devices_lists_at_least_one_qualifying_device() {
     let result = meadow(&["devices"], &[]);

@@ -234,6 +234,10 @@ fn animate(
     observer: &mut dyn FnMut(FrameProgress) -> bool,
 ) -> Result<Animated> {
     let planned = request.frames_written().count() as u32;
+    // Before the first frame: what an earlier render left here goes, so
+    // the folder never mixes two runs. A run refused before this point
+    // (bad input, no device, no memory) leaves the old outputs alone.
+    files::remove_earlier_render(out_dir)?;
     let mut gif = if request.gif && planned > 1 {
         let seconds = request.every as f32 / request.animation.fps;
         Some(files::GifWriter::create(&out_dir.join(GIF_NAME), seconds)?)
