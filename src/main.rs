@@ -227,55 +227,72 @@ enum Command {
     },
 }
 
-/// A run stopped by Ctrl-C (already reported): exit status 130, as shells
-/// expect of a program ended by SIGINT.
+/// A render stopped by a signal: the process exits 128 + its number (130
+/// for SIGINT, 143 for SIGTERM), as a shell reports a process killed by it.
 #[derive(Debug)]
-struct Interrupted;
+struct Interrupted(i32);
 
 impl std::fmt::Display for Interrupted {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str("interrupted")
+        write!(f, "interrupted by {}", signal_name(self.0))
     }
 }
 
 impl std::error::Error for Interrupted {}
 
+fn signal_name(signal: i32) -> &'static str {
+    match signal {
+        signal_hook::consts::SIGINT => "SIGINT (Ctrl-C)",
+        signal_hook::consts::SIGTERM => "SIGTERM",
+        _ => "a signal",
+    }
+}
+
 /// Renders with a progress bar on a terminal (none when stderr is not
-/// one) and stops after the current frame on Ctrl-C.
+/// one). SIGINT (Ctrl-C) and SIGTERM stop it between simulation steps or
+/// frames: the files written so far stay complete and the report says how
+/// far it got.
 fn render_with_progress(
     request: &RenderRequest,
     out: &std::path::Path,
-) -> anyhow::Result<meadow::commands::render::RenderReport> {
-    use std::sync::atomic::{AtomicBool, Ordering};
+) -> anyhow::Result<(meadow::commands::render::RenderReport, Option<i32>)> {
+    use std::sync::atomic::{AtomicUsize, Ordering};
     use std::sync::Arc;
 
-    let stop = Arc::new(AtomicBool::new(false));
-    let flag = stop.clone();
-    ctrlc::set_handler(move || {
-        if !flag.swap(true, Ordering::SeqCst) {
-            eprintln!("\nmeadow: stopping after the frame in progress (Ctrl-C)");
-        }
-    })
-    .context("installing the Ctrl-C handler")?;
+    // The handlers only store the signal's number (async-signal-safe);
+    // the render polls it.
+    let signal = Arc::new(AtomicUsize::new(0));
+    for sig in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
+        signal_hook::flag::register_usize(sig, signal.clone(), sig as usize)
+            .context("installing the SIGINT/SIGTERM handlers")?;
+    }
 
     let planned = request.frames_written().count() as u64;
-    let bar = if planned > 1 {
-        indicatif::ProgressBar::new(planned)
-    } else {
-        indicatif::ProgressBar::hidden()
-    };
+    let bar = indicatif::ProgressBar::new(planned);
     bar.set_style(
         indicatif::ProgressStyle::with_template(
-            "{bar:30} {pos}/{len} frames  {per_sec}  {elapsed} elapsed, {eta} left",
+            "{bar:30} {pos}/{len} frames  {msg}  {elapsed} elapsed, {eta} left",
         )
         .expect("a valid progress template"),
     );
+    let mut announced = false;
     let report = render_to_dir_observed(request, out, &mut |p| {
         bar.set_position(p.written as u64);
-        !stop.load(Ordering::SeqCst)
+        bar.set_message(if p.steps_left > 0 {
+            format!("simulating: {} steps to the next frame", p.steps_left)
+        } else {
+            String::new()
+        });
+        let sig = signal.load(Ordering::SeqCst) as i32;
+        if sig != 0 && !announced {
+            announced = true;
+            bar.suspend(|| eprintln!("meadow: stopping ({})", signal_name(sig)));
+        }
+        sig == 0
     });
     bar.finish_and_clear();
-    Ok(report?)
+    let sig = signal.load(Ordering::SeqCst) as i32;
+    Ok((report?, (sig != 0).then_some(sig)))
 }
 
 /// `--blades` as every command reads it: 1200, 50k, 1.5m. A plain
@@ -291,7 +308,10 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     match run(cli) {
         Ok(()) => ExitCode::SUCCESS,
-        Err(e) if e.is::<Interrupted>() => ExitCode::from(130),
+        Err(e) if e.is::<Interrupted>() => {
+            let Interrupted(sig) = e.downcast_ref::<Interrupted>().expect("checked");
+            ExitCode::from((128 + sig).clamp(0, 255) as u8)
+        }
         Err(e) => {
             // One line: the cause chain, outermost first, without repeating
             // a cause its parent's message already ends with.
@@ -352,7 +372,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             request.view = view.unwrap_or(request.view);
             request.every = every;
             request.gif = !no_gif;
-            let report = render_with_progress(&request, &out)?;
+            let (report, signal) = render_with_progress(&request, &out)?;
             for w in &report.warnings {
                 eprintln!("meadow: warning: {w}");
             }
@@ -364,7 +384,8 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                     report.frames_planned,
                     out.join("report.json").display()
                 );
-                return Err(Interrupted.into());
+                let sig = signal.unwrap_or(signal_hook::consts::SIGINT);
+                return Err(Interrupted(sig).into());
             }
             Ok(())
         }

@@ -500,6 +500,60 @@ fn work_over_the_device_memory_budget_is_refused_before_allocating() {
     );
 }
 
+/// SIGTERM (what kill, schedulers and containers send) stops a render
+/// while it is still simulating toward its first frame, within seconds:
+/// exit 143, a report saying how far it got, no temporary file left.
+#[test]
+fn sigterm_while_simulating_stops_within_seconds_and_reports() {
+    let out = temp_out("sigterm");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_meadow"))
+        .args([
+            "render",
+            "--scene",
+            "fig10-few-bunches",
+            "--start",
+            "120",
+            "--frames",
+            "3",
+            "--width",
+            "96",
+            "--height",
+            "54",
+            "--shadow-map",
+            "0",
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .env("MEADOW_QUIET_VALIDATION", "1")
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("start meadow");
+    // 7,200 steps to the first frame: minutes of simulation on lavapipe.
+    std::thread::sleep(std::time::Duration::from_secs(4));
+    assert!(child.try_wait().unwrap().is_none(), "meadow ended early");
+    let sent_at = std::time::Instant::now();
+    let sent = Command::new("kill")
+        .args(["-TERM", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(sent.success());
+    let result = child.wait_with_output().unwrap();
+    let took = sent_at.elapsed();
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    assert_eq!(result.status.code(), Some(143), "{stderr}");
+    assert!(stderr.contains("stopping (SIGTERM)"), "{stderr}");
+    assert!(took.as_secs_f64() < 15.0, "took {took:?} to stop");
+    let report: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("report.json")).unwrap()).unwrap();
+    assert_eq!(report["interrupted"], true);
+    assert_eq!(report["frames"], serde_json::json!([]));
+    let steps = report["sim_steps"].as_u64().unwrap();
+    assert!(steps > 0 && steps < 7200, "{steps} steps");
+    assert_eq!(files_in(&out), ["report.json", "scene.toml"]);
+    let _ = std::fs::remove_dir_all(&out);
+}
+
 #[test]
 fn an_interrupted_render_leaves_only_complete_files_and_says_how_far_it_got() {
     let out = temp_out("interrupted");

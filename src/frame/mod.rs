@@ -133,6 +133,20 @@ impl FrameRecorder {
             .map_or(Ok(0), |s| s.steps_until(time))
     }
 
+    /// Runs `steps` simulation steps in one submission of their own, ahead
+    /// of a frame far ahead in simulated time (untimed; the frame's own
+    /// submission times the steps it records).
+    pub fn simulate(&mut self, steps: u64) -> Result<()> {
+        let Some(simulation) = self.simulation.as_mut() else {
+            return Err(Error::InvalidInput(
+                "a still of blades at rest cannot be simulated".into(),
+            ));
+        };
+        let rec = self.commands.begin()?;
+        simulation.record_steps(&rec, steps);
+        rec.submit_and_wait("simulating ahead of a frame")
+    }
+
     /// Records `steps` simulation steps and then the frame into one command
     /// buffer, submits it and reads the frame back.
     pub fn render(&mut self, gpu: &Gpu, uniforms: &FrameUniforms, steps: u64) -> Result<Frame> {
