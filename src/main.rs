@@ -141,6 +141,12 @@ enum Command {
         /// Simulation steps to run.
         #[arg(long, default_value_t = 120)]
         steps: u32,
+        /// Jacobi iterations of the pressure solve (default: the scene's).
+        #[arg(long, value_name = "N")]
+        jacobi_iterations: Option<u32>,
+        /// Wind grid cells X,Y,Z, y up (default: the scene's, e.g. 60,20,60).
+        #[arg(long, value_name = "X,Y,Z")]
+        cells: Option<String>,
         #[arg(long, default_value = "out/wind")]
         out: PathBuf,
         #[command(flatten)]
@@ -392,13 +398,21 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Wind {
             scene,
             steps,
+            jacobi_iterations,
+            cells,
             out,
             device,
         } => {
             if steps == 0 || steps > 1_000_000 {
                 anyhow::bail!("--steps {steps} is not allowed, use 1..=1000000");
             }
-            let scene = Scene::load(&scene)?;
+            let mut scene = Scene::load(&scene)?;
+            if let Some(n) = jacobi_iterations {
+                scene.set_jacobi_iterations(n)?;
+            }
+            if let Some(cells) = cells {
+                scene.set_wind_cells(&cells)?;
+            }
             let r = meadow::commands::wind::wind_to_dir(&scene, steps, &device.options()?, &out)?;
             for w in &r.warnings {
                 eprintln!("meadow: warning: {w}");

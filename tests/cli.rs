@@ -157,6 +157,60 @@ fn zero_blades_are_refused() {
     );
 }
 
+/// `meadow wind` takes the solver's settings from the command line, refuses
+/// them by the flags' names, and warns when the projection left most of
+/// the divergence (as 30 Jacobi iterations do on the default grid).
+#[test]
+fn wind_takes_solver_flags_and_says_when_the_projection_falls_short() {
+    assert_refused(
+        &["wind", "--cells", "60,20"],
+        &[],
+        "--cells 60,20 has 2 values, use exactly 3",
+    );
+    assert_refused(
+        &["wind", "--cells", "5000,20,60"],
+        &[],
+        "--cells 5000,20,60 (cells[0]) 5000 is not allowed, use 1..=4096",
+    );
+    assert_refused(
+        &["wind", "--jacobi-iterations", "20000"],
+        &[],
+        "--jacobi-iterations 20000 is not allowed, use 0..=10000",
+    );
+    let out = temp_out("wind-flags");
+    let result = meadow(
+        &[
+            "wind",
+            "--cells",
+            "24,10,24",
+            "--jacobi-iterations",
+            "2",
+            "--steps",
+            "10",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        &[],
+    );
+    assert_succeeded(&result);
+    let report: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("wind_report.json")).unwrap()).unwrap();
+    assert_eq!(report["cells"], serde_json::json!([24, 10, 24]));
+    assert_eq!(report["jacobi_iterations"], 2);
+    let warned = report["warnings"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .any(|w| w.as_str().unwrap().contains("the projection left"));
+    assert!(warned, "{report}");
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    assert!(
+        stderr.contains("meadow: warning: the projection left"),
+        "{stderr}"
+    );
+    let _ = std::fs::remove_dir_all(&out);
+}
+
 /// `render --blades` reads counts as `bench --blades` does (50k, 1.5m).
 #[test]
 fn render_reads_blade_counts_as_bench_does() {

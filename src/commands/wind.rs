@@ -56,6 +56,18 @@ pub fn wind_to_dir(
         run(gpu, scene, grid, &settings, steps, out_dir)
     })?;
     report.warnings = warnings;
+    // The projection should remove most of the divergence advection made;
+    // when it did not, the field is not incompressible and the user should
+    // know why and what to change.
+    if report.rms_divergence_after > 0.5 * report.rms_divergence_before {
+        report.warnings.push(format!(
+            "the projection left {:.0}% of the divergence (rms {:.3e} -> {:.3e} 1/s) with {} Jacobi iterations; raise them (--jacobi-iterations, wind.jacobi_iterations; docs/architecture.md measures how many)",
+            100.0 * report.rms_divergence_after / report.rms_divergence_before.max(f32::MIN_POSITIVE),
+            report.rms_divergence_before,
+            report.rms_divergence_after,
+            report.jacobi_iterations
+        ));
+    }
     report.validation = validation;
     write_json(&out_dir.join("wind_report.json"), &report)?;
     report.validation.check()?;

@@ -569,6 +569,34 @@ impl Scene {
         Ok(())
     }
 
+    /// Sets the pressure solve's Jacobi iterations from the command line
+    /// (`--jacobi-iterations`), refusing it by the flag's name.
+    pub fn set_jacobi_iterations(&mut self, iterations: u32) -> Result<()> {
+        check::in_range("--jacobi-iterations", iterations, 0..=10_000)
+            .map_err(|e| Error::InvalidInput(format!("{} {}", e.path, e.message)))?;
+        self.wind.jacobi_iterations = iterations;
+        Ok(())
+    }
+
+    /// Sets the wind grid's cells from the command line (`--cells X,Y,Z`),
+    /// refusing them by the flag's name.
+    pub fn set_wind_cells(&mut self, text: &str) -> Result<()> {
+        let bad = |why: String| Error::InvalidInput(format!("--cells {text} {why}"));
+        let cells: Vec<u32> = text
+            .split(',')
+            .map(|n| n.trim().parse::<u32>())
+            .collect::<std::result::Result<_, _>>()
+            .map_err(|_| bad("is not three whole numbers X,Y,Z (y is up), e.g. 60,20,60".into()))?;
+        let cells: [u32; 3] = cells
+            .try_into()
+            .map_err(|c: Vec<u32>| bad(format!("has {} values, use exactly 3: X,Y,Z", c.len())))?;
+        let mut wind = self.wind.clone();
+        wind.cells = cells;
+        check::wind(&wind).map_err(|e| bad(format!("({}) {}", e.path, e.message)))?;
+        self.wind.cells = cells;
+        Ok(())
+    }
+
     /// Bounding box (x, z) of where the grass grows: (min, max).
     pub fn grass_bounds(&self) -> ([f32; 2], [f32; 2]) {
         let mut lo = [f32::MAX; 2];
