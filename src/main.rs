@@ -547,8 +547,18 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 &out,
                 quick,
                 &device.options()?,
-                &mut |figure, shot| {
-                    eprintln!("meadow: {figure}: {shot}");
+                &mut |p| {
+                    let left = p
+                        .seconds_left()
+                        .map_or(String::new(), |s| format!(", about {s:.0} s left"));
+                    eprintln!(
+                        "meadow: [{}/{}] {}: {} ({:.0} s so far{left})",
+                        p.done + 1,
+                        p.total,
+                        p.figure,
+                        p.shot,
+                        p.elapsed_s
+                    );
                 },
             )?;
             let frames: usize = rendered.iter().map(|r| r.report.frames.len()).sum();

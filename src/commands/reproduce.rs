@@ -140,21 +140,48 @@ pub fn plan(quick: bool) -> Result<Vec<Figure>> {
     ])
 }
 
+/// Where `reproduce` is, told before each shot starts.
+#[derive(Clone, Copy, Debug)]
+pub struct ShotProgress<'a> {
+    pub figure: &'a str,
+    pub shot: &'a str,
+    /// Shots done before this one, and in all.
+    pub done: usize,
+    pub total: usize,
+    pub elapsed_s: f64,
+}
+
+impl ShotProgress<'_> {
+    /// Seconds left if the shots to come take as long as the ones so far
+    /// did on average (None before the first is done).
+    pub fn seconds_left(&self) -> Option<f64> {
+        (self.done > 0).then(|| self.elapsed_s / self.done as f64 * (self.total - self.done) as f64)
+    }
+}
+
 /// Renders every figure into `out` and writes the two index files.
 /// `on_shot` hears of each shot before it starts (for progress output).
 pub fn reproduce(
     out: &Path,
     quick: bool,
     gpu: &GpuOptions,
-    on_shot: &mut dyn FnMut(&str, &str),
+    on_shot: &mut dyn FnMut(ShotProgress),
 ) -> Result<Vec<Rendered>> {
     let b = budget(quick);
     let figures = plan(quick)?;
     files::ensure_dir(out)?;
+    let total = figures.iter().map(|f| f.shots.len()).sum();
+    let started = std::time::Instant::now();
     let mut rendered = Vec::new();
     for (index, figure) in figures.iter().enumerate() {
         for s in &figure.shots {
-            on_shot(figure.title, &s.label);
+            on_shot(ShotProgress {
+                figure: figure.title,
+                shot: &s.label,
+                done: rendered.len(),
+                total,
+                elapsed_s: started.elapsed().as_secs_f64(),
+            });
             let mut request = RenderRequest::from_scene(s.scene.clone(), gpu.clone());
             request.width = b.width;
             request.height = b.height;
@@ -181,4 +208,23 @@ pub fn reproduce(
         html(&figures, &rendered, out, quick)?.as_bytes(),
     )?;
     Ok(rendered)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::ShotProgress;
+
+    #[test]
+    fn time_left_follows_the_average_shot_so_far() {
+        let at = |done, elapsed_s| ShotProgress {
+            figure: "f",
+            shot: "s",
+            done,
+            total: 11,
+            elapsed_s,
+        };
+        assert_eq!(at(0, 0.0).seconds_left(), None);
+        assert_eq!(at(2, 10.0).seconds_left(), Some(45.0));
+        assert_eq!(at(11, 55.0).seconds_left(), Some(0.0));
+    }
 }
