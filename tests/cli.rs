@@ -5,7 +5,7 @@ mod common;
 
 use std::process::{Command, Output};
 
-use common::binary::{files_in, meadow, temp_out};
+use common::binary::{files_in, meadow, spawn_meadow, temp_out};
 
 fn assert_succeeded(result: &Output) {
     assert!(
@@ -560,29 +560,23 @@ fn work_over_the_device_memory_budget_is_refused_before_allocating() {
 #[test]
 fn sigterm_while_simulating_stops_within_seconds_and_reports() {
     let out = temp_out("sigterm");
-    let mut child = Command::new(env!("CARGO_BIN_EXE_meadow"))
-        .args([
-            "render",
-            "--scene",
-            "fig10-few-bunches",
-            "--start",
-            "120",
-            "--frames",
-            "3",
-            "--width",
-            "96",
-            "--height",
-            "54",
-            "--shadow-map",
-            "0",
-            "--out",
-            out.to_str().unwrap(),
-        ])
-        .env("MEADOW_QUIET_VALIDATION", "1")
-        .stdout(std::process::Stdio::null())
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .expect("start meadow");
+    let mut child = spawn_meadow(&[
+        "render",
+        "--scene",
+        "fig10-few-bunches",
+        "--start",
+        "120",
+        "--frames",
+        "3",
+        "--width",
+        "96",
+        "--height",
+        "54",
+        "--shadow-map",
+        "0",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
     // 7,200 steps to the first frame: minutes of simulation on lavapipe.
     std::thread::sleep(std::time::Duration::from_secs(4));
     assert!(child.try_wait().unwrap().is_none(), "meadow ended early");
@@ -611,25 +605,19 @@ fn sigterm_while_simulating_stops_within_seconds_and_reports() {
 #[test]
 fn an_interrupted_render_leaves_only_complete_files_and_says_how_far_it_got() {
     let out = temp_out("interrupted");
-    let mut child = Command::new(env!("CARGO_BIN_EXE_meadow"))
-        .args([
-            "render",
-            "--scene",
-            "fig10-few-bunches",
-            "--frames",
-            "2000",
-            "--width",
-            "160",
-            "--height",
-            "90",
-            "--out",
-            out.to_str().unwrap(),
-        ])
-        .env("MEADOW_QUIET_VALIDATION", "1")
-        .stdout(std::process::Stdio::null())
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .expect("start meadow");
+    let mut child = spawn_meadow(&[
+        "render",
+        "--scene",
+        "fig10-few-bunches",
+        "--frames",
+        "2000",
+        "--width",
+        "160",
+        "--height",
+        "90",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
     // Wait for a few frames, then Ctrl-C (SIGINT) mid-run.
     let deadline = std::time::Instant::now() + std::time::Duration::from_secs(180);
     while !out.join("frame_0003.png").exists() {

@@ -63,7 +63,13 @@ impl RenderRequest {
     /// `meadow render --scene DIR/scene.toml` renders the run again.
     pub fn scene_as_rendered(&self) -> Scene {
         let mut scene = self.scene.clone();
-        scene.render = crate::scene::RenderSettings {
+        scene.render = self.render_settings();
+        scene
+    }
+
+    /// The request's size, MSAA, view and animation as a `[render]` table.
+    fn render_settings(&self) -> crate::scene::RenderSettings {
+        crate::scene::RenderSettings {
             width: self.width,
             height: self.height,
             msaa: self.msaa,
@@ -71,8 +77,7 @@ impl RenderRequest {
             frames: self.animation.frames,
             fps: self.animation.fps,
             start: self.animation.start,
-        };
-        scene
+        }
     }
 
     /// The frame numbers written, in order.
@@ -83,16 +88,7 @@ impl RenderRequest {
     /// Checks what can be checked without a GPU; one line per problem. The
     /// request's own settings are named as the command line gives them.
     pub fn validate(&self) -> Result<()> {
-        let settings = crate::scene::RenderSettings {
-            width: self.width,
-            height: self.height,
-            msaa: self.msaa,
-            view: self.view,
-            frames: self.animation.frames,
-            fps: self.animation.fps,
-            start: self.animation.start,
-        };
-        crate::scene::check::render(&settings)
+        crate::scene::check::render(&self.render_settings())
             .map_err(|e| Error::InvalidInput(format!("--{} {}", e.path, e.message)))?;
         if !(1..=MAX_FRAMES).contains(&self.every) {
             return Err(Error::InvalidInput(format!(

@@ -13,6 +13,18 @@ pub fn meadow(args: &[&str], env: &[(&str, &str)]) -> Output {
     cmd.output().expect("run meadow")
 }
 
+/// Starts `meadow args` in the background (stdout dropped, stderr kept),
+/// for tests that signal a running process.
+pub fn spawn_meadow(args: &[&str]) -> std::process::Child {
+    Command::new(env!("CARGO_BIN_EXE_meadow"))
+        .args(args)
+        .env("MEADOW_QUIET_VALIDATION", "1")
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("start meadow")
+}
+
 /// A fresh (removed) directory path under the system temp dir, unique to
 /// this test process.
 pub fn temp_out(name: &str) -> PathBuf {
