@@ -270,7 +270,8 @@ fn wind_source_and_push_constants_match_the_glsl_side() {
             offset_of!(WindPush, step),
             offset_of!(WindPush, control),
             offset_of!(WindPush, inflow),
-            offset_of!(WindPush, inflow_phases)
+            offset_of!(WindPush, inflow_phases),
+            offset_of!(WindPush, multigrid)
         ]
         .map(|o| o as u32)
     );

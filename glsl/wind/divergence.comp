@@ -3,7 +3,8 @@
 // Kernel 3, divergence of each fluid cell of the advected field B:
 // sum over axes of (outgoing face - incoming face) / h. It also carries
 // the last step's pressure into copy 0, the Jacobi iterations' start
-// (warm start; src/sim/wind.rs `solve_pressure`).
+// (warm start; src/sim/wind.rs `solve_pressure`), or clears it for
+// multigrid, whose V-cycles start from zero.
 #include "wind_kernel.glsl"
 
 void main() {
@@ -12,7 +13,9 @@ void main() {
     if (c >= cells) {
         return;
     }
-    if (pc.control.z == 1u) {
+    if (pc.control.w == 1u) {
+        pressure[c] = 0.0;
+    } else if (pc.control.z == 1u) {
         pressure[c] = pressure[cells + c];
     }
     if (solid[c] != 0u) {

@@ -10,9 +10,11 @@ layout(local_size_x = 64) in;
 layout(push_constant, std430) uniform Push {
     WindGridParams grid;
     vec4 step;           // x: time (s), y: dt (s)
-    uvec4 control;       // x: source count, y: pressure half to read, z: pressure half holding the result
+    uvec4 control;       // x: source count, y: pressure half to read, z: pressure half holding the result,
+                         // w: 1 when the pressure starts from zero (multigrid)
     vec4 inflow;         // x: speed (m/s), y: gust amplitude, z: gust frequency (Hz)
     vec4 inflow_phases;  // xyz: gust phases
+    uvec4 multigrid;     // x: level, y: colour, z: coarsest sweeps, w: coarse cells of all levels
 } pc;
 
 // Two copies of the velocity: A = [0, F) is the state between steps,

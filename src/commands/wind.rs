@@ -12,7 +12,7 @@ use crate::gpu::{Commands, Gpu, GpuOptions, ValidationReport};
 use crate::report::files;
 use crate::report::wind_slices::{self, Slice};
 use crate::scene::Scene;
-use crate::sim::wind::{WindField, WindGrid, WindSettings};
+use crate::sim::wind::{PressureSolver, WindField, WindGrid, WindSettings};
 use crate::simulate::WindPass;
 
 /// Steps recorded into one submission (and timed with one query pool).
@@ -23,7 +23,10 @@ pub struct WindReport {
     pub scene: String,
     pub device: String,
     pub cells: [u32; 3],
+    /// How the pressure was solved, and with how many iterations or cycles.
+    pub solver: PressureSolver,
     pub jacobi_iterations: u32,
+    pub v_cycles: u32,
     pub steps: u32,
     pub dt: f32,
     pub max_speed: f32,
@@ -60,12 +63,21 @@ pub fn wind_to_dir(
     // when it did not, the field is not incompressible and the user should
     // know why and what to change.
     if report.rms_divergence_after > 0.5 * report.rms_divergence_before {
+        let (solve, fix) = match report.solver {
+            PressureSolver::Jacobi => (
+                format!("{} Jacobi iterations", report.jacobi_iterations),
+                "use multigrid (wind.solver = \"multigrid\", --v-cycles 6) or raise them (--jacobi-iterations, wind.jacobi_iterations; docs/physics.md measures both)",
+            ),
+            PressureSolver::Multigrid => (
+                format!("{} multigrid V-cycles", report.v_cycles),
+                "raise them (--v-cycles, wind.v_cycles; docs/physics.md)",
+            ),
+        };
         report.warnings.push(format!(
-            "the projection left {:.0}% of the divergence (rms {:.3e} -> {:.3e} 1/s) with {} Jacobi iterations; raise them (--jacobi-iterations, wind.jacobi_iterations; docs/architecture.md measures how many)",
+            "the projection left {:.0}% of the divergence (rms {:.3e} -> {:.3e} 1/s) with {solve}; {fix}",
             100.0 * report.rms_divergence_after / report.rms_divergence_before.max(f32::MIN_POSITIVE),
             report.rms_divergence_before,
             report.rms_divergence_after,
-            report.jacobi_iterations
         ));
     }
     report.validation = validation;
@@ -139,7 +151,9 @@ fn run(
         scene: scene.name.clone(),
         device: gpu.info().name.clone(),
         cells: grid.cells.to_array(),
+        solver: settings.solver,
         jacobi_iterations: settings.jacobi_iterations,
+        v_cycles: settings.v_cycles,
         steps,
         dt,
         max_speed,

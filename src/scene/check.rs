@@ -16,6 +16,8 @@ pub const MAX_FRAMES: u32 = 100_000;
 /// The largest image side accepted before asking the device (lavapipe's
 /// maxImageDimension2D; most GPUs allow as much).
 pub const MAX_IMAGE_SIDE: u32 = 16384;
+/// The most multigrid V-cycles a step may run (each costs about eight Jacobi iterations).
+pub const MAX_V_CYCLES: u32 = 100;
 
 /// A scene value out of its range: where, and what is allowed.
 #[derive(Clone, Debug, PartialEq)]
@@ -356,6 +358,7 @@ pub fn wind(w: &super::WindConfig) -> Check {
         ));
     }
     in_range("jacobi_iterations", w.jacobi_iterations, 0..=10_000)?;
+    in_range("v_cycles", w.v_cycles, 1..=MAX_V_CYCLES)?;
     positive("dt", w.dt, 0.1)?;
     for (i, s) in w.sources.iter().enumerate() {
         source(s).map_err(|e| e.at(&format!("source[{i}]")))?;

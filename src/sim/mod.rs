@@ -7,4 +7,5 @@ pub mod grass;
 
 pub use blade::{Blade, BladeKind, BladeVertex, EdgeFrame};
 pub use grass::{BladePhysics, GrassBlade, GrassField, GrassState};
+pub mod multigrid;
 pub mod wind;

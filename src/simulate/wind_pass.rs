@@ -18,7 +18,8 @@ use crate::gpu::{
     PipelineLayout, Recording,
 };
 use crate::shaders::{self, Spirv};
-use crate::sim::wind::{FaceKind, WindField, WindGrid, WindSettings, WindSource};
+use crate::sim::multigrid::{self, Multigrid};
+use crate::sim::wind::{FaceKind, PressureSolver, WindField, WindGrid, WindSettings, WindSource};
 
 /// Waypoints a source's path may have on the GPU.
 pub use crate::sim::wind::MAX_PATH_POINTS;
@@ -35,6 +36,8 @@ pub struct WindPush {
     pub control: [u32; 4],
     pub inflow: [f32; 4],
     pub inflow_phases: [f32; 4],
+    /// Multigrid: level, colour, coarsest sweeps, coarse cells of all levels.
+    pub multigrid: [u32; 4],
 }
 
 /// One wind source as the kernels read it (`WindSource` in wind_kernel.glsl).
@@ -87,21 +90,69 @@ pub const WIND_SET: &[LayoutBinding] = &[
     LayoutBinding::compute_storage(3), // pressure (two copies)
     LayoutBinding::compute_storage(4), // divergence
     LayoutBinding::compute_storage(5), // sources
+    LayoutBinding::compute_storage(6), // multigrid face conductances
+    LayoutBinding::compute_storage(7), // multigrid coarse pressure, right-hand side
+    LayoutBinding::compute_storage(8), // multigrid level table
 ];
 
-/// The kernels in the order a step runs them.
-pub const WIND_KERNELS: [&Spirv; 5] = [
+/// The kernels in the order a step runs them (Jacobi or the four multigrid
+/// kernels solve for the pressure).
+pub const WIND_KERNELS: [&Spirv; 9] = [
     &shaders::WIND_FORCES_COMP,
     &shaders::WIND_ADVECT_COMP,
     &shaders::WIND_DIVERGENCE_COMP,
     &shaders::WIND_JACOBI_COMP,
+    &shaders::WIND_MG_SMOOTH_COMP,
+    &shaders::WIND_MG_RESTRICT_COMP,
+    &shaders::WIND_MG_COARSEST_COMP,
+    &shaders::WIND_MG_PROLONG_COMP,
     &shaders::WIND_PROJECT_COMP,
 ];
 const FORCES: usize = 0;
 const ADVECT: usize = 1;
 const DIVERGENCE: usize = 2;
 const JACOBI: usize = 3;
-const PROJECT: usize = 4;
+const MG_SMOOTH: usize = 4;
+const MG_RESTRICT: usize = 5;
+const MG_COARSEST: usize = 6;
+const MG_PROLONG: usize = 7;
+const PROJECT: usize = 8;
+
+/// One multigrid level as the kernels read it (`MgLevel` in glsl/wind/multigrid.glsl).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
+struct GpuLevel {
+    cells: [u32; 4],
+    ratio: [u32; 4],
+    conductance: [u32; 4],
+}
+
+/// The level table and every level's conductances, concatenated.
+fn multigrid_tables(mg: &Multigrid) -> (Vec<GpuLevel>, Vec<f32>) {
+    let mut table = Vec::new();
+    let mut conductance = Vec::new();
+    let mut coarse_offset = 0u32;
+    for level in &mg.levels {
+        let mut offsets = [0u32; 4];
+        for (axis, k) in level.conductance.iter().enumerate() {
+            offsets[axis] = conductance.len() as u32;
+            conductance.extend_from_slice(k);
+        }
+        let first = table.is_empty();
+        table.push(GpuLevel {
+            cells: level
+                .cells
+                .extend(if first { 0 } else { coarse_offset })
+                .to_array(),
+            ratio: level.ratio.extend(0).to_array(),
+            conductance: offsets,
+        });
+        if !first {
+            coarse_offset += level.cell_count() as u32;
+        }
+    }
+    (table, conductance)
+}
 
 /// The solver's buffers, made once.
 struct WindBuffers {
@@ -112,6 +163,10 @@ struct WindBuffers {
     pressure: Buffer,
     divergence: Buffer,
     sources: Buffer,
+    conductance: Buffer,
+    /// Pressure then right-hand side of every coarse level.
+    coarse: Buffer,
+    levels: Buffer,
 }
 
 impl WindBuffers {
@@ -146,6 +201,8 @@ impl WindBuffers {
         } else {
             gpu_sources
         };
+        let (table, conductance) = multigrid_tables(&field.multigrid);
+        let coarse_cells = field.multigrid.coarse_cell_count().max(1) as u64;
         let buffers = Self {
             velocity: device_buffer("wind velocity (A, B)", 2 * face_count as u64)?,
             faces: uploaded("wind face kinds", &u32_bytes(kinds))?,
@@ -156,17 +213,27 @@ impl WindBuffers {
             pressure: device_buffer("wind pressure (ping, pong)", 2 * cell_count as u64)?,
             divergence: device_buffer("wind divergence", cell_count as u64)?,
             sources: uploaded("wind sources", bytemuck::cast_slice(sources))?,
+            conductance: uploaded(
+                "wind multigrid conductances",
+                bytemuck::cast_slice(&conductance),
+            )?,
+            coarse: device_buffer(
+                "wind multigrid coarse levels (pressure, right-hand side)",
+                2 * coarse_cells,
+            )?,
+            levels: uploaded("wind multigrid levels", bytemuck::cast_slice(&table))?,
         };
         let rec = commands.begin()?;
         rec.fill_buffer(&buffers.velocity, 0);
         rec.fill_buffer(&buffers.pressure, 0);
+        rec.fill_buffer(&buffers.coarse, 0);
         rec.barrier(Access::TRANSFER_WRITE, Access::COMPUTE_READ_WRITE);
         rec.submit_and_wait("clearing the wind")?;
         Ok(buffers)
     }
 
     /// In the order of `WIND_SET`.
-    fn bound(&self) -> [Bound<'_>; 6] {
+    fn bound(&self) -> [Bound<'_>; 9] {
         [
             Bound::Buffer(&self.velocity),
             Bound::Buffer(&self.faces),
@@ -174,6 +241,9 @@ impl WindBuffers {
             Bound::Buffer(&self.pressure),
             Bound::Buffer(&self.divergence),
             Bound::Buffer(&self.sources),
+            Bound::Buffer(&self.conductance),
+            Bound::Buffer(&self.coarse),
+            Bound::Buffer(&self.levels),
         ]
     }
 }
@@ -188,6 +258,9 @@ pub struct WindPass {
     buffers: WindBuffers,
     face_count: u32,
     cell_count: u32,
+    /// Cells of each multigrid level, finest first.
+    level_cells: Vec<u32>,
+    coarse_cells: u32,
 }
 
 fn u32_bytes(values: impl Iterator<Item = u32>) -> Vec<u8> {
@@ -251,10 +324,17 @@ impl WindPass {
             buffers,
             face_count,
             cell_count,
+            level_cells: field
+                .multigrid
+                .levels
+                .iter()
+                .map(|l| l.cell_count() as u32)
+                .collect(),
+            coarse_cells: field.multigrid.coarse_cell_count() as u32,
         })
     }
 
-    fn push(&self, time: f32, dt: f32, control: [u32; 4]) -> WindPush {
+    fn push(&self, time: f32, dt: f32, control: [u32; 4], multigrid: [u32; 3]) -> WindPush {
         let inflow = self.settings.inflow;
         let phases = inflow.map(|i| i.gust.phases()).unwrap_or_default();
         WindPush {
@@ -272,6 +352,7 @@ impl WindPass {
                 .map(|i| [i.speed, i.gust.amplitude, i.gust.frequency, 0.0])
                 .unwrap_or_default(),
             inflow_phases: [phases[0], phases[1], phases[2], 0.0],
+            multigrid: [multigrid[0], multigrid[1], multigrid[2], self.coarse_cells],
         }
     }
 
@@ -280,16 +361,22 @@ impl WindPass {
     /// COMPUTE_SHADER writes.
     pub fn record_step(&self, rec: &Recording, time: f32, dt: f32) {
         let sources = self.settings.sources.len() as u32;
+        let multigrid = self.settings.solver == PressureSolver::Multigrid;
         let iterations = self.settings.jacobi_iterations;
-        let result_half = iterations % 2;
+        let result_half = if multigrid { 0 } else { iterations % 2 };
         let face_groups = self.face_count.div_ceil(LOCAL_SIZE);
         let cell_groups = self.cell_count.div_ceil(LOCAL_SIZE);
-        let dispatch = |kernel: usize, groups: u32, read: u32| {
+        let dispatch = |kernel: usize, groups: u32, read: u32, level: [u32; 3]| {
             let pipeline = &self.kernels[kernel];
             rec.bind_pipeline(pipeline);
             rec.push_constants(
                 pipeline,
-                &self.push(time, dt, [sources, read, result_half, 0]),
+                &self.push(
+                    time,
+                    dt,
+                    [sources, read, result_half, multigrid as u32],
+                    level,
+                ),
             );
             rec.dispatch(groups);
         };
@@ -298,17 +385,49 @@ impl WindPass {
         // grass sampling it) finishes first.
         rec.barrier(Access::ANY_WRITE, Access::COMPUTE_READ_WRITE);
         rec.bind_set(&self.kernels[FORCES], &self.set);
-        dispatch(FORCES, face_groups, 0);
+        dispatch(FORCES, face_groups, 0, [0; 3]);
         between_kernels();
-        dispatch(ADVECT, face_groups, 0);
+        dispatch(ADVECT, face_groups, 0, [0; 3]);
         between_kernels();
-        dispatch(DIVERGENCE, cell_groups, 0);
+        dispatch(DIVERGENCE, cell_groups, 0, [0; 3]);
         between_kernels();
-        for i in 0..iterations {
-            dispatch(JACOBI, cell_groups, i % 2);
-            between_kernels();
+        if multigrid {
+            let groups = |l: usize| self.level_cells[l].div_ceil(LOCAL_SIZE);
+            let smooth = |l: usize, sweeps: u32| {
+                for _ in 0..sweeps {
+                    for color in 0..2 {
+                        dispatch(MG_SMOOTH, groups(l), 0, [l as u32, color, 0]);
+                        between_kernels();
+                    }
+                }
+            };
+            let last = self.level_cells.len() - 1;
+            for _ in 0..self.settings.v_cycles {
+                for l in 0..last {
+                    smooth(l, multigrid::PRE_SMOOTH);
+                    dispatch(MG_RESTRICT, groups(l + 1), 0, [l as u32, 0, 0]);
+                    between_kernels();
+                }
+                dispatch(
+                    MG_COARSEST,
+                    1,
+                    0,
+                    [last as u32, 0, multigrid::COARSEST_SWEEPS],
+                );
+                between_kernels();
+                for l in (0..last).rev() {
+                    dispatch(MG_PROLONG, groups(l), 0, [l as u32, 0, 0]);
+                    between_kernels();
+                    smooth(l, multigrid::POST_SMOOTH);
+                }
+            }
+        } else {
+            for i in 0..iterations {
+                dispatch(JACOBI, cell_groups, i % 2, [0; 3]);
+                between_kernels();
+            }
         }
-        dispatch(PROJECT, face_groups, 0);
+        dispatch(PROJECT, face_groups, 0, [0; 3]);
     }
 
     /// Copies the velocity (copy A: x, y, z components) back to the host:

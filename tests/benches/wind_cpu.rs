@@ -1,10 +1,13 @@
 //! Criterion bench of the wind solver's CPU reference: one step on the
-//! paper's 60 x 20 x 60 grid with 30 Jacobi iterations. Run with
+//! paper's 60 x 20 x 60 grid, with 30 Jacobi iterations and with the
+//! default multigrid solve. Run with
 //! `cargo bench --bench wind_cpu`; results go in docs/perf.md.
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use glam::{UVec3, Vec3};
-use meadow::sim::wind::{Gust, Inflow, WindField, WindGrid, WindSettings, WindSource};
+use meadow::sim::wind::{
+    Gust, Inflow, PressureSolver, WindField, WindGrid, WindSettings, WindSource,
+};
 
 fn wind_step(c: &mut Criterion) {
     let grid = WindGrid::new(
@@ -26,7 +29,9 @@ fn wind_step(c: &mut Criterion) {
             },
         }),
         obstacles: Vec::new(),
+        solver: PressureSolver::Jacobi,
         jacobi_iterations: 30,
+        ..Default::default()
     };
     let mut field = WindField::new(grid, &settings);
     // Start from a developed field, not from air at rest.
@@ -37,6 +42,13 @@ fn wind_step(c: &mut Criterion) {
     group.sample_size(20);
     group.bench_function("step 60x20x60, 30 Jacobi", |b| {
         b.iter(|| field.step(&settings, 1.0 / 60.0))
+    });
+    let multigrid = WindSettings {
+        solver: PressureSolver::Multigrid,
+        ..settings.clone()
+    };
+    group.bench_function("step 60x20x60, multigrid", |b| {
+        b.iter(|| field.step(&multigrid, 1.0 / 60.0))
     });
     group.finish();
 }

@@ -1,0 +1,479 @@
+//! The wind's pressure solve by geometric multigrid (ours; docs/method.md
+//! section 3): V-cycles with a red-black Gauss-Seidel smoother, the CPU
+//! reference of glsl/wind/mg_*.comp, kernel by kernel.
+//!
+//! The Poisson equation of the projection, sum over free faces of
+//! (p_nb - p) / h^2 = div, is solved in its integrated (finite-volume) form:
+//! each face has a conductance K = area / distance between the two pressure
+//! samples, and for every cell
+//!
+//!   sum_f K_f (p - p_nb) = b,   b = -div * cell volume,
+//!
+//! with p_nb = 0 beyond an open side (Dirichlet) and K = 0 across a wall,
+//! a solid or an inflow face (Neumann). This is the Jacobi solver's
+//! equation multiplied by the cell volume, so both solvers have the same
+//! solution and the same projection.
+//!
+//! Coarsening halves every axis that has two cells or more (an odd count
+//! leaves its last coarse cell one fine cell thick). A coarse face's
+//! conductance is the sum of the fine faces it covers divided by how much
+//! longer the distance between pressure samples became (2 along a halved
+//! axis): areas add, distances double. A coarse cell's right-hand side is
+//! the sum of its children's residuals, and the correction comes back to
+//! every child unchanged (piecewise-constant prolongation). The coarsest
+//! level (at most `MAX_COARSEST_CELLS` cells) is smoothed
+//! `COARSEST_SWEEPS` times, which on the GPU is one workgroup.
+
+use glam::{UVec3, Vec3};
+
+/// Red-black Gauss-Seidel sweeps before restricting and after prolonging.
+pub const PRE_SMOOTH: u32 = 2;
+pub const POST_SMOOTH: u32 = 2;
+/// The coarsest level is small enough for one GPU workgroup's shared memory.
+pub const MAX_COARSEST_CELLS: u32 = 512;
+/// Sweeps on the coarsest level: its error falls by about 0.9 a sweep on
+/// the paper's grid (8 x 3 x 8), so 40 leave about 1%.
+pub const COARSEST_SWEEPS: u32 = 40;
+/// V-cycles per step by default. Each starts from zero pressure and leaves
+/// about a third of the residual or less; six leave 0.5% of the divergence
+/// on the shipped scenes (docs/physics.md).
+pub const DEFAULT_V_CYCLES: u32 = 6;
+
+/// One level of the hierarchy. Level 0 is the wind grid itself.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Level {
+    pub cells: UVec3,
+    /// Fine cells per coarse cell along each axis, towards the next
+    /// coarser level (1 or 2; unused on the coarsest).
+    pub ratio: UVec3,
+    /// Conductance of every face, per axis, in the velocity's face layout
+    /// (`cells` plus one along the face's own axis).
+    pub conductance: [Vec<f32>; 3],
+}
+
+impl Level {
+    pub fn cell_count(&self) -> usize {
+        (self.cells.x * self.cells.y * self.cells.z) as usize
+    }
+
+    pub fn face_dims(&self, axis: usize) -> UVec3 {
+        let mut d = self.cells;
+        d[axis] += 1;
+        d
+    }
+
+    pub fn face_index(&self, axis: usize, f: UVec3) -> usize {
+        let d = self.face_dims(axis);
+        (f.x + d.x * (f.y + d.y * f.z)) as usize
+    }
+
+    pub fn cell_index(&self, c: UVec3) -> usize {
+        (c.x + self.cells.x * (c.y + self.cells.y * c.z)) as usize
+    }
+
+    fn cell_of(&self, index: usize) -> UVec3 {
+        let n = self.cells;
+        let i = index as u32;
+        UVec3::new(i % n.x, (i / n.x) % n.y, i / (n.x * n.y))
+    }
+
+    /// The 6-point stencil at cell `c`: (sum of K, sum of K * p_nb).
+    fn stencil(&self, p: &[f32], c: UVec3) -> (f32, f32) {
+        let mut diagonal = 0.0;
+        let mut neighbours = 0.0;
+        for axis in 0..3 {
+            for side in 0..2u32 {
+                let mut f = c;
+                f[axis] += side;
+                let k = self.conductance[axis][self.face_index(axis, f)];
+                if k == 0.0 {
+                    continue;
+                }
+                diagonal += k;
+                let mut nb = c.as_ivec3();
+                nb[axis] += if side == 1 { 1 } else { -1 };
+                let inside = nb[axis] >= 0 && nb[axis] < self.cells[axis] as i32;
+                if inside {
+                    neighbours += k * p[self.cell_index(nb.as_uvec3())];
+                }
+            }
+        }
+        (diagonal, neighbours)
+    }
+
+    /// One red-black Gauss-Seidel half-sweep: the cells whose i + j + k has
+    /// parity `color` take the value that zeroes their residual. Cells of
+    /// one colour only neighbour the other colour, so the order within a
+    /// half-sweep does not matter (and the GPU runs it in parallel).
+    pub fn smooth(&self, p: &mut [f32], b: &[f32], color: u32) {
+        for index in 0..self.cell_count() {
+            let c = self.cell_of(index);
+            if (c.x + c.y + c.z) % 2 != color {
+                continue;
+            }
+            let (diagonal, neighbours) = self.stencil(p, c);
+            p[index] = if diagonal == 0.0 {
+                0.0
+            } else {
+                (b[index] + neighbours) / diagonal
+            };
+        }
+    }
+
+    /// b - A p at cell `index`.
+    pub fn residual(&self, p: &[f32], b: &[f32], index: usize) -> f32 {
+        let (diagonal, neighbours) = self.stencil(p, self.cell_of(index));
+        b[index] - (diagonal * p[index] - neighbours)
+    }
+
+    /// The weight of coarse cell `c` (of level `coarse`) in fine cell `f`'s
+    /// interpolation: the product of the axes' weights.
+    fn weight(&self, coarse: &Level, f: UVec3, c: UVec3) -> f32 {
+        let parent = f / self.ratio;
+        (0..3)
+            .map(|a| {
+                // The side of the grid beyond f's parent on f's side, if any:
+                // open when the parent's face there conducts.
+                let (centre, _) = coarse_span(parent[a], self.ratio[a], self.cells[a]);
+                let mut side = parent;
+                side[a] = if (f[a] as f32 + 0.5) < centre {
+                    0
+                } else {
+                    coarse.cells[a]
+                };
+                let open = coarse.conductance[a][coarse.face_index(a, side)] > 0.0;
+                axis_weight(f[a], c[a], self.ratio[a], self.cells[a], open)
+            })
+            .product()
+    }
+
+    /// The coarse cells (index, weight) that fine cell `f` interpolates:
+    /// its parent and, along each halved axis, the neighbour on its side.
+    fn interpolation<'a>(
+        &'a self,
+        coarse: &'a Level,
+        f: UVec3,
+    ) -> impl Iterator<Item = (usize, f32)> + 'a {
+        let parent = f / self.ratio;
+        let lo = parent.saturating_sub(UVec3::ONE);
+        let hi = (parent + 1).min(coarse.cells - 1);
+        candidates(lo, hi).filter_map(move |c| {
+            let w = self.weight(coarse, f, c);
+            (w != 0.0).then(|| (coarse.cell_index(c), w))
+        })
+    }
+
+    /// The fine cells (index, weight) whose interpolation reaches coarse
+    /// cell `c`: the transpose of `interpolation`.
+    fn gather<'a>(
+        &'a self,
+        coarse: &'a Level,
+        c: UVec3,
+    ) -> impl Iterator<Item = (usize, f32)> + 'a {
+        let r = self.ratio;
+        let lo = (c * r).saturating_sub(r - 1);
+        let hi = (c * r + r + (r - 1)).min(self.cells) - 1;
+        candidates(lo, hi).filter_map(move |f| {
+            let w = self.weight(coarse, f, c);
+            (w != 0.0).then(|| (self.cell_index(f), w))
+        })
+    }
+}
+
+/// Every lattice point from `lo` to `hi`, inclusive, x fastest.
+fn candidates(lo: UVec3, hi: UVec3) -> impl Iterator<Item = UVec3> {
+    (lo.z..=hi.z).flat_map(move |z| {
+        (lo.y..=hi.y).flat_map(move |y| (lo.x..=hi.x).map(move |x| UVec3::new(x, y, z)))
+    })
+}
+
+/// The level hierarchy, built once per wind grid.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Multigrid {
+    pub levels: Vec<Level>,
+}
+
+impl Multigrid {
+    /// Level 0 from the wind grid's faces: K = area / h for a free face,
+    /// 0 for any other; then coarser levels until one has at most
+    /// `MAX_COARSEST_CELLS` cells or cannot shrink.
+    ///
+    /// `cells` and `h` are the wind grid's cells and cell size; `free[axis]`
+    /// says for each face, in the velocity's layout, whether air may cross it.
+    pub fn new(cells: UVec3, h: Vec3, free: &[Vec<bool>; 3]) -> Self {
+        let conductance = std::array::from_fn(|axis| {
+            let area_over_distance = h.x * h.y * h.z / (h[axis] * h[axis]);
+            free[axis]
+                .iter()
+                .map(|&free| if free { area_over_distance } else { 0.0 })
+                .collect()
+        });
+        let mut spacing = h;
+        let mut levels = vec![Level {
+            cells,
+            ratio: UVec3::ONE,
+            conductance,
+        }];
+        loop {
+            let fine = levels.last_mut().expect("level 0 exists");
+            if fine.cells.x * fine.cells.y * fine.cells.z <= MAX_COARSEST_CELLS {
+                break;
+            }
+            fine.ratio = coarsening(fine.cells, spacing);
+            if fine.ratio == UVec3::ONE {
+                break;
+            }
+            spacing *= fine.ratio.as_vec3();
+            let coarse = coarsen(fine);
+            levels.push(coarse);
+        }
+        Self { levels }
+    }
+
+    /// Level 0's right-hand side: b = -div * cell volume (`h`: cell size).
+    pub fn rhs_from_divergence(h: Vec3, divergence: &[f32]) -> Vec<f32> {
+        let volume = h.x * h.y * h.z;
+        divergence.iter().map(|d| -d * volume).collect()
+    }
+
+    /// One V-cycle on `p` (level 0, improved in place) for right-hand side
+    /// `b`. `work` holds the coarse levels' pressure and right-hand side.
+    pub fn v_cycle(&self, p: &mut [f32], b: &[f32], work: &mut Work) {
+        let last = self.levels.len() - 1;
+        work.ensure(self);
+        for l in 0..last {
+            let (fine_p, coarse_p, fine_b, coarse_b) = work.pair(l, p, b);
+            let level = &self.levels[l];
+            for _ in 0..PRE_SMOOTH {
+                level.smooth(fine_p, fine_b, 0);
+                level.smooth(fine_p, fine_b, 1);
+            }
+            // Restrict by the transpose of the interpolation: each coarse
+            // cell gathers the fine residuals weighted as the interpolation
+            // would spread its value (the right-hand side is integrated
+            // over the cell, so the weights are not averaged), and its
+            // correction starts from zero.
+            let coarse = &self.levels[l + 1];
+            let residual: Vec<f32> = (0..level.cell_count())
+                .map(|f| level.residual(fine_p, fine_b, f))
+                .collect();
+            for (index, (cp, cb)) in coarse_p.iter_mut().zip(coarse_b.iter_mut()).enumerate() {
+                *cb = level
+                    .gather(coarse, coarse.cell_of(index))
+                    .map(|(f, w)| w * residual[f])
+                    .sum();
+                *cp = 0.0;
+            }
+        }
+        {
+            let (coarsest_p, coarsest_b) = work.level(last, p, b);
+            for _ in 0..COARSEST_SWEEPS {
+                self.levels[last].smooth(coarsest_p, coarsest_b, 0);
+                self.levels[last].smooth(coarsest_p, coarsest_b, 1);
+            }
+        }
+        for l in (0..last).rev() {
+            let (fine_p, coarse_p, fine_b, _) = work.pair(l, p, b);
+            let level = &self.levels[l];
+            // Prolong: every fine cell adds the trilinear interpolation of
+            // the coarse correction at its centre.
+            let coarse = &self.levels[l + 1];
+            for (index, value) in fine_p.iter_mut().enumerate() {
+                *value += level
+                    .interpolation(coarse, level.cell_of(index))
+                    .map(|(c, w)| w * coarse_p[c])
+                    .sum::<f32>();
+            }
+            for _ in 0..POST_SMOOTH {
+                level.smooth(fine_p, fine_b, 0);
+                level.smooth(fine_p, fine_b, 1);
+            }
+        }
+    }
+
+    /// Cells of every level after the first: the coarse levels' storage.
+    pub fn coarse_cell_count(&self) -> usize {
+        self.levels[1..].iter().map(Level::cell_count).sum()
+    }
+}
+
+/// Which axes to halve: those with two cells or more whose spacing is
+/// within 1.5x of the finest such spacing. Flat cells (the paper's grid has
+/// 0.55 x 0.15 x 0.55 m) couple far more strongly along their short side,
+/// which a point smoother cannot balance; halving only that side first
+/// (semi-coarsening) makes the cells about cubic before halving all three.
+fn coarsening(cells: UVec3, spacing: Vec3) -> UVec3 {
+    let finest = (0..3)
+        .filter(|&a| cells[a] >= 2)
+        .map(|a| spacing[a])
+        .fold(f32::INFINITY, f32::min);
+    UVec3::from_array(std::array::from_fn(|a| {
+        if cells[a] >= 2 && spacing[a] <= 1.5 * finest {
+            2
+        } else {
+            1
+        }
+    }))
+}
+
+/// Level `fine` halved along the axes its `ratio` says.
+fn coarsen(fine: &Level) -> Level {
+    let r = fine.ratio;
+    let cells = (fine.cells + r - 1) / r;
+    let mut coarse = Level {
+        cells,
+        ratio: UVec3::ONE,
+        conductance: [Vec::new(), Vec::new(), Vec::new()],
+    };
+    for axis in 0..3 {
+        let d = coarse.face_dims(axis);
+        let mut k = Vec::with_capacity((d.x * d.y * d.z) as usize);
+        for z in 0..d.z {
+            for y in 0..d.y {
+                for x in 0..d.x {
+                    k.push(coarse_conductance(fine, axis, UVec3::new(x, y, z)));
+                }
+            }
+        }
+        coarse.conductance[axis] = k;
+    }
+    coarse
+}
+
+/// Conductance of coarse face `f` along `axis`: the fine faces it covers,
+/// summed, over the growth of the distance between pressure samples.
+fn coarse_conductance(fine: &Level, axis: usize, f: UVec3) -> f32 {
+    let r = fine.ratio;
+    let mut first = f * r;
+    let mut last = (first + r).min(fine.cells);
+    // On the face's own axis the coarse face lies on one fine face plane
+    // (the last plane where an odd count left a thin coarse cell).
+    first[axis] = (f[axis] * r[axis]).min(fine.cells[axis]);
+    last[axis] = first[axis] + 1;
+    let mut sum = 0.0;
+    for z in first.z..last.z {
+        for y in first.y..last.y {
+            for x in first.x..last.x {
+                sum += fine.conductance[axis][fine.face_index(axis, UVec3::new(x, y, z))];
+            }
+        }
+    }
+    // The distance between the two pressure samples the face joins, in
+    // fine cells: half of each side's width (beyond the grid, the outside
+    // sample mirrors the inside cell).
+    let n = fine.cells[axis];
+    let coarse_count = n.div_ceil(r[axis]);
+    let width = |c: u32| coarse_span(c, r[axis], n).1;
+    let low = f[axis].checked_sub(1).map(width);
+    let high = (f[axis] < coarse_count).then(|| width(f[axis]));
+    let distance = match (low, high) {
+        (Some(a), Some(b)) => (a + b) / 2.0,
+        (Some(a), None) | (None, Some(a)) => a,
+        (None, None) => 1.0,
+    };
+    sum / distance
+}
+
+/// Where coarse cell `c` lies along one axis, in fine cells: its centre
+/// and its width (`ratio` fine cells, or fewer where an odd count left the
+/// last coarse cell thin).
+fn coarse_span(c: u32, ratio: u32, fine_count: u32) -> (f32, f32) {
+    let start = c * ratio;
+    let end = (start + ratio).min(fine_count);
+    ((start + end) as f32 / 2.0, (end - start) as f32)
+}
+
+/// The weight of coarse cell `coarse` in the interpolated correction of
+/// fine cell `fine`, along one axis: linear interpolation between the
+/// centres of the fine cell's parent and the parent's neighbour on the fine
+/// cell's side (3/4 and 1/4 on a regular halving). Beyond the grid, an
+/// open side's outside pressure is zero at one parent width from the
+/// parent's centre, and a closed side mirrors the parent (it takes all).
+pub fn axis_weight(fine: u32, coarse: u32, ratio: u32, fine_count: u32, open: bool) -> f32 {
+    let parent = fine / ratio;
+    let x = fine as f32 + 0.5;
+    let (centre, width) = coarse_span(parent, ratio, fine_count);
+    let coarse_count = fine_count.div_ceil(ratio);
+    let neighbour = if x < centre {
+        parent.checked_sub(1)
+    } else if x > centre {
+        Some(parent + 1).filter(|&n| n < coarse_count)
+    } else {
+        return if coarse == parent { 1.0 } else { 0.0 };
+    };
+    match neighbour {
+        Some(n) => {
+            let (other, _) = coarse_span(n, ratio, fine_count);
+            let t = (x - centre) / (other - centre);
+            if coarse == parent {
+                1.0 - t
+            } else if coarse == n {
+                t
+            } else {
+                0.0
+            }
+        }
+        None if coarse == parent => {
+            if open {
+                1.0 - (x - centre).abs() / width
+            } else {
+                1.0
+            }
+        }
+        None => 0.0,
+    }
+}
+
+/// The coarse levels' pressure and right-hand side, one vector each.
+#[derive(Clone, Debug, Default)]
+pub struct Work {
+    pressure: Vec<Vec<f32>>,
+    rhs: Vec<Vec<f32>>,
+}
+
+impl Work {
+    fn ensure(&mut self, mg: &Multigrid) {
+        if self.pressure.len() + 1 != mg.levels.len() {
+            self.pressure = mg.levels[1..]
+                .iter()
+                .map(|l| vec![0.0; l.cell_count()])
+                .collect();
+            self.rhs = self.pressure.clone();
+        }
+    }
+
+    /// Level `l`'s pressure and right-hand side (level 0 is the caller's).
+    fn level<'a>(
+        &'a mut self,
+        l: usize,
+        p: &'a mut [f32],
+        b: &'a [f32],
+    ) -> (&'a mut [f32], &'a [f32]) {
+        if l == 0 {
+            (p, b)
+        } else {
+            (&mut self.pressure[l - 1], &self.rhs[l - 1])
+        }
+    }
+
+    /// Levels `l` and `l + 1` at once: fine p, coarse p, fine b, coarse b.
+    fn pair<'a>(
+        &'a mut self,
+        l: usize,
+        p: &'a mut [f32],
+        b: &'a [f32],
+    ) -> (&'a mut [f32], &'a mut [f32], &'a [f32], &'a mut [f32]) {
+        if l == 0 {
+            (p, &mut self.pressure[0], b, &mut self.rhs[0])
+        } else {
+            let (fine_p, coarse_p) = self.pressure.split_at_mut(l);
+            let (fine_b, coarse_b) = self.rhs.split_at_mut(l);
+            (
+                &mut fine_p[l - 1],
+                &mut coarse_p[0],
+                &fine_b[l - 1],
+                &mut coarse_b[0],
+            )
+        }
+    }
+}
