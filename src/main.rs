@@ -9,7 +9,6 @@ use clap::{Parser, Subcommand, ValueEnum};
 use meadow::commands::render::{render_to_dir_observed, RenderRequest};
 use meadow::gpu::{FaultPlan, GpuOptions, ValidationOptions};
 use meadow::scene::{Scene, ViewMode};
-use meadow::sim::wind::PressureSolver;
 
 #[derive(Parser)]
 #[command(
@@ -432,10 +431,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             for w in &r.warnings {
                 eprintln!("meadow: warning: {w}");
             }
-            let solve = match r.solver {
-                PressureSolver::Jacobi => format!("{} Jacobi iterations", r.jacobi_iterations),
-                PressureSolver::Multigrid => format!("{} multigrid V-cycles", r.v_cycles),
-            };
+            let solve = meadow::report::wind::describe(r.solver, r.jacobi_iterations, r.v_cycles);
             println!(
                 "wind {} on {}: grid {}x{}x{}, {solve}, {} steps of {:.4} s",
                 r.scene, r.device, r.cells[0], r.cells[1], r.cells[2], r.steps, r.dt
@@ -455,6 +451,18 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                     r.steps
                 ),
                 _ => println!("GPU time per step: unavailable (the device has no timestamps)"),
+            }
+            println!("both solvers over the same {} steps:", r.steps);
+            for t in &r.solvers {
+                let ms = t
+                    .step_ms_median
+                    .map_or("unavailable".to_string(), |m| format!("{m:.3} ms"));
+                println!(
+                    "  {:<9} x{:<3} median {ms} per step, leaves {:.2}% of the divergence",
+                    t.solver.name(),
+                    t.iterations,
+                    100.0 * t.share_left()
+                );
             }
             println!(
                 "wrote {} and {}",

@@ -63,7 +63,10 @@ fn tiny_bench_writes_every_field_a_table_and_an_svg() {
         "msaa_used",
         "shadow_map",
         "wind_grid",
+        "wind_solver",
         "jacobi_iterations",
+        "v_cycles",
+        "wind_solvers",
         "rows",
         "paper_table_1",
         "validation",
@@ -73,6 +76,17 @@ fn tiny_bench_writes_every_field_a_table_and_an_svg() {
     assert_eq!(b["scene"], "table1");
     assert_eq!(b["validation"]["errors"], 0);
     assert_eq!(b["paper_table_1"].as_array().unwrap().len(), 4);
+    // The wind step with each pressure solver, the scene's (multigrid) first.
+    assert_eq!(b["wind_solver"], "multigrid");
+    let solvers = b["wind_solvers"].as_array().unwrap();
+    let names: Vec<_> = solvers
+        .iter()
+        .map(|s| s["solver"].as_str().unwrap())
+        .collect();
+    assert_eq!(names, ["multigrid", "jacobi"]);
+    for s in solvers {
+        assert!(s["step_ms_median"].as_f64().unwrap() > 0.0, "{s}");
+    }
     let rows = b["rows"].as_array().unwrap();
     // Two counts, each without and with LOD.
     let keys: Vec<(u64, bool)> = rows
@@ -124,6 +138,8 @@ fn tiny_bench_writes_every_field_a_table_and_an_svg() {
     let md = std::fs::read_to_string(out.join("bench.md")).unwrap();
     assert!(md.contains("| blades | LOD | wind ms | paper |"), "{md}");
     assert!(md.contains("grass / floor"), "{md}");
+    assert!(md.contains("| multigrid | 6 V-cycles |"), "{md}");
+    assert!(md.contains("| jacobi | 30 iterations |"), "{md}");
     assert_eq!(md.matches("\n| 1000 |").count(), 4, "{md}");
     let svg = std::fs::read_to_string(out.join("bench.svg")).unwrap();
     let doc = roxmltree::Document::parse(&svg).expect("bench.svg is XML");

@@ -252,6 +252,24 @@ fn wind_v_cycles_pick_multigrid_which_removes_the_divergence() {
     assert_eq!(report["warnings"], serde_json::json!([]), "{report}");
     let stdout = String::from_utf8_lossy(&result.stdout);
     assert!(stdout.contains("6 multigrid V-cycles"), "{stdout}");
+    // Both solvers over the same steps, side by side: on the same wind the
+    // multigrid leaves far less than the paper's 30 Jacobi iterations.
+    let solvers = report["solvers"].as_array().unwrap();
+    let left = |i: usize| {
+        let s = &solvers[i];
+        assert_eq!(s["steps"], 10);
+        s["rms_divergence_after"].as_f64().unwrap() / s["rms_divergence_before"].as_f64().unwrap()
+    };
+    assert_eq!(solvers.len(), 2);
+    assert_eq!(
+        (&solvers[0]["solver"], &solvers[0]["iterations"]),
+        (&"multigrid".into(), &6.into())
+    );
+    assert_eq!(
+        (&solvers[1]["solver"], &solvers[1]["iterations"]),
+        (&"jacobi".into(), &30.into())
+    );
+    assert!(left(0) < 0.01 && left(1) > 10.0 * left(0), "{solvers:?}");
     let _ = std::fs::remove_dir_all(&out);
 }
 

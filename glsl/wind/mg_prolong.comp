@@ -12,17 +12,18 @@ void main() {
     }
     uvec3 f = mg_cell_of(l, index);
     uvec3 parent = f / levels[l].ratio.xyz;
-    uvec3 nc = levels[l + 1u].cells.xyz;
-    uvec3 lo = uvec3(max(ivec3(parent) - 1, ivec3(0)));
-    uvec3 hi = min(parent + 1u, nc - 1u);
+    uvec2 cx, cy, cz;
+    vec2 wx, wy, wz;
+    mg_axis_pair(l, f, parent, 0u, cx, wx);
+    mg_axis_pair(l, f, parent, 1u, cy, wy);
+    mg_axis_pair(l, f, parent, 2u, cz, wz);
     float sum = 0.0;
-    for (uint z = lo.z; z <= hi.z; ++z) {
-        for (uint y = lo.y; y <= hi.y; ++y) {
-            for (uint x = lo.x; x <= hi.x; ++x) {
-                uvec3 c = uvec3(x, y, z);
-                float w = mg_weight(l, f, c);
+    for (uint k = 0u; k < 2u; ++k) {
+        for (uint j = 0u; j < 2u; ++j) {
+            for (uint i = 0u; i < 2u; ++i) {
+                float w = wx[i] * wy[j] * wz[k];
                 if (w != 0.0) {
-                    sum += w * mg_p(l + 1u, mg_cell_index(l + 1u, c));
+                    sum += w * mg_p(l + 1u, mg_cell_index(l + 1u, uvec3(cx[i], cy[j], cz[k])));
                 }
             }
         }

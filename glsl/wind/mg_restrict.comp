@@ -2,7 +2,8 @@
 #extension GL_GOOGLE_include_directive : require
 // Multigrid, restriction from level pc.multigrid.x to the next: each coarse
 // cell gathers the fine residuals weighted by the transpose of the
-// interpolation, and its correction starts from zero (`Multigrid::v_cycle`).
+// interpolation (saved by mg_residual.comp), and its correction starts
+// from zero (`Multigrid::v_cycle`).
 #include "multigrid.glsl"
 
 void main() {
@@ -23,7 +24,7 @@ void main() {
                 uvec3 f = uvec3(x, y, z);
                 float w = mg_weight(l, f, c);
                 if (w != 0.0) {
-                    sum += w * mg_residual(l, mg_cell_index(l, f));
+                    sum += w * mg_saved_residual(mg_cell_index(l, f));
                 }
             }
         }

@@ -61,31 +61,67 @@ float mg_b(uint l, uint index) {
 }
 
 // The 6-point stencil at cell c: x = sum of K, y = sum of K * p_nb.
+// Written out face by face: the face arrays are laid out like the cells
+// with one more along their axis, so both faces of an axis are one stride
+// apart. A wall's K is 0, so it adds nothing; beyond an open side of the
+// grid p_nb = 0.
 vec2 mg_stencil(uint l, uvec3 c) {
     uvec3 n = levels[l].cells.xyz;
+    uvec3 offset = levels[l].conductance.xyz;
+    uint index = mg_cell_index(l, c);
+    uint plane = n.x * n.y;
     vec2 s = vec2(0.0);
-    for (uint axis = 0u; axis < 3u; ++axis) {
-        for (uint side = 0u; side < 2u; ++side) {
-            uvec3 f = c;
-            f[axis] += side;
-            float k = mg_conductance(l, axis, f);
-            if (k == 0.0) {
-                continue;
-            }
-            s.x += k;
-            ivec3 nb = ivec3(c);
-            nb[axis] += side == 1u ? 1 : -1;
-            if (nb[axis] >= 0 && nb[axis] < int(n[axis])) {
-                s.y += k * mg_p(l, mg_cell_index(l, uvec3(nb)));
-            }
-        }
-    }
+
+    uint fx = offset.x + c.x + (n.x + 1u) * (c.y + n.y * c.z);
+    float k_lo = conductance[fx];
+    float k_hi = conductance[fx + 1u];
+    s.x += k_lo + k_hi;
+    s.y += c.x > 0u ? k_lo * mg_p(l, index - 1u) : 0.0;
+    s.y += c.x + 1u < n.x ? k_hi * mg_p(l, index + 1u) : 0.0;
+
+    uint fy = offset.y + c.x + n.x * (c.y + (n.y + 1u) * c.z);
+    k_lo = conductance[fy];
+    k_hi = conductance[fy + n.x];
+    s.x += k_lo + k_hi;
+    s.y += c.y > 0u ? k_lo * mg_p(l, index - n.x) : 0.0;
+    s.y += c.y + 1u < n.y ? k_hi * mg_p(l, index + n.x) : 0.0;
+
+    uint fz = offset.z + index;
+    k_lo = conductance[fz];
+    k_hi = conductance[fz + plane];
+    s.x += k_lo + k_hi;
+    s.y += c.z > 0u ? k_lo * mg_p(l, index - plane) : 0.0;
+    s.y += c.z + 1u < n.z ? k_hi * mg_p(l, index + plane) : 0.0;
     return s;
 }
 
 float mg_residual(uint l, uint index) {
     vec2 s = mg_stencil(l, mg_cell_of(l, index));
     return mg_b(l, index) - (s.x * mg_p(l, index) - s.y);
+}
+
+// Level l's residual, written by mg_residual.comp before a restriction:
+// the second half of the pressure buffer, which only the Jacobi solver's
+// ping-pong uses otherwise.
+float mg_saved_residual(uint index) {
+    return pressure[cell_count() + index];
+}
+
+void mg_save_residual(uint index, float value) {
+    pressure[cell_count() + index] = value;
+}
+
+// Cell of colour `color` number `i` of level l (x fastest, every other
+// cell along x), or false past the end: the smoother's threads run only
+// the colour being updated.
+bool mg_cell_of_color(uint l, uint i, uint color, out uvec3 c) {
+    uvec3 n = levels[l].cells.xyz;
+    uint half_x = (n.x + 1u) / 2u;
+    uint row = i / half_x;
+    c.y = row % n.y;
+    c.z = row / n.y;
+    c.x = 2u * (i % half_x) + ((c.y + c.z + color) & 1u);
+    return c.z < n.z && c.x < n.x;
 }
 
 // Centre and width of coarse cell c along one axis, in fine cells.
@@ -95,47 +131,48 @@ vec2 coarse_span(uint c, uint ratio, uint fine_count) {
     return vec2(float(start + end) * 0.5, float(end - start));
 }
 
-// `axis_weight` in src/sim/multigrid.rs.
-float axis_weight(uint fine, uint c, uint ratio, uint fine_count, bool open_side) {
-    uint parent = fine / ratio;
-    float x = float(fine) + 0.5;
-    vec2 span = coarse_span(parent, ratio, fine_count);
-    uint coarse_count = (fine_count + ratio - 1u) / ratio;
-    int neighbour;
-    if (x < span.x) {
-        neighbour = int(parent) - 1;
-    } else if (x > span.x) {
-        neighbour = int(parent) + 1;
-        if (neighbour >= int(coarse_count)) {
-            neighbour = -1;
-        }
-    } else {
-        return c == parent ? 1.0 : 0.0;
+// Fine cell f's (level l) interpolation along axis a: the coarse cells it
+// reads (its parent, then the parent's neighbour on f's side, or the
+// parent again where there is none) and their weights; `axis_weight` in
+// src/sim/multigrid.rs. Beyond the grid, an open side (its coarse face
+// conducts) interpolates towards zero at one parent width; a closed side
+// mirrors the parent.
+void mg_axis_pair(uint l, uvec3 f, uvec3 parent, uint a, out uvec2 cells, out vec2 weights) {
+    uint ratio = levels[l].ratio[a];
+    uint fine_count = levels[l].cells[a];
+    uint coarse_count = levels[l + 1u].cells[a];
+    float x = float(f[a]) + 0.5;
+    vec2 span = coarse_span(parent[a], ratio, fine_count);
+    cells = uvec2(parent[a]);
+    weights = vec2(1.0, 0.0);
+    if (x == span.x) {
+        return;
     }
-    if (neighbour >= 0) {
-        float other = coarse_span(uint(neighbour), ratio, fine_count).x;
-        float t = (x - span.x) / (other - span.x);
-        return c == parent ? 1.0 - t : (c == uint(neighbour) ? t : 0.0);
+    bool below = x < span.x;
+    if (below ? parent[a] > 0u : parent[a] + 1u < coarse_count) {
+        uint neighbour = below ? parent[a] - 1u : parent[a] + 1u;
+        float t = (x - span.x) / (coarse_span(neighbour, ratio, fine_count).x - span.x);
+        cells.y = neighbour;
+        weights = vec2(1.0 - t, t);
+        return;
     }
-    if (c != parent) {
-        return 0.0;
+    uvec3 side = parent;
+    side[a] = below ? 0u : coarse_count;
+    if (mg_conductance(l + 1u, a, side) > 0.0) {
+        weights.x = 1.0 - abs(x - span.x) / span.y;
     }
-    return open_side ? 1.0 - abs(x - span.x) / span.y : 1.0;
 }
 
-// Weight of coarse cell c (level l + 1) in fine cell f's (level l) interpolation.
+// Weight of coarse cell c (level l + 1) in fine cell f's interpolation:
+// the product of the axes' weights.
 float mg_weight(uint l, uvec3 f, uvec3 c) {
-    uvec3 r = levels[l].ratio.xyz;
-    uvec3 nf = levels[l].cells.xyz;
-    uvec3 nc = levels[l + 1u].cells.xyz;
-    uvec3 parent = f / r;
+    uvec3 parent = f / levels[l].ratio.xyz;
     float w = 1.0;
     for (uint a = 0u; a < 3u; ++a) {
-        float centre = coarse_span(parent[a], r[a], nf[a]).x;
-        uvec3 side = parent;
-        side[a] = float(f[a]) + 0.5 < centre ? 0u : nc[a];
-        bool open_side = mg_conductance(l + 1u, a, side) > 0.0;
-        w *= axis_weight(f[a], c[a], r[a], nf[a], open_side);
+        uvec2 cells;
+        vec2 weights;
+        mg_axis_pair(l, f, parent, a, cells, weights);
+        w *= c[a] == cells.x ? weights.x : (c[a] == cells.y ? weights.y : 0.0);
     }
     return w;
 }

@@ -88,7 +88,9 @@ impl BenchRequest {
 pub fn bench_to_dir(request: &BenchRequest, out: &Path) -> Result<Bench> {
     request.validate()?;
     files::ensure_dir(out)?;
-    let ((rows, msaa_used, info), validation) = on_gpu(&request.gpu, |gpu| {
+    let ((rows, wind_solvers, msaa_used, info), validation) = on_gpu(&request.gpu, |gpu| {
+        let wind_solvers =
+            crate::commands::wind::compare_solvers(gpu, &request.scene, request.frames)?;
         let mut rows = Vec::new();
         let mut msaa_used = 0;
         for &count in &request.counts {
@@ -98,7 +100,7 @@ pub fn bench_to_dir(request: &BenchRequest, out: &Path) -> Result<Bench> {
                 rows.push(row);
             }
         }
-        Ok((rows, msaa_used, gpu.info().clone()))
+        Ok((rows, wind_solvers, msaa_used, gpu.info().clone()))
     })?;
     let grid = request.scene.wind_grid()?;
     let bench = Bench {
@@ -112,7 +114,10 @@ pub fn bench_to_dir(request: &BenchRequest, out: &Path) -> Result<Bench> {
         msaa_used,
         shadow_map: request.scene.light.shadow_map,
         wind_grid: grid.cells.to_array(),
+        wind_solver: request.scene.wind.solver,
         jacobi_iterations: request.scene.wind.jacobi_iterations,
+        v_cycles: request.scene.wind.v_cycles,
+        wind_solvers,
         rows,
         paper_table_1: PAPER_TABLE_1.to_vec(),
         validation,

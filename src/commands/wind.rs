@@ -10,6 +10,7 @@ use crate::frame::timing::median_p95;
 use crate::gpu::query::TimestampQueries;
 use crate::gpu::{Commands, Gpu, GpuOptions, ValidationReport};
 use crate::report::files;
+pub use crate::report::wind::SolverTiming;
 use crate::report::wind_slices::{self, Slice};
 use crate::scene::Scene;
 use crate::sim::wind::{PressureSolver, WindField, WindGrid, WindSettings};
@@ -41,6 +42,8 @@ pub struct WindReport {
     /// None where the device has no timestamps.
     pub step_ms_median: Option<f64>,
     pub step_ms_p95: Option<f64>,
+    /// Both solvers over the same steps (multigrid, then Jacobi).
+    pub solvers: Vec<SolverTiming>,
     pub warnings: Vec<String>,
     pub validation: ValidationReport,
 }
@@ -63,15 +66,11 @@ pub fn wind_to_dir(
     // when it did not, the field is not incompressible and the user should
     // know why and what to change.
     if report.rms_divergence_after > 0.5 * report.rms_divergence_before {
-        let (solve, fix) = match report.solver {
-            PressureSolver::Jacobi => (
-                format!("{} Jacobi iterations", report.jacobi_iterations),
-                "use multigrid (wind.solver = \"multigrid\", --v-cycles 6) or raise them (--jacobi-iterations, wind.jacobi_iterations; docs/physics.md measures both)",
-            ),
-            PressureSolver::Multigrid => (
-                format!("{} multigrid V-cycles", report.v_cycles),
-                "raise them (--v-cycles, wind.v_cycles; docs/physics.md)",
-            ),
+        let solve =
+            crate::report::wind::describe(report.solver, report.jacobi_iterations, report.v_cycles);
+        let fix = match report.solver {
+            PressureSolver::Jacobi => "use multigrid (wind.solver = \"multigrid\", --v-cycles 6) or raise them (--jacobi-iterations, wind.jacobi_iterations; docs/physics.md measures both)",
+            PressureSolver::Multigrid => "raise them (--v-cycles, wind.v_cycles; docs/physics.md)",
         };
         report.warnings.push(format!(
             "the projection left {:.0}% of the divergence (rms {:.3e} -> {:.3e} 1/s) with {solve}; {fix}",
@@ -86,17 +85,24 @@ pub fn wind_to_dir(
     Ok(report)
 }
 
-fn run(
+/// The wind after `steps` steps on the GPU, with each step's GPU time (ms;
+/// empty where the device has no timestamps).
+struct Stepped {
+    field: WindField,
+    times: Vec<f64>,
+    /// Divergence of the last step's advected field, before projection.
+    before: Vec<f32>,
+}
+
+fn run_steps(
     gpu: &Gpu,
-    scene: &Scene,
+    commands: &Commands,
     grid: WindGrid,
     settings: &WindSettings,
     steps: u32,
-    out_dir: &Path,
-) -> Result<WindReport> {
-    let dt = scene.wind.dt;
-    let commands = Commands::new(gpu, "wind commands")?;
-    let pass = WindPass::new(gpu, &commands, grid, settings)?;
+    dt: f32,
+) -> Result<Stepped> {
+    let pass = WindPass::new(gpu, commands, grid, settings)?;
     let timestamps = TimestampQueries::new(gpu, STEPS_PER_SUBMIT, "wind step timestamps")?;
     let mut times = Vec::new();
     let mut done = 0;
@@ -122,17 +128,72 @@ fn run(
         done += batch;
     }
     let mut field = WindField::new(grid, settings);
-    field.vel = pass.read_velocity(gpu, &commands)?;
-    let before = pass.read_divergence(gpu, &commands)?;
-    let max_divergence_before = before.iter().fold(0.0f32, |m, d| m.max(d.abs()));
-    let fluid: Vec<f64> = before
+    field.vel = pass.read_velocity(gpu, commands)?;
+    let before = pass.read_divergence(gpu, commands)?;
+    Ok(Stepped {
+        field,
+        times,
+        before,
+    })
+}
+
+/// RMS of a cell field over the fluid cells.
+fn rms_over_fluid(values: &[f32], solid: &[bool]) -> f32 {
+    let fluid: Vec<f64> = values
         .iter()
-        .zip(&field.solid)
+        .zip(solid)
         .filter(|(_, &solid)| !solid)
         .map(|(d, _)| (*d as f64).powi(2))
         .collect();
-    let rms_divergence_before =
-        (fluid.iter().sum::<f64>() / fluid.len().max(1) as f64).sqrt() as f32;
+    (fluid.iter().sum::<f64>() / fluid.len().max(1) as f64).sqrt() as f32
+}
+
+/// The scene's wind run `steps` steps with each solver (its V-cycles, its
+/// Jacobi iterations), multigrid first.
+pub fn compare_solvers(gpu: &Gpu, scene: &Scene, steps: u32) -> Result<Vec<SolverTiming>> {
+    let grid = scene.wind_grid()?;
+    let commands = Commands::new(gpu, "wind solver comparison commands")?;
+    let mut timings = Vec::new();
+    for solver in [PressureSolver::Multigrid, PressureSolver::Jacobi] {
+        let settings = WindSettings {
+            solver,
+            ..scene.wind.settings()
+        };
+        let run = run_steps(gpu, &commands, grid, &settings, steps, scene.wind.dt)?;
+        let timing = median_p95(&run.times);
+        timings.push(SolverTiming {
+            solver,
+            iterations: match solver {
+                PressureSolver::Multigrid => settings.v_cycles,
+                PressureSolver::Jacobi => settings.jacobi_iterations,
+            },
+            steps,
+            step_ms_median: timing.map(|t| t.0),
+            step_ms_p95: timing.map(|t| t.1),
+            rms_divergence_before: rms_over_fluid(&run.before, &run.field.solid),
+            rms_divergence_after: run.field.rms_divergence(),
+        });
+    }
+    Ok(timings)
+}
+
+fn run(
+    gpu: &Gpu,
+    scene: &Scene,
+    grid: WindGrid,
+    settings: &WindSettings,
+    steps: u32,
+    out_dir: &Path,
+) -> Result<WindReport> {
+    let dt = scene.wind.dt;
+    let commands = Commands::new(gpu, "wind commands")?;
+    let Stepped {
+        field,
+        times,
+        before,
+    } = run_steps(gpu, &commands, grid, settings, steps, dt)?;
+    let max_divergence_before = before.iter().fold(0.0f32, |m, d| m.max(d.abs()));
+    let rms_divergence_before = rms_over_fluid(&before, &field.solid);
     let max_speed = max_speed(&field);
     let tip_height = scene.grass.shape.height[1] * 0.8;
     let center = grid.origin + grid.size() / 2.0;
@@ -163,6 +224,7 @@ fn run(
         rms_divergence_after: field.rms_divergence(),
         step_ms_median: timing.map(|t| t.0),
         step_ms_p95: timing.map(|t| t.1),
+        solvers: compare_solvers(gpu, scene, steps)?,
         warnings: Vec::new(),
         validation: ValidationReport::default(),
     })

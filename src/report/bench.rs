@@ -8,6 +8,8 @@ use crate::error::{Error, Result};
 use crate::frame::timing::{Phase, Spread, TimingSummary};
 use crate::gpu::query::PipelineStatistics;
 use crate::gpu::ValidationReport;
+use crate::report::wind::SolverTiming;
+use crate::sim::wind::PressureSolver;
 
 /// One row of the paper's Table 1 (GTX 670, 8x MSAA, 8192^2 shadow map).
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
@@ -105,7 +107,13 @@ pub struct Bench {
     pub msaa_used: u32,
     pub shadow_map: u32,
     pub wind_grid: [u32; 3],
+    /// The scene's pressure solver, which the rows use.
+    pub wind_solver: PressureSolver,
     pub jacobi_iterations: u32,
+    pub v_cycles: u32,
+    /// The scene's wind step with each pressure solver, over as many steps
+    /// as a row has timed frames (the rows use the scene's solver).
+    pub wind_solvers: Vec<SolverTiming>,
     pub rows: Vec<BenchRow>,
     pub paper_table_1: Vec<PaperRow>,
     pub validation: ValidationReport,
@@ -123,7 +131,7 @@ pub fn markdown(b: &Bench) -> String {
     md += &format!(
         "# meadow bench: {} on {}\n\n\
          Device: {} ({}), driver {}. {}x{}, MSAA {}x used ({}x asked), shadow map {}, \
-         wind grid {}x{}x{} with {} Jacobi iterations. Each row: {} warm-up frames, then {} \
+         wind grid {}x{}x{} solved by {}. Each row: {} warm-up frames, then {} \
          timed frames of one simulation step each; GPU times are medians of timestamp \
          queries (p95 in bench.json); FPS (wall) is 1000 / the median wall-clock frame \
          (simulation, render and read-back, not PNG encoding).\n\n",
@@ -140,7 +148,7 @@ pub fn markdown(b: &Bench) -> String {
         b.wind_grid[0],
         b.wind_grid[1],
         b.wind_grid[2],
-        b.jacobi_iterations,
+        crate::report::wind::describe(b.wind_solver, b.jacobi_iterations, b.v_cycles),
         b.rows.first().map_or(0, |r| r.warmup),
         b.rows.first().map_or(0, |r| r.frames),
     );
@@ -182,6 +190,10 @@ pub fn markdown(b: &Bench) -> String {
             paper_fps,
         );
     }
+    md += "\n## The wind's pressure solvers\n\n\
+           The wind step alone, with each solver (the paper's is Jacobi), and the share of \
+           the divergence its projection leaves on the last step:\n\n";
+    md += &crate::report::wind::markdown(&b.wind_solvers);
     md += "\n## What the paper does not give\n\n";
     md += "| blades | LOD | shadow ms | colour ms | grass draw ms | readback ms | GPU frame ms | triangles | floor ms | grass / floor |\n";
     md += "|---|---|---|---|---|---|---|---|---|---|\n";

@@ -7,4 +7,5 @@ pub mod files;
 pub mod render;
 pub mod reproduce;
 pub mod timing;
+pub mod wind;
 pub mod wind_slices;

@@ -333,12 +333,13 @@ impl Obstacle {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum PressureSolver {
-    /// V-cycles of geometric multigrid (src/sim/multigrid.rs): converges
-    /// (6 cycles leave under 1% of the divergence on the shipped scenes).
-    Multigrid,
-    /// The paper's Jacobi iterations, warm-started. Still the default: the
-    /// shipped scenes and golden images are tuned with it (docs/physics.md).
+    /// V-cycles of geometric multigrid (src/sim/multigrid.rs), the
+    /// default: it converges (6 cycles leave under 1% of the divergence on
+    /// the shipped scenes; docs/physics.md).
     #[default]
+    Multigrid,
+    /// The paper's Jacobi iterations, warm-started: 30 of them leave most
+    /// of the divergence on the paper's grid.
     Jacobi,
 }
 
@@ -361,7 +362,7 @@ pub struct WindSettings {
     /// Jacobi iterations of the pressure solve when `solver` is Jacobi
     /// (default 30; docs/method.md section 3).
     pub jacobi_iterations: u32,
-    /// V-cycles per step when `solver` is multigrid (default 4).
+    /// V-cycles per step when `solver` is multigrid (default 6).
     pub v_cycles: u32,
 }
 

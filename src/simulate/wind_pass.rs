@@ -95,14 +95,15 @@ pub const WIND_SET: &[LayoutBinding] = &[
     LayoutBinding::compute_storage(8), // multigrid level table
 ];
 
-/// The kernels in the order a step runs them (Jacobi or the four multigrid
+/// The kernels in the order a step runs them (Jacobi or the five multigrid
 /// kernels solve for the pressure).
-pub const WIND_KERNELS: [&Spirv; 9] = [
+pub const WIND_KERNELS: [&Spirv; 10] = [
     &shaders::WIND_FORCES_COMP,
     &shaders::WIND_ADVECT_COMP,
     &shaders::WIND_DIVERGENCE_COMP,
     &shaders::WIND_JACOBI_COMP,
     &shaders::WIND_MG_SMOOTH_COMP,
+    &shaders::WIND_MG_RESIDUAL_COMP,
     &shaders::WIND_MG_RESTRICT_COMP,
     &shaders::WIND_MG_COARSEST_COMP,
     &shaders::WIND_MG_PROLONG_COMP,
@@ -113,10 +114,11 @@ const ADVECT: usize = 1;
 const DIVERGENCE: usize = 2;
 const JACOBI: usize = 3;
 const MG_SMOOTH: usize = 4;
-const MG_RESTRICT: usize = 5;
-const MG_COARSEST: usize = 6;
-const MG_PROLONG: usize = 7;
-const PROJECT: usize = 8;
+const MG_RESIDUAL: usize = 5;
+const MG_RESTRICT: usize = 6;
+const MG_COARSEST: usize = 7;
+const MG_PROLONG: usize = 8;
+const PROJECT: usize = 9;
 
 /// One multigrid level as the kernels read it (`MgLevel` in glsl/wind/multigrid.glsl).
 #[repr(C)]
@@ -253,13 +255,16 @@ pub struct WindPass {
     settings: WindSettings,
     // Declared first, dropped first: the set points at the buffers.
     set: DescriptorSet,
-    /// The five kernels in `WIND_KERNELS` order, sharing one layout.
+    /// The kernels in `WIND_KERNELS` order, sharing one layout.
     kernels: Vec<Pipeline>,
     buffers: WindBuffers,
     face_count: u32,
     cell_count: u32,
     /// Cells of each multigrid level, finest first.
     level_cells: Vec<u32>,
+    /// Cells of one colour, counted as the smoother's threads are: half
+    /// of each row along x, rounded up.
+    level_color_cells: Vec<u32>,
     coarse_cells: u32,
 }
 
@@ -330,6 +335,12 @@ impl WindPass {
                 .iter()
                 .map(|l| l.cell_count() as u32)
                 .collect(),
+            level_color_cells: field
+                .multigrid
+                .levels
+                .iter()
+                .map(|l| l.cells.x.div_ceil(2) * l.cells.y * l.cells.z)
+                .collect(),
             coarse_cells: field.multigrid.coarse_cell_count() as u32,
         })
     }
@@ -393,10 +404,12 @@ impl WindPass {
         between_kernels();
         if multigrid {
             let groups = |l: usize| self.level_cells[l].div_ceil(LOCAL_SIZE);
+            // One thread per cell of the colour being smoothed.
+            let color_groups = |l: usize| self.level_color_cells[l].div_ceil(LOCAL_SIZE);
             let smooth = |l: usize, sweeps: u32| {
                 for _ in 0..sweeps {
                     for color in 0..2 {
-                        dispatch(MG_SMOOTH, groups(l), 0, [l as u32, color, 0]);
+                        dispatch(MG_SMOOTH, color_groups(l), 0, [l as u32, color, 0]);
                         between_kernels();
                     }
                 }
@@ -405,6 +418,8 @@ impl WindPass {
             for _ in 0..self.settings.v_cycles {
                 for l in 0..last {
                     smooth(l, multigrid::PRE_SMOOTH);
+                    dispatch(MG_RESIDUAL, groups(l), 0, [l as u32, 0, 0]);
+                    between_kernels();
                     dispatch(MG_RESTRICT, groups(l + 1), 0, [l as u32, 0, 0]);
                     between_kernels();
                 }

@@ -1,0 +1,61 @@
+//! The pressure solvers side by side, as `wind` and `bench` report them.
+
+use crate::sim::wind::PressureSolver;
+
+/// One pressure solver timed on a scene's wind: `bench` and `wind` report
+/// both, side by side.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct SolverTiming {
+    pub solver: PressureSolver,
+    /// V-cycles (multigrid) or iterations (Jacobi) per step.
+    pub iterations: u32,
+    pub steps: u32,
+    /// GPU time of one whole wind step (forces, advection, projection), ms;
+    /// None where the device has no timestamps.
+    pub step_ms_median: Option<f64>,
+    pub step_ms_p95: Option<f64>,
+    /// RMS divergence of the last step, before and after projection (1/s).
+    pub rms_divergence_before: f32,
+    pub rms_divergence_after: f32,
+}
+
+/// "6 multigrid V-cycles" or "30 Jacobi iterations": what one step's
+/// projection runs.
+pub fn describe(solver: PressureSolver, jacobi_iterations: u32, v_cycles: u32) -> String {
+    match solver {
+        PressureSolver::Multigrid => format!("{v_cycles} multigrid V-cycles"),
+        PressureSolver::Jacobi => format!("{jacobi_iterations} Jacobi iterations"),
+    }
+}
+
+/// A markdown table of the solvers: cost and what each leaves.
+pub fn markdown(timings: &[SolverTiming]) -> String {
+    let mut md = String::from(
+        "| solver | per step | wind step ms (median) | p95 | rms divergence before -> after (1/s) | left |\n\
+         |---|---|---|---|---|---|\n",
+    );
+    for t in timings {
+        let ms = |v: Option<f64>| v.map_or("n/a".to_string(), |v| format!("{v:.3}"));
+        let per_step = match t.solver {
+            PressureSolver::Multigrid => format!("{} V-cycles", t.iterations),
+            PressureSolver::Jacobi => format!("{} iterations", t.iterations),
+        };
+        md += &format!(
+            "| {} | {per_step} | {} | {} | {:.3e} -> {:.3e} | {:.2}% |\n",
+            t.solver.name(),
+            ms(t.step_ms_median),
+            ms(t.step_ms_p95),
+            t.rms_divergence_before,
+            t.rms_divergence_after,
+            t.share_left() * 100.0,
+        );
+    }
+    md
+}
+
+impl SolverTiming {
+    /// The share of the divergence the projection left on the last step.
+    pub fn share_left(&self) -> f32 {
+        self.rms_divergence_after / self.rms_divergence_before.max(f32::MIN_POSITIVE)
+    }
+}
