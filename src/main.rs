@@ -3,7 +3,10 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+use std::sync::atomic::Ordering;
+
 use anyhow::Context as _;
+
 use clap::{Parser, Subcommand, ValueEnum};
 
 use meadow::commands::render::{render_to_dir_observed, RenderRequest};
@@ -225,6 +228,32 @@ enum Command {
         #[command(flatten)]
         device: DeviceArgs,
     },
+    /// Simulate a scene (no rendering) and write the grass's motion as
+    /// data: DIR/blades.csv (time_s, blade, root, tip, swing, bend, twist
+    /// per traced blade per sample) and DIR/trace.json (columns, units,
+    /// scene, seed, device, dt).
+    Trace {
+        /// A built-in scene or a scene file (.toml).
+        #[arg(long, default_value = "table1")]
+        scene: String,
+        /// Simulated seconds.
+        #[arg(long, default_value_t = 10.0)]
+        seconds: f64,
+        /// A sample every N simulation steps (the scene's dt each).
+        #[arg(long, value_name = "N", default_value_t = 1)]
+        every: u32,
+        /// How many blades to trace, picked evenly through the field by the
+        /// seed, or "all".
+        #[arg(long, value_name = "K|all", default_value = "100")]
+        blades: String,
+        /// Random seed of the grass field (default: the scene's).
+        #[arg(long)]
+        seed: Option<u64>,
+        #[arg(long, default_value = "out/trace")]
+        out: PathBuf,
+        #[command(flatten)]
+        device: DeviceArgs,
+    },
     /// List the Vulkan devices and whether each can run meadow.
     Devices {
         #[command(flatten)]
@@ -259,6 +288,18 @@ fn signal_name(signal: i32) -> &'static str {
     }
 }
 
+/// SIGINT and SIGTERM stored as their number when they arrive (0 until
+/// then): the handlers only store it (async-signal-safe); the long
+/// commands poll it between steps and stop cleanly.
+fn stop_signal() -> anyhow::Result<std::sync::Arc<std::sync::atomic::AtomicUsize>> {
+    let signal = std::sync::Arc::new(std::sync::atomic::AtomicUsize::new(0));
+    for sig in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
+        signal_hook::flag::register_usize(sig, signal.clone(), sig as usize)
+            .context("installing the SIGINT/SIGTERM handlers")?;
+    }
+    Ok(signal)
+}
+
 /// Renders with a progress bar on a terminal (none when stderr is not
 /// one). SIGINT (Ctrl-C) and SIGTERM stop it between simulation steps or
 /// frames: the files written so far stay complete and the report says how
@@ -267,17 +308,7 @@ fn render_with_progress(
     request: &RenderRequest,
     out: &std::path::Path,
 ) -> anyhow::Result<(meadow::commands::render::RenderReport, Option<i32>)> {
-    use std::sync::atomic::{AtomicUsize, Ordering};
-    use std::sync::Arc;
-
-    // The handlers only store the signal's number (async-signal-safe);
-    // the render polls it.
-    let signal = Arc::new(AtomicUsize::new(0));
-    for sig in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
-        signal_hook::flag::register_usize(sig, signal.clone(), sig as usize)
-            .context("installing the SIGINT/SIGTERM handlers")?;
-    }
-
+    let signal = stop_signal()?;
     let planned = request.frames_written().count() as u64;
     let bar = indicatif::ProgressBar::new(planned);
     bar.set_style(
@@ -589,6 +620,72 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 out.join("index.md").display(),
                 out.join("index.html").display()
             );
+            Ok(())
+        }
+        Command::Trace {
+            scene,
+            seconds,
+            every,
+            blades,
+            seed,
+            out,
+            device,
+        } => {
+            use meadow::commands::trace::{trace_to_dir, BladePick, TraceRequest};
+            let mut scene = Scene::load(&scene)?;
+            if let Some(s) = seed {
+                scene.seed = s;
+            }
+            let request = TraceRequest {
+                scene,
+                seconds,
+                every,
+                blades: BladePick::parse(&blades)?,
+                gpu: device.options()?,
+            };
+            let signal = stop_signal()?;
+            let bar = indicatif::ProgressBar::new(request.steps());
+            bar.set_style(
+                indicatif::ProgressStyle::with_template(
+                    "{bar:30} {pos}/{len} steps  {elapsed} elapsed, {eta} left",
+                )
+                .expect("a valid progress template"),
+            );
+            let report = trace_to_dir(&request, &out, &mut |done, _| {
+                bar.set_position(done);
+                signal.load(Ordering::SeqCst) == 0
+            });
+            bar.finish_and_clear();
+            let report = report?;
+            println!(
+                "trace {} on {}: {} of {} blades, {} samples every {} steps of {:.4} s",
+                report.scene,
+                report.device,
+                report.blades_traced,
+                report.blades_total,
+                report.samples,
+                report.every,
+                report.dt
+            );
+            println!(
+                "wrote {} and {}",
+                out.join(&report.csv).display(),
+                out.join(meadow::commands::trace::REPORT_NAME).display()
+            );
+            let sig = signal.load(Ordering::SeqCst) as i32;
+            if report.interrupted {
+                eprintln!(
+                    "meadow: interrupted after {} of {} samples' time; the files written are complete",
+                    report.samples,
+                    report.steps / report.every as u64 + 1
+                );
+                return Err(Interrupted(if sig != 0 {
+                    sig
+                } else {
+                    signal_hook::consts::SIGINT
+                })
+                .into());
+            }
             Ok(())
         }
         Command::Devices { device } => {

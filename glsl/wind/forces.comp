@@ -48,14 +48,14 @@ void main() {
         vel[id] = 0.0;
         return;
     }
-    if (kind == FACE_INFLOW) {
-        vel[id] = pc.inflow.x * gust_factor(pc.inflow.y, pc.inflow.z, pc.inflow_phases.xyz, t);
-        return;
-    }
     uint axis;
     uvec3 f;
     face_of(pc.grid, id, axis, f);
     vec3 x = face_position(pc.grid, axis, f);
+    if (kind == FACE_INFLOW) {
+        vel[id] = inflow_velocity(x.y - pc.grid.origin.y, x.z, t);
+        return;
+    }
     float a = 0.0;
     for (uint i = 0u; i < pc.control.x; ++i) {
         WindSource s = sources[i];

@@ -38,15 +38,38 @@ layout(set = 0, binding = 5, std430) readonly buffer Sources { WindSource source
 
 const float TAU = 6.2831853071795864;
 
+// g at time t, each harmonic delayed by its own delay (s); `Gust::signal`.
+float gust_signal(float frequency, vec3 phases, float t, vec3 delay) {
+    return 0.5 * sin(TAU * frequency * 1.0 * (t - delay.x) + phases.x)
+         + 0.3 * sin(TAU * frequency * 2.17 * (t - delay.y) + phases.y)
+         + 0.2 * sin(TAU * frequency * 4.73 * (t - delay.z) + phases.z);
+}
+
 // Strength factor over time (src/sim/wind.rs `Gust::factor`).
 float gust_factor(float amplitude, float frequency, vec3 phases, float t) {
     if (amplitude == 0.0) {
         return 1.0;
     }
-    float g = 0.5 * sin(TAU * frequency * 1.0 * t + phases.x)
-            + 0.3 * sin(TAU * frequency * 2.17 * t + phases.y)
-            + 0.2 * sin(TAU * frequency * 4.73 * t + phases.z);
-    return max(1.0 + amplitude * g, 0.0);
+    return max(1.0 + amplitude * gust_signal(frequency, phases, t, vec3(0.0)), 0.0);
+}
+
+// `INFLOW_GUST_LEAN` and its signs in src/sim/wind.rs.
+const float INFLOW_GUST_LEAN = 0.5;
+const vec3 INFLOW_GUST_LEAN_SIGN = vec3(1.0, -1.0, 1.0);
+
+// The inflow velocity at height y above the grid's floor, at z, at time t
+// (`Inflow::velocity_at`): u = U (1 + a g(t - lean z / |U|) cos(pi y / H)),
+// the same flux at every instant, gusts carried downwind by advection.
+float inflow_velocity(float y, float z, float t) {
+    float speed = pc.inflow.x;
+    float amplitude = pc.inflow.y;
+    if (amplitude == 0.0) {
+        return speed;
+    }
+    float height = float(pc.grid.cells.y) * pc.grid.cell_size.y;
+    float lean = INFLOW_GUST_LEAN * z / max(abs(speed), 1e-3);
+    float g = gust_signal(pc.inflow.z, pc.inflow_phases.xyz, t, INFLOW_GUST_LEAN_SIGN * lean);
+    return speed * (1.0 + amplitude * g * cos(0.5 * TAU * y / height));
 }
 
 uint cell_count() {

@@ -11,6 +11,7 @@ pub mod devices;
 pub mod render;
 pub mod reproduce;
 pub mod scenes;
+pub mod trace;
 pub mod wind;
 
 use std::path::Path;

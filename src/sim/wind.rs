@@ -113,10 +113,11 @@ fn lattice(d: UVec3) -> impl Iterator<Item = (usize, [u32; 3])> {
         .enumerate()
 }
 
-/// Strength over time: s(t) = s0 * max(0, 1 + a * g(t)), with
-/// g(t) = 0.5 sin(2 pi f t + p0) + 0.3 sin(2 pi 2.17 f t + p1) + 0.2 sin(2 pi 4.73 f t + p2)
-/// and the phases p drawn from the seed. a = 0 is a steady source. In a
-/// scene file every field is optional on its own (default 0).
+/// Gusts: g(t) = 0.5 sin(2 pi f t + p0) + 0.3 sin(2 pi 2.17 f t + p1)
+/// + 0.2 sin(2 pi 4.73 f t + p2), the phases p drawn from the seed. A
+/// source's strength is s0 * max(0, 1 + a g(t)); an inflow's gusts are
+/// spatial and travel (`Inflow::velocity_at`). a = 0: no gusts. In a scene
+/// file every field is optional on its own (default 0).
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Gust {
@@ -143,19 +144,56 @@ impl Gust {
         })
     }
 
+    /// g at time t, each harmonic delayed by its own `delay` (s).
+    fn signal(&self, t: f32, delay: [f32; 3]) -> f32 {
+        let p = self.phases();
+        Self::HARMONICS
+            .iter()
+            .zip(p)
+            .zip(delay)
+            .map(|((&(mult, weight), phase), delay)| {
+                weight * (std::f32::consts::TAU * self.frequency * mult * (t - delay) + phase).sin()
+            })
+            .sum()
+    }
+
+    /// A source's strength factor at time t: max(0, 1 + a g(t)).
     pub fn factor(&self, t: f32) -> f32 {
         if self.amplitude == 0.0 {
             return 1.0;
         }
-        let p = self.phases();
-        let g: f32 = Self::HARMONICS
-            .iter()
-            .zip(p)
-            .map(|(&(mult, weight), phase)| {
-                weight * (std::f32::consts::TAU * self.frequency * mult * t + phase).sin()
-            })
-            .sum();
-        (1.0 + self.amplitude * g).max(0.0)
+        (1.0 + self.amplitude * self.signal(t, [0.0; 3])).max(0.0)
+    }
+}
+
+/// How far each harmonic's gust fronts lean across the inflow side: a
+/// front reaches z later by `INFLOW_GUST_LEAN * z / |speed|` (harmonics 1
+/// and 3) or earlier (harmonic 2), so fronts arrive oblique (about 27
+/// degrees) and crossing, not as one wall along the whole side.
+pub const INFLOW_GUST_LEAN: f32 = 0.5;
+const INFLOW_GUST_LEAN_SIGN: [f32; 3] = [1.0, -1.0, 1.0];
+
+impl Inflow {
+    /// The inflow velocity along x at a point of the inflow side, at
+    /// height `y` above the grid's floor (grid `height` tall), at `z`, at
+    /// time t (docs/physics.md, travelling gusts):
+    ///
+    /// u = U (1 + a g(t - lean z / |U|) cos(pi y / height)).
+    ///
+    /// A gust is faster air near the ground and slower air aloft: the
+    /// cosine has zero mean over the height, so the flux through the side
+    /// stays U times its area at every instant and the projection cannot
+    /// pass the gust through the whole field at once; advection carries it
+    /// downwind at the wind's speed (the lowest vertical mode of the layer
+    /// of air between the ground and the free-slip top travels unchanged).
+    pub fn velocity_at(&self, y: f32, height: f32, z: f32, t: f32) -> f32 {
+        if self.gust.amplitude == 0.0 {
+            return self.speed;
+        }
+        let lean = INFLOW_GUST_LEAN * z / self.speed.abs().max(1e-3);
+        let delay = INFLOW_GUST_LEAN_SIGN.map(|s| s * lean);
+        let profile = (std::f32::consts::PI * y / height).cos();
+        self.speed * (1.0 + self.gust.amplitude * self.gust.signal(t, delay) * profile)
     }
 }
 
@@ -532,7 +570,10 @@ impl WindField {
                     FaceKind::Wall => self.vel[axis][idx] = 0.0,
                     FaceKind::Inflow => {
                         let inflow = inflow.expect("inflow faces exist only with an inflow");
-                        self.vel[axis][idx] = inflow.speed * inflow.gust.factor(t);
+                        let x = self.grid.face_position(axis, i, j, k);
+                        let height = self.grid.size().y;
+                        self.vel[axis][idx] =
+                            inflow.velocity_at(x.y - self.grid.origin.y, height, x.z, t);
                     }
                     FaceKind::Free => {
                         let x = self.grid.face_position(axis, i, j, k);

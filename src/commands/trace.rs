@@ -1,0 +1,386 @@
+//! `meadow trace`: the grass's motion as data for analysis. The scene is
+//! simulated on the GPU (wind and grass, no rendering) for a number of
+//! seconds; every `every` steps the traced blades' roots, tips and angles
+//! are read back. Writes DIR/blades.csv (one row per traced blade per
+//! sample) and DIR/trace.json (what the columns are, in which units, and
+//! where the numbers came from).
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use crate::commands::{on_gpu, write_json};
+use crate::error::{Error, Result};
+use crate::frame::BladeBuffer;
+use crate::gpu::{Commands, Gpu, GpuOptions, ValidationReport};
+use crate::report::files;
+use crate::scene::{field, Scene};
+use crate::sim::grass::{BEND_A, SWING, TWIST};
+use crate::sim::BladeVertex;
+use crate::simulate::Simulation;
+
+/// Longest trace, simulated seconds.
+pub const MAX_SECONDS: f64 = 3600.0;
+/// Largest sampling interval, in steps.
+pub const MAX_EVERY: u32 = 100_000;
+
+/// Which blades to trace.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BladePick {
+    /// This many, one from each of as many equal runs of the field's
+    /// blades, where in its run picked by the scene's seed.
+    Count(usize),
+    All,
+}
+
+impl BladePick {
+    /// `--blades`: a count or "all".
+    pub fn parse(text: &str) -> Result<Self> {
+        if text.trim() == "all" {
+            return Ok(BladePick::All);
+        }
+        match text.trim().parse::<usize>() {
+            Ok(n) if n >= 1 => Ok(BladePick::Count(n)),
+            _ => Err(Error::InvalidInput(format!(
+                "--blades {text} is not allowed, use a count of 1 or more, or all"
+            ))),
+        }
+    }
+
+    /// The traced blades' indices among `total`, ascending.
+    pub fn indices(self, total: usize, seed: u64) -> Vec<u32> {
+        let count = match self {
+            BladePick::All => total,
+            BladePick::Count(n) => n.min(total),
+        };
+        if count == total {
+            return (0..total as u32).collect();
+        }
+        (0..count)
+            .map(|i| {
+                let start = i * total / count;
+                let end = (i + 1) * total / count;
+                let u = unit_hash(seed, i as u64);
+                (start + ((u * (end - start) as f64) as usize).min(end - start - 1)) as u32
+            })
+            .collect()
+    }
+}
+
+/// A uniform number in [0, 1) from a seed and an index (splitmix64).
+fn unit_hash(seed: u64, index: u64) -> f64 {
+    let mut z = seed
+        .wrapping_add(0x9E37_79B9_7F4A_7C15)
+        .wrapping_add(index.wrapping_mul(0xBF58_476D_1CE4_E5B9));
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^= z >> 31;
+    (z >> 11) as f64 / (1u64 << 53) as f64
+}
+
+#[derive(Clone, Debug)]
+pub struct TraceRequest {
+    pub scene: Scene,
+    /// Simulated seconds (whole steps of the scene's dt, rounded).
+    pub seconds: f64,
+    /// A sample every this many steps (1: every step).
+    pub every: u32,
+    pub blades: BladePick,
+    pub gpu: GpuOptions,
+}
+
+impl TraceRequest {
+    pub fn validate(&self) -> Result<()> {
+        if !(self.seconds > 0.0 && self.seconds <= MAX_SECONDS) {
+            return Err(Error::InvalidInput(format!(
+                "--seconds {} is not allowed, use more than 0 and at most {MAX_SECONDS}",
+                self.seconds
+            )));
+        }
+        if !(1..=MAX_EVERY).contains(&self.every) {
+            return Err(Error::InvalidInput(format!(
+                "--every {} is not allowed, use 1..={MAX_EVERY}",
+                self.every
+            )));
+        }
+        self.scene.validate()?;
+        self.scene.wind_grid()?;
+        Ok(())
+    }
+
+    /// Simulation steps the trace runs.
+    pub fn steps(&self) -> u64 {
+        (self.seconds / self.scene.wind.dt as f64).round().max(1.0) as u64
+    }
+}
+
+/// The traced blades over time, in memory: sample s, blade b at
+/// `[s * blades.len() + b]`.
+#[derive(Clone, Debug, Default)]
+pub struct Trace {
+    pub dt: f32,
+    pub substeps: u32,
+    /// Indices of the traced blades in the scene's field.
+    pub blades: Vec<u32>,
+    /// Root (x, z) of each traced blade, m.
+    pub roots: Vec<[f32; 2]>,
+    /// Simulated time of each sample, s.
+    pub times: Vec<f64>,
+    /// Tip (P3) of each traced blade at each sample, m.
+    pub tips: Vec<[f32; 3]>,
+    /// (swing, bend, twist) of each traced blade at each sample, rad.
+    pub angles: Vec<[f32; 3]>,
+    /// Blades in the field.
+    pub total_blades: usize,
+    pub interrupted: bool,
+}
+
+impl Trace {
+    /// Blade b's tip at sample s.
+    pub fn tip(&self, sample: usize, blade: usize) -> [f32; 3] {
+        self.tips[sample * self.blades.len() + blade]
+    }
+}
+
+/// Simulates `request`'s scene on `gpu`, sampling from t = 0. `observer`
+/// is asked after each sample whether to go on (false: stop there, the
+/// trace marked interrupted).
+pub fn trace(
+    gpu: &Gpu,
+    request: &TraceRequest,
+    observer: &mut dyn FnMut(u64, u64) -> bool,
+) -> Result<Trace> {
+    let scene = &request.scene;
+    let rest = field::generate(&scene.grass, scene.seed)?;
+    let dynamic = field::dynamic_blades(&rest, &scene.grass.dynamics, scene.seed)?;
+    let commands = Commands::new(gpu, "trace commands")?;
+    let vertices = BladeBuffer::new(gpu, &commands, &rest)?;
+    let mut simulation = Simulation::new(gpu, &commands, scene, &dynamic, vertices.buffer())?;
+    let blades = request.blades.indices(rest.len(), scene.seed);
+    let mut trace = Trace {
+        dt: simulation.dt(),
+        substeps: simulation.substeps(),
+        roots: blades
+            .iter()
+            .map(|&b| {
+                let p = rest[b as usize].rest[0];
+                [p.x, p.z]
+            })
+            .collect(),
+        blades,
+        total_blades: rest.len(),
+        ..Trace::default()
+    };
+    let steps = request.steps();
+    let mut done = 0u64;
+    loop {
+        sample(gpu, &commands, &simulation, &vertices, &mut trace, done)?;
+        if done >= steps {
+            break;
+        }
+        if !observer(done, steps) {
+            trace.interrupted = true;
+            break;
+        }
+        let batch = (request.every as u64).min(steps - done);
+        let rec = commands.begin()?;
+        simulation.record_steps(&rec, batch);
+        rec.submit_and_wait("simulating a trace")?;
+        done += batch;
+    }
+    drop(simulation);
+    Ok(trace)
+}
+
+/// Reads the traced blades' tips and angles after `step` steps.
+fn sample(
+    gpu: &Gpu,
+    commands: &Commands,
+    simulation: &Simulation,
+    vertices: &BladeBuffer,
+    trace: &mut Trace,
+    step: u64,
+) -> Result<()> {
+    let all: Vec<BladeVertex> =
+        vertices
+            .buffer()
+            .read_back(gpu, commands, 4 * trace.total_blades)?;
+    let states = simulation.grass().read_states(gpu, commands)?;
+    trace.times.push(step as f64 * trace.dt as f64);
+    for &b in &trace.blades {
+        let tip = all[4 * b as usize + 3].position;
+        trace.tips.push([tip[0], tip[1], tip[2]]);
+        let a = states[b as usize].angle;
+        trace.angles.push([a[SWING], a[BEND_A], a[TWIST]]);
+    }
+    Ok(())
+}
+
+/// One column of blades.csv.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct Column {
+    pub name: &'static str,
+    pub unit: &'static str,
+    pub meaning: &'static str,
+}
+
+pub const COLUMNS: [Column; 10] = [
+    Column {
+        name: "time_s",
+        unit: "s",
+        meaning: "simulated time of the sample (0: the grass at rest, before the first step)",
+    },
+    Column {
+        name: "blade",
+        unit: "",
+        meaning: "index of the blade in the scene's field (same scene and seed: same blade)",
+    },
+    Column {
+        name: "root_x",
+        unit: "m",
+        meaning: "root P0, x (world, y up)",
+    },
+    Column {
+        name: "root_z",
+        unit: "m",
+        meaning: "root P0, z",
+    },
+    Column {
+        name: "tip_x",
+        unit: "m",
+        meaning: "tip P3, x",
+    },
+    Column {
+        name: "tip_y",
+        unit: "m",
+        meaning: "tip P3, y (height above the ground)",
+    },
+    Column {
+        name: "tip_z",
+        unit: "m",
+        meaning: "tip P3, z",
+    },
+    Column {
+        name: "swing",
+        unit: "rad",
+        meaning: "swing angle about the ground normal (paper section 4)",
+    },
+    Column {
+        name: "bend",
+        unit: "rad",
+        meaning:
+            "bending angle of the (first) bending group, at its tip edge (eq. 12 shares it out)",
+    },
+    Column {
+        name: "twist",
+        unit: "rad",
+        meaning: "twisting angle of the tip edge about itself",
+    },
+];
+
+/// trace.json.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct TraceReport {
+    pub scene: String,
+    pub seed: u64,
+    pub device: String,
+    pub dt: f32,
+    pub substeps: u32,
+    pub seconds: f64,
+    pub every: u32,
+    pub steps: u64,
+    pub samples: usize,
+    pub blades_traced: usize,
+    pub blades_total: usize,
+    pub csv: String,
+    pub columns: Vec<Column>,
+    /// Stopped early by a signal: the CSV holds the samples taken.
+    pub interrupted: bool,
+    pub validation: ValidationReport,
+}
+
+/// blades.csv: the header, then one row per traced blade per sample.
+pub fn csv(trace: &Trace) -> String {
+    let mut out = COLUMNS.map(|c| c.name).join(",");
+    out.push('\n');
+    for (s, time) in trace.times.iter().enumerate() {
+        for (b, &blade) in trace.blades.iter().enumerate() {
+            let tip = trace.tip(s, b);
+            let root = trace.roots[b];
+            let angles = trace.angles[s * trace.blades.len() + b];
+            // Writing to a String cannot fail.
+            let _ = writeln!(
+                out,
+                "{time:.6},{blade},{},{},{},{},{},{},{},{}",
+                root[0], root[1], tip[0], tip[1], tip[2], angles[0], angles[1], angles[2]
+            );
+        }
+    }
+    out
+}
+
+pub const CSV_NAME: &str = "blades.csv";
+pub const REPORT_NAME: &str = "trace.json";
+
+/// Runs the trace and writes DIR/blades.csv and DIR/trace.json.
+pub fn trace_to_dir(
+    request: &TraceRequest,
+    out: &Path,
+    observer: &mut dyn FnMut(u64, u64) -> bool,
+) -> Result<TraceReport> {
+    request.validate()?;
+    files::ensure_dir(out)?;
+    let ((trace, device), validation) = on_gpu(&request.gpu, |gpu| {
+        Ok((trace(gpu, request, observer)?, gpu.info().name.clone()))
+    })?;
+    files::write_atomic(&out.join(CSV_NAME), csv(&trace).as_bytes())?;
+    let report = TraceReport {
+        scene: request.scene.name.clone(),
+        seed: request.scene.seed,
+        device,
+        dt: trace.dt,
+        substeps: trace.substeps,
+        seconds: request.seconds,
+        every: request.every,
+        steps: request.steps(),
+        samples: trace.times.len(),
+        blades_traced: trace.blades.len(),
+        blades_total: trace.total_blades,
+        csv: CSV_NAME.into(),
+        columns: COLUMNS.to_vec(),
+        interrupted: trace.interrupted,
+        validation,
+    };
+    write_json(&out.join(REPORT_NAME), &report)?;
+    report.validation.check()?;
+    Ok(report)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_pick_takes_one_blade_from_each_equal_run_and_depends_on_the_seed() {
+        let picked = BladePick::Count(10).indices(1000, 7);
+        assert_eq!(picked.len(), 10);
+        for (i, &b) in picked.iter().enumerate() {
+            assert!(
+                (100 * i as u32..100 * (i as u32 + 1)).contains(&b),
+                "{picked:?}"
+            );
+        }
+        assert_eq!(picked, BladePick::Count(10).indices(1000, 7));
+        assert_ne!(picked, BladePick::Count(10).indices(1000, 8));
+        assert_eq!(BladePick::Count(5000).indices(30, 1).len(), 30);
+        assert_eq!(BladePick::All.indices(4, 1), [0, 1, 2, 3]);
+    }
+
+    #[test]
+    fn blades_are_a_count_or_all() {
+        assert_eq!(BladePick::parse("all").unwrap(), BladePick::All);
+        assert_eq!(BladePick::parse("12").unwrap(), BladePick::Count(12));
+        let e = BladePick::parse("0").unwrap_err().to_string();
+        assert!(e.contains("--blades 0 is not allowed"), "{e}");
+        assert!(BladePick::parse("some").is_err());
+    }
+}
