@@ -246,6 +246,9 @@ enum Command {
         /// seed, or "all".
         #[arg(long, value_name = "K|all", default_value = "100")]
         blades: String,
+        /// Also write the wind at each traced tip (wind_x, wind_y, wind_z).
+        #[arg(long)]
+        wind: bool,
         /// Random seed of the grass field (default: the scene's).
         #[arg(long)]
         seed: Option<u64>,
@@ -627,6 +630,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             seconds,
             every,
             blades,
+            wind,
             seed,
             out,
             device,
@@ -641,6 +645,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 seconds,
                 every,
                 blades: BladePick::parse(&blades)?,
+                wind,
                 gpu: device.options()?,
             };
             let signal = stop_signal()?;

@@ -15,8 +15,10 @@ use crate::gpu::{Commands, Gpu, GpuOptions, ValidationReport};
 use crate::report::files;
 use crate::scene::{field, Scene};
 use crate::sim::grass::{BEND_A, SWING, TWIST};
+use crate::sim::wind::WindField;
 use crate::sim::BladeVertex;
 use crate::simulate::Simulation;
+use glam::Vec3;
 
 /// Longest trace, simulated seconds.
 pub const MAX_SECONDS: f64 = 3600.0;
@@ -85,6 +87,8 @@ pub struct TraceRequest {
     /// A sample every this many steps (1: every step).
     pub every: u32,
     pub blades: BladePick,
+    /// Also the wind each traced tip feels (columns wind_x, wind_y, wind_z).
+    pub wind: bool,
     pub gpu: GpuOptions,
 }
 
@@ -129,6 +133,8 @@ pub struct Trace {
     pub tips: Vec<[f32; 3]>,
     /// (swing, bend, twist) of each traced blade at each sample, rad.
     pub angles: Vec<[f32; 3]>,
+    /// The wind at each traced tip at each sample (m/s), when asked for.
+    pub wind: Vec<[f32; 3]>,
     /// Blades in the field.
     pub total_blades: usize,
     pub interrupted: bool,
@@ -139,6 +145,66 @@ impl Trace {
     pub fn tip(&self, sample: usize, blade: usize) -> [f32; 3] {
         self.tips[sample * self.blades.len() + blade]
     }
+}
+
+impl Trace {
+    /// The mean downwind tip displacement (tip x now minus tip x at the
+    /// first sample) of the traced blades rooted in each band of
+    /// `band_width` metres along x from `x0`, per sample: `[band][sample]`.
+    /// A band without blades is all zeros.
+    pub fn band_displacement(&self, x0: f32, band_width: f32, bands: usize) -> Vec<Vec<f64>> {
+        let n = self.blades.len();
+        let mut sum = vec![vec![0.0f64; self.times.len()]; bands];
+        let mut count = vec![0usize; bands];
+        for (b, root) in self.roots.iter().enumerate() {
+            let band = ((root[0] - x0) / band_width).floor();
+            if !(0.0..bands as f32).contains(&band) {
+                continue;
+            }
+            let band = band as usize;
+            count[band] += 1;
+            let rest = self.tips[b][0];
+            for (s, total) in sum[band].iter_mut().enumerate() {
+                *total += (self.tips[s * n + b][0] - rest) as f64;
+            }
+        }
+        for (series, &c) in sum.iter_mut().zip(&count) {
+            series.iter_mut().for_each(|v| *v /= c.max(1) as f64);
+        }
+        sum
+    }
+}
+
+/// Pearson correlation of a[i] with b[i + lag] over the samples both have.
+pub fn lagged_correlation(a: &[f64], b: &[f64], lag: usize) -> f64 {
+    let n = a.len().min(b.len().saturating_sub(lag));
+    if n < 2 {
+        return 0.0;
+    }
+    let (a, b) = (&a[..n], &b[lag..lag + n]);
+    let mean = |v: &[f64]| v.iter().sum::<f64>() / n as f64;
+    let (ma, mb) = (mean(a), mean(b));
+    let (mut ab, mut aa, mut bb) = (0.0, 0.0, 0.0);
+    for (x, y) in a.iter().zip(b) {
+        ab += (x - ma) * (y - mb);
+        aa += (x - ma) * (x - ma);
+        bb += (y - mb) * (y - mb);
+    }
+    if aa == 0.0 || bb == 0.0 {
+        return 0.0;
+    }
+    ab / (aa * bb).sqrt()
+}
+
+/// The lag in 0..=max_lag samples at which b follows a most closely, and
+/// the correlation there.
+pub fn best_lag(a: &[f64], b: &[f64], max_lag: usize) -> (usize, f64) {
+    (0..=max_lag)
+        .map(|lag| (lag, lagged_correlation(a, b, lag)))
+        .fold(
+            (0, f64::NEG_INFINITY),
+            |best, x| if x.1 > best.1 { x } else { best },
+        )
 }
 
 /// Simulates `request`'s scene on `gpu`, sampling from t = 0. `observer`
@@ -156,6 +222,13 @@ pub fn trace(
     let vertices = BladeBuffer::new(gpu, &commands, &rest)?;
     let mut simulation = Simulation::new(gpu, &commands, scene, &dynamic, vertices.buffer())?;
     let blades = request.blades.indices(rest.len(), scene.seed);
+    // The CPU field only samples what the GPU's wind read back.
+    let mut wind = request
+        .wind
+        .then(|| -> Result<WindField> {
+            Ok(WindField::new(scene.wind_grid()?, &scene.wind.settings()))
+        })
+        .transpose()?;
     let mut trace = Trace {
         dt: simulation.dt(),
         substeps: simulation.substeps(),
@@ -173,7 +246,15 @@ pub fn trace(
     let steps = request.steps();
     let mut done = 0u64;
     loop {
-        sample(gpu, &commands, &simulation, &vertices, &mut trace, done)?;
+        sample(
+            gpu,
+            &commands,
+            &simulation,
+            &vertices,
+            wind.as_mut(),
+            &mut trace,
+            done,
+        )?;
         if done >= steps {
             break;
         }
@@ -197,6 +278,7 @@ fn sample(
     commands: &Commands,
     simulation: &Simulation,
     vertices: &BladeBuffer,
+    wind: Option<&mut WindField>,
     trace: &mut Trace,
     step: u64,
 ) -> Result<()> {
@@ -212,6 +294,13 @@ fn sample(
         let a = states[b as usize].angle;
         trace.angles.push([a[SWING], a[BEND_A], a[TWIST]]);
     }
+    if let Some(field) = wind {
+        field.vel = simulation.wind().read_velocity(gpu, commands)?;
+        let first = trace.tips.len() - trace.blades.len();
+        for tip in &trace.tips[first..] {
+            trace.wind.push(field.sample(Vec3::from(*tip)).to_array());
+        }
+    }
     Ok(())
 }
 
@@ -222,6 +311,33 @@ pub struct Column {
     pub unit: &'static str,
     pub meaning: &'static str,
 }
+
+/// The columns, with the wind's when it was traced.
+pub fn columns(wind: bool) -> Vec<Column> {
+    let mut columns = COLUMNS.to_vec();
+    if wind {
+        columns.extend(WIND_COLUMNS);
+    }
+    columns
+}
+
+pub const WIND_COLUMNS: [Column; 3] = [
+    Column {
+        name: "wind_x",
+        unit: "m/s",
+        meaning: "the wind the tip feels (sampled at P3 as the grass step samples it), x",
+    },
+    Column {
+        name: "wind_y",
+        unit: "m/s",
+        meaning: "the wind at the tip, y",
+    },
+    Column {
+        name: "wind_z",
+        unit: "m/s",
+        meaning: "the wind at the tip, z",
+    },
+];
 
 pub const COLUMNS: [Column; 10] = [
     Column {
@@ -300,7 +416,11 @@ pub struct TraceReport {
 
 /// blades.csv: the header, then one row per traced blade per sample.
 pub fn csv(trace: &Trace) -> String {
-    let mut out = COLUMNS.map(|c| c.name).join(",");
+    let mut out = columns(!trace.wind.is_empty())
+        .iter()
+        .map(|c| c.name)
+        .collect::<Vec<_>>()
+        .join(",");
     out.push('\n');
     for (s, time) in trace.times.iter().enumerate() {
         for (b, &blade) in trace.blades.iter().enumerate() {
@@ -308,11 +428,15 @@ pub fn csv(trace: &Trace) -> String {
             let root = trace.roots[b];
             let angles = trace.angles[s * trace.blades.len() + b];
             // Writing to a String cannot fail.
-            let _ = writeln!(
+            let _ = write!(
                 out,
                 "{time:.6},{blade},{},{},{},{},{},{},{},{}",
                 root[0], root[1], tip[0], tip[1], tip[2], angles[0], angles[1], angles[2]
             );
+            if let Some(w) = trace.wind.get(s * trace.blades.len() + b) {
+                let _ = write!(out, ",{},{},{}", w[0], w[1], w[2]);
+            }
+            out.push('\n');
         }
     }
     out
@@ -346,7 +470,7 @@ pub fn trace_to_dir(
         blades_traced: trace.blades.len(),
         blades_total: trace.total_blades,
         csv: CSV_NAME.into(),
-        columns: COLUMNS.to_vec(),
+        columns: columns(request.wind),
         interrupted: trace.interrupted,
         validation,
     };
@@ -373,6 +497,25 @@ mod tests {
         assert_ne!(picked, BladePick::Count(10).indices(1000, 8));
         assert_eq!(BladePick::Count(5000).indices(30, 1).len(), 30);
         assert_eq!(BladePick::All.indices(4, 1), [0, 1, 2, 3]);
+    }
+
+    /// A wave sin(w (t - x / c)) seen at two points d apart: the best lag
+    /// is d / c, where the correlation is 1.
+    #[test]
+    fn the_best_lag_of_a_travelling_wave_is_its_travel_time() {
+        let dt = 0.1;
+        let wave = |x: f64| -> Vec<f64> {
+            (0..400)
+                .map(|i| {
+                    let t = i as f64 * dt - x / 3.0;
+                    (1.3 * t).sin() + 0.5 * (3.1 * t).sin()
+                })
+                .collect()
+        };
+        let (lag, r) = best_lag(&wave(0.0), &wave(3.0), 30);
+        assert_eq!(lag, 10, "3 m at 3 m/s is 1 s, 10 samples");
+        assert!(r > 0.999, "{r}");
+        assert!(lagged_correlation(&wave(0.0), &wave(3.0), 0) < 0.9);
     }
 
     #[test]

@@ -490,6 +490,7 @@ pub const BUILTIN: &[(&str, &str)] = &[
         include_str!("../../scenes/fig13-obstacles.toml"),
     ),
     ("table1", include_str!("../../scenes/table1.toml")),
+    ("gust-strip", include_str!("../../scenes/gust-strip.toml")),
 ];
 
 impl Scene {

@@ -13,7 +13,8 @@
 //! no-through (their faces hold zero); the top is free-slip (no flow through
 //! it, tangential flow free); the four sides are open: the pressure outside
 //! is zero, so wind leaves the domain. An inflow side holds its faces at the
-//! inflow velocity.
+//! inflow velocity; with an inflow, the two sides along it are free-slip
+//! (a wind tunnel: what enters leaves through the far side).
 //!
 //! The GPU compute shaders in glsl/wind/ follow this file kernel by kernel.
 
@@ -527,12 +528,17 @@ impl WindField {
         if axis == 1 && (f[1] == 0 || f[1] == n.y) {
             return FaceKind::Wall; // ground and top: nothing passes through
         }
-        if axis == 0 {
-            if let Some(inflow) = inflow {
-                let entry = if inflow.speed >= 0.0 { 0 } else { n.x };
-                if f[0] == entry {
-                    return FaceKind::Inflow;
-                }
+        if let Some(inflow) = inflow {
+            let entry = if inflow.speed >= 0.0 { 0 } else { n.x };
+            if axis == 0 && f[0] == entry {
+                return FaceKind::Inflow;
+            }
+            // The sides along the inflow are free-slip, as a wind tunnel's:
+            // open, they let the incoming air leave sideways before it
+            // crosses the field (on a 7 m wide strip it died out within
+            // 20 m), where in a wide field it would go on.
+            if axis == 2 && (f[2] == 0 || f[2] == n.z) {
+                return FaceKind::Wall;
             }
         }
         FaceKind::Free
