@@ -249,6 +249,10 @@ enum Command {
         /// Also write the wind at each traced tip (wind_x, wind_y, wind_z).
         #[arg(long)]
         wind: bool,
+        /// DIR/space_time.svg starts at this simulated time (leave out the
+        /// grass leaning into a wind that is still filling the field).
+        #[arg(long, value_name = "SECONDS", default_value_t = 0.0)]
+        diagram_from: f64,
         /// Random seed of the grass field (default: the scene's).
         #[arg(long)]
         seed: Option<u64>,
@@ -631,6 +635,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             every,
             blades,
             wind,
+            diagram_from,
             seed,
             out,
             device,
@@ -646,6 +651,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 every,
                 blades: BladePick::parse(&blades)?,
                 wind,
+                diagram_from,
                 gpu: device.options()?,
             };
             let signal = stop_signal()?;

@@ -34,6 +34,7 @@ fn gusts_travel_down_a_strip_at_the_speed_of_the_wind() {
         every: 6,
         blades: BladePick::Count(1500),
         wind: true,
+        diagram_from: 0.0,
         gpu: strict_options(),
     };
     let gpu = strict_gpu();

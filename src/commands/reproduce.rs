@@ -5,12 +5,14 @@
 
 use std::path::Path;
 
+use crate::commands::on_gpu;
 use crate::commands::render::{render_to_dir, RenderRequest};
+use crate::commands::trace::{space_time_svg, trace, BladePick, TraceRequest};
 use crate::error::Result;
 use crate::gpu::GpuOptions;
 use crate::report::files;
 use crate::report::reproduce::{html, markdown};
-pub use crate::report::reproduce::{Figure, Rendered, Shot};
+pub use crate::report::reproduce::{Diagram, Figure, Rendered, Shot};
 use crate::scene::{Scene, ViewMode};
 
 /// Image size and simulated time: `--quick` keeps lavapipe within minutes.
@@ -19,6 +21,11 @@ struct Budget {
     height: u32,
     sway: f32,
     sequence_frames: u32,
+    /// The gust strip: simulated seconds traced, the first ones left out
+    /// of the diagram (the wind filling the field), and the picture's time.
+    gust_seconds: f64,
+    gust_skip: f64,
+    gust_start: f32,
 }
 
 fn budget(quick: bool) -> Budget {
@@ -28,6 +35,9 @@ fn budget(quick: bool) -> Budget {
             height: 180,
             sway: 0.5,
             sequence_frames: 3,
+            gust_seconds: 12.0,
+            gust_skip: 4.0,
+            gust_start: 6.0,
         }
     } else {
         Budget {
@@ -35,6 +45,9 @@ fn budget(quick: bool) -> Budget {
             height: 720,
             sway: 2.0,
             sequence_frames: 8,
+            gust_seconds: 30.0,
+            gust_skip: 13.0,
+            gust_start: 15.0,
         }
     }
 }
@@ -59,6 +72,7 @@ pub fn plan(quick: bool) -> Result<Vec<Figure>> {
     let rotating = Scene::builtin("fig11-meadow-rotating")?;
     let lod = Scene::builtin("fig12-lod")?;
     let obstacles = Scene::builtin("fig13-obstacles")?;
+    let strip = Scene::builtin("gust-strip")?;
     let mut open = obstacles.clone();
     open.wind.obstacles.clear();
     open.name = "fig13-obstacles (obstacles removed)".into();
@@ -84,6 +98,7 @@ pub fn plan(quick: bool) -> Result<Vec<Figure>> {
         Figure {
             title: "Fig. 10 (left): a few bunches",
             paper: "A few bunches of grass, static and swaying in wind from the left.",
+            diagram: None,
             shots: vec![
                 shot("static", "fig10-few/static", &few, 0.0),
                 shot(&sway, "fig10-few/swaying", &few, b.sway),
@@ -92,6 +107,7 @@ pub fn plan(quick: bool) -> Result<Vec<Figure>> {
         Figure {
             title: "Fig. 10 (right): several bunches",
             paper: "Several bunches of grass, static and swaying in wind from the left.",
+            diagram: None,
             shots: vec![
                 shot("static", "fig10-several/static", &several, 0.0),
                 shot(&sway, "fig10-several/swaying", &several, b.sway),
@@ -102,6 +118,7 @@ pub fn plan(quick: bool) -> Result<Vec<Figure>> {
             paper:
                 "A meadow swaying under a wind whose direction rotates, over a sequence of frames.",
             shots: vec![sequence],
+            diagram: None,
         },
         Figure {
             title: "Fig. 12: level of detail",
@@ -116,6 +133,7 @@ pub fn plan(quick: bool) -> Result<Vec<Figure>> {
                 ),
                 lod_shaded,
             ],
+            diagram: None,
         },
         Figure {
             title: "Fig. 13: obstacles",
@@ -136,6 +154,28 @@ pub fn plan(quick: bool) -> Result<Vec<Figure>> {
                     b.sway,
                 )),
             ],
+            diagram: None,
+        },
+        Figure {
+            title: "Beyond the paper: gusts that travel",
+            paper: "Gusts enter from the left as faster air near the ground and are carried \
+                    along the strip by the wind: waves run downwind. The diagram is measured \
+                    from a trace of the grass (meadow trace): diagonal stripes are waves, their \
+                    slope their speed.",
+            shots: vec![shot(
+                "a 36 m strip in gusts (motion view: blue at rest, red bent)",
+                "gusts/strip",
+                &strip,
+                b.gust_start,
+            )],
+            diagram: Some(Diagram {
+                file: SPACE_TIME_FILE.into(),
+                caption: format!(
+                    "Space-time diagram of the strip's motion, {} s to {} s: each 1 m band's \
+                     downwind tip displacement beyond its mean, in its own standard deviations",
+                    b.gust_skip, b.gust_seconds
+                ),
+            }),
         },
     ])
 }
@@ -170,7 +210,8 @@ pub fn reproduce(
     let b = budget(quick);
     let figures = plan(quick)?;
     files::ensure_dir(out)?;
-    let total = figures.iter().map(|f| f.shots.len()).sum();
+    // The shots, then the gust trace.
+    let total = figures.iter().map(|f| f.shots.len()).sum::<usize>() + 1;
     let started = std::time::Instant::now();
     let mut rendered = Vec::new();
     for (index, figure) in figures.iter().enumerate() {
@@ -199,6 +240,15 @@ pub fn reproduce(
             });
         }
     }
+    on_shot(ShotProgress {
+        figure: "Beyond the paper: gusts that travel",
+        shot: "space-time diagram (tracing the strip)",
+        done: rendered.len(),
+        total,
+        elapsed_s: started.elapsed().as_secs_f64(),
+    });
+    let diagram = gust_diagram(&b, gpu)?;
+    files::write_atomic(&out.join(SPACE_TIME_FILE), diagram.as_bytes())?;
     files::write_atomic(
         &out.join("index.md"),
         markdown(&figures, &rendered, quick).as_bytes(),
@@ -208,6 +258,29 @@ pub fn reproduce(
         html(&figures, &rendered, out, quick)?.as_bytes(),
     )?;
     Ok(rendered)
+}
+
+const SPACE_TIME_FILE: &str = "gusts/space_time.svg";
+
+/// Traces the gust strip and draws its space-time diagram (1 m bands).
+fn gust_diagram(b: &Budget, gpu: &GpuOptions) -> Result<String> {
+    let request = TraceRequest {
+        scene: Scene::builtin("gust-strip")?,
+        seconds: b.gust_seconds,
+        every: 6,
+        blades: BladePick::All,
+        wind: false,
+        diagram_from: b.gust_skip,
+        gpu: gpu.clone(),
+    };
+    request.validate()?;
+    let (run, validation) = on_gpu(&request.gpu, |gpu| trace(gpu, &request, &mut |_, _| true))?;
+    validation.check()?;
+    space_time_svg(
+        &run,
+        b.gust_skip,
+        "gust-strip: tip displacement along the wind over time",
+    )
 }
 
 #[cfg(test)]

@@ -2,8 +2,9 @@
 //! simulated on the GPU (wind and grass, no rendering) for a number of
 //! seconds; every `every` steps the traced blades' roots, tips and angles
 //! are read back. Writes DIR/blades.csv (one row per traced blade per
-//! sample) and DIR/trace.json (what the columns are, in which units, and
-//! where the numbers came from).
+//! sample), DIR/trace.json (what the columns are, in which units, and
+//! where the numbers came from) and DIR/space_time.svg (the motion along x
+//! over time).
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -13,6 +14,7 @@ use crate::error::{Error, Result};
 use crate::frame::BladeBuffer;
 use crate::gpu::{Commands, Gpu, GpuOptions, ValidationReport};
 use crate::report::files;
+use crate::report::space_time::{self, SpaceTime};
 use crate::scene::{field, Scene};
 use crate::sim::grass::{BEND_A, SWING, TWIST};
 use crate::sim::wind::WindField;
@@ -89,6 +91,9 @@ pub struct TraceRequest {
     pub blades: BladePick,
     /// Also the wind each traced tip feels (columns wind_x, wind_y, wind_z).
     pub wind: bool,
+    /// space_time.svg starts here (s): the first seconds, the grass
+    /// leaning into a wind that fills the field, can outweigh the waves.
+    pub diagram_from: f64,
     pub gpu: GpuOptions,
 }
 
@@ -98,6 +103,12 @@ impl TraceRequest {
             return Err(Error::InvalidInput(format!(
                 "--seconds {} is not allowed, use more than 0 and at most {MAX_SECONDS}",
                 self.seconds
+            )));
+        }
+        if !(0.0..self.seconds).contains(&self.diagram_from) {
+            return Err(Error::InvalidInput(format!(
+                "--diagram-from {} is not allowed, use 0 or more and less than --seconds {}",
+                self.diagram_from, self.seconds
             )));
         }
         if !(1..=MAX_EVERY).contains(&self.every) {
@@ -173,6 +184,34 @@ impl Trace {
         }
         sum
     }
+}
+
+/// The space-time diagram of a trace (report::space_time): 1 m bands along
+/// x over the traced blades' roots, from `from_s` seconds on.
+pub fn space_time_svg(run: &Trace, from_s: f64, title: &str) -> Result<String> {
+    let skip = run.times.iter().take_while(|&&t| t < from_s).count();
+    if skip >= run.times.len() {
+        return Err(Error::InvalidInput(format!(
+            "the trace ends before {from_s} s: nothing to draw"
+        )));
+    }
+    let (x0, x1) = run.roots.iter().fold((f32::MAX, f32::MIN), |(lo, hi), r| {
+        (lo.min(r[0]), hi.max(r[0]))
+    });
+    let x0 = x0.floor();
+    let bands = (x1 - x0).floor().max(0.0) as usize + 1;
+    let values: Vec<Vec<f64>> = run
+        .band_displacement(x0, 1.0, bands)
+        .into_iter()
+        .map(|band| band[skip..].to_vec())
+        .collect();
+    space_time::svg(&SpaceTime {
+        title,
+        values: &values,
+        x0: x0 as f64,
+        band_width: 1.0,
+        times: &run.times[skip..],
+    })
 }
 
 /// Pearson correlation of a[i] with b[i + lag] over the samples both have.
@@ -408,6 +447,11 @@ pub struct TraceReport {
     pub blades_traced: usize,
     pub blades_total: usize,
     pub csv: String,
+    /// space_time.svg: each 1 m band along x, its mean downwind tip
+    /// displacement over time (beyond its mean, in its own standard
+    /// deviations); travelling waves are diagonal stripes. None for a
+    /// single blade or sample.
+    pub space_time: Option<String>,
     pub columns: Vec<Column>,
     /// Stopped early by a signal: the CSV holds the samples taken.
     pub interrupted: bool,
@@ -444,6 +488,7 @@ pub fn csv(trace: &Trace) -> String {
 
 pub const CSV_NAME: &str = "blades.csv";
 pub const REPORT_NAME: &str = "trace.json";
+pub const SPACE_TIME_NAME: &str = "space_time.svg";
 
 /// Runs the trace and writes DIR/blades.csv and DIR/trace.json.
 pub fn trace_to_dir(
@@ -457,6 +502,19 @@ pub fn trace_to_dir(
         Ok((trace(gpu, request, observer)?, gpu.info().name.clone()))
     })?;
     files::write_atomic(&out.join(CSV_NAME), csv(&trace).as_bytes())?;
+    let title = format!("{}: tip displacement along x over time", request.scene.name);
+    let diagram = (trace.blades.len() > 1 && trace.times.len() > 1)
+        .then(|| space_time_svg(&trace, request.diagram_from, &title))
+        .transpose()?;
+    let diagram_path = out.join(SPACE_TIME_NAME);
+    match &diagram {
+        Some(svg) => files::write_atomic(&diagram_path, svg.as_bytes())?,
+        // An earlier trace's diagram would pass for this one's.
+        None if diagram_path.exists() => {
+            std::fs::remove_file(&diagram_path).map_err(|e| Error::io(&diagram_path, e))?
+        }
+        None => {}
+    }
     let report = TraceReport {
         scene: request.scene.name.clone(),
         seed: request.scene.seed,
@@ -470,6 +528,7 @@ pub fn trace_to_dir(
         blades_traced: trace.blades.len(),
         blades_total: trace.total_blades,
         csv: CSV_NAME.into(),
+        space_time: diagram.map(|_| SPACE_TIME_NAME.into()),
         columns: columns(request.wind),
         interrupted: trace.interrupted,
         validation,

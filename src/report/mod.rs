@@ -6,6 +6,7 @@ pub mod bench;
 pub mod files;
 pub mod render;
 pub mod reproduce;
+pub mod space_time;
 pub mod timing;
 pub mod wind;
 pub mod wind_slices;

@@ -26,9 +26,18 @@ pub struct Shot {
 
 pub struct Figure {
     pub title: &'static str,
-    /// What the paper's figure shows.
+    /// What the paper's figure shows (or, beyond the paper, what to see).
     pub paper: &'static str,
     pub shots: Vec<Shot>,
+    /// A measured diagram shown after the shots, if any.
+    pub diagram: Option<Diagram>,
+}
+
+/// An SVG the command wrote under DIR, with what it shows.
+pub struct Diagram {
+    /// Path under DIR.
+    pub file: String,
+    pub caption: String,
 }
 
 /// One shot's result, for the index.
@@ -39,6 +48,15 @@ pub struct Rendered {
     /// The scene as rendered (for the parameters shown beside it).
     pub scene: Scene,
     pub report: RenderReport,
+}
+
+/// "Paper: ..." for the paper's figures; beyond the paper, what to see.
+fn paper_line(figure: &Figure) -> String {
+    if figure.title.starts_with("Beyond the paper") {
+        figure.paper.to_string()
+    } else {
+        format!("Paper: {}", figure.paper)
+    }
 }
 
 /// The parameters a reader needs to judge one shot.
@@ -108,7 +126,7 @@ pub fn markdown(figures: &[Figure], rendered: &[Rendered], quick: bool) -> Strin
     );
     for (i, figure) in figures.iter().enumerate() {
         let _ = writeln!(md, "## {}\n", figure.title);
-        let _ = writeln!(md, "Paper: {}\n", figure.paper);
+        let _ = writeln!(md, "{}\n", paper_line(figure));
         for r in rendered.iter().filter(|r| r.figure == i) {
             let scene = &r.scene;
             let _ = writeln!(md, "**{}** ({})\n", r.label, scene.caption);
@@ -116,6 +134,9 @@ pub fn markdown(figures: &[Figure], rendered: &[Rendered], quick: bool) -> Strin
                 let _ = write!(md, "![{}]({}/{}) ", r.label, r.dir, frame);
             }
             let _ = writeln!(md, "\n\n{}\n", parameters(&r.report, scene));
+        }
+        if let Some(d) = &figure.diagram {
+            let _ = writeln!(md, "![{}]({})\n\n{}\n", d.caption, d.file, d.caption);
         }
     }
     md
@@ -150,7 +171,7 @@ pub fn html(figures: &[Figure], rendered: &[Rendered], out: &Path, quick: bool) 
     );
     for (i, figure) in figures.iter().enumerate() {
         let _ = writeln!(h, "<h2>{}</h2>", escape(figure.title));
-        let _ = writeln!(h, "<p class=\"paper\">Paper: {}</p>", escape(figure.paper));
+        let _ = writeln!(h, "<p class=\"paper\">{}</p>", escape(&paper_line(figure)));
         for r in rendered.iter().filter(|r| r.figure == i) {
             let scene = &r.scene;
             let _ = writeln!(
@@ -176,6 +197,16 @@ pub fn html(figures: &[Figure], rendered: &[Rendered], out: &Path, quick: bool) 
                 h,
                 "<p class=\"params\">{}</p>",
                 escape(&parameters(&r.report, scene))
+            );
+        }
+        if let Some(d) = &figure.diagram {
+            let path = out.join(&d.file);
+            let svg = std::fs::read(&path).map_err(|e| crate::Error::io(&path, e))?;
+            let data = base64::engine::general_purpose::STANDARD.encode(svg);
+            let _ = writeln!(
+                h,
+                "<figure><img alt=\"{0}\" src=\"data:image/svg+xml;base64,{data}\"><figcaption>{0}</figcaption></figure>",
+                escape(&d.caption)
             );
         }
     }
