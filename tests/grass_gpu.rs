@@ -171,3 +171,69 @@ fn roots_and_edge_lengths_hold_on_the_gpu_in_2000_stormy_steps() {
     assert!(worst < 2e-6, "edge lengths drifted by {worst:e}");
     assert!(moved > 0.1, "the storm barely moved the grass: {moved} m");
 }
+
+/// The GPU counts the blade-steps that end at an angle cap as the CPU
+/// reference does, in a wind strong enough to reach the caps (a steady
+/// 30 m/s along x over Fig. 10's bunches, 300 steps).
+#[test]
+fn the_gpu_counts_blade_steps_at_an_angle_cap_as_the_cpu_does() {
+    let (scene, blades) = few_bunches();
+    let grid = small_grid(&scene, [12, 6, 12]);
+    let mut wind = WindField::new(grid, &WindSettings::default());
+    wind.vel[0].iter_mut().for_each(|u| *u = 30.0);
+    let recorded: Vec<f32> = wind.vel.iter().flatten().copied().collect();
+
+    let mut cpu = GrassField::new(blades.clone(), DT).unwrap();
+    for _ in 0..300 {
+        cpu.step(|x| wind.sample(x));
+    }
+
+    let gpu = strict_gpu();
+    let commands = Commands::new(&gpu, "cap count test commands").unwrap();
+    let wind_buffer = Buffer::with_data(
+        &gpu,
+        &commands,
+        "steady gale",
+        bytemuck::cast_slice(&recorded),
+        ash::vk::BufferUsageFlags::STORAGE_BUFFER,
+        Access::COMPUTE_READ,
+    )
+    .unwrap();
+    let blade_buffer = BladeBuffer::uninitialised(&gpu, "cap test vertices", blades.len()).unwrap();
+    let pass = GrassPass::new(
+        &gpu,
+        &commands,
+        &blades,
+        blade_buffer.buffer(),
+        &wind_buffer,
+        &grid,
+        DT,
+    )
+    .unwrap();
+    let rec = commands.begin().unwrap();
+    for _ in 0..300 {
+        pass.record_step(&rec, 0);
+    }
+    rec.submit_and_wait("300 grass steps in a gale").unwrap();
+    let caps = pass.read_caps(&gpu, &commands, 300).unwrap();
+    drop((pass, blade_buffer, wind_buffer, commands));
+    finish(gpu);
+
+    eprintln!("GPU {caps:?}\nCPU {:?}", cpu.caps);
+    assert!(
+        cpu.caps.at_cap > 0,
+        "the gale reached no cap: {:?}",
+        cpu.caps
+    );
+    assert_eq!(caps.blade_steps, cpu.caps.blade_steps);
+    // A blade whose angle rounds to the cap on one side and just under it
+    // on the other may differ; a thousandth of the count allows for it.
+    let close = |g: u64, c: u64| g.abs_diff(c) as f64 <= 1e-3 * c as f64 + 1.0;
+    assert!(
+        close(caps.at_cap, cpu.caps.at_cap),
+        "GPU {caps:?} CPU {:?}",
+        cpu.caps
+    );
+    assert!(close(caps.swing, cpu.caps.swing) && close(caps.twist, cpu.caps.twist));
+    assert!(close(caps.bend_a, cpu.caps.bend_a) && close(caps.bend_b, cpu.caps.bend_b));
+}

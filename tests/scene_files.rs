@@ -431,3 +431,33 @@ fn the_documented_example_is_a_valid_scene_using_every_section() {
         }
     }
 }
+
+/// Nothing grows inside an obstacle: no root of fig13's field lies in its
+/// wall, boulder or post, where the same meadow without them has roots.
+#[test]
+fn no_blade_is_rooted_inside_an_obstacle() {
+    let scene = Scene::builtin("fig13-obstacles").unwrap();
+    let obstacles = scene.wind.obstacles.clone();
+    assert_eq!(obstacles.len(), 3);
+    let inside = |blades: &[meadow::sim::Blade]| {
+        blades
+            .iter()
+            .filter(|b| {
+                let root = b.rest[0] + glam::Vec3::Y * 0.01;
+                obstacles.iter().any(|o| o.contains(root))
+            })
+            .count()
+    };
+    let with = scene.field().unwrap();
+    let mut open = scene.clone();
+    open.wind.obstacles.clear();
+    let without = open.field().unwrap();
+    eprintln!(
+        "fig13: {} of {} blades would be rooted inside an obstacle",
+        inside(&without),
+        without.len()
+    );
+    assert!(inside(&without) > 100);
+    assert_eq!(inside(&with), 0);
+    assert_eq!(with.len(), without.len() - inside(&without));
+}

@@ -26,6 +26,9 @@ struct Vertex {
 // Written only; not declared writeonly because naga does not take it.
 layout(set = 0, binding = 2, std430) buffer Vertices { Vertex vertices[]; };
 layout(set = 0, binding = 3, std430) readonly buffer Wind { float wind_velocity[]; };
+// Blade-steps that ended at an angle cap (`CapCounts` in src/sim/grass.rs):
+// [0] any motion, [1 + m] motion m (swing, bend A, bend B, twist).
+layout(set = 0, binding = 4, std430) buffer Caps { uint caps[]; };
 
 #define WIND_VELOCITY(i) wind_velocity[pc.control.z + (i)]
 #include "wind_sample.glsl"
@@ -41,6 +44,16 @@ void main() {
     vec3 tip = blade_pose(b, s.angle).points[3];
     blade_step(b, s, sample_wind(pc.grid, tip), pc.step.y, pc.control.y);
     states[id] = s;
+    bool capped = false;
+    for (int m = 0; m < 4; ++m) {
+        if (abs(s.angle[m]) >= MAX_ANGLE) {
+            atomicAdd(caps[1 + m], 1u);
+            capped = true;
+        }
+    }
+    if (capped) {
+        atomicAdd(caps[0], 1u);
+    }
 
     // Width vectors: the twisted E_w_local of the edge ending at each point
     // (the root takes the root edge's); w: the tip edge's angle from rest.

@@ -140,7 +140,7 @@ fn bench_row(
     scene.lod.enabled = lod;
     let (w, h) = (request.width, request.height);
     crate::frame::check_fits(gpu, &scene, w, h, request.msaa)?;
-    let blades = field::generate(&scene.grass, scene.seed)?;
+    let blades = scene.field()?;
     let dynamic = field::dynamic_blades(&blades, &scene.grass.dynamics, scene.seed)?;
     let mut recorder =
         FrameRecorder::new(gpu, &scene, (w, h), request.msaa, &blades, Some(&dynamic))?;

@@ -94,7 +94,7 @@ fn bench_count(
 ) -> Result<GrassBenchRow> {
     let mut scene = scene.clone();
     scene.set_blade_count(count)?;
-    let blades = field::generate(&scene.grass, scene.seed)?;
+    let blades = scene.field()?;
     let dynamic = field::dynamic_blades(&blades, &scene.grass.dynamics, scene.seed)?;
     gpu.check_fits(
         &format!("{count} blades"),

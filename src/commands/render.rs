@@ -158,7 +158,7 @@ fn render_with(
     let scene = &request.scene;
     let warnings = scene.wind.settings().check(&scene.wind_grid()?)?;
     crate::frame::check_fits(gpu, scene, request.width, request.height, request.msaa)?;
-    let blades = field::generate(&scene.grass, scene.seed)?;
+    let blades = scene.field()?;
     let dynamic = field::dynamic_blades(&blades, &scene.grass.dynamics, scene.seed)?;
     let mut recorder = FrameRecorder::new(
         gpu,
@@ -175,6 +175,7 @@ fn render_with(
         simulation.substeps(),
         simulation.steps_done(),
     );
+    let angle_caps = simulation.cap_counts(gpu, recorder.commands())?;
     let msaa_used = recorder.samples();
 
     let info = gpu.info();
@@ -202,6 +203,8 @@ fn render_with(
         sim_dt,
         substeps,
         sim_steps,
+        angle_caps,
+        cap_fraction: angle_caps.fraction(),
         frames_planned: request.frames_written().count() as u32,
         frames: done.names,
         gif: done.gif,

@@ -255,7 +255,7 @@ pub fn trace(
     observer: &mut dyn FnMut(u64, u64) -> bool,
 ) -> Result<Trace> {
     let scene = &request.scene;
-    let rest = field::generate(&scene.grass, scene.seed)?;
+    let rest = scene.field()?;
     let dynamic = field::dynamic_blades(&rest, &scene.grass.dynamics, scene.seed)?;
     let commands = Commands::new(gpu, "trace commands")?;
     let vertices = BladeBuffer::new(gpu, &commands, &rest)?;

@@ -8,6 +8,7 @@ use crate::frame::Animation;
 use crate::gpu::query::PipelineStatistics;
 use crate::gpu::ValidationReport;
 use crate::scene::{Camera, ViewMode};
+use crate::sim::grass::CapCounts;
 
 /// What `report.json` holds.
 #[derive(Clone, Debug, serde::Serialize)]
@@ -41,6 +42,10 @@ pub struct RenderReport {
     pub substeps: u32,
     /// Simulation steps run in all.
     pub sim_steps: u64,
+    /// Blade-steps that ended with an angle at its cap (motion the model
+    /// could not follow; docs/physics.md), and their share.
+    pub angle_caps: CapCounts,
+    pub cap_fraction: f64,
     /// Frames asked for (after --every) and the files written, in order.
     pub frames_planned: u32,
     pub frames: Vec<String>,
@@ -100,6 +105,14 @@ pub fn summary(report: &RenderReport, out: &Path) -> String {
         report.sim_dt,
         report.substeps
     );
+    if report.angle_caps.blade_steps > 0 {
+        text += &format!(
+            "blade-steps at an angle cap: {:.3}% ({} of {})\n",
+            100.0 * report.cap_fraction,
+            report.angle_caps.at_cap,
+            report.angle_caps.blade_steps
+        );
+    }
     match report.frames.as_slice() {
         [one] => text += &format!("wrote {}\n", out.join(one).display()),
         [first, .., last] => {

@@ -493,7 +493,26 @@ pub const BUILTIN: &[(&str, &str)] = &[
     ("gust-strip", include_str!("../../scenes/gust-strip.toml")),
 ];
 
+/// How far above the ground a root is tested against the obstacles: a box
+/// or cylinder standing on the ground holds its footprint's roots.
+const ROOT_CLEARANCE: f32 = 0.01;
+
 impl Scene {
+    /// The scene's grass field (`field::generate`) without the blades whose
+    /// root lies inside an obstacle: nothing grows through a wall, a boulder
+    /// or a post. The patches' counts are the counts before.
+    pub fn field(&self) -> Result<Vec<crate::sim::Blade>> {
+        let mut blades = field::generate(&self.grass, self.seed)?;
+        let obstacles = &self.wind.obstacles;
+        if !obstacles.is_empty() {
+            blades.retain(|b| {
+                let root = b.rest[0] + Vec3::Y * ROOT_CLEARANCE;
+                !obstacles.iter().any(|o| o.contains(root))
+            });
+        }
+        Ok(blades)
+    }
+
     /// A built-in scene by name.
     pub fn builtin(name: &str) -> Result<Scene> {
         let Some((_, text)) = BUILTIN.iter().find(|(n, _)| *n == name) else {

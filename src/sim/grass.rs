@@ -507,6 +507,46 @@ pub fn vertices(blade: &GrassBlade, pose: &Pose) -> [BladeVertex; 4] {
     })
 }
 
+/// Blade-steps that ended with an angle at its `MAX_ANGLE` cap: motion the
+/// model could not follow (docs/physics.md). Counted by the GPU kernel too.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+pub struct CapCounts {
+    /// Blade-steps simulated.
+    pub blade_steps: u64,
+    /// Those with any motion at its cap.
+    pub at_cap: u64,
+    /// Per motion: swing, bend (group A), bend (group B), twist.
+    pub swing: u64,
+    pub bend_a: u64,
+    pub bend_b: u64,
+    pub twist: u64,
+}
+
+impl CapCounts {
+    /// Records one blade's state after a step.
+    pub fn count(&mut self, state: &GrassState) {
+        self.blade_steps += 1;
+        let capped = state.angle.map(|a| a.abs() >= MAX_ANGLE);
+        self.at_cap += capped.contains(&true) as u64;
+        for (total, hit) in [
+            &mut self.swing,
+            &mut self.bend_a,
+            &mut self.bend_b,
+            &mut self.twist,
+        ]
+        .into_iter()
+        .zip(capped)
+        {
+            *total += hit as u64;
+        }
+    }
+
+    /// The share of blade-steps at a cap (0 before any step).
+    pub fn fraction(&self) -> f64 {
+        self.at_cap as f64 / self.blade_steps.max(1) as f64
+    }
+}
+
 /// A whole field of blades stepping together: what the GPU kernel does,
 /// one invocation per blade.
 #[derive(Clone, Debug)]
@@ -515,6 +555,7 @@ pub struct GrassField {
     pub states: Vec<GrassState>,
     pub substeps: u32,
     pub dt: f32,
+    pub caps: CapCounts,
 }
 
 impl GrassField {
@@ -525,6 +566,7 @@ impl GrassField {
             blades,
             substeps,
             dt,
+            caps: CapCounts::default(),
         })
     }
 
@@ -534,6 +576,7 @@ impl GrassField {
         for (blade, state) in self.blades.iter().zip(&mut self.states) {
             let tip = pose(blade, state.angle).points[3];
             step(blade, state, wind_at(tip), self.dt, self.substeps);
+            self.caps.count(state);
         }
     }
 

@@ -14,11 +14,13 @@ use crate::gpu::{
     Access, Bound, Buffer, Commands, DescriptorSet, Gpu, LayoutBinding, Pipeline, PipelineLayout,
     Recording,
 };
-use crate::sim::grass::{substeps, GrassBlade, GrassState};
+use crate::sim::grass::{substeps, CapCounts, GrassBlade, GrassState};
 use crate::sim::wind::WindGrid;
 use crate::sim::BladeVertex;
 
 const LOCAL_SIZE: u32 = 64;
+/// Any motion at its cap, then swing, bend A, bend B, twist.
+const CAP_COUNTERS: usize = 5;
 
 /// Push constants of glsl/grass/step.comp.
 #[repr(C)]
@@ -39,6 +41,7 @@ pub const GRASS_SET: &[LayoutBinding] = &[
     LayoutBinding::compute_storage(1), // state (angles, angular velocities)
     LayoutBinding::compute_storage(2), // vertices: the blade pipeline's vertex buffer
     LayoutBinding::compute_storage(3), // wind velocity
+    LayoutBinding::compute_storage(4), // angle-cap counters
 ];
 
 pub struct GrassPass {
@@ -48,6 +51,8 @@ pub struct GrassPass {
     /// Held for the set: the kernel reads the rest shapes and physics.
     _blades: Buffer,
     states: Buffer,
+    /// Blade-steps at an angle cap: any motion, then each motion.
+    caps: Buffer,
     push: GrassPush,
     blade_count: u32,
 }
@@ -116,6 +121,14 @@ impl GrassPass {
             usage,
             Access::COMPUTE_READ_WRITE,
         )?;
+        let caps = Buffer::with_data(
+            gpu,
+            commands,
+            "grass angle-cap counters",
+            bytemuck::cast_slice(&[0u32; CAP_COUNTERS]),
+            usage,
+            Access::COMPUTE_READ_WRITE,
+        )?;
         let layout = PipelineLayout::new::<GrassPush>(
             gpu,
             GRASS_SET,
@@ -132,6 +145,7 @@ impl GrassPass {
                 Bound::Buffer(&states),
                 Bound::Buffer(vertices),
                 Bound::Buffer(wind_velocity),
+                Bound::Buffer(&caps),
             ],
             "grass descriptor set",
         )?;
@@ -140,6 +154,7 @@ impl GrassPass {
             pipeline,
             _blades: blades_buffer,
             states,
+            caps,
             push,
             blade_count,
         })
@@ -176,6 +191,20 @@ impl GrassPass {
             Access::COMPUTE_WRITE,
             Access::VERTEX_INPUT.and(Access::COMPUTE_READ_WRITE),
         );
+    }
+
+    /// The blade-steps at an angle cap over the `steps` steps recorded so
+    /// far (the counters cover every step since the pass was made).
+    pub fn read_caps(&self, gpu: &Gpu, commands: &Commands, steps: u64) -> Result<CapCounts> {
+        let c: Vec<u32> = self.caps.read_back(gpu, commands, CAP_COUNTERS)?;
+        Ok(CapCounts {
+            blade_steps: steps * self.blade_count as u64,
+            at_cap: c[0] as u64,
+            swing: c[1] as u64,
+            bend_a: c[2] as u64,
+            bend_b: c[3] as u64,
+            twist: c[4] as u64,
+        })
     }
 
     /// Every blade's angles and angular velocities (for tests and reports).

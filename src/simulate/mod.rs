@@ -83,6 +83,15 @@ impl Simulation {
         }
     }
 
+    /// Blade-steps at an angle cap so far (docs/physics.md).
+    pub fn cap_counts(
+        &self,
+        gpu: &Gpu,
+        commands: &Commands,
+    ) -> Result<crate::sim::grass::CapCounts> {
+        self.grass.read_caps(gpu, commands, self.steps_done)
+    }
+
     pub fn steps_done(&self) -> u64 {
         self.steps_done
     }

@@ -49,7 +49,7 @@ pub struct SimRig {
 impl SimRig {
     /// The scene's grass at rest and its wind, still.
     pub fn new(gpu: &Gpu, scene: &Scene) -> Self {
-        let rest = field::generate(&scene.grass, scene.seed).unwrap();
+        let rest = scene.field().unwrap();
         let blades = field::dynamic_blades(&rest, &scene.grass.dynamics, scene.seed).unwrap();
         let commands = Commands::new(gpu, "test simulation commands").unwrap();
         let vertices =
