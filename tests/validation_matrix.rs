@@ -217,6 +217,7 @@ fn reproduce_quick_renders_every_figure_validation_clean_with_both_indexes() {
         "Fig. 11",
         "Fig. 12",
         "Fig. 13",
+        "Beyond the paper: gusts that travel",
     ] {
         assert!(
             md.contains(&format!("## {title}")),
@@ -234,16 +235,24 @@ fn reproduce_quick_renders_every_figure_validation_clean_with_both_indexes() {
         .skip(1)
         .map(|rest| &rest[..rest.find(')').unwrap()])
         .collect();
-    assert_eq!(links.len(), 13, "{links:?}");
-    for link in &links {
+    // 14 shots' frames and the gust strip's space-time diagram.
+    assert_eq!(links.len(), 15, "{links:?}");
+    let (svgs, pngs): (Vec<&str>, Vec<&str>) = links.iter().partition(|l| l.ends_with(".svg"));
+    assert_eq!(svgs, ["gusts/space_time.svg"]);
+    for link in &pngs {
         image::open(out.join(link)).unwrap_or_else(|e| panic!("{link}: {e}"));
     }
+    let svg = std::fs::read_to_string(out.join(svgs[0])).unwrap();
+    roxmltree::Document::parse(&svg).expect("the space-time diagram is XML");
+    assert!(svg.contains("time (s)"), "the diagram's axes are labelled");
     assert_eq!(
         html.matches("src=\"data:image/png;base64,").count(),
-        links.len()
+        pngs.len()
     );
+    assert_eq!(html.matches("src=\"data:image/svg+xml;base64,").count(), 1);
     assert!(!html.contains(".png\""), "index.html links a file");
-    assert!(md.contains("MSAA") && md.contains("Jacobi iterations"));
+    assert!(md.contains("MSAA") && md.contains("multigrid V-cycles"));
+    assert!(md.contains("angle caps"));
 
     // Each shot's own report: validation clean, warnings accepted.
     let mut seen = Seen::default();

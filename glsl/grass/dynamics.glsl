@@ -160,7 +160,8 @@ void ground_contact(inout GrassState s, GrassState before) {
 }
 
 // One simulation step in `substeps` symplectic Euler substeps of h:
-// omega' = omega + (N / I) h, theta' = theta + omega' h.
+// omega' = omega + (N / I) h, theta' = theta + omega' h, the damping in N
+// taken at (omega + omega') / 2.
 void blade_step(GrassBlade b, inout GrassState s, vec3 wind, float h, uint substeps) {
     wind = guard_wind(wind);
     Pose p = blade_pose(b, s.angle);
@@ -168,7 +169,10 @@ void blade_step(GrassBlade b, inout GrassState s, vec3 wind, float h, uint subst
         vec4 torque = torques(b, p, s, wind);
         GrassState before = s;
         for (int m = 0; m < 4; ++m) {
-            float omega = s.velocity[m] + torque[m] / b.inertia[m] * h;
+            // Damping at the step's midpoint (`step` in src/sim/grass.rs).
+            float undamped = torque[m] + b.damping[m] * s.velocity[m];
+            float a = 0.5 * h * b.damping[m] / b.inertia[m];
+            float omega = (s.velocity[m] * (1.0 - a) + undamped / b.inertia[m] * h) / (1.0 + a);
             float theta = s.angle[m] + omega * h;
             if (abs(theta) > MAX_ANGLE) {
                 s.angle[m] = theta < 0.0 ? -MAX_ANGLE : MAX_ANGLE;

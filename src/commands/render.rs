@@ -175,7 +175,14 @@ fn render_with(
         simulation.substeps(),
         simulation.steps_done(),
     );
-    let angle_caps = simulation.cap_counts(gpu, recorder.commands())?;
+    let angle_caps = simulation
+        .cap_counts(gpu, recorder.commands())
+        .map_err(|e| match e {
+            Error::DeviceLost { during } => Error::DeviceLost {
+                during: format!("{during}, after the last frame (the frames are complete)"),
+            },
+            other => other,
+        })?;
     let msaa_used = recorder.samples();
 
     let info = gpu.info();

@@ -82,7 +82,7 @@ fn parameters(r: &RenderReport, scene: &Scene) -> String {
         drivers.push("still air".into());
     }
     format!(
-        "{} blades, seed {}; {}x{}, MSAA {}x of {}x asked, LOD {}, {} view; frames at {} s of simulated time ({} steps of {:.4} s); wind grid {}x{}x{}, {} Jacobi iterations, {}; {} [{}]",
+        "{} blades, seed {}; {}x{}, MSAA {}x of {}x asked, LOD {}, {} view; frames at {} s of simulated time ({} steps of {:.4} s); wind grid {}x{}x{}, {}, {}; angle caps {:.3}% of blade-steps; {} [{}]",
         r.blades,
         r.seed,
         r.width,
@@ -97,8 +97,9 @@ fn parameters(r: &RenderReport, scene: &Scene) -> String {
         wind.cells[0],
         wind.cells[1],
         wind.cells[2],
-        wind.jacobi_iterations,
+        crate::report::wind::describe(wind.solver, wind.jacobi_iterations, wind.v_cycles),
         drivers.join(", "),
+        100.0 * r.cap_fraction,
         r.device,
         r.device_type,
     )

@@ -435,8 +435,9 @@ pub fn guard_wind(v: Vec3) -> Vec3 {
 }
 
 /// One simulation step of `dt`, in `substeps` equal symplectic Euler
-/// substeps: omega' = omega + (N / I) h, theta' = theta + omega' h. The wind
-/// is sampled once per step, at the tip, by the caller.
+/// substeps: omega' = omega + (N / I) h, theta' = theta + omega' h, with the
+/// damping torque in N taken at (omega + omega') / 2. The wind is sampled
+/// once per step, at the tip, by the caller.
 pub fn step(blade: &GrassBlade, state: &mut GrassState, wind: Vec3, dt: f32, substeps: u32) {
     let wind = guard_wind(wind);
     let h = dt / substeps as f32;
@@ -446,7 +447,14 @@ pub fn step(blade: &GrassBlade, state: &mut GrassState, wind: Vec3, dt: f32, sub
         let before = *state;
         #[allow(clippy::needless_range_loop)] // four parallel per-motion arrays
         for m in 0..4 {
-            let omega = state.velocity[m] + torque[m] / blade.inertia[m] * h;
+            // Damping at the step's midpoint, (omega + omega') / 2: second
+            // order like the rest of symplectic Euler, where an explicit
+            // -c omega would shift the period by O(h) (2.3% for the twist at
+            // the shipped dt).
+            let undamped = torque[m] + blade.damping[m] * state.velocity[m];
+            let a = 0.5 * h * blade.damping[m] / blade.inertia[m];
+            let omega =
+                (state.velocity[m] * (1.0 - a) + undamped / blade.inertia[m] * h) / (1.0 + a);
             let theta = state.angle[m] + omega * h;
             // The MAX_ANGLE guard: past it the motion stops there.
             if theta.abs() > MAX_ANGLE {
