@@ -138,7 +138,7 @@ fn tiny_bench_writes_every_field_a_table_and_an_svg() {
     let md = std::fs::read_to_string(out.join("bench.md")).unwrap();
     assert!(md.contains("| blades | LOD | wind ms | paper |"), "{md}");
     assert!(md.contains("grass / floor"), "{md}");
-    assert!(md.contains("| multigrid | 6 V-cycles |"), "{md}");
+    assert!(md.contains("| multigrid | 7 V-cycles |"), "{md}");
     assert!(md.contains("| jacobi | 30 iterations |"), "{md}");
     assert_eq!(md.matches("\n| 1000 |").count(), 4, "{md}");
     let svg = std::fs::read_to_string(out.join("bench.svg")).unwrap();

@@ -1,12 +1,13 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// Multigrid, the coarsest level pc.multigrid.x (at most 512 cells):
+// Multigrid, the coarsest level pc.multigrid.x (at most 64 cells,
+// `MAX_COARSEST_CELLS`; the shared array holds up to 512):
 // pc.multigrid.z red-black Gauss-Seidel sweeps in one workgroup, the
 // pressure held in shared memory between half-sweeps.
 #include "multigrid.glsl"
 
-const uint MAX_COARSEST_CELLS = 512u;
-shared float p_shared[MAX_COARSEST_CELLS];
+const uint COARSEST_CAPACITY = 512u;
+shared float p_shared[COARSEST_CAPACITY];
 
 void main() {
     uint l = pc.multigrid.x;

@@ -69,7 +69,7 @@ pub fn wind_to_dir(
         let solve =
             crate::report::wind::describe(report.solver, report.jacobi_iterations, report.v_cycles);
         let fix = match report.solver {
-            PressureSolver::Jacobi => "use multigrid (wind.solver = \"multigrid\", --v-cycles 6) or raise them (--jacobi-iterations, wind.jacobi_iterations; docs/physics.md measures both)",
+            PressureSolver::Jacobi => "use multigrid (wind.solver = \"multigrid\", --v-cycles 7) or raise them (--jacobi-iterations, wind.jacobi_iterations; docs/physics.md measures both)",
             PressureSolver::Multigrid => "raise them (--v-cycles, wind.v_cycles; docs/physics.md)",
         };
         report.warnings.push(format!(

@@ -14,30 +14,37 @@
 //! equation multiplied by the cell volume, so both solvers have the same
 //! solution and the same projection.
 //!
-//! Coarsening halves every axis that has two cells or more (an odd count
-//! leaves its last coarse cell one fine cell thick). A coarse face's
-//! conductance is the sum of the fine faces it covers divided by how much
-//! longer the distance between pressure samples became (2 along a halved
-//! axis): areas add, distances double. A coarse cell's right-hand side is
-//! the sum of its children's residuals, and the correction comes back to
-//! every child unchanged (piecewise-constant prolongation). The coarsest
-//! level (at most `MAX_COARSEST_CELLS` cells) is smoothed
-//! `COARSEST_SWEEPS` times, which on the GPU is one workgroup.
+//! Coarsening halves the axes whose spacing is within 1.5x of the finest
+//! (semi-coarsening of flat cells; an odd count leaves its last coarse cell
+//! one fine cell thick). A coarse face's conductance is the sum of the fine
+//! faces it covers divided by how much longer the distance between
+//! pressure samples became (2 along a halved axis): areas add, distances
+//! double. The correction comes back by trilinear interpolation (an open
+//! side interpolates towards zero outside, a closed one mirrors), and a
+//! coarse cell's right-hand side gathers its fine cells' residuals by the
+//! transpose of that interpolation. The coarsest level (at most
+//! `MAX_COARSEST_CELLS` cells) is smoothed `COARSEST_SWEEPS` times, which
+//! on the GPU is one workgroup.
 
 use glam::{UVec3, Vec3};
 
 /// Red-black Gauss-Seidel sweeps before restricting and after prolonging.
 pub const PRE_SMOOTH: u32 = 2;
 pub const POST_SMOOTH: u32 = 2;
-/// The coarsest level is small enough for one GPU workgroup's shared memory.
-pub const MAX_COARSEST_CELLS: u32 = 512;
-/// Sweeps on the coarsest level: its error falls by about 0.9 a sweep on
-/// the paper's grid (8 x 3 x 8), so 40 leave about 1%.
+/// Coarsening stops at this many cells (4 x 2 x 4 on the paper's grid).
+/// With the sides along an inflow closed, the pressure's slowest mode is a
+/// ramp from the inflow to the one open side, which Gauss-Seidel on the
+/// coarsest level barely moves on 8 x 3 x 8 cells (at 512 cells table1 kept
+/// 45% of its divergence); on 4 x 2 x 4 it converges in the sweeps below.
+/// One GPU workgroup's shared memory holds up to 512.
+pub const MAX_COARSEST_CELLS: u32 = 64;
+/// Sweeps on the coarsest level. (More made no step better and some worse:
+/// the coarse operator only approximates the fine one near obstacles.)
 pub const COARSEST_SWEEPS: u32 = 40;
-/// V-cycles per step by default. Each starts from zero pressure and leaves
-/// about a third of the residual or less; six leave 0.5% of the divergence
-/// on the shipped scenes (docs/physics.md).
-pub const DEFAULT_V_CYCLES: u32 = 6;
+/// V-cycles per step by default. Each starts from zero pressure; seven
+/// leave at most 0.4% of the divergence in the first ten steps of every
+/// shipped scene (six left up to 0.9%; docs/physics.md).
+pub const DEFAULT_V_CYCLES: u32 = 7;
 
 /// One level of the hierarchy. Level 0 is the wind grid itself.
 #[derive(Clone, Debug, PartialEq)]
