@@ -114,11 +114,12 @@ fn lattice(d: UVec3) -> impl Iterator<Item = (usize, [u32; 3])> {
         .enumerate()
 }
 
-/// Gusts: g(t) = 0.5 sin(2 pi f t + p0) + 0.3 sin(2 pi 2.17 f t + p1)
-/// + 0.2 sin(2 pi 4.73 f t + p2), the phases p drawn from the seed. A
-/// source's strength is s0 * max(0, 1 + a g(t)); an inflow's gusts are
-/// spatial and travel (`Inflow::velocity_at`). a = 0: no gusts. In a scene
-/// file every field is optional on its own (default 0).
+/// Gusts: the signal
+/// g(t) = 0.5 sin(2 pi f t + p0) + 0.3 sin(2 pi 2.17 f t + p1) + 0.2 sin(2 pi 4.73 f t + p2),
+/// the phases p drawn from the seed. A source's strength is
+/// s0 * max(0, 1 + a g(t)); an inflow's gusts are spatial and travel
+/// (`Inflow::velocity_at`). a = 0: no gusts. In a scene file every field
+/// is optional on its own (default 0).
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Gust {
