@@ -172,13 +172,14 @@ fn a_lost_device_is_named_with_its_frame_and_the_frames_before_stay_valid() {
             .split("during frame ")
             .nth(1)
             .map(|rest| rest.split(',').next().unwrap().parse::<u32>().unwrap());
-        // Lost after the last frame (reading the counters back): all four.
-        let written = if e.contains("after the last frame (the frames are complete)") {
-            4
-        } else {
-            frame.unwrap_or(0)
-        };
-        let expected: Vec<String> = (0..written).map(|k| format!("frame_{k:04}.png")).collect();
+        // Lost after the last frame (reading the counters back): all four
+        // frames and the finished GIF.
+        let after_last = e.contains("after the last frame (the frames are complete)");
+        let written = if after_last { 4 } else { frame.unwrap_or(0) };
+        let mut expected: Vec<String> = (0..written).map(|k| format!("frame_{k:04}.png")).collect();
+        if after_last {
+            expected.insert(0, "animation.gif".into());
+        }
         assert_eq!(files_in(&out), expected, "{what}: {e}");
         if let Some(k) = frame {
             assert!(e.contains("(the frames before it are complete)"), "{e}");
