@@ -752,3 +752,58 @@ fn an_output_directory_that_cannot_be_made_is_one_line_and_no_file() {
     assert_eq!(std::fs::read(&blocker).unwrap(), b"not a directory");
     let _ = std::fs::remove_file(&blocker);
 }
+
+/// SIGTERM stops `meadow trace` between samples: exit 143, blades.csv and
+/// trace.json complete and saying how far it got, no temporary file left.
+#[test]
+fn sigterm_stops_a_trace_with_complete_files() {
+    let out = temp_out("trace-sigterm");
+    let mut child = spawn_meadow(&[
+        "trace",
+        "--scene",
+        "fig10-few-bunches",
+        "--seconds",
+        "600",
+        "--every",
+        "30",
+        "--blades",
+        "20",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    // 36,000 steps: far more than the seconds before the signal.
+    std::thread::sleep(std::time::Duration::from_secs(6));
+    assert!(child.try_wait().unwrap().is_none(), "meadow ended early");
+    let sent = Command::new("kill")
+        .args(["-TERM", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(sent.success());
+    let result = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    assert_eq!(result.status.code(), Some(143), "{stderr}");
+    let report: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("trace.json")).unwrap()).unwrap();
+    assert_eq!(report["interrupted"], true);
+    let samples = report["samples"].as_u64().unwrap();
+    assert!(samples >= 1 && samples < 1201, "{samples} samples");
+    let csv = std::fs::read_to_string(out.join("blades.csv")).unwrap();
+    let mut lines = csv.lines();
+    assert_eq!(
+        lines.next(),
+        Some("time_s,blade,root_x,root_z,tip_x,tip_y,tip_z,swing,bend,twist")
+    );
+    assert_eq!(
+        lines.count() as u64,
+        20 * samples,
+        "one row per blade per sample"
+    );
+    // The space-time diagram needs two samples or more.
+    let expected: &[&str] = if samples > 1 {
+        &["blades.csv", "space_time.svg", "trace.json"]
+    } else {
+        &["blades.csv", "trace.json"]
+    };
+    assert_eq!(files_in(&out), expected);
+    let _ = std::fs::remove_dir_all(&out);
+}
