@@ -7,7 +7,7 @@ mod common;
 
 use std::path::Path;
 
-use common::binary::{meadow, temp_out};
+use common::binary::{meadow, read_json, temp_out};
 
 fn tiny_bench(out: &Path, env: &[(&str, &str)]) -> serde_json::Value {
     let out_s = out.to_str().unwrap();
@@ -35,7 +35,7 @@ fn tiny_bench(out: &Path, env: &[(&str, &str)]) -> serde_json::Value {
         "{}",
         String::from_utf8_lossy(&result.stderr)
     );
-    serde_json::from_slice(&std::fs::read(out.join("bench.json")).unwrap()).unwrap()
+    read_json(&out.join("bench.json"))
 }
 
 const PHASES: [&str; 7] = [

@@ -5,7 +5,7 @@ mod common;
 
 use std::process::{Command, Output};
 
-use common::binary::{files_in, meadow, spawn_meadow, temp_out};
+use common::binary::{files_in, meadow, read_json, spawn_meadow, temp_out};
 
 fn assert_succeeded(result: &Output) {
     assert!(
@@ -126,8 +126,7 @@ fn every_kth_frame_is_written_with_a_gif_of_them() {
     assert_succeeded(&result);
     // Not a terminal: no progress bar (nor anything else) on stderr.
     assert_eq!(String::from_utf8_lossy(&result.stderr), "");
-    let report: serde_json::Value =
-        serde_json::from_slice(&std::fs::read(out.join("report.json")).unwrap()).unwrap();
+    let report = read_json(&out.join("report.json"));
     assert_eq!(
         report["frames"],
         serde_json::json!(["frame_0000.png", "frame_0003.png", "frame_0006.png"])
@@ -193,8 +192,7 @@ fn wind_takes_solver_flags_and_says_when_the_projection_falls_short() {
         &[],
     );
     assert_succeeded(&result);
-    let report: serde_json::Value =
-        serde_json::from_slice(&std::fs::read(out.join("wind_report.json")).unwrap()).unwrap();
+    let report = read_json(&out.join("wind_report.json"));
     assert_eq!(report["cells"], serde_json::json!([24, 10, 24]));
     assert_eq!(report["jacobi_iterations"], 2);
     let warned = report["warnings"]
@@ -242,8 +240,7 @@ fn wind_v_cycles_pick_multigrid_which_removes_the_divergence() {
         &[],
     );
     assert_succeeded(&result);
-    let report: serde_json::Value =
-        serde_json::from_slice(&std::fs::read(out.join("wind_report.json")).unwrap()).unwrap();
+    let report = read_json(&out.join("wind_report.json"));
     assert_eq!(report["solver"], "multigrid");
     assert_eq!(report["v_cycles"], 6);
     let before = report["rms_divergence_before"].as_f64().unwrap();
@@ -296,8 +293,7 @@ fn render_reads_blade_counts_as_bench_does() {
         &[],
     );
     assert_succeeded(&result);
-    let report: serde_json::Value =
-        serde_json::from_slice(&std::fs::read(out.join("report.json")).unwrap()).unwrap();
+    let report = read_json(&out.join("report.json"));
     assert_eq!(report["blades"], 2000);
     let _ = std::fs::remove_dir_all(&out);
     assert_refused(
@@ -383,8 +379,7 @@ fn render_writes_frame_and_report_with_validation_clean() {
     assert_succeeded(&result);
     let png = image::open(out.join("frame_0000.png")).expect("a readable PNG");
     assert_eq!((png.width(), png.height()), (160, 90));
-    let report: serde_json::Value =
-        serde_json::from_slice(&std::fs::read(out.join("report.json")).unwrap()).unwrap();
+    let report = read_json(&out.join("report.json"));
     assert_eq!(report["validation"]["enabled"], true);
     assert_eq!(report["validation"]["errors"], 0);
     assert_eq!(report["blades"], 210);
@@ -433,8 +428,7 @@ fn a_render_can_be_redone_from_the_scene_it_leaves() {
     let mut with_out = args.to_vec();
     with_out.extend(["--out", first.to_str().unwrap()]);
     assert_succeeded(&meadow(&with_out, &[]));
-    let report: serde_json::Value =
-        serde_json::from_slice(&std::fs::read(first.join("report.json")).unwrap()).unwrap();
+    let report = read_json(&first.join("report.json"));
     assert_eq!(report["scene_file"], "scene.toml");
     assert_eq!(report["shadow_map"], 512);
     assert!(report["camera"]["position"].is_array(), "{report}");
@@ -462,8 +456,7 @@ fn a_render_can_be_redone_from_the_scene_it_leaves() {
         let b = std::fs::read(again.join(name)).unwrap();
         assert!(a == b, "{name} differs when rendered again from scene.toml");
     }
-    let again_report: serde_json::Value =
-        serde_json::from_slice(&std::fs::read(again.join("report.json")).unwrap()).unwrap();
+    let again_report = read_json(&again.join("report.json"));
     for key in [
         "blades",
         "seed",
@@ -573,8 +566,7 @@ fn bench_grass_times_small_counts_and_refuses_bad_ones() {
         &[],
     );
     assert_succeeded(&result);
-    let bench: serde_json::Value =
-        serde_json::from_slice(&std::fs::read(out.join("grass_bench.json")).unwrap()).unwrap();
+    let bench = read_json(&out.join("grass_bench.json"));
     assert_eq!(bench["validation"]["errors"], 0);
     let rows = bench["rows"].as_array().unwrap();
     assert_eq!(rows.len(), 2);
@@ -654,8 +646,7 @@ fn sigterm_while_simulating_stops_within_seconds_and_reports() {
     assert_eq!(result.status.code(), Some(143), "{stderr}");
     assert!(stderr.contains("stopping (SIGTERM)"), "{stderr}");
     assert!(took.as_secs_f64() < 15.0, "took {took:?} to stop");
-    let report: serde_json::Value =
-        serde_json::from_slice(&std::fs::read(out.join("report.json")).unwrap()).unwrap();
+    let report = read_json(&out.join("report.json"));
     assert_eq!(report["interrupted"], true);
     assert_eq!(report["frames"], serde_json::json!([]));
     let steps = report["sim_steps"].as_u64().unwrap();
@@ -697,8 +688,7 @@ fn an_interrupted_render_leaves_only_complete_files_and_says_how_far_it_got() {
     assert_eq!(result.status.code(), Some(130), "{stderr}");
     assert!(stderr.contains("interrupted after"), "{stderr}");
 
-    let report: serde_json::Value =
-        serde_json::from_slice(&std::fs::read(out.join("report.json")).unwrap()).unwrap();
+    let report = read_json(&out.join("report.json"));
     assert_eq!(report["interrupted"], true);
     assert_eq!(report["frames_planned"], 2000);
     let listed: Vec<String> = report["frames"]
@@ -782,11 +772,10 @@ fn sigterm_stops_a_trace_with_complete_files() {
     let result = child.wait_with_output().unwrap();
     let stderr = String::from_utf8_lossy(&result.stderr);
     assert_eq!(result.status.code(), Some(143), "{stderr}");
-    let report: serde_json::Value =
-        serde_json::from_slice(&std::fs::read(out.join("trace.json")).unwrap()).unwrap();
+    let report = read_json(&out.join("trace.json"));
     assert_eq!(report["interrupted"], true);
     let samples = report["samples"].as_u64().unwrap();
-    assert!(samples >= 1 && samples < 1201, "{samples} samples");
+    assert!((1..1201).contains(&samples), "{samples} samples");
     let csv = std::fs::read_to_string(out.join("blades.csv")).unwrap();
     let mut lines = csv.lines();
     assert_eq!(

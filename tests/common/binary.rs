@@ -35,6 +35,12 @@ pub fn temp_out(name: &str) -> PathBuf {
 
 /// The names of the files in `dir` (none when it does not exist), sorted:
 /// what a run left in its output directory.
+/// A JSON file a command wrote, parsed; panics naming the file.
+pub fn read_json(path: &Path) -> serde_json::Value {
+    let bytes = std::fs::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    serde_json::from_slice(&bytes).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
 pub fn files_in(dir: &Path) -> Vec<String> {
     let entries = match std::fs::read_dir(dir) {
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Vec::new(),
