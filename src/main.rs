@@ -230,8 +230,9 @@ enum Command {
     },
     /// Simulate a scene (no rendering) and write the grass's motion as
     /// data: DIR/blades.csv (time_s, blade, root, tip, swing, bend, twist
-    /// per traced blade per sample) and DIR/trace.json (columns, units,
-    /// scene, seed, device, dt).
+    /// per traced blade per sample), DIR/trace.json (columns, units, scene,
+    /// seed, device, dt) and DIR/space_time.svg (the motion along x over
+    /// time: travelling gusts are diagonal stripes).
     Trace {
         /// A built-in scene or a scene file (.toml).
         #[arg(long, default_value = "table1")]
