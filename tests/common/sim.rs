@@ -87,6 +87,11 @@ impl SimRig {
             .unwrap()
     }
 
+    /// Blade-steps at an angle cap so far.
+    pub fn cap_counts(&self, gpu: &Gpu) -> meadow::sim::grass::CapCounts {
+        self.simulation.cap_counts(gpu, &self.commands).unwrap()
+    }
+
     /// The 4 control points (and width vectors) of each blade, as drawn.
     pub fn vertices(&self, gpu: &Gpu) -> Vec<BladeVertex> {
         self.vertices
