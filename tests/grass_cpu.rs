@@ -201,7 +201,7 @@ fn released_blade_oscillates_as_the_damped_closed_form() {
 fn edge_angle(blade: &GrassBlade, s: &GrassState, i: usize) -> f32 {
     let p = pose(blade, s.angle);
     let rest = (blade.rest_point(i + 1) - blade.rest_point(i)).normalize();
-    let w = p.w;
+    let w = p.w[i];
     rest.cross(p.e[i]).dot(w).atan2(rest.dot(p.e[i]))
 }
 
@@ -255,6 +255,117 @@ fn twisting_changes_the_width_but_not_the_bending() {
             "{wind}: {} vs {}",
             face(&pt),
             face(&pu)
+        );
+    }
+}
+
+/// A blade curved well over: most of its length leans, so its swing moves
+/// much mass far from the vertical through the root.
+fn curved() -> Blade {
+    Blade::from_profile(
+        Vec3::new(-0.1, 0.0, 0.4),
+        Vec3::new(0.6, 0.0, 0.8),
+        [[0.0, 0.0], [0.06, 0.2], [0.2, 0.34], [0.38, 0.38]],
+        0.01,
+        BladeKind::Curved,
+        0.3,
+    )
+}
+
+#[test]
+fn the_swing_turns_each_edge_by_its_eq_12_share() {
+    for b in [upright(), curved(), drooping()] {
+        let blade = GrassBlade::new(&b, &physics()).unwrap();
+        let theta = 0.4;
+        let mut angle = [0.0; 4];
+        angle[SWING] = theta;
+        let p = pose(&blade, angle);
+        let k = blade.stiffness;
+        for i in 0..3 {
+            let rest = blade.rest_point(i + 1) - blade.rest_point(i);
+            let now = p.points[i + 1] - p.points[i];
+            let turned = now.x.atan2(now.z) - rest.x.atan2(rest.z);
+            let turned = (turned + std::f32::consts::PI).rem_euclid(std::f32::consts::TAU)
+                - std::f32::consts::PI;
+            if rest.x.hypot(rest.z) > 1e-3 {
+                assert!(
+                    (turned - k[2] / k[i] * theta).abs() < 1e-5,
+                    "edge {i} turned {turned} rad, eq. 12 gives {}",
+                    k[2] / k[i] * theta
+                );
+            }
+            // The width direction turns with its edge, and stays horizontal.
+            let w_rest = glam::Vec4::from(blade.width).truncate();
+            assert!((p.w[i].angle_between(w_rest) - k[2] / k[i] * theta).abs() < 1e-4);
+            assert!(p.w[i].y.abs() < 1e-6);
+        }
+    }
+}
+
+/// The swing's inertia and lever are those of the motion the pose makes,
+/// found here from the pose alone: a point of the blade at fraction u along
+/// edge j and width offset t moves by dP/dtheta (central differences of
+/// `pose`), the inertia is the integral of m |dP/dtheta|^2 over each edge's
+/// plate, and a force F at the tip turns the blade with the virtual-work
+/// torque F . dP3/dtheta. Broken by hand once each: the old inertia
+/// 3 m |P0P3|^2 is 520 times the upright blade's and fails; the old lever,
+/// P0P3 swung whole, gives a torque 27% off its virtual work and fails.
+#[test]
+fn the_swing_inertia_and_lever_are_those_of_the_poses_own_motion() {
+    let m = physics().edge_mass as f64;
+    for (name, b) in [("upright", upright()), ("curved", curved()), ("drooping", drooping())] {
+        let blade = GrassBlade::new(&b, &physics()).unwrap();
+        let eps = 1e-2f32;
+        let at = |theta: f32| {
+            let mut angle = [0.0; 4];
+            angle[SWING] = theta;
+            pose(&blade, angle)
+        };
+        let (plus, minus) = (at(eps), at(-eps));
+        let hw = blade.half_width();
+        let point = |p: &grass::Pose, j: usize, u: f32, t: f32| {
+            p.points[j] + (p.points[j + 1] - p.points[j]) * u + p.w[j] * (t * hw)
+        };
+        let velocity = |j: usize, u: f32, t: f32| {
+            (point(&plus, j, u, t) - point(&minus, j, u, t)).as_dvec3() / (2.0 * eps as f64)
+        };
+        let (nu, nt) = (64, 16);
+        let mut inertia = 0.0;
+        for j in 0..3 {
+            for a in 0..nu {
+                for c in 0..nt {
+                    let u = (a as f32 + 0.5) / nu as f32;
+                    let t = -1.0 + 2.0 * (c as f32 + 0.5) / nt as f32;
+                    inertia += m / (nu * nt) as f64 * velocity(j, u, t).length_squared();
+                }
+            }
+        }
+        let model = blade.inertia[SWING] as f64;
+        eprintln!("{name}: swing inertia {model:.4e} kg m^2, from the pose {inertia:.4e}");
+        assert!(
+            (model - inertia).abs() < 0.01 * inertia,
+            "{name}: swing inertia {model:.4e} vs {inertia:.4e} from the pose's motion"
+        );
+
+        // A wind across the blade at rest: the torque the model takes is
+        // the virtual work of the tip's wind force.
+        let tip_velocity = velocity(2, 1.0, 0.0);
+        let wind = Vec3::new(1.5, 0.2, -2.5);
+        let rest = at(0.0);
+        let force = rest.w[2] * (blade.drag[SWING] * wind.dot(rest.w[2]));
+        let torque = grass::torques(&blade, &rest, &GrassState::default(), wind)[SWING] as f64;
+        let work = force.as_dvec3().dot(tip_velocity);
+        assert!(
+            (torque - work).abs() < 1e-3 * work.abs().max(1e-9),
+            "{name}: swing torque {torque:e} vs virtual work {work:e}"
+        );
+        // The restoring force k_tip theta along the tip's path gives
+        // k_eff = k_tip |dP3/dtheta|.
+        let k_eff = blade.k_eff()[SWING] as f64;
+        let expected = blade.stiffness[2] as f64 * tip_velocity.length();
+        assert!(
+            (k_eff - expected).abs() < 1e-3 * expected,
+            "{name}: swing k_eff {k_eff:e} vs {expected:e}"
         );
     }
 }

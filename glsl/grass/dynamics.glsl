@@ -46,14 +46,15 @@ ivec2 bend_group(GrassBlade b, int i) {
 struct Pose {
     vec3 points[4];   // P0 (root) .. P3 (tip)
     vec3 e[3];        // E_e per edge
-    vec3 w;           // E_w: the rest E_w swung; bending turns about it
+    vec3 w[3];        // E_w per edge: the rest E_w swung by the edge's share; bending turns about it
     vec3 n[3];        // E_n = E_w x E_e per edge
     vec3 w_local[3];  // the twisted E_w_local per edge
 };
 
-// The shape from the rest shape and the angles: bend each edge about the
-// rest E_w by its share of its group's angle (eq. 12), swing the whole blade
-// about the ground normal, then twist the width directions about each edge.
+// The shape from the rest shape and the angles, root to tip: edge i bends
+// about the rest E_w by its share of its group's angle and swings about the
+// ground normal by its share of the swing angle (eq. 12 for both), and its
+// width direction twists about the edge by its share of the twist.
 Pose blade_pose(GrassBlade b, vec4 angle) {
     Pose p;
     vec3 w_rest = b.width.xyz;
@@ -62,48 +63,72 @@ Pose blade_pose(GrassBlade b, vec4 angle) {
     for (int i = 0; i < 3; ++i) {
         ivec2 group = bend_group(b, i);
         float bend = k[group.y] / k[i] * angle[group.x];
+        float swing = k[2] / k[i] * angle[SWING];
         vec3 rest_edge = rest_point(b, i + 1) - rest_point(b, i);
-        vec3 edge = rotate_about(rotate_about(rest_edge, w_rest, bend), UP, angle[SWING]);
+        vec3 edge = rotate_about(rotate_about(rest_edge, w_rest, bend), UP, swing);
         p.points[i + 1] = p.points[i] + edge;
         p.e[i] = normalize_or(edge, UP);
+        p.w[i] = rotate_about(w_rest, UP, swing);
     }
-    p.w = rotate_about(w_rest, UP, angle[SWING]);
     for (int i = 0; i < 3; ++i) {
-        p.n[i] = normalize_or(cross(p.w, p.e[i]), vec3(1.0, 0.0, 0.0));
-        p.w_local[i] = rotate_about(p.w, p.e[i], k[2] / k[i] * angle[TWIST]);
+        p.n[i] = normalize_or(cross(p.w[i], p.e[i]), vec3(1.0, 0.0, 0.0));
+        p.w_local[i] = rotate_about(p.w[i], p.e[i], k[2] / k[i] * angle[TWIST]);
     }
     return p;
 }
 
-// Swinging: the blade turns about the ground normal through its root.
-// W_S = S sigma (v . E_w) E_w, R_S = k_tip dtheta_s (G_static - G_cur) / |..|;
-// lever: P0P3 of the swung rest shape, whose horizontal part is G_cur.
+vec3 flat_part(vec3 v) {
+    return vec3(v.x, 0.0, v.z);
+}
+
+// Rest edge i on the ground plane, swung by its eq. 12 share of theta.
+vec3 swung_flat_edge(GrassBlade b, int i, float theta) {
+    vec3 rest_edge = rest_point(b, i + 1) - rest_point(b, i);
+    return flat_part(rotate_about(rest_edge, UP, b.stiffness[2] / b.stiffness[i] * theta));
+}
+
+// The swing's lever (`swing_lever`): sum of s_i h_i(theta), by virtual work.
+vec3 swing_lever(GrassBlade b, float theta) {
+    vec3 lever = vec3(0.0);
+    for (int i = 0; i < 3; ++i) {
+        lever += swung_flat_edge(b, i, theta) * (b.stiffness[2] / b.stiffness[i]);
+    }
+    return lever;
+}
+
+// Swinging: the blade turns about the ground normal through its root, edge
+// i by its eq. 12 share. W_S = S sigma (v . E_w) E_w (the tip edge's E_w),
+// R_S = k_tip dtheta_s (G_static - G_cur) / |..|, both at the tip; lever
+// `swing_lever`.
 float swing_torque(GrassBlade b, Pose p, vec4 angle, vec3 wind) {
     float theta = angle[SWING];
-    vec3 flat_ = vec3(1.0, 0.0, 1.0);
-    vec3 root_to_tip = rest_point(b, 3) - rest_point(b, 0);
-    vec3 lever = rotate_about(root_to_tip, UP, theta);
-    vec3 g_static = root_to_tip * flat_;
-    vec3 g_cur = lever * flat_;
-    vec3 force = p.w * (b.drag[SWING] * dot(wind, p.w))
+    vec3 g_static = vec3(0.0);
+    vec3 g_cur = vec3(0.0);
+    for (int i = 0; i < 3; ++i) {
+        g_static += swung_flat_edge(b, i, 0.0);
+        g_cur += swung_flat_edge(b, i, theta);
+    }
+    vec3 force = p.w[2] * (b.drag[SWING] * dot(wind, p.w[2]))
                + direction_or_zero(g_static - g_cur) * (b.stiffness[2] * abs(theta));
-    return dot(cross(lever, force), UP);
+    return dot(cross(swing_lever(b, theta), force), UP);
 }
 
 // Bending of one slope group: its local tip edge turns about E_w.
 // W_B = S sigma (v . E_n) E_n, R_B = k dtheta_b (E_e_static - E_e_cur) / |..|
 // with k the local tip edge's stiffness; lever: the local tip edge.
-// E_e_static is the rest edge swung, so that swinging never reads as bending.
+// E_e_static is the rest edge swung by its share of the swing, so that
+// swinging never reads as bending.
 float bend_torque(GrassBlade b, Pose p, int motion, vec4 angle, vec3 wind) {
     int tip = motion == BEND_A ? split_edge(b) - 1 : 2;
     float theta = angle[motion];
     vec3 rest_edge = rest_point(b, tip + 1) - rest_point(b, tip);
-    vec3 e_static = normalize_or(rotate_about(rest_edge, UP, angle[SWING]), UP);
+    float swing = b.stiffness[2] / b.stiffness[tip] * angle[SWING];
+    vec3 e_static = normalize_or(rotate_about(rest_edge, UP, swing), UP);
     vec3 n = p.n[tip];
     vec3 lever = p.points[tip + 1] - p.points[tip];
     vec3 force = n * (b.drag[motion] * dot(wind, n))
                + direction_or_zero(e_static - p.e[tip]) * (b.stiffness[tip] * abs(theta));
-    return dot(cross(lever, force), p.w);
+    return dot(cross(lever, force), p.w[tip]);
 }
 
 // Twisting: the face turns about the tip edge E_e, on E_w_local only, with the
@@ -120,7 +145,7 @@ float twist_torque(GrassBlade b, Pose p, vec4 angle, vec3 wind) {
     vec3 n_local = normalize_or(cross(w_local, e), p.n[2]);
     float side = dot(wind, w_local) < 0.0 ? -1.0 : 1.0;
     vec3 force = n_local * (b.drag[TWIST] * dot(wind, n_local))
-               + direction_or_zero(p.w - w_local) * (side * b.stiffness[2] * abs(theta));
+               + direction_or_zero(p.w[2] - w_local) * (side * b.stiffness[2] * abs(theta));
     return dot(cross(w_local * (side * b.width.w), force), e);
 }
 

@@ -9,9 +9,13 @@
 //! - forces are the paper's vectors W + R, the torque is lever x F taken
 //!   along the motion's axis, damping is the torque -c omega;
 //! - the shape is rebuilt every step from the rest shape: edge i bends by
-//!   theta_i = (k_tip / k_i) theta (eq. 12) about E_w, the whole blade swings
-//!   about the ground normal through its root, so the root and every edge
-//!   length stay exact; twisting turns only the width vectors.
+//!   theta_i = (k_tip / k_i) theta (eq. 12) about E_w and swings by its own
+//!   (k_tip / k_i) share of the swing angle about the ground normal, root to
+//!   tip, so the root and every edge length stay exact; twisting turns only
+//!   the width vectors;
+//! - the swing's lever and inertia follow from that motion by virtual work
+//!   (`swing_lever`, `swing_inertia`), so its torque, its inertia and its
+//!   shape describe one and the same rigid-segment motion.
 
 use glam::{Vec3, Vec4};
 
@@ -140,8 +144,9 @@ pub struct Pose {
     pub points: [Vec3; 4],
     /// E_e of each edge (unit).
     pub e: [Vec3; 3],
-    /// E_w of every edge: the rest E_w swung (bending turns about it).
-    pub w: Vec3,
+    /// E_w of each edge: the rest E_w swung by the edge's share of the
+    /// swing (bending turns the edge about it).
+    pub w: [Vec3; 3],
     /// E_n = E_w x E_e of each edge.
     pub n: [Vec3; 3],
     /// The twisted width direction E_w_local of each edge.
@@ -178,14 +183,14 @@ impl GrassBlade {
         let sigma = physics.sigma as f64;
         let area = |edges: std::ops::Range<usize>| len[edges].iter().sum::<f64>() * 2.0 * hw;
 
-        let root_to_tip = blade.rest[3] - blade.rest[0];
         let tip_a = split - 1;
         let groups = [(0..split, tip_a), (split..3, 2)];
         let mut drag = [0.0f64; 4];
         let mut inertia = [1.0f64; 4];
-        // Swinging: the whole blade about the ground normal, lever P0P3.
+        // Swinging: each edge about the ground normal by its eq. 12 share.
         drag[SWING] = sigma * area(0..3);
-        inertia[SWING] = 3.0 * m * (root_to_tip.length() as f64).powi(2);
+        let rest_edges: [Vec3; 3] = std::array::from_fn(|i| blade.rest[i + 1] - blade.rest[i]);
+        inertia[SWING] = swing_inertia(&rest_edges, swing_shares(&k), m, hw);
         // Bending: each group about E_w, lever its local tip edge.
         for (motion, (edges, tip)) in [BEND_A, BEND_B].into_iter().zip(groups) {
             if edges.is_empty() {
@@ -244,11 +249,10 @@ impl GrassBlade {
     /// stiffness of the edge the restoration acts on.
     pub fn k_eff(&self) -> [f32; 4] {
         let rest_edge = |i: usize| self.rest_point(i + 1) - self.rest_point(i);
-        let growth = (self.rest_point(3) - self.rest_point(0)) * Vec3::new(1.0, 0.0, 1.0);
         let (_, tip_a) = self.bend_group(0);
         let k = self.stiffness;
         [
-            growth.length() * k[2],
+            swing_lever(self, 0.0).length() * k[2],
             rest_edge(tip_a).length() * k[tip_a],
             if self.split() < 3 {
                 rest_edge(2).length() * k[2]
@@ -318,26 +322,81 @@ fn normalize_or(v: Vec3, fallback: Vec3) -> Vec3 {
     }
 }
 
-/// Rebuilds the blade from its rest shape and the motions' angles: bend
-/// each edge about the rest E_w by its share of its group's angle (eq. 12),
-/// swing the whole blade about the ground normal, then twist the width
-/// directions about each edge.
+/// Eq. 12's shares k_tip / k_i of edges 0, 1, 2 (root to tip).
+fn swing_shares(k: &[f64; 3]) -> [f64; 3] {
+    k.map(|k_i| k[2] / k_i)
+}
+
+/// The horizontal part of a vector (its shadow on the ground plane).
+fn flat(v: Vec3) -> Vec3 {
+    Vec3::new(v.x, 0.0, v.z)
+}
+
+/// The swing's inertia about the ground normal, I = sum of m r^2 over the
+/// blade, for the motion eq. 12 gives it: edge i turns by s_i theta about
+/// the vertical through its lower end. Each edge is a uniform plate of mass
+/// `m`, its length along the edge and `hw` either side of it, so a point at
+/// fraction u along edge j and at width offset t moves by
+/// dP/dtheta = UP x (sum over i < j of s_i h_i + u s_j h_j) + s_j t (UP x E_w)
+/// (h: the edge's horizontal part). Integrated over u and t:
+/// I = sum_j m (|A_j|^2 + A_j . B_j + |B_j|^2 / 3 + s_j^2 hw^2 / 3),
+/// A_j = sum over i < j of s_i h_i, B_j = s_j h_j. The width term keeps it
+/// above zero for an upright blade, whose edges have no horizontal part.
+/// tests/grass_cpu.rs integrates the pose's own motion numerically and
+/// finds the same.
+fn swing_inertia(rest_edges: &[Vec3; 3], shares: [f64; 3], m: f64, hw: f64) -> f64 {
+    let mut below = glam::DVec3::ZERO;
+    let mut inertia = 0.0;
+    for (edge, s) in rest_edges.iter().zip(shares) {
+        let b = flat(*edge).as_dvec3() * s;
+        inertia += m * (below.length_squared() + below.dot(b) + b.length_squared() / 3.0)
+            + m * s * s * hw * hw / 3.0;
+        below += b;
+    }
+    inertia
+}
+
+/// The swing's lever at swing angle `theta`: L = sum of s_i h_i(theta),
+/// the edges' horizontal parts, each swung by its share s_i theta (eq. 12).
+/// A force F at the tip does virtual work F . dP3/dtheta = (L x F) . UP,
+/// so L is the lever of "torque = lever x F" for this motion; it is the
+/// tip's P0P3 only when every edge turns alike. Rest edges, not bent ones:
+/// bending does not feed back into the swing, so the motions stay apart.
+pub fn swing_lever(blade: &GrassBlade, theta: f32) -> Vec3 {
+    let k = blade.stiffness;
+    (0..3)
+        .map(|i| {
+            let share = k[2] / k[i];
+            let rest_edge = blade.rest_point(i + 1) - blade.rest_point(i);
+            flat(rotate(rest_edge, UP, share * theta)) * share
+        })
+        .sum()
+}
+
+/// Rebuilds the blade from its rest shape and the motions' angles, root to
+/// tip: edge i bends about the rest E_w by its share of its group's angle
+/// and swings about the ground normal by its share of the swing angle
+/// (eq. 12 for both), and its width direction twists about the edge by its
+/// share of the twist.
 pub fn pose(blade: &GrassBlade, angle: [f32; 4]) -> Pose {
     let w_rest = Vec4::from(blade.width).truncate();
     let k = blade.stiffness;
     let mut points = [blade.rest_point(0); 4];
     let mut e = [UP; 3];
+    let mut w = [w_rest; 3];
     for i in 0..3 {
         let (group, tip) = blade.bend_group(i);
         let bend = k[tip] / k[i] * angle[group];
+        let swing = k[2] / k[i] * angle[SWING];
         let rest_edge = blade.rest_point(i + 1) - blade.rest_point(i);
-        let edge = rotate(rotate(rest_edge, w_rest, bend), UP, angle[SWING]);
+        let edge = rotate(rotate(rest_edge, w_rest, bend), UP, swing);
         points[i + 1] = points[i] + edge;
         e[i] = normalize_or(edge, UP);
+        w[i] = rotate(w_rest, UP, swing);
     }
-    let w = rotate(w_rest, UP, angle[SWING]);
-    let n = e.map(|e| normalize_or(w.cross(e), Vec3::X));
-    let w_local: [Vec3; 3] = std::array::from_fn(|i| rotate(w, e[i], k[2] / k[i] * angle[TWIST]));
+    let n: [Vec3; 3] = std::array::from_fn(|i| normalize_or(w[i].cross(e[i]), Vec3::X));
+    let w_local: [Vec3; 3] =
+        std::array::from_fn(|i| rotate(w[i], e[i], k[2] / k[i] * angle[TWIST]));
     Pose {
         points,
         e,
@@ -363,27 +422,33 @@ pub fn torques(blade: &GrassBlade, pose: &Pose, state: &GrassState, wind: Vec3) 
     std::array::from_fn(|m| torque[m] - blade.damping[m] * state.velocity[m])
 }
 
-/// Swinging: the blade turns about the ground normal through its root.
-/// W_S = S sigma (v . E_w) E_w, R_S = k_tip dtheta_s (G_static - G_cur) / |..|;
-/// lever: P0P3 of the swung rest shape, whose horizontal part is G_cur.
-/// (Bending does not move this lever, so the two motions stay separate.)
+/// Swinging: the blade turns about the ground normal through its root,
+/// edge i by its eq. 12 share of the angle.
+/// W_S = S sigma (v . E_w) E_w (E_w of the tip edge, where the wind is
+/// sampled), R_S = k_tip dtheta_s (G_static - G_cur) / |..| with G the
+/// growth vector, P0P3 on the ground plane; both act at the tip, so the
+/// lever is `swing_lever`. (Bending does not move the lever or G, so the
+/// two motions stay separate.)
 fn swing_torque(blade: &GrassBlade, pose: &Pose, angle: [f32; 4], wind: Vec3) -> f32 {
     let theta = angle[SWING];
-    let flat = Vec3::new(1.0, 0.0, 1.0);
-    let root_to_tip = blade.rest_point(3) - blade.rest_point(0);
-    let lever = rotate(root_to_tip, UP, theta);
-    let g_static = root_to_tip * flat;
-    let g_cur = lever * flat;
-    let w = pose.w;
+    let k = blade.stiffness;
+    let swung_edge = |i: usize, theta: f32| {
+        let rest_edge = blade.rest_point(i + 1) - blade.rest_point(i);
+        flat(rotate(rest_edge, UP, k[2] / k[i] * theta))
+    };
+    let g_static: Vec3 = (0..3).map(|i| swung_edge(i, 0.0)).sum();
+    let g_cur: Vec3 = (0..3).map(|i| swung_edge(i, theta)).sum();
+    let w = pose.w[2];
     let force = w * (blade.drag[SWING] * wind.dot(w))
-        + direction_or_zero(g_static - g_cur) * (blade.stiffness[2] * theta.abs());
-    lever.cross(force).dot(UP)
+        + direction_or_zero(g_static - g_cur) * (k[2] * theta.abs());
+    swing_lever(blade, theta).cross(force).dot(UP)
 }
 
 /// Bending of one slope group: its local tip edge turns about E_w.
 /// W_B = S sigma (v . E_n) E_n, R_B = k dtheta_b (E_e_static - E_e_cur) / |..|
 /// with k the local tip edge's stiffness; lever: the local tip edge.
-/// E_e_static is the rest edge swung, so that swinging never reads as bending.
+/// E_e_static is the rest edge swung by its share of the swing, so that
+/// swinging never reads as bending.
 fn bend_torque(blade: &GrassBlade, pose: &Pose, motion: usize, angle: [f32; 4], wind: Vec3) -> f32 {
     let tip = if motion == BEND_A {
         blade.split() - 1
@@ -392,12 +457,13 @@ fn bend_torque(blade: &GrassBlade, pose: &Pose, motion: usize, angle: [f32; 4], 
     };
     let theta = angle[motion];
     let rest_edge = blade.rest_point(tip + 1) - blade.rest_point(tip);
-    let e_static = normalize_or(rotate(rest_edge, UP, angle[SWING]), UP);
+    let swing = blade.stiffness[2] / blade.stiffness[tip] * angle[SWING];
+    let e_static = normalize_or(rotate(rest_edge, UP, swing), UP);
     let n = pose.n[tip];
     let lever = pose.points[tip + 1] - pose.points[tip];
     let force = n * (blade.drag[motion] * wind.dot(n))
         + direction_or_zero(e_static - pose.e[tip]) * (blade.stiffness[tip] * theta.abs());
-    lever.cross(force).dot(pose.w)
+    lever.cross(force).dot(pose.w[tip])
 }
 
 /// Twisting: the face turns about the tip edge E_e, on E_w_local only, with
@@ -415,7 +481,7 @@ fn twist_torque(blade: &GrassBlade, pose: &Pose, angle: [f32; 4], wind: Vec3) ->
     let n_local = normalize_or(w_local.cross(e), pose.n[2]);
     let side = if wind.dot(w_local) < 0.0 { -1.0 } else { 1.0 };
     let force = n_local * (blade.drag[TWIST] * wind.dot(n_local))
-        + direction_or_zero(pose.w - w_local) * (side * blade.stiffness[2] * theta.abs());
+        + direction_or_zero(pose.w[2] - w_local) * (side * blade.stiffness[2] * theta.abs());
     (w_local * (side * blade.half_width())).cross(force).dot(e)
 }
 
@@ -580,11 +646,23 @@ impl GrassField {
 
     /// Advances every blade one step, each with the wind `wind_at` gives at
     /// its current tip.
-    pub fn step(&mut self, mut wind_at: impl FnMut(Vec3) -> Vec3) {
+    pub fn step(&mut self, wind_at: impl FnMut(Vec3) -> Vec3) {
+        self.step_each(wind_at, |_, _, _| {});
+    }
+
+    /// As `step`, handing `after` each blade, its new state and the wind it
+    /// felt (as sampled, before the guard) once it has stepped.
+    pub fn step_each(
+        &mut self,
+        mut wind_at: impl FnMut(Vec3) -> Vec3,
+        mut after: impl FnMut(&GrassBlade, &GrassState, Vec3),
+    ) {
         for (blade, state) in self.blades.iter().zip(&mut self.states) {
             let tip = pose(blade, state.angle).points[3];
-            step(blade, state, wind_at(tip), self.dt, self.substeps);
+            let wind = wind_at(tip);
+            step(blade, state, wind, self.dt, self.substeps);
             self.caps.count(state);
+            after(blade, state, wind);
         }
     }
 
