@@ -313,7 +313,11 @@ fn the_swing_turns_each_edge_by_its_eq_12_share() {
 #[test]
 fn the_swing_inertia_and_lever_are_those_of_the_poses_own_motion() {
     let m = physics().edge_mass as f64;
-    for (name, b) in [("upright", upright()), ("curved", curved()), ("drooping", drooping())] {
+    for (name, b) in [
+        ("upright", upright()),
+        ("curved", curved()),
+        ("drooping", drooping()),
+    ] {
         let blade = GrassBlade::new(&b, &physics()).unwrap();
         let eps = 1e-2f32;
         let at = |theta: f32| {

@@ -68,7 +68,7 @@ fn run_gpu(
     dt: f32,
 ) -> [Vec<f32>; 3] {
     let commands = Commands::new(gpu, "wind test commands").unwrap();
-    let pass = WindPass::new(gpu, &commands, grid, settings).unwrap();
+    let pass = WindPass::new(gpu, &commands, grid, settings, 0.0).unwrap();
     let rec = commands.begin().unwrap();
     for n in 0..steps {
         pass.record_step(&rec, n as f32 * dt, dt);
@@ -161,7 +161,7 @@ fn gpu_wind_stays_finite_for_10000_steps_at_the_strongest_settings() {
         },
     });
     let commands = Commands::new(&gpu, "wind soak").unwrap();
-    let pass = WindPass::new(&gpu, &commands, grid, &settings).unwrap();
+    let pass = WindPass::new(&gpu, &commands, grid, &settings, 0.0).unwrap();
     let dt = 1.0 / 60.0;
     for batch in 0..10 {
         let rec = commands.begin().unwrap();
@@ -193,7 +193,7 @@ struct GpuWind<'a> {
 impl<'a> GpuWind<'a> {
     fn new(gpu: &'a meadow::gpu::Gpu, settings: &WindSettings) -> Self {
         let commands = Commands::new(gpu, "wind behaviour commands").unwrap();
-        let pass = WindPass::new(gpu, &commands, behaviour_grid(), settings).unwrap();
+        let pass = WindPass::new(gpu, &commands, behaviour_grid(), settings, 0.0).unwrap();
         Self {
             gpu,
             commands,
@@ -342,7 +342,7 @@ fn gpu_multigrid_leaves_under_1_percent_of_the_divergence_on_every_shipped_scene
             v_cycles: meadow::sim::wind::DEFAULT_V_CYCLES,
             ..scene.wind.settings()
         };
-        let pass = WindPass::new(&gpu, &commands, grid, &settings).unwrap();
+        let pass = WindPass::new(&gpu, &commands, grid, &settings, 0.0).unwrap();
         let mut field = WindField::new(grid, &settings);
         let dt = scene.wind.dt;
         let mut worst = 0.0f64;

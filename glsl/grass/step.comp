@@ -13,8 +13,9 @@ layout(local_size_x = 64) in;
 
 layout(push_constant, std430) uniform Push {
     WindGridParams grid;
-    uvec4 control;   // x: blades, y: substeps, z: offset (floats) of the wind velocity copy to sample
-    vec4 step;       // x: simulation step dt (s), y: substep h = dt / substeps (s)
+    uvec4 control;   // x: blades, y: substeps, z: offset (floats) of the wind velocity copy to sample,
+                     // w: 1 to lay the canopy's frontal area (two-way coupling)
+    vec4 step;       // x: simulation step dt (s), y: substep h = dt / substeps (s), z: m^2 per canopy count
 } pc;
 
 layout(set = 0, binding = 0, std430) readonly buffer Blades { GrassBlade blades[]; };
@@ -29,9 +30,34 @@ layout(set = 0, binding = 3, std430) readonly buffer Wind { float wind_velocity[
 // Blade-steps that ended at an angle cap (`CapCounts` in src/sim/grass.rs):
 // [0] any motion, [1 + m] motion m (swing, bend A, bend B, twist).
 layout(set = 0, binding = 4, std430) buffer Caps { uint caps[]; };
+// The frontal area per wind cell in counts of pc.step.z m^2 (two-way
+// coupling; `deposit` in src/sim/canopy.rs), which the wind cleared.
+layout(set = 0, binding = 5, std430) buffer Canopy { uint canopy[]; };
 
 #define WIND_VELOCITY(i) wind_velocity[pc.control.z + (i)]
 #include "wind_sample.glsl"
+
+// Two-way coupling (`deposit` in src/sim/canopy.rs): each edge's plate,
+// projected across the wind the blade felt, added to the cell its midpoint
+// lies in, in whole counts. Integer sums: the same in any order.
+void lay_frontal_area(GrassBlade b, Pose p, vec3 wind) {
+    float speed = length(wind);
+    if (speed <= 1e-6) {
+        return;
+    }
+    vec3 along = wind / speed;
+    for (int i = 0; i < 3; ++i) {
+        vec3 n = cross(p.w_local[i], p.e[i]);
+        float n_len = length(n);
+        float facing = n_len > 1e-12 ? abs(dot(n, along) / n_len) : 0.0;
+        float area = length(rest_point(b, i + 1) - rest_point(b, i)) * 2.0 * b.width.w * facing;
+        vec3 mid = (p.points[i] + p.points[i + 1]) * 0.5;
+        vec3 g = floor((mid - pc.grid.origin.xyz) / pc.grid.cell_size.xyz);
+        if (all(greaterThanEqual(g, vec3(0.0))) && all(lessThan(g, vec3(pc.grid.cells.xyz)))) {
+            atomicAdd(canopy[cell_index(pc.grid, uvec3(g))], uint(area / pc.step.z + 0.5));
+        }
+    }
+}
 
 void main() {
     uint id = gl_GlobalInvocationID.x;
@@ -42,7 +68,8 @@ void main() {
     GrassState s = states[id];
     // The wind only at the tip (paper section 4).
     vec3 tip = blade_pose(b, s.angle).points[3];
-    blade_step(b, s, sample_wind(pc.grid, tip), pc.step.y, pc.control.y);
+    vec3 felt = sample_wind(pc.grid, tip);
+    blade_step(b, s, felt, pc.step.y, pc.control.y);
     states[id] = s;
     bool capped = false;
     for (int m = 0; m < 4; ++m) {
@@ -55,9 +82,13 @@ void main() {
         atomicAdd(caps[0], 1u);
     }
 
+    Pose p = blade_pose(b, s.angle);
+    if (pc.control.w != 0u) {
+        lay_frontal_area(b, p, guard_wind(felt));
+    }
+
     // Width vectors: the twisted E_w_local of the edge ending at each point
     // (the root takes the root edge's); w: the tip edge's angle from rest.
-    Pose p = blade_pose(b, s.angle);
     vec3 rest_tip = normalize_or(rest_point(b, 3) - rest_point(b, 2), UP);
     float displacement = atan(length(cross(rest_tip, p.e[2])), dot(rest_tip, p.e[2]));
     for (int i = 0; i < BLADE_CONTROL_POINTS; ++i) {

@@ -1,7 +1,9 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 // Kernel 2, semi-Lagrangian advection (Stam 1999): each free face traces
-// back by dt along the velocity there and takes the value found (A -> B).
+// back by dt along the velocity there and takes the value found (A -> B);
+// with two-way coupling the canopy drag then slows it, implicitly, by the
+// speed at the face: u' = u / (1 + dt C_d a |u|) (`WindField::advect`).
 #include "wind_kernel.glsl"
 #define WIND_VELOCITY(i) vel[(i)]
 #include "wind_sample.glsl"
@@ -20,6 +22,19 @@ void main() {
     uvec3 f;
     face_of(pc.grid, id, axis, f);
     vec3 x = face_position(pc.grid, axis, f);
-    vec3 back = x - pc.step.y * sample_wind(pc.grid, x);
-    vel[faces + id] = sample_component(pc.grid, axis, back);
+    vec3 v = sample_wind(pc.grid, x);
+    vec3 back = x - pc.step.y * v;
+    float u = sample_component(pc.grid, axis, back);
+    if (pc.step.z > 0.0) {
+        // The frontal area per volume at the face: the two cells it parts
+        // (the inside one at the grid's sides), `face_canopy_density`.
+        uvec3 left = f;
+        left[axis] = max(f[axis], 1u) - 1u;
+        uvec3 right = f;
+        right[axis] = min(f[axis], pc.grid.cells[axis] - 1u);
+        float a = (float(canopy[cell_index(pc.grid, left)]) + float(canopy[cell_index(pc.grid, right)]))
+                * pc.step.w;
+        u /= 1.0 + pc.step.y * pc.step.z * a * length(v);
+    }
+    vel[faces + id] = u;
 }

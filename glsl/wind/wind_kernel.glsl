@@ -9,7 +9,8 @@ layout(local_size_x = 64) in;
 
 layout(push_constant, std430) uniform Push {
     WindGridParams grid;
-    vec4 step;           // x: time (s), y: dt (s)
+    vec4 step;           // x: time (s), y: dt (s), z: canopy drag C_d (0: one-way),
+                         // w: frontal area per volume (1/m) of one count on each side of a face
     uvec4 control;       // x: source count, y: pressure half to read, z: pressure half holding the result,
                          // w: 1 when the pressure starts from zero (multigrid)
     vec4 inflow;         // x: speed (m/s), y: gust amplitude, z: gust frequency (Hz)
@@ -35,6 +36,9 @@ struct WindSource {
     vec4 path[8];             // xyz: waypoints of the closed path
 };
 layout(set = 0, binding = 5, std430) readonly buffer Sources { WindSource sources[]; };
+// The grass's frontal area per cell in counts (src/sim/canopy.rs), laid by
+// the grass step with two-way coupling. Bindings 6-8 are the multigrid's.
+layout(set = 0, binding = 9, std430) readonly buffer Canopy { uint canopy[]; };
 
 const float TAU = 6.2831853071795864;
 

@@ -11,6 +11,7 @@ use crate::frame::BladeBuffer;
 use crate::gpu::query::TimestampQueries;
 use crate::gpu::{Commands, Gpu, GpuOptions, ValidationReport};
 use crate::scene::{field, Scene, MAX_BLADES};
+use crate::sim::canopy;
 use crate::simulate::{GrassPass, WindPass};
 
 /// The paper's grass-step times (ms) on a GTX 670, by blade count.
@@ -104,7 +105,13 @@ fn bench_count(
     let grid = scene.wind_grid()?;
     let dt = scene.wind.dt;
     let commands = Commands::new(gpu, "grass bench commands")?;
-    let wind = WindPass::new(gpu, &commands, grid, &scene.wind.settings())?;
+    let wind = WindPass::new(
+        gpu,
+        &commands,
+        grid,
+        &scene.wind.settings(),
+        canopy::unit(&dynamic),
+    )?;
     let rec = commands.begin()?;
     for i in 0..WIND_WARMUP_STEPS {
         wind.record_step(&rec, i as f32 * dt, dt);
@@ -116,8 +123,7 @@ fn bench_count(
         &commands,
         &dynamic,
         vertices.buffer(),
-        wind.velocity(),
-        &grid,
+        &wind.grass_input(),
         dt,
     )?;
     let timestamps = TimestampQueries::new(gpu, steps, "grass step timestamps")?;

@@ -207,6 +207,7 @@ fn render_with(
         lod_distances: [scene.lod.close_distance, scene.lod.far_distance],
         view: request.view,
         animation: request.animation,
+        coupling: scene.wind.coupling,
         sim_dt,
         substeps,
         sim_steps,

@@ -102,7 +102,7 @@ fn run_steps(
     steps: u32,
     dt: f32,
 ) -> Result<Stepped> {
-    let pass = WindPass::new(gpu, commands, grid, settings)?;
+    let pass = WindPass::new(gpu, commands, grid, settings, 0.0)?;
     let timestamps = TimestampQueries::new(gpu, STEPS_PER_SUBMIT, "wind step timestamps")?;
     let mut times = Vec::new();
     let mut done = 0;

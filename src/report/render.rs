@@ -9,6 +9,7 @@ use crate::gpu::query::PipelineStatistics;
 use crate::gpu::ValidationReport;
 use crate::scene::{Camera, ViewMode};
 use crate::sim::grass::CapCounts;
+use crate::sim::wind::Coupling;
 
 /// What `report.json` holds.
 #[derive(Clone, Debug, serde::Serialize)]
@@ -37,6 +38,8 @@ pub struct RenderReport {
     pub lod_distances: [f32; 2],
     pub view: ViewMode,
     pub animation: Animation,
+    /// Whether the grass slows the wind (one-way: the paper's).
+    pub coupling: Coupling,
     /// The simulation step (s) and its symplectic Euler substeps.
     pub sim_dt: f32,
     pub substeps: u32,
@@ -99,11 +102,12 @@ pub fn summary(report: &RenderReport, out: &Path) -> String {
     }
     text += &super::timing::table(&report.timing);
     text += &format!(
-        "simulated {:.2} s in {} steps of {:.4} s ({} substeps each)\n",
+        "simulated {:.2} s in {} steps of {:.4} s ({} substeps each), {} coupling\n",
         report.sim_steps as f64 * report.sim_dt as f64,
         report.sim_steps,
         report.sim_dt,
-        report.substeps
+        report.substeps,
+        report.coupling.name()
     );
     if report.angle_caps.blade_steps > 0 {
         text += &format!(

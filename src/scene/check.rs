@@ -359,6 +359,12 @@ pub fn wind(w: &super::WindConfig) -> Check {
     }
     in_range("jacobi_iterations", w.jacobi_iterations, 0..=10_000)?;
     in_range("v_cycles", w.v_cycles, 1..=MAX_V_CYCLES)?;
+    if !(w.canopy_drag.is_finite() && (0.0..=10.0).contains(&w.canopy_drag)) {
+        return Err(FieldError::new(
+            "canopy_drag",
+            format!("{} is not allowed, use 0..=10", w.canopy_drag),
+        ));
+    }
     positive("dt", w.dt, 0.1)?;
     for (i, s) in w.sources.iter().enumerate() {
         source(s).map_err(|e| e.at(&format!("source[{i}]")))?;

@@ -12,8 +12,8 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
 use crate::sim::wind::{
-    Gust, Inflow, Obstacle, PressureSolver, WindGrid, WindSettings, WindSource,
-    DEFAULT_JACOBI_ITERATIONS, DEFAULT_V_CYCLES,
+    Coupling, Gust, Inflow, Obstacle, PressureSolver, WindGrid, WindSettings, WindSource,
+    DEFAULT_CANOPY_DRAG, DEFAULT_JACOBI_ITERATIONS, DEFAULT_V_CYCLES,
 };
 use crate::sim::BladePhysics;
 
@@ -414,6 +414,11 @@ pub struct WindConfig {
     pub jacobi_iterations: u32,
     /// Multigrid V-cycles per step with `solver = "multigrid"`.
     pub v_cycles: u32,
+    /// "one-way" (the paper's: the grass never touches the wind) or
+    /// "two-way" (the canopy drag -C_d a |u| u slows the air in the grass).
+    pub coupling: Coupling,
+    /// C_d of the canopy drag with two-way coupling.
+    pub canopy_drag: f32,
     /// Simulation step (s); the frame rate never changes it.
     pub dt: f32,
     #[serde(rename = "source", skip_serializing_if = "Vec::is_empty")]
@@ -434,6 +439,8 @@ impl Default for WindConfig {
             solver: PressureSolver::default(),
             jacobi_iterations: DEFAULT_JACOBI_ITERATIONS,
             v_cycles: DEFAULT_V_CYCLES,
+            coupling: Coupling::default(),
+            canopy_drag: DEFAULT_CANOPY_DRAG,
             dt: 1.0 / 60.0,
             sources: Vec::new(),
             inflow: None,
@@ -466,6 +473,8 @@ impl WindConfig {
             solver: self.solver,
             jacobi_iterations: self.jacobi_iterations,
             v_cycles: self.v_cycles,
+            coupling: self.coupling,
+            canopy_drag: self.canopy_drag,
         }
     }
 }

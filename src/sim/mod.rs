@@ -3,6 +3,7 @@
 //! tested against.
 
 pub mod blade;
+pub mod canopy;
 pub mod grass;
 
 pub use blade::{Blade, BladeKind, BladeVertex, EdgeFrame};

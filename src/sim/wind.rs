@@ -392,6 +392,43 @@ impl PressureSolver {
     }
 }
 
+/// Whether the grass slows the air (src/sim/canopy.rs).
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    Default,
+    PartialEq,
+    Eq,
+    serde::Serialize,
+    serde::Deserialize,
+    clap::ValueEnum,
+)]
+#[serde(rename_all = "kebab-case")]
+pub enum Coupling {
+    /// The paper's: the wind moves the grass and the grass never touches
+    /// the wind.
+    #[default]
+    OneWay,
+    /// Ours (the paper's first item of future work): the canopy drag
+    /// -C_d a |u| u slows the air where the blades stand.
+    TwoWay,
+}
+
+impl Coupling {
+    pub fn name(self) -> &'static str {
+        match self {
+            Coupling::OneWay => "one-way",
+            Coupling::TwoWay => "two-way",
+        }
+    }
+}
+
+/// The canopy drag coefficient C_d by default: a plate across a flow has
+/// about 1.2 alone; blades behind blades shelter each other, and field
+/// canopies measured on frontal area give 0.1-0.5 (docs/physics.md).
+pub const DEFAULT_CANOPY_DRAG: f32 = 0.3;
+
 /// Everything that drives the wind.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct WindSettings {
@@ -404,6 +441,20 @@ pub struct WindSettings {
     pub jacobi_iterations: u32,
     /// V-cycles per step when `solver` is multigrid (default 6).
     pub v_cycles: u32,
+    /// Whether the grass slows the air.
+    pub coupling: Coupling,
+    /// C_d of the canopy drag when `coupling` is two-way.
+    pub canopy_drag: f32,
+}
+
+impl WindSettings {
+    /// C_d as the advection takes it: zero when the coupling is one-way.
+    pub fn effective_canopy_drag(&self) -> f32 {
+        match self.coupling {
+            Coupling::OneWay => 0.0,
+            Coupling::TwoWay => self.canopy_drag,
+        }
+    }
 }
 
 impl Default for WindSettings {
@@ -416,6 +467,8 @@ impl Default for WindSettings {
             solver: PressureSolver::default(),
             jacobi_iterations: DEFAULT_JACOBI_ITERATIONS,
             v_cycles: DEFAULT_V_CYCLES,
+            coupling: Coupling::default(),
+            canopy_drag: DEFAULT_CANOPY_DRAG,
         }
     }
 }
@@ -458,6 +511,12 @@ pub struct WindField {
     pub solid: Vec<bool>,
     /// What each velocity sample is: free, wall or inflow (fixed per scene).
     pub faces: [Vec<FaceKind>; 3],
+    /// The grass's frontal area in each cell, in counts of `canopy_unit`
+    /// m^2, laid by the last grass step (src/sim/canopy.rs); all zero
+    /// unless the coupling is two-way.
+    pub canopy: Vec<u32>,
+    /// Square metres per count of `canopy` (0 until grass is coupled).
+    pub canopy_unit: f32,
     /// The multigrid hierarchy of this grid's faces, and its coarse levels' storage.
     pub multigrid: Multigrid,
     multigrid_work: Work,
@@ -481,6 +540,8 @@ impl WindField {
             }),
             pressure: vec![0.0; grid.cell_count()],
             divergence: vec![0.0; grid.cell_count()],
+            canopy: vec![0; grid.cell_count()],
+            canopy_unit: 0.0,
             solid,
             faces: [Vec::new(), Vec::new(), Vec::new()],
             multigrid: Multigrid { levels: Vec::new() },
@@ -545,10 +606,21 @@ impl WindField {
         FaceKind::Free
     }
 
+    /// Whether grass slows this wind: two-way coupling with a drag, and
+    /// grass coupled (a canopy unit set).
+    pub fn is_coupled(&self, settings: &WindSettings) -> bool {
+        settings.effective_canopy_drag() > 0.0 && self.canopy_unit > 0.0
+    }
+
     /// One full step of length `dt` (s).
     pub fn step(&mut self, settings: &WindSettings, dt: f32) {
         self.add_forces(settings, dt);
-        self.advect(dt);
+        let drag = if self.is_coupled(settings) {
+            settings.effective_canopy_drag()
+        } else {
+            0.0
+        };
+        self.advect(dt, drag);
         self.compute_divergence();
         match settings.solver {
             PressureSolver::Jacobi => self.solve_pressure(settings.jacobi_iterations),
@@ -626,8 +698,11 @@ impl WindField {
     }
 
     /// Kernel 2: semi-Lagrangian advection. Each free face traces back by
-    /// dt along the velocity there and takes the value it finds.
-    pub fn advect(&mut self, dt: f32) {
+    /// dt along the velocity there and takes the value it finds; then the
+    /// canopy drag with coefficient `canopy_drag` (0: none) slows it,
+    /// implicitly, by the speed at the face before advection:
+    /// u' = u / (1 + dt C_d a |u|) (src/sim/canopy.rs).
+    pub fn advect(&mut self, dt: f32, canopy_drag: f32) {
         let src = self.vel.clone();
         for axis in 0..3 {
             for (idx, [i, j, k]) in self.grid.each_face(axis) {
@@ -641,9 +716,34 @@ impl WindField {
                     self.sample_component(&src[2], 2, x),
                 );
                 let back = x - dt * v;
-                self.vel[axis][idx] = self.sample_component(&src[axis], axis, back);
+                let mut u = self.sample_component(&src[axis], axis, back);
+                if canopy_drag > 0.0 {
+                    let a = self.face_canopy_density(axis, [i, j, k]);
+                    u /= 1.0 + dt * canopy_drag * a * v.length();
+                }
+                self.vel[axis][idx] = u;
             }
         }
+    }
+
+    /// The frontal area per unit volume (1/m) at face `f` of component
+    /// `axis`: the mean of the two cells it parts (the one inside, at the
+    /// grid's sides), from the counts as the GPU reads them:
+    /// (c_left + c_right) * (unit / 2 / cell volume).
+    pub fn face_canopy_density(&self, axis: usize, f: [u32; 3]) -> f32 {
+        let n = self.grid.cells[axis];
+        let mut left = f;
+        left[axis] = f[axis].max(1) - 1;
+        let mut right = f;
+        right[axis] = f[axis].min(n - 1);
+        let count = |c: [u32; 3]| self.canopy[self.grid.cell_index(c[0], c[1], c[2])] as f32;
+        (count(left) + count(right)) * self.canopy_density_per_count()
+    }
+
+    /// unit / 2 / cell volume: what one count on each side of a face adds
+    /// to the face's frontal area per unit volume (1/m).
+    pub fn canopy_density_per_count(&self) -> f32 {
+        self.canopy_unit * 0.5 / self.grid.cell.element_product()
     }
 
     /// Kernel 3: divergence of each fluid cell, sum over axes of (out - in) / h.

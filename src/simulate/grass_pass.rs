@@ -4,8 +4,12 @@
 //! writes the deformed control points into the vertex buffer the blade
 //! pipeline draws: the vertex data never goes through the CPU.
 //!
-//! The pass binds two buffers it does not own (the vertex buffer and the
-//! wind velocity); their owners must outlive it.
+//! With two-way coupling it also lays each blade's frontal area into the
+//! wind's canopy buffer (src/sim/canopy.rs), which the next wind step's
+//! advection reads as drag.
+//!
+//! The pass binds buffers it does not own (the vertex buffer, the wind
+//! velocity and canopy); their owners must outlive it.
 
 use ash::vk;
 
@@ -15,8 +19,8 @@ use crate::gpu::{
     Recording,
 };
 use crate::sim::grass::{substeps, CapCounts, GrassBlade, GrassState};
-use crate::sim::wind::WindGrid;
 use crate::sim::BladeVertex;
+use crate::simulate::wind_pass::WindInput;
 
 const LOCAL_SIZE: u32 = 64;
 /// Any motion at its cap, then swing, bend A, bend B, twist.
@@ -29,9 +33,11 @@ pub struct GrassPush {
     pub cells: [u32; 4],
     pub origin: [f32; 4],
     pub cell_size: [f32; 4],
-    /// x: blades, y: substeps, z: offset (floats) of the wind copy to sample.
+    /// x: blades, y: substeps, z: offset (floats) of the wind copy to
+    /// sample, w: 1 to lay the canopy's frontal area (two-way coupling).
     pub control: [u32; 4],
-    /// x: simulation step dt, y: substep h = dt / substeps (s).
+    /// x: simulation step dt, y: substep h = dt / substeps (s), z: m^2 per
+    /// count of the canopy buffer.
     pub step: [f32; 4],
 }
 
@@ -42,6 +48,7 @@ pub const GRASS_SET: &[LayoutBinding] = &[
     LayoutBinding::compute_storage(2), // vertices: the blade pipeline's vertex buffer
     LayoutBinding::compute_storage(3), // wind velocity
     LayoutBinding::compute_storage(4), // angle-cap counters
+    LayoutBinding::compute_storage(5), // canopy: frontal area per wind cell (two-way coupling)
 ];
 
 pub struct GrassPass {
@@ -53,25 +60,27 @@ pub struct GrassPass {
     states: Buffer,
     /// Blade-steps at an angle cap: any motion, then each motion.
     caps: Buffer,
+    /// Bound in place of the wind's canopy with one-way coupling.
+    _no_canopy: Buffer,
     push: GrassPush,
     blade_count: u32,
 }
 
 impl GrassPass {
     /// Uploads the blades and their rest state and builds the kernel.
-    /// `vertices` must hold 4 `BladeVertex` per blade; `wind_velocity`
+    /// `vertices` must hold 4 `BladeVertex` per blade; `wind.velocity`
     /// holds velocity copies in the layout of glsl/common/wind_grid.glsl
-    /// for `grid`. The simulation step is `dt`; substeps follow from the
-    /// stiffest blade (`sim::grass::substeps`).
+    /// for `wind.grid`. The simulation step is `dt`; substeps follow from
+    /// the stiffest blade (`sim::grass::substeps`).
     pub fn new(
         gpu: &Gpu,
         commands: &Commands,
         blades: &[GrassBlade],
         vertices: &Buffer,
-        wind_velocity: &Buffer,
-        grid: &WindGrid,
+        wind: &WindInput,
         dt: f32,
     ) -> Result<Self> {
+        let grid = &wind.grid;
         let blade_count = u32::try_from(blades.len())
             .ok()
             .filter(|&n| n > 0 && n <= u32::MAX / 4)
@@ -94,8 +103,13 @@ impl GrassPass {
             cells: [grid.cells.x, grid.cells.y, grid.cells.z, face_count as u32],
             origin: grid.origin.extend(0.0).to_array(),
             cell_size: grid.cell.extend(0.0).to_array(),
-            control: [blade_count, substeps, 0, 0],
-            step: [dt, dt / substeps as f32, 0.0, 0.0],
+            control: [blade_count, substeps, 0, wind.canopy.is_some() as u32],
+            step: [
+                dt,
+                dt / substeps as f32,
+                wind.canopy.map_or(0.0, |(_, unit)| unit),
+                0.0,
+            ],
         };
 
         // Host memory first: failing here leaves nothing on the GPU to undo.
@@ -129,6 +143,17 @@ impl GrassPass {
             usage,
             Access::COMPUTE_READ_WRITE,
         )?;
+        // Bound when the coupling is one-way (a binding must name a live
+        // buffer); the kernel never touches it then.
+        let no_canopy = Buffer::with_data(
+            gpu,
+            commands,
+            "grass canopy placeholder (one-way coupling)",
+            &[0u8; 4],
+            usage,
+            Access::COMPUTE_READ_WRITE,
+        )?;
+        let canopy = wind.canopy.map_or(&no_canopy, |(buffer, _)| buffer);
         let layout = PipelineLayout::new::<GrassPush>(
             gpu,
             GRASS_SET,
@@ -144,8 +169,9 @@ impl GrassPass {
                 Bound::Buffer(&blades_buffer),
                 Bound::Buffer(&states),
                 Bound::Buffer(vertices),
-                Bound::Buffer(wind_velocity),
+                Bound::Buffer(wind.velocity),
                 Bound::Buffer(&caps),
+                Bound::Buffer(canopy),
             ],
             "grass descriptor set",
         )?;
@@ -155,6 +181,7 @@ impl GrassPass {
             _blades: blades_buffer,
             states,
             caps,
+            _no_canopy: no_canopy,
             push,
             blade_count,
         })
@@ -172,7 +199,8 @@ impl GrassPass {
     /// Records one simulation step, sampling the wind velocity copy that
     /// starts `wind_offset` floats into the wind buffer (0 for `WindPass`'s
     /// state). Waits for earlier compute (the wind step, the previous grass
-    /// step), uploads, and the previous draw's vertex reads; ends with the
+    /// step), uploads and the wind's clearing of the canopy, and the
+    /// previous draw's vertex reads; ends with the
     /// vertices visible to the vertex input stage and to compute.
     pub fn record_step(&self, rec: &Recording, wind_offset: u32) {
         let mut push = self.push;
@@ -180,7 +208,8 @@ impl GrassPass {
         rec.barrier(
             Access::COMPUTE_WRITE
                 .and(Access::VERTEX_INPUT)
-                .and(Access::COPY_WRITE),
+                .and(Access::COPY_WRITE)
+                .and(Access::TRANSFER_WRITE),
             Access::COMPUTE_READ_WRITE,
         );
         rec.bind_pipeline(&self.pipeline);

@@ -12,7 +12,7 @@ pub mod wind_pass;
 use crate::error::{Error, Result};
 use crate::gpu::{Buffer, Commands, Gpu, Recording};
 use crate::scene::Scene;
-use crate::sim::GrassBlade;
+use crate::sim::{canopy, GrassBlade};
 
 pub use grass_pass::GrassPass;
 pub use wind_pass::WindPass;
@@ -39,8 +39,8 @@ impl Simulation {
         let grid = scene.wind_grid()?;
         let settings = scene.wind.settings();
         let dt = scene.wind.dt;
-        let wind = WindPass::new(gpu, commands, grid, &settings)?;
-        let grass = GrassPass::new(gpu, commands, blades, vertices, wind.velocity(), &grid, dt)?;
+        let wind = WindPass::new(gpu, commands, grid, &settings, canopy::unit(blades))?;
+        let grass = GrassPass::new(gpu, commands, blades, vertices, &wind.grass_input(), dt)?;
         Ok(Self {
             grass,
             wind,

@@ -93,6 +93,7 @@ pub const WIND_SET: &[LayoutBinding] = &[
     LayoutBinding::compute_storage(6), // multigrid face conductances
     LayoutBinding::compute_storage(7), // multigrid coarse pressure, right-hand side
     LayoutBinding::compute_storage(8), // multigrid level table
+    LayoutBinding::compute_storage(9), // canopy: the grass's frontal area per cell (two-way coupling)
 ];
 
 /// The kernels in the order a step runs them (Jacobi or the five multigrid
@@ -169,6 +170,9 @@ struct WindBuffers {
     /// Pressure then right-hand side of every coarse level.
     coarse: Buffer,
     levels: Buffer,
+    /// The grass's frontal area per cell in fixed point, laid by the
+    /// grass step, read by the advection (src/sim/canopy.rs).
+    canopy: Buffer,
 }
 
 impl WindBuffers {
@@ -224,18 +228,20 @@ impl WindBuffers {
                 2 * coarse_cells,
             )?,
             levels: uploaded("wind multigrid levels", bytemuck::cast_slice(&table))?,
+            canopy: device_buffer("wind canopy frontal area (fixed point)", cell_count as u64)?,
         };
         let rec = commands.begin()?;
         rec.fill_buffer(&buffers.velocity, 0);
         rec.fill_buffer(&buffers.pressure, 0);
         rec.fill_buffer(&buffers.coarse, 0);
+        rec.fill_buffer(&buffers.canopy, 0);
         rec.barrier(Access::TRANSFER_WRITE, Access::COMPUTE_READ_WRITE);
         rec.submit_and_wait("clearing the wind")?;
         Ok(buffers)
     }
 
     /// In the order of `WIND_SET`.
-    fn bound(&self) -> [Bound<'_>; 9] {
+    fn bound(&self) -> [Bound<'_>; 10] {
         [
             Bound::Buffer(&self.velocity),
             Bound::Buffer(&self.faces),
@@ -246,6 +252,7 @@ impl WindBuffers {
             Bound::Buffer(&self.conductance),
             Bound::Buffer(&self.coarse),
             Bound::Buffer(&self.levels),
+            Bound::Buffer(&self.canopy),
         ]
     }
 }
@@ -266,6 +273,19 @@ pub struct WindPass {
     /// of each row along x, rounded up.
     level_color_cells: Vec<u32>,
     coarse_cells: u32,
+    /// m^2 per count of the canopy buffer (`sim::canopy::unit` of the
+    /// grass coupled to this wind; 0 with no grass).
+    canopy_unit: f32,
+}
+
+/// The wind as the grass step sees it: the velocity it samples and, with
+/// two-way coupling, the buffer it lays its frontal area into and that
+/// buffer's unit (m^2 per count). Owned by the wind solver, or a test.
+pub struct WindInput<'a> {
+    pub grid: WindGrid,
+    pub velocity: &'a Buffer,
+    /// None: one-way coupling, the grass lays nothing.
+    pub canopy: Option<(&'a Buffer, f32)>,
 }
 
 fn u32_bytes(values: impl Iterator<Item = u32>) -> Vec<u8> {
@@ -273,23 +293,28 @@ fn u32_bytes(values: impl Iterator<Item = u32>) -> Vec<u8> {
 }
 
 impl WindPass {
+    /// The solver for `settings` on `grid`. `canopy_unit` is the m^2 per
+    /// count of the frontal area the coupled grass lays
+    /// (`sim::canopy::unit` of its blades; 0 with no grass).
     pub fn new(
         gpu: &Gpu,
         commands: &Commands,
         grid: WindGrid,
         settings: &WindSettings,
+        canopy_unit: f32,
     ) -> Result<Self> {
         let face_count: u64 = (0..3)
             .map(|a| grid.face_dims(a).as_u64vec3().element_product())
             .sum();
         let cell_count = grid.cell_count() as u64;
-        // Velocity x2, face kinds, pressure x2, divergence, solid cells: 4 bytes each.
+        // Velocity x2, face kinds, pressure x2, divergence, solid cells,
+        // canopy: 4 bytes each.
         gpu.check_fits(
             &format!(
                 "the {}x{}x{} wind grid",
                 grid.cells.x, grid.cells.y, grid.cells.z
             ),
-            4 * (3 * face_count + 4 * cell_count),
+            4 * (3 * face_count + 5 * cell_count),
         )?;
         let (face_count, cell_count) = match (u32::try_from(face_count), u32::try_from(cell_count))
         {
@@ -342,12 +367,50 @@ impl WindPass {
                 .map(|l| l.cells.x.div_ceil(2) * l.cells.y * l.cells.z)
                 .collect(),
             coarse_cells: field.multigrid.coarse_cell_count() as u32,
+            canopy_unit,
         })
+    }
+
+    /// Whether the grass slows this wind (two-way coupling with grass).
+    fn coupled(&self) -> bool {
+        self.settings.effective_canopy_drag() > 0.0 && self.canopy_unit > 0.0
+    }
+
+    /// What the grass step binds: the velocity, and the canopy buffer when
+    /// the coupling is two-way.
+    pub fn grass_input(&self) -> WindInput<'_> {
+        WindInput {
+            grid: self.grid,
+            velocity: &self.buffers.velocity,
+            canopy: self
+                .coupled()
+                .then_some((&self.buffers.canopy, self.canopy_unit)),
+        }
+    }
+
+    /// The frontal area per cell the grass laid last step, in counts of
+    /// `canopy_unit` m^2 (for tests and pictures).
+    pub fn read_canopy(&self, gpu: &Gpu, commands: &Commands) -> Result<Vec<u32>> {
+        self.buffers
+            .canopy
+            .read_back(gpu, commands, self.cell_count as usize)
     }
 
     fn push(&self, time: f32, dt: f32, control: [u32; 4], multigrid: [u32; 3]) -> WindPush {
         let inflow = self.settings.inflow;
         let phases = inflow.map(|i| i.gust.phases()).unwrap_or_default();
+        // The canopy drag's C_d (0: none) and what one count on each side
+        // of a face adds to its frontal area per volume, as
+        // `WindField::canopy_density_per_count` computes it.
+        let (drag, per_count) = if self.coupled() {
+            let cell = self.grid.cell;
+            (
+                self.settings.effective_canopy_drag(),
+                self.canopy_unit * 0.5 / cell.element_product(),
+            )
+        } else {
+            (0.0, 0.0)
+        };
         WindPush {
             cells: [
                 self.grid.cells.x,
@@ -357,7 +420,7 @@ impl WindPass {
             ],
             origin: self.grid.origin.extend(0.0).to_array(),
             cell_size: self.grid.cell.extend(0.0).to_array(),
-            step: [time, dt, 0.0, 0.0],
+            step: [time, dt, drag, per_count],
             control,
             inflow: inflow
                 .map(|i| [i.speed, i.gust.amplitude, i.gust.frequency, 0.0])
@@ -400,6 +463,12 @@ impl WindPass {
         between_kernels();
         dispatch(ADVECT, face_groups, 0, [0; 3]);
         between_kernels();
+        if self.coupled() {
+            // The advection took this step's drag: clear the canopy for
+            // the area the grass lays next.
+            rec.barrier(Access::COMPUTE_READ_WRITE, Access::TRANSFER_WRITE);
+            rec.fill_buffer(&self.buffers.canopy, 0);
+        }
         dispatch(DIVERGENCE, cell_groups, 0, [0; 3]);
         between_kernels();
         if multigrid {

@@ -100,6 +100,15 @@ impl SimRig {
             .unwrap()
     }
 
+    /// The frontal area per wind cell the grass laid last step, in counts
+    /// of the canopy unit (two-way coupling; zero otherwise).
+    pub fn canopy(&self, gpu: &Gpu) -> Vec<u32> {
+        self.simulation
+            .wind()
+            .read_canopy(gpu, &self.commands)
+            .unwrap()
+    }
+
     /// The wind velocity's x, y and z face components.
     pub fn velocity(&self, gpu: &Gpu) -> [Vec<f32>; 3] {
         self.simulation
