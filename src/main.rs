@@ -12,6 +12,7 @@ use clap::{Parser, Subcommand, ValueEnum};
 use meadow::commands::render::{render_to_dir_observed, RenderRequest};
 use meadow::gpu::{FaultPlan, GpuOptions, ValidationOptions};
 use meadow::scene::{Scene, ViewMode};
+use meadow::sim::wind::Coupling;
 
 #[derive(Parser)]
 #[command(
@@ -126,6 +127,10 @@ enum Command {
         /// Do not write DIR/animation.gif (written when there are several frames).
         #[arg(long)]
         no_gif: bool,
+        /// Whether the grass slows the wind: one-way (the paper's) or
+        /// two-way (canopy drag; default: the scene's wind.coupling).
+        #[arg(long, value_enum)]
+        coupling: Option<Coupling>,
         /// Shadow map side in texels (default: the scene's, the paper's 8192;
         /// smaller for quick previews; 0 turns shadows off).
         #[arg(long, value_name = "TEXELS")]
@@ -135,8 +140,10 @@ enum Command {
         #[command(flatten)]
         device: DeviceArgs,
     },
-    /// Run the wind solver alone; write slices of the field as PNG and
-    /// wind_report.json, print speeds, divergence and GPU time per step.
+    /// Run the wind solver (with two-way coupling, the grass too); write
+    /// two slices of the field as SVG (wind_horizontal.svg,
+    /// wind_vertical.svg) and wind_report.json, print speeds, divergence
+    /// and GPU time per step.
     Wind {
         /// A built-in scene or a scene file (.toml).
         #[arg(long, default_value = "fig10-few-bunches")]
@@ -155,6 +162,10 @@ enum Command {
         /// Wind grid cells X,Y,Z, y up (default: the scene's, e.g. 60,20,60).
         #[arg(long, value_name = "X,Y,Z")]
         cells: Option<String>,
+        /// Whether the grass slows the wind: one-way (the paper's) or
+        /// two-way (canopy drag; default: the scene's wind.coupling).
+        #[arg(long, value_enum)]
+        coupling: Option<Coupling>,
         #[arg(long, default_value = "out/wind")]
         out: PathBuf,
         #[command(flatten)]
@@ -257,6 +268,10 @@ enum Command {
         /// Random seed of the grass field (default: the scene's).
         #[arg(long)]
         seed: Option<u64>,
+        /// Whether the grass slows the wind: one-way (the paper's) or
+        /// two-way (canopy drag; default: the scene's wind.coupling).
+        #[arg(long, value_enum)]
+        coupling: Option<Coupling>,
         #[arg(long, default_value = "out/trace")]
         out: PathBuf,
         #[command(flatten)]
@@ -394,11 +409,15 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             start,
             every,
             no_gif,
+            coupling,
             shadow_map,
             out,
             device,
         } => {
             let mut scene = Scene::load(&scene)?;
+            if let Some(c) = coupling {
+                scene.wind.coupling = c;
+            }
             if let Some(n) = shadow_map {
                 scene.set_shadow_map(n)?;
             }
@@ -445,6 +464,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             jacobi_iterations,
             v_cycles,
             cells,
+            coupling,
             out,
             device,
         } => {
@@ -452,6 +472,9 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 anyhow::bail!("--steps {steps} is not allowed, use 1..=1000000");
             }
             let mut scene = Scene::load(&scene)?;
+            if let Some(c) = coupling {
+                scene.wind.coupling = c;
+            }
             if jacobi_iterations.is_some() && v_cycles.is_some() {
                 anyhow::bail!(
                     "--jacobi-iterations and --v-cycles pick different pressure solvers; give one"
@@ -505,8 +528,8 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             }
             println!(
                 "wrote {} and {}",
-                out.join("wind_horizontal.png").display(),
-                out.join("wind_vertical.png").display()
+                out.join("wind_horizontal.svg").display(),
+                out.join("wind_vertical.svg").display()
             );
             Ok(())
         }
@@ -638,11 +661,15 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             wind,
             diagram_from,
             seed,
+            coupling,
             out,
             device,
         } => {
             use meadow::commands::trace::{trace_to_dir, BladePick, TraceRequest};
             let mut scene = Scene::load(&scene)?;
+            if let Some(c) = coupling {
+                scene.wind.coupling = c;
+            }
             if let Some(s) = seed {
                 scene.seed = s;
             }

@@ -209,6 +209,73 @@ fn wind_takes_solver_flags_and_says_when_the_projection_falls_short() {
     let _ = std::fs::remove_dir_all(&out);
 }
 
+/// `meadow wind` draws its slices as SVG a person can read: axes in metres,
+/// a colour bar in m/s, the plane in the title, the obstacles outlined in
+/// white and the grass in green; `--coupling two-way` steps the grass with
+/// the wind and says so in the title and the report.
+#[test]
+fn wind_slices_have_axes_a_colour_bar_and_outlines() {
+    for coupling in ["one-way", "two-way"] {
+        let out = temp_out(&format!("wind-slices-{coupling}"));
+        let result = meadow(
+            &[
+                "wind",
+                "--scene",
+                "fig13-obstacles",
+                "--cells",
+                "24,10,24",
+                "--steps",
+                "4",
+                "--coupling",
+                coupling,
+                "--out",
+                out.to_str().unwrap(),
+            ],
+            &[],
+        );
+        assert_succeeded(&result);
+        assert_eq!(
+            read_json(&out.join("wind_report.json"))["coupling"],
+            coupling
+        );
+        // The vertical slice through the middle passes beside every obstacle.
+        for (name, plane, axis, obstacles) in [
+            (
+                "wind_horizontal.svg",
+                "horizontal slice at height y = 0.60 m",
+                "z (m)",
+                3,
+            ),
+            (
+                "wind_vertical.svg",
+                "vertical slice at z = 0.00 m",
+                "height y (m)",
+                0,
+            ),
+        ] {
+            let svg = std::fs::read_to_string(out.join(name)).unwrap();
+            for text in [
+                plane,
+                axis,
+                "x (m)",
+                "wind speed (m/s)",
+                &format!("{coupling} coupling"),
+            ] {
+                assert!(svg.contains(text), "{name} has no {text:?}");
+            }
+            // Obstacles in white, grass in green, each a path of its own.
+            let outlined = svg.matches("stroke=\"#FFFFFF\" stroke-width=\"2\"").count();
+            assert_eq!(outlined, obstacles, "{name}: obstacles outlined");
+            assert_eq!(
+                svg.matches("stroke=\"#28C828\"").count(),
+                1,
+                "{name}: grass outline"
+            );
+        }
+        let _ = std::fs::remove_dir_all(&out);
+    }
+}
+
 /// `meadow wind --v-cycles` picks the multigrid solve: the report names it,
 /// the projection removes nearly all the divergence and nothing warns; a
 /// count of 0 and both solvers at once are refused by the flags' names.

@@ -1,20 +1,23 @@
-//! `meadow wind` as a library call: the wind solver alone on the GPU, timed
-//! per step with timestamp queries, with pictures of two slices and the
-//! divergence before and after projection.
+//! `meadow wind` as a library call: the wind solver on the GPU, timed per
+//! step with timestamp queries, with pictures of two slices and the
+//! divergence before and after projection. With two-way coupling the
+//! scene's grass steps between the wind steps (untimed), since it is what
+//! slows the air.
 
 use std::path::Path;
 
 use crate::commands::{on_gpu, write_json};
 use crate::error::Result;
 use crate::frame::timing::median_p95;
+use crate::frame::BladeBuffer;
 use crate::gpu::query::TimestampQueries;
 use crate::gpu::{Commands, Gpu, GpuOptions, ValidationReport};
 use crate::report::files;
 pub use crate::report::wind::SolverTiming;
-use crate::report::wind_slices::{self, Slice};
-use crate::scene::Scene;
-use crate::sim::wind::{PressureSolver, WindField, WindGrid, WindSettings};
-use crate::simulate::WindPass;
+use crate::report::wind_slices::{self, Outlines, Slice};
+use crate::scene::{field, Scene};
+use crate::sim::wind::{Coupling, PressureSolver, WindField, WindGrid, WindSettings};
+use crate::simulate::{Simulation, WindPass};
 
 /// Steps recorded into one submission (and timed with one query pool).
 const STEPS_PER_SUBMIT: u32 = 100;
@@ -28,6 +31,8 @@ pub struct WindReport {
     pub solver: PressureSolver,
     pub jacobi_iterations: u32,
     pub v_cycles: u32,
+    /// Whether the grass slowed the wind (two-way: its grass stepped too).
+    pub coupling: Coupling,
     pub steps: u32,
     pub dt: f32,
     pub max_speed: f32,
@@ -94,15 +99,61 @@ struct Stepped {
     before: Vec<f32>,
 }
 
-fn run_steps(
-    gpu: &Gpu,
-    commands: &Commands,
-    grid: WindGrid,
-    settings: &WindSettings,
-    steps: u32,
-    dt: f32,
-) -> Result<Stepped> {
-    let pass = WindPass::new(gpu, commands, grid, settings, 0.0)?;
+/// The wind alone, or with two-way coupling the wind with the scene's grass
+/// stepping between its steps (the grass is what slows it).
+enum Stepper {
+    Wind(WindPass),
+    Coupled {
+        // Declared first, dropped first: the grass writes the buffer.
+        simulation: Simulation,
+        _vertices: BladeBuffer,
+    },
+}
+
+impl Stepper {
+    fn new(gpu: &Gpu, commands: &Commands, scene: &Scene) -> Result<Self> {
+        let grid = scene.wind_grid()?;
+        if scene.wind.coupling == Coupling::OneWay {
+            let pass = WindPass::new(gpu, commands, grid, &scene.wind.settings(), 0.0)?;
+            return Ok(Stepper::Wind(pass));
+        }
+        let rest = scene.field()?;
+        let blades = field::dynamic_blades(&rest, &scene.grass.dynamics, scene.seed)?;
+        let vertices =
+            BladeBuffer::uninitialised(gpu, "wind command blade vertices", blades.len())?;
+        let simulation = Simulation::new(gpu, commands, scene, &blades, vertices.buffer())?;
+        Ok(Stepper::Coupled {
+            simulation,
+            _vertices: vertices,
+        })
+    }
+
+    /// Records the wind half of step `index`.
+    fn record_wind(&self, rec: &crate::gpu::Recording, index: u32, dt: f32) {
+        match self {
+            Stepper::Wind(pass) => pass.record_step(rec, index as f32 * dt, dt),
+            Stepper::Coupled { simulation, .. } => simulation.record_wind_step(rec),
+        }
+    }
+
+    /// Records the grass half of the step, if the grass is coupled.
+    fn record_grass(&mut self, rec: &crate::gpu::Recording) {
+        if let Stepper::Coupled { simulation, .. } = self {
+            simulation.record_grass_step(rec);
+        }
+    }
+
+    fn wind(&self) -> &WindPass {
+        match self {
+            Stepper::Wind(pass) => pass,
+            Stepper::Coupled { simulation, .. } => simulation.wind(),
+        }
+    }
+}
+
+fn run_steps(gpu: &Gpu, commands: &Commands, scene: &Scene, steps: u32) -> Result<Stepped> {
+    let dt = scene.wind.dt;
+    let mut stepper = Stepper::new(gpu, commands, scene)?;
     let timestamps = TimestampQueries::new(gpu, STEPS_PER_SUBMIT, "wind step timestamps")?;
     let mut times = Vec::new();
     let mut done = 0;
@@ -116,10 +167,11 @@ fn run_steps(
             if let Some(t) = &timestamps {
                 t.stamp(&rec, n, false);
             }
-            pass.record_step(&rec, (done + n) as f32 * dt, dt);
+            stepper.record_wind(&rec, done + n, dt);
             if let Some(t) = &timestamps {
                 t.stamp(&rec, n, true);
             }
+            stepper.record_grass(&rec);
         }
         rec.submit_and_wait("wind steps")?;
         if let Some(t) = &timestamps {
@@ -127,9 +179,9 @@ fn run_steps(
         }
         done += batch;
     }
-    let mut field = WindField::new(grid, settings);
-    field.vel = pass.read_velocity(gpu, commands)?;
-    let before = pass.read_divergence(gpu, commands)?;
+    let mut field = WindField::new(scene.wind_grid()?, &scene.wind.settings());
+    field.vel = stepper.wind().read_velocity(gpu, commands)?;
+    let before = stepper.wind().read_divergence(gpu, commands)?;
     Ok(Stepped {
         field,
         times,
@@ -151,15 +203,13 @@ fn rms_over_fluid(values: &[f32], solid: &[bool]) -> f32 {
 /// The scene's wind run `steps` steps with each solver (its V-cycles, its
 /// Jacobi iterations), multigrid first.
 pub fn compare_solvers(gpu: &Gpu, scene: &Scene, steps: u32) -> Result<Vec<SolverTiming>> {
-    let grid = scene.wind_grid()?;
     let commands = Commands::new(gpu, "wind solver comparison commands")?;
     let mut timings = Vec::new();
     for solver in [PressureSolver::Multigrid, PressureSolver::Jacobi] {
-        let settings = WindSettings {
-            solver,
-            ..scene.wind.settings()
-        };
-        let run = run_steps(gpu, &commands, grid, &settings, steps, scene.wind.dt)?;
+        let mut scene = scene.clone();
+        scene.wind.solver = solver;
+        let settings = scene.wind.settings();
+        let run = run_steps(gpu, &commands, &scene, steps)?;
         let timing = median_p95(&run.times);
         timings.push(SolverTiming {
             solver,
@@ -191,21 +241,44 @@ fn run(
         field,
         times,
         before,
-    } = run_steps(gpu, &commands, grid, settings, steps, dt)?;
+    } = run_steps(gpu, &commands, scene, steps)?;
     let max_divergence_before = before.iter().fold(0.0f32, |m, d| m.max(d.abs()));
     let rms_divergence_before = rms_over_fluid(&before, &field.solid);
     let max_speed = max_speed(&field);
-    let tip_height = scene.grass.shape.height[1] * 0.8;
+    let grass_height = scene.grass.shape.height[1];
     let center = grid.origin + grid.size() / 2.0;
+    let patches = scene.grass.patches();
+    let outlines = Outlines {
+        obstacles: &settings.obstacles,
+        grass: &patches,
+        grass_height,
+    };
+    let how = format!(
+        "{}, {} coupling",
+        crate::report::wind::describe(
+            settings.solver,
+            settings.jacobi_iterations,
+            settings.v_cycles
+        ),
+        settings.coupling.name()
+    );
     for (name, slice) in [
         (
-            "wind_horizontal.png",
-            Slice::Horizontal { height: tip_height },
+            "wind_horizontal.svg",
+            Slice::Horizontal {
+                height: grass_height * 0.8,
+            },
         ),
-        ("wind_vertical.png", Slice::Vertical { depth: center.z }),
+        ("wind_vertical.svg", Slice::Vertical { depth: center.z }),
     ] {
-        let (w, h, rgb) = wind_slices::render(&field, slice, max_speed);
-        files::write_rgb_png(&out_dir.join(name), w, h, &rgb)?;
+        let title = format!(
+            "{}: {} after {:.2} s ({how})",
+            scene.name,
+            wind_slices::plane_name(slice),
+            steps as f32 * dt
+        );
+        let svg = wind_slices::svg(&field, slice, max_speed, &outlines, &title)?;
+        files::write_atomic(&out_dir.join(name), svg.as_bytes())?;
     }
     let timing = median_p95(&times);
     Ok(WindReport {
@@ -215,6 +288,7 @@ fn run(
         solver: settings.solver,
         jacobi_iterations: settings.jacobi_iterations,
         v_cycles: settings.v_cycles,
+        coupling: settings.coupling,
         steps,
         dt,
         max_speed,

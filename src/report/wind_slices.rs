@@ -1,26 +1,41 @@
-//! Pictures of the wind a person can read: a slice of the field with speed
-//! as colour and direction as short streaks, drawn on the CPU from the
-//! velocity read back from the GPU.
+//! Pictures of the wind a person can read: a slice of the field as SVG,
+//! speed as colour with a colour bar in m/s, direction as short streaks
+//! (a dot at the foot of each), axes in metres, the slice's height or
+//! depth in the title, obstacles outlined in white and the grass in green.
+//! Drawn on the CPU from the velocity read back from the GPU.
 
-use glam::{Vec2, Vec3};
+use glam::{Vec2, Vec3, Vec3Swizzles};
+use plotters::prelude::*;
 
-use crate::sim::wind::WindField;
+use crate::error::{Error, Result};
+use crate::scene::GrassPatch;
+use crate::sim::wind::{Obstacle, WindField};
 
 /// Which plane to cut.
 #[derive(Clone, Copy, Debug)]
 pub enum Slice {
-    /// The horizontal plane y = height (x right, z down the picture).
+    /// The horizontal plane y = height (x right, z up the picture).
     Horizontal { height: f32 },
     /// The vertical plane z = depth (x right, y up).
     Vertical { depth: f32 },
 }
 
-/// Pixels per cell along the picture's width.
-const PIXELS_PER_CELL: u32 = 8;
-const STREAK_SPACING: u32 = 16;
+/// What stands in the wind, outlined on a slice.
+pub struct Outlines<'a> {
+    pub obstacles: &'a [Obstacle],
+    pub grass: &'a [GrassPatch],
+    /// The tallest blade (m): the grass's outline on a vertical slice.
+    pub grass_height: f32,
+}
+
+/// At most this many colour cells along either axis of the picture.
+const MAX_CELLS_ACROSS: u32 = 160;
+/// About this many streaks along the longer axis.
+const STREAKS_ACROSS: f32 = 24.0;
+const PLOT_WIDTH: u32 = 760;
 
 /// Dark blue -> cyan -> yellow -> red over [0, 1].
-fn ramp(t: f32) -> [u8; 3] {
+fn ramp(t: f32) -> RGBColor {
     const STOPS: [[f32; 3]; 4] = [
         [0.05, 0.05, 0.35],
         [0.0, 0.75, 0.85],
@@ -30,74 +45,305 @@ fn ramp(t: f32) -> [u8; 3] {
     let t = t.clamp(0.0, 1.0) * 3.0;
     let i = (t.floor() as usize).min(2);
     let f = t - i as f32;
-    let c: [f32; 3] = std::array::from_fn(|k| STOPS[i][k] * (1.0 - f) + STOPS[i + 1][k] * f);
-    c.map(|v| (v * 255.0).round() as u8)
+    let c: [u8; 3] = std::array::from_fn(|k| {
+        ((STOPS[i][k] * (1.0 - f) + STOPS[i + 1][k] * f) * 255.0).round() as u8
+    });
+    RGBColor(c[0], c[1], c[2])
 }
 
-/// Renders `slice` of `field` as RGB8; returns (width, height, pixels).
-/// Speed is scaled to `max_speed` (pass the field's maximum for contrast).
-pub fn render(field: &WindField, slice: Slice, max_speed: f32) -> (u32, u32, Vec<u8>) {
+impl Slice {
+    /// World position of picture point (u, v) in metres.
+    fn world(self, p: Vec2) -> Vec3 {
+        match self {
+            Slice::Horizontal { height } => Vec3::new(p.x, height, p.y),
+            Slice::Vertical { depth } => Vec3::new(p.x, p.y, depth),
+        }
+    }
+
+    /// A velocity's part in the picture's plane.
+    fn planar(self, v: Vec3) -> Vec2 {
+        match self {
+            Slice::Horizontal { .. } => Vec2::new(v.x, v.z),
+            Slice::Vertical { .. } => Vec2::new(v.x, v.y),
+        }
+    }
+
+    /// The picture's axis names.
+    fn axes(self) -> (&'static str, &'static str) {
+        match self {
+            Slice::Horizontal { .. } => ("x (m)", "z (m)"),
+            Slice::Vertical { .. } => ("x (m)", "height y (m)"),
+        }
+    }
+}
+
+/// Closed polylines (picture coordinates) outlining what `outlines` puts
+/// in the plane of `slice`: obstacles first, then grass patches.
+fn outline_paths(slice: Slice, outlines: &Outlines) -> (Vec<Vec<Vec2>>, Vec<Vec<Vec2>>) {
+    let circle = |c: Vec2, r: f32| -> Vec<Vec2> {
+        (0..=48)
+            .map(|i| c + Vec2::from_angle(i as f32 / 48.0 * std::f32::consts::TAU) * r)
+            .collect()
+    };
+    let rect = |lo: Vec2, hi: Vec2| vec![lo, Vec2::new(hi.x, lo.y), hi, Vec2::new(lo.x, hi.y), lo];
+    // Half the chord a circle of radius r cuts at distance d from its centre.
+    let chord = |r: f32, d: f32| (r * r - d * d).max(0.0).sqrt();
+    let mut solids = Vec::new();
+    for o in outlines.obstacles {
+        let path = match (slice, *o) {
+            (Slice::Horizontal { height }, Obstacle::Box { min, max }) => (min.y..=max.y)
+                .contains(&height)
+                .then(|| rect(min.xz(), max.xz())),
+            (Slice::Vertical { depth }, Obstacle::Box { min, max }) => (min.z..=max.z)
+                .contains(&depth)
+                .then(|| rect(min.xy(), max.xy())),
+            (Slice::Horizontal { height }, Obstacle::Sphere { center, radius }) => {
+                let r = chord(radius, height - center.y);
+                (r > 0.0).then(|| circle(center.xz(), r))
+            }
+            (Slice::Vertical { depth }, Obstacle::Sphere { center, radius }) => {
+                let r = chord(radius, depth - center.z);
+                (r > 0.0).then(|| circle(center.xy(), r))
+            }
+            (
+                Slice::Horizontal { height },
+                Obstacle::Cylinder {
+                    base,
+                    radius,
+                    height: tall,
+                },
+            ) => (base.y..=base.y + tall)
+                .contains(&height)
+                .then(|| circle(base.xz(), radius)),
+            (
+                Slice::Vertical { depth },
+                Obstacle::Cylinder {
+                    base,
+                    radius,
+                    height: tall,
+                },
+            ) => {
+                let r = chord(radius, depth - base.z);
+                (r > 0.0).then(|| {
+                    rect(
+                        Vec2::new(base.x - r, base.y),
+                        Vec2::new(base.x + r, base.y + tall),
+                    )
+                })
+            }
+        };
+        solids.extend(path);
+    }
+    let mut grass = Vec::new();
+    for p in outlines.grass {
+        let path = match (slice, *p) {
+            (Slice::Horizontal { height }, GrassPatch::Bunch { center, radius, .. }) => {
+                (height <= outlines.grass_height).then(|| circle(Vec2::from(center), radius))
+            }
+            (Slice::Horizontal { height }, GrassPatch::Meadow { center, size, .. }) => {
+                let (c, half) = (Vec2::from(center), Vec2::from(size) / 2.0);
+                (height <= outlines.grass_height).then(|| rect(c - half, c + half))
+            }
+            (Slice::Vertical { depth }, GrassPatch::Bunch { center, radius, .. }) => {
+                let r = chord(radius, depth - center[1]);
+                (r > 0.0).then(|| {
+                    rect(
+                        Vec2::new(center[0] - r, 0.0),
+                        Vec2::new(center[0] + r, outlines.grass_height),
+                    )
+                })
+            }
+            (Slice::Vertical { depth }, GrassPatch::Meadow { center, size, .. }) => {
+                ((depth - center[1]).abs() <= size[1] / 2.0).then(|| {
+                    rect(
+                        Vec2::new(center[0] - size[0] / 2.0, 0.0),
+                        Vec2::new(center[0] + size[0] / 2.0, outlines.grass_height),
+                    )
+                })
+            }
+        };
+        grass.extend(path);
+    }
+    (solids, grass)
+}
+
+/// `slice` of `field` as SVG, titled `title`; speed coloured from 0 to
+/// `max_speed` m/s (the field's maximum gives the most contrast).
+pub fn svg(
+    field: &WindField,
+    slice: Slice,
+    max_speed: f32,
+    outlines: &Outlines,
+    title: &str,
+) -> Result<String> {
+    let err = |e: String| Error::InvalidInput(format!("drawing the wind slice: {e}"));
     let g = field.grid;
-    let size = g.size();
-    let extent = match slice {
-        Slice::Horizontal { .. } => Vec2::new(size.x, size.z),
-        Slice::Vertical { .. } => Vec2::new(size.x, size.y),
+    let (lo, size, cells) = match slice {
+        Slice::Horizontal { .. } => (g.origin.xz(), g.size().xz(), [g.cells.x, g.cells.z]),
+        Slice::Vertical { .. } => (g.origin.xy(), g.size().xy(), [g.cells.x, g.cells.y]),
     };
-    let width = g.cells.x * PIXELS_PER_CELL;
-    // Keep the aspect of the world, not of the cell counts.
-    let height = ((width as f32 * extent.y / extent.x).round() as u32).max(1);
-    let world = |px: f32, py: f32| -> Vec3 {
-        let u = px / width as f32;
-        let v = py / height as f32;
-        match slice {
-            Slice::Horizontal { height: y } => {
-                g.origin + Vec3::new(u * size.x, y - g.origin.y, v * size.z)
-            }
-            Slice::Vertical { depth: z } => {
-                g.origin + Vec3::new(u * size.x, (1.0 - v) * size.y, z - g.origin.z)
-            }
-        }
-    };
-    // In-plane direction of a velocity, in picture coordinates.
-    let planar = |v: Vec3| match slice {
-        Slice::Horizontal { .. } => Vec2::new(v.x, v.z),
-        Slice::Vertical { .. } => Vec2::new(v.x, -v.y),
-    };
+    let hi = lo + size;
+    let across = cells.map(|n| n.min(MAX_CELLS_ACROSS));
+    let step = size / Vec2::new(across[0] as f32, across[1] as f32);
     let scale = if max_speed > 0.0 { max_speed } else { 1.0 };
-    let mut pixels = vec![0u8; (width * height * 3) as usize];
-    for py in 0..height {
-        for px in 0..width {
-            let v = field.sample(world(px as f32 + 0.5, py as f32 + 0.5));
-            let c = ramp(v.length() / scale);
-            let i = ((py * width + px) * 3) as usize;
-            pixels[i..i + 3].copy_from_slice(&c);
-        }
-    }
-    // Streaks: a line along the flow from each grid point, longer when faster.
-    let mut put = |x: i32, y: i32, c: [u8; 3]| {
-        if x >= 0 && y >= 0 && (x as u32) < width && (y as u32) < height {
-            let i = ((y as u32 * width + x as u32) * 3) as usize;
-            pixels[i..i + 3].copy_from_slice(&c);
-        }
-    };
-    let mut y = STREAK_SPACING / 2;
-    while y < height {
-        let mut x = STREAK_SPACING / 2;
-        while x < width {
-            let v = field.sample(world(x as f32, y as f32));
-            let d = planar(v);
-            let len = (d.length() / scale).min(1.0) * (STREAK_SPACING as f32 - 3.0);
-            if let Some(dir) = d.try_normalize() {
-                let steps = len.ceil() as i32;
-                for s in 0..=steps {
-                    let p = Vec2::new(x as f32, y as f32) + dir * s as f32;
-                    put(p.x.round() as i32, p.y.round() as i32, [255, 255, 255]);
+    // The plot keeps the world's aspect within reason.
+    let plot_height = ((PLOT_WIDTH as f32 * size.y / size.x) as u32).clamp(220, 760);
+    let mut out = String::new();
+    {
+        let root = SVGBackend::with_string(&mut out, (PLOT_WIDTH + 130, plot_height + 90))
+            .into_drawing_area();
+        root.fill(&WHITE).map_err(|e| err(e.to_string()))?;
+        let (plot, key) = root.split_horizontally(PLOT_WIDTH);
+        let (x_desc, y_desc) = slice.axes();
+        let mut chart = ChartBuilder::on(&plot)
+            .caption(title, ("sans-serif", 16))
+            .margin(10)
+            .x_label_area_size(40)
+            .y_label_area_size(50)
+            .build_cartesian_2d(lo.x..hi.x, lo.y..hi.y)
+            .map_err(|e| err(e.to_string()))?;
+        chart
+            .configure_mesh()
+            .disable_mesh()
+            .x_desc(x_desc)
+            .y_desc(y_desc)
+            .draw()
+            .map_err(|e| err(e.to_string()))?;
+        let colour_cells = (0..across[1]).flat_map(|j| {
+            (0..across[0]).map(move |i| {
+                let a = lo + step * Vec2::new(i as f32, j as f32);
+                let speed = field.sample(slice.world(a + step / 2.0)).length();
+                Rectangle::new(
+                    [(a.x, a.y), (a.x + step.x, a.y + step.y)],
+                    ramp(speed / scale).filled(),
+                )
+            })
+        });
+        chart
+            .draw_series(colour_cells)
+            .map_err(|e| err(e.to_string()))?;
+        // Streaks along the flow in the plane, longer when faster.
+        let spacing = size.max_element() / STREAKS_ACROSS;
+        let counts = (size / spacing).floor().max(Vec2::ONE);
+        let mut streaks = Vec::new();
+        for j in 0..counts.y as u32 {
+            for i in 0..counts.x as u32 {
+                let p = lo + (Vec2::new(i as f32, j as f32) + 0.5) * (size / counts);
+                let d = slice.planar(field.sample(slice.world(p)));
+                if let Some(dir) = d.try_normalize() {
+                    let end = p + dir * (d.length() / scale).min(1.0) * spacing * 0.85;
+                    streaks.push((p, end));
                 }
-                put(x as i32, y as i32, [20, 20, 20]);
             }
-            x += STREAK_SPACING;
         }
-        y += STREAK_SPACING;
+        chart
+            .draw_series(streaks.iter().map(|&(a, b)| {
+                PathElement::new(vec![(a.x, a.y), (b.x, b.y)], WHITE.stroke_width(1))
+            }))
+            .map_err(|e| err(e.to_string()))?;
+        chart
+            .draw_series(
+                streaks
+                    .iter()
+                    .map(|&(a, _)| Circle::new((a.x, a.y), 2, BLACK.filled())),
+            )
+            .map_err(|e| err(e.to_string()))?;
+        let (solids, grass) = outline_paths(slice, outlines);
+        let path = |p: &Vec<Vec2>, style: ShapeStyle| {
+            PathElement::new(p.iter().map(|q| (q.x, q.y)).collect::<Vec<_>>(), style)
+        };
+        chart
+            .draw_series(solids.iter().map(|p| path(p, WHITE.stroke_width(2))))
+            .map_err(|e| err(e.to_string()))?;
+        chart
+            .draw_series(
+                grass
+                    .iter()
+                    .map(|p| path(p, RGBColor(40, 200, 40).stroke_width(2))),
+            )
+            .map_err(|e| err(e.to_string()))?;
+
+        // The colour bar: speed in m/s.
+        let mut bar = ChartBuilder::on(&key)
+            .margin_top(40)
+            .margin_bottom(50)
+            .y_label_area_size(55)
+            .build_cartesian_2d(0.0f32..1.0, 0.0f32..scale)
+            .map_err(|e| err(e.to_string()))?;
+        bar.configure_mesh()
+            .disable_mesh()
+            .disable_x_axis()
+            .y_desc("wind speed (m/s)")
+            .axis_desc_style(("sans-serif", 14))
+            .draw()
+            .map_err(|e| err(e.to_string()))?;
+        bar.draw_series((0..50).map(|i| {
+            let v = scale * i as f32 / 50.0;
+            Rectangle::new(
+                [(0.0, v), (1.0, v + scale / 50.0)],
+                ramp(i as f32 / 49.0).filled(),
+            )
+        }))
+        .map_err(|e| err(e.to_string()))?;
+        root.present().map_err(|e| err(e.to_string()))?;
     }
-    (width, height, pixels)
+    Ok(out)
+}
+
+/// The plane's name for a title: "y = 0.60 m" or "z = 0.00 m".
+pub fn plane_name(slice: Slice) -> String {
+    match slice {
+        Slice::Horizontal { height } => format!("horizontal slice at height y = {height:.2} m"),
+        Slice::Vertical { depth } => format!("vertical slice at z = {depth:.2} m"),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sim::wind::{WindGrid, WindSettings};
+    use glam::UVec3;
+
+    #[test]
+    fn a_slice_has_axes_a_colour_bar_and_the_outlines() {
+        let grid = WindGrid::new(
+            UVec3::new(8, 4, 6),
+            Vec3::new(-2.0, 0.0, -1.5),
+            Vec3::new(4.0, 2.0, 3.0),
+        )
+        .unwrap();
+        let mut field = WindField::new(grid, &WindSettings::default());
+        field.vel[0].fill(2.0);
+        let obstacles = [Obstacle::Box {
+            min: Vec3::new(-0.5, 0.0, -0.5),
+            max: Vec3::new(0.5, 1.0, 0.5),
+        }];
+        let grass = [GrassPatch::Bunch {
+            center: [1.0, 0.0],
+            radius: 0.3,
+            count: 10,
+        }];
+        let outlines = Outlines {
+            obstacles: &obstacles,
+            grass: &grass,
+            grass_height: 0.7,
+        };
+        let slice = Slice::Horizontal { height: 0.5 };
+        let svg = svg(&field, slice, 2.0, &outlines, &plane_name(slice)).unwrap();
+        assert!(svg.starts_with("<svg"));
+        for text in ["x (m)", "z (m)", "wind speed (m/s)", "height y = 0.50 m"] {
+            assert!(svg.contains(text), "no {text:?}");
+        }
+        // 48 colour cells and 50 bar steps, plus backgrounds.
+        assert!(svg.matches("<rect").count() >= 98);
+        let (solids, green) = outline_paths(slice, &outlines);
+        assert_eq!((solids.len(), green.len()), (1, 1));
+        // Above the obstacle and the grass, neither is cut.
+        let (solids, green) = outline_paths(Slice::Horizontal { height: 1.5 }, &outlines);
+        assert_eq!((solids.len(), green.len()), (0, 0));
+        // A vertical cut through the bunch outlines it up to the tallest blade.
+        let (_, green) = outline_paths(Slice::Vertical { depth: 0.1 }, &outlines);
+        assert_eq!(green.len(), 1);
+        assert!(green[0].iter().any(|p| (p.y - 0.7).abs() < 1e-6));
+    }
 }
