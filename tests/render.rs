@@ -90,6 +90,52 @@ fn a_camera_looking_straight_down_sees_the_meadow() {
     finish(gpu);
 }
 
+/// The ground reaches the horizon: going up a column beside the grass,
+/// from the soil at the bottom of the frame to the sky at the top, the
+/// colour changes smoothly, with no band where the ground would end. A
+/// ground drawn as a square (as it was) left a step from dark soil to pale
+/// sky of over 100 levels at its edge, 6 m behind the bunches.
+#[test]
+fn the_ground_meets_the_sky_without_a_band() {
+    let gpu = strict_gpu();
+    let scene = Scene::builtin("fig10-few-bunches").unwrap();
+    assert_eq!(scene.ground.half_extent, 6.0);
+    let blades = field::generate(&scene.grass, scene.seed).unwrap();
+    let (w, h) = (160, 90);
+    let frame = render(&gpu, &scene, &blades, w, h, ViewMode::Shaded);
+    finish(gpu);
+    // Columns left and right of the three bunches.
+    for x in [4, 12, w - 12, w - 5] {
+        let column: Vec<[u8; 3]> = (0..h).rev().map(|y| pixel(&frame, x, y)).collect();
+        let step = column
+            .windows(2)
+            .map(|p| {
+                (0..3)
+                    .map(|c| p[0][c].abs_diff(p[1][c]) as u32)
+                    .max()
+                    .unwrap()
+            })
+            .max()
+            .unwrap();
+        // Measured: at most 20 (the soil's own texture gives up to 14, the
+        // haze into the horizon 20); the square's edge stepped from soil
+        // (about 90, 76, 53) straight to sky (about 200, 218, 235).
+        assert!(
+            step <= 30,
+            "column {x}: a step of {step} levels between rows: {column:?}"
+        );
+        // Soil (brown: red above blue) at the bottom, sky (blue) at the top.
+        let [r, _, b] = column[0];
+        assert!(r > b, "column {x} does not start on soil: {:?}", column[0]);
+        let [r, _, b] = column[h as usize - 1];
+        assert!(
+            b > r,
+            "column {x} does not end in sky: {:?}",
+            column[h as usize - 1]
+        );
+    }
+}
+
 /// One straight blade rooted at `root`, leaning nowhere.
 fn single_blade(root: Vec3, facing: Vec3, half_width: f32) -> Blade {
     Blade::from_profile(
@@ -371,4 +417,65 @@ fn a_tall_blade_shadows_the_ground_on_the_side_away_from_the_light() {
         "shadow ends at x = {far_end}, the tip's shadow should be near {tip_shadow_x}"
     );
     finish(gpu);
+}
+
+/// Obstacles are drawn where the wind sees them (paper Fig. 13 shows what
+/// blocks the wind): a post stands where its cylinder is, in its own
+/// colour, lit on the sun's side, and casts a shadow as long as a 45-degree
+/// sun makes it, on the side away from the light.
+#[test]
+fn an_obstacle_is_drawn_where_it_stands_and_casts_its_shadow() {
+    use meadow::sim::wind::Obstacle;
+    let gpu = strict_gpu();
+    let mut scene = Scene::builtin("fig10-few-bunches").unwrap();
+    scene.camera.position = [0.0, 3.0, 0.6];
+    scene.camera.target = [0.0, 0.0, 0.0];
+    scene.light.direction = [1.0, 1.0, 0.0];
+    scene.light.shadow_map = 2048;
+    // One blade far off, so the frame has grass to draw.
+    let blades = [single_blade(Vec3::new(0.0, 0.0, -1.2), Vec3::X, 0.01)];
+    let (w, h) = (320, 320);
+    let bare = render(&gpu, &scene, &blades, w, h, ViewMode::Shaded);
+    scene.wind.obstacles = vec![Obstacle::Cylinder {
+        base: Vec3::ZERO,
+        radius: 0.08,
+        height: 1.0,
+    }];
+    let with_post = render(&gpu, &scene, &blades, w, h, ViewMode::Shaded);
+    finish(gpu);
+    let brightness = |f: &meadow::frame::Frame, p: Vec3| {
+        let (x, y) = project(&scene, p, w, h);
+        pixel(f, x as u32, y as u32)
+            .iter()
+            .map(|&c| c as i32)
+            .sum::<i32>()
+    };
+    // The post's top, seen from above: wood (red over green over blue),
+    // where bare soil was before.
+    let (x, y) = project(&scene, Vec3::new(0.0, 1.0, 0.0), w, h);
+    let top = pixel(&with_post, x as u32, y as u32);
+    assert!(
+        top[0] > top[1] && top[1] > top[2] && top != pixel(&bare, x as u32, y as u32),
+        "no post drawn at its top: {top:?}"
+    );
+    // Its shadow: a 1 m post under a 45-degree sun from +x darkens the
+    // ground from its foot to 1 m on the -x side, and nothing on +x.
+    for d in [0.3, 0.6, 0.85] {
+        let p = Vec3::new(-d, 0.0, 0.0);
+        let (lit, shadowed) = (brightness(&bare, p), brightness(&with_post, p));
+        assert!(
+            shadowed < lit * 3 / 4,
+            "ground {d} m behind the post not in its shadow: {lit} -> {shadowed}"
+        );
+        let q = Vec3::new(d, 0.0, 0.0);
+        assert!(
+            (brightness(&bare, q) - brightness(&with_post, q)).abs() < 10,
+            "the sun's side of the post darkened at {d} m"
+        );
+    }
+    let beyond = Vec3::new(-1.25, 0.0, 0.0);
+    assert!(
+        (brightness(&bare, beyond) - brightness(&with_post, beyond)).abs() < 10,
+        "the shadow reaches past the post's height"
+    );
 }

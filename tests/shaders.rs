@@ -12,7 +12,8 @@ use ash::vk;
 use common::reflect::{self, Binding};
 use meadow::gpu::LayoutBinding;
 use meadow::render::pipelines::{
-    BLADE_ATTRIBUTES, BLADE_STAGES, FRAME_SET, GROUND_STAGES, SHADOW_SET, SHADOW_STAGES, SKY_STAGES,
+    BLADE_ATTRIBUTES, BLADE_STAGES, FRAME_SET, GROUND_STAGES, OBSTACLE_SHADOW_STAGES,
+    OBSTACLE_STAGES, SHADOW_SET, SHADOW_STAGES, SKY_STAGES,
 };
 use meadow::render::FrameUniforms;
 use meadow::shaders::{self, ShaderStage, Spirv};
@@ -100,11 +101,14 @@ fn descriptor_layouts_match_reflection() {
         .iter()
         .chain(SKY_STAGES)
         .chain(GROUND_STAGES)
+        .chain(OBSTACLE_STAGES)
         .copied()
         .collect();
     check_pipeline("colour pass", &color_pass, FRAME_SET);
-    // The shadow pass: the blade stages up to the geometry shader.
+    // The shadow pass: the blade stages up to the geometry shader, and the
+    // obstacles' vertex shader.
     check_pipeline("shadow", SHADOW_STAGES, SHADOW_SET);
+    check_pipeline("obstacle shadow", OBSTACLE_SHADOW_STAGES, SHADOW_SET);
     // The five wind kernels share one set layout.
     check_pipeline("wind", &WIND_KERNELS, WIND_SET);
     check_pipeline("grass", &[&shaders::GRASS_STEP_COMP], GRASS_SET);
@@ -117,7 +121,12 @@ fn descriptor_layouts_match_reflection() {
     // Every stage the Rust layout exposes the block to is a stage that
     // declares it somewhere.
     let mut declaring = vk::ShaderStageFlags::empty();
-    for spirv in BLADE_STAGES.iter().chain(SKY_STAGES).chain(GROUND_STAGES) {
+    for spirv in BLADE_STAGES
+        .iter()
+        .chain(SKY_STAGES)
+        .chain(GROUND_STAGES)
+        .chain(OBSTACLE_STAGES)
+    {
         if !reflect::scan_bindings(spirv).unwrap().is_empty() {
             declaring |= spirv.stage.vk();
         }

@@ -1,14 +1,10 @@
 #version 450
-#extension GL_GOOGLE_include_directive : require
-// Ground: a square on y = 0 centred under the field, two triangles.
-#include "frame.glsl"
-
-layout(location = 0) out vec3 v_world;
+// Ground: the plane y = 0 out to the horizon, found per pixel by the
+// fragment shader (ground.frag); this is one triangle covering the screen.
+layout(location = 0) out vec2 v_ndc;
 
 void main() {
-    const vec2 corners[6] = vec2[](vec2(-1, -1), vec2(1, -1), vec2(1, 1),
-                                   vec2(-1, -1), vec2(1, 1), vec2(-1, 1));
-    vec2 xz = frame.ground.xy + corners[gl_VertexIndex] * frame.ground.z;
-    v_world = vec3(xz.x, 0.0, xz.y);
-    gl_Position = frame.view_proj * vec4(v_world, 1.0);
+    vec2 ndc = vec2((gl_VertexIndex << 1) & 2, gl_VertexIndex & 2) * 2.0 - 1.0;
+    v_ndc = ndc;
+    gl_Position = vec4(ndc, 0.0, 1.0);
 }

@@ -3,6 +3,7 @@
 // Sky gradient by the elevation of the view ray: pale at the horizon, deeper
 // blue overhead.
 #include "frame.glsl"
+#include "sky.glsl"
 
 layout(location = 0) in vec2 v_ndc;
 layout(location = 0) out vec4 out_color;
@@ -10,8 +11,5 @@ layout(location = 0) out vec4 out_color;
 void main() {
     vec4 far_point = frame.inv_view_proj * vec4(v_ndc, 1.0, 1.0);
     vec3 dir = normalize(far_point.xyz / far_point.w - frame.camera_pos.xyz);
-    float elevation = clamp(dir.y, 0.0, 1.0);
-    vec3 horizon = vec3(0.62, 0.74, 0.86);
-    vec3 zenith = vec3(0.16, 0.33, 0.68);
-    out_color = vec4(mix(horizon, zenith, pow(elevation, 0.6)), 1.0);
+    out_color = vec4(sky_color(dir), 1.0);
 }

@@ -16,7 +16,7 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     vec4 light_color;   // rgb: sun colour (linear); w: unused
     vec4 lod_distance;  // x: close/medium boundary, y: medium/far boundary, z: 1 = LOD on
     vec4 tess_level;    // x: close (20), y: medium (10), z: far (3): paper section 5
-    vec4 ground;        // xy: centre (world x, z); z: half extent of the ground square
+    vec4 ground;        // xy: the grass's centre (world x, z); z: how far from it the ground is clear (m)
     uvec4 view;         // x: view mode
     mat4 light_view_proj; // world -> the shadow map's clip space (orthographic, from the sun)
     vec4 shadow;        // x: one texel (uv units), y: 1 = shadows on, z: depth bias, w: PCF radius (texels)

@@ -87,7 +87,15 @@ impl FrameRecorder {
         dynamics: Option<&[GrassBlade]>,
     ) -> Result<Self> {
         let commands = Commands::new(gpu, "frame commands")?;
-        let renderer = Renderer::new(gpu, &commands, width, height, msaa, scene.light.shadow_map)?;
+        let renderer = Renderer::new(
+            gpu,
+            &commands,
+            width,
+            height,
+            msaa,
+            scene.light.shadow_map,
+            &scene.wind.obstacles,
+        )?;
         let statistics = StatisticsQuery::new(gpu, "grass pipeline statistics")?;
         let timer = SpanTimer::new(gpu, 16, "frame phase timestamps")?;
         let blade_buffer = BladeBuffer::new(gpu, &commands, blades)?;

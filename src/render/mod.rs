@@ -1,11 +1,12 @@
 //! The rendering phase (paper section 5): the paper's pipeline (vertex ->
 //! tessellation control -> tessellation evaluation -> geometry ->
-//! fragment), the shadow map, the surface textures, the render targets
+//! fragment), the shadow map, the obstacles, the surface textures, the render targets
 //! and the read-back; and the bench's vertex+fragment floor. It draws the
 //! blade buffer it is handed and knows nothing of the simulation.
 
 pub mod floor;
 pub mod frame_uniforms;
+pub mod obstacles;
 pub mod pipelines;
 pub mod renderer;
 pub mod shadow;

@@ -1,6 +1,7 @@
 //! The graphics pipelines of the colour pass: the blade pipeline with all
 //! five stages of the paper (vertex -> tessellation control -> tessellation
-//! evaluation -> geometry -> fragment), and the sky and ground behind it.
+//! evaluation -> geometry -> fragment), the sky and ground behind it and the
+//! obstacles among it; and the shadow pass's depth-only pipelines.
 
 use std::sync::Arc;
 
@@ -10,6 +11,7 @@ use crate::error::Result;
 use crate::gpu::{
     DescriptorKind, Gpu, GraphicsDesc, LayoutBinding, Pipeline, PipelineLayout, TargetFormats,
 };
+use crate::render::obstacles::ObstacleVertex;
 use crate::shaders::{self, Spirv};
 use crate::sim::BladeVertex;
 
@@ -89,6 +91,13 @@ pub const SHADOW_STAGES: &[&Spirv] = &[
     &shaders::BLADE_BLADE_GEOM,
 ];
 pub const SKY_STAGES: &[&Spirv] = &[&shaders::BACKDROP_SKY_VERT, &shaders::BACKDROP_SKY_FRAG];
+/// Obstacles (paper Fig. 13): triangle meshes, shaded and shadowed.
+pub const OBSTACLE_STAGES: &[&Spirv] = &[
+    &shaders::OBSTACLE_OBSTACLE_VERT,
+    &shaders::OBSTACLE_OBSTACLE_FRAG,
+];
+/// ... and into the shadow map, depth only.
+pub const OBSTACLE_SHADOW_STAGES: &[&Spirv] = &[&shaders::OBSTACLE_OBSTACLE_VERT];
 pub const GROUND_STAGES: &[&Spirv] = &[
     &shaders::BACKDROP_GROUND_VERT,
     &shaders::BACKDROP_GROUND_FRAG,
@@ -110,14 +119,55 @@ pub const BLADE_ATTRIBUTES: [vk::VertexInputAttributeDescription; 2] = [
     },
 ];
 
+/// The obstacle vertex buffer's layout: one `ObstacleVertex` per corner.
+pub const OBSTACLE_ATTRIBUTES: [vk::VertexInputAttributeDescription; 3] = [
+    vk::VertexInputAttributeDescription {
+        location: 0,
+        binding: 0,
+        format: vk::Format::R32G32B32_SFLOAT,
+        offset: std::mem::offset_of!(ObstacleVertex, position) as u32,
+    },
+    vk::VertexInputAttributeDescription {
+        location: 1,
+        binding: 0,
+        format: vk::Format::R32G32B32_SFLOAT,
+        offset: std::mem::offset_of!(ObstacleVertex, normal) as u32,
+    },
+    vk::VertexInputAttributeDescription {
+        location: 2,
+        binding: 0,
+        format: vk::Format::R32G32B32_SFLOAT,
+        offset: std::mem::offset_of!(ObstacleVertex, albedo) as u32,
+    },
+];
+
+const OBSTACLE_BINDING: [vk::VertexInputBindingDescription; 1] =
+    [vk::VertexInputBindingDescription {
+        binding: 0,
+        stride: std::mem::size_of::<ObstacleVertex>() as u32,
+        input_rate: vk::VertexInputRate::VERTEX,
+    }];
+
+/// The depth bias of the shadow pass (constant, slope): pushes each
+/// caster's depth back so a surface does not shadow itself (acne).
+const SHADOW_DEPTH_BIAS: (f32, f32) = (2.0, 2.5);
+
 pub struct RenderPipelines {
     pub frame_layout: Arc<PipelineLayout>,
     pub shadow_layout: Arc<PipelineLayout>,
     pub blade: Pipeline,
     pub sky: Pipeline,
     pub ground: Pipeline,
-    /// Depth-only blades into the shadow map (None when shadows are off).
-    pub shadow: Option<Pipeline>,
+    pub obstacle: Pipeline,
+    /// Depth-only blades and obstacles into the shadow map (None when
+    /// shadows are off).
+    pub shadow: Option<ShadowPipelines>,
+}
+
+/// The shadow pass's two depth-only pipelines.
+pub struct ShadowPipelines {
+    pub blades: Pipeline,
+    pub obstacles: Pipeline,
 }
 
 const BLADE_BINDING: [vk::VertexInputBindingDescription; 1] = [vk::VertexInputBindingDescription {
@@ -155,23 +205,44 @@ impl RenderPipelines {
             depth_bias: None,
             targets,
         };
+        let obstacle = GraphicsDesc {
+            name: "obstacle pipeline (vert/frag)",
+            stages: OBSTACLE_STAGES,
+            topology: vk::PrimitiveTopology::TRIANGLE_LIST,
+            vertex_bindings: &OBSTACLE_BINDING,
+            vertex_attributes: &OBSTACLE_ATTRIBUTES,
+            patch_control_points: 0,
+            depth_test: true,
+            depth_bias: None,
+            targets,
+        };
+        // The shadow map is single-sampled, depth only, its depth pushed back
+        // so a caster does not shadow itself where it is the occluder.
+        let shadow_targets = TargetFormats {
+            color: None,
+            depth: SHADOW_FORMAT,
+            samples: vk::SampleCountFlags::TYPE_1,
+        };
         let shadow = shadows
-            .then(|| {
-                // The shadow map is single-sampled, depth only; its depth is
-                // pushed back by a constant and a slope term so a blade does
-                // not shadow itself where it is the occluder (shadow acne).
-                let desc = GraphicsDesc {
+            .then(|| -> Result<ShadowPipelines> {
+                let blades = GraphicsDesc {
                     name: "shadow pipeline (vert/tesc/tese/geom, depth only)",
                     stages: SHADOW_STAGES,
-                    depth_bias: Some((2.0, 2.5)),
-                    targets: TargetFormats {
-                        color: None,
-                        depth: SHADOW_FORMAT,
-                        samples: vk::SampleCountFlags::TYPE_1,
-                    },
+                    depth_bias: Some(SHADOW_DEPTH_BIAS),
+                    targets: shadow_targets,
                     ..blade
                 };
-                Pipeline::graphics(gpu, &shadow_layout, &desc)
+                let obstacles = GraphicsDesc {
+                    name: "obstacle shadow pipeline (vert, depth only)",
+                    stages: OBSTACLE_SHADOW_STAGES,
+                    depth_bias: Some(SHADOW_DEPTH_BIAS),
+                    targets: shadow_targets,
+                    ..obstacle
+                };
+                Ok(ShadowPipelines {
+                    blades: Pipeline::graphics(gpu, &shadow_layout, &blades)?,
+                    obstacles: Pipeline::graphics(gpu, &shadow_layout, &obstacles)?,
+                })
             })
             .transpose()?;
         Ok(Self {
@@ -186,6 +257,7 @@ impl RenderPipelines {
                 &frame_layout,
                 &backdrop("ground pipeline", GROUND_STAGES, true),
             )?,
+            obstacle: Pipeline::graphics(gpu, &frame_layout, &obstacle)?,
             shadow,
             frame_layout,
             shadow_layout,

@@ -10,10 +10,12 @@ use crate::gpu::{
     TargetFormats,
 };
 use crate::render::frame_uniforms::FrameUniforms;
+use crate::render::obstacles::ObstacleMeshes;
 use crate::render::pipelines::{RenderPipelines, FRAME_SET};
 use crate::render::shadow::ShadowMap;
 use crate::render::targets::{choose_samples, RenderTargets};
 use crate::render::textures::SurfaceTextures;
+use crate::sim::wind::Obstacle;
 
 /// Everything one offscreen view of the grass needs on the GPU, besides
 /// the blades themselves.
@@ -24,6 +26,7 @@ pub struct Renderer {
     /// Held for the frame set, which samples them.
     _textures: SurfaceTextures,
     shadow: ShadowMap,
+    obstacles: ObstacleMeshes,
     pipelines: RenderPipelines,
     targets: RenderTargets,
 }
@@ -31,7 +34,8 @@ pub struct Renderer {
 impl Renderer {
     /// Builds the targets and pipelines for a `width` x `height` image with
     /// up to `msaa` samples and a `shadow_map` x `shadow_map` shadow map (0:
-    /// no shadows). `commands` uploads the surface textures.
+    /// no shadows), drawing `obstacles` among the grass. `commands` uploads
+    /// the surface textures and the obstacles' meshes.
     pub fn new(
         gpu: &Gpu,
         commands: &Commands,
@@ -39,6 +43,7 @@ impl Renderer {
         height: u32,
         msaa: u32,
         shadow_map: u32,
+        obstacles: &[Obstacle],
     ) -> Result<Self> {
         let targets = RenderTargets::new(gpu, width, height, choose_samples(gpu, msaa))?;
         let pipelines = RenderPipelines::new(gpu, targets.formats(), shadow_map > 0)?;
@@ -51,6 +56,7 @@ impl Renderer {
         let shadow = ShadowMap::new(gpu, shadow_map, &pipelines.shadow_layout)?;
         let uniforms = FrameUniforms::buffer(gpu, "frame uniforms")?;
         let textures = SurfaceTextures::new(gpu, commands)?;
+        let obstacles = ObstacleMeshes::new(gpu, commands, obstacles)?;
         let [map, map_sampler] = shadow.bindings();
         let [grass, ground, surface_sampler] = textures.bindings();
         let frame_set = DescriptorSet::new(
@@ -72,6 +78,7 @@ impl Renderer {
             uniforms,
             _textures: textures,
             shadow,
+            obstacles,
             pipelines,
             targets,
         })
@@ -99,14 +106,21 @@ impl Renderer {
         self.shadow.write_uniforms(&uniforms);
     }
 
-    /// The shadow pass: `blade_count` blades of `blades` from the sun.
+    /// The shadow pass: `blade_count` blades of `blades` and the
+    /// obstacles from the sun.
     pub fn record_shadow(&self, rec: &Recording, blades: &Buffer, blade_count: u32) {
-        self.shadow
-            .record(rec, self.pipelines.shadow.as_ref(), blades, blade_count);
+        self.shadow.record(
+            rec,
+            self.pipelines.shadow.as_ref(),
+            blades,
+            blade_count,
+            &self.obstacles,
+        );
     }
 
     /// Opens the colour pass: the targets into attachment layouts (the
-    /// previous frame's writes and read-back done), cleared; sky and ground.
+    /// previous frame's writes and read-back done), cleared; sky, ground
+    /// and obstacles.
     pub fn begin_color(&self, rec: &Recording) {
         rec.transition(&to_attachments(&self.targets));
         let t = &self.targets;
@@ -120,7 +134,8 @@ impl Renderer {
         rec.bind_pipeline(&p.sky);
         rec.draw(3);
         rec.bind_pipeline(&p.ground);
-        rec.draw(6);
+        rec.draw(3);
+        self.obstacles.draw(rec, &p.obstacle);
     }
 
     /// The grass: one 4-point patch per blade, through all five stages.

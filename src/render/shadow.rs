@@ -9,10 +9,11 @@ use ash::vk;
 use crate::error::Result;
 use crate::gpu::{
     Access, Attachments, Bound, Buffer, DescriptorSet, Gpu, Image, ImageDesc, ImageTransition,
-    Pipeline, PipelineLayout, Recording, Sampler,
+    PipelineLayout, Recording, Sampler,
 };
 use crate::render::frame_uniforms::FrameUniforms;
-use crate::render::pipelines::{SHADOW_FORMAT, SHADOW_SET};
+use crate::render::obstacles::ObstacleMeshes;
+use crate::render::pipelines::{ShadowPipelines, SHADOW_FORMAT, SHADOW_SET};
 
 /// Depth bias in the shader, on top of the pipeline's constant and slope
 /// bias: a blade is a thin sheet that is often both occluder and receiver.
@@ -103,14 +104,15 @@ impl ShadowMap {
     }
 
     /// Records the shadow pass: clear, draw `blade_count` blades from
-    /// `blades` depth-only from the light (when shadows are on), and hand
-    /// the map to the fragment stage.
+    /// `blades` and the obstacles depth-only from the light (when shadows
+    /// are on), and hand the map to the fragment stage.
     pub fn record(
         &self,
         rec: &Recording,
-        pipeline: Option<&Pipeline>,
+        pipelines: Option<&ShadowPipelines>,
         blades: &Buffer,
         blade_count: u32,
+        obstacles: &ObstacleMeshes,
     ) {
         // The previous frame's colour pass sampled the map: its reads must
         // finish before the clear (an execution dependency suffices for a
@@ -125,11 +127,12 @@ impl ShadowMap {
             depth: &self.image,
             store_depth: true,
         });
-        if let (Some(pipeline), true) = (pipeline, self.size > 0) {
-            rec.bind_set(pipeline, &self.set);
-            rec.bind_pipeline(pipeline);
+        if let (Some(pipelines), true) = (pipelines, self.size > 0) {
+            rec.bind_set(&pipelines.blades, &self.set);
+            rec.bind_pipeline(&pipelines.blades);
             rec.bind_vertex_buffer(blades);
             rec.draw(blade_count * 4);
+            obstacles.draw(rec, &pipelines.obstacles);
         }
         rec.end_rendering();
         rec.transition(&[ImageTransition::new(

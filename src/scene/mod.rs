@@ -186,11 +186,12 @@ impl Default for Lod {
     }
 }
 
-/// The ground square, centred under the grass.
+/// The ground: the plane y = 0 out to the horizon.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Ground {
-    /// Half the side of the square (m).
+    /// How far from the grass's centre the ground is clear (m); beyond,
+    /// it fades into the sky's horizon colour (glsl/backdrop/ground.frag).
     pub half_extent: f32,
 }
 

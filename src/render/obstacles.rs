@@ -1,0 +1,249 @@
+//! The obstacles the wind meets (paper Fig. 13): boxes, spheres and upright
+//! cylinders, drawn as triangle meshes made once on the CPU, shaded in the
+//! colour pass and cast into the shadow map (glsl/obstacle/). The same
+//! shapes the wind solver voxelises (`sim::wind::Obstacle`), so what the
+//! picture shows is what blocks the air.
+
+use ash::vk;
+use glam::Vec3;
+
+use crate::error::Result;
+use crate::gpu::{Access, Buffer, Commands, Gpu, Pipeline, Recording};
+use crate::sim::wind::Obstacle;
+
+/// One corner of an obstacle's triangle list (`obstacle.vert`'s inputs).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct ObstacleVertex {
+    pub position: [f32; 3],
+    /// Outward unit normal.
+    pub normal: [f32; 3],
+    /// Linear RGB reflectance.
+    pub albedo: [f32; 3],
+}
+
+/// Segments around a sphere's or cylinder's axis, and a sphere's rings.
+const AROUND: usize = 40;
+const RINGS: usize = 20;
+
+/// A weathered wall, a grey boulder, a wooden post.
+const BOX_ALBEDO: Vec3 = Vec3::new(0.24, 0.23, 0.21);
+const SPHERE_ALBEDO: Vec3 = Vec3::new(0.2, 0.2, 0.19);
+const CYLINDER_ALBEDO: Vec3 = Vec3::new(0.16, 0.1, 0.055);
+
+fn vertex(p: Vec3, n: Vec3, albedo: Vec3) -> ObstacleVertex {
+    ObstacleVertex {
+        position: p.to_array(),
+        normal: n.to_array(),
+        albedo: albedo.to_array(),
+    }
+}
+
+/// A quad a, b, c, d (counter-clockwise seen from outside) as two triangles.
+fn quad(out: &mut Vec<ObstacleVertex>, [a, b, c, d]: [Vec3; 4], n: Vec3, albedo: Vec3) {
+    for p in [a, b, c, a, c, d] {
+        out.push(vertex(p, n, albedo));
+    }
+}
+
+/// The point on the unit sphere at azimuth i / AROUND and polar ring j / RINGS.
+fn on_sphere(i: usize, j: usize) -> Vec3 {
+    let (azimuth, polar) = (
+        i as f32 / AROUND as f32 * std::f32::consts::TAU,
+        j as f32 / RINGS as f32 * std::f32::consts::PI,
+    );
+    Vec3::new(
+        polar.sin() * azimuth.cos(),
+        polar.cos(),
+        polar.sin() * azimuth.sin(),
+    )
+}
+
+/// The triangles of every obstacle, each face with its outward normal.
+pub fn mesh(obstacles: &[Obstacle]) -> Vec<ObstacleVertex> {
+    let mut out = Vec::new();
+    for o in obstacles {
+        match *o {
+            Obstacle::Box { min, max } => {
+                let c = |x: bool, y: bool, z: bool| {
+                    Vec3::new(
+                        if x { max.x } else { min.x },
+                        if y { max.y } else { min.y },
+                        if z { max.z } else { min.z },
+                    )
+                };
+                let (f, t) = (false, true);
+                let faces = [
+                    ([c(t, f, f), c(t, t, f), c(t, t, t), c(t, f, t)], Vec3::X),
+                    (
+                        [c(f, f, f), c(f, f, t), c(f, t, t), c(f, t, f)],
+                        Vec3::NEG_X,
+                    ),
+                    ([c(f, t, f), c(f, t, t), c(t, t, t), c(t, t, f)], Vec3::Y),
+                    (
+                        [c(f, f, f), c(t, f, f), c(t, f, t), c(f, f, t)],
+                        Vec3::NEG_Y,
+                    ),
+                    ([c(f, f, t), c(t, f, t), c(t, t, t), c(f, t, t)], Vec3::Z),
+                    (
+                        [c(f, f, f), c(f, t, f), c(t, t, f), c(t, f, f)],
+                        Vec3::NEG_Z,
+                    ),
+                ];
+                for (corners, n) in faces {
+                    quad(&mut out, corners, n, BOX_ALBEDO);
+                }
+            }
+            Obstacle::Sphere { center, radius } => {
+                for j in 0..RINGS {
+                    for i in 0..AROUND {
+                        let corners = [(i, j), (i, j + 1), (i + 1, j + 1), (i + 1, j)];
+                        for k in [0, 2, 1, 0, 3, 2] {
+                            let (a, b) = corners[k];
+                            let n = on_sphere(a, b);
+                            out.push(vertex(center + n * radius, n, SPHERE_ALBEDO));
+                        }
+                    }
+                }
+            }
+            Obstacle::Cylinder {
+                base,
+                radius,
+                height,
+            } => {
+                let rim = |i: usize| on_sphere(i, RINGS / 2);
+                let top = base + Vec3::Y * height;
+                for i in 0..AROUND {
+                    let (a, b) = (rim(i), rim(i + 1));
+                    let side = [
+                        base + a * radius,
+                        top + a * radius,
+                        top + b * radius,
+                        base + b * radius,
+                    ];
+                    for (k, p) in [0, 1, 2, 0, 2, 3].map(|k| (k, side[k])) {
+                        let n = if k == 0 || k == 1 { a } else { b };
+                        out.push(vertex(p, n, CYLINDER_ALBEDO));
+                    }
+                    for p in [top, top + b * radius, top + a * radius] {
+                        out.push(vertex(p, Vec3::Y, CYLINDER_ALBEDO));
+                    }
+                }
+            }
+        }
+    }
+    out
+}
+
+/// The obstacles' triangles on the GPU; nothing when the scene has none.
+pub struct ObstacleMeshes {
+    vertices: Option<Buffer>,
+    count: u32,
+}
+
+impl ObstacleMeshes {
+    pub fn new(gpu: &Gpu, commands: &Commands, obstacles: &[Obstacle]) -> Result<Self> {
+        let triangles = mesh(obstacles);
+        let vertices = if triangles.is_empty() {
+            None
+        } else {
+            Some(Buffer::with_data(
+                gpu,
+                commands,
+                "obstacle triangles (vertex buffer)",
+                bytemuck::cast_slice(&triangles),
+                vk::BufferUsageFlags::VERTEX_BUFFER,
+                Access::VERTEX_INPUT,
+            )?)
+        };
+        Ok(Self {
+            vertices,
+            count: triangles.len() as u32,
+        })
+    }
+
+    /// Draws every obstacle with `pipeline` (the colour pass's, or the
+    /// shadow pass's depth-only one), its set already bound.
+    pub fn draw(&self, rec: &Recording, pipeline: &Pipeline) {
+        if let Some(vertices) = &self.vertices {
+            rec.bind_pipeline(pipeline);
+            rec.bind_vertex_buffer(vertices);
+            rec.draw(self.count);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every triangle winds counter-clockwise seen from outside: its
+    /// geometric normal agrees with its vertices' normals and points away
+    /// from the shape's inside.
+    #[test]
+    fn triangles_face_outward_and_lie_on_their_shape() {
+        let shapes = [
+            Obstacle::Box {
+                min: Vec3::new(-2.4, 0.0, -2.6),
+                max: Vec3::new(-2.0, 1.2, -0.6),
+            },
+            Obstacle::Sphere {
+                center: Vec3::new(1.0, 0.0, 1.0),
+                radius: 0.8,
+            },
+            Obstacle::Cylinder {
+                base: Vec3::new(-1.0, 0.0, 2.4),
+                radius: 0.25,
+                height: 2.0,
+            },
+        ];
+        for shape in shapes {
+            let tris = mesh(&[shape]);
+            assert!(!tris.is_empty() && tris.len() % 3 == 0);
+            let inside = match shape {
+                Obstacle::Box { min, max } => (min + max) / 2.0,
+                Obstacle::Sphere { center, .. } => center,
+                Obstacle::Cylinder { base, height, .. } => base + Vec3::Y * height / 2.0,
+            };
+            for t in tris.chunks(3) {
+                let p: Vec<Vec3> = t.iter().map(|v| Vec3::from(v.position)).collect();
+                let cross = (p[1] - p[0]).cross(p[2] - p[0]);
+                if cross.length() < 1e-6 {
+                    continue; // a sphere's pole: a sliver, nothing to see
+                }
+                let centre = (p[0] + p[1] + p[2]) / 3.0;
+                let n = Vec3::from(t[0].normal);
+                assert!(
+                    cross.dot(n) > 0.0,
+                    "{shape:?}: a triangle winds inward: {p:?} {n} {cross}"
+                );
+                assert!(cross.dot(centre - inside) > 0.0, "{shape:?}: faces inside");
+                assert!((n.length() - 1.0).abs() < 1e-5);
+                for q in &p {
+                    // Every corner lies on the surface the wind sees.
+                    let grown = match shape {
+                        Obstacle::Box { min, max } => Obstacle::Box {
+                            min: min - 1e-4,
+                            max: max + 1e-4,
+                        },
+                        Obstacle::Sphere { center, radius } => Obstacle::Sphere {
+                            center,
+                            radius: radius + 1e-4,
+                        },
+                        Obstacle::Cylinder {
+                            base,
+                            radius,
+                            height,
+                        } => Obstacle::Cylinder {
+                            base: base - Vec3::Y * 1e-4,
+                            radius: radius + 1e-4,
+                            height: height + 2e-4,
+                        },
+                    };
+                    assert!(grown.contains(*q), "{shape:?}: corner {q} off the shape");
+                }
+            }
+        }
+        assert!(mesh(&[]).is_empty());
+    }
+}
