@@ -13,8 +13,8 @@ use crate::frame::FrameRecorder;
 use crate::gpu::query::PipelineStatistics;
 use crate::gpu::{Gpu, GpuOptions, ValidationReport};
 use crate::render::FrameUniforms;
-use crate::report::files;
 pub use crate::report::render::RenderReport;
+use crate::report::{files, legend};
 use crate::scene::{field, Scene, ViewMode};
 
 pub use crate::scene::check::{MAX_FRAMES, MAX_IMAGE_SIDE};
@@ -299,7 +299,8 @@ fn animate(
             time as f32,
         );
         let started = Instant::now();
-        let frame = recorder.render(gpu, &uniforms, steps).map_err(at_frame)?;
+        let mut frame = recorder.render(gpu, &uniforms, steps).map_err(at_frame)?;
+        legend::stamp(&mut frame, request.view, request.scene.lod.levels);
         done.wall_ms.push(started.elapsed().as_secs_f64() * 1e3);
         done.gpu_timings.push(frame.timings);
         let name = format!("frame_{f:04}.png");

@@ -1,9 +1,10 @@
 //! Writing results: files written whole or not at all (PNG, GIF, JSON,
-//! text), the wind-slice pictures, and the tables printed or saved. It
+//! text), the wind-slice pictures, the debug views' keys, and the tables printed or saved. It
 //! computes nothing: the commands hand it what they measured.
 
 pub mod bench;
 pub mod files;
+pub mod legend;
 pub mod render;
 pub mod reproduce;
 pub mod space_time;
