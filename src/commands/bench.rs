@@ -11,7 +11,7 @@ use std::time::Instant;
 
 use crate::commands::{on_gpu, write_json};
 use crate::error::{Error, Result};
-use crate::frame::timing::{FrameTimings, Spread, TimingSummary};
+use crate::frame::timing::{FrameTimings, Phase, Spread, TimingSummary};
 use crate::frame::FrameRecorder;
 use crate::gpu::query::PipelineStatistics;
 use crate::gpu::{Gpu, GpuOptions};
@@ -156,7 +156,7 @@ fn bench_row(
     )?;
     let samples = recorder.samples();
 
-    let timing = TimingSummary::of(&timings, &wall);
+    let timing = TimingSummary::of(&timings, &wall, &recorder.untimed_phases());
     let render: Option<Vec<f64>> = timings
         .iter()
         .map(|t| t.map(|t| t.shadow + t.color))
@@ -238,6 +238,13 @@ fn floor(
     let Some(grass_draw) = grass_draw.and_then(|g| Spread::of(&g)) else {
         return Ok(Err("no timestamps on this device".into()));
     };
+    if let Some((_, why)) = recorder
+        .untimed_phases()
+        .into_iter()
+        .find(|(p, _)| *p == Phase::GrassDraw)
+    {
+        return Ok(Err(format!("the grass draw cannot be timed here: {why}")));
+    }
     let segments =
         ((stats.geometry_shader_primitives as f64 / (2.0 * blades as f64)).round() as u32).max(1);
     let blade_vertices = recorder.blades().buffer();

@@ -219,7 +219,7 @@ fn render_with(
         interrupted: done.interrupted,
         warnings,
         pipeline_statistics: done.statistics,
-        timing: TimingSummary::of(&done.gpu_timings, &done.wall_ms),
+        timing: TimingSummary::of(&done.gpu_timings, &done.wall_ms, &recorder.untimed_phases()),
         wall_seconds: 0.0,
         validation: ValidationReport::default(),
     })

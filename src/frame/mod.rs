@@ -72,6 +72,9 @@ pub struct FrameRecorder {
     timer: Option<SpanTimer<Phase>>,
     commands: Commands,
     extent: (u32, u32),
+    /// Why this device cannot time the grass draw inside the colour pass
+    /// (`DeviceInfo::draw_timing_unavailable`); None where it can.
+    draw_timing_unavailable: Option<String>,
 }
 
 impl FrameRecorder {
@@ -110,7 +113,18 @@ impl FrameRecorder {
             timer,
             commands,
             extent: (width, height),
+            draw_timing_unavailable: gpu.info().draw_timing_unavailable.clone(),
         })
+    }
+
+    /// The phases this device cannot time, with why: the grass draw where
+    /// a draw inside a pass cannot be timed (the colour pass as a whole
+    /// still is).
+    pub fn untimed_phases(&self) -> Vec<(Phase, String)> {
+        self.draw_timing_unavailable
+            .iter()
+            .map(|why| (Phase::GrassDraw, why.clone()))
+            .collect()
     }
 
     /// The MSAA sample count actually used.
@@ -180,6 +194,7 @@ impl FrameRecorder {
             statistics,
             timer,
             commands,
+            draw_timing_unavailable,
             ..
         } = self;
         let (buffer, count) = (blades.buffer(), blades.count());
@@ -199,11 +214,18 @@ impl FrameRecorder {
         statistics.reset(&rec);
         let color = t.begin(&rec, Phase::Color);
         renderer.begin_color(&rec);
-        t.span(&rec, Phase::GrassDraw, |rec| {
+        let draw_grass = |rec: &Recording| {
             statistics.begin(rec);
             renderer.draw_grass(rec, buffer, count);
             statistics.end(rec);
-        });
+        };
+        // Where a draw inside a pass cannot be timed, it is not stamped
+        // (`untimed_phases` says why) rather than timed wrongly.
+        if draw_timing_unavailable.is_some() {
+            draw_grass(&rec);
+        } else {
+            t.span(&rec, Phase::GrassDraw, draw_grass);
+        }
         renderer.end_color(&rec);
         t.end(&rec, color);
         t.span(&rec, Phase::Readback, |rec| renderer.record_readback(rec));

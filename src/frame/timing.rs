@@ -132,8 +132,9 @@ pub fn median_p95(values: &[f64]) -> Option<(f64, f64)> {
     Some((at(0.5), at(0.95)))
 }
 
-/// Median and p95 GPU ms of each phase over a run of frames.
-pub type PhaseSpreads = PerPhase<Spread>;
+/// Median and p95 GPU ms of each phase over a run of frames; None for a
+/// phase this device cannot time (`TimingSummary::phases_unavailable`).
+pub type PhaseSpreads = PerPhase<Option<Spread>>;
 
 /// Timings of a run of frames, as `report.json` and `bench.json` hold them.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
@@ -144,6 +145,9 @@ pub struct TimingSummary {
     /// the reason in `gpu_unavailable` (never reported as zero).
     pub gpu_ms: Option<PhaseSpreads>,
     pub gpu_unavailable: Option<String>,
+    /// Phases the device times none of, each with why (their `gpu_ms`
+    /// entry is null, never zero).
+    pub phases_unavailable: std::collections::BTreeMap<String, String>,
     /// Wall-clock ms per frame on the host: recording, submission, the GPU
     /// work and the wait for the read-back (not PNG encoding).
     pub wall_frame_ms: Option<Spread>,
@@ -152,13 +156,16 @@ pub struct TimingSummary {
 }
 
 impl TimingSummary {
-    /// From each frame's GPU timings (None: no timestamps on this device)
-    /// and wall-clock ms.
-    pub fn of(gpu: &[Option<FrameTimings>], wall_ms: &[f64]) -> Self {
+    /// From each frame's GPU timings (None: no timestamps on this device),
+    /// wall-clock ms, and the phases the device could not time, with why.
+    pub fn of(gpu: &[Option<FrameTimings>], wall_ms: &[f64], untimed: &[(Phase, String)]) -> Self {
         let all: Option<Vec<FrameTimings>> = gpu.iter().copied().collect();
         let gpu_ms = all.filter(|v| !v.is_empty()).map(|v| {
             PhaseSpreads::from_fn(|p| {
-                Spread::of(&v.iter().map(|t| t.get(p)).collect::<Vec<_>>()).expect("not empty")
+                if untimed.iter().any(|(u, _)| *u == p) {
+                    return None;
+                }
+                Spread::of(&v.iter().map(|t| t.get(p)).collect::<Vec<_>>())
             })
         });
         let gpu_unavailable = match (&gpu_ms, gpu.is_empty()) {
@@ -173,6 +180,10 @@ impl TimingSummary {
             frames: wall_ms.len(),
             gpu_ms,
             gpu_unavailable,
+            phases_unavailable: untimed
+                .iter()
+                .map(|(p, why)| (p.name().to_string(), why.clone()))
+                .collect(),
             wall_frame_ms: wall,
             fps: wall.filter(|w| w.median > 0.0).map(|w| 1000.0 / w.median),
         }

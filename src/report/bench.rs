@@ -175,13 +175,14 @@ pub fn markdown(b: &Bench) -> String {
             "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
             r.blades,
             if r.lod { "on" } else { "off" },
-            ms(g.map(|g| g.wind)),
+            ms(g.and_then(|g| g.wind)),
             paper(|p| p.wind_ms),
-            ms(g.map(|g| g.grass)),
+            ms(g.and_then(|g| g.grass)),
             paper(|p| p.grass_ms),
             ms(r.render_ms),
             paper_render,
-            g.map(|g| format!("{:.2}", 1000.0 / g.frame.median))
+            g.and_then(|g| g.frame)
+                .map(|f| format!("{:.2}", 1000.0 / f.median))
                 .unwrap_or_else(|| "n/a".into()),
             r.timing
                 .fps
@@ -203,11 +204,11 @@ pub fn markdown(b: &Bench) -> String {
             "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
             r.blades,
             if r.lod { "on" } else { "off" },
-            ms(g.map(|g| g.shadow)),
-            ms(g.map(|g| g.color)),
-            ms(g.map(|g| g.grass_draw)),
-            ms(g.map(|g| g.readback)),
-            ms(g.map(|g| g.frame)),
+            ms(g.and_then(|g| g.shadow)),
+            ms(g.and_then(|g| g.color)),
+            ms(g.and_then(|g| g.grass_draw)),
+            ms(g.and_then(|g| g.readback)),
+            ms(g.and_then(|g| g.frame)),
             r.triangles
                 .map(|t| t.to_string())
                 .unwrap_or_else(|| "n/a".into()),
@@ -256,7 +257,8 @@ pub fn svg(b: &Bench) -> Result<String> {
                 .filter_map(|r| {
                     r.timing
                         .gpu_ms
-                        .map(|g| (r.blades as f64, g.get(phase).median))
+                        .and_then(|g| g.get(phase))
+                        .map(|s| (r.blades as f64, s.median))
                 })
                 .collect();
             if !points.is_empty() {

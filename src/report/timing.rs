@@ -12,8 +12,17 @@ pub fn table(summary: &TimingSummary) -> String {
                 summary.frames
             );
             for p in Phase::ALL {
-                let s = g.get(p);
-                out += &format!("  {:<11} {:>9.3} {:>9.3}\n", p.name(), s.median, s.p95);
+                out += &match g.get(p) {
+                    Some(s) => format!("  {:<11} {:>9.3} {:>9.3}\n", p.name(), s.median, s.p95),
+                    None => format!(
+                        "  {:<11} unavailable: {}\n",
+                        p.name(),
+                        summary
+                            .phases_unavailable
+                            .get(p.name())
+                            .map_or("not timed", String::as_str)
+                    ),
+                };
             }
         }
         None => {
