@@ -73,7 +73,7 @@ const SIZE: (u32, u32) = (320, 180);
 // (mean FLIP / share over the pixel level / block p99); "broken" figures
 // are the frames the refusal tests below render.
 const GOLDENS: &[Golden] = &[
-    // Fig. 10 at rest. Jitter: 0.019 / 0.14% over 0.2 / 2.9. Broken:
+    // Fig. 10 at rest. Jitter: 0.018 / 0.13% over 0.2 / 2.6. Broken:
     // shadow pass off 0.021 / 3.3% / 20.5; sun moved 60 degrees 0.038 /
     // 6.2% / 19.0. Limits: mean 1.5x the jitter, budget and blocks about
     // 2x to 7x it and well under the broken frames.
@@ -89,7 +89,7 @@ const GOLDENS: &[Golden] = &[
         },
     },
     // Fig. 10 after 60 steps of wind from the left: the blades lean right.
-    // Jitter: 0.020 / 0.25% / 3.1. Broken: the frame at rest 0.039 / 5.9%
+    // Jitter: 0.018 / 0.19% / 2.8. Broken: the frame at rest 0.039 / 5.9%
     // / 12.1.
     Golden {
         name: "few-bunches-wind-60-steps",
@@ -133,16 +133,18 @@ const GOLDENS: &[Golden] = &[
         },
     },
     // Fig. 13 after 60 steps, motion view (blue calm, red bent): the lee of
-    // the wall, boulder and post stays blue. Jitter: 0.057 / 1.1% over 0.2
-    // / 7.0. Broken: the obstacles removed 0.057 / 4.5% / 37.4.
+    // the wall, boulder and post stays blue, and the three stand drawn.
+    // Jitter: 0.067 / 4.0% over 0.2 / 7.6 (the obstacles' edges, drawn
+    // since they are, raised it from 1.1%). Broken: the obstacles removed
+    // 0.146 / 29.7% / 61.6. Limits: 1.5x, 2x and 1.8x the jitter.
     Golden {
         name: "obstacles-motion-60-steps",
         scene: "fig13-obstacles",
         view: ViewMode::Motion,
         time: 1.0,
         limits: Limits {
-            mean_flip: 0.08,
-            pixels_over: (0.2, 0.025),
+            mean_flip: 0.1,
+            pixels_over: (0.2, 0.08),
             block_p99: 14.0,
         },
     },

@@ -85,12 +85,13 @@ fn size(view: ViewMode) -> Option<(i32, i32)> {
 }
 
 /// Stamps the key of `view` into the bottom-right corner of `frame`; the
-/// shaded view has none, and a frame too small for the key is left alone.
+/// shaded view has none, and a frame under three keys wide or four high
+/// (a preview, where the key would hide much of it) is left alone.
 pub fn stamp(frame: &mut Frame, view: ViewMode, levels: [u32; 3]) {
     let Some((w, h)) = size(view) else {
         return;
     };
-    if frame.width < 2 * w as u32 || frame.height < 3 * h as u32 {
+    if frame.width < 3 * w as u32 || frame.height < 4 * h as u32 {
         return;
     }
     let (x0, y0) = (frame.width as i32 - w - 4, frame.height as i32 - h - 4);
@@ -136,14 +137,14 @@ mod tests {
 
     #[test]
     fn the_motion_key_runs_from_the_rest_colour_to_the_full_one() {
-        let mut frame = blank(320, 180);
+        let mut frame = blank(640, 360);
         stamp(&mut frame, ViewMode::Motion, [20, 10, 3]);
         let at = |x: u32, y: u32| {
             let i = ((y * frame.width + x) * 4) as usize;
             [frame.rgba[i], frame.rgba[i + 1], frame.rgba[i + 2]]
         };
         let (w, h) = size(ViewMode::Motion).unwrap();
-        let (x0, y0) = (320 - w as u32 - 4, 180 - h as u32 - 4);
+        let (x0, y0) = (640 - w as u32 - 4, 360 - h as u32 - 4);
         assert_eq!(at(x0 + 4, y0 + 20), srgb(MOTION_AT_REST));
         assert_eq!(at(x0 + w as u32 - 5, y0 + 20), srgb(MOTION_FULL));
         // Text in the ink colour, and the rest of the frame untouched.
@@ -153,7 +154,7 @@ mod tests {
 
     #[test]
     fn the_shaded_view_and_tiny_frames_get_no_key() {
-        for (view, (w, h)) in [(ViewMode::Shaded, (320, 180)), (ViewMode::Motion, (64, 36))] {
+        for (view, (w, h)) in [(ViewMode::Shaded, (640, 360)), (ViewMode::Motion, (320, 180))] {
             let mut frame = blank(w, h);
             stamp(&mut frame, view, [20, 10, 3]);
             assert!(frame.rgba.iter().all(|&v| v == 128), "{view:?} {w}x{h}");
