@@ -175,6 +175,22 @@ fn every_command_line_path_is_validation_clean_with_best_practices() {
         &["wind", "--scene", "fig13-obstacles", "--steps", "5"],
         "wind_report.json",
     );
+    // Two-way: the grass steps with the wind, laying its frontal area.
+    command(
+        "wind-two-way",
+        &[
+            "wind",
+            "--scene",
+            "fig13-obstacles",
+            "--steps",
+            "5",
+            "--coupling",
+            "two-way",
+            "--cells",
+            "30,10,30",
+        ],
+        "wind_report.json",
+    );
     command(
         "bench",
         &[

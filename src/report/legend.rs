@@ -154,7 +154,10 @@ mod tests {
 
     #[test]
     fn the_shaded_view_and_tiny_frames_get_no_key() {
-        for (view, (w, h)) in [(ViewMode::Shaded, (640, 360)), (ViewMode::Motion, (320, 180))] {
+        for (view, (w, h)) in [
+            (ViewMode::Shaded, (640, 360)),
+            (ViewMode::Motion, (320, 180)),
+        ] {
             let mut frame = blank(w, h);
             stamp(&mut frame, view, [20, 10, 3]);
             assert!(frame.rgba.iter().all(|&v| v == 128), "{view:?} {w}x{h}");
