@@ -357,15 +357,21 @@ fn project(scene: &Scene, p: Vec3, w: u32, h: u32) -> (f32, f32) {
     )
 }
 
-#[test]
-fn a_tall_blade_shadows_the_ground_on_the_side_away_from_the_light() {
-    let gpu = strict_gpu();
+/// Fig. 10's scene seen from above, the sun low in the +x direction (45
+/// degrees up), a 2048 shadow map: shadows fall along -x.
+fn seen_from_above_with_the_sun_at_45_degrees() -> Scene {
     let mut scene = Scene::builtin("fig10-few-bunches").unwrap();
-    // Seen from above; the sun low in the +x direction (45 degrees up).
     scene.camera.position = [0.0, 3.0, 0.6];
     scene.camera.target = [0.0, 0.0, 0.0];
     scene.light.direction = [1.0, 1.0, 0.0];
     scene.light.shadow_map = 2048;
+    scene
+}
+
+#[test]
+fn a_tall_blade_shadows_the_ground_on_the_side_away_from_the_light() {
+    let gpu = strict_gpu();
+    let scene = seen_from_above_with_the_sun_at_45_degrees();
     // One wide 1 m blade at the origin, its face to the sun (width along z).
     let blades = [single_blade(Vec3::ZERO, Vec3::X, 0.03)];
     let (w, h) = (320, 320);
@@ -427,11 +433,7 @@ fn a_tall_blade_shadows_the_ground_on_the_side_away_from_the_light() {
 fn an_obstacle_is_drawn_where_it_stands_and_casts_its_shadow() {
     use meadow::sim::wind::Obstacle;
     let gpu = strict_gpu();
-    let mut scene = Scene::builtin("fig10-few-bunches").unwrap();
-    scene.camera.position = [0.0, 3.0, 0.6];
-    scene.camera.target = [0.0, 0.0, 0.0];
-    scene.light.direction = [1.0, 1.0, 0.0];
-    scene.light.shadow_map = 2048;
+    let mut scene = seen_from_above_with_the_sun_at_45_degrees();
     // One blade far off, so the frame has grass to draw.
     let blades = [single_blade(Vec3::new(0.0, 0.0, -1.2), Vec3::X, 0.01)];
     let (w, h) = (320, 320);
