@@ -125,6 +125,19 @@ impl Error {
             source,
         }
     }
+
+    /// An image encoder's failure: a failed write (a full disk while a GIF
+    /// streams out) is an I/O error with its advice, anything else an
+    /// encoding error.
+    pub fn image(path: impl AsRef<std::path::Path>, source: image::ImageError) -> Self {
+        match source {
+            image::ImageError::IoError(e) => Error::io(path, e),
+            source => Error::Image {
+                path: path.as_ref().display().to_string(),
+                source,
+            },
+        }
+    }
 }
 
 /// An empty vector with room for `len` items (one per blade, a count the
@@ -210,6 +223,13 @@ mod tests {
         assert!(!Error::io("x", other)
             .to_string()
             .contains("free some space"));
+        // A full disk under an image encoder (a GIF streaming out) says the same.
+        let full = std::io::Error::from(std::io::ErrorKind::StorageFull);
+        let e = Error::image("out/animation.gif", image::ImageError::IoError(full)).to_string();
+        assert!(
+            e.starts_with("out/animation.gif: ") && e.contains("free some space"),
+            "{e}"
+        );
     }
 
     #[test]

@@ -94,10 +94,7 @@ pub fn write_rgb_png(path: &Path, width: u32, height: u32, rgb: &[u8]) -> Result
     let mut encoded = Vec::new();
     image::codecs::png::PngEncoder::new(&mut encoded)
         .write_image(rgb, width, height, image::ExtendedColorType::Rgb8)
-        .map_err(|source| Error::Image {
-            path: path.display().to_string(),
-            source,
-        })?;
+        .map_err(|source| Error::image(path, source))?;
     write_atomic(path, &encoded)
 }
 
@@ -126,10 +123,7 @@ impl GifWriter {
         let mut encoder = image::codecs::gif::GifEncoder::new_with_speed(file.clone(), 10);
         encoder
             .set_repeat(image::codecs::gif::Repeat::Infinite)
-            .map_err(|source| Error::Image {
-                path: path.display().to_string(),
-                source,
-            })?;
+            .map_err(|source| Error::image(path, source))?;
         let centis = (frame_seconds * 100.0).round().clamp(2.0, 65535.0) as u32;
         Ok(Self {
             path: path.to_path_buf(),
@@ -147,10 +141,7 @@ impl GifWriter {
         let encoder = self.encoder.as_mut().expect("GIF writer used after finish");
         encoder
             .encode_frame(image::Frame::from_parts(image, 0, 0, self.delay))
-            .map_err(|source| Error::Image {
-                path: self.path.display().to_string(),
-                source,
-            })?;
+            .map_err(|source| Error::image(&self.path, source))?;
         self.frames += 1;
         Ok(())
     }
