@@ -3,7 +3,9 @@
 //! every blade lays the frontal area of each of its edges in the wind cell
 //! the edge's midpoint stands in; the next wind step takes the canopy drag
 //!
-//!     du/dt = -C_d a |u| u      (a: frontal area per unit volume, 1/m)
+//! ```text
+//! du/dt = -C_d a |u| u      (a: frontal area per unit volume, 1/m)
+//! ```
 //!
 //! implicitly in its advection, u' = u / (1 + dt C_d a |u|)
 //! (`WindField::advect`), which slows the air but never turns it back.
