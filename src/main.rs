@@ -104,6 +104,11 @@ enum Command {
         /// Level of detail: tessellation level 20/10/3 by distance, or always 20.
         #[arg(long, value_enum)]
         lod: Option<OnOff>,
+        /// Culling: draw only the blades the view (and its shadows) can
+        /// show, listed by a compute pass each frame; off draws every blade
+        /// in both passes (default: the scene's [cull], on).
+        #[arg(long, value_enum)]
+        cull: Option<OnOff>,
         /// What to show: the shaded grass, or a debug view.
         #[arg(long, value_enum)]
         view: Option<ViewMode>,
@@ -402,6 +407,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             height,
             msaa,
             lod,
+            cull,
             view,
             seed,
             frames,
@@ -429,6 +435,9 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             }
             if let Some(lod) = lod {
                 scene.lod.enabled = lod == OnOff::On;
+            }
+            if let Some(cull) = cull {
+                scene.cull.enabled = cull == OnOff::On;
             }
             let mut request = RenderRequest::from_scene(scene, device.options()?);
             let a = &mut request.animation;

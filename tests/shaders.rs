@@ -112,6 +112,16 @@ fn descriptor_layouts_match_reflection() {
     // The five wind kernels share one set layout.
     check_pipeline("wind", &WIND_KERNELS, WIND_SET);
     check_pipeline("grass", &[&shaders::GRASS_STEP_COMP], GRASS_SET);
+    // The cull pass's three kernels share one set layout.
+    check_pipeline(
+        "cull",
+        &[
+            &shaders::CULL_FLAGS_COMP,
+            &shaders::CULL_SCAN_COMP,
+            &shaders::CULL_COMPACT_COMP,
+        ],
+        meadow::render::cull::CULL_SET,
+    );
     // The bench's floor: vertex and fragment only.
     check_pipeline(
         "floor",
@@ -300,6 +310,36 @@ fn array_element_layout(module: &naga::Module, binding: u32) -> (Vec<u32>, u32, 
     };
     let (offsets, span) = struct_layout(module, base);
     (offsets, span, stride)
+}
+
+#[test]
+fn the_cull_pass_reads_the_vertices_the_grass_step_writes() {
+    let (module, _) = reflect::naga_module(&shaders::CULL_FLAGS_COMP).unwrap();
+    let (offsets, span, stride) = array_element_layout(&module, 1);
+    assert_eq!(span as usize, std::mem::size_of::<BladeVertex>());
+    assert_eq!(stride as usize, std::mem::size_of::<BladeVertex>());
+    assert_eq!(
+        offsets,
+        [
+            offset_of!(BladeVertex, position),
+            offset_of!(BladeVertex, width)
+        ]
+        .map(|o| o as u32)
+    );
+    // One uvec4 of push constants in every kernel.
+    for spirv in [
+        &shaders::CULL_FLAGS_COMP,
+        &shaders::CULL_SCAN_COMP,
+        &shaders::CULL_COMPACT_COMP,
+    ] {
+        let (module, _) = reflect::naga_module(spirv).unwrap();
+        assert_eq!(
+            push_constant_layout(&module),
+            (vec![0], 16),
+            "{}",
+            spirv.path
+        );
+    }
 }
 
 #[test]

@@ -13,9 +13,10 @@ use meadow::scene::{field, Scene, ViewMode};
 
 /// The sequential phases of a frame: they do not overlap, so together they
 /// fit in the frame's own span.
-const SEQUENTIAL: [Phase; 5] = [
+const SEQUENTIAL: [Phase; 6] = [
     Phase::Wind,
     Phase::Grass,
+    Phase::Cull,
     Phase::Shadow,
     Phase::Color,
     Phase::Readback,
@@ -34,6 +35,7 @@ fn check_frame(t: &FrameTimings, steps: u64, what: &str, untimed: &[Phase]) {
         );
     }
     for p in [
+        Phase::Cull,
         Phase::Shadow,
         Phase::Color,
         Phase::GrassDraw,

@@ -12,6 +12,7 @@ pub use crate::frame::Animation;
 use crate::frame::FrameRecorder;
 use crate::gpu::query::PipelineStatistics;
 use crate::gpu::{Gpu, GpuOptions, ValidationReport};
+use crate::render::cull::CullCounts;
 use crate::render::FrameUniforms;
 pub use crate::report::render::RenderReport;
 use crate::report::{files, legend};
@@ -219,6 +220,8 @@ fn render_with(
         interrupted: done.interrupted,
         warnings,
         pipeline_statistics: done.statistics,
+        cull: scene.cull.enabled,
+        cull_counts: done.cull,
         timing: TimingSummary::of(&done.gpu_timings, &done.wall_ms, &recorder.untimed_phases()),
         wall_seconds: 0.0,
         validation: ValidationReport::default(),
@@ -230,6 +233,7 @@ struct Animated {
     names: Vec<String>,
     gif: Option<String>,
     statistics: Option<PipelineStatistics>,
+    cull: Option<CullCounts>,
     gpu_timings: Vec<Option<FrameTimings>>,
     wall_ms: Vec<f64>,
     interrupted: bool,
@@ -265,6 +269,7 @@ fn animate(
         names: Vec::new(),
         gif: None,
         statistics: None,
+        cull: None,
         gpu_timings: Vec::new(),
         wall_ms: Vec::new(),
         interrupted: false,
@@ -310,6 +315,7 @@ fn animate(
         }
         done.names.push(name);
         done.statistics = frame.statistics;
+        done.cull = frame.cull;
         let progress = FrameProgress {
             written: done.names.len() as u32,
             planned,

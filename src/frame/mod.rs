@@ -2,8 +2,8 @@
 //! the frame recorder, which owns the command buffer, the phase timer and
 //! the pipeline-statistics query, and records, in one submission:
 //!
-//! simulate (wind step, grass step) x steps -> shadow pass -> colour pass
-//! (sky, ground, grass) -> read-back.
+//! simulate (wind step, grass step) x steps -> cull -> shadow pass ->
+//! colour pass (sky, ground, grass) -> read-back.
 //!
 //! The simulating and rendering phases do not know each other; this is the
 //! one place that puts them in order.
@@ -14,6 +14,7 @@ pub mod timing;
 use crate::error::{Error, Result};
 use crate::gpu::query::{PipelineStatistics, Span, SpanTimer, StatisticsQuery};
 use crate::gpu::{Commands, Gpu, Recording};
+use crate::render::cull::{BladeDraw, CullCounts, CullPass};
 use crate::render::{FrameUniforms, Renderer};
 use crate::scene::{Scene, ViewMode};
 use crate::sim::{Blade, GrassBlade};
@@ -58,14 +59,18 @@ pub struct Frame {
     pub statistics: Option<PipelineStatistics>,
     /// GPU time of each phase (None where the device has no timestamps).
     pub timings: Option<FrameTimings>,
+    /// How many blades each pass drew (None with culling off: all).
+    pub cull: Option<CullCounts>,
 }
 
 /// What a frame needs: the blades, the simulating phase (none for a still
 /// of blades at rest), the rendering phase, and the recording of both.
 pub struct FrameRecorder {
-    // Declared first, dropped first: the grass kernel's set names the
-    // blade buffer.
+    // Declared first, dropped first: the grass kernel's and the cull
+    // pass's sets name the blade buffer (and the latter the renderer's
+    // uniforms).
     simulation: Option<Simulation>,
+    cull: Option<CullPass>,
     renderer: Renderer,
     blades: BladeBuffer,
     statistics: StatisticsQuery,
@@ -105,8 +110,22 @@ impl FrameRecorder {
         let simulation = dynamics
             .map(|d| Simulation::new(gpu, &commands, scene, d, blade_buffer.buffer()))
             .transpose()?;
+        let cull = scene
+            .cull
+            .enabled
+            .then(|| {
+                CullPass::new(
+                    gpu,
+                    renderer.uniforms(),
+                    blade_buffer.buffer(),
+                    blade_buffer.count(),
+                    renderer.shadows(),
+                )
+            })
+            .transpose()?;
         Ok(Self {
             simulation,
+            cull,
             renderer,
             blades: blade_buffer,
             statistics,
@@ -138,6 +157,11 @@ impl FrameRecorder {
 
     pub fn renderer(&self) -> &Renderer {
         &self.renderer
+    }
+
+    /// The cull pass (None with culling off).
+    pub fn cull(&self) -> Option<&CullPass> {
+        self.cull.as_ref()
     }
 
     pub fn blades(&self) -> &BladeBuffer {
@@ -178,9 +202,9 @@ impl FrameRecorder {
             ));
         }
         self.renderer.set_uniforms(uniforms);
-        // Two spans per simulation step, five for the frame's own phases.
+        // Two spans per simulation step, six for the frame's own phases.
         if let Some(timer) = self.timer.as_mut() {
-            let pairs = u32::try_from(steps.saturating_mul(2).saturating_add(5)).map_err(|_| {
+            let pairs = u32::try_from(steps.saturating_mul(2).saturating_add(6)).map_err(|_| {
                 Error::InvalidInput(format!(
                     "{steps} simulation steps in one frame are too many to time"
                 ))
@@ -189,6 +213,7 @@ impl FrameRecorder {
         }
         let Self {
             simulation,
+            cull,
             renderer,
             blades,
             statistics,
@@ -208,15 +233,25 @@ impl FrameRecorder {
                 t.span(&rec, Phase::Grass, |rec| simulation.record_grass_step(rec));
             }
         }
+        if let Some(cull) = cull.as_ref() {
+            t.span(&rec, Phase::Cull, |rec| cull.record(rec));
+        }
+        let (color_draw, shadow_draw) = match cull.as_ref() {
+            Some(c) => (
+                BladeDraw::Listed(c.color_list()),
+                BladeDraw::Listed(c.shadow_list()),
+            ),
+            None => (BladeDraw::All(count), BladeDraw::All(count)),
+        };
         t.span(&rec, Phase::Shadow, |rec| {
-            renderer.record_shadow(rec, buffer, count)
+            renderer.record_shadow(rec, buffer, shadow_draw)
         });
         statistics.reset(&rec);
         let color = t.begin(&rec, Phase::Color);
         renderer.begin_color(&rec);
         let draw_grass = |rec: &Recording| {
             statistics.begin(rec);
-            renderer.draw_grass(rec, buffer, count);
+            renderer.draw_grass(rec, buffer, color_draw);
             statistics.end(rec);
         };
         // Where a draw inside a pass cannot be timed, it is not stamped
@@ -248,6 +283,7 @@ impl FrameRecorder {
             rgba: self.renderer.pixels(),
             statistics: self.statistics.read()?,
             timings,
+            cull: self.cull.as_ref().map(CullPass::counts),
         })
     }
 }
@@ -308,6 +344,11 @@ pub fn check_fits(gpu: &Gpu, scene: &Scene, width: u32, height: u32, msaa: u32) 
             scene.blade_count()
         ),
         crate::simulate::grass_pass::device_bytes(scene.blade_count())
+            + if scene.cull.enabled {
+                crate::render::cull::device_bytes(scene.blade_count())
+            } else {
+                0
+            }
             + pixels * (8 * msaa as u64 + 8)
             + 4 * (scene.light.shadow_map as u64).pow(2),
     )

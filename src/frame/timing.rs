@@ -12,6 +12,8 @@ pub enum Phase {
     Wind,
     /// Grass dynamics steps (swing, bend, twist).
     Grass,
+    /// The cull pass: which blades the shadow and colour passes draw.
+    Cull,
     /// The depth-only pass from the sun into the shadow map.
     Shadow,
     /// Sky, ground and grass into the multisampled image, resolved at the
@@ -26,9 +28,10 @@ pub enum Phase {
 }
 
 impl Phase {
-    pub const ALL: [Phase; 7] = [
+    pub const ALL: [Phase; 8] = [
         Phase::Wind,
         Phase::Grass,
+        Phase::Cull,
         Phase::Shadow,
         Phase::Color,
         Phase::GrassDraw,
@@ -40,6 +43,7 @@ impl Phase {
         match self {
             Phase::Wind => "wind",
             Phase::Grass => "grass",
+            Phase::Cull => "cull",
             Phase::Shadow => "shadow",
             Phase::Color => "colour",
             Phase::GrassDraw => "grass_draw",
@@ -54,6 +58,7 @@ impl Phase {
 pub struct PerPhase<T> {
     pub wind: T,
     pub grass: T,
+    pub cull: T,
     pub shadow: T,
     #[serde(rename = "colour")]
     pub color: T,
@@ -68,6 +73,7 @@ impl<T> PerPhase<T> {
         Self {
             wind: f(Phase::Wind),
             grass: f(Phase::Grass),
+            cull: f(Phase::Cull),
             shadow: f(Phase::Shadow),
             color: f(Phase::Color),
             grass_draw: f(Phase::GrassDraw),
@@ -80,6 +86,7 @@ impl<T> PerPhase<T> {
         match phase {
             Phase::Wind => &mut self.wind,
             Phase::Grass => &mut self.grass,
+            Phase::Cull => &mut self.cull,
             Phase::Shadow => &mut self.shadow,
             Phase::Color => &mut self.color,
             Phase::GrassDraw => &mut self.grass_draw,
@@ -94,6 +101,7 @@ impl<T: Copy> PerPhase<T> {
         match phase {
             Phase::Wind => self.wind,
             Phase::Grass => self.grass,
+            Phase::Cull => self.cull,
             Phase::Shadow => self.shadow,
             Phase::Color => self.color,
             Phase::GrassDraw => self.grass_draw,

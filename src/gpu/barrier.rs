@@ -91,6 +91,18 @@ impl Access {
         vk::AccessFlags2::VERTEX_ATTRIBUTE_READ,
         NO_LAYOUT,
     );
+    /// Index fetch reading an index buffer.
+    pub const INDEX_INPUT: Self = access(
+        vk::PipelineStageFlags2::INDEX_INPUT,
+        vk::AccessFlags2::INDEX_READ,
+        NO_LAYOUT,
+    );
+    /// An indirect draw reading its parameters from a buffer.
+    pub const DRAW_INDIRECT: Self = access(
+        vk::PipelineStageFlags2::DRAW_INDIRECT,
+        vk::AccessFlags2::INDIRECT_COMMAND_READ,
+        NO_LAYOUT,
+    );
     pub const COLOR_ATTACHMENT_WRITE: Self = access(
         vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
         vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,

@@ -400,6 +400,30 @@ impl Recording<'_> {
         };
     }
 
+    /// Binds `buffer` as the index buffer, 32-bit indices from its start.
+    pub fn bind_index_buffer(&self, buffer: &Buffer) {
+        // SAFETY: recording; the buffer is live and made with INDEX_BUFFER.
+        unsafe {
+            self.device
+                .raw
+                .cmd_bind_index_buffer(self.cmd, buffer.raw, 0, vk::IndexType::UINT32)
+        };
+    }
+
+    /// One indexed draw whose parameters (a `VkDrawIndexedIndirectCommand`)
+    /// the GPU wrote at byte `offset` of `buffer`.
+    pub fn draw_indexed_indirect(&self, buffer: &Buffer, offset: u64) {
+        // SAFETY: recording inside rendering with a graphics pipeline, its
+        // vertex and index buffers bound; the buffer is live, made with
+        // INDIRECT_BUFFER, and holds the 20-byte command at the 4-aligned
+        // `offset` (the callers' layouts say so). One draw: no stride.
+        unsafe {
+            self.device
+                .raw
+                .cmd_draw_indexed_indirect(self.cmd, buffer.raw, offset, 1, 0)
+        };
+    }
+
     pub fn draw(&self, vertices: u32) {
         // SAFETY: recording inside rendering with a graphics pipeline bound.
         unsafe { self.device.raw.cmd_draw(self.cmd, vertices, 1, 0, 0) };

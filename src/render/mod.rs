@@ -1,9 +1,11 @@
 //! The rendering phase (paper section 5): the paper's pipeline (vertex ->
 //! tessellation control -> tessellation evaluation -> geometry ->
-//! fragment), the shadow map, the obstacles, the surface textures, the render targets
+//! fragment), the cull pass that lists the blades each pass draws, the
+//! shadow map, the obstacles, the surface textures, the render targets
 //! and the read-back; and the bench's vertex+fragment floor. It draws the
 //! blade buffer it is handed and knows nothing of the simulation.
 
+pub mod cull;
 pub mod floor;
 pub mod frame_uniforms;
 pub mod obstacles;
@@ -13,6 +15,7 @@ pub mod shadow;
 pub mod targets;
 pub mod texture_maps;
 pub mod textures;
+pub mod visibility;
 
 pub use frame_uniforms::{FrameUniforms, ViewMode};
 pub use renderer::Renderer;

@@ -9,6 +9,7 @@ use crate::gpu::{
     Access, Attachments, Bound, Buffer, Commands, DescriptorSet, Gpu, ImageTransition, Recording,
     TargetFormats,
 };
+use crate::render::cull::BladeDraw;
 use crate::render::frame_uniforms::FrameUniforms;
 use crate::render::obstacles::ObstacleMeshes;
 use crate::render::pipelines::{RenderPipelines, FRAME_SET};
@@ -106,14 +107,23 @@ impl Renderer {
         self.shadow.write_uniforms(&uniforms);
     }
 
-    /// The shadow pass: `blade_count` blades of `blades` and the
-    /// obstacles from the sun.
-    pub fn record_shadow(&self, rec: &Recording, blades: &Buffer, blade_count: u32) {
+    /// The frame uniforms both passes (and the cull pass) read.
+    pub fn uniforms(&self) -> &Buffer {
+        &self.uniforms
+    }
+
+    /// Whether the shadow pass draws anything (a map and its pipelines).
+    pub fn shadows(&self) -> bool {
+        self.pipelines.shadow.is_some() && self.shadow.size > 0
+    }
+
+    /// The shadow pass: `draw` of `blades` and the obstacles from the sun.
+    pub fn record_shadow(&self, rec: &Recording, blades: &Buffer, draw: BladeDraw) {
         self.shadow.record(
             rec,
             self.pipelines.shadow.as_ref(),
             blades,
-            blade_count,
+            draw,
             &self.obstacles,
         );
     }
@@ -138,11 +148,11 @@ impl Renderer {
         self.obstacles.draw(rec, &p.obstacle);
     }
 
-    /// The grass: one 4-point patch per blade, through all five stages.
-    pub fn draw_grass(&self, rec: &Recording, blades: &Buffer, blade_count: u32) {
+    /// The grass: one 4-point patch per blade drawn, through all five
+    /// stages.
+    pub fn draw_grass(&self, rec: &Recording, blades: &Buffer, draw: BladeDraw) {
         rec.bind_pipeline(&self.pipelines.blade);
-        rec.bind_vertex_buffer(blades);
-        rec.draw(blade_count * 4);
+        draw.record(rec, blades);
     }
 
     /// Closes the colour pass (the MSAA image resolves at its end).

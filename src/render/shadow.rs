@@ -11,6 +11,7 @@ use crate::gpu::{
     Access, Attachments, Bound, Buffer, DescriptorSet, Gpu, Image, ImageDesc, ImageTransition,
     PipelineLayout, Recording, Sampler,
 };
+use crate::render::cull::BladeDraw;
 use crate::render::frame_uniforms::FrameUniforms;
 use crate::render::obstacles::ObstacleMeshes;
 use crate::render::pipelines::{ShadowPipelines, SHADOW_FORMAT, SHADOW_SET};
@@ -103,15 +104,14 @@ impl ShadowMap {
         self.uniforms.write(0, std::slice::from_ref(&light));
     }
 
-    /// Records the shadow pass: clear, draw `blade_count` blades from
-    /// `blades` and the obstacles depth-only from the light (when shadows
+    /// Records the shadow pass: clear, `draw` of `blades` and the obstacles depth-only from the light (when shadows
     /// are on), and hand the map to the fragment stage.
     pub fn record(
         &self,
         rec: &Recording,
         pipelines: Option<&ShadowPipelines>,
         blades: &Buffer,
-        blade_count: u32,
+        draw: BladeDraw,
         obstacles: &ObstacleMeshes,
     ) {
         // The previous frame's colour pass sampled the map: its reads must
@@ -130,8 +130,7 @@ impl ShadowMap {
         if let (Some(pipelines), true) = (pipelines, self.size > 0) {
             rec.bind_set(&pipelines.blades, &self.set);
             rec.bind_pipeline(&pipelines.blades);
-            rec.bind_vertex_buffer(blades);
-            rec.draw(blade_count * 4);
+            draw.record(rec, blades);
             obstacles.draw(rec, &pipelines.obstacles);
         }
         rec.end_rendering();

@@ -132,6 +132,7 @@ mod tests {
             rgba: vec![128; (width * height * 4) as usize],
             statistics: None,
             timings: None,
+            cull: None,
         }
     }
 

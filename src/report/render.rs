@@ -7,6 +7,7 @@ use crate::frame::timing::TimingSummary;
 use crate::frame::Animation;
 use crate::gpu::query::PipelineStatistics;
 use crate::gpu::ValidationReport;
+use crate::render::cull::CullCounts;
 use crate::scene::{Camera, ViewMode};
 use crate::sim::grass::CapCounts;
 use crate::sim::wind::Coupling;
@@ -61,6 +62,11 @@ pub struct RenderReport {
     /// the grid), one line each.
     pub warnings: Vec<String>,
     pub pipeline_statistics: Option<PipelineStatistics>,
+    /// Whether a compute pass culled the blades each frame, and of the
+    /// last frame's blades how many each pass drew (null with culling off:
+    /// every blade in both).
+    pub cull: bool,
+    pub cull_counts: Option<CullCounts>,
     /// Per-phase GPU time (median, p95), wall-clock frame time and FPS.
     pub timing: TimingSummary,
     /// Wall-clock seconds of the whole job (GPU start-up to teardown).
@@ -93,6 +99,15 @@ pub fn summary(report: &RenderReport, out: &Path) -> String {
             s.geometry_shader_invocations,
             s.geometry_shader_primitives
         );
+    }
+    match &report.cull_counts {
+        Some(c) => {
+            text += &format!(
+                "culling: {} of {} blades in view, {} shadow casters\n",
+                c.in_view, c.blades, c.shadow_casters
+            )
+        }
+        None => text += "culling: off (every blade drawn in both passes)\n",
     }
     if report.validation.enabled {
         text += &format!(

@@ -51,6 +51,8 @@ pub struct Scene {
     #[serde(default)]
     pub lod: Lod,
     #[serde(default)]
+    pub cull: Cull,
+    #[serde(default)]
     pub ground: Ground,
     pub grass: Grass,
     #[serde(default)]
@@ -183,6 +185,21 @@ impl Default for Lod {
             far_distance: 9.0,
             levels: [20, 10, 3],
         }
+    }
+}
+
+/// Culling (ours; src/render/cull.rs): each frame a compute pass lists the
+/// blades the colour pass can see and those whose shadow can fall into
+/// the view, and each pass draws only its list.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Cull {
+    pub enabled: bool,
+}
+
+impl Default for Cull {
+    fn default() -> Self {
+        Self { enabled: true }
     }
 }
 

@@ -1,0 +1,88 @@
+// Which blades each pass draws: the tests of the cull pass (glsl/cull/),
+// mirrored on the CPU by src/render/visibility.rs. Every test is
+// conservative: a blade is left out only when nothing it can put on screen
+// (or cast onto what is on screen) survives.
+#ifndef MEADOW_CULL_GLSL
+#define MEADOW_CULL_GLSL
+
+#include "frame.glsl"
+
+// Flags of one blade.
+#define CULL_IN_VIEW 1u   // drawn by the colour pass
+#define CULL_CASTER  2u   // drawn by the shadow pass
+
+// Workgroup of the flag and compaction kernels: one blade per invocation.
+#define CULL_GROUP 256u
+
+struct Vertex {
+    vec4 position;
+    vec4 width;
+};
+
+// The box around everything the geometry stage can emit for a blade: the
+// Bezier curve (eq. 1) and its interpolated width vector lie in the hull
+// of the control points and width vectors, and the taper only narrows.
+void blade_bounds(Vertex v[4], out vec3 lo, out vec3 hi) {
+    lo = vec3(3.0e38);
+    hi = vec3(-3.0e38);
+    for (int i = 0; i < 4; ++i) {
+        vec3 w = abs(v[i].width.xyz);
+        lo = min(lo, v[i].position.xyz - w);
+        hi = max(hi, v[i].position.xyz + w);
+    }
+}
+
+// Whether the box lies wholly on the negative side of one clip plane: its
+// corner farthest along the plane's normal is behind it.
+bool outside(vec4 plane, vec3 lo, vec3 hi) {
+    vec3 far_corner = mix(lo, hi, greaterThanEqual(plane.xyz, vec3(0.0)));
+    return dot(plane.xyz, far_corner) + plane.w < 0.0;
+}
+
+// Whether any of the box may be inside the frustum of `m` (world to
+// Vulkan clip space: -w <= x, y <= w, 0 <= z <= w), tested against the
+// six planes read off the matrix's rows.
+bool box_in_frustum(mat4 m, vec3 lo, vec3 hi) {
+    vec4 r0 = vec4(m[0][0], m[1][0], m[2][0], m[3][0]);
+    vec4 r1 = vec4(m[0][1], m[1][1], m[2][1], m[3][1]);
+    vec4 r2 = vec4(m[0][2], m[1][2], m[2][2], m[3][2]);
+    vec4 r3 = vec4(m[0][3], m[1][3], m[2][3], m[3][3]);
+    return !(outside(r3 + r0, lo, hi) || outside(r3 - r0, lo, hi)
+          || outside(r3 + r1, lo, hi) || outside(r3 - r1, lo, hi)
+          || outside(r2, lo, hi) || outside(r3 - r2, lo, hi));
+}
+
+// The box grown by the blade's shadow: swept away from the sun `light`
+// (toward the light, y > 0) down to the ground y = 0. Whatever receives
+// the blade's shadow (ground, other blades, obstacles) lies in it.
+void shadow_sweep(vec3 light, inout vec3 lo, inout vec3 hi) {
+    vec2 run = light.xz / light.y;   // ground shift per metre of height
+    float y0 = max(lo.y, 0.0), y1 = max(hi.y, 0.0);
+    vec2 shift_lo = min(run * y0, run * y1);
+    vec2 shift_hi = max(run * y0, run * y1);
+    lo = vec3(min(lo.x, lo.x - shift_hi.x), min(lo.y, 0.0), min(lo.z, lo.z - shift_hi.y));
+    hi = vec3(max(hi.x, hi.x - shift_lo.x), hi.y, max(hi.z, hi.z - shift_lo.y));
+}
+
+// Suns this low cast shadows too long to bound: every blade casts.
+#define LOWEST_SWEPT_SUN 0.02
+
+uint cull_flags(Vertex v[4], bool shadows) {
+    vec3 lo, hi;
+    blade_bounds(v, lo, hi);
+    uint flags = box_in_frustum(frame.view_proj, lo, hi) ? CULL_IN_VIEW : 0u;
+    if (shadows) {
+        vec3 light = frame.light_dir.xyz;
+        if (light.y < LOWEST_SWEPT_SUN) {
+            flags |= CULL_CASTER;
+        } else {
+            shadow_sweep(light, lo, hi);
+            if (box_in_frustum(frame.view_proj, lo, hi)) {
+                flags |= CULL_CASTER;
+            }
+        }
+    }
+    return flags;
+}
+
+#endif

@@ -1,0 +1,44 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// Cull pass, 1 of 3: one invocation per blade tests the blade's current
+// control points (glsl/common/cull.glsl), stores its flags, and each
+// workgroup stores how many of its blades each pass draws.
+
+#include "cull.glsl"
+
+layout(local_size_x = 256) in;
+
+layout(push_constant, std430) uniform Push {
+    uvec4 control;   // x: blades, y: workgroups of the flag kernel, z: 1 = shadows on
+} pc;
+
+layout(set = 0, binding = 1, std430) readonly buffer Vertices { Vertex vertices[]; };
+layout(set = 0, binding = 2, std430) buffer Flags { uint flags[]; };
+layout(set = 0, binding = 3, std430) buffer Groups { uvec2 group_counts[]; };
+
+shared uvec2 counts[CULL_GROUP];
+
+void main() {
+    uint blade = gl_GlobalInvocationID.x;
+    uint i = gl_LocalInvocationID.x;
+    uint f = 0u;
+    if (blade < pc.control.x) {
+        Vertex v[4];
+        for (int k = 0; k < 4; ++k) {
+            v[k] = vertices[4u * blade + uint(k)];
+        }
+        f = cull_flags(v, pc.control.z != 0u);
+        flags[blade] = f;
+    }
+    counts[i] = uvec2(f & CULL_IN_VIEW, (f & CULL_CASTER) >> 1);
+    barrier();
+    for (uint half_ = CULL_GROUP / 2u; half_ > 0u; half_ >>= 1u) {
+        if (i < half_) {
+            counts[i] += counts[i + half_];
+        }
+        barrier();
+    }
+    if (i == 0u) {
+        group_counts[gl_WorkGroupID.x] = counts[0];
+    }
+}

@@ -1,0 +1,63 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// Cull pass, 2 of 3: one workgroup turns the per-workgroup counts into
+// each workgroup's first slot in the two lists (an exclusive prefix sum, in
+// blade order, so the lists and the frames are the same every run) and
+// writes both passes' indexed indirect draws.
+
+#include "cull.glsl"
+
+layout(local_size_x = 256) in;
+
+layout(push_constant, std430) uniform Push {
+    uvec4 control;   // x: blades, y: workgroups of the flag kernel, z: 1 = shadows on
+} pc;
+
+layout(set = 0, binding = 3, std430) buffer Groups { uvec2 group_counts[]; };
+// Two VkDrawIndexedIndirectCommand (index count, instance count, first
+// index, vertex offset, first instance): the colour pass's, the shadow
+// pass's; then the blades tested.
+layout(set = 0, binding = 4, std430) buffer Draws { uint draws[]; };
+
+shared uvec2 sums[256];
+
+void main() {
+    uint i = gl_LocalInvocationID.x;
+    uint groups = pc.control.y;
+    uint chunk = (groups + 255u) / 256u;
+    uint first = min(i * chunk, groups), last = min(first + chunk, groups);
+    uvec2 sum = uvec2(0u);
+    for (uint g = first; g < last; ++g) {
+        sum += group_counts[g];
+    }
+    // Inclusive scan of the chunks' sums (Hillis-Steele).
+    sums[i] = sum;
+    barrier();
+    for (uint offset = 1u; offset < 256u; offset <<= 1u) {
+        uvec2 add = i >= offset ? sums[i - offset] : uvec2(0u);
+        barrier();
+        sums[i] += add;
+        barrier();
+    }
+    uvec2 running = sums[i] - sum;
+    for (uint g = first; g < last; ++g) {
+        uvec2 count = group_counts[g];
+        group_counts[g] = running;
+        running += count;
+    }
+    if (i == 255u) {
+        uvec2 total = sums[255];
+        draws[0] = 4u * total.x;   // colour: four control points per blade
+        draws[1] = 1u;
+        draws[2] = 0u;
+        draws[3] = 0u;
+        draws[4] = 0u;
+        draws[5] = 4u * total.y;   // shadow
+        draws[6] = 1u;
+        draws[7] = 0u;
+        draws[8] = 0u;
+        draws[9] = 0u;
+        draws[10] = pc.control.x;
+        draws[11] = 0u;
+    }
+}

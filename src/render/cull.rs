@@ -1,0 +1,318 @@
+//! The cull pass (ours; after Jahrmann and Wimmer's compute culling): each
+//! frame, after the grass step and before the shadow pass, GPU compute
+//! tests every blade's current control points (glsl/common/cull.glsl; the
+//! CPU reference is src/render/visibility.rs) and compacts the survivors
+//! into two index lists, one for the colour pass (blades whose bounds
+//! reach into the view) and one for the shadow pass (blades whose shadow
+//! can fall into the view), each drawn by one indexed indirect draw. The
+//! pipeline the survivors go through is the paper's, unchanged.
+//!
+//! Three kernels: flags (one invocation per blade, a count per
+//! workgroup), scan (one workgroup: each workgroup's first slot, and the
+//! draws) and compact (each survivor writes its indices at its slot). The
+//! lists keep blade order, so the frames are the same every run.
+//!
+//! The pass binds the blade buffer and the frame uniforms, which it does
+//! not own; their owners must outlive it.
+
+use ash::vk;
+
+use crate::error::{Error, Result};
+use crate::gpu::{
+    Access, Bound, Buffer, DescriptorKind, DescriptorSet, Gpu, LayoutBinding, MemoryLocation,
+    Pipeline, PipelineLayout, Recording,
+};
+
+/// Blades per workgroup of the flag and compaction kernels (CULL_GROUP).
+const GROUP: u32 = 256;
+/// Bytes of one `VkDrawIndexedIndirectCommand`.
+const DRAW_BYTES: u64 = 20;
+/// Words of the draws buffer: the colour draw, the shadow draw, the
+/// blades tested and one spare.
+const DRAW_WORDS: usize = 12;
+
+/// Push constants of the three kernels.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
+struct CullPush {
+    /// x: blades, y: workgroups of the flag kernel, z: 1 = shadows on.
+    control: [u32; 4],
+}
+
+/// Set 0 of the cull kernels.
+pub const CULL_SET: &[LayoutBinding] = &[
+    LayoutBinding {
+        set: 0,
+        binding: 0,
+        ty: DescriptorKind::UniformBuffer,
+        stages: vk::ShaderStageFlags::COMPUTE,
+    }, // the frame uniforms (camera, sun)
+    LayoutBinding::compute_storage(1), // the blades' control points
+    LayoutBinding::compute_storage(2), // one word of flags per blade
+    LayoutBinding::compute_storage(3), // per workgroup: survivors, then first slots
+    LayoutBinding::compute_storage(4), // the two indirect draws and the count tested
+    LayoutBinding::compute_storage(5), // the colour pass's index list
+    LayoutBinding::compute_storage(6), // the shadow pass's index list
+];
+
+/// Of the blades tested in the last frame, how many each pass drew.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+pub struct CullCounts {
+    /// Blades tested.
+    pub blades: u32,
+    /// Drawn by the colour pass: their bounds reach into the view.
+    pub in_view: u32,
+    /// Drawn by the shadow pass: their shadow can fall into the view
+    /// (all of them when the sun is too low to bound it; none when
+    /// shadows are off).
+    pub shadow_casters: u32,
+}
+
+/// What a pass draws of the blade buffer: every blade, or a cull pass's
+/// list.
+#[derive(Clone, Copy)]
+pub enum BladeDraw<'a> {
+    All(u32),
+    Listed(BladeList<'a>),
+}
+
+impl BladeDraw<'_> {
+    /// Records the draw of `blades`' 4-point patches, with the blade
+    /// pipeline and its set bound.
+    pub fn record(self, rec: &Recording, blades: &Buffer) {
+        rec.bind_vertex_buffer(blades);
+        match self {
+            BladeDraw::All(count) => rec.draw(count * 4),
+            BladeDraw::Listed(list) => {
+                rec.bind_index_buffer(list.indices);
+                rec.draw_indexed_indirect(list.draws, list.offset);
+            }
+        }
+    }
+}
+
+/// A list of blades a pass draws: its index buffer and the draw the cull
+/// pass wrote for it.
+#[derive(Clone, Copy)]
+pub struct BladeList<'a> {
+    pub indices: &'a Buffer,
+    pub draws: &'a Buffer,
+    /// Byte offset of the list's `VkDrawIndexedIndirectCommand` in `draws`.
+    pub offset: u64,
+}
+
+pub struct CullPass {
+    // Declared first, dropped first: the set points at the buffers.
+    set: DescriptorSet,
+    flags_kernel: Pipeline,
+    scan_kernel: Pipeline,
+    compact_kernel: Pipeline,
+    _flags: Buffer,
+    _groups: Buffer,
+    /// The draws and the count tested; host-visible so each frame's
+    /// counts can be read after it.
+    draws: Buffer,
+    color_list: Buffer,
+    shadow_list: Buffer,
+    push: CullPush,
+}
+
+impl CullPass {
+    /// The pass over `blade_count` blades of `blades` (4 control points
+    /// each), seen as `frame_uniforms` says; shadow casters are listed
+    /// only with `shadows`.
+    pub fn new(
+        gpu: &Gpu,
+        frame_uniforms: &Buffer,
+        blades: &Buffer,
+        blade_count: u32,
+        shadows: bool,
+    ) -> Result<Self> {
+        if blade_count == 0 || blade_count > u32::MAX / 4 {
+            return Err(Error::InvalidInput(format!(
+                "{blade_count} blades cannot be culled"
+            )));
+        }
+        let groups = blade_count.div_ceil(GROUP);
+        let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+        let flags = Buffer::new(
+            gpu,
+            "cull flags (one word per blade)",
+            4 * blade_count as u64,
+            storage,
+            MemoryLocation::GpuOnly,
+        )?;
+        let group_counts = Buffer::new(
+            gpu,
+            "cull workgroup counts and first slots",
+            8 * groups as u64,
+            storage,
+            MemoryLocation::GpuOnly,
+        )?;
+        let draws = Buffer::new(
+            gpu,
+            "cull indirect draws (colour, shadow) and count",
+            4 * DRAW_WORDS as u64,
+            storage | vk::BufferUsageFlags::INDIRECT_BUFFER,
+            MemoryLocation::GpuToCpu,
+        )?;
+        let list = |name| {
+            Buffer::new(
+                gpu,
+                name,
+                16 * blade_count as u64,
+                storage | vk::BufferUsageFlags::INDEX_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC,
+                MemoryLocation::GpuOnly,
+            )
+        };
+        let color_list = list("cull colour-pass blade list (index buffer)")?;
+        // Without shadows the shadow list is never written or drawn; it
+        // still has to be bound.
+        let shadow_list = if shadows {
+            list("cull shadow-pass blade list (index buffer)")?
+        } else {
+            Buffer::new(
+                gpu,
+                "cull shadow-pass blade list (unused: no shadows)",
+                16,
+                storage | vk::BufferUsageFlags::INDEX_BUFFER,
+                MemoryLocation::GpuOnly,
+            )?
+        };
+        let layout =
+            PipelineLayout::new::<CullPush>(gpu, CULL_SET, vk::ShaderStageFlags::COMPUTE, "cull")?;
+        let flags_kernel = Pipeline::compute(gpu, &layout, &crate::shaders::CULL_FLAGS_COMP)?;
+        let scan_kernel = Pipeline::compute(gpu, &layout, &crate::shaders::CULL_SCAN_COMP)?;
+        let compact_kernel = Pipeline::compute(gpu, &layout, &crate::shaders::CULL_COMPACT_COMP)?;
+        let set = DescriptorSet::new(
+            gpu,
+            &layout,
+            CULL_SET,
+            &[
+                Bound::Buffer(frame_uniforms),
+                Bound::Buffer(blades),
+                Bound::Buffer(&flags),
+                Bound::Buffer(&group_counts),
+                Bound::Buffer(&draws),
+                Bound::Buffer(&color_list),
+                Bound::Buffer(&shadow_list),
+            ],
+            "cull descriptor set",
+        )?;
+        Ok(Self {
+            set,
+            flags_kernel,
+            scan_kernel,
+            compact_kernel,
+            _flags: flags,
+            _groups: group_counts,
+            draws,
+            color_list,
+            shadow_list,
+            push: CullPush {
+                control: [blade_count, groups, shadows as u32, 0],
+            },
+        })
+    }
+
+    /// Records the three kernels. Waits for the grass step's writes (and
+    /// the blades' upload), and for the previous frame's draws to finish
+    /// reading the lists; ends with the lists and draws visible to the
+    /// draws and the host.
+    pub fn record(&self, rec: &Recording) {
+        rec.barrier(
+            Access::COMPUTE_WRITE
+                .and(Access::COPY_WRITE)
+                .and(Access::INDEX_INPUT)
+                .and(Access::DRAW_INDIRECT),
+            Access::COMPUTE_READ_WRITE,
+        );
+        let groups = self.push.control[1];
+        let kernels = [
+            (&self.flags_kernel, groups),
+            (&self.scan_kernel, 1),
+            (&self.compact_kernel, groups),
+        ];
+        for (i, (kernel, dispatch)) in kernels.into_iter().enumerate() {
+            if i > 0 {
+                rec.barrier(Access::COMPUTE_WRITE, Access::COMPUTE_READ_WRITE);
+            }
+            rec.bind_pipeline(kernel);
+            rec.bind_set(kernel, &self.set);
+            rec.push_constants(kernel, &self.push);
+            rec.dispatch(dispatch);
+        }
+        rec.barrier(
+            Access::COMPUTE_WRITE,
+            Access::INDEX_INPUT
+                .and(Access::DRAW_INDIRECT)
+                .and(Access::HOST_READ),
+        );
+    }
+
+    /// The colour pass's blades.
+    pub fn color_list(&self) -> BladeList<'_> {
+        BladeList {
+            indices: &self.color_list,
+            draws: &self.draws,
+            offset: 0,
+        }
+    }
+
+    /// The shadow pass's blades.
+    pub fn shadow_list(&self) -> BladeList<'_> {
+        BladeList {
+            indices: &self.shadow_list,
+            draws: &self.draws,
+            offset: DRAW_BYTES,
+        }
+    }
+
+    /// The counts of the last frame recorded and waited for.
+    pub fn counts(&self) -> CullCounts {
+        let words: &[u32] = bytemuck::cast_slice(
+            &self
+                .draws
+                .mapped()
+                .expect("the draws buffer is host-visible")[..4 * DRAW_WORDS],
+        );
+        CullCounts {
+            blades: words[10],
+            in_view: words[0] / 4,
+            shadow_casters: words[5] / 4,
+        }
+    }
+
+    /// The colour list of the last frame (blade indices, in order), for
+    /// tests: read back from the device.
+    pub fn read_color_list(&self, gpu: &Gpu, commands: &crate::gpu::Commands) -> Result<Vec<u32>> {
+        let n = self.counts().in_view as usize;
+        read_list(gpu, commands, &self.color_list, n)
+    }
+
+    /// The shadow list of the last frame, as `read_color_list`.
+    pub fn read_shadow_list(&self, gpu: &Gpu, commands: &crate::gpu::Commands) -> Result<Vec<u32>> {
+        let n = self.counts().shadow_casters as usize;
+        read_list(gpu, commands, &self.shadow_list, n)
+    }
+}
+
+/// The blades of a list: every fourth index over 4.
+fn read_list(
+    gpu: &Gpu,
+    commands: &crate::gpu::Commands,
+    list: &Buffer,
+    blades: usize,
+) -> Result<Vec<u32>> {
+    if blades == 0 {
+        return Ok(Vec::new());
+    }
+    let indices: Vec<[u32; 4]> = list.read_back(gpu, commands, blades)?;
+    Ok(indices.iter().map(|q| q[0] / 4).collect())
+}
+
+/// Device memory the cull pass needs for `blades` blades: flags, two
+/// lists of four indices, a count per workgroup.
+pub fn device_bytes(blades: usize) -> u64 {
+    blades as u64 * (4 + 16 + 16) + 8 * (blades as u64).div_ceil(GROUP as u64)
+}

@@ -1,0 +1,218 @@
+//! Which blades each pass can see, on the CPU: the reference for the cull
+//! pass (src/render/cull.rs, glsl/common/cull.glsl), test for test. Every
+//! test is conservative: a blade is left out only when nothing it can put
+//! on screen, or cast onto what is on screen, survives.
+
+use glam::{Mat4, Vec3, Vec4};
+
+use crate::sim::BladeVertex;
+
+/// Suns lower than this (the y of the unit vector toward them) cast
+/// shadows too long to bound: every blade casts.
+pub const LOWEST_SWEPT_SUN: f32 = 0.02;
+
+/// Whether a blade is drawn by the colour pass and by the shadow pass.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Visibility {
+    pub in_view: bool,
+    pub caster: bool,
+}
+
+/// An axis-aligned box.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Bounds {
+    pub lo: Vec3,
+    pub hi: Vec3,
+}
+
+impl Bounds {
+    /// Everything the geometry stage can emit for a blade: the Bezier
+    /// curve (eq. 1) and its interpolated width vector lie in the hull of
+    /// the control points and width vectors, and the taper only narrows.
+    pub fn of_blade(v: &[BladeVertex; 4]) -> Self {
+        let mut b = Bounds {
+            lo: Vec3::splat(f32::MAX),
+            hi: Vec3::splat(f32::MIN),
+        };
+        for c in v {
+            let p = Vec4::from(c.position).truncate();
+            let w = Vec4::from(c.width).truncate().abs();
+            b.lo = b.lo.min(p - w);
+            b.hi = b.hi.max(p + w);
+        }
+        b
+    }
+
+    /// The box grown by its shadow: swept away from the sun (`light`
+    /// points toward it, y > 0) down to the ground y = 0. Whatever
+    /// receives the shadow (ground, blades, obstacles) lies inside.
+    pub fn shadow_sweep(self, light: Vec3) -> Self {
+        let run = Vec3::new(light.x / light.y, 0.0, light.z / light.y);
+        let (y0, y1) = (self.lo.y.max(0.0), self.hi.y.max(0.0));
+        let shift_lo = (run * y0).min(run * y1);
+        let shift_hi = (run * y0).max(run * y1);
+        Bounds {
+            lo: Vec3::new(
+                self.lo.x.min(self.lo.x - shift_hi.x),
+                self.lo.y.min(0.0),
+                self.lo.z.min(self.lo.z - shift_hi.z),
+            ),
+            hi: Vec3::new(
+                self.hi.x.max(self.hi.x - shift_lo.x),
+                self.hi.y,
+                self.hi.z.max(self.hi.z - shift_lo.z),
+            ),
+        }
+    }
+
+    /// How far inside the frustum of `m` (world to Vulkan clip space:
+    /// -w <= x, y <= w, 0 <= z <= w) the box reaches, by the least of the
+    /// six planes read off the matrix's rows, in the planes' own units:
+    /// negative when the box lies wholly outside one of them.
+    pub fn frustum_margin(self, m: &Mat4) -> f32 {
+        let [r0, r1, r2, r3] = [m.row(0), m.row(1), m.row(2), m.row(3)];
+        [r3 + r0, r3 - r0, r3 + r1, r3 - r1, r2, r3 - r2]
+            .into_iter()
+            .map(|plane| {
+                let n = plane.truncate();
+                let far_corner = Vec3::select(n.cmpge(Vec3::ZERO), self.hi, self.lo);
+                n.dot(far_corner) + plane.w
+            })
+            .fold(f32::INFINITY, f32::min)
+    }
+}
+
+/// The cull pass's tests for one blade under the camera `view_proj` and
+/// the sun `light` (toward it, unit length), the shadow test only with
+/// `shadows`. Also returns the smallest margin any decision was taken by
+/// (`Bounds::frustum_margin`), so a test comparing with the GPU can tell
+/// a rounding difference from a wrong answer.
+pub fn visibility(
+    v: &[BladeVertex; 4],
+    view_proj: &Mat4,
+    light: Vec3,
+    shadows: bool,
+) -> (Visibility, f32) {
+    let bounds = Bounds::of_blade(v);
+    let margin = bounds.frustum_margin(view_proj);
+    let mut seen = Visibility {
+        in_view: margin >= 0.0,
+        caster: false,
+    };
+    let mut closest = margin.abs();
+    if shadows {
+        if light.y < LOWEST_SWEPT_SUN {
+            seen.caster = true;
+        } else {
+            let swept = bounds.shadow_sweep(light).frustum_margin(view_proj);
+            seen.caster = swept >= 0.0;
+            closest = closest.min(swept.abs());
+        }
+    }
+    (seen, closest)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn upright(at: Vec3, height: f32) -> [BladeVertex; 4] {
+        std::array::from_fn(|i| BladeVertex {
+            position: (at + Vec3::Y * height * i as f32 / 3.0)
+                .extend(0.5)
+                .to_array(),
+            width: [0.01, 0.0, 0.0, 0.0],
+        })
+    }
+
+    fn camera() -> Mat4 {
+        // At 2 m height looking along -z.
+        let view = Mat4::look_at_rh(
+            Vec3::new(0.0, 2.0, 0.0),
+            Vec3::new(0.0, 0.0, -10.0),
+            Vec3::Y,
+        );
+        let mut proj = Mat4::perspective_rh(45f32.to_radians(), 16.0 / 9.0, 0.05, 200.0);
+        proj.y_axis.y = -proj.y_axis.y;
+        proj * view
+    }
+
+    #[test]
+    fn a_blade_ahead_is_seen_and_one_behind_is_not() {
+        let sun = Vec3::new(0.0, 1.0, 0.0);
+        let (ahead, _) = visibility(
+            &upright(Vec3::new(0.0, 0.0, -5.0), 0.5),
+            &camera(),
+            sun,
+            true,
+        );
+        let (behind, _) = visibility(
+            &upright(Vec3::new(0.0, 0.0, 5.0), 0.5),
+            &camera(),
+            sun,
+            true,
+        );
+        assert_eq!(
+            ahead,
+            Visibility {
+                in_view: true,
+                caster: true
+            }
+        );
+        assert_eq!(behind, Visibility::default());
+    }
+
+    #[test]
+    fn a_blade_out_of_view_casts_into_it_when_its_shadow_falls_there() {
+        // 20 m to the left, out of a 45 degree view at 10 m ahead; a low
+        // sun on the far left throws a 1 m blade's shadow 20 m to the right.
+        let blade = upright(Vec3::new(-24.0, 0.0, -10.0), 1.0);
+        let toward_sun = Vec3::new(-20.0, 1.0, 0.0).normalize();
+        let (seen, _) = visibility(&blade, &camera(), toward_sun, true);
+        assert_eq!(
+            seen,
+            Visibility {
+                in_view: false,
+                caster: true
+            }
+        );
+        // With the sun on the other side the shadow falls away from view.
+        let (seen, _) = visibility(
+            &blade,
+            &camera(),
+            toward_sun * Vec3::new(-1.0, 1.0, 1.0),
+            true,
+        );
+        assert_eq!(seen, Visibility::default());
+        // Without shadows nothing casts.
+        let (seen, _) = visibility(&blade, &camera(), toward_sun, false);
+        assert!(!seen.caster);
+    }
+
+    #[test]
+    fn the_sweep_reaches_the_ground_where_the_tip_shadow_falls() {
+        let b = Bounds::of_blade(&upright(Vec3::ZERO, 1.0));
+        let light = Vec3::new(1.0, 1.0, -0.5).normalize();
+        let s = b.shadow_sweep(light);
+        // The tip (0, 1, 0) lands at (-1, 0, 0.5).
+        assert!((s.lo.x - (-1.0 - 0.01)).abs() < 1e-6, "{s:?}");
+        assert!((s.hi.z - 0.5).abs() < 1e-6, "{s:?}");
+        assert_eq!(s.lo.y, 0.0);
+        assert_eq!(s.hi.y, 1.0);
+    }
+
+    #[test]
+    fn a_blade_beyond_the_far_plane_or_before_the_near_plane_is_not_seen() {
+        let sun = Vec3::Y;
+        let (far, _) = visibility(
+            &upright(Vec3::new(0.0, 0.0, -300.0), 0.5),
+            &camera(),
+            sun,
+            false,
+        );
+        assert!(!far.in_view);
+        // A blade that is only width beside the eye, behind the near plane.
+        let near = upright(Vec3::new(0.0, 1.9, 0.04), 0.05);
+        assert!(!visibility(&near, &camera(), sun, false).0.in_view);
+    }
+}
