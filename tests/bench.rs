@@ -38,9 +38,10 @@ fn tiny_bench(out: &Path, env: &[(&str, &str)]) -> serde_json::Value {
     read_json(&out.join("bench.json"))
 }
 
-const PHASES: [&str; 7] = [
+const PHASES: [&str; 8] = [
     "wind",
     "grass",
+    "cull",
     "shadow",
     "colour",
     "grass_draw",
@@ -88,17 +89,41 @@ fn tiny_bench_writes_every_field_a_table_and_an_svg() {
         assert!(s["step_ms_median"].as_f64().unwrap() > 0.0, "{s}");
     }
     let rows = b["rows"].as_array().unwrap();
-    // Two counts, each without and with LOD.
-    let keys: Vec<(u64, bool)> = rows
+    // Two counts, each without and with LOD, each without and with culling.
+    let keys: Vec<(u64, bool, bool)> = rows
         .iter()
-        .map(|r| (r["blades"].as_u64().unwrap(), r["lod"].as_bool().unwrap()))
+        .map(|r| {
+            (
+                r["blades"].as_u64().unwrap(),
+                r["lod"].as_bool().unwrap(),
+                r["cull"].as_bool().unwrap(),
+            )
+        })
         .collect();
-    assert_eq!(
-        keys,
-        [(1000, false), (1000, true), (2000, false), (2000, true)]
-    );
+    let mut expected = Vec::new();
+    for blades in [1000, 2000] {
+        for lod in [false, true] {
+            for cull in [false, true] {
+                expected.push((blades, lod, cull));
+            }
+        }
+    }
+    assert_eq!(keys, expected);
     for r in rows {
-        let what = format!("{} blades, LOD {}", r["blades"], r["lod"]);
+        let what = format!(
+            "{} blades, LOD {}, culling {}",
+            r["blades"], r["lod"], r["cull"]
+        );
+        let cull = r["cull"] == true;
+        // With culling the grass draws the blades in view; without, all.
+        let drawn = if cull {
+            let counts = &r["cull_counts"];
+            assert_eq!(counts["blades"], r["blades"], "{what}");
+            counts["in_view"].as_u64().unwrap()
+        } else {
+            assert!(r["cull_counts"].is_null(), "{what}");
+            r["blades"].as_u64().unwrap()
+        };
         assert_eq!(r["frames"], 2);
         assert_eq!(r["timing"]["frames"], 2);
         let frame = r["timing"]["gpu_ms"]["frame"]["median"].as_f64().unwrap();
@@ -107,6 +132,11 @@ fn tiny_bench_writes_every_field_a_table_and_an_svg() {
             assert!(untimed["grass_draw"].is_string(), "{what}: {untimed}");
         }
         for p in PHASES {
+            if p == "cull" && !cull {
+                // Not recorded: exactly zero.
+                assert_eq!(r["timing"]["gpu_ms"][p]["median"], 0.0, "{what}");
+                continue;
+            }
             if untimed[p].is_string() {
                 assert!(
                     r["timing"]["gpu_ms"][p].is_null(),
@@ -131,12 +161,19 @@ fn tiny_bench_writes_every_field_a_table_and_an_svg() {
         );
         let blades = r["blades"].as_u64().unwrap();
         if r["lod"] == false {
-            // 20 segments of 2 triangles per blade without LOD.
-            assert_eq!(triangles, 40 * blades, "{what}");
+            // 20 segments of 2 triangles per blade drawn without LOD.
+            assert_eq!(triangles, 40 * drawn, "{what}");
         } else {
-            assert!(triangles < 40 * blades && triangles >= 6 * blades, "{what}");
+            assert!(triangles < 40 * drawn && triangles >= 6 * drawn, "{what}");
         }
         let floor = &r["floor"];
+        if cull {
+            // The floor stands beside the draw of every blade.
+            assert!(floor.is_null(), "{what}: {floor}");
+            let why = r["floor_unavailable"].as_str().unwrap();
+            assert!(why.contains("without culling"), "{what}: {why}");
+            continue;
+        }
         if untimed["grass_draw"].is_string() {
             // No ratio from a time the device cannot measure.
             assert!(floor.is_null(), "{what}: {floor}");
@@ -155,11 +192,16 @@ fn tiny_bench_writes_every_field_a_table_and_an_svg() {
         assert!(r["paper"].is_null(), "no paper row at {blades}");
     }
     let md = std::fs::read_to_string(out.join("bench.md")).unwrap();
-    assert!(md.contains("| blades | LOD | wind ms | paper |"), "{md}");
+    assert!(
+        md.contains("| blades | LOD | culling | wind ms | paper |"),
+        "{md}"
+    );
+    assert!(md.contains("## Culling, off and on in this run"), "{md}");
     assert!(md.contains("grass / floor"), "{md}");
     assert!(md.contains("| multigrid | 7 V-cycles |"), "{md}");
     assert!(md.contains("| jacobi | 30 iterations |"), "{md}");
-    assert_eq!(md.matches("\n| 1000 |").count(), 4, "{md}");
+    // Four rows in each of the two timing tables, two in the culling one.
+    assert_eq!(md.matches("\n| 1000 |").count(), 10, "{md}");
     let svg = std::fs::read_to_string(out.join("bench.svg")).unwrap();
     let doc = roxmltree::Document::parse(&svg).expect("bench.svg is XML");
     assert_eq!(doc.root_element().tag_name().name(), "svg");
@@ -181,10 +223,12 @@ fn without_timestamps_the_bench_reports_unavailable_not_zero() {
         assert!(r["timing"]["gpu_ms"].is_null(), "{}", r["timing"]);
         assert!(r["timing"]["gpu_unavailable"].is_string());
         assert!(r["floor"].is_null());
-        assert!(r["floor_unavailable"]
-            .as_str()
-            .unwrap()
-            .contains("timestamps"));
+        let why = r["floor_unavailable"].as_str().unwrap();
+        if r["cull"] == true {
+            assert!(why.contains("without culling"), "{why}");
+        } else {
+            assert!(why.contains("timestamps"), "{why}");
+        }
         assert!(
             r["timing"]["fps"].as_f64().unwrap() > 0.0,
             "wall clock still measured"

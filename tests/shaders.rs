@@ -312,10 +312,9 @@ fn array_element_layout(module: &naga::Module, binding: u32) -> (Vec<u32>, u32, 
     (offsets, span, stride)
 }
 
-#[test]
-fn the_cull_pass_reads_the_vertices_the_grass_step_writes() {
-    let (module, _) = reflect::naga_module(&shaders::CULL_FLAGS_COMP).unwrap();
-    let (offsets, span, stride) = array_element_layout(&module, 1);
+/// The storage array at `binding` is laid out as `BladeVertex`.
+fn assert_blade_vertices(module: &naga::Module, binding: u32) {
+    let (offsets, span, stride) = array_element_layout(module, binding);
     assert_eq!(span as usize, std::mem::size_of::<BladeVertex>());
     assert_eq!(stride as usize, std::mem::size_of::<BladeVertex>());
     assert_eq!(
@@ -326,6 +325,12 @@ fn the_cull_pass_reads_the_vertices_the_grass_step_writes() {
         ]
         .map(|o| o as u32)
     );
+}
+
+#[test]
+fn the_cull_pass_reads_the_vertices_the_grass_step_writes() {
+    let (module, _) = reflect::naga_module(&shaders::CULL_FLAGS_COMP).unwrap();
+    assert_blade_vertices(&module, 1);
     // One uvec4 of push constants in every kernel.
     for spirv in [
         &shaders::CULL_FLAGS_COMP,
@@ -376,17 +381,7 @@ fn grass_blade_state_vertex_and_push_constants_match_the_glsl_side() {
     );
 
     // The kernel writes what the vertex stage reads.
-    let (offsets, span, stride) = array_element_layout(&module, 2);
-    assert_eq!(span as usize, std::mem::size_of::<BladeVertex>());
-    assert_eq!(stride as usize, std::mem::size_of::<BladeVertex>());
-    assert_eq!(
-        offsets,
-        [
-            offset_of!(BladeVertex, position),
-            offset_of!(BladeVertex, width)
-        ]
-        .map(|o| o as u32)
-    );
+    assert_blade_vertices(&module, 2);
 
     let (offsets, span) = push_constant_layout(&module);
     assert_eq!(span as usize, std::mem::size_of::<GrassPush>());

@@ -156,6 +156,12 @@ fn every_command_line_path_is_validation_clean_with_best_practices() {
         &mut seen,
     );
     render(
+        "--cull off",
+        &["--scene", &few, "--frames", "2", "--cull", "off"],
+        &[],
+        &mut seen,
+    );
+    render(
         "no timestamps or statistics",
         &["--scene", &few, "--frames", "2"],
         &[(

@@ -1,9 +1,10 @@
 //! `meadow bench`: the paper's Table 1 measured on this device. For each
-//! blade count, with and without LOD, the `table1` scene runs warm-up
-//! frames and then timed frames, each frame one simulation step (as in real
-//! time) followed by the shadow pass, the colour pass and the read-back;
-//! every phase is bracketed by GPU timestamps. Then the floor: the same
-//! number of triangles drawn by a vertex+fragment pipeline. Writes
+//! blade count, with and without LOD, and each without and with culling,
+//! the `table1` scene runs warm-up frames and then timed frames, each frame
+//! one simulation step (as in real time) followed by the cull pass (when
+//! on), the shadow pass, the colour pass and the read-back; every phase is
+//! bracketed by GPU timestamps. Then, on the rows without culling, the
+//! floor: the same number of triangles drawn by a vertex+fragment pipeline. Writes
 //! bench.json, bench.md (the paper's figures beside ours) and bench.svg.
 
 use std::path::Path;
@@ -95,9 +96,11 @@ pub fn bench_to_dir(request: &BenchRequest, out: &Path) -> Result<Bench> {
         let mut msaa_used = 0;
         for &count in &request.counts {
             for &lod in request.lod.settings() {
-                let (row, used) = bench_row(gpu, request, count, lod)?;
-                msaa_used = used;
-                rows.push(row);
+                for cull in [false, true] {
+                    let (row, used) = bench_row(gpu, request, count, lod, cull)?;
+                    msaa_used = used;
+                    rows.push(row);
+                }
             }
         }
         Ok((rows, wind_solvers, msaa_used, gpu.info().clone()))
@@ -134,10 +137,12 @@ fn bench_row(
     request: &BenchRequest,
     count: usize,
     lod: bool,
+    cull: bool,
 ) -> Result<(BenchRow, u32)> {
     let mut scene = request.scene.clone();
     scene.set_blade_count(count)?;
     scene.lod.enabled = lod;
+    scene.cull.enabled = cull;
     let (w, h) = (request.width, request.height);
     crate::frame::check_fits(gpu, &scene, w, h, request.msaa)?;
     let blades = scene.field()?;
@@ -145,21 +150,27 @@ fn bench_row(
     let mut recorder =
         FrameRecorder::new(gpu, &scene, (w, h), request.msaa, &blades, Some(&dynamic))?;
     let (timings, wall, statistics) = run_frames(gpu, request, &scene, &mut recorder)?;
-    let floor = floor(
-        gpu,
-        request,
-        &scene,
-        &recorder,
-        &statistics,
-        &timings,
-        blades.len(),
-    )?;
+    let cull_counts = recorder.cull().map(|c| c.counts());
+    // The floor draws every blade: it stands beside the uncull draw.
+    let floor = if cull {
+        Err("measured on the row without culling".to_string())
+    } else {
+        floor(
+            gpu,
+            request,
+            &scene,
+            &recorder,
+            &statistics,
+            &timings,
+            blades.len(),
+        )?
+    };
     let samples = recorder.samples();
 
     let timing = TimingSummary::of(&timings, &wall, &recorder.untimed_phases());
     let render: Option<Vec<f64>> = timings
         .iter()
-        .map(|t| t.map(|t| t.shadow + t.color))
+        .map(|t| t.map(|t| t.cull + t.shadow + t.color))
         .collect();
     let (floor, floor_unavailable) = match floor {
         Ok(f) => (Some(f), None),
@@ -169,6 +180,8 @@ fn bench_row(
         BenchRow {
             blades: count,
             lod,
+            cull,
+            cull_counts,
             frames: request.frames,
             warmup: request.warmup,
             timing,

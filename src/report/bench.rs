@@ -8,6 +8,7 @@ use crate::error::{Error, Result};
 use crate::frame::timing::{Phase, Spread, TimingSummary};
 use crate::gpu::query::PipelineStatistics;
 use crate::gpu::ValidationReport;
+use crate::render::cull::CullCounts;
 use crate::report::wind::SolverTiming;
 use crate::sim::wind::PressureSolver;
 
@@ -78,11 +79,16 @@ pub struct FloorResult {
 pub struct BenchRow {
     pub blades: usize,
     pub lod: bool,
+    /// Whether the cull pass ran, and of the last frame's blades how many
+    /// each pass drew (null without culling: all of them).
+    pub cull: bool,
+    pub cull_counts: Option<CullCounts>,
     pub frames: u32,
     pub warmup: u32,
     /// Per-phase GPU ms, wall-clock frame and FPS over the timed frames.
     pub timing: TimingSummary,
-    /// Shadow + colour per frame (the paper's "render"), median and p95.
+    /// Cull + shadow + colour per frame (the paper's "render", with the
+    /// cull pass that decides what it draws), median and p95.
     pub render_ms: Option<Spread>,
     /// The grass draw's counters in the last timed frame.
     pub statistics: Option<PipelineStatistics>,
@@ -153,8 +159,8 @@ pub fn markdown(b: &Bench) -> String {
         b.rows.first().map_or(0, |r| r.frames),
     );
     md += "## Table 1, ours beside the paper's (GTX 670, C++/OpenGL)\n\n";
-    md += "| blades | LOD | wind ms | paper | grass ms | paper | render ms (shadow + colour) | paper | FPS (GPU frame) | FPS (wall) | paper FPS |\n";
-    md += "|---|---|---|---|---|---|---|---|---|---|---|\n";
+    md += "| blades | LOD | culling | wind ms | paper | grass ms | paper | render ms (cull + shadow + colour) | paper | FPS (GPU frame) | FPS (wall) | paper FPS |\n";
+    md += "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for r in &b.rows {
         let g = r.timing.gpu_ms;
         let paper = |f: fn(&PaperRow) -> f64| {
@@ -172,9 +178,10 @@ pub fn markdown(b: &Bench) -> String {
             )
         };
         md += &format!(
-            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
             r.blades,
             if r.lod { "on" } else { "off" },
+            if r.cull { "on" } else { "off" },
             ms(g.and_then(|g| g.wind)),
             paper(|p| p.wind_ms),
             ms(g.and_then(|g| g.grass)),
@@ -191,19 +198,22 @@ pub fn markdown(b: &Bench) -> String {
             paper_fps,
         );
     }
+    md += &culling_markdown(b);
     md += "\n## The wind's pressure solvers\n\n\
            The wind step alone, with each solver (the paper's is Jacobi), and the share of \
            the divergence its projection leaves on the last step:\n\n";
     md += &crate::report::wind::markdown(&b.wind_solvers);
     md += "\n## What the paper does not give\n\n";
-    md += "| blades | LOD | shadow ms | colour ms | grass draw ms | readback ms | GPU frame ms | triangles | floor ms | grass / floor |\n";
-    md += "|---|---|---|---|---|---|---|---|---|---|\n";
+    md += "| blades | LOD | culling | cull ms | shadow ms | colour ms | grass draw ms | readback ms | GPU frame ms | triangles | floor ms | grass / floor |\n";
+    md += "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for r in &b.rows {
         let g = r.timing.gpu_ms;
         md += &format!(
-            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
             r.blades,
             if r.lod { "on" } else { "off" },
+            if r.cull { "on" } else { "off" },
+            ms(g.and_then(|g| g.cull).filter(|_| r.cull)),
             ms(g.and_then(|g| g.shadow)),
             ms(g.and_then(|g| g.color)),
             ms(g.and_then(|g| g.grass_draw)),
@@ -235,6 +245,59 @@ pub fn markdown(b: &Bench) -> String {
     md
 }
 
+/// The culling table: for each blade count and LOD, what the cull pass
+/// kept and the render and GPU frame without and with it, as ratios of
+/// the same run.
+fn culling_markdown(b: &Bench) -> String {
+    let mut md = "\n## Culling, off and on in this run\n\n\
+         | blades | LOD | in view | shadow casters | render ms off | on | off / on | GPU frame ms off | on | off / on |\n\
+         |---|---|---|---|---|---|---|---|---|---|\n"
+        .to_string();
+    let frame = |r: &BenchRow| r.timing.gpu_ms.and_then(|g| g.frame).map(|s| s.median);
+    let render = |r: &BenchRow| r.render_ms.map(|s| s.median);
+    let ratio = |off: Option<f64>, on: Option<f64>| match (off, on) {
+        (Some(off), Some(on)) if on > 0.0 => format!("{:.2}x", off / on),
+        _ => "n/a".into(),
+    };
+    for on in b.rows.iter().filter(|r| r.cull) {
+        let Some(off) = b
+            .rows
+            .iter()
+            .find(|r| !r.cull && r.blades == on.blades && r.lod == on.lod)
+        else {
+            continue;
+        };
+        let (in_view, casters) = on.cull_counts.map_or(("n/a".into(), "n/a".into()), |c| {
+            (
+                format!(
+                    "{} ({:.0}%)",
+                    c.in_view,
+                    100.0 * c.in_view as f64 / c.blades.max(1) as f64
+                ),
+                format!(
+                    "{} ({:.0}%)",
+                    c.shadow_casters,
+                    100.0 * c.shadow_casters as f64 / c.blades.max(1) as f64
+                ),
+            )
+        });
+        md += &format!(
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
+            on.blades,
+            if on.lod { "on" } else { "off" },
+            in_view,
+            casters,
+            ms(off.render_ms),
+            ms(on.render_ms),
+            ratio(render(off), render(on)),
+            ms(off.timing.gpu_ms.and_then(|g| g.frame)),
+            ms(on.timing.gpu_ms.and_then(|g| g.frame)),
+            ratio(frame(off), frame(on)),
+        );
+    }
+    md
+}
+
 /// bench.svg: GPU ms per frame phase against blade count (both axes log
 /// scale, so small and large counts read alike), one line per phase, ours (LOD on dark, off light) and the paper's (with a
 /// dot at each of its counts), drawn with plotters.
@@ -250,7 +313,13 @@ pub fn svg(b: &Bench) -> Result<String> {
         (Phase::Frame, RGBColor(0xd6, 0x27, 0x28)),
     ];
     for lod in [true, false] {
-        let rows: Vec<&BenchRow> = b.rows.iter().filter(|r| r.lod == lod).collect();
+        // The default pipeline: culling on where the run has it.
+        let culled = b.rows.iter().any(|r| r.cull);
+        let rows: Vec<&BenchRow> = b
+            .rows
+            .iter()
+            .filter(|r| r.lod == lod && r.cull == culled)
+            .collect();
         for (phase, color) in phases {
             let points: Vec<(f64, f64)> = rows
                 .iter()
