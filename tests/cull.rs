@@ -43,6 +43,7 @@ fn the_lists_are_the_cpu_references_on_bent_blades_in_blade_order() {
     let mut scene = Scene::builtin("table1").unwrap();
     scene.set_blade_count(30_000).unwrap();
     scene.set_shadow_map(512).unwrap();
+    scene.cull.enabled = true;
     let size = (160, 90);
     let mut r = recorder(&gpu, &scene, size);
     // Two seconds of wind: the blades lean, so their bounds are not the
@@ -51,7 +52,7 @@ fn the_lists_are_the_cpu_references_on_bent_blades_in_blade_order() {
     let steps = r.steps_until(t).unwrap();
     let uniforms = FrameUniforms::new(&scene, size.0, size.1, ViewMode::Shaded, t as f32);
     let frame = r.render(&gpu, &uniforms, steps).unwrap();
-    let counts = frame.cull.expect("culling is on by default");
+    let counts = frame.cull.expect("culling is on");
     let n = r.blades().count() as usize;
     assert_eq!(counts.blades as usize, n);
 

@@ -156,8 +156,8 @@ fn every_command_line_path_is_validation_clean_with_best_practices() {
         &mut seen,
     );
     render(
-        "--cull off",
-        &["--scene", &few, "--frames", "2", "--cull", "off"],
+        "--cull on",
+        &["--scene", &few, "--frames", "2", "--cull", "on"],
         &[],
         &mut seen,
     );

@@ -14,12 +14,13 @@ pub mod timing;
 use crate::error::{Error, Result};
 use crate::gpu::query::{PipelineStatistics, Span, SpanTimer, StatisticsQuery};
 use crate::gpu::{Commands, Gpu, Recording};
-use crate::render::cull::{BladeDraw, CullCounts, CullPass};
+use crate::render::cull::{BladeDraw, CullPass};
 use crate::render::{FrameUniforms, Renderer};
 use crate::scene::{Scene, ViewMode};
 use crate::sim::{Blade, GrassBlade};
 use crate::simulate::Simulation;
 
+pub use crate::render::cull::CullCounts;
 pub use blades::BladeBuffer;
 use timing::{FrameTimings, Phase};
 

@@ -6,9 +6,9 @@ use plotters::prelude::*;
 
 use crate::error::{Error, Result};
 use crate::frame::timing::{Phase, Spread, TimingSummary};
+use crate::frame::CullCounts;
 use crate::gpu::query::PipelineStatistics;
 use crate::gpu::ValidationReport;
-use crate::render::cull::CullCounts;
 use crate::report::wind::SolverTiming;
 use crate::sim::wind::PressureSolver;
 

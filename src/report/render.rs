@@ -4,10 +4,9 @@
 use std::path::Path;
 
 use crate::frame::timing::TimingSummary;
-use crate::frame::Animation;
+use crate::frame::{Animation, CullCounts};
 use crate::gpu::query::PipelineStatistics;
 use crate::gpu::ValidationReport;
-use crate::render::cull::CullCounts;
 use crate::scene::{Camera, ViewMode};
 use crate::sim::grass::CapCounts;
 use crate::sim::wind::Coupling;
