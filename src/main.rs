@@ -106,7 +106,7 @@ enum Command {
         lod: Option<OnOff>,
         /// Culling: draw only the blades the view (and its shadows) can
         /// show, listed by a compute pass each frame; off draws every blade
-        /// in both passes (default: the scene's [cull], off).
+        /// in both passes (default: the scene's [cull], on).
         #[arg(long, value_enum)]
         cull: Option<OnOff>,
         /// What to show: the shaded grass, or a debug view.

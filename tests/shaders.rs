@@ -178,6 +178,7 @@ fn frame_uniforms_match_the_glsl_block() {
             offset_of!(FrameUniforms, light_view_proj),
         ),
         ("shadow", offset_of!(FrameUniforms, shadow)),
+        ("thinning", offset_of!(FrameUniforms, thinning)),
     ];
     let glsl: Vec<(String, usize)> = members.into_iter().map(|(n, o)| (n, o as usize)).collect();
     let rust: Vec<(String, usize)> = rust.iter().map(|(n, o)| (n.to_string(), *o)).collect();

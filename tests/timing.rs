@@ -34,7 +34,7 @@ fn check_frame(t: &FrameTimings, steps: u64, what: &str, untimed: &[Phase]) {
             t.frame
         );
     }
-    // The cull phase is timed when culling is on (off by default: zero).
+    // The cull phase is timed when culling is on (request() turns it on).
     for p in [
         Phase::Shadow,
         Phase::Color,

@@ -2,7 +2,10 @@
 #extension GL_GOOGLE_include_directive : require
 // Tessellation control: level of detail. A blade close to the viewer is cut
 // into 20 segments, a medium one into 10, a far one into 3 (paper section 5.1).
+// With culling on, the distance thinning widens the blades it keeps
+// (glsl/common/thinning.glsl); the cull pass has left out those it drops.
 #include "frame.glsl"
+#include "thinning.glsl"
 
 layout(vertices = 4) out;
 
@@ -28,7 +31,8 @@ float tess_level_for(float distance_to_eye) {
 
 void main() {
     c_position[gl_InvocationID] = v_position[gl_InvocationID];
-    c_width[gl_InvocationID] = v_width[gl_InvocationID];
+    float width_scale = thinning_scale(v_position[0]);
+    c_width[gl_InvocationID] = vec4(v_width[gl_InvocationID].xyz * width_scale, v_width[gl_InvocationID].w);
 
     if (gl_InvocationID == 0) {
         // Distance from the eye to the blade's root decides the level.

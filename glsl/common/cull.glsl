@@ -6,10 +6,12 @@
 #define MEADOW_CULL_GLSL
 
 #include "frame.glsl"
+#include "thinning.glsl"
 
 // Flags of one blade.
 #define CULL_IN_VIEW 1u   // drawn by the colour pass
 #define CULL_CASTER  2u   // drawn by the shadow pass
+#define CULL_KEPT    4u   // not thinned out by distance
 
 // Workgroup of the flag and compaction kernels: one blade per invocation.
 #define CULL_GROUP 256u
@@ -22,11 +24,12 @@ struct Vertex {
 // The box around everything the geometry stage can emit for a blade: the
 // Bezier curve (eq. 1) and its interpolated width vector lie in the hull
 // of the control points and width vectors, and the taper only narrows.
-void blade_bounds(Vertex v[4], out vec3 lo, out vec3 hi) {
+// `width_scale` is the distance thinning's (glsl/common/thinning.glsl).
+void blade_bounds(Vertex v[4], float width_scale, out vec3 lo, out vec3 hi) {
     lo = vec3(3.0e38);
     hi = vec3(-3.0e38);
     for (int i = 0; i < 4; ++i) {
-        vec3 w = abs(v[i].width.xyz);
+        vec3 w = abs(v[i].width.xyz) * width_scale;
         lo = min(lo, v[i].position.xyz - w);
         hi = max(hi, v[i].position.xyz + w);
     }
@@ -67,22 +70,23 @@ void shadow_sweep(vec3 light, inout vec3 lo, inout vec3 hi) {
 // Suns this low cast shadows too long to bound: every blade casts.
 #define LOWEST_SWEPT_SUN 0.02
 
+// Branch-free on purpose: lavapipe (Mesa 22.3) inlines uniforms that
+// branches depend on and compiles a new shader variant at every dispatch,
+// never freed (about 330 KiB and a compile per frame, tests/host_memory.rs
+// saw it). A sun too low to sweep leaves every blade a caster; a blade the
+// distance thinning drops is drawn by neither pass.
 uint cull_flags(Vertex v[4], bool shadows) {
+    float width_scale = thinning_scale(v[0].position);
+    uint kept = uint(width_scale > 0.0);
     vec3 lo, hi;
-    blade_bounds(v, lo, hi);
-    uint flags = box_in_frustum(frame.view_proj, lo, hi) ? CULL_IN_VIEW : 0u;
-    if (shadows) {
-        vec3 light = frame.light_dir.xyz;
-        if (light.y < LOWEST_SWEPT_SUN) {
-            flags |= CULL_CASTER;
-        } else {
-            shadow_sweep(light, lo, hi);
-            if (box_in_frustum(frame.view_proj, lo, hi)) {
-                flags |= CULL_CASTER;
-            }
-        }
-    }
-    return flags;
+    blade_bounds(v, width_scale, lo, hi);
+    uint in_view = kept & uint(box_in_frustum(frame.view_proj, lo, hi));
+    vec3 light = frame.light_dir.xyz;
+    uint low_sun = uint(light.y < LOWEST_SWEPT_SUN);
+    light.y = max(light.y, LOWEST_SWEPT_SUN);
+    shadow_sweep(light, lo, hi);
+    uint caster = kept & uint(shadows) & (low_sun | uint(box_in_frustum(frame.view_proj, lo, hi)));
+    return in_view * CULL_IN_VIEW | caster * CULL_CASTER | kept * CULL_KEPT;
 }
 
 #endif

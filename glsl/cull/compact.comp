@@ -13,7 +13,7 @@ layout(push_constant, std430) uniform Push {
 } pc;
 
 layout(set = 0, binding = 2, std430) buffer Flags { uint flags[]; };
-layout(set = 0, binding = 3, std430) buffer Groups { uvec2 group_counts[]; };
+layout(set = 0, binding = 3, std430) buffer Groups { uvec4 group_counts[]; };
 layout(set = 0, binding = 5, std430) buffer ColorList { uvec4 color_list[]; };
 layout(set = 0, binding = 6, std430) buffer ShadowList { uvec4 shadow_list[]; };
 
@@ -32,7 +32,7 @@ void main() {
         ranks[i] += add;
         barrier();
     }
-    uvec2 slot = group_counts[gl_WorkGroupID.x] + ranks[i] - mine;
+    uvec2 slot = group_counts[gl_WorkGroupID.x].xy + ranks[i] - mine;
     uvec4 indices = 4u * blade + uvec4(0u, 1u, 2u, 3u);
     if (mine.x != 0u) {
         color_list[slot.x] = indices;

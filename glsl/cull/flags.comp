@@ -2,7 +2,8 @@
 #extension GL_GOOGLE_include_directive : require
 // Cull pass, 1 of 3: one invocation per blade tests the blade's current
 // control points (glsl/common/cull.glsl), stores its flags, and each
-// workgroup stores how many of its blades each pass draws.
+// workgroup stores how many of its blades each pass draws, and how many
+// the distance thinning keeps.
 
 #include "cull.glsl"
 
@@ -14,9 +15,9 @@ layout(push_constant, std430) uniform Push {
 
 layout(set = 0, binding = 1, std430) readonly buffer Vertices { Vertex vertices[]; };
 layout(set = 0, binding = 2, std430) buffer Flags { uint flags[]; };
-layout(set = 0, binding = 3, std430) buffer Groups { uvec2 group_counts[]; };
+layout(set = 0, binding = 3, std430) buffer Groups { uvec4 group_counts[]; };
 
-shared uvec2 counts[CULL_GROUP];
+shared uvec4 counts[CULL_GROUP];
 
 void main() {
     uint blade = gl_GlobalInvocationID.x;
@@ -30,7 +31,7 @@ void main() {
         f = cull_flags(v, pc.control.z != 0u);
         flags[blade] = f;
     }
-    counts[i] = uvec2(f & CULL_IN_VIEW, (f & CULL_CASTER) >> 1);
+    counts[i] = uvec4(f & CULL_IN_VIEW, (f & CULL_CASTER) >> 1, (f & CULL_KEPT) >> 2, 0u);
     barrier();
     for (uint half_ = CULL_GROUP / 2u; half_ > 0u; half_ >>= 1u) {
         if (i < half_) {

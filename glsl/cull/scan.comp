@@ -13,20 +13,20 @@ layout(push_constant, std430) uniform Push {
     uvec4 control;   // x: blades, y: workgroups of the flag kernel, z: 1 = shadows on
 } pc;
 
-layout(set = 0, binding = 3, std430) buffer Groups { uvec2 group_counts[]; };
+layout(set = 0, binding = 3, std430) buffer Groups { uvec4 group_counts[]; };
 // Two VkDrawIndexedIndirectCommand (index count, instance count, first
 // index, vertex offset, first instance): the colour pass's, the shadow
-// pass's; then the blades tested.
+// pass's; then the blades tested and those the distance thinning kept.
 layout(set = 0, binding = 4, std430) buffer Draws { uint draws[]; };
 
-shared uvec2 sums[256];
+shared uvec4 sums[256];
 
 void main() {
     uint i = gl_LocalInvocationID.x;
     uint groups = pc.control.y;
     uint chunk = (groups + 255u) / 256u;
     uint first = min(i * chunk, groups), last = min(first + chunk, groups);
-    uvec2 sum = uvec2(0u);
+    uvec4 sum = uvec4(0u);
     for (uint g = first; g < last; ++g) {
         sum += group_counts[g];
     }
@@ -34,19 +34,19 @@ void main() {
     sums[i] = sum;
     barrier();
     for (uint offset = 1u; offset < 256u; offset <<= 1u) {
-        uvec2 add = i >= offset ? sums[i - offset] : uvec2(0u);
+        uvec4 add = i >= offset ? sums[i - offset] : uvec4(0u);
         barrier();
         sums[i] += add;
         barrier();
     }
-    uvec2 running = sums[i] - sum;
+    uvec4 running = sums[i] - sum;
     for (uint g = first; g < last; ++g) {
-        uvec2 count = group_counts[g];
+        uvec4 count = group_counts[g];
         group_counts[g] = running;
         running += count;
     }
     if (i == 255u) {
-        uvec2 total = sums[255];
+        uvec4 total = sums[255];
         draws[0] = 4u * total.x;   // colour: four control points per blade
         draws[1] = 1u;
         draws[2] = 0u;
@@ -58,6 +58,6 @@ void main() {
         draws[8] = 0u;
         draws[9] = 0u;
         draws[10] = pc.control.x;
-        draws[11] = 0u;
+        draws[11] = total.z;       // kept by the distance thinning
     }
 }

@@ -28,7 +28,7 @@ const GROUP: u32 = 256;
 /// Bytes of one `VkDrawIndexedIndirectCommand`.
 const DRAW_BYTES: u64 = 20;
 /// Words of the draws buffer: the colour draw, the shadow draw, the
-/// blades tested and one spare.
+/// blades tested and those the distance thinning left.
 const DRAW_WORDS: usize = 12;
 
 /// Push constants of the three kernels.
@@ -60,6 +60,8 @@ pub const CULL_SET: &[LayoutBinding] = &[
 pub struct CullCounts {
     /// Blades tested.
     pub blades: u32,
+    /// Left by the distance thinning (all of them with it off).
+    pub thinned_to: u32,
     /// Drawn by the colour pass: their bounds reach into the view.
     pub in_view: u32,
     /// Drawn by the shadow pass: their shadow can fall into the view
@@ -145,7 +147,7 @@ impl CullPass {
         let group_counts = Buffer::new(
             gpu,
             "cull workgroup counts and first slots",
-            8 * groups as u64,
+            16 * groups as u64,
             storage,
             MemoryLocation::GpuOnly,
         )?;
@@ -278,6 +280,7 @@ impl CullPass {
         );
         CullCounts {
             blades: words[10],
+            thinned_to: words[11],
             in_view: words[0] / 4,
             shadow_casters: words[5] / 4,
         }
@@ -312,7 +315,7 @@ fn read_list(
 }
 
 /// Device memory the cull pass needs for `blades` blades: flags, two
-/// lists of four indices, a count per workgroup.
+/// lists of four indices, four counts per workgroup.
 pub fn device_bytes(blades: usize) -> u64 {
-    blades as u64 * (4 + 16 + 16) + 8 * (blades as u64).div_ceil(GROUP as u64)
+    blades as u64 * (4 + 16 + 16) + 16 * (blades as u64).div_ceil(GROUP as u64)
 }

@@ -6,6 +6,7 @@ use glam::{Mat4, Vec3};
 
 use crate::error::Result;
 use crate::gpu::{Buffer, Gpu, MemoryLocation};
+use crate::render::thinning::Thinning;
 use crate::scene::Scene;
 
 pub use crate::scene::ViewMode;
@@ -29,6 +30,10 @@ pub struct FrameUniforms {
     /// x: one shadow-map texel in uv, y: 1 = shadows on, z: depth bias,
     /// w: PCF tap spacing in texels. Set by the renderer, which owns the map.
     pub shadow: [f32; 4],
+    /// x: distance thinning begins (m), y: least share kept, z: band, w:
+    /// 1 = on (only with culling, which drops the blades it thins out).
+    /// Off, the share is 1 everywhere and every scale is 1.
+    pub thinning: [f32; 4],
 }
 
 /// The camera at simulated time `time`, in Vulkan clip space: y points
@@ -95,6 +100,7 @@ impl FrameUniforms {
             view: [view as u32, 0, 0, 0],
             light_view_proj: light_view_proj(scene).to_cols_array(),
             shadow: [0.0; 4],
+            thinning: Thinning::of(scene).uniform(),
         }
     }
 }

@@ -15,6 +15,7 @@ pub mod shadow;
 pub mod targets;
 pub mod texture_maps;
 pub mod textures;
+pub mod thinning;
 pub mod visibility;
 
 pub use frame_uniforms::{FrameUniforms, ViewMode};

@@ -5,6 +5,7 @@
 
 use glam::{Mat4, Vec3, Vec4};
 
+use crate::render::thinning::Thinning;
 use crate::sim::BladeVertex;
 
 /// Suns lower than this (the y of the unit vector toward them) cast
@@ -30,13 +31,19 @@ impl Bounds {
     /// curve (eq. 1) and its interpolated width vector lie in the hull of
     /// the control points and width vectors, and the taper only narrows.
     pub fn of_blade(v: &[BladeVertex; 4]) -> Self {
+        Self::of_scaled_blade(v, 1.0)
+    }
+
+    /// As `of_blade`, the width vectors scaled by `width_scale` (the
+    /// distance thinning's, src/render/thinning.rs).
+    pub fn of_scaled_blade(v: &[BladeVertex; 4], width_scale: f32) -> Self {
         let mut b = Bounds {
             lo: Vec3::splat(f32::MAX),
             hi: Vec3::splat(f32::MIN),
         };
         for c in v {
             let p = Vec4::from(c.position).truncate();
-            let w = Vec4::from(c.width).truncate().abs();
+            let w = Vec4::from(c.width).truncate().abs() * width_scale;
             b.lo = b.lo.min(p - w);
             b.hi = b.hi.max(p + w);
         }
@@ -84,16 +91,39 @@ impl Bounds {
 
 /// The cull pass's tests for one blade under the camera `view_proj` and
 /// the sun `light` (toward it, unit length), the shadow test only with
-/// `shadows`. Also returns the smallest margin any decision was taken by
-/// (`Bounds::frustum_margin`), so a test comparing with the GPU can tell
-/// a rounding difference from a wrong answer.
+/// `shadows`, without distance thinning. Also returns the smallest margin
+/// any decision was taken by (`Bounds::frustum_margin`), so a test
+/// comparing with the GPU can tell a rounding difference from a wrong
+/// answer.
 pub fn visibility(
     v: &[BladeVertex; 4],
     view_proj: &Mat4,
     light: Vec3,
     shadows: bool,
 ) -> (Visibility, f32) {
-    let bounds = Bounds::of_blade(v);
+    let (seen, frustum, _) =
+        thinned_visibility(v, view_proj, light, shadows, &Thinning::OFF, Vec3::ZERO);
+    (seen, frustum)
+}
+
+/// As `visibility`, with the distance thinning `thinning` seen from
+/// `eye`: a blade it drops is in neither list, and the bounds hold the
+/// widened blade. The third value is the thinning's own margin
+/// (`Thinning::scale`).
+pub fn thinned_visibility(
+    v: &[BladeVertex; 4],
+    view_proj: &Mat4,
+    light: Vec3,
+    shadows: bool,
+    thinning: &Thinning,
+    eye: Vec3,
+) -> (Visibility, f32, f32) {
+    let root = Vec4::from(v[0].position);
+    let (width_scale, thin_margin) = thinning.scale(root.truncate(), root.w, eye);
+    if width_scale <= 0.0 {
+        return (Visibility::default(), f32::INFINITY, thin_margin);
+    }
+    let bounds = Bounds::of_scaled_blade(v, width_scale);
     let margin = bounds.frustum_margin(view_proj);
     let mut seen = Visibility {
         in_view: margin >= 0.0,
@@ -109,7 +139,7 @@ pub fn visibility(
             closest = closest.min(swept.abs());
         }
     }
-    (seen, closest)
+    (seen, closest, thin_margin)
 }
 
 #[cfg(test)]

@@ -5,7 +5,7 @@
 use std::fmt::Display;
 use std::ops::RangeInclusive;
 
-use super::{Camera, Grass, GrassDynamics, Light, Lod, RenderSettings, Scene, MAX_BLADES};
+use super::{Camera, Cull, Grass, GrassDynamics, Light, Lod, RenderSettings, Scene, MAX_BLADES};
 use crate::error::Error;
 use crate::sim::wind::{Obstacle, WindSource, MAX_CELLS};
 use crate::sim::BladePhysics;
@@ -125,6 +125,7 @@ pub fn scene(s: &Scene) -> Check {
     camera(&s.camera).map_err(|e| e.at("camera"))?;
     light(&s.light).map_err(|e| e.at("light"))?;
     lod(&s.lod).map_err(|e| e.at("lod"))?;
+    cull(&s.cull).map_err(|e| e.at("cull"))?;
     positive("ground.half_extent", s.ground.half_extent, 10_000.0)?;
     grass(&s.grass).map_err(|e| e.at("grass"))?;
     wind(&s.wind).map_err(|e| e.at("wind"))?;
@@ -238,6 +239,28 @@ pub fn lod(l: &Lod) -> Check {
         in_range(&format!("levels[{i}]"), level, 1..=64)?;
     }
     Ok(())
+}
+
+pub fn cull(c: &Cull) -> Check {
+    if !(c.thin_from.is_finite() && (0.0..=1e6).contains(&c.thin_from)) {
+        return Err(FieldError::new(
+            "thin_from",
+            format!(
+                "{} is not allowed, use 0 (no thinning) or a distance up to 1e6 m",
+                c.thin_from
+            ),
+        ));
+    }
+    if !(c.thin_least.is_finite() && c.thin_least >= 0.01 && c.thin_least <= 1.0) {
+        return Err(FieldError::new(
+            "thin_least",
+            format!(
+                "{} is not allowed, use a share in 0.01..=1 (1 keeps every blade)",
+                c.thin_least
+            ),
+        ));
+    }
+    positive("thin_band", c.thin_band, 1.0)
 }
 
 pub fn grass(g: &Grass) -> Check {

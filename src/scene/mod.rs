@@ -190,18 +190,36 @@ impl Default for Lod {
 
 /// Culling (ours; src/render/cull.rs): each frame a compute pass lists the
 /// blades the colour pass can see and those whose shadow can fall into
-/// the view, and each pass draws only its list. Off by default for now:
-/// with it on, lavapipe under the validation layer grows the process by
-/// about 330 KiB a frame (tests/host_memory.rs), cause not yet found.
+/// the view, and each pass draws only its list. On by default; frustum and
+/// shadow-caster culling leave the frames as they are without culling.
+///
+/// With culling on, distance thinning (glsl/common/thinning.glsl) draws a
+/// share of the blades beyond `thin_from`, falling as (thin_from / d)^2 to
+/// `thin_least`, and widens the blades it keeps so the far meadow keeps
+/// its coverage; a blade about to be dropped narrows away over `thin_band`
+/// (a share of the blades) rather than popping.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Cull {
     pub enabled: bool,
+    /// Distance from the camera (m) where thinning begins; 0 turns it off.
+    pub thin_from: f32,
+    /// The least share of blades kept however far (their width grows by
+    /// about its inverse).
+    pub thin_least: f32,
+    /// Width of the band over which blades narrow away, as a share of the
+    /// blades kept at that distance.
+    pub thin_band: f32,
 }
 
 impl Default for Cull {
     fn default() -> Self {
-        Self { enabled: false }
+        Self {
+            enabled: true,
+            thin_from: 8.0,
+            thin_least: 0.125,
+            thin_band: 0.5,
+        }
     }
 }
 
