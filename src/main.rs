@@ -614,19 +614,40 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 "grass step on {} [{}], scene {}, {} timed steps per count (medians)",
                 bench.device, bench.device_type, bench.scene, steps
             );
+            match &bench.copy_bandwidth {
+                Some(c) => println!(
+                    "memory floor: the bytes each step must read and write at {:.1} GB/s, this device's \
+                     copy bandwidth (median of {} copies of {} MiB, read + write)",
+                    c.gb_per_s,
+                    c.copies,
+                    c.bytes >> 20
+                ),
+                None => println!("memory floor: n/a (no timestamps on this device)"),
+            }
             println!(
-                "{:>9}  {:>8}  {:>10}  {:>10}  {:>18}",
-                "blades", "substeps", "median ms", "p95 ms", "paper (GTX 670) ms"
+                "{:>9}  {:>8}  {:>10}  {:>10}  {:>18}  {:>10}  {:>9}  {:>11}",
+                "blades",
+                "substeps",
+                "median ms",
+                "p95 ms",
+                "paper (GTX 670) ms",
+                "MB / step",
+                "floor ms",
+                "step/floor"
             );
             let ms = |v: Option<f64>| v.map_or("n/a".to_string(), |v| format!("{v:.3}"));
             for r in &bench.rows {
                 println!(
-                    "{:>9}  {:>8}  {:>10}  {:>10}  {:>18}",
+                    "{:>9}  {:>8}  {:>10}  {:>10}  {:>18}  {:>10.1}  {:>9}  {:>11}",
                     r.blades,
                     r.substeps,
                     ms(r.step_ms_median),
                     ms(r.step_ms_p95),
-                    r.paper_ms.map_or("-".to_string(), |v| format!("{v:.1}"))
+                    r.paper_ms.map_or("-".to_string(), |v| format!("{v:.1}")),
+                    r.bytes_per_step as f64 / 1e6,
+                    ms(r.floor_ms),
+                    r.over_floor
+                        .map_or("n/a".to_string(), |v| format!("{v:.2}x"))
                 );
             }
             println!("wrote {}", path.display());

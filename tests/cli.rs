@@ -647,6 +647,23 @@ fn bench_grass_times_small_counts_and_refuses_bad_ones() {
             assert!(row["step_ms_p95"].as_f64().unwrap() >= ms);
         }
         assert!(row["paper_ms"].is_null(), "the paper has no 1k figure");
+        // The memory floor: each blade's rest shape read, state read and
+        // written, four control points written, at the copy bandwidth
+        // measured in the same run.
+        use std::mem::size_of;
+        let per_blade = size_of::<meadow::sim::grass::GrassBlade>()
+            + 2 * size_of::<meadow::sim::grass::GrassState>()
+            + 4 * size_of::<meadow::sim::BladeVertex>();
+        assert_eq!(row["bytes_per_step"], (blades * per_blade) as u64, "{row}");
+        if let Some(gb_per_s) = bench["copy_bandwidth"]["gb_per_s"].as_f64() {
+            assert!(gb_per_s > 0.1 && gb_per_s < 100_000.0, "{gb_per_s} GB/s");
+            let floor = row["floor_ms"].as_f64().unwrap();
+            let expect = (blades * per_blade) as f64 / (gb_per_s * 1e9) * 1e3;
+            assert!((floor - expect).abs() <= 1e-9 * expect.max(1.0), "{floor} vs {expect}");
+            let ms = row["step_ms_median"].as_f64().unwrap();
+            let over = row["over_floor"].as_f64().unwrap();
+            assert!((over - ms / floor).abs() <= 1e-9 * over, "{over}");
+        }
     }
     let _ = std::fs::remove_dir_all(&out);
 }

@@ -9,7 +9,7 @@ use crate::error::{Error, Result};
 use crate::frame::timing::median_p95;
 use crate::frame::BladeBuffer;
 use crate::gpu::query::TimestampQueries;
-use crate::gpu::{Commands, Gpu, GpuOptions, ValidationReport};
+use crate::gpu::{Access, Commands, Gpu, GpuOptions, ValidationReport};
 use crate::scene::{field, Scene, MAX_BLADES};
 use crate::sim::canopy;
 use crate::simulate::{GrassPass, WindPass};
@@ -37,6 +37,26 @@ pub struct GrassBenchRow {
     pub step_ms_p95: Option<f64>,
     /// The paper's figure for this count, where it gives one.
     pub paper_ms: Option<f64>,
+    /// Bytes the step must read and write at least
+    /// (`grass_pass::bytes_per_step`).
+    pub bytes_per_step: u64,
+    /// Those bytes at the copy bandwidth measured in the same run (ms):
+    /// the memory-bandwidth floor.
+    pub floor_ms: Option<f64>,
+    /// The median step over the floor.
+    pub over_floor: Option<f64>,
+}
+
+/// The device's copy bandwidth: one buffer copied into another with
+/// vkCmdCopyBuffer, timed by timestamps.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct CopyBandwidth {
+    /// Bytes copied each time (read once and written once).
+    pub bytes: u64,
+    pub copies: u32,
+    /// Bytes read plus written per second over the median copy (GB/s,
+    /// 1e9 bytes).
+    pub gb_per_s: f64,
 }
 
 #[derive(Clone, Debug, serde::Serialize)]
@@ -45,6 +65,8 @@ pub struct GrassBench {
     pub device: String,
     pub device_type: String,
     pub rows: Vec<GrassBenchRow>,
+    /// None where the device has no timestamps.
+    pub copy_bandwidth: Option<CopyBandwidth>,
     pub validation: ValidationReport,
 }
 
@@ -68,18 +90,20 @@ pub fn bench_grass(
     }
     scene.wind_grid()?;
     scene.grass.dynamics.validate()?;
-    let ((rows, info), validation) = on_gpu(options, |gpu| {
+    let ((rows, copy_bandwidth, info), validation) = on_gpu(options, |gpu| {
+        let copy = copy_bandwidth(gpu)?;
         let rows = counts
             .iter()
-            .map(|&n| bench_count(gpu, scene, n, steps, warmup))
+            .map(|&n| bench_count(gpu, scene, n, steps, warmup, copy.as_ref()))
             .collect::<Result<Vec<_>>>()?;
-        Ok((rows, gpu.info().clone()))
+        Ok((rows, copy, gpu.info().clone()))
     })?;
     let bench = GrassBench {
         scene: scene.name.clone(),
         device: info.name,
         device_type: info.device_type,
         rows,
+        copy_bandwidth,
         validation,
     };
     bench.validation.check()?;
@@ -92,6 +116,7 @@ fn bench_count(
     count: usize,
     steps: u32,
     warmup: u32,
+    copy: Option<&CopyBandwidth>,
 ) -> Result<GrassBenchRow> {
     let mut scene = scene.clone();
     scene.set_blade_count(count)?;
@@ -150,7 +175,15 @@ fn bench_count(
         None => Vec::new(),
     };
     let timing = median_p95(&times);
+    let bytes_per_step = crate::simulate::grass_pass::bytes_per_step(count);
+    let floor_ms = copy.map(|c| bytes_per_step as f64 / (c.gb_per_s * 1e9) * 1e3);
     Ok(GrassBenchRow {
+        bytes_per_step,
+        floor_ms,
+        over_floor: floor_ms
+            .zip(timing)
+            .filter(|(f, _)| *f > 0.0)
+            .map(|(f, t)| t.0 / f),
         blades: count,
         substeps: grass.substeps(),
         steps,
@@ -162,6 +195,60 @@ fn bench_count(
             .find(|(n, _)| *n == count)
             .map(|(_, ms)| *ms),
     })
+}
+
+/// Bytes copied to measure the bandwidth: large enough to leave every
+/// cache, small enough for any device meadow runs on.
+const COPY_BYTES: u64 = 256 << 20;
+const COPIES: u32 = 7;
+
+/// Times `COPIES` copies of a `COPY_BYTES` buffer into another: the
+/// bandwidth the grass step's floor is measured against, on the same
+/// device in the same run. None without timestamps.
+fn copy_bandwidth(gpu: &Gpu) -> Result<Option<CopyBandwidth>> {
+    use ash::vk;
+    gpu.check_fits("the bandwidth copy", 2 * COPY_BYTES)?;
+    let Some(timestamps) = TimestampQueries::new(gpu, COPIES, "bandwidth copy timestamps")? else {
+        return Ok(None);
+    };
+    let buffer = |name| {
+        crate::gpu::Buffer::new(
+            gpu,
+            name,
+            COPY_BYTES,
+            vk::BufferUsageFlags::TRANSFER_SRC | vk::BufferUsageFlags::TRANSFER_DST,
+            crate::gpu::MemoryLocation::GpuOnly,
+        )
+    };
+    let (src, dst) = (
+        buffer("bandwidth copy source")?,
+        buffer("bandwidth copy target")?,
+    );
+    let commands = Commands::new(gpu, "bandwidth copy commands")?;
+    let rec = commands.begin()?;
+    // Written once first, so no page is touched for the first time while
+    // timed.
+    rec.fill_buffer(&src, 0);
+    rec.fill_buffer(&dst, 0);
+    timestamps.reset(&rec);
+    for n in 0..COPIES {
+        rec.barrier(
+            Access::TRANSFER_WRITE,
+            Access::COPY_READ.and(Access::COPY_WRITE),
+        );
+        timestamps.stamp(&rec, n, false);
+        rec.copy_buffer(&src, &dst, COPY_BYTES);
+        timestamps.stamp(&rec, n, true);
+    }
+    rec.submit_and_wait("bandwidth copies")?;
+    let times = timestamps.read_ms(COPIES)?;
+    Ok(median_p95(&times)
+        .filter(|(median, _)| *median > 0.0)
+        .map(|(median, _)| CopyBandwidth {
+            bytes: COPY_BYTES,
+            copies: COPIES,
+            gb_per_s: 2.0 * COPY_BYTES as f64 / (median * 1e-3) / 1e9,
+        }))
 }
 
 /// "50k" -> 50000, "1.5m" -> 1500000, "1200" -> 1200.

@@ -243,6 +243,18 @@ impl GrassPass {
     }
 }
 
+/// Bytes one grass step must move at least for `blades` blades: each
+/// blade's rest shape and physics read, its state read and written, its
+/// four control points written (the substeps run in registers). The wind
+/// grid it samples (under a MiB, held in caches) and the cap counters are
+/// not counted: this is the memory-bandwidth floor's numerator.
+pub fn bytes_per_step(blades: usize) -> u64 {
+    use std::mem::size_of;
+    let per_blade =
+        size_of::<GrassBlade>() + 2 * size_of::<GrassState>() + 4 * size_of::<BladeVertex>();
+    blades as u64 * per_blade as u64
+}
+
 /// Device memory the grass of `blades` blades needs: the vertex buffer the
 /// pipeline draws, the rest shapes with physics, and the state.
 pub fn device_bytes(blades: usize) -> u64 {
