@@ -659,7 +659,10 @@ fn bench_grass_times_small_counts_and_refuses_bad_ones() {
             assert!(gb_per_s > 0.1 && gb_per_s < 100_000.0, "{gb_per_s} GB/s");
             let floor = row["floor_ms"].as_f64().unwrap();
             let expect = (blades * per_blade) as f64 / (gb_per_s * 1e9) * 1e3;
-            assert!((floor - expect).abs() <= 1e-9 * expect.max(1.0), "{floor} vs {expect}");
+            assert!(
+                (floor - expect).abs() <= 1e-9 * expect.max(1.0),
+                "{floor} vs {expect}"
+            );
             let ms = row["step_ms_median"].as_f64().unwrap();
             let over = row["over_floor"].as_f64().unwrap();
             assert!((over - ms / floor).abs() <= 1e-9 * over, "{over}");
