@@ -283,6 +283,12 @@ fn malformed_scene_files_are_refused_with_line_column_field_and_range() {
             "lod.far_distance: 4 is nearer than close_distance 9; use close <= far",
         ),
         (
+            "thinning keeping no blade",
+            plus("[cull]\nthin_least = 0.0"),
+            15,
+            "cull.thin_least: 0 is not allowed, use a share in 0.01..=1 (1 keeps every blade)",
+        ),
+        (
             "syntax error",
             with("seed = 1", "seed = "),
             2,
