@@ -72,15 +72,26 @@ impl Thinning {
     /// tell rounding from a wrong answer.
     pub fn scale(&self, root: Vec3, variation: f32, eye: Vec3) -> (f32, f32) {
         let d2 = (root - eye).length_squared().max(1e-12);
+        let h = blade_h(variation);
+        let top = self.share(d2) * (1.0 + self.band);
+        (self.scale_of_h(d2, h), (top - h).abs() / top)
+    }
+
+    /// The width scale of a blade with h = `h` at squared distance `d2`:
+    /// full width below the share, narrowing to 0 over the band above it,
+    /// divided by that profile's mean over h in [0, 1) (the band may reach
+    /// past h = 1).
+    pub fn scale_of_h(&self, d2: f32, h: f32) -> f32 {
+        if !self.is_on() {
+            return 1.0;
+        }
         let share = self.share(d2);
         let band = self.band * share;
-        let h = blade_h(variation);
         let fade = ((share + band - h) / band).clamp(0.0, 1.0);
         let top = (share + band).min(1.0);
         let over = share + band - top;
         let mean = share + (band * band - over * over) / (2.0 * band);
-        let scale = if self.is_on() { fade / mean } else { 1.0 };
-        (scale, (share + band - h).abs() / (share + band))
+        fade / mean
     }
 }
 
@@ -112,20 +123,14 @@ mod tests {
     };
 
     /// The mean scale over `n` evenly spread h values at distance `d`,
-    /// and the share of blades kept, by the same formula as `scale` with
-    /// h given directly.
+    /// and the share of blades kept.
     fn over_h(t: &Thinning, d: f32, n: usize) -> (f64, f64) {
-        let share = t.share(d * d);
-        let band = t.band * share;
-        let top = (share + band).min(1.0);
-        let over = share + band - top;
-        let mean = share + (band * band - over * over) / (2.0 * band);
         let (mut sum, mut kept) = (0.0f64, 0usize);
         for i in 0..n {
             let h = (i as f32 + 0.5) / n as f32;
-            let fade = ((share + band - h) / band).clamp(0.0, 1.0);
-            sum += (fade / mean) as f64;
-            kept += (fade > 0.0) as usize;
+            let scale = t.scale_of_h(d * d, h);
+            sum += scale as f64;
+            kept += (scale > 0.0) as usize;
         }
         (sum / n as f64, kept as f64 / n as f64)
     }
