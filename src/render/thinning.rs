@@ -2,8 +2,8 @@
 //! formula for formula. Beyond `from` metres only a share of the blades is
 //! drawn, share(d) = clamp((from / d)^2, least, 1), so the blades drawn per
 //! pixel stay the same as a blade's projected area falls as 1 / d^2; the
-//! blades kept are widened by the inverse of the share so the far meadow
-//! keeps its coverage. Each blade has a fixed random h in [0, 1): it is
+//! blades kept are widened by the inverse of the mean width profile (about
+//! the inverse of the share) so the far meadow keeps its coverage. Each blade has a fixed random h in [0, 1): it is
 //! drawn at full width while h < share(d) and narrows to nothing as h
 //! crosses the band above it, so as the camera moves no blade pops.
 
