@@ -6,6 +6,7 @@ use glam::{Mat4, Vec3};
 
 use crate::error::Result;
 use crate::gpu::{Buffer, Gpu, MemoryLocation};
+use crate::render::shadow_frustum::light_view_proj;
 use crate::render::thinning::Thinning;
 use crate::scene::Scene;
 
@@ -98,45 +99,9 @@ impl FrameUniforms {
             ],
             ground: [ground.x, ground.z, scene.ground.half_extent, 0.0],
             view: [view as u32, 0, 0, 0],
-            light_view_proj: light_view_proj(scene).to_cols_array(),
+            light_view_proj: light_view_proj(scene, &view_proj).to_cols_array(),
             shadow: [0.0; 4],
             thinning: Thinning::of(scene).uniform(),
         }
     }
-}
-
-/// World to the shadow map's clip space: an orthographic view from the sun
-/// that holds the grass (its footprint grown by the tallest blade, which
-/// may lean that far) from the ground up to the tallest blade. The far
-/// plane reaches well past the ground so shadows cast there are found.
-pub fn light_view_proj(scene: &Scene) -> Mat4 {
-    let dir = Vec3::from(scene.light.direction)
-        .try_normalize()
-        .unwrap_or(Vec3::Y);
-    let (lo, hi) = scene.grass_bounds();
-    let h = scene.grass.shape.height[1];
-    let min = Vec3::new(lo[0] - h, 0.0, lo[1] - h);
-    let max = Vec3::new(hi[0] + h, h, hi[1] + h);
-    let center = (min + max) * 0.5;
-    let radius = (max - min).length() * 0.5;
-    let up = if dir.y.abs() > 0.99 { Vec3::Z } else { Vec3::Y };
-    let view = Mat4::look_at_rh(center + dir * 2.0 * radius, center, up);
-    let mut lo_v = Vec3::splat(f32::MAX);
-    let mut hi_v = Vec3::splat(f32::MIN);
-    for i in 0..8 {
-        let corner = Vec3::new(
-            if i & 1 == 0 { min.x } else { max.x },
-            if i & 2 == 0 { min.y } else { max.y },
-            if i & 4 == 0 { min.z } else { max.z },
-        );
-        let p = view.transform_point3(corner);
-        lo_v = lo_v.min(p);
-        hi_v = hi_v.max(p);
-    }
-    // The view looks down -z from 2 radii away: the near plane at the eye
-    // keeps whatever stands above the box (a blade taller than the
-    // scene's shapes) in the map.
-    let near = 0.0;
-    let far = -lo_v.z + 8.0 * radius;
-    Mat4::orthographic_rh(lo_v.x, hi_v.x, lo_v.y, hi_v.y, near, far) * view
 }

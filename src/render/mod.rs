@@ -12,6 +12,7 @@ pub mod obstacles;
 pub mod pipelines;
 pub mod renderer;
 pub mod shadow;
+pub mod shadow_frustum;
 pub mod targets;
 pub mod texture_maps;
 pub mod textures;
