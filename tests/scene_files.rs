@@ -289,6 +289,12 @@ fn malformed_scene_files_are_refused_with_line_column_field_and_range() {
             "cull.thin_least: 0 is not allowed, use a share in 0.01..=1 (1 keeps every blade)",
         ),
         (
+            "orientation test leaving out face-on blades",
+            plus("[cull]\nedge_on = 0.2"),
+            15,
+            "cull.edge_on: 0.2 is not allowed, use a cosine in 0.5..=1 (1 keeps blades seen edge-on)",
+        ),
+        (
             "syntax error",
             with("seed = 1", "seed = "),
             2,

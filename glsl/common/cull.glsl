@@ -12,6 +12,7 @@
 #define CULL_IN_VIEW 1u   // drawn by the colour pass
 #define CULL_CASTER  2u   // drawn by the shadow pass
 #define CULL_KEPT    4u   // not thinned out by distance
+#define CULL_FACING  8u   // kept, and not seen edge-on from the camera
 
 // Workgroup of the flag and compaction kernels: one blade per invocation.
 #define CULL_GROUP 256u
@@ -67,6 +68,23 @@ void shadow_sweep(vec3 light, inout vec3 lo, inout vec3 hi) {
     hi = vec3(max(hi.x, hi.x - shift_lo.x), hi.y, max(hi.z, hi.z - shift_lo.y));
 }
 
+// How nearly a blade is seen edge-on along `dir[i]` (toward each control
+// point): the least |cos| between its width vector and those directions.
+// A blade whose width vectors all lie within acos(edge_on) of the rays
+// shows (or casts) only a sliver, at most sqrt(1 - edge_on^2) of its
+// width; the cull pass leaves it out. A blade without width counts as
+// seen face-on (it emits nothing anyway).
+float least_alignment(Vertex v[4], vec3 dir[4]) {
+    float least = 1.0;
+    for (int i = 0; i < 4; ++i) {
+        vec3 w = v[i].width.xyz;
+        float norms = dot(dir[i], dir[i]) * dot(w, w);
+        float c = abs(dot(dir[i], w)) * inversesqrt(max(norms, 1e-30));
+        least = min(least, norms > 0.0 ? c : 0.0);
+    }
+    return min(least, 1.0);
+}
+
 // Suns this low cast shadows too long to bound: every blade casts.
 #define LOWEST_SWEPT_SUN 0.02
 
@@ -74,19 +92,29 @@ void shadow_sweep(vec3 light, inout vec3 lo, inout vec3 hi) {
 // branches depend on and compiles a new shader variant at every dispatch,
 // never freed (about 330 KiB and a compile per frame, tests/host_memory.rs
 // saw it). A sun too low to sweep leaves every blade a caster; a blade the
-// distance thinning drops is drawn by neither pass.
-uint cull_flags(Vertex v[4], bool shadows) {
+// distance thinning drops is drawn by neither pass; `edge_on` (a cosine,
+// 1 = off) leaves out blades seen edge-on from the camera (colour pass)
+// and from the sun (shadow pass).
+uint cull_flags(Vertex v[4], bool shadows, float edge_on) {
     float width_scale = thinning_scale(v[0].position);
     uint kept = uint(width_scale > 0.0);
     vec3 lo, hi;
     blade_bounds(v, width_scale, lo, hi);
-    uint in_view = kept & uint(box_in_frustum(frame.view_proj, lo, hi));
     vec3 light = frame.light_dir.xyz;
+    vec3 to_eye[4], to_sun[4];
+    for (int i = 0; i < 4; ++i) {
+        to_eye[i] = v[i].position.xyz - frame.camera_pos.xyz;
+        to_sun[i] = light;
+    }
+    uint facing_eye = uint(least_alignment(v, to_eye) <= edge_on);
+    uint facing_sun = uint(least_alignment(v, to_sun) <= edge_on);
+    uint in_view = kept & facing_eye & uint(box_in_frustum(frame.view_proj, lo, hi));
     uint low_sun = uint(light.y < LOWEST_SWEPT_SUN);
     light.y = max(light.y, LOWEST_SWEPT_SUN);
     shadow_sweep(light, lo, hi);
-    uint caster = kept & uint(shadows) & (low_sun | uint(box_in_frustum(frame.view_proj, lo, hi)));
-    return in_view * CULL_IN_VIEW | caster * CULL_CASTER | kept * CULL_KEPT;
+    uint caster = kept & facing_sun & uint(shadows) & (low_sun | uint(box_in_frustum(frame.view_proj, lo, hi)));
+    return in_view * CULL_IN_VIEW | caster * CULL_CASTER | kept * CULL_KEPT
+         | (kept & facing_eye) * CULL_FACING;
 }
 
 #endif

@@ -2,8 +2,8 @@
 #extension GL_GOOGLE_include_directive : require
 // Cull pass, 1 of 3: one invocation per blade tests the blade's current
 // control points (glsl/common/cull.glsl), stores its flags, and each
-// workgroup stores how many of its blades each pass draws, and how many
-// the distance thinning keeps.
+// workgroup stores how many of its blades each pass draws, how many the
+// distance thinning keeps, and how many of those face the camera.
 
 #include "cull.glsl"
 
@@ -11,6 +11,7 @@ layout(local_size_x = 256) in;
 
 layout(push_constant, std430) uniform Push {
     uvec4 control;   // x: blades, y: workgroups of the flag kernel, z: 1 = shadows on
+    vec4 tests;      // x: edge_on, the orientation test's cosine (1 = off)
 } pc;
 
 layout(set = 0, binding = 1, std430) readonly buffer Vertices { Vertex vertices[]; };
@@ -28,10 +29,10 @@ void main() {
         for (int k = 0; k < 4; ++k) {
             v[k] = vertices[4u * blade + uint(k)];
         }
-        f = cull_flags(v, pc.control.z != 0u);
+        f = cull_flags(v, pc.control.z != 0u, pc.tests.x);
         flags[blade] = f;
     }
-    counts[i] = uvec4(f & CULL_IN_VIEW, (f & CULL_CASTER) >> 1, (f & CULL_KEPT) >> 2, 0u);
+    counts[i] = uvec4(f & CULL_IN_VIEW, (f & CULL_CASTER) >> 1, (f & CULL_KEPT) >> 2, (f & CULL_FACING) >> 3);
     barrier();
     for (uint half_ = CULL_GROUP / 2u; half_ > 0u; half_ >>= 1u) {
         if (i < half_) {

@@ -16,7 +16,8 @@ layout(push_constant, std430) uniform Push {
 layout(set = 0, binding = 3, std430) buffer Groups { uvec4 group_counts[]; };
 // Two VkDrawIndexedIndirectCommand (index count, instance count, first
 // index, vertex offset, first instance): the colour pass's, the shadow
-// pass's; then the blades tested and those the distance thinning kept.
+// pass's; then the blades tested, those the distance thinning kept, and
+// those of them not seen edge-on from the camera.
 layout(set = 0, binding = 4, std430) buffer Draws { uint draws[]; };
 
 shared uvec4 sums[256];
@@ -59,5 +60,6 @@ void main() {
         draws[9] = 0u;
         draws[10] = pc.control.x;
         draws[11] = total.z;       // kept by the distance thinning
+        draws[12] = total.w;       // of those, not edge-on to the camera
     }
 }

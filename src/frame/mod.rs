@@ -121,6 +121,7 @@ impl FrameRecorder {
                     blade_buffer.buffer(),
                     blade_buffer.count(),
                     renderer.shadows(),
+                    scene.cull.edge_on,
                 )
             })
             .transpose()?;

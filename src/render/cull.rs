@@ -28,8 +28,9 @@ const GROUP: u32 = 256;
 /// Bytes of one `VkDrawIndexedIndirectCommand`.
 const DRAW_BYTES: u64 = 20;
 /// Words of the draws buffer: the colour draw, the shadow draw, the
-/// blades tested and those the distance thinning left.
-const DRAW_WORDS: usize = 12;
+/// blades tested, those the distance thinning left and those of them not
+/// seen edge-on from the camera.
+const DRAW_WORDS: usize = 13;
 
 /// Push constants of the three kernels.
 #[repr(C)]
@@ -37,6 +38,8 @@ const DRAW_WORDS: usize = 12;
 struct CullPush {
     /// x: blades, y: workgroups of the flag kernel, z: 1 = shadows on.
     control: [u32; 4],
+    /// x: the orientation test's cosine (`edge_on`; 1 = off).
+    tests: [f32; 4],
 }
 
 /// Set 0 of the cull kernels.
@@ -62,6 +65,9 @@ pub struct CullCounts {
     pub blades: u32,
     /// Left by the distance thinning (all of them with it off).
     pub thinned_to: u32,
+    /// Of those, not seen edge-on from the camera (all of them with the
+    /// orientation test off).
+    pub face_camera: u32,
     /// Drawn by the colour pass: their bounds reach into the view.
     pub in_view: u32,
     /// Drawn by the shadow pass: their shadow can fall into the view
@@ -122,13 +128,15 @@ pub struct CullPass {
 impl CullPass {
     /// The pass over `blade_count` blades of `blades` (4 control points
     /// each), seen as `frame_uniforms` says; shadow casters are listed
-    /// only with `shadows`.
+    /// only with `shadows`; blades seen edge-on closer than the cosine
+    /// `edge_on` are left out (1: none).
     pub fn new(
         gpu: &Gpu,
         frame_uniforms: &Buffer,
         blades: &Buffer,
         blade_count: u32,
         shadows: bool,
+        edge_on: f32,
     ) -> Result<Self> {
         if blade_count == 0 || blade_count > u32::MAX / 4 {
             return Err(Error::InvalidInput(format!(
@@ -213,6 +221,7 @@ impl CullPass {
             shadow_list,
             push: CullPush {
                 control: [blade_count, groups, shadows as u32, 0],
+                tests: [edge_on, 0.0, 0.0, 0.0],
             },
         })
     }
@@ -281,6 +290,7 @@ impl CullPass {
         CullCounts {
             blades: words[10],
             thinned_to: words[11],
+            face_camera: words[12],
             in_view: words[0] / 4,
             shadow_casters: words[5] / 4,
         }

@@ -89,57 +89,119 @@ impl Bounds {
     }
 }
 
-/// The cull pass's tests for one blade under the camera `view_proj` and
-/// the sun `light` (toward it, unit length), the shadow test only with
-/// `shadows`, without distance thinning. Also returns the smallest margin
-/// any decision was taken by (`Bounds::frustum_margin`), so a test
-/// comparing with the GPU can tell a rounding difference from a wrong
-/// answer.
+/// What the cull pass tests each blade against in one frame.
+#[derive(Clone, Copy, Debug)]
+pub struct CullView {
+    /// World to Vulkan clip space.
+    pub view_proj: Mat4,
+    pub eye: Vec3,
+    /// Toward the sun, unit length.
+    pub light: Vec3,
+    /// Whether the shadow pass draws (else no blade casts).
+    pub shadows: bool,
+    pub thinning: Thinning,
+    /// The orientation test's cosine (1 = off): `least_alignment`.
+    pub edge_on: f32,
+}
+
+/// How near each decision about a blade came to going the other way, so
+/// a test comparing with the GPU can tell rounding from a wrong answer.
+#[derive(Clone, Copy, Debug)]
+pub struct Margins {
+    /// The smallest frustum margin any decision was taken by
+    /// (`Bounds::frustum_margin`).
+    pub frustum: f32,
+    /// The distance thinning's (`Thinning::scale`).
+    pub thinning: f32,
+    /// The least distance of an alignment from `edge_on`.
+    pub edge_on: f32,
+}
+
+impl CullView {
+    /// The cull pass's tests for one blade (glsl/common/cull.glsl
+    /// `cull_flags`): a blade the distance thinning drops is in neither
+    /// list, the bounds hold the widened blade; a blade seen edge-on from
+    /// the camera is not drawn in colour, one edge-on to the sun casts no
+    /// shadow.
+    pub fn test(&self, v: &[BladeVertex; 4]) -> (Visibility, Margins) {
+        let root = Vec4::from(v[0].position);
+        let (width_scale, thin_margin) = self.thinning.scale(root.truncate(), root.w, self.eye);
+        let to_eye = v.map(|c| Vec4::from(c.position).truncate() - self.eye);
+        let (from_eye, from_sun) = (
+            least_alignment(v, to_eye),
+            least_alignment(v, [self.light; 4]),
+        );
+        let mut margins = Margins {
+            frustum: f32::INFINITY,
+            thinning: thin_margin,
+            edge_on: (from_eye - self.edge_on)
+                .abs()
+                .min((from_sun - self.edge_on).abs()),
+        };
+        if width_scale <= 0.0 {
+            return (Visibility::default(), margins);
+        }
+        let bounds = Bounds::of_scaled_blade(v, width_scale);
+        let margin = bounds.frustum_margin(&self.view_proj);
+        let mut seen = Visibility {
+            in_view: margin >= 0.0 && from_eye <= self.edge_on,
+            caster: false,
+        };
+        margins.frustum = margin.abs();
+        if self.shadows && from_sun <= self.edge_on {
+            if self.light.y < LOWEST_SWEPT_SUN {
+                seen.caster = true;
+            } else {
+                let swept = bounds
+                    .shadow_sweep(self.light)
+                    .frustum_margin(&self.view_proj);
+                seen.caster = swept >= 0.0;
+                margins.frustum = margins.frustum.min(swept.abs());
+            }
+        }
+        (seen, margins)
+    }
+}
+
+/// How nearly a blade is seen edge-on along `dir[i]` (toward each control
+/// point): the least |cos| between its width vector and those directions,
+/// 0 where a width vector or direction is zero (a blade without width is
+/// counted as face-on: it emits nothing anyway).
+pub fn least_alignment(v: &[BladeVertex; 4], dir: [Vec3; 4]) -> f32 {
+    let mut least = 1.0f32;
+    for (c, d) in v.iter().zip(dir) {
+        let w = Vec4::from(c.width).truncate();
+        let norms = d.length_squared() * w.length_squared();
+        let cos = if norms > 0.0 {
+            d.dot(w).abs() / norms.sqrt()
+        } else {
+            0.0
+        };
+        least = least.min(cos);
+    }
+    least.min(1.0)
+}
+
+/// The frustum and shadow tests alone for one blade under the camera
+/// `view_proj` and the sun `light` (toward it, unit length), the shadow
+/// test only with `shadows`: no thinning, no orientation test. Also the
+/// smallest frustum margin any decision was taken by.
 pub fn visibility(
     v: &[BladeVertex; 4],
     view_proj: &Mat4,
     light: Vec3,
     shadows: bool,
 ) -> (Visibility, f32) {
-    let (seen, frustum, _) =
-        thinned_visibility(v, view_proj, light, shadows, &Thinning::OFF, Vec3::ZERO);
-    (seen, frustum)
-}
-
-/// As `visibility`, with the distance thinning `thinning` seen from
-/// `eye`: a blade it drops is in neither list, and the bounds hold the
-/// widened blade. The third value is the thinning's own margin
-/// (`Thinning::scale`).
-pub fn thinned_visibility(
-    v: &[BladeVertex; 4],
-    view_proj: &Mat4,
-    light: Vec3,
-    shadows: bool,
-    thinning: &Thinning,
-    eye: Vec3,
-) -> (Visibility, f32, f32) {
-    let root = Vec4::from(v[0].position);
-    let (width_scale, thin_margin) = thinning.scale(root.truncate(), root.w, eye);
-    if width_scale <= 0.0 {
-        return (Visibility::default(), f32::INFINITY, thin_margin);
-    }
-    let bounds = Bounds::of_scaled_blade(v, width_scale);
-    let margin = bounds.frustum_margin(view_proj);
-    let mut seen = Visibility {
-        in_view: margin >= 0.0,
-        caster: false,
+    let view = CullView {
+        view_proj: *view_proj,
+        eye: Vec3::ZERO,
+        light,
+        shadows,
+        thinning: Thinning::OFF,
+        edge_on: 1.0,
     };
-    let mut closest = margin.abs();
-    if shadows {
-        if light.y < LOWEST_SWEPT_SUN {
-            seen.caster = true;
-        } else {
-            let swept = bounds.shadow_sweep(light).frustum_margin(view_proj);
-            seen.caster = swept >= 0.0;
-            closest = closest.min(swept.abs());
-        }
-    }
-    (seen, closest, thin_margin)
+    let (seen, margins) = view.test(v);
+    (seen, margins.frustum)
 }
 
 #[cfg(test)]
@@ -229,6 +291,53 @@ mod tests {
         assert!((s.hi.z - 0.5).abs() < 1e-6, "{s:?}");
         assert_eq!(s.lo.y, 0.0);
         assert_eq!(s.hi.y, 1.0);
+    }
+
+    #[test]
+    fn a_blade_seen_edge_on_is_left_out_of_the_pass_that_sees_it_so() {
+        // Width along x; the camera at (0, 2, 0) looks along -z.
+        let sun = Vec3::new(1.0, 1.0, 0.0).normalize();
+        let view = |at: Vec3, width: Vec3| {
+            let mut blade = upright(at, 0.5);
+            for c in &mut blade {
+                c.width = width.extend(0.0).to_array();
+            }
+            CullView {
+                view_proj: camera(),
+                eye: Vec3::new(0.0, 2.0, 0.0),
+                light: sun,
+                shadows: true,
+                thinning: Thinning::OFF,
+                edge_on: 0.9,
+            }
+            .test(&blade)
+            .0
+        };
+        // Across the view: seen, and its width 45 degrees from the sun: casts.
+        let across = view(Vec3::new(0.0, 0.0, -5.0), Vec3::new(0.01, 0.0, 0.0));
+        assert_eq!(
+            across,
+            Visibility {
+                in_view: true,
+                caster: true
+            }
+        );
+        // Width along the view ray (and 90 degrees from the sun): casts,
+        // not drawn.
+        let along = view(Vec3::new(0.0, 0.0, -5.0), Vec3::new(0.0, -0.0035, -0.01));
+        assert_eq!(
+            along,
+            Visibility {
+                in_view: false,
+                caster: true
+            }
+        );
+        // Width along the sun's rays: drawn, casts nothing.
+        let sunward = view(Vec3::new(0.0, 0.0, -5.0), sun * 0.01);
+        assert!(sunward.in_view && !sunward.caster, "{sunward:?}");
+        // No width: face-on to both.
+        let none = view(Vec3::new(0.0, 0.0, -5.0), Vec3::ZERO);
+        assert!(none.in_view && none.caster, "{none:?}");
     }
 
     #[test]

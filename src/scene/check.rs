@@ -260,7 +260,17 @@ pub fn cull(c: &Cull) -> Check {
             ),
         ));
     }
-    positive("thin_band", c.thin_band, 1.0)
+    positive("thin_band", c.thin_band, 1.0)?;
+    if !(c.edge_on.is_finite() && (0.5..=1.0).contains(&c.edge_on)) {
+        return Err(FieldError::new(
+            "edge_on",
+            format!(
+                "{} is not allowed, use a cosine in 0.5..=1 (1 keeps blades seen edge-on)",
+                c.edge_on
+            ),
+        ));
+    }
+    Ok(())
 }
 
 pub fn grass(g: &Grass) -> Check {

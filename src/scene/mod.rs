@@ -210,6 +210,10 @@ pub struct Cull {
     /// Width of the band over which blades narrow away, as a share of the
     /// blades kept at that distance.
     pub thin_band: f32,
+    /// Orientation: a blade whose width vector lies within acos(edge_on)
+    /// of the rays from the camera to it (from the sun, for the shadow
+    /// pass) is seen edge-on and left out; 1 keeps every blade.
+    pub edge_on: f32,
 }
 
 impl Default for Cull {
@@ -219,6 +223,7 @@ impl Default for Cull {
             thin_from: 8.0,
             thin_least: 0.125,
             thin_band: 0.5,
+            edge_on: 0.9,
         }
     }
 }
