@@ -149,7 +149,7 @@ fn single_blade(root: Vec3, facing: Vec3, half_width: f32) -> Blade {
 }
 
 #[test]
-fn level_of_detail_gives_20_10_3_segments_by_distance_and_20_without() {
+fn level_of_detail_gives_20_10_3_segments_by_distance_and_20_without_and_the_shadow_pass_its_own() {
     let gpu = strict_gpu();
     let mut scene = Scene::builtin("fig10-few-bunches").unwrap();
     scene.camera.position = [0.0, 1.0, 0.0];
@@ -158,11 +158,13 @@ fn level_of_detail_gives_20_10_3_segments_by_distance_and_20_without() {
     scene.lod.far_distance = 9.0;
     // One blade per frame: the distance thinning would drop the far one.
     scene.cull.thin_from = 0.0;
-    // Root distances ~2.2 (close), ~6.1 (medium), ~15.0 (far).
-    let cases = [(2.0, 20), (6.0, 10), (15.0, 3)];
+    // Root distances ~2.2 (close), ~6.1 (medium), ~15.0 (far); the shadow
+    // pass's levels by the same distances to the camera.
+    let cases = [(2.0, 20, 10), (6.0, 10, 5), (15.0, 3, 3)];
+    assert_eq!(scene.lod.shadow_levels, [10, 5, 3]);
     for lod in [true, false] {
         scene.lod.enabled = lod;
-        for (z, level) in cases {
+        for (z, level, shadow_level) in cases {
             let blade = single_blade(Vec3::new(0.0, 0.0, -z), Vec3::Z, 0.02);
             let frame = render(&gpu, &scene, &[blade], 64, 64, ViewMode::Shaded);
             let stats = frame
@@ -179,6 +181,15 @@ fn level_of_detail_gives_20_10_3_segments_by_distance_and_20_without() {
             assert_eq!(stats.geometry_shader_primitives, 2 * expected);
             // At least the N + 1 distinct points of the curve are evaluated.
             assert!(stats.tessellation_evaluation_invocations > expected);
+            // The shadow pass draws the blade (culling keeps it: its
+            // shadow falls in view) at its own level, 20 without LOD.
+            let shadow = frame.shadow_statistics.expect("shadows are on");
+            let expected = if lod { shadow_level } else { 20 };
+            assert_eq!(shadow.tessellation_control_patches, 1);
+            assert_eq!(
+                shadow.geometry_shader_invocations, expected,
+                "shadow of the blade at {z} m, LOD {lod}"
+            );
         }
     }
     finish(gpu);

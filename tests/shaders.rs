@@ -179,6 +179,10 @@ fn frame_uniforms_match_the_glsl_block() {
         ),
         ("shadow", offset_of!(FrameUniforms, shadow)),
         ("thinning", offset_of!(FrameUniforms, thinning)),
+        (
+            "shadow_tess_level",
+            offset_of!(FrameUniforms, shadow_tess_level),
+        ),
     ];
     let glsl: Vec<(String, usize)> = members.into_iter().map(|(n, o)| (n, o as usize)).collect();
     let rust: Vec<(String, usize)> = rust.iter().map(|(n, o)| (n.to_string(), *o)).collect();
@@ -332,7 +336,8 @@ fn assert_blade_vertices(module: &naga::Module, binding: u32) {
 fn the_cull_pass_reads_the_vertices_the_grass_step_writes() {
     let (module, _) = reflect::naga_module(&shaders::CULL_FLAGS_COMP).unwrap();
     assert_blade_vertices(&module, 1);
-    // One uvec4 of push constants in every kernel.
+    // The same push constants in every kernel: a uvec4 of counts and a
+    // vec4 of the tests' parameters (`CullPush`).
     for spirv in [
         &shaders::CULL_FLAGS_COMP,
         &shaders::CULL_SCAN_COMP,
@@ -341,7 +346,7 @@ fn the_cull_pass_reads_the_vertices_the_grass_step_writes() {
         let (module, _) = reflect::naga_module(spirv).unwrap();
         assert_eq!(
             push_constant_layout(&module),
-            (vec![0], 16),
+            (vec![0, 16], 32),
             "{}",
             spirv.path
         );

@@ -21,6 +21,7 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     mat4 light_view_proj; // world -> the shadow map's clip space (orthographic, from the sun)
     vec4 shadow;        // x: one texel (uv units), y: 1 = shadows on, z: depth bias, w: PCF radius (texels)
     vec4 thinning;      // x: distance it begins (m), y: least share, z: band, w: 1 = on (glsl/common/thinning.glsl)
+    vec4 shadow_tess_level; // tess_level of the shadow pass, which reads it as its tess_level
 } frame;
 
 #endif

@@ -11,6 +11,7 @@ layout(local_size_x = 256) in;
 
 layout(push_constant, std430) uniform Push {
     uvec4 control;   // x: blades, y: workgroups of the flag kernel, z: 1 = shadows on
+    vec4 tests;      // x: edge_on (read by the flag kernel only)
 } pc;
 
 layout(set = 0, binding = 3, std430) buffer Groups { uvec4 group_counts[]; };

@@ -219,6 +219,7 @@ fn render_with(
         interrupted: done.interrupted,
         warnings,
         pipeline_statistics: done.statistics,
+        shadow_pipeline_statistics: done.shadow_statistics,
         cull: scene.cull.enabled,
         cull_counts: done.cull,
         timing: TimingSummary::of(&done.gpu_timings, &done.wall_ms, &recorder.untimed_phases()),
@@ -232,6 +233,7 @@ struct Animated {
     names: Vec<String>,
     gif: Option<String>,
     statistics: Option<PipelineStatistics>,
+    shadow_statistics: Option<PipelineStatistics>,
     cull: Option<CullCounts>,
     gpu_timings: Vec<Option<FrameTimings>>,
     wall_ms: Vec<f64>,
@@ -268,6 +270,7 @@ fn animate(
         names: Vec::new(),
         gif: None,
         statistics: None,
+        shadow_statistics: None,
         cull: None,
         gpu_timings: Vec::new(),
         wall_ms: Vec::new(),
@@ -314,6 +317,7 @@ fn animate(
         }
         done.names.push(name);
         done.statistics = frame.statistics;
+        done.shadow_statistics = frame.shadow_statistics;
         done.cull = frame.cull;
         let progress = FrameProgress {
             written: done.names.len() as u32,

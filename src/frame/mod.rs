@@ -56,8 +56,12 @@ pub struct Frame {
     pub height: u32,
     /// RGBA8, sRGB-encoded, rows top to bottom.
     pub rgba: Vec<u8>,
-    /// Counters of the grass draw alone (None where unsupported).
+    /// Counters of the colour pass's grass draw alone (None where
+    /// unsupported).
     pub statistics: Option<PipelineStatistics>,
+    /// The same for the shadow pass (blades and obstacles; only the blades
+    /// are tessellated); None without shadows.
+    pub shadow_statistics: Option<PipelineStatistics>,
     /// GPU time of each phase (None where the device has no timestamps).
     pub timings: Option<FrameTimings>,
     /// How many blades each pass drew (None with culling off: all).
@@ -75,6 +79,7 @@ pub struct FrameRecorder {
     renderer: Renderer,
     blades: BladeBuffer,
     statistics: StatisticsQuery,
+    shadow_statistics: StatisticsQuery,
     timer: Option<SpanTimer<Phase>>,
     commands: Commands,
     extent: (u32, u32),
@@ -106,6 +111,7 @@ impl FrameRecorder {
             &scene.wind.obstacles,
         )?;
         let statistics = StatisticsQuery::new(gpu, "grass pipeline statistics")?;
+        let shadow_statistics = StatisticsQuery::new(gpu, "shadow pass pipeline statistics")?;
         let timer = SpanTimer::new(gpu, 16, "frame phase timestamps")?;
         let blade_buffer = BladeBuffer::new(gpu, &commands, blades)?;
         let simulation = dynamics
@@ -131,6 +137,7 @@ impl FrameRecorder {
             renderer,
             blades: blade_buffer,
             statistics,
+            shadow_statistics,
             timer,
             commands,
             extent: (width, height),
@@ -219,6 +226,7 @@ impl FrameRecorder {
             renderer,
             blades,
             statistics,
+            shadow_statistics,
             timer,
             commands,
             draw_timing_unavailable,
@@ -245,8 +253,11 @@ impl FrameRecorder {
             ),
             None => (BladeDraw::All(count), BladeDraw::All(count)),
         };
+        shadow_statistics.reset(&rec);
         t.span(&rec, Phase::Shadow, |rec| {
-            renderer.record_shadow(rec, buffer, shadow_draw)
+            shadow_statistics.begin(rec);
+            renderer.record_shadow(rec, buffer, shadow_draw);
+            shadow_statistics.end(rec);
         });
         statistics.reset(&rec);
         let color = t.begin(&rec, Phase::Color);
@@ -284,6 +295,10 @@ impl FrameRecorder {
             height: self.extent.1,
             rgba: self.renderer.pixels(),
             statistics: self.statistics.read()?,
+            shadow_statistics: match self.renderer.shadows() {
+                true => self.shadow_statistics.read()?,
+                false => None,
+            },
             timings,
             cull: self.cull.as_ref().map(CullPass::counts),
         })

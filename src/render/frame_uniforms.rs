@@ -35,6 +35,10 @@ pub struct FrameUniforms {
     /// 1 = on (only with culling, which drops the blades it thins out).
     /// Off, the share is 1 everywhere and every scale is 1.
     pub thinning: [f32; 4],
+    /// The shadow pass's `tess_level` (its own copy of this block holds
+    /// it there): the scene's shadow levels with LOD on, the colour
+    /// pass's close level with it off.
+    pub shadow_tess_level: [f32; 4],
 }
 
 /// The camera at simulated time `time`, in Vulkan clip space: y points
@@ -91,17 +95,22 @@ impl FrameUniforms {
                 if lod.enabled { 1.0 } else { 0.0 },
                 0.0,
             ],
-            tess_level: [
-                lod.levels[0] as f32,
-                lod.levels[1] as f32,
-                lod.levels[2] as f32,
-                0.0,
-            ],
+            tess_level: tess_levels(lod.levels),
             ground: [ground.x, ground.z, scene.ground.half_extent, 0.0],
             view: [view as u32, 0, 0, 0],
             light_view_proj: light_view_proj(scene, &view_proj).to_cols_array(),
             shadow: [0.0; 4],
             thinning: Thinning::of(scene).uniform(),
+            shadow_tess_level: tess_levels(if lod.enabled {
+                lod.shadow_levels
+            } else {
+                lod.levels
+            }),
         }
     }
+}
+
+/// Close, medium and far tessellation levels as the `tess_level` vector.
+fn tess_levels(levels: [u32; 3]) -> [f32; 4] {
+    [levels[0] as f32, levels[1] as f32, levels[2] as f32, 0.0]
 }

@@ -101,6 +101,7 @@ impl ShadowMap {
     pub fn write_uniforms(&mut self, frame: &FrameUniforms) {
         let mut light = *frame;
         light.view_proj = light.light_view_proj;
+        light.tess_level = light.shadow_tess_level;
         self.uniforms.write(0, std::slice::from_ref(&light));
     }
 

@@ -60,7 +60,10 @@ pub struct RenderReport {
     /// What the scene will do less than it says (e.g. a wind source outside
     /// the grid), one line each.
     pub warnings: Vec<String>,
+    /// The colour pass's grass draw, last frame.
     pub pipeline_statistics: Option<PipelineStatistics>,
+    /// The shadow pass, last frame (null without shadows or support).
+    pub shadow_pipeline_statistics: Option<PipelineStatistics>,
     /// Whether a compute pass culled the blades each frame, and of the
     /// last frame's blades how many each pass drew (null with culling off:
     /// every blade in both).
@@ -95,6 +98,14 @@ pub fn summary(report: &RenderReport, out: &Path) -> String {
             "grass: {} patches, {} tessellation-evaluation invocations, {} geometry-shader invocations (segments), {} primitives\n",
             s.tessellation_control_patches,
             s.tessellation_evaluation_invocations,
+            s.geometry_shader_invocations,
+            s.geometry_shader_primitives
+        );
+    }
+    if let Some(s) = &report.shadow_pipeline_statistics {
+        text += &format!(
+            "shadow pass: {} patches, {} segments, {} primitives\n",
+            s.tessellation_control_patches,
             s.geometry_shader_invocations,
             s.geometry_shader_primitives
         );

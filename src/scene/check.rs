@@ -238,6 +238,9 @@ pub fn lod(l: &Lod) -> Check {
     for (i, &level) in l.levels.iter().enumerate() {
         in_range(&format!("levels[{i}]"), level, 1..=64)?;
     }
+    for (i, &level) in l.shadow_levels.iter().enumerate() {
+        in_range(&format!("shadow_levels[{i}]"), level, 1..=64)?;
+    }
     Ok(())
 }
 
