@@ -131,6 +131,7 @@ mod tests {
             height,
             rgba: vec![128; (width * height * 4) as usize],
             statistics: None,
+            shadow_statistics: None,
             timings: None,
             cull: None,
         }
