@@ -169,10 +169,26 @@ fn clip(mut polygon: Vec<Vec3>, planes: &[Vec4]) -> Vec<Vec3> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::render::frame_uniforms::view_projection;
 
     fn scene() -> Scene {
         Scene::builtin("table1").expect("table1 is shipped")
+    }
+
+    /// The scene's camera at 16:9, as the colour pass sees it.
+    fn camera(scene: &Scene) -> Mat4 {
+        camera_moved(scene, Vec3::ZERO)
+    }
+
+    /// The same, eye and target moved by `d`.
+    fn camera_moved(scene: &Scene, d: Vec3) -> Mat4 {
+        let mut proj =
+            Mat4::perspective_rh(scene.camera.fov_y.to_radians(), 16.0 / 9.0, 0.05, 200.0);
+        proj.y_axis.y = -proj.y_axis.y;
+        let (eye, target) = (
+            Vec3::from(scene.camera.position),
+            Vec3::from(scene.camera.target),
+        );
+        proj * Mat4::look_at_rh(eye + d, target + d, Vec3::Y)
     }
 
     /// Points spread through the box, kept where the camera sees them.
@@ -199,7 +215,7 @@ mod tests {
     #[test]
     fn every_receiver_the_camera_sees_is_in_the_fitted_map() {
         let scene = scene();
-        let view_proj = view_projection(&scene, 16.0 / 9.0, 0.0);
+        let view_proj = camera(&scene);
         let light = light_view_proj(&scene, &view_proj);
         let samples = seen_samples(&scene, &view_proj);
         assert!(samples.len() > 100, "{} samples seen", samples.len());
@@ -215,7 +231,7 @@ mod tests {
     #[test]
     fn the_fitted_map_is_smaller_than_the_whole_field_when_part_is_seen() {
         let scene = scene();
-        let view_proj = view_projection(&scene, 16.0 / 9.0, 0.0);
+        let view_proj = camera(&scene);
         // The area of the map in world units, from its x and y axes'
         // scales, against the whole box's (seen by a camera above it all).
         let fitted = light_view_proj(&scene, &view_proj);
@@ -269,18 +285,7 @@ mod tests {
     fn a_moving_camera_slides_the_map_by_whole_texels() {
         let scene = scene();
         let size = scene.light.shadow_map as f32;
-        let eye = Vec3::from(scene.camera.position);
-        let target = Vec3::from(scene.camera.target);
-        let mut proj =
-            Mat4::perspective_rh(scene.camera.fov_y.to_radians(), 16.0 / 9.0, 0.05, 200.0);
-        proj.y_axis.y = -proj.y_axis.y;
-        let at = |shift: f32| {
-            let d = Vec3::new(shift, 0.0, 0.0);
-            light_view_proj(
-                &scene,
-                &(proj * Mat4::look_at_rh(eye + d, target + d, Vec3::Y)),
-            )
-        };
+        let at = |shift: f32| light_view_proj(&scene, &camera_moved(&scene, Vec3::X * shift));
         let (a, b) = (at(0.0), at(0.003));
         // Same texel size; the origin moved by a whole number of texels.
         assert_eq!(a.x_axis, b.x_axis);
