@@ -82,7 +82,7 @@ float least_alignment(Vertex v[4], vec3 dir[4]) {
         float c = abs(dot(dir[i], w)) * inversesqrt(max(norms, 1e-30));
         least = min(least, norms > 0.0 ? c : 0.0);
     }
-    return min(least, 1.0);
+    return least;
 }
 
 // Suns this low cast shadows too long to bound: every blade casts.

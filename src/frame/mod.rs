@@ -295,9 +295,10 @@ impl FrameRecorder {
             height: self.extent.1,
             rgba: self.renderer.pixels(),
             statistics: self.statistics.read()?,
-            shadow_statistics: match self.renderer.shadows() {
-                true => self.shadow_statistics.read()?,
-                false => None,
+            shadow_statistics: if self.renderer.shadows() {
+                self.shadow_statistics.read()?
+            } else {
+                None
             },
             timings,
             cull: self.cull.as_ref().map(CullPass::counts),

@@ -16,6 +16,7 @@
 
 use glam::{Mat4, Vec3, Vec4};
 
+use crate::render::visibility::frustum_planes;
 use crate::scene::Scene;
 
 /// The grass's box: its footprint grown by the tallest blade (which may
@@ -49,10 +50,8 @@ pub fn light_view_proj(scene: &Scene, view_proj: &Mat4) -> Mat4 {
     // ground so shadows cast there are found.
     let (near, far) = (0.0, -box_lo.z + 8.0 * radius);
     let seen = seen_part(min, max, view_proj);
-    let (lo, hi) = match fit(&view, &seen, box_lo, box_hi, scene.light.shadow_map) {
-        Some(fitted) => fitted,
-        None => (box_lo, box_hi),
-    };
+    let (lo, hi) =
+        fit(&view, &seen, box_lo, box_hi, scene.light.shadow_map).unwrap_or((box_lo, box_hi));
     Mat4::orthographic_rh(lo.x, hi.x, lo.y, hi.y, near, far) * view
 }
 
@@ -104,9 +103,6 @@ fn light_extent(view: &Mat4, points: &[Vec3]) -> (Vec3, Vec3) {
 /// The clipped faces of two convex solids bound their intersection, so
 /// its corners are among these points. Empty when they do not meet.
 pub fn seen_part(min: Vec3, max: Vec3, view_proj: &Mat4) -> Vec<Vec3> {
-    let m = view_proj;
-    let [r0, r1, r2, r3] = [m.row(0), m.row(1), m.row(2), m.row(3)];
-    let frustum_planes = [r3 + r0, r3 - r0, r3 + r1, r3 - r1, r2, r3 - r2];
     let box_planes = [
         Vec4::new(1.0, 0.0, 0.0, -min.x),
         Vec4::new(-1.0, 0.0, 0.0, max.x),
@@ -118,9 +114,10 @@ pub fn seen_part(min: Vec3, max: Vec3, view_proj: &Mat4) -> Vec<Vec3> {
     let inverse = view_proj.inverse();
     let ndc = box_corners(Vec3::new(-1.0, -1.0, 0.0), Vec3::ONE);
     let frustum_corners = ndc.map(|c| inverse.project_point3(c));
+    let view_planes = frustum_planes(view_proj);
     let mut points = Vec::new();
     for face in faces(&box_corners(min, max)) {
-        points.extend(clip(face.to_vec(), &frustum_planes));
+        points.extend(clip(face.to_vec(), &view_planes));
     }
     for face in faces(&frustum_corners) {
         points.extend(clip(face.to_vec(), &box_planes));

@@ -77,8 +77,7 @@ impl Bounds {
     /// six planes read off the matrix's rows, in the planes' own units:
     /// negative when the box lies wholly outside one of them.
     pub fn frustum_margin(self, m: &Mat4) -> f32 {
-        let [r0, r1, r2, r3] = [m.row(0), m.row(1), m.row(2), m.row(3)];
-        [r3 + r0, r3 - r0, r3 + r1, r3 - r1, r2, r3 - r2]
+        frustum_planes(m)
             .into_iter()
             .map(|plane| {
                 let n = plane.truncate();
@@ -87,6 +86,14 @@ impl Bounds {
             })
             .fold(f32::INFINITY, f32::min)
     }
+}
+
+/// The six planes of the frustum of `m` (world to Vulkan clip space: -w
+/// <= x, y <= w, 0 <= z <= w), read off the matrix's rows: a point p is
+/// inside all of them where dot(plane, (p, 1)) >= 0.
+pub fn frustum_planes(m: &Mat4) -> [Vec4; 6] {
+    let [r0, r1, r2, r3] = [m.row(0), m.row(1), m.row(2), m.row(3)];
+    [r3 + r0, r3 - r0, r3 + r1, r3 - r1, r2, r3 - r2]
 }
 
 /// What the cull pass tests each blade against in one frame.
@@ -179,7 +186,7 @@ pub fn least_alignment(v: &[BladeVertex; 4], dir: [Vec3; 4]) -> f32 {
         };
         least = least.min(cos);
     }
-    least.min(1.0)
+    least
 }
 
 /// The frustum and shadow tests alone for one blade under the camera
