@@ -75,6 +75,7 @@ impl DeviceArgs {
                 })
                 .unwrap_or_default(),
             memory_budget: self.gpu_memory_mib.map(|m| m << 20),
+            storage_range: None,
             // A test hook: fail the N-th allocation or submission.
             faults: FaultPlan::parse(&std::env::var("MEADOW_INJECT_FAULT").unwrap_or_default())?,
         })

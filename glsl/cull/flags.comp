@@ -10,10 +10,12 @@
 layout(local_size_x = 256) in;
 
 layout(push_constant, std430) uniform Push {
-    uvec4 control;   // x: blades, y: workgroups of the flag kernel, z: 1 = shadows on
+    uvec4 control;   // x: blades, y: workgroups of the flag kernel, z: 1 = shadows on,
+                     // w: this batch's first blade (a multiple of CULL_GROUP)
     vec4 tests;      // x: edge_on, the orientation test's cosine (1 = off)
 } pc;
 
+// This batch's blades' control points (src/gpu/batches.rs).
 layout(set = 0, binding = 1, std430) readonly buffer Vertices { Vertex vertices[]; };
 layout(set = 0, binding = 2, std430) buffer Flags { uint flags[]; };
 layout(set = 0, binding = 3, std430) buffer Groups { uvec4 group_counts[]; };
@@ -21,13 +23,14 @@ layout(set = 0, binding = 3, std430) buffer Groups { uvec4 group_counts[]; };
 shared uvec4 counts[CULL_GROUP];
 
 void main() {
-    uint blade = gl_GlobalInvocationID.x;
+    uint in_batch = gl_GlobalInvocationID.x;
+    uint blade = pc.control.w + in_batch;
     uint i = gl_LocalInvocationID.x;
     uint f = 0u;
     if (blade < pc.control.x) {
         Vertex v[4];
         for (int k = 0; k < 4; ++k) {
-            v[k] = vertices[4u * blade + uint(k)];
+            v[k] = vertices[4u * in_batch + uint(k)];
         }
         f = cull_flags(v, pc.control.z != 0u, pc.tests.x);
         flags[blade] = f;
@@ -41,6 +44,6 @@ void main() {
         barrier();
     }
     if (i == 0u) {
-        group_counts[gl_WorkGroupID.x] = counts[0];
+        group_counts[pc.control.w / CULL_GROUP + gl_WorkGroupID.x] = counts[0];
     }
 }

@@ -261,6 +261,13 @@ fn floor(
     let segments =
         ((stats.geometry_shader_primitives as f64 / (2.0 * blades as f64)).round() as u32).max(1);
     let blade_vertices = recorder.blades().buffer();
+    let range = gpu.limits().max_storage_buffer_range as u64;
+    if blade_vertices.size > range {
+        return Ok(Err(format!(
+            "the floor reads every control point through one binding, and {blades} blades' are more than this device's maxStorageBufferRange ({} MiB)",
+            range >> 20
+        )));
+    }
     let Some(mut pass) = FloorPass::new(gpu, recorder.renderer().formats(), blade_vertices)? else {
         return Ok(Err("no timestamps on this device".into()));
     };

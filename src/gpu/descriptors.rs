@@ -127,6 +127,14 @@ impl PipelineLayout {
 pub enum Bound<'a> {
     /// A whole buffer (uniform or storage).
     Buffer(&'a Buffer),
+    /// `size` bytes of a storage buffer from `offset`: one batch of a
+    /// kernel over a buffer larger than one binding may reach
+    /// (`gpu::batches`).
+    Part {
+        buffer: &'a Buffer,
+        offset: u64,
+        size: u64,
+    },
     /// A sampled image, read in the shader-read-only layout.
     Image(&'a Image),
     /// A sampler on its own.
@@ -157,6 +165,7 @@ impl DescriptorSet {
                 bound.len()
             )));
         }
+        check_ranges(gpu, bindings, bound, name)?;
         let device: &Arc<Device> = gpu.device();
         let mut sizes: Vec<vk::DescriptorPoolSize> = Vec::new();
         for b in bindings {
@@ -191,6 +200,15 @@ impl DescriptorSet {
                     offset: 0,
                     range: vk::WHOLE_SIZE,
                 }],
+                Bound::Part {
+                    buffer,
+                    offset,
+                    size,
+                } => [vk::DescriptorBufferInfo {
+                    buffer: buffer.raw,
+                    offset: *offset,
+                    range: *size,
+                }],
                 Bound::Image(_) | Bound::Sampler(_) => [vk::DescriptorBufferInfo::default()],
             })
             .collect();
@@ -206,7 +224,7 @@ impl DescriptorSet {
                     sampler: sampler.raw(),
                     ..Default::default()
                 }],
-                Bound::Buffer(_) => [vk::DescriptorImageInfo::default()],
+                Bound::Buffer(_) | Bound::Part { .. } => [vk::DescriptorImageInfo::default()],
             })
             .collect();
         let writes: Vec<_> = bindings
@@ -219,7 +237,7 @@ impl DescriptorSet {
                     .dst_binding(b.binding)
                     .descriptor_type(b.ty.vk());
                 match r {
-                    Bound::Buffer(_) => write.buffer_info(buffer_info),
+                    Bound::Buffer(_) | Bound::Part { .. } => write.buffer_info(buffer_info),
                     Bound::Image(_) | Bound::Sampler(_) => write.image_info(image_info),
                 }
             })
@@ -229,4 +247,55 @@ impl DescriptorSet {
         unsafe { device.raw.update_descriptor_sets(&writes, &[]) };
         Ok(Self { _pool: pool, raw })
     }
+}
+
+/// Refuses a buffer binding past what this device lets one descriptor
+/// reach (maxStorageBufferRange, maxUniformBufferRange: lavapipe's storage
+/// range is 128 MiB, a million blades' control points), or a part that is
+/// not inside its buffer or not aligned: invalid usage the driver need not
+/// catch. Kernels over bigger buffers run in batches (`gpu::batches`).
+fn check_ranges(gpu: &Gpu, bindings: &[LayoutBinding], bound: &[Bound], name: &str) -> Result<()> {
+    let limits = gpu.limits();
+    for (b, r) in bindings.iter().zip(bound) {
+        let (buffer, offset, size) = match *r {
+            Bound::Buffer(buffer) => (buffer, 0, buffer.size),
+            Bound::Part {
+                buffer,
+                offset,
+                size,
+            } => (buffer, offset, size),
+            Bound::Image(_) | Bound::Sampler(_) => continue,
+        };
+        let (most, align, limit) = match b.ty {
+            DescriptorKind::UniformBuffer => (
+                limits.max_uniform_buffer_range as u64,
+                limits.min_uniform_buffer_offset_alignment,
+                "maxUniformBufferRange",
+            ),
+            DescriptorKind::StorageBuffer => (
+                limits.max_storage_buffer_range as u64,
+                limits.min_storage_buffer_offset_alignment,
+                "maxStorageBufferRange",
+            ),
+            _ => continue,
+        };
+        if offset.checked_add(size).is_none_or(|end| end > buffer.size)
+            || size == 0
+            || offset % align.max(1) != 0
+        {
+            return Err(Error::InvalidInput(format!(
+                "{name}: binding {} would reach bytes {offset}..{} of a {}-byte buffer, offset aligned to {align}",
+                b.binding,
+                offset.saturating_add(size),
+                buffer.size
+            )));
+        }
+        if size > most {
+            return Err(Error::InvalidInput(format!(
+                "{name}: binding {} would reach {size} bytes, over this device's {limit} of {most}; make the scene smaller (fewer wind cells or blades)",
+                b.binding
+            )));
+        }
+    }
+    Ok(())
 }

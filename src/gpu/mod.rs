@@ -6,6 +6,7 @@
 //! `unsafe`. It knows nothing of grass or wind.
 
 pub mod barrier;
+pub mod batches;
 pub mod buffer;
 pub mod commands;
 pub mod descriptors;
@@ -22,6 +23,7 @@ pub mod shader;
 use std::sync::Arc;
 
 pub use barrier::{Access, ImageTransition};
+pub use batches::{batches, storage_batch_len};
 pub use buffer::Buffer;
 pub use commands::{Attachments, Commands, Recording};
 pub use descriptors::{Bound, DescriptorKind, DescriptorSet, LayoutBinding, PipelineLayout};
@@ -56,6 +58,11 @@ pub struct GpuOptions {
     /// Failures to inject (tests of the out-of-memory and device-loss
     /// paths); none by default.
     pub faults: FaultPlan,
+    /// The most bytes one storage binding may reach, when below the
+    /// device's maxStorageBufferRange: tests of the kernels that run in
+    /// batches (`gpu::batches`) on a few thousand blades instead of
+    /// millions.
+    pub storage_range: Option<u32>,
 }
 
 /// The open GPU: the device (which holds the instance) and what the
@@ -71,8 +78,12 @@ impl Gpu {
     pub fn new(options: &GpuOptions) -> Result<Self> {
         let instance = Arc::new(Instance::new(options.validation)?);
         let log = instance.log.clone();
-        let adapter = device::enumerate(&instance, &options.pretend_missing)
+        let mut adapter = device::enumerate(&instance, &options.pretend_missing)
             .and_then(|adapters| device::choose(&adapters, options.device_name.as_deref()))?;
+        if let Some(range) = options.storage_range {
+            let limits = &mut adapter.properties.limits;
+            limits.max_storage_buffer_range = limits.max_storage_buffer_range.min(range);
+        }
         let device = Device::new(instance, adapter, fault::Faults::new(options.faults))?;
         Ok(Self {
             device,

@@ -15,6 +15,8 @@
 //! The pass binds the blade buffer and the frame uniforms, which it does
 //! not own; their owners must outlive it.
 
+use std::ops::Range;
+
 use ash::vk;
 
 use crate::error::{Error, Result};
@@ -25,6 +27,8 @@ use crate::gpu::{
 
 /// Blades per workgroup of the flag and compaction kernels (CULL_GROUP).
 const GROUP: u32 = 256;
+/// Bytes of one blade's control points, the flag kernel's per-blade part.
+const BLADE_BYTES: u64 = 4 * std::mem::size_of::<crate::sim::BladeVertex>() as u64;
 /// Bytes of one `VkDrawIndexedIndirectCommand`.
 const DRAW_BYTES: u64 = 20;
 /// Words of the draws buffer: the colour draw, the shadow draw, the
@@ -36,7 +40,8 @@ const DRAW_WORDS: usize = 13;
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
 struct CullPush {
-    /// x: blades, y: workgroups of the flag kernel, z: 1 = shadows on.
+    /// x: blades, y: workgroups of the flag kernel, z: 1 = shadows on,
+    /// w: the first blade of the flag kernel's batch.
     control: [u32; 4],
     /// x: the orientation test's cosine (`edge_on`; 1 = off).
     tests: [f32; 4],
@@ -110,8 +115,12 @@ pub struct BladeList<'a> {
 }
 
 pub struct CullPass {
-    // Declared first, dropped first: the set points at the buffers.
-    set: DescriptorSet,
+    // Declared first, dropped first: the sets point at the buffers. The
+    // flag kernel reads the control points a batch of blades at a time
+    // (`gpu::batches`: a million blades are more than lavapipe lets one
+    // binding reach), one set per batch; the scan and the compaction,
+    // which do not read them, use the first.
+    batches: Vec<(DescriptorSet, Range<u32>)>,
     flags_kernel: Pipeline,
     scan_kernel: Pipeline,
     compact_kernel: Pipeline,
@@ -194,23 +203,41 @@ impl CullPass {
         let flags_kernel = Pipeline::compute(gpu, &layout, &crate::shaders::CULL_FLAGS_COMP)?;
         let scan_kernel = Pipeline::compute(gpu, &layout, &crate::shaders::CULL_SCAN_COMP)?;
         let compact_kernel = Pipeline::compute(gpu, &layout, &crate::shaders::CULL_COMPACT_COMP)?;
-        let set = DescriptorSet::new(
-            gpu,
-            &layout,
-            CULL_SET,
-            &[
-                Bound::Buffer(frame_uniforms),
-                Bound::Buffer(blades),
-                Bound::Buffer(&flags),
-                Bound::Buffer(&group_counts),
-                Bound::Buffer(&draws),
-                Bound::Buffer(&color_list),
-                Bound::Buffer(&shadow_list),
-            ],
-            "cull descriptor set",
-        )?;
+        let batch = crate::gpu::storage_batch_len(gpu, BLADE_BYTES)?;
+        let batches = crate::gpu::batches(blade_count, batch)?;
+        let many = batches.len() > 1;
+        let batches = batches
+            .into_iter()
+            .map(|range| {
+                let name = if many {
+                    format!("cull descriptor set (blades {range:?})")
+                } else {
+                    "cull descriptor set".to_string()
+                };
+                let set = DescriptorSet::new(
+                    gpu,
+                    &layout,
+                    CULL_SET,
+                    &[
+                        Bound::Buffer(frame_uniforms),
+                        Bound::Part {
+                            buffer: blades,
+                            offset: range.start as u64 * BLADE_BYTES,
+                            size: range.len() as u64 * BLADE_BYTES,
+                        },
+                        Bound::Buffer(&flags),
+                        Bound::Buffer(&group_counts),
+                        Bound::Buffer(&draws),
+                        Bound::Buffer(&color_list),
+                        Bound::Buffer(&shadow_list),
+                    ],
+                    &name,
+                )?;
+                Ok((set, range))
+            })
+            .collect::<Result<Vec<_>>>()?;
         Ok(Self {
-            set,
+            batches,
             flags_kernel,
             scan_kernel,
             compact_kernel,
@@ -238,18 +265,23 @@ impl CullPass {
                 .and(Access::DRAW_INDIRECT),
             Access::COMPUTE_READ_WRITE,
         );
-        let groups = self.push.control[1];
-        let kernels = [
-            (&self.flags_kernel, groups),
+        // The batches write their own blades' flags and workgroups' counts.
+        rec.bind_pipeline(&self.flags_kernel);
+        for (set, blades) in &self.batches {
+            let mut push = self.push;
+            push.control[3] = blades.start;
+            rec.bind_set(&self.flags_kernel, set);
+            rec.push_constants(&self.flags_kernel, &push);
+            rec.dispatch((blades.len() as u32).div_ceil(GROUP));
+        }
+        let first_set = &self.batches[0].0;
+        for (kernel, dispatch) in [
             (&self.scan_kernel, 1),
-            (&self.compact_kernel, groups),
-        ];
-        for (i, (kernel, dispatch)) in kernels.into_iter().enumerate() {
-            if i > 0 {
-                rec.barrier(Access::COMPUTE_WRITE, Access::COMPUTE_READ_WRITE);
-            }
+            (&self.compact_kernel, self.push.control[1]),
+        ] {
+            rec.barrier(Access::COMPUTE_WRITE, Access::COMPUTE_READ_WRITE);
             rec.bind_pipeline(kernel);
-            rec.bind_set(kernel, &self.set);
+            rec.bind_set(kernel, first_set);
             rec.push_constants(kernel, &self.push);
             rec.dispatch(dispatch);
         }

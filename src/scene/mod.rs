@@ -551,6 +551,7 @@ pub const BUILTIN: &[(&str, &str)] = &[
     ),
     ("table1", include_str!("../../scenes/table1.toml")),
     ("gust-strip", include_str!("../../scenes/gust-strip.toml")),
+    ("prairie", include_str!("../../scenes/prairie.toml")),
 ];
 
 /// How far above the ground a root is tested against the obstacles: a box

@@ -13,6 +13,8 @@
 
 use ash::vk;
 
+use std::ops::Range;
+
 use crate::error::{try_collect, Error, Result};
 use crate::gpu::{
     Access, Bound, Buffer, Commands, DescriptorSet, Gpu, LayoutBinding, Pipeline, PipelineLayout,
@@ -23,6 +25,15 @@ use crate::sim::BladeVertex;
 use crate::simulate::wind_pass::WindInput;
 
 const LOCAL_SIZE: u32 = 64;
+/// Bytes of the largest per-blade part the kernel binds (the rest shape
+/// and physics, the state, the four control points): what limits a batch.
+const BLADE_BYTES_BOUND: u64 = {
+    let a = std::mem::size_of::<GrassBlade>();
+    let b = std::mem::size_of::<GrassState>();
+    let c = 4 * std::mem::size_of::<BladeVertex>();
+    let ab = if a > b { a } else { b };
+    (if ab > c { ab } else { c }) as u64
+};
 /// Any motion at its cap, then swing, bend A, bend B, twist.
 const CAP_COUNTERS: usize = 5;
 
@@ -52,8 +63,10 @@ pub const GRASS_SET: &[LayoutBinding] = &[
 ];
 
 pub struct GrassPass {
-    // Declared first, dropped first: the set points at the buffers.
-    set: DescriptorSet,
+    // Declared first, dropped first: the sets point at the buffers. One
+    // set per batch of blades (`gpu::batches`): a million blades are more
+    // than lavapipe lets one binding reach.
+    batches: Vec<(DescriptorSet, Range<u32>)>,
     pipeline: Pipeline,
     /// Held for the set: the kernel reads the rest shapes and physics.
     _blades: Buffer,
@@ -161,22 +174,44 @@ impl GrassPass {
             "grass",
         )?;
         let pipeline = Pipeline::compute(gpu, &layout, &crate::shaders::GRASS_STEP_COMP)?;
-        let set = DescriptorSet::new(
-            gpu,
-            &layout,
-            GRASS_SET,
-            &[
-                Bound::Buffer(&blades_buffer),
-                Bound::Buffer(&states),
-                Bound::Buffer(vertices),
-                Bound::Buffer(wind.velocity),
-                Bound::Buffer(&caps),
-                Bound::Buffer(canopy),
-            ],
-            "grass descriptor set",
-        )?;
+        let batch = crate::gpu::storage_batch_len(gpu, BLADE_BYTES_BOUND)?;
+        let batches = crate::gpu::batches(blade_count, batch)?;
+        let many = batches.len() > 1;
+        let batches = batches
+            .into_iter()
+            .map(|range| {
+                let part = |buffer, item: usize| {
+                    let item = item as u64;
+                    Bound::Part {
+                        buffer,
+                        offset: range.start as u64 * item,
+                        size: range.len() as u64 * item,
+                    }
+                };
+                let name = if many {
+                    format!("grass descriptor set (blades {range:?})")
+                } else {
+                    "grass descriptor set".to_string()
+                };
+                let set = DescriptorSet::new(
+                    gpu,
+                    &layout,
+                    GRASS_SET,
+                    &[
+                        part(&blades_buffer, std::mem::size_of::<GrassBlade>()),
+                        part(&states, std::mem::size_of::<GrassState>()),
+                        part(vertices, 4 * std::mem::size_of::<BladeVertex>()),
+                        Bound::Buffer(wind.velocity),
+                        Bound::Buffer(&caps),
+                        Bound::Buffer(canopy),
+                    ],
+                    &name,
+                )?;
+                Ok((set, range))
+            })
+            .collect::<Result<Vec<_>>>()?;
         Ok(Self {
-            set,
+            batches,
             pipeline,
             _blades: blades_buffer,
             states,
@@ -213,9 +248,16 @@ impl GrassPass {
             Access::COMPUTE_READ_WRITE,
         );
         rec.bind_pipeline(&self.pipeline);
-        rec.bind_set(&self.pipeline, &self.set);
-        rec.push_constants(&self.pipeline, &push);
-        rec.dispatch(self.blade_count.div_ceil(LOCAL_SIZE));
+        for (i, (set, blades)) in self.batches.iter().enumerate() {
+            if i > 0 {
+                // The batches share the cap counters and the canopy.
+                rec.barrier(Access::COMPUTE_WRITE, Access::COMPUTE_READ_WRITE);
+            }
+            push.control[0] = blades.len() as u32;
+            rec.bind_set(&self.pipeline, set);
+            rec.push_constants(&self.pipeline, &push);
+            rec.dispatch(push.control[0].div_ceil(LOCAL_SIZE));
+        }
         rec.barrier(
             Access::COMPUTE_WRITE,
             Access::VERTEX_INPUT.and(Access::COMPUTE_READ_WRITE),

@@ -18,11 +18,19 @@ use meadow::scene::Scene;
 use meadow::sim::Blade;
 
 pub fn strict_gpu() -> Gpu {
+    strict_gpu_with(None)
+}
+
+/// As `strict_gpu`, one storage binding reaching at most `storage_range`
+/// bytes: the kernels that run in batches (src/gpu/batches.rs) run in
+/// several on a few thousand blades.
+pub fn strict_gpu_with(storage_range: Option<u32>) -> Gpu {
     // Keep the test log readable; messages are still counted and asserted.
     std::env::set_var("MEADOW_QUIET_VALIDATION", "1");
     let options = GpuOptions {
         validation: ValidationOptions::strict(),
         device_name: std::env::var("MEADOW_TEST_DEVICE").ok(),
+        storage_range,
         ..Default::default()
     };
     Gpu::new(&options).unwrap_or_else(|e| {
