@@ -7,7 +7,7 @@
 use std::ops::Range;
 
 use crate::error::{Error, Result};
-use crate::gpu::Gpu;
+use crate::gpu::{Bound, Buffer, DescriptorSet, Gpu, LayoutBinding, PipelineLayout};
 
 /// Every batch but the last holds a multiple of this many items: a whole
 /// number of workgroups (64 and 256 items divide it) whose bytes start at
@@ -39,6 +39,45 @@ pub fn batches(items: u32, len: u32) -> Result<Vec<Range<u32>>> {
     Ok((0..items.div_ceil(len))
         .map(|k| k * len..items.min((k + 1).saturating_mul(len)))
         .collect())
+}
+
+/// One descriptor set of `layout` per batch of `items` items, as many as
+/// one binding of `item_bytes` per item allows (`storage_batch_len`); `bound`
+/// gives a batch's resources (`part` binds its share of a per-item
+/// buffer). One batch when they fit, named `name`; else each named with its
+/// items.
+pub fn sets_per_batch<'a>(
+    gpu: &Gpu,
+    layout: &PipelineLayout,
+    bindings: &[LayoutBinding],
+    items: u32,
+    item_bytes: u64,
+    name: &str,
+    bound: impl Fn(&Range<u32>) -> Vec<Bound<'a>>,
+) -> Result<Vec<(DescriptorSet, Range<u32>)>> {
+    let all = batches(items, storage_batch_len(gpu, item_bytes)?)?;
+    let many = all.len() > 1;
+    all.into_iter()
+        .map(|range| {
+            let name = if many {
+                format!("{name} (items {range:?})")
+            } else {
+                name.to_string()
+            };
+            let set = DescriptorSet::new(gpu, layout, bindings, &bound(&range), &name)?;
+            Ok((set, range))
+        })
+        .collect()
+}
+
+/// The part of `buffer` that holds `items`, `item_bytes` each.
+pub fn part<'a>(buffer: &'a Buffer, items: &Range<u32>, item_bytes: usize) -> Bound<'a> {
+    let item_bytes = item_bytes as u64;
+    Bound::Part {
+        buffer,
+        offset: items.start as u64 * item_bytes,
+        size: items.len() as u64 * item_bytes,
+    }
 }
 
 #[cfg(test)]

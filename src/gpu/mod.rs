@@ -23,7 +23,7 @@ pub mod shader;
 use std::sync::Arc;
 
 pub use barrier::{Access, ImageTransition};
-pub use batches::{batches, storage_batch_len};
+pub use batches::{part, sets_per_batch};
 pub use buffer::Buffer;
 pub use commands::{Attachments, Commands, Recording};
 pub use descriptors::{Bound, DescriptorKind, DescriptorSet, LayoutBinding, PipelineLayout};

@@ -28,7 +28,7 @@ use crate::gpu::{
 /// Blades per workgroup of the flag and compaction kernels (CULL_GROUP).
 const GROUP: u32 = 256;
 /// Bytes of one blade's control points, the flag kernel's per-blade part.
-const BLADE_BYTES: u64 = 4 * std::mem::size_of::<crate::sim::BladeVertex>() as u64;
+const BLADE_BYTES: usize = 4 * std::mem::size_of::<crate::sim::BladeVertex>();
 /// Bytes of one `VkDrawIndexedIndirectCommand`.
 const DRAW_BYTES: u64 = 20;
 /// Words of the draws buffer: the colour draw, the shadow draw, the
@@ -203,39 +203,25 @@ impl CullPass {
         let flags_kernel = Pipeline::compute(gpu, &layout, &crate::shaders::CULL_FLAGS_COMP)?;
         let scan_kernel = Pipeline::compute(gpu, &layout, &crate::shaders::CULL_SCAN_COMP)?;
         let compact_kernel = Pipeline::compute(gpu, &layout, &crate::shaders::CULL_COMPACT_COMP)?;
-        let batch = crate::gpu::storage_batch_len(gpu, BLADE_BYTES)?;
-        let batches = crate::gpu::batches(blade_count, batch)?;
-        let many = batches.len() > 1;
-        let batches = batches
-            .into_iter()
-            .map(|range| {
-                let name = if many {
-                    format!("cull descriptor set (blades {range:?})")
-                } else {
-                    "cull descriptor set".to_string()
-                };
-                let set = DescriptorSet::new(
-                    gpu,
-                    &layout,
-                    CULL_SET,
-                    &[
-                        Bound::Buffer(frame_uniforms),
-                        Bound::Part {
-                            buffer: blades,
-                            offset: range.start as u64 * BLADE_BYTES,
-                            size: range.len() as u64 * BLADE_BYTES,
-                        },
-                        Bound::Buffer(&flags),
-                        Bound::Buffer(&group_counts),
-                        Bound::Buffer(&draws),
-                        Bound::Buffer(&color_list),
-                        Bound::Buffer(&shadow_list),
-                    ],
-                    &name,
-                )?;
-                Ok((set, range))
-            })
-            .collect::<Result<Vec<_>>>()?;
+        let batches = crate::gpu::sets_per_batch(
+            gpu,
+            &layout,
+            CULL_SET,
+            blade_count,
+            BLADE_BYTES as u64,
+            "cull descriptor set",
+            |batch| {
+                vec![
+                    Bound::Buffer(frame_uniforms),
+                    crate::gpu::part(blades, batch, BLADE_BYTES),
+                    Bound::Buffer(&flags),
+                    Bound::Buffer(&group_counts),
+                    Bound::Buffer(&draws),
+                    Bound::Buffer(&color_list),
+                    Bound::Buffer(&shadow_list),
+                ]
+            },
+        )?;
         Ok(Self {
             batches,
             flags_kernel,

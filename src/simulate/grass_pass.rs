@@ -17,8 +17,8 @@ use std::ops::Range;
 
 use crate::error::{try_collect, Error, Result};
 use crate::gpu::{
-    Access, Bound, Buffer, Commands, DescriptorSet, Gpu, LayoutBinding, Pipeline, PipelineLayout,
-    Recording,
+    part, Access, Bound, Buffer, Commands, DescriptorSet, Gpu, LayoutBinding, Pipeline,
+    PipelineLayout, Recording,
 };
 use crate::sim::grass::{substeps, CapCounts, GrassBlade, GrassState};
 use crate::sim::BladeVertex;
@@ -174,42 +174,25 @@ impl GrassPass {
             "grass",
         )?;
         let pipeline = Pipeline::compute(gpu, &layout, &crate::shaders::GRASS_STEP_COMP)?;
-        let batch = crate::gpu::storage_batch_len(gpu, BLADE_BYTES_BOUND)?;
-        let batches = crate::gpu::batches(blade_count, batch)?;
-        let many = batches.len() > 1;
-        let batches = batches
-            .into_iter()
-            .map(|range| {
-                let part = |buffer, item: usize| {
-                    let item = item as u64;
-                    Bound::Part {
-                        buffer,
-                        offset: range.start as u64 * item,
-                        size: range.len() as u64 * item,
-                    }
-                };
-                let name = if many {
-                    format!("grass descriptor set (blades {range:?})")
-                } else {
-                    "grass descriptor set".to_string()
-                };
-                let set = DescriptorSet::new(
-                    gpu,
-                    &layout,
-                    GRASS_SET,
-                    &[
-                        part(&blades_buffer, std::mem::size_of::<GrassBlade>()),
-                        part(&states, std::mem::size_of::<GrassState>()),
-                        part(vertices, 4 * std::mem::size_of::<BladeVertex>()),
-                        Bound::Buffer(wind.velocity),
-                        Bound::Buffer(&caps),
-                        Bound::Buffer(canopy),
-                    ],
-                    &name,
-                )?;
-                Ok((set, range))
-            })
-            .collect::<Result<Vec<_>>>()?;
+        use std::mem::size_of;
+        let batches = crate::gpu::sets_per_batch(
+            gpu,
+            &layout,
+            GRASS_SET,
+            blade_count,
+            BLADE_BYTES_BOUND,
+            "grass descriptor set",
+            |blades| {
+                vec![
+                    part(&blades_buffer, blades, size_of::<GrassBlade>()),
+                    part(&states, blades, size_of::<GrassState>()),
+                    part(vertices, blades, 4 * size_of::<BladeVertex>()),
+                    Bound::Buffer(wind.velocity),
+                    Bound::Buffer(&caps),
+                    Bound::Buffer(canopy),
+                ]
+            },
+        )?;
         Ok(Self {
             batches,
             pipeline,
