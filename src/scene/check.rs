@@ -84,6 +84,19 @@ pub fn positive(name: &str, value: f32, max: f32) -> Check {
     }
 }
 
+/// A number in `range` (NaN and the infinities are not), else an error
+/// that says what to use `instead`.
+fn within(name: &str, value: f32, range: RangeInclusive<f32>, instead: &str) -> Check {
+    if range.contains(&value) {
+        Ok(())
+    } else {
+        Err(FieldError::new(
+            name,
+            format!("{value} is not allowed, use {instead}"),
+        ))
+    }
+}
+
 fn finite(name: &str, values: &[f32]) -> Check {
     if values.iter().all(|v| v.is_finite()) {
         Ok(())
@@ -146,12 +159,7 @@ pub fn render(r: &RenderSettings) -> Check {
     }
     in_range("frames", r.frames, 1..=MAX_FRAMES)?;
     positive("fps", r.fps, 1000.0)?;
-    if !(r.start.is_finite() && (0.0..=86_400.0).contains(&r.start)) {
-        return Err(FieldError::new(
-            "start",
-            format!("{} is not allowed, use 0..=86400 seconds", r.start),
-        ));
-    }
+    within("start", r.start, 0.0..=86_400.0, "0..=86400 seconds")?;
     Ok(())
 }
 
@@ -245,34 +253,25 @@ pub fn lod(l: &Lod) -> Check {
 }
 
 pub fn cull(c: &Cull) -> Check {
-    if !(c.thin_from.is_finite() && (0.0..=1e6).contains(&c.thin_from)) {
-        return Err(FieldError::new(
-            "thin_from",
-            format!(
-                "{} is not allowed, use 0 (no thinning) or a distance up to 1e6 m",
-                c.thin_from
-            ),
-        ));
-    }
-    if !(c.thin_least.is_finite() && c.thin_least >= 0.01 && c.thin_least <= 1.0) {
-        return Err(FieldError::new(
-            "thin_least",
-            format!(
-                "{} is not allowed, use a share in 0.01..=1 (1 keeps every blade)",
-                c.thin_least
-            ),
-        ));
-    }
+    within(
+        "thin_from",
+        c.thin_from,
+        0.0..=1e6,
+        "0 (no thinning) or a distance up to 1e6 m",
+    )?;
+    within(
+        "thin_least",
+        c.thin_least,
+        0.01..=1.0,
+        "a share in 0.01..=1 (1 keeps every blade)",
+    )?;
     positive("thin_band", c.thin_band, 1.0)?;
-    if !(c.edge_on.is_finite() && (0.5..=1.0).contains(&c.edge_on)) {
-        return Err(FieldError::new(
-            "edge_on",
-            format!(
-                "{} is not allowed, use a cosine in 0.5..=1 (1 keeps blades seen edge-on)",
-                c.edge_on
-            ),
-        ));
-    }
+    within(
+        "edge_on",
+        c.edge_on,
+        0.5..=1.0,
+        "a cosine in 0.5..=1 (1 keeps blades seen edge-on)",
+    )?;
     Ok(())
 }
 
@@ -387,20 +386,10 @@ pub fn wind(w: &super::WindConfig) -> Check {
         ));
     }
     positive("height", w.height, 1000.0)?;
-    if !(w.margin.is_finite() && (0.0..=1000.0).contains(&w.margin)) {
-        return Err(FieldError::new(
-            "margin",
-            format!("{} is not allowed, use 0..=1000 m", w.margin),
-        ));
-    }
+    within("margin", w.margin, 0.0..=1000.0, "0..=1000 m")?;
     in_range("jacobi_iterations", w.jacobi_iterations, 0..=10_000)?;
     in_range("v_cycles", w.v_cycles, 1..=MAX_V_CYCLES)?;
-    if !(w.canopy_drag.is_finite() && (0.0..=10.0).contains(&w.canopy_drag)) {
-        return Err(FieldError::new(
-            "canopy_drag",
-            format!("{} is not allowed, use 0..=10", w.canopy_drag),
-        ));
-    }
+    within("canopy_drag", w.canopy_drag, 0.0..=10.0, "0..=10")?;
     positive("dt", w.dt, 0.1)?;
     for (i, s) in w.sources.iter().enumerate() {
         source(s).map_err(|e| e.at(&format!("source[{i}]")))?;
@@ -422,18 +411,8 @@ pub fn wind(w: &super::WindConfig) -> Check {
 }
 
 fn gust(g: &crate::sim::wind::Gust) -> Check {
-    if !(g.amplitude.is_finite() && (0.0..=10.0).contains(&g.amplitude)) {
-        return Err(FieldError::new(
-            "amplitude",
-            format!("{} is not allowed, use 0..=10", g.amplitude),
-        ));
-    }
-    if !(g.frequency.is_finite() && (0.0..=100.0).contains(&g.frequency)) {
-        return Err(FieldError::new(
-            "frequency",
-            format!("{} is not allowed, use 0..=100 Hz", g.frequency),
-        ));
-    }
+    within("amplitude", g.amplitude, 0.0..=10.0, "0..=10")?;
+    within("frequency", g.frequency, 0.0..=100.0, "0..=100 Hz")?;
     Ok(())
 }
 
