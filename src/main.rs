@@ -133,6 +133,10 @@ enum Command {
         /// Do not write DIR/animation.gif (written when there are several frames).
         #[arg(long)]
         no_gif: bool,
+        /// Also write the frames as a video by ffmpeg: FILE.mp4 (H.264) or
+        /// FILE.webm (VP9), 4:2:0, near-lossless, at FPS / K frames a second.
+        #[arg(long, value_name = "FILE")]
+        video: Option<PathBuf>,
         /// Whether the grass slows the wind: one-way (the paper's) or
         /// two-way (canopy drag; default: the scene's wind.coupling).
         #[arg(long, value_enum)]
@@ -416,6 +420,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             start,
             every,
             no_gif,
+            video,
             coupling,
             shadow_map,
             out,
@@ -451,6 +456,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             request.view = view.unwrap_or(request.view);
             request.every = every;
             request.gif = !no_gif;
+            request.video = video;
             let (report, signal) = render_with_progress(&request, &out)?;
             for w in &report.warnings {
                 eprintln!("meadow: warning: {w}");

@@ -48,6 +48,7 @@ fn the_frame_rate_does_not_change_the_simulation() {
     scene.light.shadow_map = 1024;
     let request = |frames: u32, fps: f32| RenderRequest {
         gif: false,
+        video: None,
         ..common::strict_request(scene.clone(), 160, 90, frames, fps)
     };
     let dir = std::env::temp_dir().join(format!("meadow-frame-rate-{}", std::process::id()));

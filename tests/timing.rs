@@ -126,6 +126,7 @@ fn request(pretend_missing: Vec<String>) -> RenderRequest {
         },
         every: 1,
         gif: false,
+        video: None,
         gpu: GpuOptions {
             validation: ValidationOptions::strict(),
             pretend_missing,

@@ -2,7 +2,7 @@
 //! simulate and render every frame (`frame_0000.png`, ...), write
 //! `report.json`, tear everything down and check what validation said.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use crate::commands::{on_gpu, write_json};
@@ -14,6 +14,7 @@ use crate::gpu::query::PipelineStatistics;
 use crate::gpu::{Gpu, GpuOptions, ValidationReport};
 use crate::render::FrameUniforms;
 pub use crate::report::render::RenderReport;
+use crate::report::video::{self, VideoFormat, VideoWriter};
 use crate::report::{files, legend};
 use crate::scene::{field, Scene, ViewMode};
 
@@ -33,6 +34,9 @@ pub struct RenderRequest {
     pub every: u32,
     /// With more than one frame written: also DIR/animation.gif.
     pub gif: bool,
+    /// Also a video of the frames written (.mp4: H.264, .webm: VP9), by
+    /// ffmpeg, at the rate they are written.
+    pub video: Option<PathBuf>,
     pub gpu: GpuOptions,
 }
 
@@ -53,6 +57,7 @@ impl RenderRequest {
             },
             every: 1,
             gif: true,
+            video: None,
             gpu,
         }
     }
@@ -80,6 +85,11 @@ impl RenderRequest {
         }
     }
 
+    /// Frames per second of the frames written (the GIF's and the video's).
+    pub fn written_fps(&self) -> f32 {
+        self.animation.fps / self.every.max(1) as f32
+    }
+
     /// The frame numbers written, in order.
     pub fn frames_written(&self) -> impl Iterator<Item = u32> {
         (0..self.animation.frames).step_by(self.every.max(1) as usize)
@@ -95,6 +105,11 @@ impl RenderRequest {
                 "--every {} is not allowed, use 1..={MAX_FRAMES}",
                 self.every
             )));
+        }
+        if let Some(path) = &self.video {
+            VideoFormat::of(path)?;
+            video::check_size(self.width, self.height)?;
+            video::find_ffmpeg()?;
         }
         self.scene.validate()?;
         self.scene.wind_grid()?;
@@ -216,6 +231,7 @@ fn render_with(
         frames_planned: request.frames_written().count() as u32,
         frames: done.names,
         gif: done.gif,
+        video: done.video,
         interrupted: done.interrupted,
         warnings,
         pipeline_statistics: done.statistics,
@@ -232,6 +248,7 @@ fn render_with(
 struct Animated {
     names: Vec<String>,
     gif: Option<String>,
+    video: Option<String>,
     statistics: Option<PipelineStatistics>,
     shadow_statistics: Option<PipelineStatistics>,
     cull: Option<CullCounts>,
@@ -261,14 +278,24 @@ fn animate(
     // (bad input, no device, no memory) leaves the old outputs alone.
     files::remove_earlier_render(out_dir)?;
     let mut gif = if request.gif && planned > 1 {
-        let seconds = request.every as f32 / request.animation.fps;
+        let seconds = 1.0 / request.written_fps();
         Some(files::GifWriter::create(&out_dir.join(GIF_NAME), seconds)?)
     } else {
         None
     };
+    let mut video = match &request.video {
+        Some(path) => Some(VideoWriter::create(
+            path,
+            request.width,
+            request.height,
+            request.written_fps(),
+        )?),
+        None => None,
+    };
     let mut done = Animated {
         names: Vec::new(),
         gif: None,
+        video: None,
         statistics: None,
         shadow_statistics: None,
         cull: None,
@@ -315,6 +342,9 @@ fn animate(
         if let Some(gif) = gif.as_mut() {
             gif.add(&frame)?;
         }
+        if let Some(video) = video.as_mut() {
+            video.add(&frame)?;
+        }
         done.names.push(name);
         done.statistics = frame.statistics;
         done.shadow_statistics = frame.shadow_statistics;
@@ -329,11 +359,15 @@ fn animate(
             break;
         }
     }
-    // A GIF of no frame is not written (dropping the writer removes its
-    // temporary file).
+    // A GIF or video of no frame is not written (dropping the writer
+    // removes its temporary file).
     if let Some(gif) = gif.filter(|_| !done.names.is_empty()) {
         gif.finish()?;
         done.gif = Some(GIF_NAME.to_string());
+    }
+    if let Some(writer) = video.filter(|_| !done.names.is_empty()) {
+        writer.finish()?;
+        done.video = request.video.as_ref().map(|p| p.display().to_string());
     }
     Ok(done)
 }

@@ -56,7 +56,8 @@ pub fn remove_earlier_render(dir: &Path) -> Result<Vec<String>> {
     Ok(removed)
 }
 
-fn temp_name(path: &Path) -> PathBuf {
+/// The temporary name `path` is written under until it is complete.
+pub(crate) fn temp_name(path: &Path) -> PathBuf {
     let name = path
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())

@@ -1,5 +1,5 @@
-//! Writing results: files written whole or not at all (PNG, GIF, JSON,
-//! text), the wind-slice pictures, the debug views' keys, and the tables printed or saved. It
+//! Writing results: files written whole or not at all (PNG, GIF, video,
+//! JSON, text), the wind-slice pictures, the debug views' keys, and the tables printed or saved. It
 //! computes nothing: the commands hand it what they measured.
 
 pub mod bench;
@@ -9,5 +9,6 @@ pub mod render;
 pub mod reproduce;
 pub mod space_time;
 pub mod timing;
+pub mod video;
 pub mod wind;
 pub mod wind_slices;

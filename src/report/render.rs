@@ -54,6 +54,8 @@ pub struct RenderReport {
     pub frames: Vec<String>,
     /// The animated GIF of the written frames, when there are several.
     pub gif: Option<String>,
+    /// The video of the written frames (`--video`), as its path was given.
+    pub video: Option<String>,
     /// Stopped early (Ctrl-C): `frames` says how far it got, and every
     /// file listed is complete.
     pub interrupted: bool,
@@ -156,6 +158,9 @@ pub fn summary(report: &RenderReport, out: &Path) -> String {
     }
     if let Some(gif) = &report.gif {
         text += &format!("wrote {}\n", out.join(gif).display());
+    }
+    if let Some(video) = &report.video {
+        text += &format!("wrote {video}\n");
     }
     text
 }

@@ -78,6 +78,7 @@ pub fn strict_request(
         },
         every: 1,
         gif: true,
+        video: None,
         gpu: GpuOptions {
             validation: ValidationOptions::strict(),
             ..Default::default()
