@@ -10,6 +10,7 @@ use anyhow::Context as _;
 use clap::{Parser, Subcommand, ValueEnum};
 
 use meadow::commands::render::{render_to_dir_observed, RenderRequest};
+use meadow::commands::view::{read_script, ViewRequest};
 use meadow::gpu::{FaultPlan, GpuOptions, ValidationOptions};
 use meadow::scene::{Scene, ViewMode};
 use meadow::sim::wind::Coupling;
@@ -76,6 +77,7 @@ impl DeviceArgs {
                 .unwrap_or_default(),
             memory_budget: self.gpu_memory_mib.map(|m| m << 20),
             storage_range: None,
+            window_extensions: Vec::new(),
             // A test hook: fail the N-th allocation or submission.
             faults: FaultPlan::parse(&std::env::var("MEADOW_INJECT_FAULT").unwrap_or_default())?,
         })
@@ -146,6 +148,48 @@ enum Command {
         #[arg(long, value_name = "TEXELS")]
         shadow_map: Option<u32>,
         #[arg(long, default_value = "out")]
+        out: PathBuf,
+        #[command(flatten)]
+        device: DeviceArgs,
+    },
+    /// The meadow live in a window: both phases every frame, simulated
+    /// time following the clock. Keys: W A S D Q E fly, drag to look,
+    /// wheel speed; space pause, . step, [ ] time slower/faster, L LOD,
+    /// V views, P screenshot (DIR/view_NNNN.png), H keys, Esc quit.
+    View {
+        /// A built-in scene (`meadow scenes` lists them) or a scene file (.toml).
+        #[arg(long, default_value = "table1")]
+        scene: String,
+        /// Total number of blades (200000, 200k, 1.5m).
+        #[arg(long)]
+        blades: Option<String>,
+        /// The window's width at the start (default: the scene's [render] width).
+        #[arg(long)]
+        width: Option<u32>,
+        #[arg(long)]
+        height: Option<u32>,
+        /// MSAA samples asked for; the largest supported count up to it is used.
+        #[arg(long)]
+        msaa: Option<u32>,
+        #[arg(long, value_enum)]
+        lod: Option<OnOff>,
+        #[arg(long, value_enum)]
+        cull: Option<OnOff>,
+        #[arg(long, value_enum)]
+        view: Option<ViewMode>,
+        #[arg(long)]
+        seed: Option<u64>,
+        #[arg(long, value_enum)]
+        coupling: Option<Coupling>,
+        /// Shadow map side in texels (0 turns shadows off).
+        #[arg(long, value_name = "TEXELS")]
+        shadow_map: Option<u32>,
+        /// Timed input, one action per line ("1.5 key space"; see
+        /// docs/viewer.md): a demo without a person.
+        #[arg(long, value_name = "FILE")]
+        script: Option<PathBuf>,
+        /// Where P writes its screenshots.
+        #[arg(long, default_value = "out/view")]
         out: PathBuf,
         #[command(flatten)]
         device: DeviceArgs,
@@ -370,6 +414,40 @@ fn render_with_progress(
     Ok((report?, (sig != 0).then_some(sig)))
 }
 
+/// What `render` and `view` may change of a scene from the command line.
+struct SceneOverrides {
+    blades: Option<String>,
+    seed: Option<u64>,
+    lod: Option<OnOff>,
+    cull: Option<OnOff>,
+    coupling: Option<Coupling>,
+    shadow_map: Option<u32>,
+}
+
+impl SceneOverrides {
+    fn applied_to(self, mut scene: Scene) -> anyhow::Result<Scene> {
+        if let Some(c) = self.coupling {
+            scene.wind.coupling = c;
+        }
+        if let Some(n) = self.shadow_map {
+            scene.set_shadow_map(n)?;
+        }
+        if let Some(text) = self.blades {
+            scene.set_blade_count(blade_count(&text)?)?;
+        }
+        if let Some(s) = self.seed {
+            scene.seed = s;
+        }
+        if let Some(lod) = self.lod {
+            scene.lod.enabled = lod == OnOff::On;
+        }
+        if let Some(cull) = self.cull {
+            scene.cull.enabled = cull == OnOff::On;
+        }
+        Ok(scene)
+    }
+}
+
 /// `--blades` as every command reads it: 1200, 50k, 1.5m. A plain
 /// number is passed on as it is, for the scene to refuse by range.
 fn blade_count(text: &str) -> anyhow::Result<usize> {
@@ -426,25 +504,15 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             out,
             device,
         } => {
-            let mut scene = Scene::load(&scene)?;
-            if let Some(c) = coupling {
-                scene.wind.coupling = c;
+            let scene = SceneOverrides {
+                blades,
+                seed,
+                lod,
+                cull,
+                coupling,
+                shadow_map,
             }
-            if let Some(n) = shadow_map {
-                scene.set_shadow_map(n)?;
-            }
-            if let Some(text) = blades {
-                scene.set_blade_count(blade_count(&text)?)?;
-            }
-            if let Some(s) = seed {
-                scene.seed = s;
-            }
-            if let Some(lod) = lod {
-                scene.lod.enabled = lod == OnOff::On;
-            }
-            if let Some(cull) = cull {
-                scene.cull.enabled = cull == OnOff::On;
-            }
+            .applied_to(Scene::load(&scene)?)?;
             let mut request = RenderRequest::from_scene(scene, device.options()?);
             let a = &mut request.animation;
             a.frames = frames.unwrap_or(a.frames);
@@ -472,6 +540,53 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 let sig = signal.unwrap_or(signal_hook::consts::SIGINT);
                 return Err(Interrupted(sig).into());
             }
+            Ok(())
+        }
+        Command::View {
+            scene,
+            blades,
+            width,
+            height,
+            msaa,
+            lod,
+            cull,
+            view,
+            seed,
+            coupling,
+            shadow_map,
+            script,
+            out,
+            device,
+        } => {
+            let scene = SceneOverrides {
+                blades,
+                seed,
+                lod,
+                cull,
+                coupling,
+                shadow_map,
+            }
+            .applied_to(Scene::load(&scene)?)?;
+            let request = ViewRequest {
+                width: width.unwrap_or(scene.render.width),
+                height: height.unwrap_or(scene.render.height),
+                msaa: msaa.unwrap_or(scene.render.msaa),
+                view: view.unwrap_or(scene.render.view),
+                script: script.as_deref().map(read_script).transpose()?,
+                screenshots: out,
+                gpu: device.options()?,
+                scene,
+            };
+            let report = meadow::commands::view::view(&request)?;
+            println!(
+                "showed {} frames in {:.1} s ({:.1} FPS; {:.1} s to start and stop), {:.2} s simulated; validation: {} errors",
+                report.frames,
+                report.wall_seconds,
+                report.fps(),
+                report.start_seconds,
+                report.simulated_seconds,
+                report.validation.errors
+            );
             Ok(())
         }
         Command::Wind {

@@ -12,6 +12,7 @@ pub mod render;
 pub mod reproduce;
 pub mod scenes;
 pub mod trace;
+pub mod view;
 pub mod wind;
 
 use std::path::Path;

@@ -13,7 +13,8 @@ pub mod timing;
 
 use crate::error::{Error, Result};
 use crate::gpu::query::{PipelineStatistics, Span, SpanTimer, StatisticsQuery};
-use crate::gpu::{Commands, Gpu, Recording};
+use crate::gpu::swapchain::Presented;
+use crate::gpu::{Commands, Gpu, Recording, Swapchain};
 use crate::render::cull::{BladeDraw, CullPass};
 use crate::render::{FrameUniforms, Renderer};
 use crate::scene::{Scene, ViewMode};
@@ -117,20 +118,7 @@ impl FrameRecorder {
         let simulation = dynamics
             .map(|d| Simulation::new(gpu, &commands, scene, d, blade_buffer.buffer()))
             .transpose()?;
-        let cull = scene
-            .cull
-            .enabled
-            .then(|| {
-                CullPass::new(
-                    gpu,
-                    renderer.uniforms(),
-                    blade_buffer.buffer(),
-                    blade_buffer.count(),
-                    renderer.shadows(),
-                    scene.cull.edge_on,
-                )
-            })
-            .transpose()?;
+        let cull = Self::cull_pass(gpu, scene, &renderer, &blade_buffer)?;
         Ok(Self {
             simulation,
             cull,
@@ -143,6 +131,57 @@ impl FrameRecorder {
             extent: (width, height),
             draw_timing_unavailable: gpu.info().draw_timing_unavailable.clone(),
         })
+    }
+
+    /// Renders at `width` x `height` from now on (a window resized): new
+    /// render targets, and a cull pass reading the new frame uniforms. The
+    /// blades and the simulation carry on as they were.
+    pub fn resize(&mut self, gpu: &Gpu, scene: &Scene, (width, height): (u32, u32)) -> Result<()> {
+        if (width, height) == self.extent {
+            return Ok(());
+        }
+        let msaa = self.renderer.samples();
+        // The cull pass's set names the old renderer's uniforms: it goes first.
+        self.cull = None;
+        self.renderer = Renderer::new(
+            gpu,
+            &self.commands,
+            width,
+            height,
+            msaa,
+            scene.light.shadow_map,
+            &scene.wind.obstacles,
+        )?;
+        self.cull = Self::cull_pass(gpu, scene, &self.renderer, &self.blades)?;
+        self.extent = (width, height);
+        Ok(())
+    }
+
+    fn cull_pass(
+        gpu: &Gpu,
+        scene: &Scene,
+        renderer: &Renderer,
+        blades: &BladeBuffer,
+    ) -> Result<Option<CullPass>> {
+        scene
+            .cull
+            .enabled
+            .then(|| {
+                CullPass::new(
+                    gpu,
+                    renderer.uniforms(),
+                    blades.buffer(),
+                    blades.count(),
+                    renderer.shadows(),
+                    scene.cull.edge_on,
+                )
+            })
+            .transpose()
+    }
+
+    /// The rendered size.
+    pub fn extent(&self) -> (u32, u32) {
+        self.extent
     }
 
     /// The phases this device cannot time, with why: the grass draw where
@@ -205,6 +244,53 @@ impl FrameRecorder {
     /// Records `steps` simulation steps and then the frame into one command
     /// buffer, submits it and reads the frame back.
     pub fn render(&mut self, gpu: &Gpu, uniforms: &FrameUniforms, steps: u64) -> Result<Frame> {
+        let ((), stats) = self.record(gpu, uniforms, steps, |rec, renderer, t| {
+            t.span(&rec, Phase::Readback, |rec| renderer.record_readback(rec));
+            t.end_frame(&rec);
+            rec.submit_and_wait("rendering a frame")
+        })?;
+        Ok(Frame {
+            width: self.extent.0,
+            height: self.extent.1,
+            rgba: self.renderer.pixels(),
+            statistics: stats.statistics,
+            shadow_statistics: stats.shadow_statistics,
+            timings: stats.timings,
+            cull: stats.cull,
+        })
+    }
+
+    /// As `render`, but the frame goes to image `index` of a window's
+    /// swapchain (blitted, scaled to the window) instead of the host; the
+    /// blit is timed as the read-back phase.
+    pub fn present(
+        &mut self,
+        gpu: &Gpu,
+        uniforms: &FrameUniforms,
+        steps: u64,
+        swapchain: &Swapchain,
+        index: u32,
+    ) -> Result<(Presented, FrameStats)> {
+        self.record(gpu, uniforms, steps, |rec, renderer, t| {
+            t.span(&rec, Phase::Readback, |rec| {
+                renderer.record_present_source(rec)
+            });
+            t.end_frame(&rec);
+            let frame = renderer.targets().final_image();
+            swapchain.blit_and_present(rec, frame, index, "showing a frame")
+        })
+    }
+
+    /// Records the steps and the frame's passes, then hands the recording
+    /// to `end` (which records the frame's way out, closes the frame span
+    /// and submits), and reads the frame's counters.
+    fn record<T>(
+        &mut self,
+        gpu: &Gpu,
+        uniforms: &FrameUniforms,
+        steps: u64,
+        end: impl FnOnce(Recording<'_>, &Renderer, &mut Timer<'_>) -> Result<T>,
+    ) -> Result<(T, FrameStats)> {
         if steps > 0 && self.simulation.is_none() {
             return Err(Error::InvalidInput(
                 "a still of blades at rest cannot be simulated".into(),
@@ -234,9 +320,9 @@ impl FrameRecorder {
         } = self;
         let (buffer, count) = (blades.buffer(), blades.count());
         let rec = commands.begin()?;
-        let mut t = Timer(timer.as_mut());
+        let mut t = Timer(timer.as_mut(), None);
         t.reset(&rec);
-        let frame = t.begin(&rec, Phase::Frame);
+        t.1 = t.begin(&rec, Phase::Frame);
         if let Some(simulation) = simulation {
             for _ in 0..steps {
                 t.span(&rec, Phase::Wind, |rec| simulation.record_wind_step(rec));
@@ -276,9 +362,7 @@ impl FrameRecorder {
         }
         renderer.end_color(&rec);
         t.end(&rec, color);
-        t.span(&rec, Phase::Readback, |rec| renderer.record_readback(rec));
-        t.end(&rec, frame);
-        rec.submit_and_wait("rendering a frame")?;
+        let ended = end(rec, renderer, &mut t)?;
 
         let timings = match &self.timer {
             Some(t) => {
@@ -290,10 +374,7 @@ impl FrameRecorder {
             }
             None => None,
         };
-        Ok(Frame {
-            width: self.extent.0,
-            height: self.extent.1,
-            rgba: self.renderer.pixels(),
+        let stats = FrameStats {
             statistics: self.statistics.read()?,
             shadow_statistics: if self.renderer.shadows() {
                 self.shadow_statistics.read()?
@@ -302,14 +383,31 @@ impl FrameRecorder {
             },
             timings,
             cull: self.cull.as_ref().map(CullPass::counts),
-        })
+        };
+        Ok((ended, stats))
     }
 }
 
-/// The phase timer where the device has one: spans around recorded work.
-struct Timer<'t>(Option<&'t mut SpanTimer<Phase>>);
+/// What a frame measured of itself, read after it ran.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct FrameStats {
+    pub statistics: Option<PipelineStatistics>,
+    pub shadow_statistics: Option<PipelineStatistics>,
+    pub timings: Option<FrameTimings>,
+    pub cull: Option<CullCounts>,
+}
+
+/// The phase timer where the device has one: spans around recorded work,
+/// and the open span of the whole frame.
+struct Timer<'t>(Option<&'t mut SpanTimer<Phase>>, Option<Span>);
 
 impl Timer<'_> {
+    /// Closes the whole frame's span: the last thing before submitting.
+    fn end_frame(&mut self, rec: &Recording) {
+        let frame = self.1.take();
+        self.end(rec, frame);
+    }
+
     fn reset(&mut self, rec: &Recording) {
         if let Some(t) = self.0.as_deref_mut() {
             t.reset(rec);

@@ -53,8 +53,9 @@ impl Access {
         vk::AccessFlags2::TRANSFER_WRITE,
         NO_LAYOUT,
     );
+    /// Copies and blits reading (a frame read back or shown in a window).
     pub const COPY_READ: Self = access(
-        vk::PipelineStageFlags2::COPY,
+        vk::PipelineStageFlags2::ALL_TRANSFER,
         vk::AccessFlags2::TRANSFER_READ,
         vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
     );

@@ -103,13 +103,28 @@ pub struct Recording<'a> {
 impl Recording<'_> {
     /// Ends recording, submits, and blocks until the GPU is done.
     pub fn submit_and_wait(self, what: &str) -> Result<()> {
+        self.submit_and_wait_with(what, &[], &[])
+    }
+
+    /// As `submit_and_wait`, the submission first waiting for `waits` and
+    /// signalling `signals` when done (a swapchain image acquired, then
+    /// ready to present).
+    pub(super) fn submit_and_wait_with(
+        self,
+        what: &str,
+        waits: &[vk::SemaphoreSubmitInfo],
+        signals: &[vk::SemaphoreSubmitInfo],
+    ) -> Result<()> {
         let device = &self.device.raw;
         let fence = self.commands.fence.raw();
         // SAFETY: `cmd` is in the recording state (begun by `begin`).
         unsafe { device.end_command_buffer(self.cmd) }.vk_context("vkEndCommandBuffer", what)?;
         self.device.faults.submission(what)?;
         let cmds = [vk::CommandBufferSubmitInfo::default().command_buffer(self.cmd)];
-        let submit = [vk::SubmitInfo2::default().command_buffer_infos(&cmds)];
+        let submit = [vk::SubmitInfo2::default()
+            .wait_semaphore_infos(waits)
+            .command_buffer_infos(&cmds)
+            .signal_semaphore_infos(signals)];
         // SAFETY: the fence is unsignalled (reset after every wait) and the
         // command buffer is not in flight.
         unsafe { device.queue_submit2(self.device.queue, &submit, fence) }

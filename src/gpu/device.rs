@@ -259,10 +259,13 @@ pub struct Device {
 }
 
 impl Device {
+    /// With `presents`, the device can also present to a window's
+    /// swapchain (VK_KHR_swapchain).
     pub(super) fn new(
         instance: Arc<Instance>,
         adapter: Adapter,
         faults: Faults,
+        presents: bool,
     ) -> Result<Arc<Self>> {
         let queue_family = adapter.queue_family.ok_or_else(|| Error::FeatureMissing {
             device: adapter.info.name.clone(),
@@ -286,14 +289,24 @@ impl Device {
         let mut v13 = vk::PhysicalDeviceVulkan13Features::default()
             .dynamic_rendering(true)
             .synchronization2(true);
+        let extensions: Vec<*const i8> = if presents {
+            vec![ash::khr::swapchain::NAME.as_ptr()]
+        } else {
+            vec![]
+        };
         let create_info = vk::DeviceCreateInfo::default()
             .queue_create_infos(&queue_info)
+            .enabled_extension_names(&extensions)
             .enabled_features(&core)
             .push_next(&mut v13);
         // SAFETY: the adapter came from this instance; the create info lives
         // across the call.
         let raw = unsafe { instance.raw.create_device(adapter.raw, &create_info, None) }.map_err(
             |r| match r {
+                vk::Result::ERROR_EXTENSION_NOT_PRESENT => Error::FeatureMissing {
+                    device: adapter.info.name.clone(),
+                    feature: "VK_KHR_swapchain (to show a window)".into(),
+                },
                 vk::Result::ERROR_FEATURE_NOT_PRESENT => Error::FeatureMissing {
                     device: adapter.info.name.clone(),
                     feature: "tessellationShader/geometryShader/dynamicRendering/synchronization2"

@@ -109,7 +109,7 @@ impl MessageLog {
 /// The loader, the instance and (with validation) the debug messenger,
 /// destroyed in `Drop` (after the device, which holds an `Arc` of it).
 pub struct Instance {
-    _entry: ash::Entry,
+    pub(super) entry: ash::Entry,
     pub(super) raw: ash::Instance,
     pub(super) debug_utils: Option<ash::ext::debug_utils::Instance>,
     messenger: vk::DebugUtilsMessengerEXT,
@@ -119,7 +119,9 @@ pub struct Instance {
 }
 
 impl Instance {
-    pub fn new(validation: ValidationOptions) -> Result<Self> {
+    /// With `window_extensions` (`gpu::surface::window_extensions`) the
+    /// instance can make surfaces for a window; empty for offscreen work.
+    pub fn new(validation: ValidationOptions, window_extensions: &[&'static CStr]) -> Result<Self> {
         // SAFETY: loading libvulkan runs its initialisers; we trust the system's loader.
         let entry =
             unsafe { ash::Entry::load() }.map_err(|e| Error::LoaderMissing(e.to_string()))?;
@@ -156,11 +158,23 @@ impl Instance {
         } else {
             vec![]
         };
-        let ext_ptrs: Vec<*const i8> = if has_debug_utils {
+        let mut ext_ptrs: Vec<*const i8> = if has_debug_utils {
             vec![ash::ext::debug_utils::NAME.as_ptr()]
         } else {
             vec![]
         };
+        for wanted in window_extensions {
+            if !extensions
+                .iter()
+                .any(|e| e.extension_name_as_c_str() == Ok(*wanted))
+            {
+                return Err(Error::FeatureMissing {
+                    device: "the Vulkan loader".into(),
+                    feature: format!("{} (to show a window)", wanted.to_string_lossy()),
+                });
+            }
+            ext_ptrs.push(wanted.as_ptr());
+        }
 
         let log = Arc::new(MessageLog {
             report: Mutex::new(ValidationReport {
@@ -221,7 +235,7 @@ impl Instance {
         };
 
         Ok(Self {
-            _entry: entry,
+            entry,
             raw,
             debug_utils,
             messenger,

@@ -19,6 +19,8 @@ pub mod owned;
 pub mod pipeline;
 pub mod query;
 pub mod shader;
+pub mod surface;
+pub mod swapchain;
 
 use std::sync::Arc;
 
@@ -34,6 +36,8 @@ pub use instance::{Instance, ValidationOptions, ValidationReport};
 pub use memory::MemoryLocation;
 pub use owned::Sampler;
 pub use pipeline::{GraphicsDesc, Pipeline, TargetFormats};
+pub use surface::Surface;
+pub use swapchain::Swapchain;
 
 use crate::error::Result;
 
@@ -63,6 +67,10 @@ pub struct GpuOptions {
     /// batches (`gpu::batches`) on a few thousand blades instead of
     /// millions.
     pub storage_range: Option<u32>,
+    /// The instance extensions a window's surface needs
+    /// (`surface::window_extensions`); with any, the device can present.
+    /// Empty for offscreen work.
+    pub window_extensions: Vec<&'static std::ffi::CStr>,
 }
 
 /// The open GPU: the device (which holds the instance) and what the
@@ -76,7 +84,10 @@ pub struct Gpu {
 
 impl Gpu {
     pub fn new(options: &GpuOptions) -> Result<Self> {
-        let instance = Arc::new(Instance::new(options.validation)?);
+        let instance = Arc::new(Instance::new(
+            options.validation,
+            &options.window_extensions,
+        )?);
         let log = instance.log.clone();
         let mut adapter = device::enumerate(&instance, &options.pretend_missing)
             .and_then(|adapters| device::choose(&adapters, options.device_name.as_deref()))?;
@@ -84,7 +95,13 @@ impl Gpu {
             let limits = &mut adapter.properties.limits;
             limits.max_storage_buffer_range = limits.max_storage_buffer_range.min(range);
         }
-        let device = Device::new(instance, adapter, fault::Faults::new(options.faults))?;
+        let presents = !options.window_extensions.is_empty();
+        let device = Device::new(
+            instance,
+            adapter,
+            fault::Faults::new(options.faults),
+            presents,
+        )?;
         Ok(Self {
             device,
             log,
@@ -95,7 +112,7 @@ impl Gpu {
     /// Every device on this machine, for `meadow devices`, and what
     /// validation said of the instance.
     pub fn list_devices(options: &GpuOptions) -> Result<(Vec<DeviceInfo>, ValidationReport)> {
-        let instance = Instance::new(options.validation)?;
+        let instance = Instance::new(options.validation, &[])?;
         let adapters = device::enumerate(&instance, &options.pretend_missing);
         let log = instance.log.clone();
         drop(instance);

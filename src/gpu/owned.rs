@@ -40,6 +40,7 @@ device_child! {
     vk::ShaderModule => destroy_shader_module,
     vk::CommandPool => destroy_command_pool,
     vk::Fence => destroy_fence,
+    vk::Semaphore => destroy_semaphore,
 }
 
 /// A named Vulkan object, destroyed when dropped.

@@ -173,6 +173,16 @@ impl Renderer {
         rec.buffer_barrier(&t.readback, Access::COPY_WRITE, Access::HOST_READ);
     }
 
+    /// Makes the final image ready to be blitted into a window (the
+    /// viewer's way out instead of the read-back).
+    pub fn record_present_source(&self, rec: &Recording) {
+        rec.transition(&[ImageTransition::new(
+            self.targets.final_image(),
+            Access::COLOR_ATTACHMENT_WRITE,
+            Access::COPY_READ,
+        )]);
+    }
+
     /// The frame read back by the last submitted `record_readback`: RGBA8,
     /// sRGB-encoded, rows top to bottom.
     pub fn pixels(&self) -> Vec<u8> {

@@ -1,0 +1,608 @@
+//! `meadow view`: the meadow live in a window. Every frame runs both of
+//! the paper's phases, as `render` does, and shows the frame through a
+//! FIFO swapchain instead of reading it back. Simulated time follows the
+//! clock in the scene's fixed steps; when a frame takes longer than the
+//! steps it may catch up (`MAX_CATCH_UP_S` of simulated time), time slows
+//! down instead of the steps piling up.
+
+pub mod script;
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::time::Instant;
+
+use ash::vk;
+use glam::Vec3;
+use raw_window_handle::{HasDisplayHandle, HasWindowHandle};
+use winit::application::ApplicationHandler;
+use winit::dpi::PhysicalSize;
+use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
+use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
+use winit::keyboard::{Key, NamedKey};
+use winit::window::{Window, WindowId};
+
+use crate::commands::on_gpu;
+use crate::error::{Error, Result};
+use crate::frame::timing::Phase;
+use crate::frame::{FrameRecorder, FrameStats};
+use crate::gpu::swapchain::Presented;
+use crate::gpu::{surface, Gpu, GpuOptions, Surface, Swapchain, ValidationReport};
+use crate::render::FrameUniforms;
+use crate::report::{files, legend};
+use crate::scene::{field, Scene, ViewMode};
+use script::{Action, Script, FLYING_KEYS, HELP};
+
+/// Simulated seconds one frame may catch up at most: beyond it, time in
+/// the window runs slower than the clock.
+pub const MAX_CATCH_UP_S: f64 = 0.1;
+
+/// GPU time a frame's simulation steps may take, where a step is slow (a
+/// CPU device): fewer steps a frame keep the window answering, and the
+/// simulated time per second of the clock is the same either way.
+pub const STEP_BUDGET_MS: f64 = 33.0;
+
+#[derive(Clone, Debug)]
+pub struct ViewRequest {
+    pub scene: Scene,
+    /// The window's inner size at the start.
+    pub width: u32,
+    pub height: u32,
+    pub msaa: u32,
+    pub view: ViewMode,
+    pub script: Option<Script>,
+    /// Where P writes its screenshots.
+    pub screenshots: PathBuf,
+    pub gpu: GpuOptions,
+}
+
+/// What a session in the window did.
+#[derive(Clone, Debug, Default)]
+pub struct ViewReport {
+    pub frames: u64,
+    pub simulated_seconds: f64,
+    /// From the first frame shown to the last.
+    pub wall_seconds: f64,
+    /// Before the first frame and after the last: the GPU's start-up,
+    /// the field, the pipelines, the scene's own start, the teardown.
+    pub start_seconds: f64,
+    pub screenshots: Vec<PathBuf>,
+    pub validation: ValidationReport,
+}
+
+impl ViewReport {
+    /// Frames a second after the first (which opens the clock).
+    pub fn fps(&self) -> f64 {
+        self.frames.saturating_sub(1) as f64 / self.wall_seconds.max(1e-9)
+    }
+}
+
+/// Opens the window and runs until Esc, the window's close or the script's
+/// end of input. Refused with one line where there is no display.
+pub fn view(request: &ViewRequest) -> Result<ViewReport> {
+    request.scene.validate()?;
+    request.scene.wind_grid()?;
+    let display_set = ["DISPLAY", "WAYLAND_DISPLAY"]
+        .iter()
+        .any(|v| std::env::var_os(v).is_some_and(|s| !s.is_empty()));
+    if !display_set {
+        return Err(no_display("neither DISPLAY nor WAYLAND_DISPLAY is set"));
+    }
+    let event_loop = EventLoop::new().map_err(|e| no_display(&e.to_string()))?;
+    event_loop.set_control_flow(ControlFlow::Poll);
+    let display = event_loop
+        .display_handle()
+        .map_err(|e| no_display(&e.to_string()))?
+        .as_raw();
+    let mut options = request.gpu.clone();
+    options.window_extensions = surface::window_extensions(display)?;
+    let started = Instant::now();
+    let (mut report, validation) = on_gpu(&options, |gpu| {
+        let mut app = App {
+            gpu,
+            request,
+            live: None,
+            error: None,
+            report: ViewReport::default(),
+        };
+        let ran = event_loop.run_app(&mut app);
+        // The window's GPU objects go before the GPU is torn down.
+        let simulated = app.live.as_ref().map_or(0.0, Live::time);
+        let shown = app.live.as_ref().and_then(|l| {
+            l.first_frame
+                .map(|first| l.last_frame.duration_since(first).as_secs_f64())
+        });
+        drop(app.live.take());
+        if let Some(e) = app.error.take() {
+            return Err(e);
+        }
+        ran.map_err(|e| Error::InvalidInput(format!("the window's event loop failed: {e}")))?;
+        app.report.simulated_seconds = simulated;
+        app.report.wall_seconds = shown.unwrap_or(0.0);
+        Ok(app.report)
+    })?;
+    report.start_seconds = started.elapsed().as_secs_f64() - report.wall_seconds;
+    report.validation = validation;
+    report.validation.check()?;
+    Ok(report)
+}
+
+fn no_display(why: &str) -> Error {
+    Error::InvalidInput(format!(
+        "meadow view needs a display ({why}); on a machine without one run it under Xvfb \
+         (xvfb-run -a meadow view), or write frames with `meadow render` (--video for a video)"
+    ))
+}
+
+struct App<'a> {
+    gpu: &'a Gpu,
+    request: &'a ViewRequest,
+    live: Option<Live>,
+    /// The first failure: the loop stops at it and `view` returns it.
+    error: Option<Error>,
+    report: ViewReport,
+}
+
+/// The window and what draws into it, dropped in field order: the frame
+/// recorder, the swapchain, the surface, then the window they show in.
+struct Live {
+    recorder: FrameRecorder,
+    swapchain: Option<Swapchain>,
+    surface: Arc<Surface>,
+    window: Window,
+    scene: Scene,
+    view: ViewMode,
+    camera: Camera,
+    /// The scene's camera path is followed until the user flies.
+    flying: bool,
+    paused: bool,
+    steps_asked: u64,
+    time_scale: f64,
+    held: HashMap<char, Option<Instant>>,
+    dragging: Option<(f64, f64)>,
+    script: Vec<(f64, Action)>,
+    first_frame: Option<Instant>,
+    last_frame: Instant,
+    fps: f64,
+    stale: bool,
+    screenshot_asked: bool,
+    screenshots_dir: PathBuf,
+    /// GPU time of one simulation step, last measured (None: not yet, or
+    /// no timestamps).
+    step_ms: Option<f64>,
+}
+
+/// A fly camera: where it is, where it looks (yaw about y, pitch), how fast.
+#[derive(Clone, Copy, Debug)]
+struct Camera {
+    eye: Vec3,
+    yaw: f32,
+    pitch: f32,
+    speed: f32,
+}
+
+impl Camera {
+    fn looking(eye: Vec3, target: Vec3) -> Self {
+        let d = (target - eye).normalize_or(Vec3::NEG_Z);
+        Self {
+            eye,
+            yaw: d.x.atan2(-d.z),
+            pitch: d.y.clamp(-1.0, 1.0).asin(),
+            speed: 2.0,
+        }
+    }
+
+    fn forward(&self) -> Vec3 {
+        let (sy, cy) = self.yaw.sin_cos();
+        let (sp, cp) = self.pitch.sin_cos();
+        Vec3::new(sy * cp, sp, -cy * cp)
+    }
+}
+
+impl Live {
+    fn new(gpu: &Gpu, request: &ViewRequest, event_loop: &ActiveEventLoop) -> Result<Self> {
+        let attributes = Window::default_attributes()
+            .with_title(format!("meadow - {}", request.scene.name))
+            .with_inner_size(PhysicalSize::new(request.width, request.height));
+        let window = event_loop
+            .create_window(attributes)
+            .map_err(|e| Error::InvalidInput(format!("the window could not be made: {e}")))?;
+        let handles = (window.display_handle(), window.window_handle());
+        let (Ok(display), Ok(handle)) = handles else {
+            return Err(Error::InvalidInput(
+                "the window has no handle Vulkan can draw into".into(),
+            ));
+        };
+        let surface = Arc::new(Surface::new(gpu, display.as_raw(), handle.as_raw())?);
+        let scene = request.scene.clone();
+        let size = window.inner_size();
+        let (width, height) = (size.width.max(1), size.height.max(1));
+        crate::frame::check_fits(gpu, &scene, width, height, request.msaa)?;
+        let blades = scene.field()?;
+        let dynamic = field::dynamic_blades(&blades, &scene.grass.dynamics, scene.seed)?;
+        let mut recorder = FrameRecorder::new(
+            gpu,
+            &scene,
+            (width, height),
+            request.msaa,
+            &blades,
+            Some(&dynamic),
+        )?;
+        // The scene's own start: the window opens on what `render` shows first.
+        let mut steps = recorder.steps_until(scene.render.start as f64)?;
+        while steps > 0 {
+            let batch = steps.min(crate::commands::render::STEP_BATCH);
+            recorder.simulate(batch)?;
+            steps -= batch;
+        }
+        let (eye, target) = scene.camera.at(scene.render.start);
+        Ok(Self {
+            recorder,
+            swapchain: None,
+            surface,
+            window,
+            camera: Camera::looking(eye, target),
+            flying: false,
+            view: request.view,
+            scene,
+            paused: false,
+            steps_asked: 0,
+            time_scale: 1.0,
+            held: HashMap::new(),
+            dragging: None,
+            script: request.script.clone().unwrap_or_default().actions,
+            first_frame: None,
+            last_frame: Instant::now(),
+            fps: 0.0,
+            stale: true,
+            screenshot_asked: false,
+            screenshots_dir: request.screenshots.clone(),
+            step_ms: None,
+        })
+    }
+
+    /// Simulated time so far.
+    fn time(&self) -> f64 {
+        self.recorder
+            .simulation()
+            .map_or(0.0, |s| s.steps_done() as f64 * s.dt() as f64)
+    }
+
+    fn dt(&self) -> f64 {
+        self.recorder
+            .simulation()
+            .map_or(1.0 / 60.0, |s| s.dt() as f64)
+    }
+
+    /// The scene as this frame shows it: the fly camera once the user flew.
+    fn shown_scene(&self) -> Scene {
+        let mut scene = self.scene.clone();
+        if self.flying {
+            scene.camera.position = self.camera.eye.to_array();
+            scene.camera.target = (self.camera.eye + self.camera.forward()).to_array();
+            scene.camera.path.clear();
+        }
+        scene
+    }
+
+    fn take_over_camera(&mut self) {
+        if !self.flying {
+            let speed = self.camera.speed;
+            let (eye, target) = self.scene.camera.at(self.time() as f32);
+            self.camera = Camera::looking(eye, target);
+            self.camera.speed = speed;
+            self.flying = true;
+        }
+    }
+
+    /// Returns false when the viewer should stop.
+    fn act(&mut self, action: Action, now: Instant) -> Result<bool> {
+        match action {
+            Action::Quit | Action::Close => return Ok(false),
+            Action::Pause => self.paused = !self.paused,
+            Action::Step => {
+                self.paused = true;
+                self.steps_asked += 1;
+            }
+            Action::Slower => self.time_scale = (self.time_scale / 2.0).max(1.0 / 64.0),
+            Action::Faster => self.time_scale = (self.time_scale * 2.0).min(8.0),
+            Action::ToggleLod => self.scene.lod.enabled = !self.scene.lod.enabled,
+            Action::CycleView => {
+                self.view = match self.view {
+                    ViewMode::Shaded => ViewMode::Lod,
+                    ViewMode::Lod => ViewMode::Motion,
+                    ViewMode::Motion => ViewMode::Shaded,
+                }
+            }
+            Action::Screenshot => self.screenshot_asked = true,
+            Action::Help => println!("{HELP}"),
+            Action::Hold(key, seconds) => {
+                self.take_over_camera();
+                let until = now + std::time::Duration::from_secs_f64(seconds);
+                self.held.insert(key, Some(until));
+            }
+            Action::Drag(dx, dy) => {
+                self.take_over_camera();
+                self.camera.yaw += dx * 0.2f32.to_radians();
+                self.camera.pitch = (self.camera.pitch - dy * 0.2f32.to_radians())
+                    .clamp(-89f32.to_radians(), 89f32.to_radians());
+            }
+            Action::Wheel(notches) => {
+                self.camera.speed = (self.camera.speed * 1.25f32.powf(notches)).clamp(0.05, 200.0)
+            }
+            Action::Resize(w, h) => {
+                let _ = self.window.request_inner_size(PhysicalSize::new(w, h));
+            }
+        }
+        Ok(true)
+    }
+
+    /// Moves the camera by the keys held for `seconds`.
+    fn fly(&mut self, seconds: f32, now: Instant) {
+        self.held
+            .retain(|_, until| until.is_none_or(|until| until > now));
+        if self.held.is_empty() {
+            return;
+        }
+        let forward = self.camera.forward();
+        let right = forward.cross(Vec3::Y).normalize_or(Vec3::X);
+        let mut direction = Vec3::ZERO;
+        for key in self.held.keys() {
+            direction += match key {
+                'w' => forward,
+                's' => -forward,
+                'd' => right,
+                'a' => -right,
+                'e' => Vec3::Y,
+                'q' => Vec3::NEG_Y,
+                _ => Vec3::ZERO,
+            };
+        }
+        self.camera.eye += direction.normalize_or_zero() * self.camera.speed * seconds;
+    }
+
+    /// One frame: the script's due actions, the camera, the simulation's
+    /// steps, and the frame shown. Returns false when the viewer should stop.
+    fn frame(&mut self, gpu: &Gpu, report: &mut ViewReport) -> Result<bool> {
+        let now = Instant::now();
+        let since_start = self
+            .first_frame
+            .map_or(0.0, |t| now.duration_since(t).as_secs_f64());
+        while self.script.first().is_some_and(|(t, _)| *t <= since_start) {
+            let (_, action) = self.script.remove(0);
+            if !self.act(action, now)? {
+                return Ok(false);
+            }
+        }
+        let wall = now.duration_since(self.last_frame).as_secs_f64().min(0.25);
+        self.last_frame = now;
+        self.fly(wall as f32, now);
+
+        if self.stale {
+            let size = self.window.inner_size();
+            let wanted = vk::Extent2D {
+                width: size.width,
+                height: size.height,
+            };
+            let old = self.swapchain.take();
+            self.swapchain = Swapchain::new(gpu, &self.surface, wanted, old)?;
+            self.stale = false;
+        }
+        // Minimised: nothing to show, and time waits.
+        let Some(swapchain) = self.swapchain.as_ref() else {
+            return Ok(true);
+        };
+        let extent = (swapchain.extent.width, swapchain.extent.height);
+        self.recorder.resize(gpu, &self.scene, extent)?;
+        let Some(index) = swapchain.acquire()? else {
+            self.stale = true;
+            return Ok(true);
+        };
+
+        let dt = self.dt();
+        let mut steps = std::mem::take(&mut self.steps_asked);
+        if !self.paused && self.first_frame.is_some() {
+            let target = self.time() + wall * self.time_scale;
+            let catch_up = (MAX_CATCH_UP_S / dt).ceil() as u64;
+            let affordable = match self.step_ms {
+                Some(ms) if ms > 0.0 => ((STEP_BUDGET_MS / ms) as u64).max(1),
+                _ => catch_up,
+            };
+            steps += self
+                .recorder
+                .steps_until(target)?
+                .min(catch_up)
+                .min(affordable);
+        }
+        let time = self.time() + steps as f64 * dt;
+        let scene = self.shown_scene();
+        let uniforms = FrameUniforms::new(&scene, extent.0, extent.1, self.view, time as f32);
+        let (presented, stats) = self
+            .recorder
+            .present(gpu, &uniforms, steps, swapchain, index)?;
+        self.stale |= presented == Presented::Stale;
+        if let Some(t) = stats.timings.filter(|_| steps > 0) {
+            self.step_ms = Some((t.get(Phase::Wind) + t.get(Phase::Grass)) / steps as f64);
+        }
+        if self.first_frame.is_none() {
+            self.first_frame = Some(now);
+        }
+        report.frames += 1;
+
+        if std::mem::take(&mut self.screenshot_asked) {
+            let path = self.screenshot(gpu, &uniforms, report.screenshots.len())?;
+            println!(
+                "wrote {} (simulated time {:.4} s, camera at {:?} looking at {:?})",
+                path.display(),
+                time,
+                scene.camera.position,
+                scene.camera.target
+            );
+            report.screenshots.push(path);
+        }
+        self.show_title(&stats, wall);
+        Ok(true)
+    }
+
+    /// The frame `render` would write for the same time and camera.
+    fn screenshot(&mut self, gpu: &Gpu, uniforms: &FrameUniforms, n: usize) -> Result<PathBuf> {
+        let dir = &self.screenshots_dir;
+        files::ensure_dir(dir)?;
+        let mut frame = self.recorder.render(gpu, uniforms, 0)?;
+        legend::stamp(&mut frame, self.view, self.scene.lod.levels);
+        let path = dir.join(format!("view_{n:04}.png"));
+        files::write_png(&path, &frame)?;
+        Ok(path)
+    }
+
+    /// FPS, GPU times, counts and time settings in the title bar.
+    fn show_title(&mut self, stats: &FrameStats, wall: f64) {
+        if wall > 0.0 {
+            self.fps = if self.fps == 0.0 {
+                1.0 / wall
+            } else {
+                0.9 * self.fps + 0.1 / wall
+            };
+        }
+        let gpu_ms = stats
+            .timings
+            .map(|t| format!(", GPU {:.1} ms", t.get(Phase::Frame)))
+            .unwrap_or_default();
+        let drawn = stats
+            .cull
+            .map(|c| format!(", {} blades drawn", c.in_view))
+            .unwrap_or_default();
+        let state = if self.paused { ", paused" } else { "" };
+        self.window.set_title(&format!(
+            "meadow - {} - {:.1} FPS{gpu_ms}{drawn} - t {:.2} s x{}{state} (H: keys)",
+            self.scene.name,
+            self.fps,
+            self.time(),
+            self.time_scale
+        ));
+    }
+}
+
+impl ApplicationHandler for App<'_> {
+    fn resumed(&mut self, event_loop: &ActiveEventLoop) {
+        if self.live.is_some() || self.error.is_some() {
+            return;
+        }
+        match Live::new(self.gpu, self.request, event_loop) {
+            Ok(live) => self.live = Some(live),
+            Err(e) => self.fail(event_loop, e),
+        }
+    }
+
+    fn window_event(&mut self, event_loop: &ActiveEventLoop, _: WindowId, event: WindowEvent) {
+        let Some(live) = self.live.as_mut() else {
+            return;
+        };
+        let now = Instant::now();
+        let action = match event {
+            WindowEvent::CloseRequested => Some(Action::Close),
+            WindowEvent::Resized(_) => {
+                live.stale = true;
+                None
+            }
+            WindowEvent::RedrawRequested => {
+                match live.frame(self.gpu, &mut self.report) {
+                    Ok(true) => {}
+                    Ok(false) => event_loop.exit(),
+                    Err(e) => {
+                        self.error.get_or_insert(e);
+                        event_loop.exit();
+                    }
+                }
+                None
+            }
+            WindowEvent::KeyboardInput { event, .. } => {
+                let name = match &event.logical_key {
+                    Key::Named(NamedKey::Escape) => Some("esc".to_string()),
+                    Key::Named(NamedKey::Space) => Some("space".to_string()),
+                    Key::Character(c) => Some(c.to_lowercase()),
+                    _ => None,
+                };
+                let flying = name.as_deref().and_then(|n| {
+                    n.chars()
+                        .next()
+                        .filter(|c| n.len() == 1 && FLYING_KEYS.contains(c))
+                });
+                match (flying, event.state) {
+                    (Some(key), ElementState::Pressed) => {
+                        live.take_over_camera();
+                        live.held.insert(key, None);
+                        None
+                    }
+                    (Some(key), ElementState::Released) => {
+                        live.held.remove(&key);
+                        None
+                    }
+                    (None, ElementState::Pressed) if !event.repeat => {
+                        name.as_deref().and_then(Action::of_key)
+                    }
+                    _ => None,
+                }
+            }
+            WindowEvent::MouseInput {
+                state,
+                button: MouseButton::Left,
+                ..
+            } => {
+                if state == ElementState::Released {
+                    live.dragging = None;
+                } else {
+                    live.dragging = Some((f64::NAN, f64::NAN));
+                }
+                None
+            }
+            WindowEvent::CursorMoved { position, .. } => match live.dragging {
+                Some((x, y)) => {
+                    live.dragging = Some((position.x, position.y));
+                    (!x.is_nan()).then_some(Action::Drag(
+                        (position.x - x) as f32,
+                        (position.y - y) as f32,
+                    ))
+                }
+                None => None,
+            },
+            WindowEvent::MouseWheel { delta, .. } => Some(Action::Wheel(match delta {
+                MouseScrollDelta::LineDelta(_, y) => y,
+                MouseScrollDelta::PixelDelta(p) => (p.y / 40.0) as f32,
+            })),
+            _ => None,
+        };
+        if let Some(action) = action {
+            match live.act(action, now) {
+                Ok(true) => {}
+                Ok(false) => event_loop.exit(),
+                Err(e) => {
+                    self.error.get_or_insert(e);
+                    event_loop.exit();
+                }
+            }
+        }
+    }
+
+    fn about_to_wait(&mut self, _: &ActiveEventLoop) {
+        if let Some(live) = &self.live {
+            live.window.request_redraw();
+        }
+    }
+}
+
+impl App<'_> {
+    fn fail(&mut self, event_loop: &ActiveEventLoop, e: Error) {
+        self.error.get_or_insert(e);
+        event_loop.exit();
+    }
+}
+
+/// Reads and parses `--script FILE`.
+pub fn read_script(path: &Path) -> Result<Script> {
+    let text = std::fs::read_to_string(path).map_err(|e| Error::Io {
+        path: format!("--script {}", path.display()),
+        source: e,
+    })?;
+    Script::parse(&path.display().to_string(), &text)
+}

@@ -1,0 +1,184 @@
+//! `meadow view --script FILE`: timed input, one action per line, so a demo
+//! can be recorded and the viewer tested without a person.
+//!
+//! ```text
+//! # seconds after the first frame, then what happens
+//! 0.5  key space          # any key the viewer knows: space . [ ] l v p h esc
+//! 1.0  hold w 0.5         # hold a key (w a s d q e) for 0.5 s
+//! 1.5  drag 40 -10        # look: a mouse drag of (40, -10) pixels
+//! 2.0  wheel 2            # flying speed up two notches
+//! 2.5  resize 640 360     # the window's inner size
+//! 3.0  close              # the window's close button
+//! ```
+
+use crate::error::{Error, Result};
+
+/// What the viewer does on a key or a scripted line.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Action {
+    /// Esc: quit.
+    Quit,
+    /// The window closed.
+    Close,
+    Pause,
+    /// One simulation step (`.`), pausing first.
+    Step,
+    Slower,
+    Faster,
+    ToggleLod,
+    CycleView,
+    Screenshot,
+    Help,
+    /// Hold a flying key for this many seconds.
+    Hold(char, f64),
+    /// Look around by a mouse drag of (x, y) pixels.
+    Drag(f32, f32),
+    /// Flying speed up (positive) or down by notches.
+    Wheel(f32),
+    Resize(u32, u32),
+}
+
+/// The keys that move the camera while held: forward, left, back, right,
+/// down, up.
+pub const FLYING_KEYS: [char; 6] = ['w', 'a', 's', 'd', 'q', 'e'];
+
+impl Action {
+    /// The action of a key pressed once, by the character it types (or
+    /// `space`, `esc`).
+    pub fn of_key(name: &str) -> Option<Self> {
+        Some(match name {
+            "esc" => Self::Quit,
+            "space" | " " => Self::Pause,
+            "." => Self::Step,
+            "[" => Self::Slower,
+            "]" => Self::Faster,
+            "l" => Self::ToggleLod,
+            "v" => Self::CycleView,
+            "p" => Self::Screenshot,
+            "h" => Self::Help,
+            _ => return None,
+        })
+    }
+}
+
+/// The keys, as `h` prints them.
+pub const HELP: &str = "\
+keys: W A S D fly, Q E down and up, drag the mouse to look, wheel: flying speed
+      space pause, . one step, [ ] slower and faster time, L level of detail on/off,
+      V views (shaded, lod, motion), P screenshot, H these keys, Esc quit";
+
+/// Timed actions, in time order.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Script {
+    pub actions: Vec<(f64, Action)>,
+}
+
+/// The longest a script may run, seconds.
+const MAX_TIME: f64 = 24.0 * 3600.0;
+
+impl Script {
+    /// Parses a script; an error names the file, the line and what to write.
+    pub fn parse(name: &str, text: &str) -> Result<Self> {
+        let mut actions = Vec::new();
+        for (i, line) in text.lines().enumerate() {
+            let line = line.split('#').next().unwrap_or("").trim();
+            if line.is_empty() {
+                continue;
+            }
+            let bad = |what: &str| {
+                Error::InvalidInput(format!(
+                    "{name} line {}: {what} in {line:?}; write SECONDS ACTION, e.g. \"1.5 key space\" \
+                     (the actions: key, hold, drag, wheel, resize, close)",
+                    i + 1
+                ))
+            };
+            let words: Vec<&str> = line.split_whitespace().collect();
+            let time: f64 = words[0]
+                .parse()
+                .ok()
+                .filter(|t: &f64| (0.0..=MAX_TIME).contains(t))
+                .ok_or_else(|| bad("the time is not a number of seconds in 0..=86400"))?;
+            let number = |k: usize| -> Result<f64> {
+                words
+                    .get(k)
+                    .and_then(|w| w.parse::<f64>().ok())
+                    .filter(|v| v.is_finite())
+                    .ok_or_else(|| bad("a number is missing"))
+            };
+            let action = match (words.get(1).copied(), words.len()) {
+                (Some("key"), 3) => Action::of_key(words[2])
+                    .ok_or_else(|| bad("no such key (space . [ ] l v p h esc)"))?,
+                (Some("hold"), 4) => {
+                    let key = words[2]
+                        .chars()
+                        .next()
+                        .filter(|c| words[2].len() == 1 && FLYING_KEYS.contains(c))
+                        .ok_or_else(|| bad("only w a s d q e can be held"))?;
+                    let seconds = number(3)?;
+                    if !(0.0..=60.0).contains(&seconds) {
+                        return Err(bad("hold for 0..=60 seconds"));
+                    }
+                    Action::Hold(key, seconds)
+                }
+                (Some("drag"), 4) => Action::Drag(number(2)? as f32, number(3)? as f32),
+                (Some("wheel"), 3) => Action::Wheel(number(2)? as f32),
+                (Some("resize"), 4) => {
+                    let side = |v: f64| (1.0..=16384.0).contains(&v).then_some(v as u32);
+                    match (side(number(2)?), side(number(3)?)) {
+                        (Some(w), Some(h)) => Action::Resize(w, h),
+                        _ => return Err(bad("a size is 1..=16384 pixels a side")),
+                    }
+                }
+                (Some("close"), 2) => Action::Close,
+                _ => return Err(bad("unknown action or wrong number of words")),
+            };
+            actions.push((time, action));
+        }
+        // Stable: actions at the same time happen in the file's order.
+        actions.sort_by(|a, b| a.0.total_cmp(&b.0));
+        Ok(Self { actions })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_action_parses_and_comes_in_time_order() {
+        let text = "# a demo\n2 close\n0.5 key space\n1 hold w 0.5  # forward\n\
+                    1 drag 40 -10\n1.5 wheel -2\n1.7 resize 640 360\n0.6 key .\n";
+        let s = Script::parse("demo", text).unwrap();
+        assert_eq!(
+            s.actions,
+            vec![
+                (0.5, Action::Pause),
+                (0.6, Action::Step),
+                (1.0, Action::Hold('w', 0.5)),
+                (1.0, Action::Drag(40.0, -10.0)),
+                (1.5, Action::Wheel(-2.0)),
+                (1.7, Action::Resize(640, 360)),
+                (2.0, Action::Close),
+            ]
+        );
+    }
+
+    #[test]
+    fn a_bad_line_is_named_with_what_to_write() {
+        for (text, says) in [
+            ("x key space", "line 1: the time is not a number"),
+            ("1 key z", "no such key"),
+            ("\n1 hold p 1", "line 2: only w a s d q e can be held"),
+            ("1 resize 0 10", "a size is 1..=16384"),
+            ("1 jump", "unknown action"),
+            ("-1 close", "the time is not"),
+            ("1 drag 3", "unknown action or wrong number"),
+            ("1 wheel NaN", "a number is missing"),
+        ] {
+            let e = Script::parse("s.txt", text).unwrap_err().to_string();
+            assert!(e.starts_with("s.txt line"), "{text}: {e}");
+            assert!(e.contains(says), "{text}: {e}");
+            assert!(!e.contains('\n'), "{e}");
+        }
+    }
+}

@@ -1,0 +1,277 @@
+//! `meadow view` in a window on Xvfb, with lavapipe and the validation
+//! layer (synchronization too): a script pauses, steps, switches views,
+//! resizes and quits; what the window shows is what P writes, and what P
+//! writes is what `render` writes for the same time and camera; zero
+//! validation errors, nothing leaked (the layer's teardown report). Needs
+//! Xvfb and ffmpeg (scripts/test installs them).
+
+mod common;
+
+use std::io::{BufRead, BufReader};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Output, Stdio};
+
+use common::binary::{meadow, temp_out};
+
+/// A virtual X display for one test, stopped when dropped.
+struct Xvfb {
+    server: Child,
+    display: String,
+}
+
+impl Xvfb {
+    fn start() -> Self {
+        // -displayfd: the server picks a free display and writes its number.
+        let mut server = Command::new("Xvfb")
+            .args([
+                "-displayfd",
+                "1",
+                "-screen",
+                "0",
+                "1024x768x24",
+                "-nolisten",
+                "tcp",
+            ])
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("Xvfb runs (scripts/ensure-xvfb installs it)");
+        let mut line = String::new();
+        BufReader::new(server.stdout.take().unwrap())
+            .read_line(&mut line)
+            .unwrap();
+        let number: u32 = line.trim().parse().expect("Xvfb says its display");
+        Self {
+            server,
+            display: format!(":{number}"),
+        }
+    }
+}
+
+impl Drop for Xvfb {
+    fn drop(&mut self) {
+        let _ = self.server.kill();
+        let _ = self.server.wait();
+    }
+}
+
+const SCENE: [&str; 8] = [
+    "--scene",
+    "fig10-few-bunches",
+    "--width",
+    "320",
+    "--height",
+    "180",
+    "--shadow-map",
+    "1024",
+];
+
+fn view(x: &Xvfb, script: &str, out: &Path) -> Child {
+    std::fs::create_dir_all(out).unwrap();
+    let script_path = out.join("script.txt");
+    std::fs::write(&script_path, script).unwrap();
+    let mut args = vec!["view", "--validation"];
+    args.extend(SCENE);
+    let (script_arg, out_arg) = (
+        script_path.to_str().unwrap().to_string(),
+        out.to_str().unwrap().to_string(),
+    );
+    args.extend(["--script", &script_arg, "--out", &out_arg]);
+    Command::new(env!("CARGO_BIN_EXE_meadow"))
+        .args(args)
+        .env("DISPLAY", &x.display)
+        .env_remove("WAYLAND_DISPLAY")
+        .env("MEADOW_QUIET_VALIDATION", "1")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("start meadow view")
+}
+
+fn finished(child: Child) -> (Output, String) {
+    let output = child.wait_with_output().unwrap();
+    let stdout = String::from_utf8_lossy(&output.stdout).into_owned();
+    assert!(
+        output.status.success(),
+        "exit {:?}: {stdout}{}",
+        output.status,
+        String::from_utf8_lossy(&output.stderr)
+    );
+    assert!(stdout.contains("validation: 0 errors"), "{stdout}");
+    (output, stdout)
+}
+
+/// The simulated times P printed, in order.
+fn screenshot_times(stdout: &str) -> Vec<(PathBuf, f64)> {
+    stdout
+        .lines()
+        .filter_map(|l| {
+            let rest = l.strip_prefix("wrote ")?;
+            let (path, rest) = rest.split_once(" (simulated time ")?;
+            let time = rest.split_once(' ')?.0.parse().ok()?;
+            Some((PathBuf::from(path), time))
+        })
+        .collect()
+}
+
+fn mean_flip(a: &Path, b: &Path) -> f32 {
+    let a = image::open(a).unwrap().to_rgb8();
+    let b = image::open(b).unwrap().to_rgb8();
+    assert_eq!(a.dimensions(), b.dimensions());
+    let (w, h) = a.dimensions();
+    let a = nv_flip::FlipImageRgb8::with_data(w, h, a.as_raw());
+    let b = nv_flip::FlipImageRgb8::with_data(w, h, b.as_raw());
+    let e = nv_flip::flip(a, b, nv_flip::DEFAULT_PIXELS_PER_DEGREE).to_vec();
+    e.iter().sum::<f32>() / e.len() as f32
+}
+
+/// The share of pixels that are strongly red (the LOD view's level 20).
+fn red_share(path: &Path) -> f64 {
+    let img = image::open(path).unwrap().to_rgb8();
+    let red = img
+        .pixels()
+        .filter(|p| p[0] > 120 && p[0] as u32 > 2 * p[1] as u32 + 20)
+        .count();
+    red as f64 / (img.width() * img.height()) as f64
+}
+
+/// Whether two pictures are the same, pixel for pixel: the same frame on
+/// the same device is (the window's blit is 1:1, sRGB to sRGB; the
+/// screenshot and `render` run the same passes on the same blades).
+fn same_pixels(a: &Path, b: &Path) -> bool {
+    image::open(a).unwrap().to_rgb8() == image::open(b).unwrap().to_rgb8()
+}
+
+#[test]
+fn a_scripted_session_pauses_steps_switches_views_resizes_and_quits() {
+    let x = Xvfb::start();
+    let out = temp_out("viewer-session");
+    // Times after the first frame. While paused at 1.0 s the window shows
+    // one frame again and again: the test grabs it from the X screen.
+    let script = "\
+        0.8 key space\n\
+        1.0 key p\n\
+        6.0 key .\n\
+        6.2 key p\n\
+        6.4 key v\n\
+        6.6 key p\n\
+        6.8 resize 480 270\n\
+        8.0 key p\n\
+        8.2 key esc\n";
+    let child = view(&x, script, &out);
+    // The first screenshot (paused) is on disk: grab the window now.
+    let first = out.join("view_0000.png");
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(120);
+    while !first.exists() {
+        assert!(std::time::Instant::now() < deadline, "no screenshot");
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    std::thread::sleep(std::time::Duration::from_millis(300));
+    let grabbed = out.join("grabbed.png");
+    let grab = Command::new("ffmpeg")
+        .args([
+            "-v",
+            "error",
+            "-y",
+            "-f",
+            "x11grab",
+            "-video_size",
+            "320x180",
+            "-i",
+        ])
+        .arg(format!("{}+0,0", x.display))
+        .args(["-frames:v", "1"])
+        .arg(&grabbed)
+        .status()
+        .unwrap();
+    assert!(grab.success());
+    let (_, stdout) = finished(child);
+
+    let shots = screenshot_times(&stdout);
+    assert_eq!(shots.len(), 4, "{stdout}");
+    // Paused: the time stands; `.` is one 1/60 s step.
+    let step = shots[1].1 - shots[0].1;
+    assert!((step - 1.0 / 60.0).abs() < 1e-3, "{shots:?}");
+    assert_eq!(shots[2].1, shots[1].1, "{shots:?}");
+    // The window shows what P wrote (a blit of the same image).
+    let window = mean_flip(&shots[0].0, &grabbed);
+    assert!(
+        same_pixels(&shots[0].0, &grabbed),
+        "window vs screenshot: FLIP {window}"
+    );
+    // V switched to the LOD view: near blades turn red (level 20), which
+    // no shaded pixel is.
+    let (shaded, lod) = (red_share(&shots[1].0), red_share(&shots[2].0));
+    assert!(
+        shaded < 0.001 && lod > 0.02,
+        "red share {shaded} then {lod}"
+    );
+    // After the resize, frames have the window's new size.
+    let resized = image::open(&shots[3].0).unwrap();
+    assert_eq!((resized.width(), resized.height()), (480, 270));
+
+    // P's picture is `render`'s for the same time and camera.
+    let render_out = out.join("render");
+    let start = format!("{:.4}", shots[0].1);
+    let mut args = vec!["render", "--validation", "--start", &start, "--out"];
+    let render_dir = render_out.to_str().unwrap().to_string();
+    args.push(&render_dir);
+    args.extend(SCENE);
+    let rendered = meadow(&args, &[]);
+    assert!(
+        rendered.status.success(),
+        "{}",
+        String::from_utf8_lossy(&rendered.stderr)
+    );
+    let same = mean_flip(&shots[0].0, &render_out.join("frame_0000.png"));
+    assert!(
+        same_pixels(&shots[0].0, &render_out.join("frame_0000.png")),
+        "screenshot vs render: FLIP {same}"
+    );
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+#[test]
+fn closing_the_window_ends_the_viewer_cleanly() {
+    let x = Xvfb::start();
+    let out = temp_out("viewer-close");
+    let (_, stdout) = finished(view(&x, "0.5 close\n", &out));
+    assert!(stdout.contains("showed "), "{stdout}");
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+#[test]
+fn without_a_display_the_viewer_says_so_in_one_line() {
+    let out = temp_out("viewer-no-display");
+    let result = Command::new(env!("CARGO_BIN_EXE_meadow"))
+        .args(["view", "--out", out.to_str().unwrap()])
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    assert!(!result.status.success());
+    assert_eq!(stderr.trim_end().lines().count(), 1, "{stderr}");
+    assert!(
+        stderr.contains("meadow view needs a display") && stderr.contains("meadow render"),
+        "{stderr}"
+    );
+    assert!(!out.exists());
+}
+
+#[test]
+fn a_bad_script_is_refused_before_the_window_opens() {
+    let out = temp_out("viewer-bad-script");
+    std::fs::create_dir_all(&out).unwrap();
+    let script = out.join("s.txt");
+    std::fs::write(&script, "1 key space\n2 jump\n").unwrap();
+    let result = meadow(
+        &["view", "--script", script.to_str().unwrap()],
+        &[("DISPLAY", ":12345")],
+    );
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    assert!(!result.status.success());
+    assert_eq!(stderr.trim_end().lines().count(), 1, "{stderr}");
+    assert!(stderr.contains("s.txt line 2: unknown action"), "{stderr}");
+    let _ = std::fs::remove_dir_all(&out);
+}
