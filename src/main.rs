@@ -576,6 +576,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 screenshots: out,
                 gpu: device.options()?,
                 scene,
+                stop: Some(stop_signal()?),
             };
             let report = meadow::commands::view::view(&request)?;
             println!(
@@ -587,6 +588,14 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 report.simulated_seconds,
                 report.validation.errors
             );
+            if let Some(sig) = report.stopped_by {
+                let sig = sig as i32;
+                eprintln!(
+                    "meadow: interrupted by {}; the window closed cleanly",
+                    signal_name(sig)
+                );
+                return Err(Interrupted(sig).into());
+            }
             Ok(())
         }
         Command::Wind {

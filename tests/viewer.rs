@@ -275,3 +275,24 @@ fn a_bad_script_is_refused_before_the_window_opens() {
     assert!(stderr.contains("s.txt line 2: unknown action"), "{stderr}");
     let _ = std::fs::remove_dir_all(&out);
 }
+
+#[test]
+fn ctrl_c_closes_the_window_cleanly_with_the_signals_status() {
+    let x = Xvfb::start();
+    let out = temp_out("viewer-sigint");
+    // Without a script's end: only the signal stops it.
+    let child = view(&x, "", &out);
+    std::thread::sleep(std::time::Duration::from_secs(4));
+    let sent = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(sent.success());
+    let output = child.wait_with_output().unwrap();
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(130), "{stdout}{stderr}");
+    assert!(stdout.contains("validation: 0 errors"), "{stdout}{stderr}");
+    assert!(stderr.contains("interrupted by SIGINT"), "{stderr}");
+    let _ = std::fs::remove_dir_all(&out);
+}

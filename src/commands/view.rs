@@ -9,6 +9,7 @@ pub mod script;
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -54,11 +55,16 @@ pub struct ViewRequest {
     /// Where P writes its screenshots.
     pub screenshots: PathBuf,
     pub gpu: GpuOptions,
+    /// Set non-zero (to a signal's number) to close the window between
+    /// frames: the viewer stops as after Esc, and says so.
+    pub stop: Option<Arc<AtomicUsize>>,
 }
 
 /// What a session in the window did.
 #[derive(Clone, Debug, Default)]
 pub struct ViewReport {
+    /// The signal that stopped the viewer (`ViewRequest::stop`), if one did.
+    pub stopped_by: Option<usize>,
     pub frames: u64,
     pub simulated_seconds: f64,
     /// From the first frame shown to the last.
@@ -368,11 +374,14 @@ impl Live {
         let since_start = self
             .first_frame
             .map_or(0.0, |t| now.duration_since(t).as_secs_f64());
-        while self.script.first().is_some_and(|(t, _)| *t <= since_start) {
+        // One scripted action a frame, as a person's keys come: on a slow
+        // device actions due together are not all applied before one
+        // frame (a screenshot then shows what came before the next key). A
+        // quit takes effect after its frame.
+        let mut go_on = true;
+        if self.script.first().is_some_and(|(t, _)| *t <= since_start) {
             let (_, action) = self.script.remove(0);
-            if !self.act(action, now)? {
-                return Ok(false);
-            }
+            go_on = self.act(action, now)?;
         }
         let wall = now.duration_since(self.last_frame).as_secs_f64().min(0.25);
         self.last_frame = now;
@@ -390,13 +399,13 @@ impl Live {
         }
         // Minimised: nothing to show, and time waits.
         let Some(swapchain) = self.swapchain.as_ref() else {
-            return Ok(true);
+            return Ok(go_on);
         };
         let extent = (swapchain.extent.width, swapchain.extent.height);
         self.recorder.resize(gpu, &self.scene, extent)?;
         let Some(index) = swapchain.acquire()? else {
             self.stale = true;
-            return Ok(true);
+            return Ok(go_on);
         };
 
         let dt = self.dt();
@@ -441,7 +450,7 @@ impl Live {
             report.screenshots.push(path);
         }
         self.show_title(&stats, wall);
-        Ok(true)
+        Ok(go_on)
     }
 
     /// The frame `render` would write for the same time and camera.
@@ -584,8 +593,16 @@ impl ApplicationHandler for App<'_> {
         }
     }
 
-    fn about_to_wait(&mut self, _: &ActiveEventLoop) {
-        if let Some(live) = &self.live {
+    fn about_to_wait(&mut self, event_loop: &ActiveEventLoop) {
+        let signal = self
+            .request
+            .stop
+            .as_ref()
+            .map_or(0, |s| s.load(Ordering::SeqCst));
+        if signal != 0 {
+            self.report.stopped_by = Some(signal);
+            event_loop.exit();
+        } else if let Some(live) = &self.live {
             live.window.request_redraw();
         }
     }
