@@ -89,35 +89,8 @@ enum Command {
     /// Simulate and render a scene offscreen: DIR/frame_0000.png ... and
     /// DIR/report.json.
     Render {
-        /// A built-in scene (`meadow scenes` lists them) or a scene file (.toml).
-        #[arg(long, default_value = "table1")]
-        scene: String,
-        /// Total number of blades, shared among the scene's patches (200000,
-        /// 200k, 1.5m).
-        #[arg(long)]
-        blades: Option<String>,
-        /// Image width (default: the scene's [render] width).
-        #[arg(long)]
-        width: Option<u32>,
-        #[arg(long)]
-        height: Option<u32>,
-        /// MSAA samples asked for; the largest supported count up to it is used.
-        #[arg(long)]
-        msaa: Option<u32>,
-        /// Level of detail: tessellation level 20/10/3 by distance, or always 20.
-        #[arg(long, value_enum)]
-        lod: Option<OnOff>,
-        /// Culling: draw only the blades the view (and its shadows) can
-        /// show, listed by a compute pass each frame; off draws every blade
-        /// in both passes (default: the scene's [cull], on).
-        #[arg(long, value_enum)]
-        cull: Option<OnOff>,
-        /// What to show: the shaded grass, or a debug view.
-        #[arg(long, value_enum)]
-        view: Option<ViewMode>,
-        /// Random seed of the grass field (default: the scene's).
-        #[arg(long)]
-        seed: Option<u64>,
+        #[command(flatten)]
+        scene: SceneArgs,
         /// Frames to render; frame f shows simulated time START + f / FPS.
         #[arg(long)]
         frames: Option<u32>,
@@ -139,14 +112,6 @@ enum Command {
         /// FILE.webm (VP9), 4:2:0, near-lossless, at FPS / K frames a second.
         #[arg(long, value_name = "FILE")]
         video: Option<PathBuf>,
-        /// Whether the grass slows the wind: one-way (the paper's) or
-        /// two-way (canopy drag; default: the scene's wind.coupling).
-        #[arg(long, value_enum)]
-        coupling: Option<Coupling>,
-        /// Shadow map side in texels (default: the scene's, the paper's 8192;
-        /// smaller for quick previews; 0 turns shadows off).
-        #[arg(long, value_name = "TEXELS")]
-        shadow_map: Option<u32>,
         #[arg(long, default_value = "out")]
         out: PathBuf,
         #[command(flatten)]
@@ -157,33 +122,8 @@ enum Command {
     /// wheel speed; space pause, . step, [ ] time slower/faster, L LOD,
     /// V views, P screenshot (DIR/view_NNNN.png), H keys, Esc quit.
     View {
-        /// A built-in scene (`meadow scenes` lists them) or a scene file (.toml).
-        #[arg(long, default_value = "table1")]
-        scene: String,
-        /// Total number of blades (200000, 200k, 1.5m).
-        #[arg(long)]
-        blades: Option<String>,
-        /// The window's width at the start (default: the scene's [render] width).
-        #[arg(long)]
-        width: Option<u32>,
-        #[arg(long)]
-        height: Option<u32>,
-        /// MSAA samples asked for; the largest supported count up to it is used.
-        #[arg(long)]
-        msaa: Option<u32>,
-        #[arg(long, value_enum)]
-        lod: Option<OnOff>,
-        #[arg(long, value_enum)]
-        cull: Option<OnOff>,
-        #[arg(long, value_enum)]
-        view: Option<ViewMode>,
-        #[arg(long)]
-        seed: Option<u64>,
-        #[arg(long, value_enum)]
-        coupling: Option<Coupling>,
-        /// Shadow map side in texels (0 turns shadows off).
-        #[arg(long, value_name = "TEXELS")]
-        shadow_map: Option<u32>,
+        #[command(flatten)]
+        scene: SceneArgs,
         /// Timed input, one action per line ("1.5 key space"; see
         /// docs/viewer.md): a demo without a person.
         #[arg(long, value_name = "FILE")]
@@ -414,26 +354,63 @@ fn render_with_progress(
     Ok((report?, (sig != 0).then_some(sig)))
 }
 
-/// What `render` and `view` may change of a scene from the command line.
-struct SceneOverrides {
+/// The scene and what `render` and `view` may change of it from the
+/// command line.
+#[derive(clap::Args)]
+struct SceneArgs {
+    /// A built-in scene (`meadow scenes` lists them) or a scene file (.toml).
+    #[arg(long, default_value = "table1")]
+    scene: String,
+    /// Total number of blades, shared among the scene's patches (200000,
+    /// 200k, 1.5m).
+    #[arg(long)]
     blades: Option<String>,
-    seed: Option<u64>,
+    /// Width in pixels of the image (render) or of the window at the start
+    /// (view); default: the scene's [render] width.
+    #[arg(long)]
+    width: Option<u32>,
+    #[arg(long)]
+    height: Option<u32>,
+    /// MSAA samples asked for; the largest supported count up to it is used.
+    #[arg(long)]
+    msaa: Option<u32>,
+    /// Level of detail: tessellation level 20/10/3 by distance, or always 20.
+    #[arg(long, value_enum)]
     lod: Option<OnOff>,
+    /// Culling: draw only the blades the view (and its shadows) can
+    /// show, listed by a compute pass each frame; off draws every blade
+    /// in both passes (default: the scene's [cull], on).
+    #[arg(long, value_enum)]
     cull: Option<OnOff>,
+    /// What to show: the shaded grass, or a debug view.
+    #[arg(long, value_enum)]
+    view: Option<ViewMode>,
+    /// Random seed of the grass field (default: the scene's).
+    #[arg(long)]
+    seed: Option<u64>,
+    /// Whether the grass slows the wind: one-way (the paper's) or
+    /// two-way (canopy drag; default: the scene's wind.coupling).
+    #[arg(long, value_enum)]
     coupling: Option<Coupling>,
+    /// Shadow map side in texels (default: the scene's, the paper's 8192;
+    /// smaller for quick previews; 0 turns shadows off).
+    #[arg(long, value_name = "TEXELS")]
     shadow_map: Option<u32>,
 }
 
-impl SceneOverrides {
-    fn applied_to(self, mut scene: Scene) -> anyhow::Result<Scene> {
+impl SceneArgs {
+    /// The scene loaded, with the overrides applied (size, MSAA and view
+    /// are the caller's: they go to the request, not the scene).
+    fn load(&self) -> anyhow::Result<Scene> {
+        let mut scene = Scene::load(&self.scene)?;
         if let Some(c) = self.coupling {
             scene.wind.coupling = c;
         }
         if let Some(n) = self.shadow_map {
             scene.set_shadow_map(n)?;
         }
-        if let Some(text) = self.blades {
-            scene.set_blade_count(blade_count(&text)?)?;
+        if let Some(text) = &self.blades {
+            scene.set_blade_count(blade_count(text)?)?;
         }
         if let Some(s) = self.seed {
             scene.seed = s;
@@ -484,44 +461,26 @@ fn main() -> ExitCode {
 fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Render {
-            scene,
-            blades,
-            width,
-            height,
-            msaa,
-            lod,
-            cull,
-            view,
-            seed,
+            scene: args,
             frames,
             fps,
             start,
             every,
             no_gif,
             video,
-            coupling,
-            shadow_map,
             out,
             device,
         } => {
-            let scene = SceneOverrides {
-                blades,
-                seed,
-                lod,
-                cull,
-                coupling,
-                shadow_map,
-            }
-            .applied_to(Scene::load(&scene)?)?;
+            let scene = args.load()?;
             let mut request = RenderRequest::from_scene(scene, device.options()?);
             let a = &mut request.animation;
             a.frames = frames.unwrap_or(a.frames);
             a.fps = fps.unwrap_or(a.fps);
             a.start = start.unwrap_or(a.start);
-            request.width = width.unwrap_or(request.width);
-            request.height = height.unwrap_or(request.height);
-            request.msaa = msaa.unwrap_or(request.msaa);
-            request.view = view.unwrap_or(request.view);
+            request.width = args.width.unwrap_or(request.width);
+            request.height = args.height.unwrap_or(request.height);
+            request.msaa = args.msaa.unwrap_or(request.msaa);
+            request.view = args.view.unwrap_or(request.view);
             request.every = every;
             request.gif = !no_gif;
             request.video = video;
@@ -543,35 +502,17 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             Ok(())
         }
         Command::View {
-            scene,
-            blades,
-            width,
-            height,
-            msaa,
-            lod,
-            cull,
-            view,
-            seed,
-            coupling,
-            shadow_map,
+            scene: args,
             script,
             out,
             device,
         } => {
-            let scene = SceneOverrides {
-                blades,
-                seed,
-                lod,
-                cull,
-                coupling,
-                shadow_map,
-            }
-            .applied_to(Scene::load(&scene)?)?;
+            let scene = args.load()?;
             let request = ViewRequest {
-                width: width.unwrap_or(scene.render.width),
-                height: height.unwrap_or(scene.render.height),
-                msaa: msaa.unwrap_or(scene.render.msaa),
-                view: view.unwrap_or(scene.render.view),
+                width: args.width.unwrap_or(scene.render.width),
+                height: args.height.unwrap_or(scene.render.height),
+                msaa: args.msaa.unwrap_or(scene.render.msaa),
+                view: args.view.unwrap_or(scene.render.view),
                 script: script.as_deref().map(read_script).transpose()?,
                 screenshots: out,
                 gpu: device.options()?,

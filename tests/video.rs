@@ -62,18 +62,6 @@ fn render_video(args: &[&str], out: &Path, video: &Path) -> serde_json::Value {
     report
 }
 
-/// Mean FLIP error of `png` against `other`.
-fn flip(png: &Path, other: &Path) -> f32 {
-    let a = image::open(png).unwrap().to_rgb8();
-    let b = image::open(other).unwrap().to_rgb8();
-    assert_eq!(a.dimensions(), b.dimensions());
-    let (w, h) = a.dimensions();
-    let a = nv_flip::FlipImageRgb8::with_data(w, h, a.as_raw());
-    let b = nv_flip::FlipImageRgb8::with_data(w, h, b.as_raw());
-    let error = nv_flip::flip(a, b, nv_flip::DEFAULT_PIXELS_PER_DEGREE).to_vec();
-    error.iter().sum::<f32>() / error.len() as f32
-}
-
 fn ffmpeg(args: &[&str], input: &Path, output: &Path) {
     let status = Command::new("ffmpeg")
         .args(["-v", "error", "-y", "-i"])
@@ -96,7 +84,7 @@ fn loss_over_4_2_0(video: &Path, png: &Path, scratch: &Path) -> f32 {
     ffmpeg(&["-frames:v", "1"], video, &decoded);
     let subsampled = scratch.join("subsampled.png");
     ffmpeg(&["-vf", "format=yuv420p,format=rgb24"], png, &subsampled);
-    flip(png, &decoded) / flip(png, &subsampled)
+    common::mean_flip_of_files(png, &decoded) / common::mean_flip_of_files(png, &subsampled)
 }
 
 /// Near-lossless: the encoder adds at most a quarter to the loss of the

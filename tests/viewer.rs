@@ -114,17 +114,6 @@ fn screenshot_times(stdout: &str) -> Vec<(PathBuf, f64)> {
         .collect()
 }
 
-fn mean_flip(a: &Path, b: &Path) -> f32 {
-    let a = image::open(a).unwrap().to_rgb8();
-    let b = image::open(b).unwrap().to_rgb8();
-    assert_eq!(a.dimensions(), b.dimensions());
-    let (w, h) = a.dimensions();
-    let a = nv_flip::FlipImageRgb8::with_data(w, h, a.as_raw());
-    let b = nv_flip::FlipImageRgb8::with_data(w, h, b.as_raw());
-    let e = nv_flip::flip(a, b, nv_flip::DEFAULT_PIXELS_PER_DEGREE).to_vec();
-    e.iter().sum::<f32>() / e.len() as f32
-}
-
 /// The share of pixels that are strongly red (the LOD view's level 20).
 fn red_share(path: &Path) -> f64 {
     let img = image::open(path).unwrap().to_rgb8();
@@ -194,7 +183,7 @@ fn a_scripted_session_pauses_steps_switches_views_resizes_and_quits() {
     assert!((step - 1.0 / 60.0).abs() < 1e-3, "{shots:?}");
     assert_eq!(shots[2].1, shots[1].1, "{shots:?}");
     // The window shows what P wrote (a blit of the same image).
-    let window = mean_flip(&shots[0].0, &grabbed);
+    let window = common::mean_flip_of_files(&shots[0].0, &grabbed);
     assert!(
         same_pixels(&shots[0].0, &grabbed),
         "window vs screenshot: FLIP {window}"
@@ -223,7 +212,7 @@ fn a_scripted_session_pauses_steps_switches_views_resizes_and_quits() {
         "{}",
         String::from_utf8_lossy(&rendered.stderr)
     );
-    let same = mean_flip(&shots[0].0, &render_out.join("frame_0000.png"));
+    let same = common::mean_flip_of_files(&shots[0].0, &render_out.join("frame_0000.png"));
     assert!(
         same_pixels(&shots[0].0, &render_out.join("frame_0000.png")),
         "screenshot vs render: FLIP {same}"

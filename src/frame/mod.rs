@@ -102,15 +102,7 @@ impl FrameRecorder {
         dynamics: Option<&[GrassBlade]>,
     ) -> Result<Self> {
         let commands = Commands::new(gpu, "frame commands")?;
-        let renderer = Renderer::new(
-            gpu,
-            &commands,
-            width,
-            height,
-            msaa,
-            scene.light.shadow_map,
-            &scene.wind.obstacles,
-        )?;
+        let renderer = Self::new_renderer(gpu, &commands, scene, (width, height), msaa)?;
         let statistics = StatisticsQuery::new(gpu, "grass pipeline statistics")?;
         let shadow_statistics = StatisticsQuery::new(gpu, "shadow pass pipeline statistics")?;
         let timer = SpanTimer::new(gpu, 16, "frame phase timestamps")?;
@@ -143,18 +135,28 @@ impl FrameRecorder {
         let msaa = self.renderer.samples();
         // The cull pass's set names the old renderer's uniforms: it goes first.
         self.cull = None;
-        self.renderer = Renderer::new(
+        self.renderer = Self::new_renderer(gpu, &self.commands, scene, (width, height), msaa)?;
+        self.cull = Self::cull_pass(gpu, scene, &self.renderer, &self.blades)?;
+        self.extent = (width, height);
+        Ok(())
+    }
+
+    fn new_renderer(
+        gpu: &Gpu,
+        commands: &Commands,
+        scene: &Scene,
+        (width, height): (u32, u32),
+        msaa: u32,
+    ) -> Result<Renderer> {
+        Renderer::new(
             gpu,
-            &self.commands,
+            commands,
             width,
             height,
             msaa,
             scene.light.shadow_map,
             &scene.wind.obstacles,
-        )?;
-        self.cull = Self::cull_pass(gpu, scene, &self.renderer, &self.blades)?;
-        self.extent = (width, height);
-        Ok(())
+        )
     }
 
     fn cull_pass(

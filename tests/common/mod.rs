@@ -124,3 +124,19 @@ pub fn mean_rgb(frame: &Frame, x0: u32, y0: u32, x1: u32, y1: u32) -> [f64; 3] {
     }
     sum.map(|s| s / n)
 }
+
+/// The mean FLIP error between two picture files of the same size.
+pub fn mean_flip_of_files(a: &std::path::Path, b: &std::path::Path) -> f32 {
+    let a = image::open(a)
+        .unwrap_or_else(|e| panic!("{}: {e}", a.display()))
+        .to_rgb8();
+    let b = image::open(b)
+        .unwrap_or_else(|e| panic!("{}: {e}", b.display()))
+        .to_rgb8();
+    assert_eq!(a.dimensions(), b.dimensions());
+    let (w, h) = a.dimensions();
+    let a = nv_flip::FlipImageRgb8::with_data(w, h, a.as_raw());
+    let b = nv_flip::FlipImageRgb8::with_data(w, h, b.as_raw());
+    let error = nv_flip::flip(a, b, nv_flip::DEFAULT_PIXELS_PER_DEGREE).to_vec();
+    error.iter().sum::<f32>() / error.len() as f32
+}
