@@ -369,6 +369,7 @@ struct SceneArgs {
     /// (view); default: the scene's [render] width.
     #[arg(long)]
     width: Option<u32>,
+    /// Height in pixels, as --width (default: the scene's [render] height).
     #[arg(long)]
     height: Option<u32>,
     /// MSAA samples asked for; the largest supported count up to it is used.

@@ -5,7 +5,9 @@ mod common;
 
 use std::process::{Command, Output};
 
-use common::binary::{files_in, meadow, read_json, spawn_meadow, temp_out};
+use common::binary::{
+    files_in, meadow, read_json, send_sigint, spawn_meadow, temp_out, wait_for_file,
+};
 
 fn assert_succeeded(result: &Output) {
     assert!(
@@ -773,17 +775,8 @@ fn an_interrupted_render_leaves_only_complete_files_and_says_how_far_it_got() {
         out.to_str().unwrap(),
     ]);
     // Wait for a few frames, then Ctrl-C (SIGINT) mid-run.
-    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(180);
-    while !out.join("frame_0003.png").exists() {
-        assert!(std::time::Instant::now() < deadline, "no frames written");
-        assert!(child.try_wait().unwrap().is_none(), "meadow ended early");
-        std::thread::sleep(std::time::Duration::from_millis(50));
-    }
-    let sent = Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
-        .status()
-        .unwrap();
-    assert!(sent.success());
+    wait_for_file(&out.join("frame_0003.png"), &mut child);
+    send_sigint(&child);
     let result = child.wait_with_output().unwrap();
     let stderr = String::from_utf8_lossy(&result.stderr);
     assert_eq!(result.status.code(), Some(130), "{stderr}");

@@ -9,7 +9,9 @@ mod common;
 use std::path::Path;
 use std::process::Command;
 
-use common::binary::{files_in, meadow, read_json, spawn_meadow, temp_out};
+use common::binary::{
+    files_in, meadow, read_json, send_sigint, spawn_meadow, temp_out, wait_for_file,
+};
 
 /// ffprobe's view of the first video stream, frames counted by decoding.
 fn probe(video: &Path) -> serde_json::Value {
@@ -222,17 +224,8 @@ fn an_interrupted_render_finishes_its_video_with_the_frames_written() {
         "--out",
         out.to_str().unwrap(),
     ]);
-    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(180);
-    while !out.join("frame_0003.png").exists() {
-        assert!(std::time::Instant::now() < deadline, "no frames written");
-        assert!(child.try_wait().unwrap().is_none(), "meadow ended early");
-        std::thread::sleep(std::time::Duration::from_millis(50));
-    }
-    let sent = Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
-        .status()
-        .unwrap();
-    assert!(sent.success());
+    wait_for_file(&out.join("frame_0003.png"), &mut child);
+    send_sigint(&child);
     let result = child.wait_with_output().unwrap();
     let stderr = String::from_utf8_lossy(&result.stderr);
     assert_eq!(result.status.code(), Some(130), "{stderr}");

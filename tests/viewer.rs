@@ -11,7 +11,7 @@ use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
 
-use common::binary::{meadow, temp_out};
+use common::binary::{meadow, send_sigint, temp_out, wait_for_file};
 
 /// A virtual X display for one test, stopped when dropped.
 struct Xvfb {
@@ -147,14 +147,9 @@ fn a_scripted_session_pauses_steps_switches_views_resizes_and_quits() {
         6.8 resize 480 270\n\
         8.0 key p\n\
         8.2 key esc\n";
-    let child = view(&x, script, &out);
+    let mut child = view(&x, script, &out);
     // The first screenshot (paused) is on disk: grab the window now.
-    let first = out.join("view_0000.png");
-    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(120);
-    while !first.exists() {
-        assert!(std::time::Instant::now() < deadline, "no screenshot");
-        std::thread::sleep(std::time::Duration::from_millis(50));
-    }
+    wait_for_file(&out.join("view_0000.png"), &mut child);
     std::thread::sleep(std::time::Duration::from_millis(300));
     let grabbed = out.join("grabbed.png");
     let grab = Command::new("ffmpeg")
@@ -272,11 +267,7 @@ fn ctrl_c_closes_the_window_cleanly_with_the_signals_status() {
     // Without a script's end: only the signal stops it.
     let child = view(&x, "", &out);
     std::thread::sleep(std::time::Duration::from_secs(4));
-    let sent = Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
-        .status()
-        .unwrap();
-    assert!(sent.success());
+    send_sigint(&child);
     let output = child.wait_with_output().unwrap();
     let stdout = String::from_utf8_lossy(&output.stdout);
     let stderr = String::from_utf8_lossy(&output.stderr);

@@ -25,6 +25,29 @@ pub fn spawn_meadow(args: &[&str]) -> std::process::Child {
         .expect("start meadow")
 }
 
+/// Waits, up to 180 s, until `path` exists; fails if `child` ends first.
+pub fn wait_for_file(path: &Path, child: &mut std::process::Child) {
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(180);
+    while !path.exists() {
+        assert!(
+            std::time::Instant::now() < deadline,
+            "{} never appeared",
+            path.display()
+        );
+        assert!(child.try_wait().unwrap().is_none(), "meadow ended early");
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+}
+
+/// Sends SIGINT (Ctrl-C) to `child`.
+pub fn send_sigint(child: &std::process::Child) {
+    let sent = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(sent.success());
+}
+
 /// A fresh (removed) directory path under the system temp dir, unique to
 /// this test process.
 pub fn temp_out(name: &str) -> PathBuf {
