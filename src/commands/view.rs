@@ -302,9 +302,9 @@ impl Live {
     }
 
     /// Returns false when the viewer should stop.
-    fn act(&mut self, action: Action, now: Instant) -> Result<bool> {
+    fn act(&mut self, action: Action, now: Instant) -> bool {
         match action {
-            Action::Quit | Action::Close => return Ok(false),
+            Action::Quit | Action::Close => return false,
             Action::Pause => self.paused = !self.paused,
             Action::Step => {
                 self.paused = true;
@@ -340,7 +340,7 @@ impl Live {
                 let _ = self.window.request_inner_size(PhysicalSize::new(w, h));
             }
         }
-        Ok(true)
+        true
     }
 
     /// Moves the camera by the keys held for `seconds`.
@@ -381,7 +381,7 @@ impl Live {
         let mut go_on = true;
         if self.script.first().is_some_and(|(t, _)| *t <= since_start) {
             let (_, action) = self.script.remove(0);
-            go_on = self.act(action, now)?;
+            go_on = self.act(action, now);
         }
         let wall = now.duration_since(self.last_frame).as_secs_f64().min(0.25);
         self.last_frame = now;
@@ -581,15 +581,8 @@ impl ApplicationHandler for App<'_> {
             })),
             _ => None,
         };
-        if let Some(action) = action {
-            match live.act(action, now) {
-                Ok(true) => {}
-                Ok(false) => event_loop.exit(),
-                Err(e) => {
-                    self.error.get_or_insert(e);
-                    event_loop.exit();
-                }
-            }
+        if action.is_some_and(|a| !live.act(a, now)) {
+            event_loop.exit();
         }
     }
 

@@ -181,11 +181,6 @@ impl FrameRecorder {
             .transpose()
     }
 
-    /// The rendered size.
-    pub fn extent(&self) -> (u32, u32) {
-        self.extent
-    }
-
     /// The phases this device cannot time, with why: the grass draw where
     /// a draw inside a pass cannot be timed (the colour pass as a whole
     /// still is).

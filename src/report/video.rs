@@ -109,7 +109,6 @@ pub struct VideoWriter {
     messages: Option<std::thread::JoinHandle<String>>,
     width: u32,
     height: u32,
-    frames: u32,
 }
 
 impl VideoWriter {
@@ -171,7 +170,6 @@ impl VideoWriter {
             messages: Some(messages),
             width,
             height,
-            frames: 0,
         })
     }
 
@@ -186,12 +184,7 @@ impl VideoWriter {
             // A broken pipe means ffmpeg stopped: its own words say why.
             return Err(self.failure(e));
         }
-        self.frames += 1;
         Ok(())
-    }
-
-    pub fn frames(&self) -> u32 {
-        self.frames
     }
 
     /// Closes ffmpeg's input, waits for it to write the file's end and
