@@ -1,7 +1,9 @@
 //! `meadow view` in a window on Xvfb, with lavapipe and the validation
 //! layer (synchronization too): a script pauses, steps, switches views,
-//! resizes and quits; what the window shows is what P writes, and what P
-//! writes is what `render` writes for the same time and camera; zero
+//! resizes and quits; what the window shows (overlay hidden) is what P
+//! writes, and what P writes is what `render` writes for the same time and
+//! camera; the overlay covers its corner and nothing else; the wind keys
+//! and a click act; zero
 //! validation errors, nothing leaked (the layer's teardown report). Needs
 //! Xvfb and ffmpeg (scripts/test installs them).
 
@@ -67,11 +69,18 @@ const SCENE: [&str; 8] = [
 ];
 
 fn view(x: &Xvfb, script: &str, out: &Path) -> Child {
+    view_sized(x, script, out, (320, 180))
+}
+
+fn view_sized(x: &Xvfb, script: &str, out: &Path, (width, height): (u32, u32)) -> Child {
     std::fs::create_dir_all(out).unwrap();
     let script_path = out.join("script.txt");
     std::fs::write(&script_path, script).unwrap();
     let mut args = vec!["view", "--validation"];
+    let (width, height) = (width.to_string(), height.to_string());
     args.extend(SCENE);
+    args[5] = &width;
+    args[7] = &height;
     let (script_arg, out_arg) = (
         script_path.to_str().unwrap().to_string(),
         out.to_str().unwrap().to_string(),
@@ -99,6 +108,21 @@ fn finished(child: Child) -> (Output, String) {
     );
     assert!(stdout.contains("validation: 0 errors"), "{stdout}");
     (output, stdout)
+}
+
+/// The window's pixels (at the screen's top left corner) from the X
+/// screen, through ffmpeg's x11grab.
+fn grab_window(x: &Xvfb, (width, height): (u32, u32), path: &Path) {
+    let grab = Command::new("ffmpeg")
+        .args(["-v", "error", "-y", "-f", "x11grab", "-video_size"])
+        .arg(format!("{width}x{height}"))
+        .arg("-i")
+        .arg(format!("{}+0,0", x.display))
+        .args(["-frames:v", "1"])
+        .arg(path)
+        .status()
+        .unwrap();
+    assert!(grab.success());
 }
 
 /// The simulated times P printed, in order.
@@ -137,7 +161,9 @@ fn a_scripted_session_pauses_steps_switches_views_resizes_and_quits() {
     let out = temp_out("viewer-session");
     // Times after the first frame. While paused at 1.0 s the window shows
     // one frame again and again: the test grabs it from the X screen.
+    // The overlay is hidden first: the window is then the frame alone.
     let script = "\
+        0.1 key o\n\
         0.8 key space\n\
         1.0 key p\n\
         6.0 key .\n\
@@ -152,23 +178,7 @@ fn a_scripted_session_pauses_steps_switches_views_resizes_and_quits() {
     wait_for_file(&out.join("view_0000.png"), &mut child);
     std::thread::sleep(std::time::Duration::from_millis(300));
     let grabbed = out.join("grabbed.png");
-    let grab = Command::new("ffmpeg")
-        .args([
-            "-v",
-            "error",
-            "-y",
-            "-f",
-            "x11grab",
-            "-video_size",
-            "320x180",
-            "-i",
-        ])
-        .arg(format!("{}+0,0", x.display))
-        .args(["-frames:v", "1"])
-        .arg(&grabbed)
-        .status()
-        .unwrap();
-    assert!(grab.success());
+    grab_window(&x, (320, 180), &grabbed);
     let (_, stdout) = finished(child);
 
     let shots = screenshot_times(&stdout);
@@ -212,6 +222,58 @@ fn a_scripted_session_pauses_steps_switches_views_resizes_and_quits() {
         same_pixels(&shots[0].0, &render_out.join("frame_0000.png")),
         "screenshot vs render: FLIP {same}"
     );
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+#[test]
+fn the_overlay_covers_its_corner_and_the_wind_keys_and_a_click_act() {
+    let x = Xvfb::start();
+    let out = temp_out("viewer-overlay");
+    let (width, height) = (640, 360);
+    // Stronger inflow, turned heading, a click in front of the bunches,
+    // paused; the grab then shows the frame P writes with the overlay on it.
+    let script = "\
+        0.2 key up\n\
+        0.3 key left\n\
+        0.4 click 320 300\n\
+        0.6 click 320 10\n\
+        0.8 key space\n\
+        1.0 key p\n\
+        6.0 key esc\n";
+    let mut child = view_sized(&x, script, &out, (width, height));
+    wait_for_file(&out.join("view_0000.png"), &mut child);
+    std::thread::sleep(std::time::Duration::from_millis(300));
+    let grabbed = out.join("grabbed.png");
+    grab_window(&x, (width, height), &grabbed);
+    let (_, stdout) = finished(child);
+    // The click on the ground dropped a gust along the turned heading;
+    // the one at the sky did not.
+    assert!(stdout.contains("along 15 degrees"), "{stdout}");
+    assert!(
+        stdout.contains("no gust: the pointer is above the horizon"),
+        "{stdout}"
+    );
+
+    let shot = image::open(out.join("view_0000.png")).unwrap().to_rgb8();
+    let window = image::open(&grabbed).unwrap().to_rgb8();
+    let differs = |x0: u32, y0: u32, x1: u32, y1: u32| {
+        let mut n = 0;
+        for y in y0..y1 {
+            for x in x0..x1 {
+                n += (shot.get_pixel(x, y) != window.get_pixel(x, y)) as u32;
+            }
+        }
+        n as f64 / ((x1 - x0) * (y1 - y0)) as f64
+    };
+    // The panel sits in the top left corner; the rest of the window is
+    // the frame, pixel for pixel.
+    let corner = differs(20, 20, 120, 80);
+    let rest = differs(width / 2 + 60, height / 2 + 60, width, height);
+    assert!(
+        corner > 0.5,
+        "the overlay does not cover its corner: {corner}"
+    );
+    assert_eq!(rest, 0.0, "the overlay spills over the frame");
     let _ = std::fs::remove_dir_all(&out);
 }
 

@@ -138,6 +138,62 @@ fn gpu_matches_the_cpu_reference(solver: PressureSolver) {
     finish(gpu);
 }
 
+/// The viewer's wind keys and gusts (`WindPass::set_drive`): halfway, the
+/// inflow strengthens and a gust source drops in; the GPU, changed
+/// between submissions, follows the CPU reference stepping with the
+/// changed settings, and the change is large (a drive that did not reach
+/// the kernels fails both checks).
+#[test]
+fn a_drive_changed_between_steps_reaches_the_gpu_kernels() {
+    let gpu = strict_gpu();
+    let grid = grid(UVec3::new(24, 10, 24));
+    let before = two_sources_one_obstacle();
+    let mut after = before.clone();
+    after.inflow.as_mut().unwrap().speed = 3.5;
+    let mut gust = WindSource::fixed(Vec3::new(3.0, 0.5, 3.0), Vec3::NEG_Z, 30.0, 2.0);
+    // Off between two steps (at a step's time, f32 rounding of the two
+    // clocks would pick sides).
+    gust.off_after = Some(1.21);
+    after.sources.push(gust);
+    let dt = 1.0 / 60.0;
+    let commands = Commands::new(&gpu, "wind test commands").unwrap();
+    let mut pass = WindPass::new(&gpu, &commands, grid, &before, 0.0).unwrap();
+    let mut cpu = WindField::new(grid, &before);
+    let mut unchanged = WindField::new(grid, &before);
+    for (half, settings) in [(0, &before), (1, &after)] {
+        if half == 1 {
+            let speed = after.inflow.map(|i| i.speed);
+            pass.set_drive(&gpu, &commands, speed, &after.sources)
+                .unwrap();
+        }
+        let rec = commands.begin().unwrap();
+        for n in 0..50 {
+            pass.record_step(&rec, (half * 50 + n) as f32 * dt, dt);
+            cpu.step(settings, dt);
+            unchanged.step(&before, dt);
+        }
+        rec.submit_and_wait("wind steps").unwrap();
+    }
+    let gpu_vel = pass.read_velocity(&gpu, &commands).unwrap();
+    let err = relative_l2(&gpu_vel, &cpu.vel);
+    let change = relative_l2(&unchanged.vel, &cpu.vel);
+    eprintln!("changed drive: GPU vs CPU {err:.3e}; the change itself {change:.3e}");
+    assert!(err < GPU_CPU_TOLERANCE, "relative L2 difference {err:.3e}");
+    assert!(
+        change > 0.05,
+        "the drive barely changed the wind: {change:.3e}"
+    );
+    // The inflow keeps its side: a speed of the other sign is refused.
+    let refused = pass
+        .set_drive(&gpu, &commands, Some(-1.0), &after.sources)
+        .unwrap_err()
+        .to_string();
+    assert!(refused.contains("its side is fixed"), "{refused}");
+    drop(pass);
+    drop(commands);
+    finish(gpu);
+}
+
 #[test]
 fn gpu_wind_stays_finite_for_10000_steps_at_the_strongest_settings() {
     let gpu = strict_gpu();

@@ -5,7 +5,9 @@
 //! steps it may catch up (`MAX_CATCH_UP_S` of simulated time), time slows
 //! down instead of the steps piling up.
 
+pub mod overlay;
 pub mod script;
+pub mod wind_controls;
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -32,7 +34,9 @@ use crate::gpu::{surface, Gpu, GpuOptions, Surface, Swapchain, ValidationReport}
 use crate::render::FrameUniforms;
 use crate::report::{files, legend};
 use crate::scene::{field, Scene, ViewMode};
-use script::{Action, Script, FLYING_KEYS, HELP};
+use overlay::{Overlay, Readout};
+use script::{Action, Script, FLYING_KEYS};
+use wind_controls::WindControls;
 
 /// Simulated seconds one frame may catch up at most: beyond it, time in
 /// the window runs slower than the clock.
@@ -42,6 +46,10 @@ pub const MAX_CATCH_UP_S: f64 = 0.1;
 /// CPU device): fewer steps a frame keep the window answering, and the
 /// simulated time per second of the clock is the same either way.
 pub const STEP_BUDGET_MS: f64 = 33.0;
+
+/// How far (pixels) the pointer may move between press and release for a
+/// click (a gust) rather than a drag (a look).
+const CLICK_SLOP_PX: f64 = 3.0;
 
 #[derive(Clone, Debug)]
 pub struct ViewRequest {
@@ -149,9 +157,11 @@ struct App<'a> {
     report: ViewReport,
 }
 
-/// The window and what draws into it, dropped in field order: the frame
-/// recorder, the swapchain, the surface, then the window they show in.
+/// The window and what draws into it, dropped in field order: the
+/// overlay, the frame recorder, the swapchain, the surface, then the
+/// window they show in.
 struct Live {
+    overlay: Overlay,
     recorder: FrameRecorder,
     swapchain: Option<Swapchain>,
     surface: Arc<Surface>,
@@ -165,7 +175,16 @@ struct Live {
     steps_asked: u64,
     time_scale: f64,
     held: HashMap<char, Option<Instant>>,
-    dragging: Option<(f64, f64)>,
+    /// The pointer's last position in the window (pixels).
+    pointer: (f64, f64),
+    /// The left button is down: where it went down, and whether the
+    /// pointer has moved far enough since for a drag rather than a click.
+    pressed: Option<((f64, f64), bool)>,
+    wind: WindControls,
+    /// The wind keys or a gust changed the wind's drive since the last frame.
+    wind_changed: bool,
+    /// The last frame's measurements, for the overlay.
+    last_stats: FrameStats,
     script: Vec<(f64, Action)>,
     first_frame: Option<Instant>,
     last_frame: Instant,
@@ -243,6 +262,8 @@ impl Live {
         }
         let (eye, target) = scene.camera.at(scene.render.start);
         Ok(Self {
+            wind: WindControls::new(&scene),
+            overlay: Overlay::new(),
             recorder,
             swapchain: None,
             surface,
@@ -255,7 +276,10 @@ impl Live {
             steps_asked: 0,
             time_scale: 1.0,
             held: HashMap::new(),
-            dragging: None,
+            pointer: (0.0, 0.0),
+            pressed: None,
+            wind_changed: false,
+            last_stats: FrameStats::default(),
             script: request.script.clone().unwrap_or_default().actions,
             first_frame: None,
             last_frame: Instant::now(),
@@ -321,7 +345,22 @@ impl Live {
                 }
             }
             Action::Screenshot => self.screenshot_asked = true,
-            Action::Help => println!("{HELP}"),
+            Action::Help => {
+                self.overlay.keys_shown = !self.overlay.keys_shown;
+                if self.overlay.keys_shown {
+                    println!("{}", script::help());
+                }
+            }
+            Action::ToggleOverlay => self.overlay.shown = !self.overlay.shown,
+            Action::WindSpeed(steps) => {
+                self.wind.strengthen(steps);
+                self.wind_changed = true;
+            }
+            Action::WindTurn(steps) => {
+                self.wind.turn(steps);
+                self.wind_changed = true;
+            }
+            Action::Click(x, y) => self.drop_gust(x, y),
             Action::Hold(key, seconds) => {
                 self.take_over_camera();
                 let until = now + std::time::Duration::from_secs_f64(seconds);
@@ -341,6 +380,46 @@ impl Live {
             }
         }
         true
+    }
+
+    /// A gust on the ground under pixel (x, y) of the window, blowing from
+    /// now along the wind's heading.
+    fn drop_gust(&mut self, x: f32, y: f32) {
+        let size = self.window.inner_size();
+        let time = self.time() as f32;
+        match wind_controls::ground_point(
+            &self.shown_scene(),
+            (size.width, size.height),
+            (x, y),
+            time,
+        ) {
+            Some(ground) => {
+                self.wind.drop_gust(ground, time);
+                self.wind_changed = true;
+                println!(
+                    "gust at ({:.2}, {:.2}) m from t {time:.2} s for {} s, along {:.0} degrees",
+                    ground.x,
+                    ground.z,
+                    wind_controls::GUST_SECONDS,
+                    self.wind.heading_deg
+                );
+            }
+            None => println!("no gust: the pointer is above the horizon"),
+        }
+    }
+
+    /// What the overlay says about the wind.
+    fn wind_readout(&self) -> String {
+        let time = self.time() as f32;
+        let drive = match self.wind.inflow {
+            Some(speed) => format!("inflow {:.1} m/s", speed.abs()),
+            None => format!("sources x{:.2}", self.wind.strength_scale),
+        };
+        format!(
+            "{drive}, heading {:.0} deg, gusts blowing: {}",
+            self.wind.heading_deg,
+            self.wind.gusts_blowing(time)
+        )
     }
 
     /// Moves the camera by the keys held for `seconds`.
@@ -386,6 +465,7 @@ impl Live {
         let wall = now.duration_since(self.last_frame).as_secs_f64().min(0.25);
         self.last_frame = now;
         self.fly(wall as f32, now);
+        self.update_fps(wall);
 
         if self.stale {
             let size = self.window.inner_size();
@@ -408,6 +488,10 @@ impl Live {
             return Ok(go_on);
         };
 
+        if std::mem::take(&mut self.wind_changed) {
+            let (inflow, sources) = self.wind.drive();
+            self.recorder.set_wind_drive(gpu, inflow, &sources)?;
+        }
         let dt = self.dt();
         let mut steps = std::mem::take(&mut self.steps_asked);
         if !self.paused && self.first_frame.is_some() {
@@ -426,9 +510,31 @@ impl Live {
         let time = self.time() + steps as f64 * dt;
         let scene = self.shown_scene();
         let uniforms = FrameUniforms::new(&scene, extent.0, extent.1, self.view, time as f32);
-        let (presented, stats) = self
-            .recorder
-            .present(gpu, &uniforms, steps, swapchain, index)?;
+        let readout = Readout {
+            scene: &self.scene.name,
+            fps: self.fps,
+            stats: &self.last_stats,
+            blades: self.recorder.blades().count() as usize,
+            time,
+            time_scale: self.time_scale,
+            paused: self.paused,
+            lod: self.scene.lod.enabled,
+            view: format!("{:?}", self.view).to_lowercase(),
+            wind: self.wind_readout(),
+        };
+        let scale = self.window.scale_factor() as f32;
+        let prepared =
+            self.overlay
+                .prepare(gpu, swapchain.format, swapchain.extent, scale, &readout)?;
+        let (presented, stats) = self.recorder.present(
+            gpu,
+            &uniforms,
+            steps,
+            swapchain,
+            index,
+            self.overlay.to_draw(&prepared),
+        )?;
+        self.overlay.finish(prepared)?;
         self.stale |= presented == Presented::Stale;
         if let Some(t) = stats.timings.filter(|_| steps > 0) {
             self.step_ms = Some((t.get(Phase::Wind) + t.get(Phase::Grass)) / steps as f64);
@@ -449,7 +555,8 @@ impl Live {
             );
             report.screenshots.push(path);
         }
-        self.show_title(&stats, wall);
+        self.show_title(&stats);
+        self.last_stats = stats;
         Ok(go_on)
     }
 
@@ -464,15 +571,20 @@ impl Live {
         Ok(path)
     }
 
-    /// FPS, GPU times, counts and time settings in the title bar.
-    fn show_title(&mut self, stats: &FrameStats, wall: f64) {
-        if wall > 0.0 {
+    /// Frames a second, smoothed over about ten frames.
+    fn update_fps(&mut self, wall: f64) {
+        if wall > 0.0 && self.first_frame.is_some() {
             self.fps = if self.fps == 0.0 {
                 1.0 / wall
             } else {
                 0.9 * self.fps + 0.1 / wall
             };
         }
+    }
+
+    /// FPS, GPU time, blades drawn and time in the title bar too (where
+    /// the overlay is hidden, or a window manager lists windows).
+    fn show_title(&mut self, stats: &FrameStats) {
         let gpu_ms = stats
             .timings
             .map(|t| format!(", GPU {:.1} ms", t.get(Phase::Frame)))
@@ -529,6 +641,10 @@ impl ApplicationHandler for App<'_> {
                 let name = match &event.logical_key {
                     Key::Named(NamedKey::Escape) => Some("esc".to_string()),
                     Key::Named(NamedKey::Space) => Some("space".to_string()),
+                    Key::Named(NamedKey::ArrowUp) => Some("up".to_string()),
+                    Key::Named(NamedKey::ArrowDown) => Some("down".to_string()),
+                    Key::Named(NamedKey::ArrowLeft) => Some("left".to_string()),
+                    Key::Named(NamedKey::ArrowRight) => Some("right".to_string()),
                     Key::Character(c) => Some(c.to_lowercase()),
                     _ => None,
                 };
@@ -557,24 +673,32 @@ impl ApplicationHandler for App<'_> {
                 state,
                 button: MouseButton::Left,
                 ..
-            } => {
-                if state == ElementState::Released {
-                    live.dragging = None;
-                } else {
-                    live.dragging = Some((f64::NAN, f64::NAN));
+            } => match (state, live.pressed.take()) {
+                (ElementState::Pressed, _) => {
+                    live.pressed = Some((live.pointer, false));
+                    None
                 }
-                None
-            }
-            WindowEvent::CursorMoved { position, .. } => match live.dragging {
-                Some((x, y)) => {
-                    live.dragging = Some((position.x, position.y));
-                    (!x.is_nan()).then_some(Action::Drag(
-                        (position.x - x) as f32,
-                        (position.y - y) as f32,
-                    ))
+                // Released where it went down: a click, not a drag.
+                (ElementState::Released, Some((_, false))) => {
+                    let (x, y) = live.pointer;
+                    Some(Action::Click(x as f32, y as f32))
                 }
-                None => None,
+                (ElementState::Released, _) => None,
             },
+            WindowEvent::CursorMoved { position, .. } => {
+                let (x, y) = std::mem::replace(&mut live.pointer, (position.x, position.y));
+                match live.pressed.as_mut() {
+                    Some((from, dragged)) => {
+                        let moved = (position.x - from.0).hypot(position.y - from.1);
+                        *dragged |= moved > CLICK_SLOP_PX;
+                        Some(Action::Drag(
+                            (position.x - x) as f32,
+                            (position.y - y) as f32,
+                        ))
+                    }
+                    None => None,
+                }
+            }
             WindowEvent::MouseWheel { delta, .. } => Some(Action::Wheel(match delta {
                 MouseScrollDelta::LineDelta(_, y) => y,
                 MouseScrollDelta::PixelDelta(p) => (p.y / 40.0) as f32,

@@ -14,7 +14,7 @@ pub mod timing;
 use crate::error::{Error, Result};
 use crate::gpu::query::{PipelineStatistics, Span, SpanTimer, StatisticsQuery};
 use crate::gpu::swapchain::Presented;
-use crate::gpu::{Commands, Gpu, Recording, Swapchain};
+use crate::gpu::{Commands, Gpu, OverlayDraw, OverlayRenderer, Recording, Swapchain};
 use crate::render::cull::{BladeDraw, CullPass};
 use crate::render::{FrameUniforms, Renderer};
 use crate::scene::{Scene, ViewMode};
@@ -200,6 +200,24 @@ impl FrameRecorder {
         self.simulation.as_ref()
     }
 
+    /// Changes what drives the wind from the next step on
+    /// (`WindPass::set_drive`): the viewer's wind keys and gusts.
+    pub fn set_wind_drive(
+        &mut self,
+        gpu: &Gpu,
+        inflow_speed: Option<f32>,
+        sources: &[crate::sim::wind::WindSource],
+    ) -> Result<()> {
+        match self.simulation.as_mut() {
+            Some(s) => s
+                .wind_mut()
+                .set_drive(gpu, &self.commands, inflow_speed, sources),
+            None => Err(Error::InvalidInput(
+                "blades at rest have no wind to change".into(),
+            )),
+        }
+    }
+
     pub fn renderer(&self) -> &Renderer {
         &self.renderer
     }
@@ -258,8 +276,10 @@ impl FrameRecorder {
     }
 
     /// As `render`, but the frame goes to image `index` of a window's
-    /// swapchain (blitted, scaled to the window) instead of the host; the
-    /// blit is timed as the read-back phase.
+    /// swapchain (blitted, scaled to the window, the viewer's overlay drawn
+    /// over it) instead of the host. The blit and the overlay are recorded
+    /// after the frame's timed span closes: they are the window's cost,
+    /// not the frame's.
     pub fn present(
         &mut self,
         gpu: &Gpu,
@@ -267,6 +287,7 @@ impl FrameRecorder {
         steps: u64,
         swapchain: &Swapchain,
         index: u32,
+        overlay: Option<(&mut OverlayRenderer, &OverlayDraw)>,
     ) -> Result<(Presented, FrameStats)> {
         self.record(gpu, uniforms, steps, |rec, renderer, t| {
             t.span(&rec, Phase::Readback, |rec| {
@@ -274,7 +295,7 @@ impl FrameRecorder {
             });
             t.end_frame(&rec);
             let frame = renderer.targets().final_image();
-            swapchain.blit_and_present(rec, frame, index, "showing a frame")
+            swapchain.blit_and_present(rec, frame, index, overlay, "showing a frame")
         })
     }
 

@@ -41,6 +41,7 @@ device_child! {
     vk::CommandPool => destroy_command_pool,
     vk::Fence => destroy_fence,
     vk::Semaphore => destroy_semaphore,
+    vk::ImageView => destroy_image_view,
 }
 
 /// A named Vulkan object, destroyed when dropped.

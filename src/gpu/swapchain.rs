@@ -11,6 +11,7 @@ use ash::vk;
 use crate::error::{Error, Result, VkResultExt};
 use crate::gpu::barrier::Access;
 use crate::gpu::device::Device;
+use crate::gpu::overlay::{OverlayDraw, OverlayRenderer};
 use crate::gpu::owned::Owned;
 use crate::gpu::surface::Surface;
 use crate::gpu::{Gpu, Image, Recording};
@@ -20,6 +21,9 @@ pub struct Swapchain {
     // before the surface they were made for.
     acquired: Owned<vk::Semaphore>,
     rendered: Vec<Owned<vk::Semaphore>>,
+    /// One per image, for the overlay's drawing; destroyed in `Drop`
+    /// before the swapchain.
+    views: Vec<Owned<vk::ImageView>>,
     raw: vk::SwapchainKHR,
     loader: ash::khr::swapchain::Device,
     images: Vec<vk::Image>,
@@ -141,6 +145,7 @@ impl Swapchain {
         let mut swapchain = Self {
             acquired: semaphore(&device, "swapchain image acquired")?,
             rendered: Vec::new(),
+            views: Vec::new(),
             raw,
             loader,
             images: Vec::new(),
@@ -158,6 +163,9 @@ impl Swapchain {
                 &device,
                 &format!("swapchain image {i} rendered"),
             )?);
+            swapchain
+                .views
+                .push(view(&device, image, format.format, i)?);
         }
         Ok(Some(swapchain))
     }
@@ -184,12 +192,14 @@ impl Swapchain {
     }
 
     /// Ends `rec` with `frame` (in the COPY_READ layout) blitted into image
-    /// `index`, scaled to fit it, submits it and presents the image.
+    /// `index`, scaled to fit it, and the overlay drawn over it where one
+    /// is given; submits it and presents the image.
     pub fn blit_and_present(
         &self,
         rec: Recording<'_>,
         frame: &Image,
         index: u32,
+        overlay: Option<(&mut OverlayRenderer, &OverlayDraw)>,
         what: &str,
     ) -> Result<Presented> {
         let image = self.images[index as usize];
@@ -217,6 +227,28 @@ impl Swapchain {
             .dst_stage_mask(vk::PipelineStageFlags2::NONE)
             .dst_access_mask(vk::AccessFlags2::NONE)
             .old_layout(vk::ImageLayout::TRANSFER_DST_OPTIMAL)
+            .new_layout(vk::ImageLayout::PRESENT_SRC_KHR)
+            .image(image)
+            .subresource_range(range);
+        // With an overlay: blit -> drawn over (read and written as a
+        // colour attachment, loaded) -> presented.
+        let to_overlay = vk::ImageMemoryBarrier2::default()
+            .src_stage_mask(vk::PipelineStageFlags2::ALL_TRANSFER)
+            .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
+            .dst_stage_mask(vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT)
+            .dst_access_mask(
+                vk::AccessFlags2::COLOR_ATTACHMENT_READ | vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
+            )
+            .old_layout(vk::ImageLayout::TRANSFER_DST_OPTIMAL)
+            .new_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+            .image(image)
+            .subresource_range(range);
+        let overlay_to_present = vk::ImageMemoryBarrier2::default()
+            .src_stage_mask(vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT)
+            .src_access_mask(vk::AccessFlags2::COLOR_ATTACHMENT_WRITE)
+            .dst_stage_mask(vk::PipelineStageFlags2::NONE)
+            .dst_access_mask(vk::AccessFlags2::NONE)
+            .old_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
             .new_layout(vk::ImageLayout::PRESENT_SRC_KHR)
             .image(image)
             .subresource_range(range);
@@ -255,11 +287,27 @@ impl Swapchain {
         // SAFETY: recording; both images are live and in the named layouts
         // (the frame by the caller's transition, the target just above).
         unsafe { device.cmd_blit_image2(rec.cmd, &blit) };
-        // SAFETY: recording; as above.
+        let last = match overlay {
+            Some((renderer, draw)) => {
+                // SAFETY: recording; the image is in the layout the blit left.
+                unsafe {
+                    device.cmd_pipeline_barrier2(
+                        rec.cmd,
+                        &vk::DependencyInfo::default().image_memory_barriers(&[to_overlay]),
+                    )
+                };
+                let view = self.views[index as usize].raw();
+                renderer.record(rec.cmd, view, self.extent, draw)?;
+                overlay_to_present
+            }
+            None => to_present,
+        };
+        // SAFETY: recording; the image is in the layout the blit or the
+        // overlay left.
         unsafe {
             device.cmd_pipeline_barrier2(
                 rec.cmd,
-                &vk::DependencyInfo::default().image_memory_barriers(&[to_present]),
+                &vk::DependencyInfo::default().image_memory_barriers(&[last]),
             )
         };
         let waits = [vk::SemaphoreSubmitInfo::default()
@@ -290,6 +338,7 @@ impl Drop for Swapchain {
     fn drop(&mut self) {
         // Presentation may still read an image: let the queue finish.
         self.device.wait_idle();
+        self.views.clear();
         // SAFETY: made from this device; the queue is idle, so no
         // presentation or submission uses its images. The semaphores are
         // dropped after this (field order) and the surface after them.
@@ -306,4 +355,28 @@ fn semaphore(device: &Arc<Device>, name: &str) -> Result<Owned<vk::Semaphore>> {
     }
     .vk_context("vkCreateSemaphore", name)?;
     Ok(Owned::new(device, raw, name))
+}
+
+fn view(
+    device: &Arc<Device>,
+    image: vk::Image,
+    format: vk::Format,
+    i: usize,
+) -> Result<Owned<vk::ImageView>> {
+    let name = format!("swapchain image {i} view");
+    let info = vk::ImageViewCreateInfo::default()
+        .image(image)
+        .view_type(vk::ImageViewType::TYPE_2D)
+        .format(format)
+        .subresource_range(vk::ImageSubresourceRange {
+            aspect_mask: vk::ImageAspectFlags::COLOR,
+            base_mip_level: 0,
+            level_count: 1,
+            base_array_layer: 0,
+            layer_count: 1,
+        });
+    // SAFETY: a valid create info of a live swapchain image on its device.
+    let raw = unsafe { device.raw.create_image_view(&info, None) }
+        .vk_context("vkCreateImageView", &name)?;
+    Ok(Owned::new(device, raw, &name))
 }

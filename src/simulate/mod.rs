@@ -108,6 +108,10 @@ impl Simulation {
         &self.wind
     }
 
+    pub fn wind_mut(&mut self) -> &mut WindPass {
+        &mut self.wind
+    }
+
     pub fn grass(&self) -> &GrassPass {
         &self.grass
     }

@@ -264,6 +264,7 @@ pub struct WindPass {
     set: DescriptorSet,
     /// The kernels in `WIND_KERNELS` order, sharing one layout.
     kernels: Vec<Pipeline>,
+    layout: Arc<PipelineLayout>,
     buffers: WindBuffers,
     face_count: u32,
     cell_count: u32,
@@ -276,6 +277,9 @@ pub struct WindPass {
     /// m^2 per count of the canopy buffer (`sim::canopy::unit` of the
     /// grass coupled to this wind; 0 with no grass).
     canopy_unit: f32,
+    /// Whether the inflow (if any) enters at x = min: fixed when the
+    /// faces were classified.
+    inflow_enters_low: bool,
 }
 
 /// The wind as the grass step sees it: the velocity it samples and, with
@@ -351,6 +355,7 @@ impl WindPass {
             settings: settings.clone(),
             set,
             kernels,
+            layout,
             buffers,
             face_count,
             cell_count,
@@ -368,7 +373,76 @@ impl WindPass {
                 .collect(),
             coarse_cells: field.multigrid.coarse_cell_count() as u32,
             canopy_unit,
+            inflow_enters_low: settings.inflow.is_none_or(|i| i.speed >= 0.0),
         })
+    }
+
+    /// What drives the wind now: the scene's settings, as `set_drive`
+    /// last changed them.
+    pub fn settings(&self) -> &WindSettings {
+        &self.settings
+    }
+
+    /// Changes what drives the wind from the next step on (the viewer's
+    /// wind keys and dropped gusts): the inflow's speed and the sources.
+    /// The inflow keeps its side (the faces' kinds are fixed per scene),
+    /// so a speed of the other sign is refused. Uploads and waits: call
+    /// between submissions.
+    pub fn set_drive(
+        &mut self,
+        gpu: &Gpu,
+        commands: &Commands,
+        inflow_speed: Option<f32>,
+        sources: &[WindSource],
+    ) -> Result<()> {
+        if let Some(speed) = inflow_speed {
+            let Some(inflow) = self.settings.inflow.as_mut() else {
+                return Err(Error::InvalidInput(
+                    "this wind has no inflow whose speed could change".into(),
+                ));
+            };
+            // The side it enters at, as `WindField::classify` chose it.
+            let enters_low = self.inflow_enters_low;
+            if !speed.is_finite() || (enters_low && speed < 0.0) || (!enters_low && speed > 0.0) {
+                return Err(Error::InvalidInput(format!(
+                    "an inflow of {} m/s cannot become {speed} m/s: its side is fixed, keep the sign",
+                    inflow.speed
+                )));
+            }
+            inflow.speed = speed;
+        }
+        if sources != self.settings.sources.as_slice() {
+            let gpu_sources = sources
+                .iter()
+                .map(GpuWindSource::from_source)
+                .collect::<Result<Vec<_>>>()?;
+            let uploaded: &[GpuWindSource] = if gpu_sources.is_empty() {
+                &[GpuWindSource::zeroed()]
+            } else {
+                &gpu_sources
+            };
+            let buffer = Buffer::with_data(
+                gpu,
+                commands,
+                "wind sources",
+                bytemuck::cast_slice(uploaded),
+                vk::BufferUsageFlags::STORAGE_BUFFER,
+                Access::COMPUTE_READ,
+            )?;
+            let old = std::mem::replace(&mut self.buffers.sources, buffer);
+            // The new set replaces (and drops) the old one before the old
+            // buffer it named goes; no submission is in flight.
+            self.set = DescriptorSet::new(
+                gpu,
+                &self.layout,
+                WIND_SET,
+                &self.buffers.bound(),
+                "wind descriptor set",
+            )?;
+            drop(old);
+            self.settings.sources = sources.to_vec();
+        }
+        Ok(())
     }
 
     /// Whether the grass slows this wind (two-way coupling with grass).

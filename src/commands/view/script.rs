@@ -3,10 +3,12 @@
 //!
 //! ```text
 //! # seconds after the first frame, then what happens
-//! 0.5  key space          # any key the viewer knows: space . [ ] l v p h esc
+//! 0.5  key space          # any key the viewer knows: space . [ ] l v p h o esc
+//! 0.6  key up             # wind: up down (inflow speed), left right (heading)
 //! 1.0  hold w 0.5         # hold a key (w a s d q e) for 0.5 s
 //! 1.5  drag 40 -10        # look: a mouse drag of (40, -10) pixels
 //! 2.0  wheel 2            # flying speed up two notches
+//! 2.2  click 320 250      # a click at pixel (320, 250): a gust drops there
 //! 2.5  resize 640 360     # the window's inner size
 //! 3.0  close              # the window's close button
 //! ```
@@ -28,7 +30,19 @@ pub enum Action {
     ToggleLod,
     CycleView,
     Screenshot,
+    /// H: the keys, in the overlay and on the terminal.
     Help,
+    /// O: the overlay shown or hidden.
+    ToggleOverlay,
+    /// Up and down arrows: the inflow (or, with none, the sources) this
+    /// many steps stronger (negative: weaker).
+    WindSpeed(i32),
+    /// Left and right arrows: the wind's heading turned this many steps
+    /// anticlockwise seen from above (negative: clockwise).
+    WindTurn(i32),
+    /// A click (press and release without dragging) at this pixel of the
+    /// window: a gust drops on the ground under it.
+    Click(f32, f32),
     /// Hold a flying key for this many seconds.
     Hold(char, f64),
     /// Look around by a mouse drag of (x, y) pixels.
@@ -56,16 +70,41 @@ impl Action {
             "v" => Self::CycleView,
             "p" => Self::Screenshot,
             "h" => Self::Help,
+            "o" => Self::ToggleOverlay,
+            "up" => Self::WindSpeed(1),
+            "down" => Self::WindSpeed(-1),
+            "left" => Self::WindTurn(1),
+            "right" => Self::WindTurn(-1),
             _ => return None,
         })
     }
 }
 
-/// The keys, as `h` prints them.
-pub const HELP: &str = "\
-keys: W A S D fly, Q E down and up, drag the mouse to look, wheel: flying speed
-      space pause, . one step, [ ] slower and faster time, L level of detail on/off,
-      V views (shaded, lod, motion), P screenshot, H these keys, Esc quit";
+/// The keys and what they do, as H shows them (overlay and terminal).
+pub const KEYS: [(&str, &str); 14] = [
+    ("W A S D", "fly forward, left, back, right"),
+    ("Q E", "fly down, up"),
+    ("drag", "look around"),
+    ("wheel", "flying speed"),
+    ("space", "pause"),
+    (".", "one step"),
+    ("[ ]", "time slower, faster"),
+    ("L", "level of detail on/off"),
+    ("V", "views: shaded, lod, motion"),
+    ("P", "screenshot"),
+    ("up down", "wind stronger, weaker"),
+    ("left right", "turn the wind's heading"),
+    ("click", "a gust on the ground, along the heading"),
+    ("O H Esc", "overlay, these keys, quit"),
+];
+
+/// `KEYS` as lines of text.
+pub fn help() -> String {
+    KEYS.iter()
+        .map(|(keys, what)| format!("{keys:>10}  {what}"))
+        .collect::<Vec<_>>()
+        .join("\n")
+}
 
 /// Timed actions, in time order.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -88,7 +127,7 @@ impl Script {
             let bad = |what: &str| {
                 Error::InvalidInput(format!(
                     "{name} line {}: {what} in {line:?}; write SECONDS ACTION, e.g. \"1.5 key space\" \
-                     (the actions: key, hold, drag, wheel, resize, close)",
+                     (the actions: key, hold, drag, wheel, click, resize, close)",
                     i + 1
                 ))
             };
@@ -106,8 +145,9 @@ impl Script {
                     .ok_or_else(|| bad("a number is missing"))
             };
             let action = match (words.get(1).copied(), words.len()) {
-                (Some("key"), 3) => Action::of_key(words[2])
-                    .ok_or_else(|| bad("no such key (space . [ ] l v p h esc)"))?,
+                (Some("key"), 3) => Action::of_key(words[2]).ok_or_else(|| {
+                    bad("no such key (space . [ ] l v p h o esc up down left right)")
+                })?,
                 (Some("hold"), 4) => {
                     let key = words[2]
                         .chars()
@@ -122,6 +162,13 @@ impl Script {
                 }
                 (Some("drag"), 4) => Action::Drag(number(2)? as f32, number(3)? as f32),
                 (Some("wheel"), 3) => Action::Wheel(number(2)? as f32),
+                (Some("click"), 4) => {
+                    let (x, y) = (number(2)?, number(3)?);
+                    if x < 0.0 || y < 0.0 {
+                        return Err(bad("a click is at a pixel, x and y >= 0"));
+                    }
+                    Action::Click(x as f32, y as f32)
+                }
                 (Some("resize"), 4) => {
                     let side = |v: f64| (1.0..=16384.0).contains(&v).then_some(v as u32);
                     match (side(number(2)?), side(number(3)?)) {
@@ -147,7 +194,8 @@ mod tests {
     #[test]
     fn every_action_parses_and_comes_in_time_order() {
         let text = "# a demo\n2 close\n0.5 key space\n1 hold w 0.5  # forward\n\
-                    1 drag 40 -10\n1.5 wheel -2\n1.7 resize 640 360\n0.6 key .\n";
+                    1 drag 40 -10\n1.5 wheel -2\n1.7 resize 640 360\n0.6 key .\n\
+                    1.8 key up\n1.8 key right\n1.9 click 10 20.5\n1.9 key o\n";
         let s = Script::parse("demo", text).unwrap();
         assert_eq!(
             s.actions,
@@ -158,6 +206,10 @@ mod tests {
                 (1.0, Action::Drag(40.0, -10.0)),
                 (1.5, Action::Wheel(-2.0)),
                 (1.7, Action::Resize(640, 360)),
+                (1.8, Action::WindSpeed(1)),
+                (1.8, Action::WindTurn(-1)),
+                (1.9, Action::Click(10.0, 20.5)),
+                (1.9, Action::ToggleOverlay),
                 (2.0, Action::Close),
             ]
         );
@@ -174,6 +226,8 @@ mod tests {
             ("-1 close", "the time is not"),
             ("1 drag 3", "unknown action or wrong number"),
             ("1 wheel NaN", "a number is missing"),
+            ("1 click -3 4", "a click is at a pixel"),
+            ("1 click 3", "unknown action or wrong number"),
         ] {
             let e = Script::parse("s.txt", text).unwrap_err().to_string();
             assert!(e.starts_with("s.txt line"), "{text}: {e}");

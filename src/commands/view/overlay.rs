@@ -1,0 +1,189 @@
+//! What the viewer's overlay says, laid out by egui: frame rate, each
+//! phase's GPU time, the blade counts, time and wind. It takes no input
+//! (the keys act on the viewer, not on it); `gpu::overlay` draws it.
+
+use std::time::Instant;
+
+use ash::vk;
+
+use crate::error::Result;
+use crate::frame::timing::Phase;
+use crate::frame::FrameStats;
+use crate::gpu::{Gpu, OverlayDraw, OverlayRenderer};
+
+use super::script::KEYS;
+
+/// What one frame's overlay shows.
+pub struct Readout<'a> {
+    pub scene: &'a str,
+    pub fps: f64,
+    /// The last frame's measurements.
+    pub stats: &'a FrameStats,
+    pub blades: usize,
+    pub time: f64,
+    pub time_scale: f64,
+    pub paused: bool,
+    pub lod: bool,
+    pub view: String,
+    pub wind: String,
+}
+
+pub struct Overlay {
+    context: egui::Context,
+    renderer: Option<OverlayRenderer>,
+    pub shown: bool,
+    pub keys_shown: bool,
+    started: Instant,
+}
+
+/// A laid-out overlay ready to draw, and the textures to free after it.
+pub struct Prepared {
+    pub draw: OverlayDraw,
+    textures: egui::TexturesDelta,
+}
+
+impl Overlay {
+    pub fn new() -> Self {
+        Self {
+            context: egui::Context::default(),
+            renderer: None,
+            shown: true,
+            keys_shown: false,
+            started: Instant::now(),
+        }
+    }
+
+    /// Lays the overlay out for a window of `extent` pixels at `scale`
+    /// pixels per point, uploading what egui's textures changed (between
+    /// frames). None while hidden.
+    pub fn prepare(
+        &mut self,
+        gpu: &Gpu,
+        format: vk::Format,
+        extent: vk::Extent2D,
+        scale: f32,
+        readout: &Readout,
+    ) -> Result<Option<Prepared>> {
+        if !self.shown {
+            return Ok(None);
+        }
+        if self.renderer.as_ref().is_none_or(|r| r.format != format) {
+            self.renderer = None;
+            self.renderer = Some(OverlayRenderer::new(gpu, format)?);
+        }
+        let mut input = egui::RawInput {
+            screen_rect: Some(egui::Rect::from_min_size(
+                egui::Pos2::ZERO,
+                egui::vec2(extent.width as f32, extent.height as f32) / scale,
+            )),
+            time: Some(self.started.elapsed().as_secs_f64()),
+            ..Default::default()
+        };
+        input
+            .viewports
+            .entry(egui::ViewportId::ROOT)
+            .or_default()
+            .native_pixels_per_point = Some(scale);
+        let keys_shown = self.keys_shown;
+        let output = self.context.run_ui(input, |ui| {
+            let context = ui.ctx().clone();
+            egui::Window::new("meadow")
+                .anchor(egui::Align2::LEFT_TOP, [8.0, 8.0])
+                .resizable(false)
+                .collapsible(false)
+                .show(&context, |ui| panel(ui, readout));
+            if keys_shown {
+                egui::Window::new("keys")
+                    .anchor(egui::Align2::RIGHT_TOP, [-8.0, 8.0])
+                    .resizable(false)
+                    .collapsible(false)
+                    .show(&context, |ui| {
+                        egui::Grid::new("keys").striped(true).show(ui, |ui| {
+                            for (keys, what) in KEYS {
+                                ui.strong(keys);
+                                ui.label(what);
+                                ui.end_row();
+                            }
+                        })
+                    });
+            }
+        });
+        let primitives = self
+            .context
+            .tessellate(output.shapes, output.pixels_per_point);
+        let renderer = self.renderer.as_mut().expect("made above");
+        renderer.set_textures(&output.textures_delta)?;
+        Ok(Some(Prepared {
+            draw: OverlayDraw {
+                primitives,
+                pixels_per_point: output.pixels_per_point,
+            },
+            textures: output.textures_delta,
+        }))
+    }
+
+    /// The renderer and what to draw, for `FrameRecorder::present`.
+    pub fn to_draw<'a>(
+        &'a mut self,
+        prepared: &'a Option<Prepared>,
+    ) -> Option<(&'a mut OverlayRenderer, &'a OverlayDraw)> {
+        match (self.renderer.as_mut(), prepared) {
+            (Some(r), Some(p)) => Some((r, &p.draw)),
+            _ => None,
+        }
+    }
+
+    /// After the frame that drew `prepared` has completed.
+    pub fn finish(&mut self, prepared: Option<Prepared>) -> Result<()> {
+        match (self.renderer.as_mut(), prepared) {
+            (Some(r), Some(p)) => r.free_textures(&p.textures),
+            _ => Ok(()),
+        }
+    }
+}
+
+fn panel(ui: &mut egui::Ui, r: &Readout) {
+    ui.label(egui::RichText::new(r.scene).strong());
+    let gpu = r
+        .stats
+        .timings
+        .map(|t| format!(", GPU frame {:.1} ms", t.get(Phase::Frame)))
+        .unwrap_or_default();
+    ui.label(format!("{:.1} FPS{gpu}", r.fps));
+    if let Some(t) = r.stats.timings {
+        let phases = [
+            (Phase::Wind, "wind"),
+            (Phase::Grass, "grass"),
+            (Phase::Cull, "cull"),
+            (Phase::Shadow, "shadow"),
+            (Phase::Color, "colour"),
+        ]
+        .map(|(p, name)| format!("{name} {:.1}", t.get(p)))
+        .join("  ");
+        ui.label(format!("ms: {phases}"));
+    }
+    let drawn = match r.stats.cull {
+        Some(c) => format!(
+            "blades {}: {} drawn, {} cast shadows",
+            r.blades, c.in_view, c.shadow_casters
+        ),
+        None => format!("blades {}: all drawn", r.blades),
+    };
+    ui.label(drawn);
+    if let Some(s) = r.stats.statistics {
+        ui.label(format!(
+            "segments {}, primitives {}",
+            s.geometry_shader_invocations, s.geometry_shader_primitives
+        ));
+    }
+    let paused = if r.paused { ", paused" } else { "" };
+    ui.label(format!(
+        "time {:.2} s at x{}{paused}; LOD {}; view {}",
+        r.time,
+        r.time_scale,
+        if r.lod { "on" } else { "off" },
+        r.view
+    ));
+    ui.label(format!("wind: {}", r.wind));
+    ui.label("H: keys   O: hide this");
+}

@@ -1,0 +1,247 @@
+//! The viewer's hold on the wind: the arrow keys make the inflow stronger
+//! or weaker and turn a heading; a click drops a gust on the ground, a
+//! short-lived wind source blowing along the heading. What they change
+//! goes to the GPU solver through `FrameRecorder::set_wind_drive` and
+//! drives it from the next step on.
+//!
+//! The inflow enters through one x side of the domain (paper Fig. 10; its
+//! faces are classified once per scene), so the heading turns what can
+//! turn: the scene's own sources and the gusts. The inflow keeps its side.
+
+use glam::{Vec3, Vec4};
+
+use crate::render::frame_uniforms::view_projection;
+use crate::scene::Scene;
+use crate::sim::wind::WindSource;
+
+/// Metres a second the inflow changes by per arrow press.
+pub const SPEED_STEP: f32 = 0.5;
+/// The strongest inflow the keys set (m/s).
+pub const MAX_INFLOW: f32 = 15.0;
+/// What a press scales the sources' strength by, where there is no inflow.
+pub const STRENGTH_STEP: f32 = 1.25;
+/// Degrees the heading turns per arrow press.
+pub const TURN_STEP_DEG: f32 = 15.0;
+/// A dropped gust: its force at the centre (m/s^2), reach (m), height of
+/// its centre above the ground (m) and how long it blows (s).
+pub const GUST_STRENGTH: f32 = 30.0;
+pub const GUST_RADIUS: f32 = 2.0;
+pub const GUST_HEIGHT: f32 = 0.5;
+pub const GUST_SECONDS: f32 = 1.5;
+/// Gusts blowing at once; a new one past this replaces the oldest.
+pub const MAX_GUSTS: usize = 16;
+
+#[derive(Clone, Debug)]
+pub struct WindControls {
+    /// The scene's sources as the scene file has them.
+    scene_sources: Vec<WindSource>,
+    /// The inflow's speed now (signed: its side), None without an inflow.
+    pub inflow: Option<f32>,
+    /// The scene's sources' strength times this (no inflow: the up and
+    /// down arrows act on them).
+    pub strength_scale: f32,
+    /// Degrees anticlockwise (seen from above) from the inflow's
+    /// direction (+x, or -x where the inflow enters at the far side).
+    pub heading_deg: f32,
+    gusts: Vec<WindSource>,
+}
+
+impl WindControls {
+    pub fn new(scene: &Scene) -> Self {
+        Self {
+            scene_sources: scene.wind.sources.clone(),
+            inflow: scene.wind.inflow.map(|i| i.speed),
+            strength_scale: 1.0,
+            heading_deg: 0.0,
+            gusts: Vec::new(),
+        }
+    }
+
+    /// Up (`steps` > 0) or down: the inflow's speed, keeping its side, or
+    /// the sources' strength where there is no inflow.
+    pub fn strengthen(&mut self, steps: i32) {
+        match self.inflow.as_mut() {
+            Some(speed) => {
+                let magnitude = (speed.abs() + steps as f32 * SPEED_STEP).clamp(0.0, MAX_INFLOW);
+                *speed = magnitude.copysign(*speed);
+            }
+            None => {
+                self.strength_scale =
+                    (self.strength_scale * STRENGTH_STEP.powi(steps)).clamp(1.0 / 64.0, 64.0)
+            }
+        }
+    }
+
+    pub fn turn(&mut self, steps: i32) {
+        self.heading_deg = (self.heading_deg + steps as f32 * TURN_STEP_DEG).rem_euclid(360.0);
+    }
+
+    /// The horizontal unit vector the heading points along.
+    pub fn heading(&self) -> Vec3 {
+        let base = if self.inflow.is_some_and(|s| s < 0.0) {
+            Vec3::NEG_X
+        } else {
+            Vec3::X
+        };
+        turned(base, self.heading_deg.to_radians())
+    }
+
+    /// Drops a gust centred `GUST_HEIGHT` above `ground`, blowing along the
+    /// heading from simulated time `now` for `GUST_SECONDS`.
+    pub fn drop_gust(&mut self, ground: Vec3, now: f32) {
+        self.gusts
+            .retain(|g| g.off_after.is_some_and(|off| off > now));
+        if self.gusts.len() == MAX_GUSTS {
+            self.gusts.remove(0);
+        }
+        let mut gust = WindSource::fixed(
+            ground + Vec3::Y * GUST_HEIGHT,
+            self.heading(),
+            GUST_STRENGTH,
+            GUST_RADIUS,
+        );
+        gust.off_after = Some(now + GUST_SECONDS);
+        self.gusts.push(gust);
+    }
+
+    /// Gusts still blowing at `now`.
+    pub fn gusts_blowing(&self, now: f32) -> usize {
+        self.gusts
+            .iter()
+            .filter(|g| g.off_after.is_some_and(|off| off > now))
+            .count()
+    }
+
+    /// What drives the wind: the inflow's speed and every source, the
+    /// scene's turned by the heading and scaled, then the gusts.
+    pub fn drive(&self) -> (Option<f32>, Vec<WindSource>) {
+        let angle = self.heading_deg.to_radians();
+        let mut sources: Vec<WindSource> = self
+            .scene_sources
+            .iter()
+            .map(|s| {
+                let mut s = s.clone();
+                s.direction = turned(s.direction, angle);
+                s.strength *= self.strength_scale;
+                s
+            })
+            .collect();
+        sources.extend(self.gusts.iter().cloned());
+        (self.inflow, sources)
+    }
+}
+
+/// `v` turned by `angle` radians about +y (anticlockwise seen from above),
+/// as `WindSource::at` turns a rotating source.
+fn turned(v: Vec3, angle: f32) -> Vec3 {
+    let (s, c) = angle.sin_cos();
+    Vec3::new(c * v.x + s * v.z, v.y, -s * v.x + c * v.z)
+}
+
+/// The point of the ground (y = 0) seen at pixel (`x`, `y`) of a frame of
+/// `size` pixels, for the camera `scene` has at `time`; None where the
+/// pixel looks above the horizon.
+pub fn ground_point(
+    scene: &Scene,
+    size: (u32, u32),
+    (x, y): (f32, f32),
+    time: f32,
+) -> Option<Vec3> {
+    let (w, h) = (size.0.max(1) as f32, size.1.max(1) as f32);
+    let inverse = view_projection(scene, w / h, time).inverse();
+    // Vulkan clip space: y points down, depth 0 (near) to 1 (far).
+    let ndc = (2.0 * x / w - 1.0, 2.0 * y / h - 1.0);
+    let unproject = |depth: f32| {
+        let p: Vec4 = inverse * Vec4::new(ndc.0, ndc.1, depth, 1.0);
+        p.truncate() / p.w
+    };
+    let (near, far) = (unproject(0.0), unproject(1.0));
+    let ray = far - near;
+    if ray.y >= 0.0 || near.y <= 0.0 {
+        return None;
+    }
+    let t = -near.y / ray.y;
+    (t <= 1.0).then(|| near + ray * t)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_ground_point_projects_back_to_the_pixel_it_was_found_at() {
+        let scene = Scene::builtin("table1").unwrap();
+        let (w, h) = (640u32, 360u32);
+        let view_proj = view_projection(&scene, w as f32 / h as f32, 0.0);
+        for pixel in [(320.0, 300.0), (40.5, 250.0), (600.0, 359.0)] {
+            let p = ground_point(&scene, (w, h), pixel, 0.0).expect("below the horizon");
+            assert!(p.y.abs() < 1e-3, "{p}");
+            let clip = view_proj * p.extend(1.0);
+            let back = (
+                (clip.x / clip.w + 1.0) * 0.5 * w as f32,
+                (clip.y / clip.w + 1.0) * 0.5 * h as f32,
+            );
+            assert!(
+                (back.0 - pixel.0).abs() < 0.05 && (back.1 - pixel.1).abs() < 0.05,
+                "{pixel:?} -> {p} -> {back:?}"
+            );
+        }
+        // The top row looks at the sky.
+        assert_eq!(ground_point(&scene, (w, h), (320.0, 0.0), 0.0), None);
+    }
+
+    #[test]
+    fn the_arrows_strengthen_the_inflow_on_its_side_and_turn_the_gusts() {
+        let mut scene = Scene::builtin("table1").unwrap();
+        let mut c = WindControls::new(&scene);
+        let start = c.inflow.unwrap();
+        c.strengthen(2);
+        assert_eq!(c.inflow, Some(start + 2.0 * SPEED_STEP));
+        c.strengthen(-1000);
+        assert_eq!(c.inflow, Some(0.0));
+        c.strengthen(1000);
+        assert_eq!(c.inflow, Some(MAX_INFLOW));
+        // An inflow entering at the far side stays there.
+        scene.wind.inflow.as_mut().unwrap().speed = -2.0;
+        let mut back = WindControls::new(&scene);
+        back.strengthen(1);
+        assert_eq!(back.inflow, Some(-2.5));
+        assert!(back.heading().abs_diff_eq(Vec3::NEG_X, 1e-6));
+
+        c.turn(6); // 90 degrees anticlockwise from +x, seen from above: -z
+        assert!(
+            c.heading().abs_diff_eq(Vec3::NEG_Z, 1e-6),
+            "{}",
+            c.heading()
+        );
+        c.drop_gust(Vec3::new(1.0, 0.0, 2.0), 3.0);
+        let (_, sources) = c.drive();
+        let gust = sources.last().unwrap();
+        assert_eq!(gust.position, Vec3::new(1.0, GUST_HEIGHT, 2.0));
+        let (_, direction, strength) = gust.at(3.0);
+        assert!(direction.abs_diff_eq(Vec3::NEG_Z, 1e-6));
+        assert_eq!(strength, GUST_STRENGTH);
+        assert_eq!(gust.at(3.0 + GUST_SECONDS).2, 0.0, "the gust stops");
+        assert_eq!(c.gusts_blowing(3.0 + GUST_SECONDS), 0);
+        for i in 0..MAX_GUSTS + 3 {
+            c.drop_gust(Vec3::ZERO, 4.0 + i as f32 * 0.01);
+        }
+        assert_eq!(c.drive().1.len(), MAX_GUSTS + scene.wind.sources.len());
+    }
+
+    #[test]
+    fn without_an_inflow_the_arrows_scale_and_turn_the_scenes_sources() {
+        let scene = Scene::builtin("fig11-meadow-rotating").unwrap();
+        assert!(scene.wind.inflow.is_none() && !scene.wind.sources.is_empty());
+        let mut c = WindControls::new(&scene);
+        c.strengthen(1);
+        c.turn(-6); // clockwise 90 degrees: +x becomes +z
+        let (inflow, sources) = c.drive();
+        assert_eq!(inflow, None);
+        let (first, original) = (&sources[0], &scene.wind.sources[0]);
+        assert_eq!(first.strength, original.strength * STRENGTH_STEP);
+        let expected = turned(original.direction, -90f32.to_radians());
+        assert!(first.direction.abs_diff_eq(expected, 1e-6));
+        assert!(turned(Vec3::X, -90f32.to_radians()).abs_diff_eq(Vec3::Z, 1e-6));
+    }
+}
