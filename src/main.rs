@@ -120,7 +120,8 @@ enum Command {
     /// The meadow live in a window: both phases every frame, simulated
     /// time following the clock. Keys: W A S D Q E fly, drag to look,
     /// wheel speed; space pause, . step, [ ] time slower/faster, L LOD,
-    /// V views, P screenshot (DIR/view_NNNN.png), H keys, Esc quit.
+    /// V views, P screenshot (DIR/view_NNNN.png), arrows steer the wind,
+    /// click drops a gust, O overlay, H keys, Esc quit.
     View {
         #[command(flatten)]
         scene: SceneArgs,

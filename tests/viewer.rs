@@ -114,7 +114,8 @@ fn finished(child: Child) -> (Output, String) {
 /// screen, through ffmpeg's x11grab.
 fn grab_window(x: &Xvfb, (width, height): (u32, u32), path: &Path) {
     let grab = Command::new("ffmpeg")
-        .args(["-v", "error", "-y", "-f", "x11grab", "-video_size"])
+        .args(["-v", "error", "-y", "-f", "x11grab", "-draw_mouse", "0"])
+        .arg("-video_size")
         .arg(format!("{width}x{height}"))
         .arg("-i")
         .arg(format!("{}+0,0", x.display))

@@ -188,7 +188,8 @@ struct Live {
     script: Vec<(f64, Action)>,
     first_frame: Option<Instant>,
     last_frame: Instant,
-    fps: f64,
+    /// Seconds between frames on the clock, smoothed over about ten.
+    frame_seconds: f64,
     stale: bool,
     screenshot_asked: bool,
     screenshots_dir: PathBuf,
@@ -263,7 +264,7 @@ impl Live {
         let (eye, target) = scene.camera.at(scene.render.start);
         Ok(Self {
             wind: WindControls::new(&scene),
-            overlay: Overlay::new(),
+            overlay: Overlay::default(),
             recorder,
             swapchain: None,
             surface,
@@ -283,7 +284,7 @@ impl Live {
             script: request.script.clone().unwrap_or_default().actions,
             first_frame: None,
             last_frame: Instant::now(),
-            fps: 0.0,
+            frame_seconds: 0.0,
             stale: true,
             screenshot_asked: false,
             screenshots_dir: request.screenshots.clone(),
@@ -462,10 +463,13 @@ impl Live {
             let (_, action) = self.script.remove(0);
             go_on = self.act(action, now);
         }
-        let wall = now.duration_since(self.last_frame).as_secs_f64().min(0.25);
+        let elapsed = now.duration_since(self.last_frame).as_secs_f64();
+        self.update_fps(elapsed);
+        // Time and flying follow the clock, but not across a long stall
+        // (a window being dragged, a slow first frame).
+        let wall = elapsed.min(0.25);
         self.last_frame = now;
         self.fly(wall as f32, now);
-        self.update_fps(wall);
 
         if self.stale {
             let size = self.window.inner_size();
@@ -512,7 +516,7 @@ impl Live {
         let uniforms = FrameUniforms::new(&scene, extent.0, extent.1, self.view, time as f32);
         let readout = Readout {
             scene: &self.scene.name,
-            fps: self.fps,
+            fps: self.fps(),
             stats: &self.last_stats,
             blades: self.recorder.blades().count() as usize,
             time,
@@ -572,13 +576,21 @@ impl Live {
     }
 
     /// Frames a second, smoothed over about ten frames.
-    fn update_fps(&mut self, wall: f64) {
-        if wall > 0.0 && self.first_frame.is_some() {
-            self.fps = if self.fps == 0.0 {
-                1.0 / wall
+    fn update_fps(&mut self, elapsed: f64) {
+        if elapsed > 0.0 && self.first_frame.is_some() {
+            self.frame_seconds = if self.frame_seconds == 0.0 {
+                elapsed
             } else {
-                0.9 * self.fps + 0.1 / wall
+                0.9 * self.frame_seconds + 0.1 * elapsed
             };
+        }
+    }
+
+    fn fps(&self) -> f64 {
+        if self.frame_seconds > 0.0 {
+            1.0 / self.frame_seconds
+        } else {
+            0.0
         }
     }
 
@@ -597,7 +609,7 @@ impl Live {
         self.window.set_title(&format!(
             "meadow - {} - {:.1} FPS{gpu_ms}{drawn} - t {:.2} s x{}{state} (H: keys)",
             self.scene.name,
-            self.fps,
+            self.fps(),
             self.time(),
             self.time_scale
         ));

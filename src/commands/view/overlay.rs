@@ -42,8 +42,10 @@ pub struct Prepared {
     textures: egui::TexturesDelta,
 }
 
-impl Overlay {
-    pub fn new() -> Self {
+impl Default for Overlay {
+    /// Shown, without the keys; its renderer is made with the first frame
+    /// (it needs the swapchain's format).
+    fn default() -> Self {
         Self {
             context: egui::Context::default(),
             renderer: None,
@@ -52,7 +54,9 @@ impl Overlay {
             started: Instant::now(),
         }
     }
+}
 
+impl Overlay {
     /// Lays the overlay out for a window of `extent` pixels at `scale`
     /// pixels per point, uploading what egui's textures changed (between
     /// frames). None while hidden.
