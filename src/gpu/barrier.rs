@@ -59,6 +59,18 @@ impl Access {
         vk::AccessFlags2::TRANSFER_READ,
         vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
     );
+    /// Blits writing (a frame into a window's swapchain image).
+    pub const BLIT_WRITE: Self = access(
+        vk::PipelineStageFlags2::ALL_TRANSFER,
+        vk::AccessFlags2::TRANSFER_WRITE,
+        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+    );
+    /// Presentation: the semaphore it waits on orders it, so no stage.
+    pub const PRESENT: Self = access(
+        vk::PipelineStageFlags2::NONE,
+        vk::AccessFlags2::NONE,
+        vk::ImageLayout::PRESENT_SRC_KHR,
+    );
     pub const COPY_WRITE: Self = access(
         vk::PipelineStageFlags2::COPY,
         vk::AccessFlags2::TRANSFER_WRITE,
@@ -180,19 +192,38 @@ impl<'a> ImageTransition<'a> {
     }
 
     pub(super) fn vk(&self) -> vk::ImageMemoryBarrier2<'static> {
-        let old = if self.discard {
-            vk::ImageLayout::UNDEFINED
-        } else {
-            self.from.layout
-        };
-        vk::ImageMemoryBarrier2::default()
-            .src_stage_mask(self.from.stage)
-            .src_access_mask(self.from.writes())
-            .dst_stage_mask(self.to.stage)
-            .dst_access_mask(self.to.access)
-            .old_layout(old)
-            .new_layout(self.to.layout)
-            .image(self.image.raw)
-            .subresource_range(self.image.subresource_range())
+        image_barrier(
+            self.image.raw,
+            self.image.subresource_range(),
+            self.from,
+            self.to,
+            self.discard,
+        )
     }
+}
+
+/// The barrier taking `image` (`range` of it) from one access to another,
+/// its contents dropped with `discard`: for images meadow does not own as
+/// an `Image` (a swapchain's), and for `ImageTransition`.
+pub(super) fn image_barrier(
+    image: vk::Image,
+    range: vk::ImageSubresourceRange,
+    from: Access,
+    to: Access,
+    discard: bool,
+) -> vk::ImageMemoryBarrier2<'static> {
+    let old = if discard {
+        vk::ImageLayout::UNDEFINED
+    } else {
+        from.layout
+    };
+    vk::ImageMemoryBarrier2::default()
+        .src_stage_mask(from.stage)
+        .src_access_mask(from.writes())
+        .dst_stage_mask(to.stage)
+        .dst_access_mask(to.access)
+        .old_layout(old)
+        .new_layout(to.layout)
+        .image(image)
+        .subresource_range(range)
 }

@@ -82,23 +82,25 @@ impl OverlayRenderer {
         })
     }
 
-    /// Uploads egui's new and changed textures (its font atlas). Runs its
-    /// own submissions and waits for them: call between frames.
-    pub fn set_textures(&mut self, delta: &egui::TexturesDelta) -> Result<()> {
-        for (id, images) in &delta.set {
-            for image in images {
-                self.renderer
-                    .set_texture(self.device.queue, self.uploads.raw(), *id, image)
-                    .map_err(|e| overlay_error("egui_ash_renderer::Renderer::set_texture", e))?;
-            }
+    /// Uploads egui's new and changed textures (its font atlas), in
+    /// order. Runs its own submissions and waits for them: call between
+    /// frames.
+    pub fn set_textures(
+        &mut self,
+        set: &[(egui::TextureId, egui::epaint::ImageDelta)],
+    ) -> Result<()> {
+        for (id, image) in set {
+            self.renderer
+                .set_texture(self.device.queue, self.uploads.raw(), *id, image)
+                .map_err(|e| overlay_error("egui_ash_renderer::Renderer::set_texture", e))?;
         }
         Ok(())
     }
 
     /// Frees the textures egui no longer uses: after the frame that last
     /// drew with them has completed.
-    pub fn free_textures(&mut self, delta: &egui::TexturesDelta) -> Result<()> {
-        for id in &delta.free {
+    pub fn free_textures(&mut self, ids: &[egui::TextureId]) -> Result<()> {
+        for id in ids {
             self.renderer
                 .free_texture(*id)
                 .map_err(|e| overlay_error("egui_ash_renderer::Renderer::free_texture", e))?;

@@ -9,7 +9,7 @@ use std::sync::Arc;
 use ash::vk;
 
 use crate::error::{Error, Result, VkResultExt};
-use crate::gpu::barrier::Access;
+use crate::gpu::barrier::{image_barrier, Access};
 use crate::gpu::device::Device;
 use crate::gpu::overlay::{OverlayDraw, OverlayRenderer};
 use crate::gpu::owned::Owned;
@@ -211,47 +211,24 @@ impl Swapchain {
             layer_count: 1,
         };
         // The acquire semaphore's wait covers the transfer stage; the
-        // image's old contents are not needed.
-        let to_dst = vk::ImageMemoryBarrier2::default()
-            .src_stage_mask(vk::PipelineStageFlags2::ALL_TRANSFER)
-            .src_access_mask(vk::AccessFlags2::NONE)
-            .dst_stage_mask(vk::PipelineStageFlags2::ALL_TRANSFER)
-            .dst_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
-            .old_layout(vk::ImageLayout::UNDEFINED)
-            .new_layout(vk::ImageLayout::TRANSFER_DST_OPTIMAL)
-            .image(image)
-            .subresource_range(range);
-        let to_present = vk::ImageMemoryBarrier2::default()
-            .src_stage_mask(vk::PipelineStageFlags2::ALL_TRANSFER)
-            .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
-            .dst_stage_mask(vk::PipelineStageFlags2::NONE)
-            .dst_access_mask(vk::AccessFlags2::NONE)
-            .old_layout(vk::ImageLayout::TRANSFER_DST_OPTIMAL)
-            .new_layout(vk::ImageLayout::PRESENT_SRC_KHR)
-            .image(image)
-            .subresource_range(range);
-        // With an overlay: blit -> drawn over (read and written as a
-        // colour attachment, loaded) -> presented.
-        let to_overlay = vk::ImageMemoryBarrier2::default()
-            .src_stage_mask(vk::PipelineStageFlags2::ALL_TRANSFER)
-            .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
-            .dst_stage_mask(vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT)
-            .dst_access_mask(
-                vk::AccessFlags2::COLOR_ATTACHMENT_READ | vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
-            )
-            .old_layout(vk::ImageLayout::TRANSFER_DST_OPTIMAL)
-            .new_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-            .image(image)
-            .subresource_range(range);
-        let overlay_to_present = vk::ImageMemoryBarrier2::default()
-            .src_stage_mask(vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT)
-            .src_access_mask(vk::AccessFlags2::COLOR_ATTACHMENT_WRITE)
-            .dst_stage_mask(vk::PipelineStageFlags2::NONE)
-            .dst_access_mask(vk::AccessFlags2::NONE)
-            .old_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-            .new_layout(vk::ImageLayout::PRESENT_SRC_KHR)
-            .image(image)
-            .subresource_range(range);
+        // image's old contents are not needed. With an overlay: blit ->
+        // drawn over (a colour attachment, loading the blit) -> presented.
+        let to_dst = image_barrier(image, range, Access::BLIT_WRITE, Access::BLIT_WRITE, true);
+        let to_present = image_barrier(image, range, Access::BLIT_WRITE, Access::PRESENT, false);
+        let to_overlay = image_barrier(
+            image,
+            range,
+            Access::BLIT_WRITE,
+            Access::COLOR_ATTACHMENT,
+            false,
+        );
+        let overlay_to_present = image_barrier(
+            image,
+            range,
+            Access::COLOR_ATTACHMENT_WRITE,
+            Access::PRESENT,
+            false,
+        );
         let corner = |e: vk::Extent2D| vk::Offset3D {
             x: e.width as i32,
             y: e.height as i32,

@@ -39,7 +39,7 @@ pub struct Overlay {
 /// A laid-out overlay ready to draw, and the textures to free after it.
 pub struct Prepared {
     pub draw: OverlayDraw,
-    textures: egui::TexturesDelta,
+    free: Vec<egui::TextureId>,
 }
 
 impl Default for Overlay {
@@ -115,14 +115,24 @@ impl Overlay {
         let primitives = self
             .context
             .tessellate(output.shapes, output.pixels_per_point);
+        // Taken out of egui's delta (which insists, when dropped, that it
+        // was handled) before anything can fail: set now, freed after.
+        let mut delta = output.textures_delta;
+        let mut set: Vec<_> = std::mem::take(&mut delta.set)
+            .into_iter()
+            .flat_map(|(id, images)| images.into_iter().map(move |image| (id, image)))
+            .collect();
+        // egui's map has no order; its deltas of one texture keep theirs.
+        set.sort_by_key(|(id, _)| *id);
+        let free = std::mem::take(&mut delta.free).into_iter().collect();
         let renderer = self.renderer.as_mut().expect("made above");
-        renderer.set_textures(&output.textures_delta)?;
+        renderer.set_textures(&set)?;
         Ok(Some(Prepared {
             draw: OverlayDraw {
                 primitives,
                 pixels_per_point: output.pixels_per_point,
             },
-            textures: output.textures_delta,
+            free,
         }))
     }
 
@@ -140,7 +150,7 @@ impl Overlay {
     /// After the frame that drew `prepared` has completed.
     pub fn finish(&mut self, prepared: Option<Prepared>) -> Result<()> {
         match (self.renderer.as_mut(), prepared) {
-            (Some(r), Some(p)) => r.free_textures(&p.textures),
+            (Some(r), Some(p)) => r.free_textures(&p.free),
             _ => Ok(()),
         }
     }
