@@ -5,9 +5,7 @@ mod common;
 
 use std::process::{Command, Output};
 
-use common::binary::{
-    files_in, meadow, read_json, send_sigint, spawn_meadow, temp_out, wait_for_file,
-};
+use common::binary::{files_in, interrupted_render, meadow, read_json, spawn_meadow, temp_out};
 
 fn assert_succeeded(result: &Output) {
     assert!(
@@ -761,23 +759,8 @@ fn sigterm_while_simulating_stops_within_seconds_and_reports() {
 #[test]
 fn an_interrupted_render_leaves_only_complete_files_and_says_how_far_it_got() {
     let out = temp_out("interrupted");
-    let mut child = spawn_meadow(&[
-        "render",
-        "--scene",
-        "fig10-few-bunches",
-        "--frames",
-        "2000",
-        "--width",
-        "160",
-        "--height",
-        "90",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
-    // Wait for a few frames, then Ctrl-C (SIGINT) mid-run.
-    wait_for_file(&out.join("frame_0003.png"), &mut child);
-    send_sigint(&child);
-    let result = child.wait_with_output().unwrap();
+    // A few frames, then Ctrl-C (SIGINT) mid-run.
+    let result = interrupted_render(&out, &[]);
     let stderr = String::from_utf8_lossy(&result.stderr);
     assert_eq!(result.status.code(), Some(130), "{stderr}");
     assert!(stderr.contains("interrupted after"), "{stderr}");

@@ -10,7 +10,7 @@ use std::path::Path;
 use std::process::Command;
 
 use common::binary::{
-    files_in, meadow, read_json, send_sigint, spawn_meadow, temp_out, wait_for_file,
+    files_in, interrupted_render, meadow, read_json, temp_out, SMALL_SCENE, SMALL_SIZE,
 };
 
 /// ffprobe's view of the first video stream, frames counted by decoding.
@@ -33,18 +33,9 @@ fn probe(video: &Path) -> serde_json::Value {
 }
 
 fn render_video(args: &[&str], out: &Path, video: &Path) -> serde_json::Value {
-    let mut full = vec![
-        "render",
-        "--validation",
-        "--scene",
-        "fig10-few-bunches",
-        "--width",
-        "320",
-        "--height",
-        "180",
-        "--shadow-map",
-        "1024",
-    ];
+    let mut full = vec!["render", "--validation"];
+    full.extend(SMALL_SCENE);
+    full.extend(SMALL_SIZE);
     full.extend(args);
     full.extend([
         "--video",
@@ -208,25 +199,7 @@ fn an_interrupted_render_finishes_its_video_with_the_frames_written() {
     let dir = temp_out("video-interrupted");
     let out = dir.join("frames");
     let video = dir.join("grass.mp4");
-    let mut child = spawn_meadow(&[
-        "render",
-        "--scene",
-        "fig10-few-bunches",
-        "--frames",
-        "2000",
-        "--width",
-        "160",
-        "--height",
-        "90",
-        "--no-gif",
-        "--video",
-        video.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-    ]);
-    wait_for_file(&out.join("frame_0003.png"), &mut child);
-    send_sigint(&child);
-    let result = child.wait_with_output().unwrap();
+    let result = interrupted_render(&out, &["--no-gif", "--video", video.to_str().unwrap()]);
     let stderr = String::from_utf8_lossy(&result.stderr);
     assert_eq!(result.status.code(), Some(130), "{stderr}");
     let report = read_json(&out.join("report.json"));

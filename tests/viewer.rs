@@ -13,7 +13,7 @@ use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
 
-use common::binary::{meadow, send_sigint, temp_out, wait_for_file};
+use common::binary::{meadow, send_sigint, temp_out, wait_for_file, SMALL_SCENE, SMALL_SIZE};
 
 /// A virtual X display for one test, stopped when dropped.
 struct Xvfb {
@@ -57,17 +57,6 @@ impl Drop for Xvfb {
     }
 }
 
-const SCENE: [&str; 8] = [
-    "--scene",
-    "fig10-few-bunches",
-    "--width",
-    "320",
-    "--height",
-    "180",
-    "--shadow-map",
-    "1024",
-];
-
 fn view(x: &Xvfb, script: &str, out: &Path) -> Child {
     view_sized(x, script, out, (320, 180))
 }
@@ -78,9 +67,8 @@ fn view_sized(x: &Xvfb, script: &str, out: &Path, (width, height): (u32, u32)) -
     std::fs::write(&script_path, script).unwrap();
     let mut args = vec!["view", "--validation"];
     let (width, height) = (width.to_string(), height.to_string());
-    args.extend(SCENE);
-    args[5] = &width;
-    args[7] = &height;
+    args.extend(SMALL_SCENE);
+    args.extend(["--width", &width, "--height", &height]);
     let (script_arg, out_arg) = (
         script_path.to_str().unwrap().to_string(),
         out.to_str().unwrap().to_string(),
@@ -211,7 +199,8 @@ fn a_scripted_session_pauses_steps_switches_views_resizes_and_quits() {
     let mut args = vec!["render", "--validation", "--start", &start, "--out"];
     let render_dir = render_out.to_str().unwrap().to_string();
     args.push(&render_dir);
-    args.extend(SCENE);
+    args.extend(SMALL_SCENE);
+    args.extend(SMALL_SIZE);
     let rendered = meadow(&args, &[]);
     assert!(
         rendered.status.success(),

@@ -13,6 +13,12 @@ pub fn meadow(args: &[&str], env: &[(&str, &str)]) -> Output {
     cmd.output().expect("run meadow")
 }
 
+/// A small scene that renders quickly for the tests that run the binary:
+/// fig10's few bunches with a 1024 x 1024 shadow map; with `SMALL_SIZE`
+/// unless a test needs another size.
+pub const SMALL_SCENE: [&str; 4] = ["--scene", "fig10-few-bunches", "--shadow-map", "1024"];
+pub const SMALL_SIZE: [&str; 4] = ["--width", "320", "--height", "180"];
+
 /// Starts `meadow args` in the background (stdout dropped, stderr kept),
 /// for tests that signal a running process.
 pub fn spawn_meadow(args: &[&str]) -> std::process::Child {
@@ -48,6 +54,20 @@ pub fn send_sigint(child: &std::process::Child) {
     assert!(sent.success());
 }
 
+/// `meadow render` of 2000 small frames of fig10's few bunches into
+/// `out`, with `extra` arguments, stopped by SIGINT (Ctrl-C) once its
+/// fourth frame is on disk: how far an interrupted render got.
+pub fn interrupted_render(out: &Path, extra: &[&str]) -> Output {
+    let out_arg = out.to_str().unwrap();
+    let mut args = vec!["render", "--scene", "fig10-few-bunches", "--frames", "2000"];
+    args.extend(["--width", "160", "--height", "90", "--out", out_arg]);
+    args.extend(extra);
+    let mut child = spawn_meadow(&args);
+    wait_for_file(&out.join("frame_0003.png"), &mut child);
+    send_sigint(&child);
+    child.wait_with_output().unwrap()
+}
+
 /// A fresh (removed) directory path under the system temp dir, unique to
 /// this test process.
 pub fn temp_out(name: &str) -> PathBuf {
@@ -56,14 +76,14 @@ pub fn temp_out(name: &str) -> PathBuf {
     dir
 }
 
-/// The names of the files in `dir` (none when it does not exist), sorted:
-/// what a run left in its output directory.
 /// A JSON file a command wrote, parsed; panics naming the file.
 pub fn read_json(path: &Path) -> serde_json::Value {
     let bytes = std::fs::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     serde_json::from_slice(&bytes).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
 
+/// The names of the files in `dir` (none when it does not exist), sorted:
+/// what a run left in its output directory.
 pub fn files_in(dir: &Path) -> Vec<String> {
     let entries = match std::fs::read_dir(dir) {
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Vec::new(),
