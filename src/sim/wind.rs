@@ -243,10 +243,8 @@ impl WindSource {
 
     /// Position, unit direction and strength at time t.
     pub fn at(&self, t: f32) -> (Vec3, Vec3, f32) {
-        let (s, c) = (self.rotation_speed * t).sin_cos();
         let d = self.direction.try_normalize().unwrap_or(Vec3::X);
-        // Rotation about +y.
-        let dir = Vec3::new(c * d.x + s * d.z, d.y, -s * d.x + c * d.z);
+        let dir = turned_about_y(d, self.rotation_speed * t);
         let strength = match self.off_after {
             Some(off) if t >= off => 0.0,
             _ => self.strength * self.gust.factor(t),
@@ -309,6 +307,13 @@ impl WindSource {
         }
         Ok(warnings)
     }
+}
+
+/// `v` turned by `angle` radians about +y (anticlockwise seen from above):
+/// a rotating source's direction (paper Fig. 11), the viewer's heading.
+pub fn turned_about_y(v: Vec3, angle: f32) -> Vec3 {
+    let (s, c) = angle.sin_cos();
+    Vec3::new(c * v.x + s * v.z, v.y, -s * v.x + c * v.z)
 }
 
 /// Smooth fall-off of a source's force with distance: (1 - (d/r)^2)^2 inside r.

@@ -184,7 +184,7 @@ impl WindBuffers {
         gpu: &Gpu,
         commands: &Commands,
         field: &WindField,
-        gpu_sources: &[GpuWindSource],
+        sources: &[WindSource],
         face_count: u32,
         cell_count: u32,
     ) -> Result<Self> {
@@ -201,12 +201,6 @@ impl WindBuffers {
             FaceKind::Wall => 1,
             FaceKind::Inflow => 2,
         });
-        // At least one source entry so the binding is never empty.
-        let sources: &[GpuWindSource] = if gpu_sources.is_empty() {
-            &[GpuWindSource::zeroed()]
-        } else {
-            gpu_sources
-        };
         let (table, conductance) = multigrid_tables(&field.multigrid);
         let coarse_cells = field.multigrid.coarse_cell_count().max(1) as u64;
         let buffers = Self {
@@ -218,7 +212,7 @@ impl WindBuffers {
             )?,
             pressure: device_buffer("wind pressure (ping, pong)", 2 * cell_count as u64)?,
             divergence: device_buffer("wind divergence", cell_count as u64)?,
-            sources: uploaded("wind sources", bytemuck::cast_slice(sources))?,
+            sources: Self::sources(gpu, commands, sources)?,
             conductance: uploaded(
                 "wind multigrid conductances",
                 bytemuck::cast_slice(&conductance),
@@ -238,6 +232,26 @@ impl WindBuffers {
         rec.barrier(Access::TRANSFER_WRITE, Access::COMPUTE_READ_WRITE);
         rec.submit_and_wait("clearing the wind")?;
         Ok(buffers)
+    }
+
+    /// The sources as the kernels read them, uploaded; at least one
+    /// entry (zeroed) so that the binding is never empty.
+    fn sources(gpu: &Gpu, commands: &Commands, sources: &[WindSource]) -> Result<Buffer> {
+        let mut gpu_sources = sources
+            .iter()
+            .map(GpuWindSource::from_source)
+            .collect::<Result<Vec<_>>>()?;
+        if gpu_sources.is_empty() {
+            gpu_sources.push(GpuWindSource::zeroed());
+        }
+        Buffer::with_data(
+            gpu,
+            commands,
+            "wind sources",
+            bytemuck::cast_slice(&gpu_sources),
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+            Access::COMPUTE_READ,
+        )
     }
 
     /// In the order of `WIND_SET`.
@@ -329,14 +343,15 @@ impl WindPass {
                 ))
             }
         };
-        let gpu_sources = settings
-            .sources
-            .iter()
-            .map(GpuWindSource::from_source)
-            .collect::<Result<Vec<_>>>()?;
         let field = WindField::new(grid, settings);
-        let buffers =
-            WindBuffers::new(gpu, commands, &field, &gpu_sources, face_count, cell_count)?;
+        let buffers = WindBuffers::new(
+            gpu,
+            commands,
+            &field,
+            &settings.sources,
+            face_count,
+            cell_count,
+        )?;
         let layout: Arc<PipelineLayout> =
             PipelineLayout::new::<WindPush>(gpu, WIND_SET, vk::ShaderStageFlags::COMPUTE, "wind")?;
         let kernels = WIND_KERNELS
@@ -412,23 +427,7 @@ impl WindPass {
             inflow.speed = speed;
         }
         if sources != self.settings.sources.as_slice() {
-            let gpu_sources = sources
-                .iter()
-                .map(GpuWindSource::from_source)
-                .collect::<Result<Vec<_>>>()?;
-            let uploaded: &[GpuWindSource] = if gpu_sources.is_empty() {
-                &[GpuWindSource::zeroed()]
-            } else {
-                &gpu_sources
-            };
-            let buffer = Buffer::with_data(
-                gpu,
-                commands,
-                "wind sources",
-                bytemuck::cast_slice(uploaded),
-                vk::BufferUsageFlags::STORAGE_BUFFER,
-                Access::COMPUTE_READ,
-            )?;
+            let buffer = WindBuffers::sources(gpu, commands, sources)?;
             let old = std::mem::replace(&mut self.buffers.sources, buffer);
             // The new set replaces (and drops) the old one before the old
             // buffer it named goes; no submission is in flight.

@@ -12,7 +12,7 @@ use glam::{Vec3, Vec4};
 
 use crate::render::frame_uniforms::view_projection;
 use crate::scene::Scene;
-use crate::sim::wind::WindSource;
+use crate::sim::wind::{turned_about_y, WindSource};
 
 /// Metres a second the inflow changes by per arrow press.
 pub const SPEED_STEP: f32 = 0.5;
@@ -83,7 +83,7 @@ impl WindControls {
         } else {
             Vec3::X
         };
-        turned(base, self.heading_deg.to_radians())
+        turned_about_y(base, self.heading_deg.to_radians())
     }
 
     /// Drops a gust centred `GUST_HEIGHT` above `ground`, blowing along the
@@ -121,7 +121,7 @@ impl WindControls {
             .iter()
             .map(|s| {
                 let mut s = s.clone();
-                s.direction = turned(s.direction, angle);
+                s.direction = turned_about_y(s.direction, angle);
                 s.strength *= self.strength_scale;
                 s
             })
@@ -129,13 +129,6 @@ impl WindControls {
         sources.extend(self.gusts.iter().cloned());
         (self.inflow, sources)
     }
-}
-
-/// `v` turned by `angle` radians about +y (anticlockwise seen from above),
-/// as `WindSource::at` turns a rotating source.
-fn turned(v: Vec3, angle: f32) -> Vec3 {
-    let (s, c) = angle.sin_cos();
-    Vec3::new(c * v.x + s * v.z, v.y, -s * v.x + c * v.z)
 }
 
 /// The point of the ground (y = 0) seen at pixel (`x`, `y`) of a frame of
@@ -240,8 +233,8 @@ mod tests {
         assert_eq!(inflow, None);
         let (first, original) = (&sources[0], &scene.wind.sources[0]);
         assert_eq!(first.strength, original.strength * STRENGTH_STEP);
-        let expected = turned(original.direction, -90f32.to_radians());
+        let expected = turned_about_y(original.direction, -90f32.to_radians());
         assert!(first.direction.abs_diff_eq(expected, 1e-6));
-        assert!(turned(Vec3::X, -90f32.to_radians()).abs_diff_eq(Vec3::Z, 1e-6));
+        assert!(turned_about_y(Vec3::X, -90f32.to_radians()).abs_diff_eq(Vec3::Z, 1e-6));
     }
 }
