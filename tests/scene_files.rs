@@ -334,7 +334,7 @@ fn malformed_scene_files_are_refused_with_line_column_field_and_range() {
             "a path speed without a path",
             plus("[[wind.source]]\nposition = [0.0, 0.5, 0.0]\ndirection = [1.0, 0.0, 0.0]\nstrength = 5.0\nradius = 1.0\npath_speed = 2.0"),
             19,
-            "wind.source[0].path_speed: moves the source along its path, which needs at least 2 points",
+            "wind.source[0].path_speed: moves it along its path, which needs at least 2 points",
         ),
         // Too long is refused as too short is (serde alone would drop the
         // extra values silently).

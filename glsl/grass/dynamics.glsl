@@ -43,6 +43,38 @@ ivec2 bend_group(GrassBlade b, int i) {
     return i < split ? ivec2(BEND_A, split - 1) : ivec2(BEND_B, 2);
 }
 
+const float PI = 3.14159265358979;
+const float MIN_FLAT_TURN = 0.05;   // rad (`contact::MIN_FLAT_TURN`)
+
+// The turn about E_w that lays rest edge j flat toward the side theta bends
+// to (`contact::flat_share`).
+float flat_turn(GrassBlade b, int j, float theta) {
+    vec3 along = cross(b.width.xyz, UP);
+    vec3 edge = rest_point(b, j + 1) - rest_point(b, j);
+    float psi = atan(edge.y, dot(edge, along));
+    return theta >= 0.0 ? psi : psi - PI;
+}
+
+// `contact::flat_share`: edge i's share in a fully pressed blade.
+float flat_share(GrassBlade b, int i, float theta, float fallback) {
+    float root = flat_turn(b, 0, theta);
+    if (abs(root) < MIN_FLAT_TURN) {
+        return fallback;
+    }
+    return flat_turn(b, i, theta) / root;
+}
+
+// `grass::bend_share`: edge i's share of its group's bending angle theta,
+// eq. 12's k_tip / k_i moved toward the flat share as the blade is pressed.
+float bend_share(GrassBlade b, int i, float theta, float pressed) {
+    ivec2 group = bend_group(b, i);
+    float share = b.stiffness[group.y] / b.stiffness[i];
+    if (pressed == 0.0 || group.x != BEND_A) {
+        return share;
+    }
+    return share + (flat_share(b, i, theta, share) - share) * pressed;
+}
+
 struct Pose {
     vec3 points[4];   // P0 (root) .. P3 (tip)
     vec3 e[3];        // E_e per edge
@@ -55,14 +87,16 @@ struct Pose {
 // about the rest E_w by its share of its group's angle and swings about the
 // ground normal by its share of the swing angle (eq. 12 for both), and its
 // width direction twists about the edge by its share of the twist.
-Pose blade_pose(GrassBlade b, vec4 angle) {
+// `pressed` (src/sim/contact.rs) moves the rising edges' shares toward
+// lying flat; 0 gives eq. 12's.
+Pose blade_pose(GrassBlade b, vec4 angle, float pressed) {
     Pose p;
     vec3 w_rest = b.width.xyz;
     vec4 k = b.stiffness;
     p.points[0] = rest_point(b, 0);
     for (int i = 0; i < 3; ++i) {
         ivec2 group = bend_group(b, i);
-        float bend = k[group.y] / k[i] * angle[group.x];
+        float bend = bend_share(b, i, angle[group.x], pressed) * angle[group.x];
         float swing = k[2] / k[i] * angle[SWING];
         vec3 rest_edge = rest_point(b, i + 1) - rest_point(b, i);
         vec3 edge = rotate_about(rotate_about(rest_edge, w_rest, bend), UP, swing);
@@ -100,7 +134,7 @@ vec3 swing_lever(GrassBlade b, float theta) {
 // i by its eq. 12 share. W_S = S sigma (v . E_w) E_w (the tip edge's E_w),
 // R_S = k_tip dtheta_s (G_static - G_cur) / |..|, both at the tip; lever
 // `swing_lever`.
-float swing_torque(GrassBlade b, Pose p, vec4 angle, vec3 wind) {
+float swing_torque(GrassBlade b, Pose p, vec4 angle, vec3 wind, float give) {
     float theta = angle[SWING];
     vec3 g_static = vec3(0.0);
     vec3 g_cur = vec3(0.0);
@@ -109,7 +143,7 @@ float swing_torque(GrassBlade b, Pose p, vec4 angle, vec3 wind) {
         g_cur += swung_flat_edge(b, i, theta);
     }
     vec3 force = p.w[2] * (b.drag[SWING] * dot(wind, p.w[2]))
-               + direction_or_zero(g_static - g_cur) * (b.stiffness[2] * abs(theta));
+               + direction_or_zero(g_static - g_cur) * (b.stiffness[2] * abs(theta) * give);
     return dot(cross(swing_lever(b, theta), force), UP);
 }
 
@@ -118,7 +152,7 @@ float swing_torque(GrassBlade b, Pose p, vec4 angle, vec3 wind) {
 // with k the local tip edge's stiffness; lever: the local tip edge.
 // E_e_static is the rest edge swung by its share of the swing, so that
 // swinging never reads as bending.
-float bend_torque(GrassBlade b, Pose p, int motion, vec4 angle, vec3 wind) {
+float bend_torque(GrassBlade b, Pose p, int motion, vec4 angle, vec3 wind, float give) {
     int tip = motion == BEND_A ? split_edge(b) - 1 : 2;
     float theta = angle[motion];
     vec3 rest_edge = rest_point(b, tip + 1) - rest_point(b, tip);
@@ -127,7 +161,7 @@ float bend_torque(GrassBlade b, Pose p, int motion, vec4 angle, vec3 wind) {
     vec3 n = p.n[tip];
     vec3 lever = p.points[tip + 1] - p.points[tip];
     vec3 force = n * (b.drag[motion] * dot(wind, n))
-               + direction_or_zero(e_static - p.e[tip]) * (b.stiffness[tip] * abs(theta));
+               + direction_or_zero(e_static - p.e[tip]) * (b.stiffness[tip] * abs(theta) * give);
     return dot(cross(lever, force), p.w[tip]);
 }
 
@@ -149,14 +183,15 @@ float twist_torque(GrassBlade b, Pose p, vec4 angle, vec3 wind) {
     return dot(cross(w_local * (side * b.width.w), force), e);
 }
 
-// lever x (W + R) along each motion's axis, plus the damping torque -c omega.
-vec4 torques(GrassBlade b, Pose p, GrassState s, vec3 wind) {
-    vec4 torque = vec4(swing_torque(b, p, s.angle, wind),
-                       bend_torque(b, p, BEND_A, s.angle, wind),
+// lever x (W + R) along each motion's axis, plus the damping torque -c omega;
+// the swing and bend restoring forces scaled by `give` (1 unless pressed).
+vec4 torques(GrassBlade b, Pose p, GrassState s, vec3 wind, float give) {
+    vec4 torque = vec4(swing_torque(b, p, s.angle, wind, give),
+                       bend_torque(b, p, BEND_A, s.angle, wind, give),
                        0.0,
                        twist_torque(b, p, s.angle, wind));
     if (split_edge(b) < 3) {
-        torque[BEND_B] = bend_torque(b, p, BEND_B, s.angle, wind);
+        torque[BEND_B] = bend_torque(b, p, BEND_B, s.angle, wind, give);
     }
     return torque - b.damping * s.velocity;
 }
@@ -184,14 +219,23 @@ void ground_contact(inout GrassState s, GrassState before) {
     s.velocity[BEND_B] = 0.0;
 }
 
+// Defined in contact.glsl, which needs the pose above.
+bool resolve_contacts(GrassBlade b, inout GrassState s, float pressed, inout Pose p, uint colliders);
+float press_give(float pressed);
+
 // One simulation step in `substeps` symplectic Euler substeps of h:
 // omega' = omega + (N / I) h, theta' = theta + omega' h, the damping in N
-// taken at (omega + omega') / 2.
-void blade_step(GrassBlade b, inout GrassState s, vec3 wind, float h, uint substeps) {
+// taken at (omega + omega') / 2. A blade in the pressed state `pressed`,
+// near `colliders` of the workgroup's list, resolves its contacts after
+// each substep (`grass::step_touching`); returns whether it touched one.
+bool blade_step(GrassBlade b, inout GrassState s, vec3 wind, float h, uint substeps,
+                float pressed, uint colliders) {
     wind = guard_wind(wind);
-    Pose p = blade_pose(b, s.angle);
+    float give = press_give(pressed);
+    bool touched = false;
+    Pose p = blade_pose(b, s.angle, pressed);
     for (uint k = 0u; k < substeps; ++k) {
-        vec4 torque = torques(b, p, s, wind);
+        vec4 torque = torques(b, p, s, wind, give);
         GrassState before = s;
         for (int m = 0; m < 4; ++m) {
             // Damping at the step's midpoint (`step` in src/sim/grass.rs).
@@ -207,12 +251,16 @@ void blade_step(GrassBlade b, inout GrassState s, vec3 wind, float h, uint subst
                 s.velocity[m] = omega;
             }
         }
-        p = blade_pose(b, s.angle);
+        p = blade_pose(b, s.angle, pressed);
         if (below_ground(p)) {
             ground_contact(s, before);
-            p = blade_pose(b, s.angle);
+            p = blade_pose(b, s.angle, pressed);
+        }
+        if (colliders > 0u || pressed != 0.0) {
+            touched = resolve_contacts(b, s, pressed, p, colliders) || touched;
         }
     }
+    return touched;
 }
 
 #endif

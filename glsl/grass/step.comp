@@ -10,12 +10,14 @@ layout(local_size_x = 64) in;
 #include "wind_grid.glsl"
 #include "blade_vertex.glsl"
 #include "dynamics.glsl"
+#include "contact.glsl"
 
 layout(push_constant, std430) uniform Push {
     WindGridParams grid;
     uvec4 control;   // x: blades, y: substeps, z: offset (floats) of the wind velocity copy to sample,
                      // w: 1 to lay the canopy's frontal area (two-way coupling)
     vec4 step;       // x: simulation step dt (s), y: substep h = dt / substeps (s), z: m^2 per canopy count
+    vec4 contact;    // x: time at the step's end (s), y: the pressed state's decay per step, z: colliders
 } pc;
 
 layout(set = 0, binding = 0, std430) readonly buffer Blades { GrassBlade blades[]; };
@@ -33,6 +35,51 @@ layout(set = 0, binding = 4, std430) buffer Caps { uint caps[]; };
 // The frontal area per wind cell in counts of pc.step.z m^2 (two-way
 // coupling; `deposit` in src/sim/canopy.rs), which the wind cleared.
 layout(set = 0, binding = 5, std430) buffer Canopy { uint canopy[]; };
+// Each blade's pressed state (`Press` in src/sim/contact.rs) and the scene's
+// colliders; placeholders the kernel never touches when there are none.
+layout(set = 0, binding = 6, std430) buffer Presses { Press presses[]; };
+layout(set = 0, binding = 7, std430) readonly buffer Colliders { Collider colliders[]; };
+
+// Every invocation of the workgroup calls this (it has barriers): the
+// colliders at the step's end whose box, grown by the radius, meets the box
+// of this workgroup's roots grown by their reach, in scene order. A superset
+// of each blade's near colliders on the CPU (`ColliderState::near`): a
+// collider left out cannot reach any point of these blades.
+void gather_near_colliders(bool in_range, vec3 root, float reach, uint count) {
+    uint l = gl_LocalInvocationIndex;
+    roots_low[l] = in_range ? vec4(root - vec3(reach), 0.0) : vec4(1e30);
+    roots_high[l] = in_range ? vec4(root + vec3(reach), 0.0) : vec4(-1e30);
+    barrier();
+    for (uint half_size = 32u; half_size > 0u; half_size >>= 1) {
+        if (l < half_size) {
+            roots_low[l] = min(roots_low[l], roots_low[l + half_size]);
+            roots_high[l] = max(roots_high[l], roots_high[l + half_size]);
+        }
+        barrier();
+    }
+    vec3 low = roots_low[0].xyz;
+    vec3 high = roots_high[0].xyz;
+    for (uint c = l; c < count; c += 64u) {
+        ColliderState st = collider_at(colliders[c], pc.contact.x);
+        float r = st.a_radius.w;
+        vec3 lo = min(st.a_radius.xyz, st.b.xyz) - vec3(r);
+        vec3 hi = max(st.a_radius.xyz, st.b.xyz) + vec3(r);
+        all_colliders[c] = st;
+        collider_is_near[c] = all(lessThanEqual(lo, high)) && all(greaterThanEqual(hi, low)) ? 1u : 0u;
+    }
+    barrier();
+    if (l == 0u) {
+        uint n = 0u;
+        for (uint c = 0u; c < count; ++c) {
+            if (collider_is_near[c] != 0u) {
+                near_colliders[n] = all_colliders[c];
+                n += 1u;
+            }
+        }
+        near_collider_count = n;
+    }
+    barrier();
+}
 
 #define WIND_VELOCITY(i) wind_velocity[pc.control.z + (i)]
 #include "wind_sample.glsl"
@@ -61,16 +108,38 @@ void lay_frontal_area(GrassBlade b, Pose p, vec3 wind) {
 
 void main() {
     uint id = gl_GlobalInvocationID.x;
-    if (id >= pc.control.x) {
+    bool in_range = id < pc.control.x;
+    // The collider count is uniform, so the whole workgroup gathers or none.
+    uint collider_count = uint(pc.contact.z);
+    uint near = 0u;
+    if (collider_count > 0u) {
+        vec3 root = vec3(0.0);
+        float reach = 0.0;
+        if (in_range) {
+            root = blades[id].rest[0].xyz;
+            reach = blade_reach(blades[id]);
+        }
+        gather_near_colliders(in_range, root, reach, collider_count);
+        near = near_collider_count;
+    }
+    if (!in_range) {
         return;
     }
     GrassBlade b = blades[id];
     GrassState s = states[id];
-    // The wind only at the tip (paper section 4).
-    vec3 tip = blade_pose(b, s.angle).points[3];
+    Press press = Press(0.0, 0.0);
+    if (collider_count > 0u) {
+        press = presses[id];
+    }
+    // The wind only at the tip (paper section 4), as the last step left it.
+    vec3 tip = blade_pose(b, s.angle, press.pressed).points[3];
     vec3 felt = sample_wind(pc.grid, tip);
-    blade_step(b, s, felt, pc.step.y, pc.control.y);
+    float pressed = press_next(press, pc.step.x, pc.contact.y);
+    bool touched = blade_step(b, s, felt, pc.step.y, pc.control.y, pressed, near);
     states[id] = s;
+    if (collider_count > 0u) {
+        presses[id] = Press(pressed, touched ? 1.0 : 0.0);
+    }
     bool capped = false;
     for (int m = 0; m < 4; ++m) {
         if (abs(s.angle[m]) >= MAX_ANGLE) {
@@ -82,7 +151,7 @@ void main() {
         atomicAdd(caps[0], 1u);
     }
 
-    Pose p = blade_pose(b, s.angle);
+    Pose p = blade_pose(b, s.angle, pressed);
     if (pc.control.w != 0u) {
         lay_frontal_area(b, p, guard_wind(felt));
     }

@@ -149,13 +149,15 @@ fn bench_count(
         &dynamic,
         vertices.buffer(),
         &wind.grass_input(),
+        &scene.colliders,
         dt,
     )?;
     let timestamps = TimestampQueries::new(gpu, steps, "grass step timestamps")?;
 
     let rec = commands.begin()?;
-    for _ in 0..warmup {
-        grass.record_step(&rec, 0);
+    let end_time = |step: u32| crate::sim::contact::step_end_time(step as u64, dt);
+    for n in 0..warmup {
+        grass.record_step(&rec, 0, end_time(n));
     }
     if let Some(t) = &timestamps {
         t.reset(&rec);
@@ -164,7 +166,7 @@ fn bench_count(
         if let Some(t) = &timestamps {
             t.stamp(&rec, n, false);
         }
-        grass.record_step(&rec, 0);
+        grass.record_step(&rec, 0, end_time(warmup + n));
         if let Some(t) = &timestamps {
             t.stamp(&rec, n, true);
         }

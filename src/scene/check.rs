@@ -7,6 +7,7 @@ use std::ops::RangeInclusive;
 
 use super::{Camera, Cull, Grass, GrassDynamics, Light, Lod, RenderSettings, Scene, MAX_BLADES};
 use crate::error::Error;
+use crate::sim::contact::{Collider, ColliderKind, MAX_COLLIDERS};
 use crate::sim::wind::{Obstacle, WindSource, MAX_CELLS};
 use crate::sim::BladePhysics;
 
@@ -142,6 +143,18 @@ pub fn scene(s: &Scene) -> Check {
     positive("ground.half_extent", s.ground.half_extent, 10_000.0)?;
     grass(&s.grass).map_err(|e| e.at("grass"))?;
     wind(&s.wind).map_err(|e| e.at("wind"))?;
+    if s.colliders.len() > MAX_COLLIDERS {
+        return Err(FieldError::new(
+            "collider",
+            format!(
+                "{} colliders is not allowed, use at most {MAX_COLLIDERS}",
+                s.colliders.len()
+            ),
+        ));
+    }
+    for (i, c) in s.colliders.iter().enumerate() {
+        collider(c).map_err(|e| e.at(&format!("collider[{i}]")))?;
+    }
     Ok(())
 }
 
@@ -434,31 +447,7 @@ fn source(s: &WindSource) -> Check {
     }
     positive("radius", s.radius, 10_000.0)?;
     finite("rotation_speed", &[s.rotation_speed])?;
-    for (i, p) in s.path.iter().enumerate() {
-        finite(&format!("path[{i}]"), &p.to_array())?;
-    }
-    if s.path.len() > crate::sim::wind::MAX_PATH_POINTS {
-        return Err(FieldError::new(
-            "path",
-            format!(
-                "{} points is not allowed, use at most {}",
-                s.path.len(),
-                crate::sim::wind::MAX_PATH_POINTS
-            ),
-        ));
-    }
-    if !(s.path_speed.is_finite() && s.path_speed >= 0.0) {
-        return Err(FieldError::new(
-            "path_speed",
-            format!("{} is not allowed, use a speed >= 0", s.path_speed),
-        ));
-    }
-    if s.path_speed > 0.0 && s.path.len() < 2 {
-        return Err(FieldError::new(
-            "path_speed",
-            "moves the source along its path, which needs at least 2 points (give `path`, or drop path_speed)",
-        ));
-    }
+    path(&s.path, s.path_speed)?;
     gust(&s.gust).map_err(|e| e.at("gust"))?;
     if let Some(off) = s.off_after {
         finite("off_after", &[off])?;
@@ -491,6 +480,87 @@ fn obstacle(o: &Obstacle) -> Check {
             positive("radius", radius, 10_000.0)?;
             positive("height", height, 10_000.0)?;
         }
+    }
+    Ok(())
+}
+
+fn collider(c: &Collider) -> Check {
+    positive("radius", c.radius, 100.0)?;
+    match c.kind {
+        ColliderKind::Sphere => {
+            if c.height != 0.0 {
+                return Err(FieldError::new(
+                    "height",
+                    "is for capsules; a sphere's size is its radius (drop height)",
+                ));
+            }
+        }
+        ColliderKind::Capsule => {
+            finite("height", &[c.height])?;
+            if !(c.height >= 2.0 * c.radius && c.height <= 100.0) {
+                return Err(FieldError::new(
+                    "height",
+                    format!(
+                        "{} is not allowed, use 2 x radius ({}) ..= 100 m: the whole height, caps included",
+                        c.height,
+                        2.0 * c.radius
+                    ),
+                ));
+            }
+            if c.roll {
+                return Err(FieldError::new(
+                    "roll",
+                    "is for spheres; a capsule stands upright",
+                ));
+            }
+        }
+    }
+    finite("position", &c.position.to_array())?;
+    path(&c.path, c.path_speed)?;
+    let lowest = c.lowest();
+    if lowest < -1e-4 {
+        return Err(FieldError::new(
+            if c.path.is_empty() {
+                "position"
+            } else {
+                "path"
+            },
+            format!(
+                "reaches {:.3} m below the ground, where the grass is rooted; raise it so its \
+                 lowest point is at y >= 0 (a sphere's centre at y >= its radius)",
+                -lowest
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// Waypoints and the speed along them, as a wind source or a collider has.
+fn path(points: &[glam::Vec3], speed: f32) -> Check {
+    for (i, p) in points.iter().enumerate() {
+        finite(&format!("path[{i}]"), &p.to_array())?;
+    }
+    if points.len() > crate::sim::wind::MAX_PATH_POINTS {
+        return Err(FieldError::new(
+            "path",
+            format!(
+                "{} points is not allowed, use at most {}",
+                points.len(),
+                crate::sim::wind::MAX_PATH_POINTS
+            ),
+        ));
+    }
+    if !(speed.is_finite() && speed >= 0.0) {
+        return Err(FieldError::new(
+            "path_speed",
+            format!("{speed} is not allowed, use a speed >= 0"),
+        ));
+    }
+    if speed > 0.0 && points.len() < 2 {
+        return Err(FieldError::new(
+            "path_speed",
+            "moves it along its path, which needs at least 2 points (give `path`, or drop path_speed)",
+        ));
     }
     Ok(())
 }

@@ -11,6 +11,7 @@ use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
+use crate::sim::contact::Collider;
 use crate::sim::wind::{
     Coupling, Gust, Inflow, Obstacle, PressureSolver, WindGrid, WindSettings, WindSource,
     DEFAULT_CANOPY_DRAG, DEFAULT_JACOBI_ITERATIONS, DEFAULT_V_CYCLES,
@@ -57,6 +58,10 @@ pub struct Scene {
     pub grass: Grass,
     #[serde(default)]
     pub wind: WindConfig,
+    /// Things that move through the meadow and press the grass
+    /// (`[[collider]]`; src/sim/contact.rs).
+    #[serde(default, rename = "collider", skip_serializing_if = "Vec::is_empty")]
+    pub colliders: Vec<Collider>,
 }
 
 /// How the scene is rendered unless the command line says otherwise.

@@ -21,6 +21,7 @@ use glam::{Vec3, Vec4};
 
 use crate::error::{Error, Result};
 use crate::sim::blade::{Blade, BladeVertex, UP};
+use crate::sim::contact;
 
 /// The motions, in the order of every per-motion vec4 (here and in
 /// glsl/common/grass_blade.glsl).
@@ -379,14 +380,33 @@ pub fn swing_lever(blade: &GrassBlade, theta: f32) -> Vec3 {
 /// (eq. 12 for both), and its width direction twists about the edge by its
 /// share of the twist.
 pub fn pose(blade: &GrassBlade, angle: [f32; 4]) -> Pose {
+    pressed_pose(blade, angle, 0.0)
+}
+
+/// Edge i's share of its group's bending angle `theta`: eq. 12's
+/// k_tip / k_i, moved toward `contact::flat_share` as the blade is pressed
+/// (group A only; exactly eq. 12's when unpressed).
+pub fn bend_share(blade: &GrassBlade, i: usize, theta: f32, pressed: f32) -> f32 {
+    let (group, tip) = blade.bend_group(i);
+    let share = blade.stiffness[tip] / blade.stiffness[i];
+    if pressed == 0.0 || group != BEND_A {
+        return share;
+    }
+    share + (contact::flat_share(blade, i, theta, share) - share) * pressed
+}
+
+/// `pose` of a blade in the pressed state `pressed` (src/sim/contact.rs):
+/// its rising edges share the bending so that it lies down flat, a crushed
+/// stem giving way at the root (exactly `pose` when it is 0).
+pub fn pressed_pose(blade: &GrassBlade, angle: [f32; 4], pressed: f32) -> Pose {
     let w_rest = Vec4::from(blade.width).truncate();
     let k = blade.stiffness;
     let mut points = [blade.rest_point(0); 4];
     let mut e = [UP; 3];
     let mut w = [w_rest; 3];
     for i in 0..3 {
-        let (group, tip) = blade.bend_group(i);
-        let bend = k[tip] / k[i] * angle[group];
+        let (group, _) = blade.bend_group(i);
+        let bend = bend_share(blade, i, angle[group], pressed) * angle[group];
         let swing = k[2] / k[i] * angle[SWING];
         let rest_edge = blade.rest_point(i + 1) - blade.rest_point(i);
         let edge = rotate(rotate(rest_edge, w_rest, bend), UP, swing);
@@ -409,15 +429,27 @@ pub fn pose(blade: &GrassBlade, angle: [f32; 4]) -> Pose {
 /// The torque of each motion about its axis at `pose`: lever x (W + R)
 /// along the axis, plus the damping torque -c omega.
 pub fn torques(blade: &GrassBlade, pose: &Pose, state: &GrassState, wind: Vec3) -> [f32; 4] {
+    pressed_torques(blade, pose, state, wind, 1.0)
+}
+
+/// `torques` of a blade whose swing and bend restoring forces are scaled by
+/// `give` (`contact::give`: 1 unless a collider pressed it).
+pub fn pressed_torques(
+    blade: &GrassBlade,
+    pose: &Pose,
+    state: &GrassState,
+    wind: Vec3,
+    give: f32,
+) -> [f32; 4] {
     let angle = state.angle;
     let mut torque = [
-        swing_torque(blade, pose, angle, wind),
-        bend_torque(blade, pose, BEND_A, angle, wind),
+        swing_torque(blade, pose, angle, wind, give),
+        bend_torque(blade, pose, BEND_A, angle, wind, give),
         0.0,
         twist_torque(blade, pose, angle, wind),
     ];
     if blade.split() < 3 {
-        torque[BEND_B] = bend_torque(blade, pose, BEND_B, angle, wind);
+        torque[BEND_B] = bend_torque(blade, pose, BEND_B, angle, wind, give);
     }
     std::array::from_fn(|m| torque[m] - blade.damping[m] * state.velocity[m])
 }
@@ -429,7 +461,7 @@ pub fn torques(blade: &GrassBlade, pose: &Pose, state: &GrassState, wind: Vec3) 
 /// growth vector, P0P3 on the ground plane; both act at the tip, so the
 /// lever is `swing_lever`. (Bending does not move the lever or G, so the
 /// two motions stay separate.)
-fn swing_torque(blade: &GrassBlade, pose: &Pose, angle: [f32; 4], wind: Vec3) -> f32 {
+fn swing_torque(blade: &GrassBlade, pose: &Pose, angle: [f32; 4], wind: Vec3, give: f32) -> f32 {
     let theta = angle[SWING];
     let k = blade.stiffness;
     let swung_edge = |i: usize, theta: f32| {
@@ -440,7 +472,7 @@ fn swing_torque(blade: &GrassBlade, pose: &Pose, angle: [f32; 4], wind: Vec3) ->
     let g_cur: Vec3 = (0..3).map(|i| swung_edge(i, theta)).sum();
     let w = pose.w[2];
     let force = w * (blade.drag[SWING] * wind.dot(w))
-        + direction_or_zero(g_static - g_cur) * (k[2] * theta.abs());
+        + direction_or_zero(g_static - g_cur) * (k[2] * theta.abs() * give);
     swing_lever(blade, theta).cross(force).dot(UP)
 }
 
@@ -449,7 +481,14 @@ fn swing_torque(blade: &GrassBlade, pose: &Pose, angle: [f32; 4], wind: Vec3) ->
 /// with k the local tip edge's stiffness; lever: the local tip edge.
 /// E_e_static is the rest edge swung by its share of the swing, so that
 /// swinging never reads as bending.
-fn bend_torque(blade: &GrassBlade, pose: &Pose, motion: usize, angle: [f32; 4], wind: Vec3) -> f32 {
+fn bend_torque(
+    blade: &GrassBlade,
+    pose: &Pose,
+    motion: usize,
+    angle: [f32; 4],
+    wind: Vec3,
+    give: f32,
+) -> f32 {
     let tip = if motion == BEND_A {
         blade.split() - 1
     } else {
@@ -462,7 +501,7 @@ fn bend_torque(blade: &GrassBlade, pose: &Pose, motion: usize, angle: [f32; 4], 
     let n = pose.n[tip];
     let lever = pose.points[tip + 1] - pose.points[tip];
     let force = n * (blade.drag[motion] * wind.dot(n))
-        + direction_or_zero(e_static - pose.e[tip]) * (blade.stiffness[tip] * theta.abs());
+        + direction_or_zero(e_static - pose.e[tip]) * (blade.stiffness[tip] * theta.abs() * give);
     lever.cross(force).dot(pose.w[tip])
 }
 
@@ -505,11 +544,29 @@ pub fn guard_wind(v: Vec3) -> Vec3 {
 /// damping torque in N taken at (omega + omega') / 2. The wind is sampled
 /// once per step, at the tip, by the caller.
 pub fn step(blade: &GrassBlade, state: &mut GrassState, wind: Vec3, dt: f32, substeps: u32) {
+    step_touching(blade, state, wind, dt, substeps, 0.0, &[]);
+}
+
+/// `step` for a blade in the pressed state `pressed` that may touch
+/// `colliders` (src/sim/contact.rs): its pressed pose, its restoring
+/// forces scaled by `contact::give`, and each substep's contacts resolved
+/// after the ground's. Returns whether a collider was touched.
+pub fn step_touching(
+    blade: &GrassBlade,
+    state: &mut GrassState,
+    wind: Vec3,
+    dt: f32,
+    substeps: u32,
+    pressed: f32,
+    colliders: &[contact::ColliderState],
+) -> bool {
     let wind = guard_wind(wind);
     let h = dt / substeps as f32;
-    let mut current = pose(blade, state.angle);
+    let give = contact::give(pressed);
+    let mut current = pressed_pose(blade, state.angle, pressed);
+    let mut touched = false;
     for _ in 0..substeps {
-        let torque = torques(blade, &current, state, wind);
+        let torque = pressed_torques(blade, &current, state, wind, give);
         let before = *state;
         #[allow(clippy::needless_range_loop)] // four parallel per-motion arrays
         for m in 0..4 {
@@ -531,12 +588,19 @@ pub fn step(blade: &GrassBlade, state: &mut GrassState, wind: Vec3, dt: f32, sub
                 state.velocity[m] = omega;
             }
         }
-        current = pose(blade, state.angle);
+        current = pressed_pose(blade, state.angle, pressed);
         if below_ground(&current) {
             ground_contact(state, &before);
-            current = pose(blade, state.angle);
+            current = pressed_pose(blade, state.angle, pressed);
+        }
+        // A pressed blade's shares change between steps, which can lay
+        // part of it into the ground: resolved by the contact projection,
+        // which puts the ground first.
+        if !colliders.is_empty() || pressed != 0.0 {
+            touched |= contact::resolve(blade, state, pressed, &mut current, colliders);
         }
     }
+    touched
 }
 
 /// Whether a control point left the ground plane (y = 0) downward. The
@@ -630,6 +694,11 @@ pub struct GrassField {
     pub substeps: u32,
     pub dt: f32,
     pub caps: CapCounts,
+    /// What moves through the meadow (src/sim/contact.rs).
+    pub colliders: Vec<contact::Collider>,
+    /// Each blade's pressed state (`contact::Press`).
+    pub pressed: Vec<contact::Press>,
+    pub steps_done: u64,
 }
 
 impl GrassField {
@@ -637,11 +706,20 @@ impl GrassField {
         let substeps = substeps(&blades, dt)?;
         Ok(Self {
             states: vec![GrassState::default(); blades.len()],
+            pressed: vec![contact::Press::default(); blades.len()],
             blades,
             substeps,
             dt,
             caps: CapCounts::default(),
+            colliders: Vec::new(),
+            steps_done: 0,
         })
+    }
+
+    /// The same field with `colliders` moving through it.
+    pub fn with_colliders(mut self, colliders: Vec<contact::Collider>) -> Self {
+        self.colliders = colliders;
+        self
     }
 
     /// Advances every blade one step, each with the wind `wind_at` gives at
@@ -657,20 +735,37 @@ impl GrassField {
         mut wind_at: impl FnMut(Vec3) -> Vec3,
         mut after: impl FnMut(&GrassBlade, &GrassState, Vec3),
     ) {
-        for (blade, state) in self.blades.iter().zip(&mut self.states) {
-            let tip = pose(blade, state.angle).points[3];
+        let time = contact::step_end_time(self.steps_done, self.dt);
+        let colliders: Vec<contact::ColliderState> =
+            self.colliders.iter().map(|c| c.at(time)).collect();
+        let decay = contact::press_decay(self.dt);
+        for ((blade, state), press) in self
+            .blades
+            .iter()
+            .zip(&mut self.states)
+            .zip(&mut self.pressed)
+        {
+            let tip = pressed_pose(blade, state.angle, press.pressed).points[3];
             let wind = wind_at(tip);
-            step(blade, state, wind, self.dt, self.substeps);
+            let pressed = press.next(self.dt, decay);
+            let near = contact::near_blade(&colliders, blade.rest_point(0), contact::reach(blade));
+            let touched = step_touching(blade, state, wind, self.dt, self.substeps, pressed, &near);
+            *press = contact::Press {
+                pressed,
+                touched: touched as u32 as f32,
+            };
             self.caps.count(state);
             after(blade, state, wind);
         }
+        self.steps_done += 1;
     }
 
     pub fn poses(&self) -> impl Iterator<Item = Pose> + '_ {
         self.blades
             .iter()
             .zip(&self.states)
-            .map(|(b, s)| pose(b, s.angle))
+            .zip(&self.pressed)
+            .map(|((b, s), p)| pressed_pose(b, s.angle, p.pressed))
     }
 
     /// The vertex buffer the renderer would draw.

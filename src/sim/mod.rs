@@ -4,6 +4,7 @@
 
 pub mod blade;
 pub mod canopy;
+pub mod contact;
 pub mod grass;
 
 pub use blade::{Blade, BladeKind, BladeVertex, EdgeFrame};

@@ -20,6 +20,7 @@ use crate::gpu::{
     part, Access, Bound, Buffer, Commands, DescriptorSet, Gpu, LayoutBinding, Pipeline,
     PipelineLayout, Recording,
 };
+use crate::sim::contact::{press_decay, Collider, GpuCollider, Press, MAX_COLLIDERS};
 use crate::sim::grass::{substeps, CapCounts, GrassBlade, GrassState};
 use crate::sim::BladeVertex;
 use crate::simulate::wind_pass::WindInput;
@@ -50,6 +51,9 @@ pub struct GrassPush {
     /// x: simulation step dt, y: substep h = dt / substeps (s), z: m^2 per
     /// count of the canopy buffer.
     pub step: [f32; 4],
+    /// x: time at the step's end (s), y: the pressed state's decay per
+    /// step, z: colliders (src/sim/contact.rs).
+    pub contact: [f32; 4],
 }
 
 /// Set 0 of the grass kernel.
@@ -60,6 +64,8 @@ pub const GRASS_SET: &[LayoutBinding] = &[
     LayoutBinding::compute_storage(3), // wind velocity
     LayoutBinding::compute_storage(4), // angle-cap counters
     LayoutBinding::compute_storage(5), // canopy: frontal area per wind cell (two-way coupling)
+    LayoutBinding::compute_storage(6), // pressed state per blade (colliders)
+    LayoutBinding::compute_storage(7), // colliders
 ];
 
 pub struct GrassPass {
@@ -75,6 +81,10 @@ pub struct GrassPass {
     caps: Buffer,
     /// Bound in place of the wind's canopy with one-way coupling.
     _no_canopy: Buffer,
+    /// Each blade's pressed state (a placeholder without colliders).
+    presses: Buffer,
+    /// Held for the set: the scene's colliders (a placeholder without).
+    _colliders: Buffer,
     push: GrassPush,
     blade_count: u32,
 }
@@ -91,6 +101,7 @@ impl GrassPass {
         blades: &[GrassBlade],
         vertices: &Buffer,
         wind: &WindInput,
+        colliders: &[Collider],
         dt: f32,
     ) -> Result<Self> {
         let grid = &wind.grid;
@@ -108,6 +119,12 @@ impl GrassPass {
                 blades.len()
             )));
         }
+        if colliders.len() > MAX_COLLIDERS {
+            return Err(Error::InvalidInput(format!(
+                "{} colliders cannot be simulated, at most {MAX_COLLIDERS}",
+                colliders.len()
+            )));
+        }
         let substeps = substeps(blades, dt)?;
         let face_count: u64 = (0..3)
             .map(|a| grid.face_dims(a).as_u64vec3().element_product())
@@ -123,6 +140,7 @@ impl GrassPass {
                 wind.canopy.map_or(0.0, |(_, unit)| unit),
                 0.0,
             ],
+            contact: [0.0, press_decay(dt), colliders.len() as f32, 0.0],
         };
 
         // Host memory first: failing here leaves nothing on the GPU to undo.
@@ -167,6 +185,37 @@ impl GrassPass {
             Access::COMPUTE_READ_WRITE,
         )?;
         let canopy = wind.canopy.map_or(&no_canopy, |(buffer, _)| buffer);
+        // Without colliders the kernel touches neither: one entry each.
+        let press_count = if colliders.is_empty() {
+            1
+        } else {
+            blades.len()
+        };
+        let rest_presses = try_collect(
+            press_count,
+            std::iter::repeat(Press::default()),
+            "the grass pressed state",
+        )?;
+        let presses = Buffer::with_data(
+            gpu,
+            commands,
+            "grass pressed state (colliders)",
+            bytemuck::cast_slice(&rest_presses),
+            usage,
+            Access::COMPUTE_READ_WRITE,
+        )?;
+        let mut records: Vec<GpuCollider> = colliders.iter().map(GpuCollider::from).collect();
+        if records.is_empty() {
+            records.push(GpuCollider::default());
+        }
+        let colliders_buffer = Buffer::with_data(
+            gpu,
+            commands,
+            "grass colliders",
+            bytemuck::cast_slice(&records),
+            usage,
+            Access::COMPUTE_READ,
+        )?;
         let layout = PipelineLayout::new::<GrassPush>(
             gpu,
             GRASS_SET,
@@ -175,6 +224,7 @@ impl GrassPass {
         )?;
         let pipeline = Pipeline::compute(gpu, &layout, &crate::shaders::GRASS_STEP_COMP)?;
         use std::mem::size_of;
+        let has_colliders = !colliders.is_empty();
         let batches = crate::gpu::sets_per_batch(
             gpu,
             &layout,
@@ -190,6 +240,12 @@ impl GrassPass {
                     Bound::Buffer(wind.velocity),
                     Bound::Buffer(&caps),
                     Bound::Buffer(canopy),
+                    if has_colliders {
+                        part(&presses, blades, size_of::<Press>())
+                    } else {
+                        Bound::Buffer(&presses)
+                    },
+                    Bound::Buffer(&colliders_buffer),
                 ]
             },
         )?;
@@ -200,6 +256,8 @@ impl GrassPass {
             states,
             caps,
             _no_canopy: no_canopy,
+            presses,
+            _colliders: colliders_buffer,
             push,
             blade_count,
         })
@@ -220,9 +278,13 @@ impl GrassPass {
     /// step), uploads and the wind's clearing of the canopy, and the
     /// previous draw's vertex reads; ends with the
     /// vertices visible to the vertex input stage and to compute.
-    pub fn record_step(&self, rec: &Recording, wind_offset: u32) {
+    ///
+    /// `end_time` is the simulated time at the step's end, where the
+    /// colliders stand (`contact::step_end_time`).
+    pub fn record_step(&self, rec: &Recording, wind_offset: u32, end_time: f32) {
         let mut push = self.push;
         push.control[2] = wind_offset;
+        push.contact[0] = end_time;
         rec.barrier(
             Access::COMPUTE_WRITE
                 .and(Access::VERTEX_INPUT)
@@ -259,6 +321,15 @@ impl GrassPass {
             bend_b: c[3] as u64,
             twist: c[4] as u64,
         })
+    }
+
+    /// Every blade's pressed state (for tests; empty without colliders).
+    pub fn read_presses(&self, gpu: &Gpu, commands: &Commands) -> Result<Vec<Press>> {
+        if self.push.contact[2] == 0.0 {
+            return Ok(Vec::new());
+        }
+        self.presses
+            .read_back(gpu, commands, self.blade_count as usize)
     }
 
     /// Every blade's angles and angular velocities (for tests and reports).

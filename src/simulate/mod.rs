@@ -40,7 +40,15 @@ impl Simulation {
         let settings = scene.wind.settings();
         let dt = scene.wind.dt;
         let wind = WindPass::new(gpu, commands, grid, &settings, canopy::unit(blades))?;
-        let grass = GrassPass::new(gpu, commands, blades, vertices, &wind.grass_input(), dt)?;
+        let grass = GrassPass::new(
+            gpu,
+            commands,
+            blades,
+            vertices,
+            &wind.grass_input(),
+            &scene.colliders,
+            dt,
+        )?;
         Ok(Self {
             grass,
             wind,
@@ -71,7 +79,8 @@ impl Simulation {
     /// Records the grass half of the next step (paper section 4), which
     /// completes it.
     pub fn record_grass_step(&mut self, rec: &Recording) {
-        self.grass.record_step(rec, 0);
+        let end_time = crate::sim::contact::step_end_time(self.steps_done, self.dt);
+        self.grass.record_step(rec, 0, end_time);
         self.steps_done += 1;
     }
 

@@ -1,0 +1,605 @@
+//! Touch (ours; the paper leaves collisions as future work; docs/physics.md,
+//! "Colliders"): spheres and upright capsules moving through the meadow
+//! press the grass, and it recovers. The CPU reference; glsl/grass/contact.glsl
+//! is the same arithmetic in f32, and tests/grass_gpu.rs compares the two.
+//!
+//! The contact model, within the paper's motions:
+//! - a blade touches a collider when a point of its drawn curve lies inside
+//!   it: the control points P1..P3 and the Bezier curve at u = 1/4, 1/2,
+//!   3/4 (`SAMPLES`); the root is fixed;
+//! - each substep, after the paper's update, the deepest such point is
+//!   pushed out along the collider's normal by changing the swing and
+//!   bending angles (the only motions that move points) by the smallest
+//!   inertia-weighted change that does it (`CONTACT_ITERATIONS` times):
+//!   the position half of an inelastic contact, like the ground contact;
+//! - the velocity half is the contact torque: an impulse in the swing and
+//!   bending torques that leaves the touching point moving away from the
+//!   collider no slower than the collider's own surface moves (a ball
+//!   rolling over a blade drags it along);
+//! - a blade that touches a collider is pressed: its `pressed` state rises
+//!   to 1 over PRESS_RISE_TIME and decays by exp(-dt / PRESS_DECAY_TIME)
+//!   each untouched step. Pressed, a blade is a crushed stem: its swing
+//!   and bend restoring forces weaken by 1 - PRESS_SOFTENING * pressed,
+//!   and its edges share the bending angle more evenly (`bend_share`: the
+//!   root gives way, so it can lie down under a ball). It rises again
+//!   slowly as the state decays, so a rolling ball leaves a trail.
+//!
+//! Roots stay put and edge lengths stay exact because the contact, like
+//! everything else, acts only on the angles of `grass::pose`.
+
+use glam::Vec3;
+
+use crate::sim::grass::{
+    bend_share, pressed_pose, GrassBlade, GrassState, Pose, BEND_A, BEND_B, MAX_ANGLE, SWING,
+};
+use crate::sim::wind::MAX_PATH_POINTS;
+
+/// The most colliders a scene may have: the GPU kernel gathers each
+/// workgroup's near ones into a list of this length.
+pub const MAX_COLLIDERS: usize = 128;
+
+/// Projections per substep: each pushes the deepest point out.
+pub const CONTACT_ITERATIONS: usize = 8;
+
+/// Metres beyond the surface a projection pushes a point, so that a
+/// resting contact settles just outside instead of flickering on it.
+pub const CONTACT_SLOP: f32 = 0.002;
+
+/// The largest change of one angle in one projection (rad): where the
+/// contact is nearly perpendicular to every motion (a point straight
+/// under a ball's centre), the linear step would be huge.
+pub const MAX_CORRECTION: f32 = 0.5;
+
+/// How much a fully pressed blade's swing and bend restoring forces are
+/// weakened (1: none left).
+pub const PRESS_SOFTENING: f32 = 0.9;
+
+/// The time constant of the pressed state's decay (s).
+pub const PRESS_DECAY_TIME: f32 = 1.0;
+
+/// A root edge that lies within this of flat (rad) keeps eq. 12's shares
+/// when pressed: there is nothing to lay down.
+pub const MIN_FLAT_TURN: f32 = 0.05;
+
+/// The time a touching blade takes to become fully pressed (s): a ramp,
+/// so that the pressed pose's change is never a jump.
+pub const PRESS_RISE_TIME: f32 = 0.05;
+
+/// The points of a blade tested against colliders, as weights of
+/// P0..P3: the control points P1, P2, P3 and the drawn curve at u = 1/4,
+/// 1/2 and 3/4 (Bernstein weights).
+pub const SAMPLES: [[f32; 4]; 10] = [
+    [0.0, 1.0, 0.0, 0.0],
+    [0.0, 0.0, 1.0, 0.0],
+    [0.0, 0.0, 0.0, 1.0],
+    bernstein(0.125),
+    bernstein(0.25),
+    bernstein(0.375),
+    bernstein(0.5),
+    bernstein(0.625),
+    bernstein(0.75),
+    bernstein(0.875),
+];
+
+const fn bernstein(u: f32) -> [f32; 4] {
+    let v = 1.0 - u;
+    [v * v * v, 3.0 * v * v * u, 3.0 * v * u * u, u * u * u]
+}
+
+/// A collider's shape.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ColliderKind {
+    /// A ball; `position` is its centre.
+    Sphere,
+    /// An upright capsule (a walker, a post); `position` is its lowest
+    /// point, `height` its whole height, caps included.
+    Capsule,
+}
+
+/// A thing that moves through the meadow (`[[collider]]` in a scene file),
+/// moving like a wind source: at `position`, or along `path`.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Collider {
+    pub kind: ColliderKind,
+    /// Radius (m).
+    pub radius: f32,
+    /// A capsule's whole height (m), at least twice its radius.
+    #[serde(default)]
+    pub height: f32,
+    /// Where it stands when it has no path.
+    #[serde(default)]
+    pub position: Vec3,
+    /// Up to 8 waypoints it moves through at `path_speed`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub path: Vec<Vec3>,
+    /// Speed along the path (m/s).
+    #[serde(default)]
+    pub path_speed: f32,
+    /// Whether the path closes (the last point leads back to the first,
+    /// round and round); an open path is travelled once and it stops at
+    /// its end.
+    #[serde(default)]
+    pub closed: bool,
+    /// A sphere turns as it travels (drawn; the contact is the same).
+    #[serde(default)]
+    pub roll: bool,
+}
+
+/// A collider at one instant: the segment a..b swept by `radius` (a == b
+/// for a sphere) and the velocity of its centre.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ColliderState {
+    pub a: Vec3,
+    pub b: Vec3,
+    pub radius: f32,
+    pub velocity: Vec3,
+}
+
+impl Collider {
+    /// Its reference point (a sphere's centre, a capsule's lowest point),
+    /// velocity and distance travelled at time t.
+    pub fn motion_at(&self, t: f32) -> (Vec3, Vec3, f32) {
+        let n = self.path.len();
+        if n < 2 || self.path_speed <= 0.0 {
+            return (
+                self.path.first().copied().unwrap_or(self.position),
+                Vec3::ZERO,
+                0.0,
+            );
+        }
+        let segments = if self.closed { n } else { n - 1 };
+        let mut total = 0.0f32;
+        for i in 0..segments {
+            total += self.path[i].distance(self.path[(i + 1) % n]);
+        }
+        if total <= 0.0 {
+            return (self.path[0], Vec3::ZERO, 0.0);
+        }
+        let travelled = self.path_speed * t.max(0.0);
+        let (mut s, moving) = if self.closed {
+            (travelled.rem_euclid(total), true)
+        } else if travelled < total {
+            (travelled, true)
+        } else {
+            (total, false)
+        };
+        let travelled = if moving { travelled } else { total };
+        for i in 0..segments {
+            let (p, q) = (self.path[i], self.path[(i + 1) % n]);
+            let len = p.distance(q);
+            if s <= len || i == segments - 1 {
+                let f = if len > 0.0 { (s / len).min(1.0) } else { 0.0 };
+                let velocity = if moving && len > 0.0 {
+                    (q - p) * (self.path_speed / len)
+                } else {
+                    Vec3::ZERO
+                };
+                return (p.lerp(q, f), velocity, travelled);
+            }
+            s -= len;
+        }
+        (self.path[0], Vec3::ZERO, travelled)
+    }
+
+    /// The collider at time t.
+    pub fn at(&self, t: f32) -> ColliderState {
+        let (p, velocity, _) = self.motion_at(t);
+        let (a, b) = match self.kind {
+            ColliderKind::Sphere => (p, p),
+            ColliderKind::Capsule => (
+                p + Vec3::Y * self.radius,
+                p + Vec3::Y * (self.height - self.radius).max(self.radius),
+            ),
+        };
+        ColliderState {
+            a,
+            b,
+            radius: self.radius,
+            velocity,
+        }
+    }
+
+    /// The lowest height it reaches, at its position or any waypoint.
+    pub fn lowest(&self) -> f32 {
+        let lift = match self.kind {
+            ColliderKind::Sphere => -self.radius,
+            ColliderKind::Capsule => 0.0,
+        };
+        let points = if self.path.is_empty() {
+            std::slice::from_ref(&self.position)
+        } else {
+            &self.path[..]
+        };
+        points
+            .iter()
+            .map(|p| p.y + lift)
+            .fold(f32::INFINITY, f32::min)
+    }
+}
+
+impl ColliderState {
+    /// Signed distance from `p` to the surface (negative inside) and the
+    /// outward normal there.
+    pub fn distance(&self, p: Vec3) -> (f32, Vec3) {
+        let ab = self.b - self.a;
+        let len2 = ab.dot(ab);
+        let t = if len2 > 0.0 {
+            ((p - self.a).dot(ab) / len2).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        let off = p - (self.a + ab * t);
+        let l = off.length();
+        let n = if l > 1e-12 { off / l } else { Vec3::Y };
+        (l - self.radius, n)
+    }
+
+    /// Whether a blade rooted at `root` and `reach` long could touch it.
+    pub fn near(&self, root: Vec3, reach: f32) -> bool {
+        self.distance(root).0 < reach
+    }
+}
+
+/// The longest distance any point of the blade can be from its root: the
+/// sum of its edge lengths.
+pub fn reach(blade: &GrassBlade) -> f32 {
+    let mut r = 0.0f32;
+    for i in 0..3 {
+        r += (blade.rest_point(i + 1) - blade.rest_point(i)).length();
+    }
+    r
+}
+
+/// dP_j / dtheta_m for j = 1..3 and m = swing, bend A, bend B: edge i
+/// turns about UP by its swing share and about its swung E_w by its bend
+/// share (`grass::pose`), so d edge_i = share * (axis x edge_i), summed
+/// root to tip.
+fn point_rates(blade: &GrassBlade, angle: [f32; 4], pressed: f32, p: &Pose) -> [[Vec3; 3]; 3] {
+    let k = blade.stiffness;
+    let mut rates = [[Vec3::ZERO; 3]; 3];
+    let mut below = [Vec3::ZERO; 3];
+    for i in 0..3 {
+        let edge = p.points[i + 1] - p.points[i];
+        let (group, _) = blade.bend_group(i);
+        let swing = (Vec3::Y.cross(edge)) * (k[2] / k[i]);
+        let bend = (p.w[i].cross(edge)) * bend_share(blade, i, angle[group], pressed);
+        below[0] += swing;
+        if group == BEND_A {
+            below[1] += bend;
+        } else {
+            below[2] += bend;
+        }
+        rates[i] = below;
+    }
+    rates
+}
+
+/// The motions a contact moves: swing, bend A, bend B.
+const MOVED: [usize; 3] = [SWING, BEND_A, BEND_B];
+
+/// One point to push out: how deep, along which normal, which sample, and
+/// the velocity of the surface it touches.
+struct Violation {
+    depth: f32,
+    normal: Vec3,
+    sample: usize,
+    surface_velocity: Vec3,
+    ground: bool,
+}
+
+fn sample_point(p: &Pose, w: &[f32; 4]) -> Vec3 {
+    p.points[0] * w[0] + p.points[1] * w[1] + p.points[2] * w[2] + p.points[3] * w[3]
+}
+
+/// The point to push out next: the lowest point below the ground if there
+/// is one (no collider may push a blade through the ground), else the
+/// deepest point inside any of `colliders`.
+fn deepest(p: &Pose, colliders: &[ColliderState]) -> Option<Violation> {
+    let mut found: Option<Violation> = None;
+    for (s, w) in SAMPLES.iter().enumerate() {
+        let y = sample_point(p, w).y;
+        if y < 0.0 && found.as_ref().is_none_or(|f| -y > f.depth) {
+            found = Some(Violation {
+                depth: -y,
+                normal: Vec3::Y,
+                sample: s,
+                surface_velocity: Vec3::ZERO,
+                ground: true,
+            });
+        }
+    }
+    if found.is_some() {
+        return found;
+    }
+    for c in colliders {
+        for (s, w) in SAMPLES.iter().enumerate() {
+            let (d, n) = c.distance(sample_point(p, w));
+            if d < 0.0 && found.as_ref().is_none_or(|f| -d > f.depth) {
+                found = Some(Violation {
+                    depth: -d,
+                    normal: n,
+                    sample: s,
+                    surface_velocity: c.velocity,
+                    ground: false,
+                });
+            }
+        }
+    }
+    found
+}
+
+/// Resolves the blade's contacts with `colliders` after a substep (the
+/// model in this file's header): up to CONTACT_ITERATIONS projections of
+/// the deepest point, each with its velocity impulse. Returns whether any
+/// collider was touched; `current` is the pose of the state it leaves.
+pub fn resolve(
+    blade: &GrassBlade,
+    state: &mut GrassState,
+    pressed: f32,
+    current: &mut Pose,
+    colliders: &[ColliderState],
+) -> bool {
+    let mut touched = false;
+    let moved = if blade.split() < 3 { 3 } else { 2 };
+    for _ in 0..CONTACT_ITERATIONS {
+        let Some(v) = deepest(current, colliders) else {
+            break;
+        };
+        touched |= !v.ground;
+        let rates = point_rates(blade, state.angle, pressed, current);
+        let w = SAMPLES[v.sample];
+        let mut g = [0.0f32; 3];
+        let mut denominator = 0.0f32;
+        for (j, gj) in g.iter_mut().enumerate().take(moved) {
+            let rate = rates[0][j] * w[1] + rates[1][j] * w[2] + rates[2][j] * w[3];
+            *gj = v.normal.dot(rate);
+            denominator += *gj * *gj / blade.inertia[MOVED[j]];
+        }
+        if denominator <= 1e-12 {
+            break;
+        }
+        // Position: the smallest inertia-weighted change of the angles that
+        // moves the point out by its depth (and the slop), linearised.
+        let lambda = (v.depth + CONTACT_SLOP) / denominator;
+        for j in 0..moved {
+            let m = MOVED[j];
+            let change = (g[j] / blade.inertia[m] * lambda).clamp(-MAX_CORRECTION, MAX_CORRECTION);
+            state.angle[m] = (state.angle[m] + change).clamp(-MAX_ANGLE, MAX_ANGLE);
+        }
+        // Velocity: the contact torque's impulse, inelastic along the normal.
+        let mut normal_speed = 0.0f32;
+        for j in 0..moved {
+            normal_speed += g[j] * state.velocity[MOVED[j]];
+        }
+        let surface_speed = v.normal.dot(v.surface_velocity);
+        if normal_speed < surface_speed {
+            let impulse = (surface_speed - normal_speed) / denominator;
+            for j in 0..moved {
+                let m = MOVED[j];
+                state.velocity[m] += g[j] / blade.inertia[m] * impulse;
+            }
+        }
+        *current = pressed_pose(blade, state.angle, pressed);
+    }
+    touched
+}
+
+/// A blade's pressed state as the grass step keeps it (`Press` in
+/// glsl/grass/contact.glsl, std430, 8 bytes): the pressed state its last
+/// step used (and its pose shows) and whether that step touched a
+/// collider. The next step starts from `Press::next`, so a step's pose,
+/// contacts and drawn shape all use one value.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct Press {
+    pub pressed: f32,
+    /// 1 if the step touched a collider, else 0.
+    pub touched: f32,
+}
+
+impl Press {
+    /// The pressed state of the next step of `dt`: raised by dt /
+    /// PRESS_RISE_TIME (up to 1) if the last step touched a collider, else
+    /// decayed by `decay` = exp(-dt / PRESS_DECAY_TIME).
+    pub fn next(self, dt: f32, decay: f32) -> f32 {
+        if self.touched != 0.0 {
+            (self.pressed + dt / PRESS_RISE_TIME).min(1.0)
+        } else {
+            self.pressed * decay
+        }
+    }
+}
+
+/// Edge i's share of the rising group's bending angle `theta` in a fully
+/// pressed blade: the turn that lays edge i flat on the ground, toward the
+/// side `theta` bends to, over the turn that lays the root edge flat. At
+/// theta = that root turn the whole group lies on the ground, which eq. 12's
+/// shares never allow (the root edge turns by a quarter of the tip's at the
+/// shipped stiffness ratio, so it stands under a ball). Bending about E_w by
+/// +theta turns an edge at elevation psi (in the plane of E_w x UP and UP)
+/// down toward E_w x UP: psi - theta. A root edge within MIN_FLAT_TURN of
+/// flat has nothing to lay down: `fallback` (eq. 12's share) then.
+pub fn flat_share(blade: &GrassBlade, i: usize, theta: f32, fallback: f32) -> f32 {
+    let w = Vec3::from_slice(&blade.width[..3]);
+    let along = w.cross(Vec3::Y);
+    let turn = |j: usize| {
+        let edge = blade.rest_point(j + 1) - blade.rest_point(j);
+        let psi = edge.y.atan2(edge.dot(along));
+        if theta >= 0.0 {
+            psi
+        } else {
+            psi - std::f32::consts::PI
+        }
+    };
+    let root = turn(0);
+    if root.abs() < MIN_FLAT_TURN {
+        return fallback;
+    }
+    turn(i) / root
+}
+
+/// The time at the end of step `steps_done` (0-based) of `dt`: where the
+/// colliders stand while the step resolves its contacts, on the CPU and
+/// the GPU alike.
+pub fn step_end_time(steps_done: u64, dt: f32) -> f32 {
+    ((steps_done + 1) as f64 * dt as f64) as f32
+}
+
+/// The decay factor of the pressed state over one step of `dt`.
+pub fn press_decay(dt: f32) -> f32 {
+    (-dt / PRESS_DECAY_TIME).exp()
+}
+
+/// The factor on the swing and bend restoring forces of a blade this
+/// pressed (exactly 1 when it is not).
+pub fn give(pressed: f32) -> f32 {
+    1.0 - PRESS_SOFTENING * pressed
+}
+
+/// The colliders a blade rooted at `root` could touch, in order.
+pub fn near_blade(states: &[ColliderState], root: Vec3, reach: f32) -> Vec<ColliderState> {
+    states
+        .iter()
+        .filter(|c| c.near(root, reach))
+        .copied()
+        .collect()
+}
+
+/// The GPU record of one collider (`Collider` in glsl/grass/contact.glsl,
+/// std430, 176 bytes).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct GpuCollider {
+    /// xyz: position (without a path); w: radius.
+    pub position_radius: [f32; 4],
+    /// x: 0 sphere, 1 capsule; y: height; z: path points; w: path speed.
+    pub shape: [f32; 4],
+    /// x: 1 when the path is closed.
+    pub flags: [f32; 4],
+    pub path: [[f32; 4]; MAX_PATH_POINTS],
+}
+
+impl From<&Collider> for GpuCollider {
+    fn from(c: &Collider) -> Self {
+        let mut path = [[0.0; 4]; MAX_PATH_POINTS];
+        for (slot, p) in path.iter_mut().zip(&c.path) {
+            *slot = p.extend(0.0).to_array();
+        }
+        Self {
+            position_radius: c.position.extend(c.radius).to_array(),
+            shape: [
+                match c.kind {
+                    ColliderKind::Sphere => 0.0,
+                    ColliderKind::Capsule => 1.0,
+                },
+                c.height,
+                c.path.len().min(MAX_PATH_POINTS) as f32,
+                c.path_speed,
+            ],
+            flags: [c.closed as u32 as f32, 0.0, 0.0, 0.0],
+            path,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn ball(path: Vec<Vec3>, closed: bool) -> Collider {
+        Collider {
+            kind: ColliderKind::Sphere,
+            radius: 0.3,
+            height: 0.0,
+            position: Vec3::ZERO,
+            path,
+            path_speed: 2.0,
+            closed,
+            roll: false,
+        }
+    }
+
+    #[test]
+    fn an_open_path_is_travelled_once_and_a_closed_one_round() {
+        let square = vec![
+            Vec3::new(0.0, 0.3, 0.0),
+            Vec3::new(4.0, 0.3, 0.0),
+            Vec3::new(4.0, 0.3, 4.0),
+        ];
+        let open = ball(square.clone(), false);
+        // 8 m of path at 2 m/s: half way along the second leg at 3 s.
+        let (p, v, s) = open.motion_at(3.0);
+        assert!(p.distance(Vec3::new(4.0, 0.3, 2.0)) < 1e-5, "{p}");
+        assert!(v.distance(Vec3::new(0.0, 0.0, 2.0)) < 1e-5, "{v}");
+        assert!((s - 6.0).abs() < 1e-5);
+        let (p, v, _) = open.motion_at(10.0);
+        assert!(p.distance(square[2]) < 1e-5 && v == Vec3::ZERO, "{p} {v}");
+        // Closed: 4 + 4 + 4 sqrt 2 m round; at 7 s (14 m) on the way back.
+        let closed = ball(square.clone(), true);
+        let total = 8.0 + 32f32.sqrt();
+        let (p, v, _) = closed.motion_at(7.0);
+        let back = (square[0] - square[2]).normalize();
+        let expected = square[2] + back * (14.0 - 8.0);
+        assert!(p.distance(expected) < 1e-4, "{p} {expected}");
+        assert!(v.distance(back * 2.0) < 1e-5);
+        let (p, _, _) = closed.motion_at(total / 2.0 + 0.5);
+        assert!(p.distance(square[0] + Vec3::X) < 1e-4, "{p}");
+    }
+
+    #[test]
+    fn a_capsule_distance_is_to_its_axis_and_a_sphere_to_its_centre() {
+        let walker = Collider {
+            kind: ColliderKind::Capsule,
+            radius: 0.25,
+            height: 1.8,
+            position: Vec3::new(1.0, 0.0, 0.0),
+            ..ball(Vec::new(), false)
+        }
+        .at(0.0);
+        let (d, n) = walker.distance(Vec3::new(2.0, 1.0, 0.0));
+        assert!((d - 0.75).abs() < 1e-6 && n.distance(Vec3::X) < 1e-6);
+        // Below the lower cap's centre: distance to that centre.
+        let (d, n) = walker.distance(Vec3::new(1.0, 0.0, 0.0));
+        assert!(d.abs() < 1e-6 && n.distance(-Vec3::Y) < 1e-6, "{d} {n}");
+        let (d, _) = walker.distance(Vec3::new(1.0, 1.8, 0.0));
+        assert!(d.abs() < 1e-6, "top {d}");
+        let sphere = ball(Vec::new(), false);
+        assert_eq!(sphere.lowest(), -0.3);
+        let (d, _) = sphere.at(0.0).distance(Vec3::new(0.0, 0.5, 0.0));
+        assert!((d - 0.2).abs() < 1e-6);
+    }
+
+    #[test]
+    fn the_samples_are_points_of_the_drawn_curve() {
+        for w in SAMPLES {
+            assert!((w.iter().sum::<f32>() - 1.0).abs() < 1e-6, "{w:?}");
+        }
+        assert_eq!(bernstein(0.5), [0.125, 0.375, 0.375, 0.125]);
+    }
+
+    #[test]
+    fn the_pressed_state_decays_and_softens_the_restoring_force() {
+        assert_eq!(give(0.0), 1.0);
+        assert!((give(1.0) - (1.0 - PRESS_SOFTENING)).abs() < 1e-7);
+        let decay = press_decay(0.5);
+        let touched = |pressed| Press {
+            pressed,
+            touched: 1.0,
+        };
+        let mut pressed = touched(0.0).next(PRESS_RISE_TIME / 2.0, decay);
+        assert!((pressed - 0.5).abs() < 1e-6, "{pressed}");
+        pressed = touched(0.3).next(PRESS_RISE_TIME, decay);
+        assert_eq!(pressed, 1.0);
+        for _ in 0..4 {
+            pressed = Press {
+                pressed,
+                touched: 0.0,
+            }
+            .next(0.5, decay);
+        }
+        // Two seconds at a one-second time constant.
+        assert!((pressed - (-2.0f32 / PRESS_DECAY_TIME).exp()).abs() < 1e-6);
+    }
+}
