@@ -10,8 +10,8 @@ use common::{finish, strict_gpu};
 use meadow::scene::file::parse;
 use meadow::scene::{field, Scene};
 use meadow::sim::canopy;
-use meadow::sim::grass::GrassField;
 use meadow::sim::wind::WindField;
+use meadow::sim::GrassField;
 
 /// A dense meadow `size` metres in a steady wind from the left.
 fn meadow(coupling: &str, size: [f32; 2], density: f32, cells: [u32; 3], gust: f32) -> Scene {

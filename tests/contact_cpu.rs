@@ -5,7 +5,7 @@
 use glam::Vec3;
 use meadow::scene::{field, Scene};
 use meadow::sim::contact::{Collider, ColliderKind, ColliderState};
-use meadow::sim::grass::GrassField;
+use meadow::sim::GrassField;
 
 const RADIUS: f32 = 0.4;
 /// How far a point of a blade may lie inside a ball moving at 1.2 m/s

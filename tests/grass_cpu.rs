@@ -386,7 +386,7 @@ fn roots_stay_fixed_and_edges_keep_their_length_in_a_storm() {
     let scene = Scene::builtin("fig10-few-bunches").unwrap();
     let blades = field::generate(&scene.grass, scene.seed).unwrap();
     let dynamic = field::dynamic_blades(&blades, &scene.grass.dynamics, scene.seed).unwrap();
-    let mut grass = grass::GrassField::new(dynamic, DT).unwrap();
+    let mut grass = meadow::sim::GrassField::new(dynamic, DT).unwrap();
     for i in 0..2000 {
         let t = i as f32 * DT;
         grass.step(|x| storm(x, t));

@@ -17,7 +17,8 @@
 
 use glam::Vec3;
 
-use super::grass::{guard_wind, pose, GrassBlade, GrassField, Pose};
+use super::grass::{guard_wind, pose, GrassBlade, Pose};
+use super::grass_field::GrassField;
 use super::wind::{WindField, WindGrid, WindSettings};
 
 /// The smallest fixed-point unit (m^2): a thousandth of a square millimetre.

@@ -30,7 +30,8 @@
 use glam::Vec3;
 
 use crate::sim::grass::{
-    bend_share, pressed_pose, GrassBlade, GrassState, Pose, BEND_A, BEND_B, MAX_ANGLE, SWING,
+    bend_share, pressed_pose, step_with, GrassBlade, GrassState, Pose, BEND_A, BEND_B, MAX_ANGLE,
+    SWING,
 };
 use crate::sim::wind::MAX_PATH_POINTS;
 
@@ -50,16 +51,8 @@ pub const CONTACT_SLOP: f32 = 0.002;
 /// under a ball's centre), the linear step would be huge.
 pub const MAX_CORRECTION: f32 = 0.5;
 
-/// How much a fully pressed blade's swing and bend restoring forces are
-/// weakened (1: none left).
-pub const PRESS_SOFTENING: f32 = 0.9;
-
 /// The time constant of the pressed state's decay (s).
 pub const PRESS_DECAY_TIME: f32 = 1.0;
-
-/// A root edge that lies within this of flat (rad) keeps eq. 12's shares
-/// when pressed: there is nothing to lay down.
-pub const MIN_FLAT_TURN: f32 = 0.05;
 
 /// The time a touching blade takes to become fully pressed (s): a ramp,
 /// so that the pressed pose's change is never a jump.
@@ -412,34 +405,6 @@ impl Press {
     }
 }
 
-/// Edge i's share of the rising group's bending angle `theta` in a fully
-/// pressed blade: the turn that lays edge i flat on the ground, toward the
-/// side `theta` bends to, over the turn that lays the root edge flat. At
-/// theta = that root turn the whole group lies on the ground, which eq. 12's
-/// shares never allow (the root edge turns by a quarter of the tip's at the
-/// shipped stiffness ratio, so it stands under a ball). Bending about E_w by
-/// +theta turns an edge at elevation psi (in the plane of E_w x UP and UP)
-/// down toward E_w x UP: psi - theta. A root edge within MIN_FLAT_TURN of
-/// flat has nothing to lay down: `fallback` (eq. 12's share) then.
-pub fn flat_share(blade: &GrassBlade, i: usize, theta: f32, fallback: f32) -> f32 {
-    let w = Vec3::from_slice(&blade.width[..3]);
-    let along = w.cross(Vec3::Y);
-    let turn = |j: usize| {
-        let edge = blade.rest_point(j + 1) - blade.rest_point(j);
-        let psi = edge.y.atan2(edge.dot(along));
-        if theta >= 0.0 {
-            psi
-        } else {
-            psi - std::f32::consts::PI
-        }
-    };
-    let root = turn(0);
-    if root.abs() < MIN_FLAT_TURN {
-        return fallback;
-    }
-    turn(i) / root
-}
-
 /// The time at the end of step `steps_done` (0-based) of `dt`: where the
 /// colliders stand while the step resolves its contacts, on the CPU and
 /// the GPU alike.
@@ -452,10 +417,32 @@ pub fn press_decay(dt: f32) -> f32 {
     (-dt / PRESS_DECAY_TIME).exp()
 }
 
-/// The factor on the swing and bend restoring forces of a blade this
-/// pressed (exactly 1 when it is not).
-pub fn give(pressed: f32) -> f32 {
-    1.0 - PRESS_SOFTENING * pressed
+/// `grass::step` for a blade in the pressed state `pressed` that may touch
+/// `colliders`: each substep's contacts resolved after the ground's.
+/// Returns whether a collider was touched.
+pub fn step_touching(
+    blade: &GrassBlade,
+    state: &mut GrassState,
+    wind: Vec3,
+    dt: f32,
+    substeps: u32,
+    pressed: f32,
+    colliders: &[ColliderState],
+) -> bool {
+    step_with(
+        blade,
+        state,
+        wind,
+        dt,
+        substeps,
+        pressed,
+        |state, current| {
+            // A pressed blade's shares change between steps, which can lay part
+            // of it into the ground: the projection puts the ground first.
+            (!colliders.is_empty() || pressed != 0.0)
+                && resolve(blade, state, pressed, current, colliders)
+        },
+    )
 }
 
 /// The colliders a blade rooted at `root` could touch, in order.
@@ -536,12 +523,12 @@ mod tests {
         assert!((s - 6.0).abs() < 1e-5);
         let (p, v, _) = open.motion_at(10.0);
         assert!(p.distance(square[2]) < 1e-5 && v == Vec3::ZERO, "{p} {v}");
-        // Closed: 4 + 4 + 4 sqrt 2 m round; at 7 s (14 m) on the way back.
+        // Closed: 4 + 4 + 4 sqrt 2 m round; at 6 s (12 m) 4 m down the way back.
         let closed = ball(square.clone(), true);
         let total = 8.0 + 32f32.sqrt();
-        let (p, v, _) = closed.motion_at(7.0);
+        let (p, v, _) = closed.motion_at(6.0);
         let back = (square[0] - square[2]).normalize();
-        let expected = square[2] + back * (14.0 - 8.0);
+        let expected = square[2] + back * (12.0 - 8.0);
         assert!(p.distance(expected) < 1e-4, "{p} {expected}");
         assert!(v.distance(back * 2.0) < 1e-5);
         let (p, _, _) = closed.motion_at(total / 2.0 + 0.5);
@@ -581,6 +568,7 @@ mod tests {
 
     #[test]
     fn the_pressed_state_decays_and_softens_the_restoring_force() {
+        use crate::sim::grass::{give, PRESS_SOFTENING};
         assert_eq!(give(0.0), 1.0);
         assert!((give(1.0) - (1.0 - PRESS_SOFTENING)).abs() < 1e-7);
         let decay = press_decay(0.5);

@@ -21,7 +21,6 @@ use glam::{Vec3, Vec4};
 
 use crate::error::{Error, Result};
 use crate::sim::blade::{Blade, BladeVertex, UP};
-use crate::sim::contact;
 
 /// The motions, in the order of every per-motion vec4 (here and in
 /// glsl/common/grass_blade.glsl).
@@ -383,8 +382,50 @@ pub fn pose(blade: &GrassBlade, angle: [f32; 4]) -> Pose {
     pressed_pose(blade, angle, 0.0)
 }
 
+/// How much a fully pressed blade's swing and bend restoring forces are
+/// weakened (1: none left; src/sim/contact.rs).
+pub const PRESS_SOFTENING: f32 = 0.9;
+
+/// A root edge that lies within this of flat (rad) keeps eq. 12's shares
+/// when pressed: there is nothing to lay down.
+pub const MIN_FLAT_TURN: f32 = 0.05;
+
+/// The factor on the swing and bend restoring forces of a blade this
+/// pressed (exactly 1 when it is not).
+pub fn give(pressed: f32) -> f32 {
+    1.0 - PRESS_SOFTENING * pressed
+}
+
+/// Edge i's share of the rising group's bending angle `theta` in a fully
+/// pressed blade: the turn that lays edge i flat on the ground, toward the
+/// side `theta` bends to, over the turn that lays the root edge flat. At
+/// theta = that root turn the whole group lies on the ground, which eq. 12's
+/// shares never allow (the root edge turns by a quarter of the tip's at the
+/// shipped stiffness ratio, so it stands under a ball). Bending about E_w by
+/// +theta turns an edge at elevation psi (in the plane of E_w x UP and UP)
+/// down toward E_w x UP: psi - theta. A root edge within MIN_FLAT_TURN of
+/// flat has nothing to lay down: `fallback` (eq. 12's share) then.
+pub fn flat_share(blade: &GrassBlade, i: usize, theta: f32, fallback: f32) -> f32 {
+    let w = Vec3::from_slice(&blade.width[..3]);
+    let along = w.cross(UP);
+    let turn = |j: usize| {
+        let edge = blade.rest_point(j + 1) - blade.rest_point(j);
+        let psi = edge.y.atan2(edge.dot(along));
+        if theta >= 0.0 {
+            psi
+        } else {
+            psi - std::f32::consts::PI
+        }
+    };
+    let root = turn(0);
+    if root.abs() < MIN_FLAT_TURN {
+        return fallback;
+    }
+    turn(i) / root
+}
+
 /// Edge i's share of its group's bending angle `theta`: eq. 12's
-/// k_tip / k_i, moved toward `contact::flat_share` as the blade is pressed
+/// k_tip / k_i, moved toward `flat_share` as the blade is pressed
 /// (group A only; exactly eq. 12's when unpressed).
 pub fn bend_share(blade: &GrassBlade, i: usize, theta: f32, pressed: f32) -> f32 {
     let (group, tip) = blade.bend_group(i);
@@ -392,7 +433,7 @@ pub fn bend_share(blade: &GrassBlade, i: usize, theta: f32, pressed: f32) -> f32
     if pressed == 0.0 || group != BEND_A {
         return share;
     }
-    share + (contact::flat_share(blade, i, theta, share) - share) * pressed
+    share + (flat_share(blade, i, theta, share) - share) * pressed
 }
 
 /// `pose` of a blade in the pressed state `pressed` (src/sim/contact.rs):
@@ -433,7 +474,7 @@ pub fn torques(blade: &GrassBlade, pose: &Pose, state: &GrassState, wind: Vec3) 
 }
 
 /// `torques` of a blade whose swing and bend restoring forces are scaled by
-/// `give` (`contact::give`: 1 unless a collider pressed it).
+/// `give` (`give`: 1 unless a collider pressed the blade).
 pub fn pressed_torques(
     blade: &GrassBlade,
     pose: &Pose,
@@ -544,25 +585,26 @@ pub fn guard_wind(v: Vec3) -> Vec3 {
 /// damping torque in N taken at (omega + omega') / 2. The wind is sampled
 /// once per step, at the tip, by the caller.
 pub fn step(blade: &GrassBlade, state: &mut GrassState, wind: Vec3, dt: f32, substeps: u32) {
-    step_touching(blade, state, wind, dt, substeps, 0.0, &[]);
+    step_with(blade, state, wind, dt, substeps, 0.0, |_, _| false);
 }
 
-/// `step` for a blade in the pressed state `pressed` that may touch
-/// `colliders` (src/sim/contact.rs): its pressed pose, its restoring
-/// forces scaled by `contact::give`, and each substep's contacts resolved
-/// after the ground's. Returns whether a collider was touched.
-pub fn step_touching(
+/// `step` for a blade in the pressed state `pressed` (src/sim/contact.rs):
+/// its pressed pose, its swing and bend restoring forces scaled by `give`,
+/// and `after_substep` called with the state and its pose after each
+/// substep's ground contact (the colliders' contacts resolve there). Returns
+/// whether any call of `after_substep` returned true.
+pub fn step_with(
     blade: &GrassBlade,
     state: &mut GrassState,
     wind: Vec3,
     dt: f32,
     substeps: u32,
     pressed: f32,
-    colliders: &[contact::ColliderState],
+    mut after_substep: impl FnMut(&mut GrassState, &mut Pose) -> bool,
 ) -> bool {
     let wind = guard_wind(wind);
     let h = dt / substeps as f32;
-    let give = contact::give(pressed);
+    let give = give(pressed);
     let mut current = pressed_pose(blade, state.angle, pressed);
     let mut touched = false;
     for _ in 0..substeps {
@@ -593,12 +635,7 @@ pub fn step_touching(
             ground_contact(state, &before);
             current = pressed_pose(blade, state.angle, pressed);
         }
-        // A pressed blade's shares change between steps, which can lay
-        // part of it into the ground: resolved by the contact projection,
-        // which puts the ground first.
-        if !colliders.is_empty() || pressed != 0.0 {
-            touched |= contact::resolve(blade, state, pressed, &mut current, colliders);
-        }
+        touched |= after_substep(state, &mut current);
     }
     touched
 }
@@ -682,98 +719,5 @@ impl CapCounts {
     /// The share of blade-steps at a cap (0 before any step).
     pub fn fraction(&self) -> f64 {
         self.at_cap as f64 / self.blade_steps.max(1) as f64
-    }
-}
-
-/// A whole field of blades stepping together: what the GPU kernel does,
-/// one invocation per blade.
-#[derive(Clone, Debug)]
-pub struct GrassField {
-    pub blades: Vec<GrassBlade>,
-    pub states: Vec<GrassState>,
-    pub substeps: u32,
-    pub dt: f32,
-    pub caps: CapCounts,
-    /// What moves through the meadow (src/sim/contact.rs).
-    pub colliders: Vec<contact::Collider>,
-    /// Each blade's pressed state (`contact::Press`).
-    pub pressed: Vec<contact::Press>,
-    pub steps_done: u64,
-}
-
-impl GrassField {
-    pub fn new(blades: Vec<GrassBlade>, dt: f32) -> Result<Self> {
-        let substeps = substeps(&blades, dt)?;
-        Ok(Self {
-            states: vec![GrassState::default(); blades.len()],
-            pressed: vec![contact::Press::default(); blades.len()],
-            blades,
-            substeps,
-            dt,
-            caps: CapCounts::default(),
-            colliders: Vec::new(),
-            steps_done: 0,
-        })
-    }
-
-    /// The same field with `colliders` moving through it.
-    pub fn with_colliders(mut self, colliders: Vec<contact::Collider>) -> Self {
-        self.colliders = colliders;
-        self
-    }
-
-    /// Advances every blade one step, each with the wind `wind_at` gives at
-    /// its current tip.
-    pub fn step(&mut self, wind_at: impl FnMut(Vec3) -> Vec3) {
-        self.step_each(wind_at, |_, _, _| {});
-    }
-
-    /// As `step`, handing `after` each blade, its new state and the wind it
-    /// felt (as sampled, before the guard) once it has stepped.
-    pub fn step_each(
-        &mut self,
-        mut wind_at: impl FnMut(Vec3) -> Vec3,
-        mut after: impl FnMut(&GrassBlade, &GrassState, Vec3),
-    ) {
-        let time = contact::step_end_time(self.steps_done, self.dt);
-        let colliders: Vec<contact::ColliderState> =
-            self.colliders.iter().map(|c| c.at(time)).collect();
-        let decay = contact::press_decay(self.dt);
-        for ((blade, state), press) in self
-            .blades
-            .iter()
-            .zip(&mut self.states)
-            .zip(&mut self.pressed)
-        {
-            let tip = pressed_pose(blade, state.angle, press.pressed).points[3];
-            let wind = wind_at(tip);
-            let pressed = press.next(self.dt, decay);
-            let near = contact::near_blade(&colliders, blade.rest_point(0), contact::reach(blade));
-            let touched = step_touching(blade, state, wind, self.dt, self.substeps, pressed, &near);
-            *press = contact::Press {
-                pressed,
-                touched: touched as u32 as f32,
-            };
-            self.caps.count(state);
-            after(blade, state, wind);
-        }
-        self.steps_done += 1;
-    }
-
-    pub fn poses(&self) -> impl Iterator<Item = Pose> + '_ {
-        self.blades
-            .iter()
-            .zip(&self.states)
-            .zip(&self.pressed)
-            .map(|((b, s), p)| pressed_pose(b, s.angle, p.pressed))
-    }
-
-    /// The vertex buffer the renderer would draw.
-    pub fn vertices(&self) -> Vec<BladeVertex> {
-        self.blades
-            .iter()
-            .zip(self.poses())
-            .flat_map(|(b, p)| vertices(b, &p))
-            .collect()
     }
 }

@@ -6,8 +6,10 @@ pub mod blade;
 pub mod canopy;
 pub mod contact;
 pub mod grass;
+pub mod grass_field;
 
 pub use blade::{Blade, BladeKind, BladeVertex, EdgeFrame};
-pub use grass::{BladePhysics, GrassBlade, GrassField, GrassState};
+pub use grass::{BladePhysics, GrassBlade, GrassState};
+pub use grass_field::GrassField;
 pub mod multigrid;
 pub mod wind;
