@@ -396,9 +396,33 @@ fn grass_blade_state_vertex_and_push_constants_match_the_glsl_side() {
         [
             0,
             offset_of!(GrassPush, control),
-            offset_of!(GrassPush, step)
+            offset_of!(GrassPush, step),
+            offset_of!(GrassPush, contact)
         ]
         .map(|o| o as u32)
     );
     assert_eq!(offset_of!(GrassPush, control), 48);
+
+    // The pressed state and the colliders (src/sim/contact.rs).
+    use meadow::sim::contact::{GpuCollider, Press};
+    let (offsets, span, stride) = array_element_layout(&module, 6);
+    assert_eq!((span, stride), (size(8), size(8)));
+    assert_eq!(std::mem::size_of::<Press>(), 8);
+    assert_eq!(
+        offsets,
+        [offset_of!(Press, pressed), offset_of!(Press, touched)].map(|o| o as u32)
+    );
+    let (offsets, span, stride) = array_element_layout(&module, 7);
+    assert_eq!((span, stride), (size(176), size(176)));
+    assert_eq!(std::mem::size_of::<GpuCollider>(), 176);
+    assert_eq!(
+        offsets,
+        [
+            offset_of!(GpuCollider, position_radius),
+            offset_of!(GpuCollider, shape),
+            offset_of!(GpuCollider, flags),
+            offset_of!(GpuCollider, path)
+        ]
+        .map(|o| o as u32)
+    );
 }
