@@ -7,7 +7,7 @@ use common::sim::{Figures, SimRig};
 use common::{finish, strict_gpu, strict_gpu_with, to_vec3};
 use glam::{UVec3, Vec3};
 use meadow::frame::BladeBuffer;
-use meadow::gpu::{Access, Buffer, Commands};
+use meadow::gpu::{Access, Buffer, Commands, Gpu};
 use meadow::scene::{field, Scene};
 use meadow::sim::wind::{Gust, Inflow, WindField, WindGrid, WindSettings, WindSource};
 use meadow::sim::GrassField;
@@ -35,6 +35,19 @@ fn bunches_of(count: Option<usize>) -> (Scene, Vec<GrassBlade>) {
     let blades = field::generate(&scene.grass, scene.seed).unwrap();
     let dynamic = field::dynamic_blades(&blades, &scene.grass.dynamics, scene.seed).unwrap();
     (scene, dynamic)
+}
+
+/// A recorded wind velocity on the GPU, for the grass step to sample.
+fn recorded_wind(gpu: &Gpu, commands: &Commands, name: &str, recorded: &[f32]) -> Buffer {
+    Buffer::with_data(
+        gpu,
+        commands,
+        name,
+        bytemuck::cast_slice(recorded),
+        ash::vk::BufferUsageFlags::STORAGE_BUFFER,
+        Access::COMPUTE_READ,
+    )
+    .unwrap()
 }
 
 /// A recorded wind as the grass step's input, one-way.
@@ -131,15 +144,7 @@ fn agree_over_500_steps_of_recorded_wind(
     // GPU: the same 500 steps in one submission.
     let gpu = strict_gpu_with(storage_range);
     let commands = Commands::new(&gpu, "grass test commands").unwrap();
-    let wind_buffer = Buffer::with_data(
-        &gpu,
-        &commands,
-        "recorded wind",
-        bytemuck::cast_slice(&recorded),
-        ash::vk::BufferUsageFlags::STORAGE_BUFFER,
-        Access::COMPUTE_READ,
-    )
-    .unwrap();
+    let wind_buffer = recorded_wind(&gpu, &commands, "recorded wind", &recorded);
     let blade_buffer =
         BladeBuffer::uninitialised(&gpu, "grass test vertices", blades.len()).unwrap();
     let vertices = blade_buffer.buffer();
@@ -246,15 +251,7 @@ fn the_gpu_counts_blade_steps_at_an_angle_cap_as_the_cpu_does() {
 
     let gpu = strict_gpu();
     let commands = Commands::new(&gpu, "cap count test commands").unwrap();
-    let wind_buffer = Buffer::with_data(
-        &gpu,
-        &commands,
-        "steady gale",
-        bytemuck::cast_slice(&recorded),
-        ash::vk::BufferUsageFlags::STORAGE_BUFFER,
-        Access::COMPUTE_READ,
-    )
-    .unwrap();
+    let wind_buffer = recorded_wind(&gpu, &commands, "steady gale", &recorded);
     let blade_buffer = BladeBuffer::uninitialised(&gpu, "cap test vertices", blades.len()).unwrap();
     let pass = GrassPass::new(
         &gpu,
@@ -349,15 +346,7 @@ fn gpu_and_cpu_agree_on_colliders_pressing_the_grass() {
 
     let gpu = strict_gpu();
     let commands = Commands::new(&gpu, "contact test commands").unwrap();
-    let wind_buffer = Buffer::with_data(
-        &gpu,
-        &commands,
-        "recorded wind",
-        bytemuck::cast_slice(&recorded),
-        ash::vk::BufferUsageFlags::STORAGE_BUFFER,
-        Access::COMPUTE_READ,
-    )
-    .unwrap();
+    let wind_buffer = recorded_wind(&gpu, &commands, "recorded wind", &recorded);
     let blade_buffer =
         BladeBuffer::uninitialised(&gpu, "contact test vertices", blades.len()).unwrap();
     let pass = GrassPass::new(
