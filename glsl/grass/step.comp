@@ -109,23 +109,22 @@ void lay_frontal_area(GrassBlade b, Pose p, vec3 wind) {
 void main() {
     uint id = gl_GlobalInvocationID.x;
     bool in_range = id < pc.control.x;
+    GrassBlade b;
+    if (in_range) {
+        b = blades[id];
+    }
     // The collider count is uniform, so the whole workgroup gathers or none.
     uint collider_count = uint(pc.contact.z);
     uint near = 0u;
     if (collider_count > 0u) {
-        vec3 root = vec3(0.0);
-        float reach = 0.0;
-        if (in_range) {
-            root = blades[id].rest[0].xyz;
-            reach = blade_reach(blades[id]);
-        }
+        vec3 root = in_range ? b.rest[0].xyz : vec3(0.0);
+        float reach = in_range ? blade_reach(b) : 0.0;
         gather_near_colliders(in_range, root, reach, collider_count);
         near = near_collider_count;
     }
     if (!in_range) {
         return;
     }
-    GrassBlade b = blades[id];
     GrassState s = states[id];
     Press press = Press(0.0, 0.0);
     if (collider_count > 0u) {

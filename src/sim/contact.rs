@@ -5,8 +5,8 @@
 //!
 //! The contact model, within the paper's motions:
 //! - a blade touches a collider when a point of its drawn curve lies inside
-//!   it: the control points P1..P3 and the Bezier curve at u = 1/4, 1/2,
-//!   3/4 (`SAMPLES`); the root is fixed;
+//!   it: the control points P1..P3 and the Bezier curve at u = 1/8, 2/8,
+//!   .., 7/8 (`SAMPLES`); the root is fixed;
 //! - each substep, after the paper's update, the deepest such point is
 //!   pushed out along the collider's normal by changing the swing and
 //!   bending angles (the only motions that move points) by the smallest
@@ -59,8 +59,8 @@ pub const PRESS_DECAY_TIME: f32 = 1.0;
 pub const PRESS_RISE_TIME: f32 = 0.05;
 
 /// The points of a blade tested against colliders, as weights of
-/// P0..P3: the control points P1, P2, P3 and the drawn curve at u = 1/4,
-/// 1/2 and 3/4 (Bernstein weights).
+/// P0..P3: the control points P1, P2, P3 and the drawn curve at u = 1/8,
+/// 2/8, .., 7/8 (Bernstein weights).
 pub const SAMPLES: [[f32; 4]; 10] = [
     [0.0, 1.0, 0.0, 0.0],
     [0.0, 0.0, 1.0, 0.0],
