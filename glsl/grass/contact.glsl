@@ -6,8 +6,9 @@
 #ifndef MEADOW_GRASS_CONTACT_GLSL
 #define MEADOW_GRASS_CONTACT_GLSL
 
+#include "path.glsl"
+
 #define MAX_COLLIDERS 128
-#define COLLIDER_PATH_POINTS 8
 #define CONTACT_ITERATIONS 8
 #define CONTACT_SAMPLES 10
 const float CONTACT_SLOP = 0.002;     // m beyond the surface a projection pushes
@@ -20,7 +21,7 @@ struct Collider {
     vec4 position_radius;  // xyz: position without a path; w: radius
     vec4 shape;            // x: 0 sphere, 1 capsule; y: height; z: path points; w: path speed
     vec4 flags;            // x: 1 when the path is closed
-    vec4 path[COLLIDER_PATH_POINTS];
+    vec4 path[PATH_POINTS];
 };
 
 // `Press` in src/sim/contact.rs: the pressed state the last step used, and
@@ -48,43 +49,9 @@ shared vec4 roots_high[64];
 
 // `Collider::motion_at` and `Collider::at`: position and velocity at time t.
 ColliderState collider_at(Collider c, float t) {
-    uint n = uint(c.shape.z);
-    float speed = c.shape.w;
-    bool closed = c.flags.x != 0.0;
-    vec3 p = n >= 1u ? c.path[0].xyz : c.position_radius.xyz;
-    vec3 velocity = vec3(0.0);
-    if (n >= 2u && speed > 0.0) {
-        uint segments = closed ? n : n - 1u;
-        float total = 0.0;
-        for (uint i = 0u; i < segments; ++i) {
-            total += distance(c.path[i].xyz, c.path[(i + 1u) % n].xyz);
-        }
-        if (total > 0.0) {
-            float travelled = speed * max(t, 0.0);
-            bool moving = true;
-            float s;
-            if (closed) {
-                s = travelled - total * floor(travelled / total);
-            } else if (travelled < total) {
-                s = travelled;
-            } else {
-                s = total;
-                moving = false;
-            }
-            for (uint i = 0u; i < segments; ++i) {
-                vec3 from = c.path[i].xyz;
-                vec3 to = c.path[(i + 1u) % n].xyz;
-                float len = distance(from, to);
-                if (s <= len || i == segments - 1u) {
-                    float f = len > 0.0 ? min(s / len, 1.0) : 0.0;
-                    velocity = moving && len > 0.0 ? (to - from) * (speed / len) : vec3(0.0);
-                    p = mix(from, to, f);
-                    break;
-                }
-                s -= len;
-            }
-        }
-    }
+    vec3 velocity;
+    vec3 p = along_path(c.path, uint(c.shape.z), c.shape.w, c.flags.x != 0.0, max(t, 0.0),
+                        c.position_radius.xyz, velocity);
     float r = c.position_radius.w;
     ColliderState st;
     if (c.shape.x == 0.0) {

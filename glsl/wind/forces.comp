@@ -3,6 +3,7 @@
 // Kernel 1, add forces (paper section 3.2): every free face gains dt * f of
 // every wind source; inflow faces take the inflow velocity; walls hold zero.
 #include "wind_kernel.glsl"
+#include "path.glsl"
 
 float falloff(float d, float r) {
     float q = 1.0 - (d / r) * (d / r);
@@ -11,29 +12,9 @@ float falloff(float d, float r) {
 
 // Position of a source moving along its closed path at time t.
 vec3 source_position(WindSource s, float t) {
-    uint n = uint(s.motion.z);
-    float speed = s.motion.y;
-    if (n < 2u || speed <= 0.0) {
-        return n >= 1u ? s.path[0].xyz : s.position_radius.xyz;
-    }
-    float total = 0.0;
-    for (uint i = 0u; i < n; ++i) {
-        total += distance(s.path[i].xyz, s.path[(i + 1u) % n].xyz);
-    }
-    if (total <= 0.0) {
-        return s.path[0].xyz;
-    }
-    float along = speed * t;
-    along = along - total * floor(along / total);
-    for (uint i = 0u; i < n; ++i) {
-        float len = distance(s.path[i].xyz, s.path[(i + 1u) % n].xyz);
-        if (along <= len || i == n - 1u) {
-            float f = len > 0.0 ? min(along / len, 1.0) : 0.0;
-            return mix(s.path[i].xyz, s.path[(i + 1u) % n].xyz, f);
-        }
-        along -= len;
-    }
-    return s.path[0].xyz;
+    vec3 unused_velocity;
+    return along_path(s.path, uint(s.motion.z), s.motion.y, true, t, s.position_radius.xyz,
+                      unused_velocity);
 }
 
 void main() {

@@ -33,7 +33,7 @@ struct WindSource {
     vec4 motion;              // x: rotation speed (rad/s), y: path speed (m/s), z: path points, w: off after (s)
     vec4 gust;                // x: amplitude, y: frequency (Hz)
     vec4 gust_phases;         // xyz
-    vec4 path[8];             // xyz: waypoints of the closed path
+    vec4 path[8];             // xyz: waypoints of the closed path (PATH_POINTS in path.glsl)
 };
 layout(set = 0, binding = 5, std430) readonly buffer Sources { WindSource sources[]; };
 // The grass's frontal area per cell in counts (src/sim/canopy.rs), laid by

@@ -33,7 +33,7 @@ use crate::sim::grass::{
     bend_share, pressed_pose, step_with, GrassBlade, GrassState, Pose, BEND_A, BEND_B, MAX_ANGLE,
     SWING,
 };
-use crate::sim::wind::MAX_PATH_POINTS;
+use crate::sim::wind::{along_path, MAX_PATH_POINTS};
 
 /// The most colliders a scene may have: the GPU kernel gathers each
 /// workgroup's near ones into a list of this length.
@@ -134,46 +134,13 @@ impl Collider {
     /// Its reference point (a sphere's centre, a capsule's lowest point),
     /// velocity and distance travelled at time t.
     pub fn motion_at(&self, t: f32) -> (Vec3, Vec3, f32) {
-        let n = self.path.len();
-        if n < 2 || self.path_speed <= 0.0 {
-            return (
-                self.path.first().copied().unwrap_or(self.position),
-                Vec3::ZERO,
-                0.0,
-            );
-        }
-        let segments = if self.closed { n } else { n - 1 };
-        let mut total = 0.0f32;
-        for i in 0..segments {
-            total += self.path[i].distance(self.path[(i + 1) % n]);
-        }
-        if total <= 0.0 {
-            return (self.path[0], Vec3::ZERO, 0.0);
-        }
-        let travelled = self.path_speed * t.max(0.0);
-        let (mut s, moving) = if self.closed {
-            (travelled.rem_euclid(total), true)
-        } else if travelled < total {
-            (travelled, true)
-        } else {
-            (total, false)
-        };
-        let travelled = if moving { travelled } else { total };
-        for i in 0..segments {
-            let (p, q) = (self.path[i], self.path[(i + 1) % n]);
-            let len = p.distance(q);
-            if s <= len || i == segments - 1 {
-                let f = if len > 0.0 { (s / len).min(1.0) } else { 0.0 };
-                let velocity = if moving && len > 0.0 {
-                    (q - p) * (self.path_speed / len)
-                } else {
-                    Vec3::ZERO
-                };
-                return (p.lerp(q, f), velocity, travelled);
-            }
-            s -= len;
-        }
-        (self.path[0], Vec3::ZERO, travelled)
+        along_path(
+            &self.path,
+            self.path_speed,
+            self.closed,
+            t.max(0.0),
+            self.position,
+        )
     }
 
     /// The collider at time t.

@@ -253,26 +253,7 @@ impl WindSource {
     }
 
     fn position_at(&self, t: f32) -> Vec3 {
-        if self.path.len() < 2 || self.path_speed <= 0.0 {
-            return self.path.first().copied().unwrap_or(self.position);
-        }
-        let n = self.path.len();
-        let lengths: Vec<f32> = (0..n)
-            .map(|i| self.path[i].distance(self.path[(i + 1) % n]))
-            .collect();
-        let total: f32 = lengths.iter().sum();
-        if total <= 0.0 {
-            return self.path[0];
-        }
-        let mut s = (self.path_speed * t).rem_euclid(total);
-        for (i, &len) in lengths.iter().enumerate() {
-            if s <= len || i == n - 1 {
-                let f = if len > 0.0 { (s / len).min(1.0) } else { 0.0 };
-                return self.path[i].lerp(self.path[(i + 1) % n], f);
-            }
-            s -= len;
-        }
-        self.path[0]
+        along_path(&self.path, self.path_speed, true, t, self.position).0
     }
 
     pub fn validate(&self, grid: &WindGrid) -> Result<Vec<String>> {
@@ -307,6 +288,58 @@ impl WindSource {
         }
         Ok(warnings)
     }
+}
+
+/// Where a point moving at `speed` through the waypoints `path` is at time
+/// t, its velocity, and the distance it has travelled: round and round when
+/// `closed` (the last point leads back to the first), else once, stopping
+/// at the end. With fewer than two points or no speed it stays at the
+/// first point, or at `fallback` without one. A wind source (always
+/// closed) and a collider (src/sim/contact.rs) move so; the GPU's twin is
+/// `along_path` in glsl/common/path.glsl.
+pub fn along_path(
+    path: &[Vec3],
+    speed: f32,
+    closed: bool,
+    t: f32,
+    fallback: Vec3,
+) -> (Vec3, Vec3, f32) {
+    let n = path.len();
+    if n < 2 || speed <= 0.0 {
+        return (path.first().copied().unwrap_or(fallback), Vec3::ZERO, 0.0);
+    }
+    let segments = if closed { n } else { n - 1 };
+    let mut total = 0.0f32;
+    for i in 0..segments {
+        total += path[i].distance(path[(i + 1) % n]);
+    }
+    if total <= 0.0 {
+        return (path[0], Vec3::ZERO, 0.0);
+    }
+    let travelled = speed * t;
+    let (mut s, moving) = if closed {
+        (travelled.rem_euclid(total), true)
+    } else if travelled < total {
+        (travelled, true)
+    } else {
+        (total, false)
+    };
+    let travelled = if moving { travelled } else { total };
+    for i in 0..segments {
+        let (p, q) = (path[i], path[(i + 1) % n]);
+        let len = p.distance(q);
+        if s <= len || i == segments - 1 {
+            let f = if len > 0.0 { (s / len).min(1.0) } else { 0.0 };
+            let velocity = if moving && len > 0.0 {
+                (q - p) * (speed / len)
+            } else {
+                Vec3::ZERO
+            };
+            return (p.lerp(q, f), velocity, travelled);
+        }
+        s -= len;
+    }
+    (path[0], Vec3::ZERO, travelled)
 }
 
 /// `v` turned by `angle` radians about +y (anticlockwise seen from above):
