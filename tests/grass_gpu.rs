@@ -37,6 +37,41 @@ fn bunches_of(count: Option<usize>) -> (Scene, Vec<GrassBlade>) {
     (scene, dynamic)
 }
 
+/// The largest differences between the GPU's blades and the CPU
+/// reference's: control points (m), width vectors (m), angles (rad).
+struct Differences {
+    position: f32,
+    width: f32,
+    angle: f32,
+}
+
+impl Differences {
+    fn between(
+        gpu_vertices: &[BladeVertex],
+        gpu_states: &[GrassState],
+        cpu_vertices: &[BladeVertex],
+        cpu_states: &[GrassState],
+    ) -> Self {
+        let mut d = Differences {
+            position: 0.0,
+            width: 0.0,
+            angle: 0.0,
+        };
+        for (g, c) in gpu_vertices.iter().zip(cpu_vertices) {
+            d.position = d
+                .position
+                .max(to_vec3(g.position).distance(to_vec3(c.position)));
+            d.width = d.width.max(to_vec3(g.width).distance(to_vec3(c.width)));
+        }
+        for (g, c) in gpu_states.iter().zip(cpu_states) {
+            for m in 0..4 {
+                d.angle = d.angle.max((g.angle[m] - c.angle[m]).abs());
+            }
+        }
+        d
+    }
+}
+
 /// A recorded wind velocity on the GPU, for the grass step to sample.
 fn recorded_wind(gpu: &Gpu, commands: &Commands, name: &str, recorded: &[f32]) -> Buffer {
     Buffer::with_data(
@@ -176,20 +211,14 @@ fn agree_over_500_steps_of_recorded_wind(
     finish(gpu);
 
     let cpu_vertices = cpu.vertices();
-    let mut position = 0.0f32;
-    let mut width = 0.0f32;
+    let Differences {
+        position,
+        width,
+        angle,
+    } = Differences::between(&gpu_vertices, &states, &cpu_vertices, &cpu.states);
     let mut moved = 0.0f32;
-    for (g, c) in gpu_vertices.iter().zip(&cpu_vertices) {
-        position = position.max(to_vec3(g.position).distance(to_vec3(c.position)));
-        width = width.max(to_vec3(g.width).distance(to_vec3(c.width)));
-    }
-    let mut angle = 0.0f32;
-    for (i, (g, c)) in states.iter().zip(&cpu.states).enumerate() {
-        for m in 0..4 {
-            angle = angle.max((g.angle[m] - c.angle[m]).abs());
-        }
-        moved =
-            moved.max(to_vec3(cpu_vertices[4 * i + 3].position).distance(blades[i].rest_point(3)));
+    for (i, blade) in blades.iter().enumerate() {
+        moved = moved.max(to_vec3(cpu_vertices[4 * i + 3].position).distance(blade.rest_point(3)));
     }
     eprintln!(
         "GPU vs CPU after 500 steps: max control-point difference {position:e} m, \
@@ -375,17 +404,12 @@ fn gpu_and_cpu_agree_on_colliders_pressing_the_grass() {
 
     let touched = ever_touched.iter().filter(|&&t| t).count();
     let cpu_vertices = cpu.vertices();
-    let mut position = 0.0f32;
+    let Differences {
+        position, angle, ..
+    } = Differences::between(&gpu_vertices, &states, &cpu_vertices, &cpu.states);
     let mut pressed = 0.0f32;
-    let mut angle = 0.0f32;
     let mut pressed_moved = 0.0f32;
-    for (g, c) in gpu_vertices.iter().zip(&cpu_vertices) {
-        position = position.max(to_vec3(g.position).distance(to_vec3(c.position)));
-    }
-    for (i, (g, c)) in states.iter().zip(&cpu.states).enumerate() {
-        for m in 0..4 {
-            angle = angle.max((g.angle[m] - c.angle[m]).abs());
-        }
+    for i in 0..blades.len() {
         pressed = pressed.max((presses[i].pressed - cpu.pressed[i].pressed).abs());
         if ever_touched[i] {
             let tip = to_vec3(cpu_vertices[4 * i + 3].position);
