@@ -9,6 +9,8 @@
 layout(location = 0) in vec3 v_world;
 layout(location = 1) in vec3 v_normal;
 layout(location = 2) in vec3 v_albedo;
+// The mesh's own frame: the grain moves with a rolling ball.
+layout(location = 3) in vec3 v_local;
 layout(location = 0) out vec4 out_color;
 
 float hash3(vec3 p) {
@@ -29,7 +31,7 @@ float value_noise3(vec3 p) {
 
 void main() {
     vec3 n = normalize(v_normal);
-    float grain = 0.6 * value_noise3(v_world * 7.0) + 0.4 * value_noise3(v_world * 23.0);
+    float grain = 0.6 * value_noise3(v_local * 7.0) + 0.4 * value_noise3(v_local * 23.0);
     vec3 albedo = v_albedo * mix(0.8, 1.15, grain);
     float lambert = max(dot(n, frame.light_dir.xyz), 0.0);
     float sky = 0.75 + 0.25 * n.y;

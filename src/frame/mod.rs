@@ -156,6 +156,7 @@ impl FrameRecorder {
             msaa,
             scene.light.shadow_map,
             &scene.wind.obstacles,
+            &scene.colliders,
         )
     }
 
@@ -315,6 +316,11 @@ impl FrameRecorder {
             ));
         }
         self.renderer.set_uniforms(uniforms);
+        // The colliders are drawn where the blades see them after the steps.
+        if let Some(s) = &self.simulation {
+            self.renderer
+                .place_colliders(((s.steps_done() + steps) as f64 * s.dt() as f64) as f32);
+        }
         // Two spans per simulation step, six for the frame's own phases.
         if let Some(timer) = self.timer.as_mut() {
             let pairs = u32::try_from(steps.saturating_mul(2).saturating_add(6)).map_err(|_| {

@@ -443,6 +443,17 @@ impl Recording<'_> {
         // SAFETY: recording inside rendering with a graphics pipeline bound.
         unsafe { self.device.raw.cmd_draw(self.cmd, vertices, 1, 0, 0) };
     }
+
+    /// Draws the bound vertex buffer's vertices `range`, one instance.
+    pub fn draw_range(&self, range: std::ops::Range<u32>) {
+        // SAFETY: recording inside rendering with a graphics pipeline bound;
+        // the callers' ranges lie inside the bound vertex buffer.
+        unsafe {
+            self.device
+                .raw
+                .cmd_draw(self.cmd, range.len() as u32, 1, range.start, 0)
+        };
+    }
 }
 
 fn layers(aspect: vk::ImageAspectFlags, mip_level: u32) -> vk::ImageSubresourceLayers {

@@ -3,12 +3,20 @@
 //! colour pass and cast into the shadow map (glsl/obstacle/). The same
 //! shapes the wind solver voxelises (`sim::wind::Obstacle`), so what the
 //! picture shows is what blocks the air.
+//!
+//! The colliders that press the grass (`sim::contact::Collider`) are drawn
+//! the same way: each a mesh about its own reference point, placed each
+//! frame where it is at the frame's simulated time (and a rolling ball
+//! turned as it has rolled) by a model matrix in push constants.
+
+use std::ops::Range;
 
 use ash::vk;
-use glam::Vec3;
+use glam::{Mat4, Vec3};
 
 use crate::error::Result;
 use crate::gpu::{Access, Buffer, Commands, Gpu, Pipeline, Recording};
+use crate::sim::contact::{Collider, ColliderKind};
 use crate::sim::wind::Obstacle;
 
 /// One corner of an obstacle's triangle list (`obstacle.vert`'s inputs).
@@ -30,6 +38,18 @@ const RINGS: usize = 20;
 const BOX_ALBEDO: Vec3 = Vec3::new(0.24, 0.23, 0.21);
 const SPHERE_ALBEDO: Vec3 = Vec3::new(0.2, 0.2, 0.19);
 const CYLINDER_ALBEDO: Vec3 = Vec3::new(0.16, 0.1, 0.055);
+/// A ball's gores, alternating (so its roll shows), and a walker's coat.
+const BALL_ALBEDO: [Vec3; 2] = [Vec3::new(0.6, 0.05, 0.03), Vec3::new(0.78, 0.76, 0.7)];
+const BALL_GORES: usize = 8;
+const CAPSULE_ALBEDO: Vec3 = Vec3::new(0.07, 0.1, 0.22);
+
+/// The push constants of the obstacle pipelines (glsl/obstacle/obstacle.vert's
+/// `Placement`): where a mesh's own frame lies in the world.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct Placement {
+    pub model: Mat4,
+}
 
 fn vertex(p: Vec3, n: Vec3, albedo: Vec3) -> ObstacleVertex {
     ObstacleVertex {
@@ -135,22 +155,105 @@ pub fn mesh(obstacles: &[Obstacle]) -> Vec<ObstacleVertex> {
     out
 }
 
-/// The obstacles' triangles on the GPU; nothing when the scene has none.
+/// Quads between rings `j` and `j + 1` of a sphere of `radius` about
+/// `centre(j)` (a capsule's caps have two centres), coloured by
+/// `albedo(i)` for the segment i around.
+fn rings(
+    out: &mut Vec<ObstacleVertex>,
+    radius: f32,
+    centre: impl Fn(usize) -> Vec3,
+    albedo: impl Fn(usize) -> Vec3,
+) {
+    for j in 0..RINGS {
+        let c = centre(j);
+        for i in 0..AROUND {
+            let corners = [(i, j), (i, j + 1), (i + 1, j + 1), (i + 1, j)];
+            for k in [0, 2, 1, 0, 3, 2] {
+                let (a, b) = corners[k];
+                let n = on_sphere(a, b);
+                out.push(vertex(c + n * radius, n, albedo(i)));
+            }
+        }
+    }
+}
+
+/// A collider's triangles about its reference point (`Collider::motion_at`):
+/// a ball about its centre, in gores that show its roll; an upright
+/// capsule from its lowest point up, two half balls and the tube between.
+pub fn collider_mesh(collider: &Collider) -> Vec<ObstacleVertex> {
+    let mut out = Vec::new();
+    let r = collider.radius;
+    match collider.kind {
+        ColliderKind::Sphere => rings(
+            &mut out,
+            r,
+            |_| Vec3::ZERO,
+            |i| BALL_ALBEDO[i * BALL_GORES / AROUND % 2],
+        ),
+        ColliderKind::Capsule => {
+            let (low, high) = (Vec3::Y * r, Vec3::Y * (collider.height - r).max(r));
+            // Rings 0..RINGS/2 are the upper half of a ball.
+            let centre = |j: usize| if j < RINGS / 2 { high } else { low };
+            rings(&mut out, r, centre, |_| CAPSULE_ALBEDO);
+            for i in 0..AROUND {
+                let (a, b) = (on_sphere(i, RINGS / 2), on_sphere(i + 1, RINGS / 2));
+                let side = [low + a * r, high + a * r, high + b * r, low + b * r];
+                for k in [0, 1, 2, 0, 2, 3] {
+                    let n = if k < 2 { a } else { b };
+                    out.push(vertex(side[k], n, CAPSULE_ALBEDO));
+                }
+            }
+        }
+    }
+    out
+}
+
+/// Where `collider` is drawn at time t: at its reference point, turned as
+/// it has rolled.
+pub fn collider_placement(collider: &Collider, t: f32) -> Placement {
+    let (at, _, _) = collider.motion_at(t);
+    Placement {
+        model: Mat4::from_rotation_translation(collider.orientation_at(t), at),
+    }
+}
+
+/// The obstacles' and colliders' triangles on the GPU; nothing when the
+/// scene has neither.
 pub struct ObstacleMeshes {
     vertices: Option<Buffer>,
-    count: u32,
+    /// The obstacles' vertices, from the first (in world space).
+    fixed: u32,
+    /// Each collider's vertices in the buffer (in its own frame), where it
+    /// is drawn this frame, and what it is.
+    colliders: Vec<(Range<u32>, Placement, Collider)>,
 }
 
 impl ObstacleMeshes {
-    pub fn new(gpu: &Gpu, commands: &Commands, obstacles: &[Obstacle]) -> Result<Self> {
-        let triangles = mesh(obstacles);
+    pub fn new(
+        gpu: &Gpu,
+        commands: &Commands,
+        obstacles: &[Obstacle],
+        colliders: &[Collider],
+    ) -> Result<Self> {
+        let mut triangles = mesh(obstacles);
+        let fixed = triangles.len() as u32;
+        let mut placed = Vec::with_capacity(colliders.len());
+        for c in colliders {
+            let first = triangles.len() as u32;
+            triangles.extend(collider_mesh(c));
+            placed.push((
+                first..triangles.len() as u32,
+                collider_placement(c, 0.0),
+                c.clone(),
+            ));
+        }
         let vertices = if triangles.is_empty() {
             None
         } else {
             Some(Buffer::with_data(
                 gpu,
                 commands,
-                "obstacle triangles (vertex buffer)",
+                "obstacle and collider triangles (vertex buffer)",
                 bytemuck::cast_slice(&triangles),
                 vk::BufferUsageFlags::VERTEX_BUFFER,
                 Access::VERTEX_INPUT,
@@ -158,17 +261,33 @@ impl ObstacleMeshes {
         };
         Ok(Self {
             vertices,
-            count: triangles.len() as u32,
+            fixed,
+            colliders: placed,
         })
     }
 
-    /// Draws every obstacle with `pipeline` (the colour pass's, or the
-    /// shadow pass's depth-only one), its set already bound.
+    /// Places the colliders where they are at simulated time `t` (s), for
+    /// the frames recorded from now on.
+    pub fn place_colliders(&mut self, t: f32) {
+        for (_, placement, collider) in &mut self.colliders {
+            *placement = collider_placement(collider, t);
+        }
+    }
+
+    /// Draws every obstacle and collider with `pipeline` (the colour
+    /// pass's, or the shadow pass's depth-only one), its set already bound.
     pub fn draw(&self, rec: &Recording, pipeline: &Pipeline) {
         if let Some(vertices) = &self.vertices {
             rec.bind_pipeline(pipeline);
             rec.bind_vertex_buffer(vertices);
-            rec.draw(self.count);
+            if self.fixed > 0 {
+                rec.push_constants(pipeline, &Placement { model: Mat4::IDENTITY });
+                rec.draw_range(0..self.fixed);
+            }
+            for (range, placement, _) in &self.colliders {
+                rec.push_constants(pipeline, placement);
+                rec.draw_range(range.clone());
+            }
         }
     }
 }
@@ -245,5 +364,55 @@ mod tests {
             }
         }
         assert!(mesh(&[]).is_empty());
+    }
+
+    /// A collider's mesh, placed where it is at some time, lies on the
+    /// surface the contact sees (`ColliderState::distance` 0) and faces
+    /// out; a rolling ball's gores turn with it, its surface does not move.
+    #[test]
+    fn collider_meshes_lie_on_the_surface_the_grass_meets() {
+        let path = vec![Vec3::new(-2.0, 0.4, 0.0), Vec3::new(2.0, 0.4, 1.0)];
+        let ball = Collider {
+            kind: ColliderKind::Sphere,
+            radius: 0.4,
+            height: 0.0,
+            position: Vec3::ZERO,
+            path: path.clone(),
+            path_speed: 1.2,
+            closed: true,
+            roll: true,
+        };
+        let walker = Collider {
+            kind: ColliderKind::Capsule,
+            radius: 0.25,
+            height: 1.7,
+            roll: false,
+            ..ball.clone()
+        };
+        for c in [ball, walker] {
+            let tris = collider_mesh(&c);
+            assert!(!tris.is_empty() && tris.len() % 3 == 0);
+            for t in [0.0, 1.3, 5.0] {
+                let model = collider_placement(&c, t).model;
+                let state = c.at(t);
+                let inside = (state.a + state.b) / 2.0;
+                for tri in tris.chunks(3) {
+                    let p: Vec<Vec3> = tri
+                        .iter()
+                        .map(|v| model.transform_point3(Vec3::from(v.position)))
+                        .collect();
+                    for q in &p {
+                        let (d, _) = state.distance(*q);
+                        assert!(d.abs() < 1e-4, "{:?} at {t} s: corner {q} {d} m off", c.kind);
+                    }
+                    let cross = (p[1] - p[0]).cross(p[2] - p[0]);
+                    if cross.length() < 1e-6 {
+                        continue;
+                    }
+                    let n = model.transform_vector3(Vec3::from(tri[0].normal));
+                    assert!(cross.dot(n) > 0.0 && cross.dot(p[0] - inside) > 0.0);
+                }
+            }
+        }
     }
 }

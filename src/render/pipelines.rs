@@ -11,7 +11,7 @@ use crate::error::Result;
 use crate::gpu::{
     DescriptorKind, Gpu, GraphicsDesc, LayoutBinding, Pipeline, PipelineLayout, TargetFormats,
 };
-use crate::render::obstacles::ObstacleVertex;
+use crate::render::obstacles::{ObstacleVertex, Placement};
 use crate::shaders::{self, Spirv};
 use crate::sim::BladeVertex;
 
@@ -180,9 +180,12 @@ impl RenderPipelines {
     /// The colour pass's pipelines for `targets`, and the shadow pass's
     /// when `shadows`.
     pub fn new(gpu: &Gpu, targets: TargetFormats, shadows: bool) -> Result<Self> {
-        let none = vk::ShaderStageFlags::empty();
-        let frame_layout = PipelineLayout::new::<()>(gpu, FRAME_SET, none, "frame")?;
-        let shadow_layout = PipelineLayout::new::<()>(gpu, SHADOW_SET, none, "shadow pass")?;
+        // One layout for every pipeline of a pass, so the set bound once
+        // serves them all; the obstacles' placement is its push constant.
+        let vertex = vk::ShaderStageFlags::VERTEX;
+        let frame_layout = PipelineLayout::new::<Placement>(gpu, FRAME_SET, vertex, "frame")?;
+        let shadow_layout =
+            PipelineLayout::new::<Placement>(gpu, SHADOW_SET, vertex, "shadow pass")?;
         let backdrop = |name, stages, depth_test| GraphicsDesc {
             name,
             stages,

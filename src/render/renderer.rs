@@ -16,6 +16,7 @@ use crate::render::pipelines::{RenderPipelines, FRAME_SET};
 use crate::render::shadow::ShadowMap;
 use crate::render::targets::{choose_samples, RenderTargets};
 use crate::render::textures::SurfaceTextures;
+use crate::sim::contact::Collider;
 use crate::sim::wind::Obstacle;
 
 /// Everything one offscreen view of the grass needs on the GPU, besides
@@ -35,8 +36,8 @@ pub struct Renderer {
 impl Renderer {
     /// Builds the targets and pipelines for a `width` x `height` image with
     /// up to `msaa` samples and a `shadow_map` x `shadow_map` shadow map (0:
-    /// no shadows), drawing `obstacles` among the grass. `commands` uploads
-    /// the surface textures and the obstacles' meshes.
+    /// no shadows), drawing `obstacles` and `colliders` among the grass.
+    /// `commands` uploads the surface textures and their meshes.
     pub fn new(
         gpu: &Gpu,
         commands: &Commands,
@@ -45,6 +46,7 @@ impl Renderer {
         msaa: u32,
         shadow_map: u32,
         obstacles: &[Obstacle],
+        colliders: &[Collider],
     ) -> Result<Self> {
         let targets = RenderTargets::new(gpu, width, height, choose_samples(gpu, msaa))?;
         let pipelines = RenderPipelines::new(gpu, targets.formats(), shadow_map > 0)?;
@@ -57,7 +59,7 @@ impl Renderer {
         let shadow = ShadowMap::new(gpu, shadow_map, &pipelines.shadow_layout)?;
         let uniforms = FrameUniforms::buffer(gpu, "frame uniforms")?;
         let textures = SurfaceTextures::new(gpu, commands)?;
-        let obstacles = ObstacleMeshes::new(gpu, commands, obstacles)?;
+        let obstacles = ObstacleMeshes::new(gpu, commands, obstacles, colliders)?;
         let [map, map_sampler] = shadow.bindings();
         let [grass, ground, surface_sampler] = textures.bindings();
         let frame_set = DescriptorSet::new(
@@ -107,6 +109,12 @@ impl Renderer {
         self.shadow.write_uniforms(&uniforms);
     }
 
+    /// Draws the colliders where they are at simulated time `t` (s), from
+    /// the next recorded frame on.
+    pub fn place_colliders(&mut self, t: f32) {
+        self.obstacles.place_colliders(t);
+    }
+
     /// The frame uniforms both passes (and the cull pass) read.
     pub fn uniforms(&self) -> &Buffer {
         &self.uniforms
@@ -117,7 +125,8 @@ impl Renderer {
         self.pipelines.shadow.is_some() && self.shadow.size > 0
     }
 
-    /// The shadow pass: `draw` of `blades` and the obstacles from the sun.
+    /// The shadow pass: `draw` of `blades`, the obstacles and colliders
+    /// from the sun.
     pub fn record_shadow(&self, rec: &Recording, blades: &Buffer, draw: BladeDraw) {
         self.shadow.record(
             rec,
