@@ -47,7 +47,7 @@ gust = {{ amplitude = {gust}, frequency = 0.5, seed = 3 }}
 fn gpu_and_cpu_agree_with_two_way_coupling() {
     let scene = meadow("two-way", [3.0, 3.0], 300.0, [18, 12, 18], 0.5);
     let steps = 120;
-    let settings = scene.wind.settings();
+    let settings = scene.wind_settings();
     let grid = scene.wind_grid().unwrap();
     let rest = scene.field().unwrap();
     let blades = field::dynamic_blades(&rest, &scene.grass.dynamics, scene.seed).unwrap();
@@ -61,7 +61,7 @@ fn gpu_and_cpu_agree_with_two_way_coupling() {
     }
     let mut one_way = meadow("one-way", [3.0, 3.0], 300.0, [18, 12, 18], 0.5);
     one_way.seed = scene.seed;
-    let one_way_settings = one_way.wind.settings();
+    let one_way_settings = one_way.wind_settings();
     let mut free = WindField::new(grid, &one_way_settings);
     let mut free_grass = GrassField::new(blades.clone(), scene.wind.dt).unwrap();
     for _ in 0..steps {

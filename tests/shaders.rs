@@ -11,12 +11,14 @@ mod common;
 use ash::vk;
 use common::reflect::{self, Binding};
 use meadow::gpu::LayoutBinding;
+use meadow::render::obstacles::Placement;
 use meadow::render::pipelines::{
     BLADE_ATTRIBUTES, BLADE_STAGES, FRAME_SET, GROUND_STAGES, OBSTACLE_SHADOW_STAGES,
     OBSTACLE_STAGES, SHADOW_SET, SHADOW_STAGES, SKY_STAGES,
 };
 use meadow::render::FrameUniforms;
 use meadow::shaders::{self, ShaderStage, Spirv};
+use meadow::sim::contact::GpuCollider;
 use meadow::sim::{BladeVertex, GrassBlade, GrassState};
 use meadow::simulate::grass_pass::{GrassPush, GRASS_SET};
 use meadow::simulate::wind_pass::{GpuWindSource, WindPush, WIND_KERNELS, WIND_SET};
@@ -300,6 +302,21 @@ fn wind_source_and_push_constants_match_the_glsl_side() {
         .map(|o| o as u32)
     );
     assert_eq!(offset_of!(WindPush, step), 48);
+    // The colliders the forces kernel reads, as the grass kernel does.
+    let (_, span, stride) = array_element_layout(&module, 10);
+    assert_eq!(stride as usize, std::mem::size_of::<GpuCollider>());
+    assert_eq!(span as usize, std::mem::size_of::<GpuCollider>());
+}
+
+/// The obstacle pipelines' push constants: one model matrix
+/// (`obstacles::Placement`), in both of its stages' view.
+#[test]
+fn obstacle_placement_matches_the_glsl_side() {
+    let (module, _) = reflect::naga_module(&shaders::OBSTACLE_OBSTACLE_VERT).unwrap();
+    let (offsets, span) = push_constant_layout(&module);
+    assert_eq!(offsets, [0]);
+    assert_eq!(span as usize, std::mem::size_of::<Placement>());
+    assert_eq!(std::mem::size_of::<Placement>(), 64);
 }
 
 /// Offsets and size of the element struct of the runtime array that is
@@ -404,7 +421,7 @@ fn grass_blade_state_vertex_and_push_constants_match_the_glsl_side() {
     assert_eq!(offset_of!(GrassPush, control), 48);
 
     // The pressed state and the colliders (src/sim/contact.rs).
-    use meadow::sim::contact::{GpuCollider, Press};
+    use meadow::sim::contact::Press;
     let (offsets, span, stride) = array_element_layout(&module, 6);
     assert_eq!((span, stride), (size(8), size(8)));
     assert_eq!(std::mem::size_of::<Press>(), 8);

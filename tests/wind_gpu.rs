@@ -7,6 +7,7 @@ use common::wind_scenes::{self, behaviour_grid, blowing_source};
 use common::{finish, strict_gpu};
 use glam::{UVec3, Vec3};
 use meadow::gpu::Commands;
+use meadow::sim::contact::{Collider, ColliderKind};
 use meadow::sim::wind::{
     FaceKind, Gust, Inflow, Obstacle, PressureSolver, WindField, WindGrid, WindSettings, WindSource,
 };
@@ -55,6 +56,34 @@ fn two_sources_one_obstacle() -> WindSettings {
             min: Vec3::new(-0.5, 0.0, -1.0),
             max: Vec3::new(0.5, 2.0, 1.0),
         }],
+        colliders: vec![
+            // A ball rolling round a closed path across the wind, and a
+            // walker crossing once: moving obstacles.
+            Collider {
+                kind: ColliderKind::Sphere,
+                radius: 0.8,
+                height: 0.0,
+                position: Vec3::ZERO,
+                path: vec![
+                    Vec3::new(-4.0, 0.8, -3.0),
+                    Vec3::new(3.0, 0.8, -3.5),
+                    Vec3::new(1.0, 0.8, 3.0),
+                ],
+                path_speed: 2.5,
+                closed: true,
+                roll: true,
+            },
+            Collider {
+                kind: ColliderKind::Capsule,
+                radius: 0.6,
+                height: 1.8,
+                position: Vec3::ZERO,
+                path: vec![Vec3::new(3.0, 0.0, 4.0), Vec3::new(-4.0, 0.0, 1.0)],
+                path_speed: 1.4,
+                closed: false,
+                roll: false,
+            },
+        ],
         ..Default::default()
     }
 }
@@ -122,6 +151,19 @@ fn gpu_matches_the_cpu_reference(solver: PressureSolver) {
     }
     let err = relative_l2(&gpu_vel, &cpu.vel);
     eprintln!("{solver:?}: relative L2 GPU vs CPU after 100 steps: {err:.3e}");
+    // The colliders are part of what is compared: without them the field
+    // is far from this one.
+    let still = WindSettings {
+        colliders: Vec::new(),
+        ..settings.clone()
+    };
+    let mut without = WindField::new(grid, &still);
+    for _ in 0..100 {
+        without.step(&still, dt);
+    }
+    let collider_effect = relative_l2(&without.vel, &cpu.vel);
+    eprintln!("the colliders change the field by {collider_effect:.3e} (relative L2)");
+    assert!(collider_effect > 1e3 * GPU_CPU_TOLERANCE);
     assert!(
         cpu.vel.iter().flatten().any(|v| v.abs() > 1.0),
         "the test wind is too weak to mean anything"
@@ -396,7 +438,7 @@ fn gpu_multigrid_leaves_under_1_percent_of_the_divergence_on_every_shipped_scene
         let settings = WindSettings {
             solver: PressureSolver::Multigrid,
             v_cycles: meadow::sim::wind::DEFAULT_V_CYCLES,
-            ..scene.wind.settings()
+            ..scene.wind_settings()
         };
         let pass = WindPass::new(&gpu, &commands, grid, &settings, 0.0).unwrap();
         let mut field = WindField::new(grid, &settings);

@@ -6,9 +6,8 @@
 #ifndef MEADOW_GRASS_CONTACT_GLSL
 #define MEADOW_GRASS_CONTACT_GLSL
 
-#include "path.glsl"
+#include "collider.glsl"
 
-#define MAX_COLLIDERS 128
 #define CONTACT_ITERATIONS 8
 #define CONTACT_SAMPLES 10
 const float CONTACT_SLOP = 0.002;     // m beyond the surface a projection pushes
@@ -16,27 +15,11 @@ const float MAX_CORRECTION = 0.5;     // rad: one angle's largest change per pro
 const float PRESS_SOFTENING = 0.9;
 const float PRESS_RISE_TIME = 0.05;   // s
 
-// `GpuCollider` in src/sim/contact.rs (std430, 176 bytes).
-struct Collider {
-    vec4 position_radius;  // xyz: position without a path; w: radius
-    vec4 shape;            // x: 0 sphere, 1 capsule; y: height; z: path points; w: path speed
-    vec4 flags;            // x: 1 when the path is closed
-    vec4 path[PATH_POINTS];
-};
-
 // `Press` in src/sim/contact.rs: the pressed state the last step used, and
 // 1 if it touched a collider.
 struct Press {
     float pressed;
     float touched;
-};
-
-// A collider at one instant: the segment a..b swept by the radius, and the
-// velocity of its centre (`ColliderState`).
-struct ColliderState {
-    vec4 a_radius;   // xyz: a; w: radius
-    vec4 b;          // xyz: b
-    vec4 velocity;   // xyz
 };
 
 // The colliders near this workgroup's blades, in scene order.
@@ -46,36 +29,6 @@ shared ColliderState all_colliders[MAX_COLLIDERS];
 shared uint collider_is_near[MAX_COLLIDERS];
 shared vec4 roots_low[64];
 shared vec4 roots_high[64];
-
-// `Collider::motion_at` and `Collider::at`: position and velocity at time t.
-ColliderState collider_at(Collider c, float t) {
-    vec3 velocity;
-    vec3 p = along_path(c.path, uint(c.shape.z), c.shape.w, c.flags.x != 0.0, max(t, 0.0),
-                        c.position_radius.xyz, velocity);
-    float r = c.position_radius.w;
-    ColliderState st;
-    if (c.shape.x == 0.0) {
-        st.a_radius = vec4(p, r);
-        st.b = vec4(p, 0.0);
-    } else {
-        st.a_radius = vec4(p + UP * r, r);
-        st.b = vec4(p + UP * max(c.shape.y - r, r), 0.0);
-    }
-    st.velocity = vec4(velocity, 0.0);
-    return st;
-}
-
-// `ColliderState::distance`: signed distance (x) and outward normal (yzw).
-vec4 collider_distance(ColliderState c, vec3 p) {
-    vec3 a = c.a_radius.xyz;
-    vec3 ab = c.b.xyz - a;
-    float len2 = dot(ab, ab);
-    float t = len2 > 0.0 ? clamp(dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
-    vec3 off = p - (a + ab * t);
-    float l = length(off);
-    vec3 n = l > 1e-12 ? off / l : UP;
-    return vec4(l - c.a_radius.w, n);
-}
 
 // The points tested against colliders, as weights of P0..P3 (`SAMPLES`):
 // P1, P2, P3 and the drawn curve at u = 1/8 .. 7/8 (Bernstein weights).

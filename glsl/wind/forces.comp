@@ -2,8 +2,15 @@
 #extension GL_GOOGLE_include_directive : require
 // Kernel 1, add forces (paper section 3.2): every free face gains dt * f of
 // every wind source; inflow faces take the inflow velocity; walls hold zero.
+// The colliders are moving obstacles (ours, `WindField::add_forces`): a free
+// face inside one takes its velocity.
 #include "wind_kernel.glsl"
-#include "path.glsl"
+#include "collider.glsl"
+
+layout(set = 0, binding = 10, std430) readonly buffer Colliders { Collider colliders[]; };
+
+// Every collider where it is at this step's time, once per workgroup.
+shared ColliderState moving[MAX_COLLIDERS];
 
 float falloff(float d, float r) {
     float q = 1.0 - (d / r) * (d / r);
@@ -19,11 +26,16 @@ vec3 source_position(WindSource s, float t) {
 
 void main() {
     uint id = gl_GlobalInvocationID.x;
+    float t = pc.step.x;
+    float dt = pc.step.y;
+    uint moving_count = uint(pc.inflow_phases.w);
+    for (uint i = gl_LocalInvocationIndex; i < moving_count; i += gl_WorkGroupSize.x) {
+        moving[i] = collider_at(colliders[i], t);
+    }
+    barrier();
     if (id >= pc.grid.cells.w) {
         return;
     }
-    float t = pc.step.x;
-    float dt = pc.step.y;
     uint kind = face_kind[id];
     if (kind == FACE_WALL) {
         vel[id] = 0.0;
@@ -49,5 +61,12 @@ void main() {
                        : s.direction_strength.w * gust_factor(s.gust.x, s.gust.y, s.gust_phases.xyz, t);
         a += strength * dir[axis] * falloff(distance(x, source_position(s, t)), s.position_radius.w);
     }
-    vel[id] += dt * a;
+    float u = vel[id] + dt * a;
+    for (uint i = 0u; i < moving_count; ++i) {
+        if (collider_distance(moving[i], x).x < 0.0) {
+            u = moving[i].velocity[axis];
+            break;
+        }
+    }
+    vel[id] = u;
 }

@@ -14,7 +14,7 @@ layout(push_constant, std430) uniform Push {
     uvec4 control;       // x: source count, y: pressure half to read, z: pressure half holding the result,
                          // w: 1 when the pressure starts from zero (multigrid)
     vec4 inflow;         // x: speed (m/s), y: gust amplitude, z: gust frequency (Hz)
-    vec4 inflow_phases;  // xyz: gust phases
+    vec4 inflow_phases;  // xyz: gust phases; w: colliders pushing the air (forces kernel)
     uvec4 multigrid;     // x: level, y: colour, z: coarsest sweeps, w: coarse cells of all levels
 } pc;
 

@@ -134,7 +134,7 @@ fn bench_count(
         gpu,
         &commands,
         grid,
-        &scene.wind.settings(),
+        &scene.wind_settings(),
         canopy::unit(&dynamic),
     )?;
     let rec = commands.begin()?;

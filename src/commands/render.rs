@@ -171,7 +171,7 @@ fn render_with(
     observer: &mut dyn FnMut(FrameProgress) -> bool,
 ) -> Result<RenderReport> {
     let scene = &request.scene;
-    let warnings = scene.wind.settings().check(&scene.wind_grid()?)?;
+    let warnings = scene.wind_settings().check(&scene.wind_grid()?)?;
     crate::frame::check_fits(gpu, scene, request.width, request.height, request.msaa)?;
     let blades = scene.field()?;
     let dynamic = field::dynamic_blades(&blades, &scene.grass.dynamics, scene.seed)?;

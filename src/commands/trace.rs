@@ -265,7 +265,7 @@ pub fn trace(
     let mut wind = request
         .wind
         .then(|| -> Result<WindField> {
-            Ok(WindField::new(scene.wind_grid()?, &scene.wind.settings()))
+            Ok(WindField::new(scene.wind_grid()?, &scene.wind_settings()))
         })
         .transpose()?;
     let mut trace = Trace {

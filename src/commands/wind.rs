@@ -60,7 +60,7 @@ pub fn wind_to_dir(
     out_dir: &Path,
 ) -> Result<WindReport> {
     let grid = scene.wind_grid()?;
-    let settings = scene.wind.settings();
+    let settings = scene.wind_settings();
     let warnings = settings.check(&grid)?;
     files::ensure_dir(out_dir)?;
     let (mut report, validation) = on_gpu(gpu_options, |gpu| {
@@ -116,7 +116,7 @@ impl Stepper {
     fn new(gpu: &Gpu, commands: &Commands, scene: &Scene) -> Result<Self> {
         let grid = scene.wind_grid()?;
         if scene.wind.coupling == Coupling::OneWay {
-            let pass = WindPass::new(gpu, commands, grid, &scene.wind.settings(), 0.0)?;
+            let pass = WindPass::new(gpu, commands, grid, &scene.wind_settings(), 0.0)?;
             return Ok(Stepper::Wind(pass));
         }
         let rest = scene.field()?;
@@ -181,7 +181,7 @@ fn run_steps(gpu: &Gpu, commands: &Commands, scene: &Scene, steps: u32) -> Resul
         }
         done += batch;
     }
-    let mut field = WindField::new(scene.wind_grid()?, &scene.wind.settings());
+    let mut field = WindField::new(scene.wind_grid()?, &scene.wind_settings());
     field.vel = stepper.wind().read_velocity(gpu, commands)?;
     let before = stepper.wind().read_divergence(gpu, commands)?;
     Ok(Stepped {
@@ -210,7 +210,7 @@ pub fn compare_solvers(gpu: &Gpu, scene: &Scene, steps: u32) -> Result<Vec<Solve
     for solver in [PressureSolver::Multigrid, PressureSolver::Jacobi] {
         let mut scene = scene.clone();
         scene.wind.solver = solver;
-        let settings = scene.wind.settings();
+        let settings = scene.wind_settings();
         let run = run_steps(gpu, &commands, &scene, steps)?;
         let timing = median_p95(&run.times);
         timings.push(SolverTiming {

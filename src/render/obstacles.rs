@@ -281,7 +281,12 @@ impl ObstacleMeshes {
             rec.bind_pipeline(pipeline);
             rec.bind_vertex_buffer(vertices);
             if self.fixed > 0 {
-                rec.push_constants(pipeline, &Placement { model: Mat4::IDENTITY });
+                rec.push_constants(
+                    pipeline,
+                    &Placement {
+                        model: Mat4::IDENTITY,
+                    },
+                );
                 rec.draw_range(0..self.fixed);
             }
             for (range, placement, _) in &self.colliders {
@@ -403,7 +408,11 @@ mod tests {
                         .collect();
                     for q in &p {
                         let (d, _) = state.distance(*q);
-                        assert!(d.abs() < 1e-4, "{:?} at {t} s: corner {q} {d} m off", c.kind);
+                        assert!(
+                            d.abs() < 1e-4,
+                            "{:?} at {t} s: corner {q} {d} m off",
+                            c.kind
+                        );
                     }
                     let cross = (p[1] - p[0]).cross(p[2] - p[0]);
                     if cross.length() < 1e-6 {

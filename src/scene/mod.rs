@@ -521,11 +521,14 @@ impl WindConfig {
         }
     }
 
+    /// What drives the wind, but the colliders (which the scene holds
+    /// beside its wind: `Scene::wind_settings`).
     pub fn settings(&self) -> WindSettings {
         WindSettings {
             sources: self.sources.clone(),
             inflow: self.inflow,
             obstacles: self.obstacles.clone(),
+            colliders: Vec::new(),
             solver: self.solver,
             jacobi_iterations: self.jacobi_iterations,
             v_cycles: self.v_cycles,
@@ -717,6 +720,15 @@ impl Scene {
             }
         }
         (lo, hi)
+    }
+
+    /// Everything that drives the scene's wind: its `[wind]` and the
+    /// colliders, which push the air as they move.
+    pub fn wind_settings(&self) -> WindSettings {
+        WindSettings {
+            colliders: self.colliders.clone(),
+            ..self.wind.settings()
+        }
     }
 
     /// The wind grid: the grass's bounding box plus the margin, ground to `height`.

@@ -33,7 +33,7 @@ use crate::sim::grass::{
     bend_share, pressed_pose, step_with, GrassBlade, GrassState, Pose, BEND_A, BEND_B, MAX_ANGLE,
     SWING,
 };
-use crate::sim::wind::{along_path, MAX_PATH_POINTS};
+use crate::sim::path::{along_path, MAX_PATH_POINTS};
 
 /// The most colliders a scene may have: the GPU kernel gathers each
 /// workgroup's near ones into a list of this length.

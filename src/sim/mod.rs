@@ -12,4 +12,5 @@ pub use blade::{Blade, BladeKind, BladeVertex, EdgeFrame};
 pub use grass::{BladePhysics, GrassBlade, GrassState};
 pub use grass_field::GrassField;
 pub mod multigrid;
+pub mod path;
 pub mod wind;

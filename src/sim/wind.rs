@@ -20,7 +20,9 @@
 
 use glam::{UVec3, Vec3};
 
+use super::contact::{Collider, ColliderState};
 use super::multigrid::{Multigrid, Work};
+pub use super::path::{along_path, MAX_PATH_POINTS};
 use crate::error::{Error, Result};
 
 /// The grid: `cells` = (nx, ny, nz), x and z horizontal, y up.
@@ -34,9 +36,6 @@ pub struct WindGrid {
 }
 
 /// The most cells one grid may have (the paper's is 72,000).
-/// The most waypoints of a source's path (the GPU source record holds 8).
-pub const MAX_PATH_POINTS: usize = 8;
-
 pub const MAX_CELLS: u64 = 64 * 1024 * 1024;
 
 impl WindGrid {
@@ -290,58 +289,6 @@ impl WindSource {
     }
 }
 
-/// Where a point moving at `speed` through the waypoints `path` is at time
-/// t, its velocity, and the distance it has travelled: round and round when
-/// `closed` (the last point leads back to the first), else once, stopping
-/// at the end. With fewer than two points or no speed it stays at the
-/// first point, or at `fallback` without one. A wind source (always
-/// closed) and a collider (src/sim/contact.rs) move so; the GPU's twin is
-/// `along_path` in glsl/common/path.glsl.
-pub fn along_path(
-    path: &[Vec3],
-    speed: f32,
-    closed: bool,
-    t: f32,
-    fallback: Vec3,
-) -> (Vec3, Vec3, f32) {
-    let n = path.len();
-    if n < 2 || speed <= 0.0 {
-        return (path.first().copied().unwrap_or(fallback), Vec3::ZERO, 0.0);
-    }
-    let segments = if closed { n } else { n - 1 };
-    let mut total = 0.0f32;
-    for i in 0..segments {
-        total += path[i].distance(path[(i + 1) % n]);
-    }
-    if total <= 0.0 {
-        return (path[0], Vec3::ZERO, 0.0);
-    }
-    let travelled = speed * t;
-    let (mut s, moving) = if closed {
-        (travelled.rem_euclid(total), true)
-    } else if travelled < total {
-        (travelled, true)
-    } else {
-        (total, false)
-    };
-    let travelled = if moving { travelled } else { total };
-    for i in 0..segments {
-        let (p, q) = (path[i], path[(i + 1) % n]);
-        let len = p.distance(q);
-        if s <= len || i == segments - 1 {
-            let f = if len > 0.0 { (s / len).min(1.0) } else { 0.0 };
-            let velocity = if moving && len > 0.0 {
-                (q - p) * (speed / len)
-            } else {
-                Vec3::ZERO
-            };
-            return (p.lerp(q, f), velocity, travelled);
-        }
-        s -= len;
-    }
-    (path[0], Vec3::ZERO, travelled)
-}
-
 /// `v` turned by `angle` radians about +y (anticlockwise seen from above):
 /// a rotating source's direction (paper Fig. 11), the viewer's heading.
 pub fn turned_about_y(v: Vec3, angle: f32) -> Vec3 {
@@ -473,6 +420,10 @@ pub struct WindSettings {
     pub sources: Vec<WindSource>,
     pub inflow: Option<Inflow>,
     pub obstacles: Vec<Obstacle>,
+    /// The colliders (`[[collider]]`), which push the air as they move:
+    /// moving obstacles (`WindField::add_forces`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub colliders: Vec<Collider>,
     pub solver: PressureSolver,
     /// Jacobi iterations of the pressure solve when `solver` is Jacobi
     /// (default 30; docs/method.md section 3).
@@ -502,6 +453,7 @@ impl Default for WindSettings {
             sources: Vec::new(),
             inflow: None,
             obstacles: Vec::new(),
+            colliders: Vec::new(),
             solver: PressureSolver::default(),
             jacobi_iterations: DEFAULT_JACOBI_ITERATIONS,
             v_cycles: DEFAULT_V_CYCLES,
@@ -670,8 +622,16 @@ impl WindField {
 
     /// Kernel 1: every free face gains dt * f of every source; inflow faces
     /// take the inflow velocity; walls hold zero.
+    ///
+    /// The colliders are moving obstacles (ours), by direct forcing: a free
+    /// face inside one takes its velocity (the first in scene order that
+    /// holds it). The projection then turns the air around it, as around
+    /// the fixed solids; unlike theirs, these faces stay free, so the
+    /// multigrid hierarchy is built once. What is left flowing through a
+    /// collider is measured in tests/wind_cpu.rs (docs/physics.md).
     pub fn add_forces(&mut self, settings: &WindSettings, dt: f32) {
         let t = self.time;
+        let moving: Vec<ColliderState> = settings.colliders.iter().map(|c| c.at(t)).collect();
         let sources: Vec<(Vec3, Vec3, f32, f32)> = settings
             .sources
             .iter()
@@ -699,6 +659,9 @@ impl WindField {
                             a += strength * dir[axis] * falloff(x.distance(p), radius);
                         }
                         self.vel[axis][idx] += dt * a;
+                        if let Some(c) = moving.iter().find(|c| c.distance(x).0 < 0.0) {
+                            self.vel[axis][idx] = c.velocity[axis];
+                        }
                     }
                 }
             }

@@ -20,7 +20,7 @@ use crate::gpu::{
     part, Access, Bound, Buffer, Commands, DescriptorSet, Gpu, LayoutBinding, Pipeline,
     PipelineLayout, Recording,
 };
-use crate::sim::contact::{press_decay, Collider, GpuCollider, Press, MAX_COLLIDERS};
+use crate::sim::contact::{press_decay, Collider, Press};
 use crate::sim::grass::{substeps, CapCounts, GrassBlade, GrassState};
 use crate::sim::BladeVertex;
 use crate::simulate::wind_pass::WindInput;
@@ -119,12 +119,6 @@ impl GrassPass {
                 blades.len()
             )));
         }
-        if colliders.len() > MAX_COLLIDERS {
-            return Err(Error::InvalidInput(format!(
-                "{} colliders cannot be simulated, at most {MAX_COLLIDERS}",
-                colliders.len()
-            )));
-        }
         let substeps = substeps(blades, dt)?;
         let face_count: u64 = (0..3)
             .map(|a| grid.face_dims(a).as_u64vec3().element_product())
@@ -204,18 +198,8 @@ impl GrassPass {
             usage,
             Access::COMPUTE_READ_WRITE,
         )?;
-        let mut records: Vec<GpuCollider> = colliders.iter().map(GpuCollider::from).collect();
-        if records.is_empty() {
-            records.push(GpuCollider::default());
-        }
-        let colliders_buffer = Buffer::with_data(
-            gpu,
-            commands,
-            "grass colliders",
-            bytemuck::cast_slice(&records),
-            usage,
-            Access::COMPUTE_READ,
-        )?;
+        let colliders_buffer =
+            super::colliders::upload(gpu, commands, "grass colliders", colliders)?;
         let layout = PipelineLayout::new::<GrassPush>(
             gpu,
             GRASS_SET,

@@ -6,6 +6,7 @@
 //! whole steps of the scene's dt. It writes the blade buffer it is handed
 //! and knows nothing of the rendering.
 
+mod colliders;
 pub mod grass_pass;
 pub mod wind_pass;
 
@@ -37,7 +38,7 @@ impl Simulation {
         vertices: &Buffer,
     ) -> Result<Self> {
         let grid = scene.wind_grid()?;
-        let settings = scene.wind.settings();
+        let settings = scene.wind_settings();
         let dt = scene.wind.dt;
         let wind = WindPass::new(gpu, commands, grid, &settings, canopy::unit(blades))?;
         let grass = GrassPass::new(

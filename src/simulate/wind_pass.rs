@@ -84,16 +84,17 @@ impl GpuWindSource {
 
 /// Set 0 of the wind kernels.
 pub const WIND_SET: &[LayoutBinding] = &[
-    LayoutBinding::compute_storage(0), // velocity (two copies)
-    LayoutBinding::compute_storage(1), // face kinds
-    LayoutBinding::compute_storage(2), // solid cells
-    LayoutBinding::compute_storage(3), // pressure (two copies)
-    LayoutBinding::compute_storage(4), // divergence
-    LayoutBinding::compute_storage(5), // sources
-    LayoutBinding::compute_storage(6), // multigrid face conductances
-    LayoutBinding::compute_storage(7), // multigrid coarse pressure, right-hand side
-    LayoutBinding::compute_storage(8), // multigrid level table
+    LayoutBinding::compute_storage(0),  // velocity (two copies)
+    LayoutBinding::compute_storage(1),  // face kinds
+    LayoutBinding::compute_storage(2),  // solid cells
+    LayoutBinding::compute_storage(3),  // pressure (two copies)
+    LayoutBinding::compute_storage(4),  // divergence
+    LayoutBinding::compute_storage(5),  // sources
+    LayoutBinding::compute_storage(6),  // multigrid face conductances
+    LayoutBinding::compute_storage(7),  // multigrid coarse pressure, right-hand side
+    LayoutBinding::compute_storage(8),  // multigrid level table
     LayoutBinding::compute_storage(9), // canopy: the grass's frontal area per cell (two-way coupling)
+    LayoutBinding::compute_storage(10), // colliders: moving obstacles (forces kernel)
 ];
 
 /// The kernels in the order a step runs them (Jacobi or the five multigrid
@@ -173,6 +174,8 @@ struct WindBuffers {
     /// The grass's frontal area per cell in fixed point, laid by the
     /// grass step, read by the advection (src/sim/canopy.rs).
     canopy: Buffer,
+    /// The colliders, which push the air (`WindField::add_forces`).
+    colliders: Buffer,
 }
 
 impl WindBuffers {
@@ -184,7 +187,7 @@ impl WindBuffers {
         gpu: &Gpu,
         commands: &Commands,
         field: &WindField,
-        sources: &[WindSource],
+        settings: &WindSettings,
         face_count: u32,
         cell_count: u32,
     ) -> Result<Self> {
@@ -212,7 +215,7 @@ impl WindBuffers {
             )?,
             pressure: device_buffer("wind pressure (ping, pong)", 2 * cell_count as u64)?,
             divergence: device_buffer("wind divergence", cell_count as u64)?,
-            sources: Self::sources(gpu, commands, sources)?,
+            sources: Self::sources(gpu, commands, &settings.sources)?,
             conductance: uploaded(
                 "wind multigrid conductances",
                 bytemuck::cast_slice(&conductance),
@@ -223,6 +226,12 @@ impl WindBuffers {
             )?,
             levels: uploaded("wind multigrid levels", bytemuck::cast_slice(&table))?,
             canopy: device_buffer("wind canopy frontal area (fixed point)", cell_count as u64)?,
+            colliders: super::colliders::upload(
+                gpu,
+                commands,
+                "wind colliders",
+                &settings.colliders,
+            )?,
         };
         let rec = commands.begin()?;
         rec.fill_buffer(&buffers.velocity, 0);
@@ -255,7 +264,7 @@ impl WindBuffers {
     }
 
     /// In the order of `WIND_SET`.
-    fn bound(&self) -> [Bound<'_>; 10] {
+    fn bound(&self) -> [Bound<'_>; 11] {
         [
             Bound::Buffer(&self.velocity),
             Bound::Buffer(&self.faces),
@@ -267,6 +276,7 @@ impl WindBuffers {
             Bound::Buffer(&self.coarse),
             Bound::Buffer(&self.levels),
             Bound::Buffer(&self.canopy),
+            Bound::Buffer(&self.colliders),
         ]
     }
 }
@@ -344,14 +354,7 @@ impl WindPass {
             }
         };
         let field = WindField::new(grid, settings);
-        let buffers = WindBuffers::new(
-            gpu,
-            commands,
-            &field,
-            &settings.sources,
-            face_count,
-            cell_count,
-        )?;
+        let buffers = WindBuffers::new(gpu, commands, &field, settings, face_count, cell_count)?;
         let layout: Arc<PipelineLayout> =
             PipelineLayout::new::<WindPush>(gpu, WIND_SET, vk::ShaderStageFlags::COMPUTE, "wind")?;
         let kernels = WIND_KERNELS
@@ -498,7 +501,12 @@ impl WindPass {
             inflow: inflow
                 .map(|i| [i.speed, i.gust.amplitude, i.gust.frequency, 0.0])
                 .unwrap_or_default(),
-            inflow_phases: [phases[0], phases[1], phases[2], 0.0],
+            inflow_phases: [
+                phases[0],
+                phases[1],
+                phases[2],
+                self.settings.colliders.len() as f32,
+            ],
             multigrid: [multigrid[0], multigrid[1], multigrid[2], self.coarse_cells],
         }
     }

@@ -14,7 +14,7 @@ fn grass_step(c: &mut Criterion) {
     scene.set_blade_count(BLADES).unwrap();
     let blades = field::generate(&scene.grass, scene.seed).unwrap();
     let dynamic = field::dynamic_blades(&blades, &scene.grass.dynamics, scene.seed).unwrap();
-    let settings = scene.wind.settings();
+    let settings = scene.wind_settings();
     let mut wind = WindField::new(scene.wind_grid().unwrap(), &settings);
     for _ in 0..30 {
         wind.step(&settings, scene.wind.dt);

@@ -1,0 +1,59 @@
+// Colliders (ours; docs/physics.md, "Colliders"): spheres and upright
+// capsules moving through the meadow, as the grass kernel (which they press)
+// and the wind's forces kernel (whose air they push) read them. Mirrors
+// `Collider`, `ColliderState` and `GpuCollider` in src/sim/contact.rs.
+#ifndef MEADOW_COLLIDER_GLSL
+#define MEADOW_COLLIDER_GLSL
+
+#include "path.glsl"
+
+#define MAX_COLLIDERS 128   // `MAX_COLLIDERS`
+const vec3 COLLIDER_UP = vec3(0.0, 1.0, 0.0);
+
+// `GpuCollider` in src/sim/contact.rs (std430, 176 bytes).
+struct Collider {
+    vec4 position_radius;  // xyz: position without a path; w: radius
+    vec4 shape;            // x: 0 sphere, 1 capsule; y: height; z: path points; w: path speed
+    vec4 flags;            // x: 1 when the path is closed
+    vec4 path[PATH_POINTS];
+};
+
+// A collider at one instant: the segment a..b swept by the radius, and the
+// velocity of its centre (`ColliderState`).
+struct ColliderState {
+    vec4 a_radius;   // xyz: a; w: radius
+    vec4 b;          // xyz: b
+    vec4 velocity;   // xyz
+};
+
+// `Collider::motion_at` and `Collider::at`: position and velocity at time t.
+ColliderState collider_at(Collider c, float t) {
+    vec3 velocity;
+    vec3 p = along_path(c.path, uint(c.shape.z), c.shape.w, c.flags.x != 0.0, max(t, 0.0),
+                        c.position_radius.xyz, velocity);
+    float r = c.position_radius.w;
+    ColliderState st;
+    if (c.shape.x == 0.0) {
+        st.a_radius = vec4(p, r);
+        st.b = vec4(p, 0.0);
+    } else {
+        st.a_radius = vec4(p + COLLIDER_UP * r, r);
+        st.b = vec4(p + COLLIDER_UP * max(c.shape.y - r, r), 0.0);
+    }
+    st.velocity = vec4(velocity, 0.0);
+    return st;
+}
+
+// `ColliderState::distance`: signed distance (x) and outward normal (yzw).
+vec4 collider_distance(ColliderState c, vec3 p) {
+    vec3 a = c.a_radius.xyz;
+    vec3 ab = c.b.xyz - a;
+    float len2 = dot(ab, ab);
+    float t = len2 > 0.0 ? clamp(dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
+    vec3 off = p - (a + ab * t);
+    float l = length(off);
+    vec3 n = l > 1e-12 ? off / l : COLLIDER_UP;
+    return vec4(l - c.a_radius.w, n);
+}
+
+#endif
