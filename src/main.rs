@@ -211,6 +211,11 @@ enum Command {
         /// Blade counts, comma-separated (50k, 1.5m, 1200).
         #[arg(long, default_value = "50k,100k,150k,200k")]
         blades: String,
+        /// Numbers of balls rolling through the field, comma-separated
+        /// (e.g. 0,1,16,128): each blade count runs with each, and each
+        /// row gives its cost over the count's row without (0).
+        #[arg(long, default_value = "0")]
+        colliders: String,
         /// Timed steps per count (the median and p95 are reported).
         #[arg(long, default_value_t = 30)]
         steps: u32,
@@ -663,6 +668,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         Command::BenchGrass {
             scene,
             blades,
+            colliders,
             steps,
             warmup,
             out,
@@ -673,10 +679,21 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 .split(',')
                 .map(meadow::commands::bench_grass::parse_count)
                 .collect::<Result<Vec<_>, _>>()?;
+            let colliders = colliders
+                .split(',')
+                .map(|c| {
+                    c.trim().parse::<usize>().map_err(|_| {
+                        anyhow::anyhow!(
+                            "collider count {c:?} is not a count, write e.g. --colliders 0,1,16,128"
+                        )
+                    })
+                })
+                .collect::<Result<Vec<_>, _>>()?;
             meadow::report::files::ensure_dir(&out)?;
             let bench = meadow::commands::bench_grass::bench_grass(
                 &scene,
                 &counts,
+                &colliders,
                 steps,
                 warmup,
                 &device.options()?,
@@ -699,21 +716,24 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 None => println!("memory floor: n/a (no timestamps on this device)"),
             }
             println!(
-                "{:>9}  {:>8}  {:>10}  {:>10}  {:>18}  {:>10}  {:>9}  {:>11}",
+                "{:>9}  {:>9}  {:>8}  {:>10}  {:>10}  {:>18}  {:>10}  {:>9}  {:>11}  {:>10}",
                 "blades",
+                "colliders",
                 "substeps",
                 "median ms",
                 "p95 ms",
                 "paper (GTX 670) ms",
                 "MB / step",
                 "floor ms",
-                "step/floor"
+                "step/floor",
+                "x no coll."
             );
             let ms = |v: Option<f64>| v.map_or("n/a".to_string(), |v| format!("{v:.3}"));
             for r in &bench.rows {
                 println!(
-                    "{:>9}  {:>8}  {:>10}  {:>10}  {:>18}  {:>10.1}  {:>9}  {:>11}",
+                    "{:>9}  {:>9}  {:>8}  {:>10}  {:>10}  {:>18}  {:>10.1}  {:>9}  {:>11}  {:>10}",
                     r.blades,
+                    r.colliders,
                     r.substeps,
                     ms(r.step_ms_median),
                     ms(r.step_ms_p95),
@@ -721,7 +741,9 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                     r.bytes_per_step as f64 / 1e6,
                     ms(r.floor_ms),
                     r.over_floor
-                        .map_or("n/a".to_string(), |v| format!("{v:.2}x"))
+                        .map_or("n/a".to_string(), |v| format!("{v:.2}x")),
+                    r.over_collider_free
+                        .map_or("-".to_string(), |v| format!("{v:.2}x"))
                 );
             }
             println!("wrote {}", path.display());

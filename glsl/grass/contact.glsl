@@ -90,8 +90,10 @@ void point_rates(GrassBlade b, vec4 angle, float pressed, Pose p, out vec3 rates
 
 // `contact::resolve`: up to CONTACT_ITERATIONS projections of the deepest
 // point (the ground first), each with its velocity impulse. Returns whether
-// a collider was touched; p is left the pose of the state.
-bool resolve_contacts(GrassBlade b, inout GrassState s, float pressed, inout Pose p, uint colliders) {
+// a collider was touched; p is left the pose of the state. `near`: which
+// of the workgroup's near colliders this blade can reach (one bit each, in
+// list order), its own list (`contact::near_blade`).
+bool resolve_contacts(GrassBlade b, inout GrassState s, float pressed, inout Pose p, uvec4 near) {
     bool touched = false;
     int moved = split_edge(b) < 3 ? 3 : 2;
     for (int it = 0; it < CONTACT_ITERATIONS; ++it) {
@@ -111,7 +113,9 @@ bool resolve_contacts(GrassBlade b, inout GrassState s, float pressed, inout Pos
             }
         }
         if (sample_index < 0) {
-            for (uint c = 0u; c < colliders; ++c) {
+            for (uint word = 0u; word < 4u; ++word) {
+              for (uint bits = near[word]; bits != 0u; bits &= bits - 1u) {
+                uint c = word * 32u + uint(findLSB(bits));
                 for (int k = 0; k < CONTACT_SAMPLES; ++k) {
                     vec4 d = collider_distance(near_colliders[c], contact_sample(p, CONTACT_SAMPLE_WEIGHTS[k]));
                     if (d.x < 0.0 && (sample_index < 0 || -d.x > depth)) {
@@ -121,6 +125,7 @@ bool resolve_contacts(GrassBlade b, inout GrassState s, float pressed, inout Pos
                         surface_velocity = near_colliders[c].velocity.xyz;
                     }
                 }
+              }
             }
         }
         if (sample_index < 0) {

@@ -220,16 +220,17 @@ void ground_contact(inout GrassState s, GrassState before) {
 }
 
 // Defined in contact.glsl, which needs the pose above.
-bool resolve_contacts(GrassBlade b, inout GrassState s, float pressed, inout Pose p, uint colliders);
+bool resolve_contacts(GrassBlade b, inout GrassState s, float pressed, inout Pose p, uvec4 near);
 float press_give(float pressed);
 
 // One simulation step in `substeps` symplectic Euler substeps of h:
 // omega' = omega + (N / I) h, theta' = theta + omega' h, the damping in N
-// taken at (omega + omega') / 2. A blade in the pressed state `pressed`,
-// near `colliders` of the workgroup's list, resolves its contacts after
-// each substep (`grass::step_touching`); returns whether it touched one.
+// taken at (omega + omega') / 2. A blade in the pressed state `pressed`, or
+// near colliders of the workgroup's list (the bits of `near`), resolves its
+// contacts after each substep (`grass::step_touching`); returns whether it
+// touched one.
 bool blade_step(GrassBlade b, inout GrassState s, vec3 wind, float h, uint substeps,
-                float pressed, uint colliders) {
+                float pressed, uvec4 near) {
     wind = guard_wind(wind);
     float give = press_give(pressed);
     bool touched = false;
@@ -256,8 +257,8 @@ bool blade_step(GrassBlade b, inout GrassState s, vec3 wind, float h, uint subst
             ground_contact(s, before);
             p = blade_pose(b, s.angle, pressed);
         }
-        if (colliders > 0u || pressed != 0.0) {
-            touched = resolve_contacts(b, s, pressed, p, colliders) || touched;
+        if (any(notEqual(near, uvec4(0u))) || pressed != 0.0) {
+            touched = resolve_contacts(b, s, pressed, p, near) || touched;
         }
     }
     return touched;

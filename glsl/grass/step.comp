@@ -115,12 +115,19 @@ void main() {
     }
     // The collider count is uniform, so the whole workgroup gathers or none.
     uint collider_count = uint(pc.contact.z);
-    uint near = 0u;
+    uvec4 near = uvec4(0u);
     if (collider_count > 0u) {
         vec3 root = in_range ? b.rest[0].xyz : vec3(0.0);
         float reach = in_range ? blade_reach(b) : 0.0;
         gather_near_colliders(in_range, root, reach, collider_count);
-        near = near_collider_count;
+        // This blade's own near colliders (`ColliderState::near`), as bits
+        // of the workgroup's list: most blades of a workgroup that meets a
+        // collider are out of its reach, and skip the contact entirely.
+        for (uint c = 0u; c < near_collider_count; ++c) {
+            if (collider_distance(near_colliders[c], root).x < reach) {
+                near[c >> 5] |= 1u << (c & 31u);
+            }
+        }
     }
     if (!in_range) {
         return;

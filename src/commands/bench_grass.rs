@@ -3,6 +3,11 @@
 //! paper gives for its grass step (8.5 / 16.9 / 25.8 / 33.5 ms for 50K /
 //! 100K / 150K / 200K blades on a GTX 670). The wind is solved for a while
 //! first so that the blades move, and then held: only the grass is timed.
+//!
+//! With `--colliders 0,1,16,128` each count also runs with that many balls
+//! rolling round small loops spread over the field (`bench_colliders`), and
+//! each row says its cost over the collider-free step of the same count in
+//! the same run.
 
 use crate::commands::on_gpu;
 use crate::error::{Error, Result};
@@ -12,7 +17,9 @@ use crate::gpu::query::TimestampQueries;
 use crate::gpu::{Access, Commands, Gpu, GpuOptions, ValidationReport};
 use crate::scene::{field, Scene, MAX_BLADES};
 use crate::sim::canopy;
+use crate::sim::contact::{Collider, ColliderKind, MAX_COLLIDERS};
 use crate::simulate::{GrassPass, WindPass};
+use glam::{Vec2, Vec3};
 
 /// The paper's grass-step times (ms) on a GTX 670, by blade count.
 pub const PAPER_GRASS_MS: [(usize, f64); 4] = [
@@ -28,6 +35,8 @@ const WIND_WARMUP_STEPS: u32 = 30;
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct GrassBenchRow {
     pub blades: usize,
+    /// Colliders rolling through the field (beside the scene's own).
+    pub colliders: usize,
     pub substeps: u32,
     /// Timed steps (after `warmup` untimed ones).
     pub steps: u32,
@@ -45,6 +54,9 @@ pub struct GrassBenchRow {
     pub floor_ms: Option<f64>,
     /// The median step over the floor.
     pub over_floor: Option<f64>,
+    /// The median step over the same count's without colliders, where
+    /// both ran (the goal: at most 2 at 128 colliders).
+    pub over_collider_free: Option<f64>,
 }
 
 /// The device's copy bandwidth: one buffer copied into another with
@@ -70,10 +82,12 @@ pub struct GrassBench {
     pub validation: ValidationReport,
 }
 
-/// Times `steps` grass steps (after `warmup`) of `scene` at each count.
+/// Times `steps` grass steps (after `warmup`) of `scene` at each count,
+/// with each number of `colliders` (`&[0]`: the scene as it is).
 pub fn bench_grass(
     scene: &Scene,
     counts: &[usize],
+    colliders: &[usize],
     steps: u32,
     warmup: u32,
     options: &GpuOptions,
@@ -88,14 +102,28 @@ pub fn bench_grass(
             "--steps {steps} / --warmup {warmup} are not allowed, use 1..=10000 and 0..=10000"
         )));
     }
+    if colliders.is_empty()
+        || colliders
+            .iter()
+            .any(|&n| n + scene.colliders.len() > MAX_COLLIDERS)
+    {
+        return Err(Error::InvalidInput(format!(
+            "collider counts {colliders:?} are not allowed with the scene's {}, use 0..={} each",
+            scene.colliders.len(),
+            MAX_COLLIDERS - scene.colliders.len()
+        )));
+    }
     scene.wind_grid()?;
     scene.grass.dynamics.validate()?;
     let ((rows, copy_bandwidth, info), validation) = on_gpu(options, |gpu| {
         let copy = copy_bandwidth(gpu)?;
-        let rows = counts
-            .iter()
-            .map(|&n| bench_count(gpu, scene, n, steps, warmup, copy.as_ref()))
-            .collect::<Result<Vec<_>>>()?;
+        let mut rows = Vec::new();
+        for &n in counts {
+            for &c in colliders {
+                rows.push(bench_count(gpu, scene, n, c, steps, warmup, copy.as_ref())?);
+            }
+        }
+        compare_with_collider_free(&mut rows);
         Ok((rows, copy, gpu.info().clone()))
     })?;
     let bench = GrassBench {
@@ -110,10 +138,61 @@ pub fn bench_grass(
     Ok(bench)
 }
 
+/// Each row's median over the collider-free row of its blade count.
+fn compare_with_collider_free(rows: &mut [GrassBenchRow]) {
+    let free: Vec<(usize, Option<f64>)> = rows
+        .iter()
+        .filter(|r| r.colliders == 0)
+        .map(|r| (r.blades, r.step_ms_median))
+        .collect();
+    for row in rows.iter_mut() {
+        row.over_collider_free = free
+            .iter()
+            .find(|(blades, _)| *blades == row.blades)
+            .and_then(|(_, ms)| *ms)
+            .zip(row.step_ms_median)
+            .filter(|(free, _)| *free > 0.0)
+            .map(|(free, ms)| ms / free);
+    }
+}
+
+/// `n` balls 0.3 m in radius, each rolling at 1.5 m/s round its own 2 m
+/// square loop, their loops spread over the field from `lo` to `hi`
+/// (x, z) on a lattice as square as `n` allows: the load of many walkers
+/// and balls in one meadow.
+pub fn bench_colliders(n: usize, lo: Vec2, hi: Vec2) -> Vec<Collider> {
+    let across = (n as f32).sqrt().ceil().max(1.0) as usize;
+    let rows = n.div_ceil(across).max(1);
+    let cell = (hi - lo) / Vec2::new(across as f32, rows as f32);
+    (0..n)
+        .map(|i| {
+            let centre =
+                lo + cell * Vec2::new((i % across) as f32 + 0.5, (i / across) as f32 + 0.5);
+            let corner = |dx: f32, dz: f32| Vec3::new(centre.x + dx, 0.3, centre.y + dz);
+            Collider {
+                kind: ColliderKind::Sphere,
+                radius: 0.3,
+                height: 0.0,
+                position: Vec3::ZERO,
+                path: vec![
+                    corner(-1.0, -1.0),
+                    corner(1.0, -1.0),
+                    corner(1.0, 1.0),
+                    corner(-1.0, 1.0),
+                ],
+                path_speed: 1.5,
+                closed: true,
+                roll: true,
+            }
+        })
+        .collect()
+}
+
 fn bench_count(
     gpu: &Gpu,
     scene: &Scene,
     count: usize,
+    colliders: usize,
     steps: u32,
     warmup: u32,
     copy: Option<&CopyBandwidth>,
@@ -121,6 +200,16 @@ fn bench_count(
     let mut scene = scene.clone();
     scene.set_blade_count(count)?;
     let blades = scene.field()?;
+    if colliders > 0 {
+        let (lo, hi) = blades.iter().fold(
+            (Vec2::splat(f32::INFINITY), Vec2::splat(f32::NEG_INFINITY)),
+            |(lo, hi), b| {
+                let root = Vec2::new(b.rest[0].x, b.rest[0].z);
+                (lo.min(root), hi.max(root))
+            },
+        );
+        scene.colliders.extend(bench_colliders(colliders, lo, hi));
+    }
     let dynamic = field::dynamic_blades(&blades, &scene.grass.dynamics, scene.seed)?;
     gpu.check_fits(
         &format!("{count} blades"),
@@ -186,7 +275,9 @@ fn bench_count(
             .zip(timing)
             .filter(|(f, _)| *f > 0.0)
             .map(|(f, t)| t.0 / f),
+        over_collider_free: None,
         blades: count,
+        colliders,
         substeps: grass.substeps(),
         steps,
         warmup,
