@@ -240,6 +240,7 @@ fn reproduce_quick_renders_every_figure_validation_clean_with_both_indexes() {
         "Fig. 12",
         "Fig. 13",
         "Beyond the paper: gusts that travel",
+        "Beyond the paper: touch",
     ] {
         assert!(
             md.contains(&format!("## {title}")),
@@ -257,8 +258,8 @@ fn reproduce_quick_renders_every_figure_validation_clean_with_both_indexes() {
         .skip(1)
         .map(|rest| &rest[..rest.find(')').unwrap()])
         .collect();
-    // 14 shots' frames and the gust strip's space-time diagram.
-    assert_eq!(links.len(), 15, "{links:?}");
+    // 16 shots' frames and the gust strip's space-time diagram.
+    assert_eq!(links.len(), 17, "{links:?}");
     let (svgs, pngs): (Vec<&str>, Vec<&str>) = links.iter().partition(|l| l.ends_with(".svg"));
     assert_eq!(svgs, ["gusts/space_time.svg"]);
     for link in &pngs {
@@ -291,7 +292,7 @@ fn reproduce_quick_renders_every_figure_validation_clean_with_both_indexes() {
             }
         }
     }
-    assert_eq!(shots, 12, "one report per shot");
+    assert_eq!(shots, 14, "one report per shot");
     seen.assert_accepted();
     let _ = std::fs::remove_dir_all(&out);
 }

@@ -26,6 +26,9 @@ struct Budget {
     gust_seconds: f64,
     gust_skip: f64,
     gust_start: f32,
+    /// The rolling ball: the picture's time (the ball entered the meadow
+    /// at 0.5 s; its trail lies behind it).
+    roll_start: f32,
 }
 
 fn budget(quick: bool) -> Budget {
@@ -38,6 +41,7 @@ fn budget(quick: bool) -> Budget {
             gust_seconds: 12.0,
             gust_skip: 4.0,
             gust_start: 6.0,
+            roll_start: 3.0,
         }
     } else {
         Budget {
@@ -48,6 +52,7 @@ fn budget(quick: bool) -> Budget {
             gust_seconds: 30.0,
             gust_skip: 13.0,
             gust_start: 15.0,
+            roll_start: 5.0,
         }
     }
 }
@@ -73,6 +78,7 @@ pub fn plan(quick: bool) -> Result<Vec<Figure>> {
     let lod = Scene::builtin("fig12-lod")?;
     let obstacles = Scene::builtin("fig13-obstacles")?;
     let strip = Scene::builtin("gust-strip")?;
+    let roll = Scene::builtin("roll")?;
     let mut open = obstacles.clone();
     open.wind.obstacles.clear();
     open.name = "fig13-obstacles (obstacles removed)".into();
@@ -176,6 +182,18 @@ pub fn plan(quick: bool) -> Result<Vec<Figure>> {
                     b.gust_skip, b.gust_seconds
                 ),
             }),
+        },
+        Figure {
+            title: "Beyond the paper: touch",
+            paper: "The paper leaves collisions as future work. A ball rolls through the \
+                    meadow in a breeze: the blades it meets are pushed out of it and pressed, \
+                    and rise again behind it as their pressed state decays (docs/physics.md, \
+                    \"Colliders\"). The ball blocks the wind as it moves.",
+            shots: vec![
+                shot("the ball half way", "roll/shaded", &roll, b.roll_start),
+                motion(shot("its trail", "roll/motion", &roll, b.roll_start)),
+            ],
+            diagram: None,
         },
     ])
 }

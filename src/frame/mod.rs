@@ -151,8 +151,7 @@ impl FrameRecorder {
         Renderer::new(
             gpu,
             commands,
-            width,
-            height,
+            (width, height),
             msaa,
             scene.light.shadow_map,
             &scene.wind.obstacles,

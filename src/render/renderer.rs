@@ -41,8 +41,7 @@ impl Renderer {
     pub fn new(
         gpu: &Gpu,
         commands: &Commands,
-        width: u32,
-        height: u32,
+        (width, height): (u32, u32),
         msaa: u32,
         shadow_map: u32,
         obstacles: &[Obstacle],

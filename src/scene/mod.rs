@@ -560,6 +560,7 @@ pub const BUILTIN: &[(&str, &str)] = &[
     ("table1", include_str!("../../scenes/table1.toml")),
     ("gust-strip", include_str!("../../scenes/gust-strip.toml")),
     ("prairie", include_str!("../../scenes/prairie.toml")),
+    ("roll", include_str!("../../scenes/roll.toml")),
 ];
 
 /// How far above the ground a root is tested against the obstacles: a box
