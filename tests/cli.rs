@@ -629,12 +629,19 @@ fn bench_grass_times_small_counts_and_refuses_bad_ones() {
         &[],
         "blade count \"zero\" is not a count",
     );
+    assert_refused(
+        &["bench-grass", "--blades", "1k", "--colliders", "0,200"],
+        &[],
+        "a step simulates at most 128 colliders",
+    );
     let out = temp_out("bench-grass");
     let result = meadow(
         &[
             "bench-grass",
             "--blades",
             "1k,2k",
+            "--colliders",
+            "0,3",
             "--steps",
             "3",
             "--warmup",
@@ -649,9 +656,24 @@ fn bench_grass_times_small_counts_and_refuses_bad_ones() {
     let bench = read_json(&out.join("grass_bench.json"));
     assert_eq!(bench["validation"]["errors"], 0);
     let rows = bench["rows"].as_array().unwrap();
-    assert_eq!(rows.len(), 2);
-    for (row, blades) in rows.iter().zip([1000, 2000]) {
+    // Each count without and with 3 balls; each row's cost over the
+    // collider-free row of its count.
+    assert_eq!(rows.len(), 4);
+    for (row, (blades, colliders)) in rows
+        .iter()
+        .zip([(1000, 0), (1000, 3), (2000, 0), (2000, 3)])
+    {
         assert_eq!(row["blades"], blades);
+        assert_eq!(row["colliders"], colliders);
+        if let Some(ms) = row["step_ms_median"].as_f64() {
+            let free = rows
+                .iter()
+                .find(|r| r["blades"] == blades && r["colliders"] == 0)
+                .unwrap();
+            let over = row["over_collider_free"].as_f64().unwrap();
+            let expect = ms / free["step_ms_median"].as_f64().unwrap();
+            assert!((over - expect).abs() <= 1e-9 * expect, "{row}");
+        }
         assert_eq!(row["steps"], 3);
         assert!(row["substeps"].as_u64().unwrap() >= 1);
         // Timestamps exist on lavapipe; where they do, times are positive.

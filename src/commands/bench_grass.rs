@@ -108,7 +108,7 @@ pub fn bench_grass(
             .any(|&n| n + scene.colliders.len() > MAX_COLLIDERS)
     {
         return Err(Error::InvalidInput(format!(
-            "collider counts {colliders:?} are not allowed with the scene's {}, use 0..={} each",
+            "--colliders {colliders:?} is not allowed: a step simulates at most {MAX_COLLIDERS} colliders and the scene has {} of its own; use 0..={} each",
             scene.colliders.len(),
             MAX_COLLIDERS - scene.colliders.len()
         )));
