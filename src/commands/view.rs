@@ -294,9 +294,7 @@ impl Live {
 
     /// Simulated time so far.
     fn time(&self) -> f64 {
-        self.recorder
-            .simulation()
-            .map_or(0.0, |s| s.steps_done() as f64 * s.dt() as f64)
+        self.recorder.simulation().map_or(0.0, |s| s.time_after(0))
     }
 
     fn dt(&self) -> f64 {

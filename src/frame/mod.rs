@@ -317,8 +317,7 @@ impl FrameRecorder {
         self.renderer.set_uniforms(uniforms);
         // The colliders are drawn where the blades see them after the steps.
         if let Some(s) = &self.simulation {
-            self.renderer
-                .place_colliders(((s.steps_done() + steps) as f64 * s.dt() as f64) as f32);
+            self.renderer.place_colliders(s.time_after(steps) as f32);
         }
         // Two spans per simulation step, six for the frame's own phases.
         if let Some(timer) = self.timer.as_mut() {

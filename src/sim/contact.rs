@@ -195,11 +195,9 @@ impl Collider {
             return Quat::IDENTITY;
         }
         // Whole laps of a closed path first: one lap's turn, taken as many
-        // times, as one rotation about its axis.
-        let (mut q, mut left) = (
-            Quat::IDENTITY,
-            travelled.min(if self.closed { f32::INFINITY } else { lap }),
-        );
+        // times, as one rotation about its axis. (An open path's travel
+        // stops at its end: `along_path` never says more than a lap.)
+        let (mut q, mut left) = (Quat::IDENTITY, travelled);
         if self.closed && left >= lap {
             let laps = (left / lap).floor();
             let one = (0..segments).fold(Quat::IDENTITY, |q, i| {

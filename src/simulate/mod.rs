@@ -71,10 +71,16 @@ impl Simulation {
         Ok((target as u64).saturating_sub(self.steps_done))
     }
 
+    /// Simulated time (s) once `steps` more steps are done: what the
+    /// blade buffer shows then.
+    pub fn time_after(&self, steps: u64) -> f64 {
+        (self.steps_done + steps) as f64 * self.dt as f64
+    }
+
     /// Records the wind half of the next step (paper section 3.2).
     pub fn record_wind_step(&self, rec: &Recording) {
-        let time = (self.steps_done as f64 * self.dt as f64) as f32;
-        self.wind.record_step(rec, time, self.dt);
+        self.wind
+            .record_step(rec, self.time_after(0) as f32, self.dt);
     }
 
     /// Records the grass half of the next step (paper section 4), which
