@@ -36,6 +36,7 @@ fn ball(path: Vec<Vec3>, speed: f32) -> Collider {
         path_speed: speed,
         closed: false,
         roll: false,
+        ..Default::default()
     }
 }
 

@@ -338,6 +338,7 @@ fn gpu_and_cpu_agree_on_colliders_pressing_the_grass() {
         path_speed: 0.6,
         closed: false,
         roll: true,
+        ..Default::default()
     };
     let walker = Collider {
         kind: ColliderKind::Capsule,
@@ -348,6 +349,7 @@ fn gpu_and_cpu_agree_on_colliders_pressing_the_grass() {
         path_speed: 0.0,
         closed: false,
         roll: false,
+        ..Default::default()
     };
     let colliders = vec![ball, walker];
     // Long enough for the ball to enter the bunch and press 84 blades. The
@@ -432,4 +434,137 @@ fn gpu_and_cpu_agree_on_colliders_pressing_the_grass() {
     assert!(position < 6e-5, "control points differ by {position:e} m");
     assert!(angle < 1.2e-4, "angles differ by {angle:e} rad");
     assert!(pressed < 1e-5, "pressed states differ by {pressed:e}");
+}
+
+/// The colliders changed between steps (the viewer's ball steered, then
+/// taken away) reach the GPU kernel as they reach the CPU reference: a
+/// ball rolls in for 40 steps, turns to a new heading from where it is
+/// (`start`: it sets off again at that time), and after 80 steps every
+/// collider is gone, so the pressed blades rise as their states decay.
+#[test]
+fn colliders_changed_between_steps_reach_the_gpu_kernel() {
+    use meadow::sim::contact::{Collider, ColliderKind};
+    let (scene, blades) = few_bunches();
+    let grid = small_grid(&scene, [24, 8, 24]);
+    let settings = turning_gusts(&scene, 2.0, 10.0);
+    let ball = Collider {
+        kind: ColliderKind::Sphere,
+        radius: 0.15,
+        path: vec![Vec3::new(-0.4, 0.15, -0.25), Vec3::new(0.5, 0.15, -0.25)],
+        path_speed: 0.6,
+        roll: true,
+        ..Default::default()
+    };
+    // Where the ball is when the turn comes, and its new heading.
+    const TURN: usize = 40;
+    const AWAY: usize = 80;
+    const STEPS: usize = 110;
+    let turn_time = end_time(TURN - 1);
+    let (here, _, _) = ball.motion_at(turn_time);
+    let turned = Collider {
+        path: vec![here, here + Vec3::new(0.2, 0.0, 0.6)],
+        start: turn_time,
+        turned: ball.orientation_at(turn_time),
+        ..ball.clone()
+    };
+    let schedule = |step: usize| -> Vec<Collider> {
+        match step {
+            s if s < TURN => vec![ball.clone()],
+            s if s < AWAY => vec![turned.clone()],
+            _ => Vec::new(),
+        }
+    };
+
+    let mut wind = WindField::new(grid, &settings);
+    for _ in 0..20 {
+        wind.step(&settings, DT);
+    }
+    let recorded: Vec<f32> = wind.vel.iter().flatten().copied().collect();
+    let cpu_run = |change: bool| {
+        let mut cpu = GrassField::new(blades.clone(), DT)
+            .unwrap()
+            .with_colliders(schedule(0));
+        for step in 0..STEPS {
+            if change {
+                cpu.colliders = schedule(step);
+            }
+            cpu.step(|x| wind.sample(x));
+        }
+        cpu
+    };
+    let cpu = cpu_run(true);
+    let unchanged = cpu_run(false);
+
+    let gpu = strict_gpu();
+    let commands = Commands::new(&gpu, "changed colliders test commands").unwrap();
+    let wind_buffer = recorded_wind(&gpu, &commands, "recorded wind", &recorded);
+    let blade_buffer =
+        BladeBuffer::uninitialised(&gpu, "changed colliders test vertices", blades.len()).unwrap();
+    let mut pass = GrassPass::new(
+        &gpu,
+        &commands,
+        &blades,
+        blade_buffer.buffer(),
+        &recorded_input(&wind_buffer, grid),
+        &schedule(0),
+        DT,
+    )
+    .unwrap();
+    for (from, to) in [(0, TURN), (TURN, AWAY), (AWAY, STEPS)] {
+        pass.set_colliders(&gpu, &commands, &schedule(from))
+            .unwrap();
+        let rec = commands.begin().unwrap();
+        for step in from..to {
+            pass.record_step(&rec, 0, end_time(step));
+        }
+        rec.submit_and_wait("grass steps with changing colliders")
+            .unwrap();
+    }
+    let states = pass.read_states(&gpu, &commands).unwrap();
+    let presses = pass.read_presses(&gpu, &commands).unwrap();
+    let gpu_vertices: Vec<BladeVertex> = blade_buffer
+        .buffer()
+        .read_back(&gpu, &commands, blades.len() * 4)
+        .unwrap();
+    drop((pass, blade_buffer, wind_buffer, commands));
+    finish(gpu);
+
+    let cpu_vertices = cpu.vertices();
+    let d = Differences::between(&gpu_vertices, &states, &cpu_vertices, &cpu.states);
+    let change = Differences::between(
+        &unchanged.vertices(),
+        &unchanged.states,
+        &cpu_vertices,
+        &cpu.states,
+    );
+    let pressed_left = cpu.pressed.iter().map(|p| p.pressed).fold(0.0, f32::max);
+    let mut pressed = 0.0f32;
+    for (g, c) in presses.iter().zip(&cpu.pressed) {
+        pressed = pressed.max((g.pressed - c.pressed).abs());
+    }
+    eprintln!(
+        "changed colliders, GPU vs CPU after {STEPS} steps: control points {:e} m, angles {:e} \
+         rad, pressed {pressed:e}; the change itself moves control points {} m; pressed state \
+         left after the colliders went: {pressed_left}",
+        d.position, d.angle, change.position
+    );
+    // The bounds of the fixed-collider test above.
+    assert!(
+        d.position < 6e-5,
+        "control points differ by {:e} m",
+        d.position
+    );
+    assert!(d.angle < 1.2e-4, "angles differ by {:e} rad", d.angle);
+    assert!(pressed < 1e-5, "pressed states differ by {pressed:e}");
+    assert!(
+        change.position > 1e3 * 6e-5,
+        "the change moved no blade ({} m): the test sees nothing",
+        change.position
+    );
+    // The pressed states decay once the colliders are gone, and are not
+    // yet at rest: both the decay and its start are compared.
+    assert!(
+        pressed_left > 0.05 && pressed_left < 0.9,
+        "pressed state {pressed_left} after the colliders went"
+    );
 }

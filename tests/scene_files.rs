@@ -368,6 +368,30 @@ fn malformed_scene_files_are_refused_with_line_column_field_and_range() {
             19,
             "wind.source[0].path[1]: has 4 values, use exactly 3",
         ),
+        (
+            "a sphere with a height",
+            plus("[[collider]]\nkind = \"sphere\"\nradius = 0.3\nheight = 1.0\nposition = [0.0, 0.3, 0.0]"),
+            17,
+            "collider[0].height: is for capsules",
+        ),
+        (
+            "a ball sunk into the ground",
+            plus("[[collider]]\nkind = \"sphere\"\nradius = 0.3\nposition = [0.0, 0.1, 0.0]"),
+            17,
+            "collider[0].position: reaches 0.200 m below the ground",
+        ),
+        (
+            "a rolling capsule",
+            plus("[[collider]]\nkind = \"capsule\"\nradius = 0.3\nheight = 1.0\nroll = true"),
+            18,
+            "collider[0].roll: is for spheres",
+        ),
+        (
+            "a collider setting off before time begins",
+            plus("[[collider]]\nkind = \"sphere\"\nradius = 0.3\nposition = [0.0, 0.3, 0.0]\nstart = -1.0"),
+            18,
+            "collider[0].start: -1 is not allowed, use 0 ..= 1e6 s",
+        ),
     ];
     assert!(cases.len() >= 15);
     let mut wrong = Vec::new();

@@ -255,6 +255,7 @@ fn ball(radius: f32, path: Vec<Vec3>, path_speed: f32) -> Collider {
         path_speed,
         closed: false,
         roll: true,
+        ..Default::default()
     }
 }
 

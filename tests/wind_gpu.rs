@@ -72,6 +72,7 @@ fn two_sources_one_obstacle() -> WindSettings {
                 path_speed: 2.5,
                 closed: true,
                 roll: true,
+                ..Default::default()
             },
             Collider {
                 kind: ColliderKind::Capsule,
@@ -82,6 +83,7 @@ fn two_sources_one_obstacle() -> WindSettings {
                 path_speed: 1.4,
                 closed: false,
                 roll: false,
+                ..Default::default()
             },
         ],
         ..Default::default()

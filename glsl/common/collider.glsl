@@ -14,7 +14,7 @@ const vec3 COLLIDER_UP = vec3(0.0, 1.0, 0.0);
 struct Collider {
     vec4 position_radius;  // xyz: position without a path; w: radius
     vec4 shape;            // x: 0 sphere, 1 capsule; y: height; z: path points; w: path speed
-    vec4 flags;            // x: 1 when the path is closed
+    vec4 flags;            // x: 1 when the path is closed; y: the time it sets off (s)
     vec4 path[PATH_POINTS];
 };
 
@@ -29,8 +29,10 @@ struct ColliderState {
 // `Collider::motion_at` and `Collider::at`: position and velocity at time t.
 ColliderState collider_at(Collider c, float t) {
     vec3 velocity;
-    vec3 p = along_path(c.path, uint(c.shape.z), c.shape.w, c.flags.x != 0.0, max(t, 0.0),
-                        c.position_radius.xyz, velocity);
+    // Until it sets off (flags.y) it waits, still, at its first point.
+    bool waiting = t < c.flags.y;
+    vec3 p = along_path(c.path, uint(c.shape.z), waiting ? 0.0 : c.shape.w, c.flags.x != 0.0,
+                        max(t - c.flags.y, 0.0), c.position_radius.xyz, velocity);
     float r = c.position_radius.w;
     ColliderState st;
     if (c.shape.x == 0.0) {

@@ -17,7 +17,8 @@ layout(push_constant, std430) uniform Push {
     uvec4 control;   // x: blades, y: substeps, z: offset (floats) of the wind velocity copy to sample,
                      // w: 1 to lay the canopy's frontal area (two-way coupling)
     vec4 step;       // x: simulation step dt (s), y: substep h = dt / substeps (s), z: m^2 per canopy count
-    vec4 contact;    // x: time at the step's end (s), y: the pressed state's decay per step, z: colliders
+    vec4 contact;    // x: time at the step's end (s), y: the pressed state's decay per step, z: colliders,
+                     // w: 1 where each blade has a pressed state (made with colliders)
 } pc;
 
 layout(set = 0, binding = 0, std430) readonly buffer Blades { GrassBlade blades[]; };
@@ -36,7 +37,7 @@ layout(set = 0, binding = 4, std430) buffer Caps { uint caps[]; };
 // coupling; `deposit` in src/sim/canopy.rs), which the wind cleared.
 layout(set = 0, binding = 5, std430) buffer Canopy { uint canopy[]; };
 // Each blade's pressed state (`Press` in src/sim/contact.rs) and the scene's
-// colliders; placeholders the kernel never touches when there are none.
+// colliders; placeholders the kernel never touches when made without.
 layout(set = 0, binding = 6, std430) buffer Presses { Press presses[]; };
 layout(set = 0, binding = 7, std430) readonly buffer Colliders { Collider colliders[]; };
 
@@ -133,8 +134,10 @@ void main() {
         return;
     }
     GrassState s = states[id];
+    // Pressed states live on while the colliders are away, and decay.
+    bool presses_live = pc.contact.w != 0.0;
     Press press = Press(0.0, 0.0);
-    if (collider_count > 0u) {
+    if (presses_live) {
         press = presses[id];
     }
     // The wind only at the tip (paper section 4), as the last step left it.
@@ -143,7 +146,7 @@ void main() {
     float pressed = press_next(press, pc.step.x, pc.contact.y);
     bool touched = blade_step(b, s, felt, pc.step.y, pc.control.y, pressed, near);
     states[id] = s;
-    if (collider_count > 0u) {
+    if (presses_live) {
         presses[id] = Press(pressed, touched ? 1.0 : 0.0);
     }
     bool capped = false;

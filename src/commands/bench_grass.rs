@@ -183,6 +183,7 @@ pub fn bench_colliders(n: usize, lo: Vec2, hi: Vec2) -> Vec<Collider> {
                 path_speed: 1.5,
                 closed: true,
                 roll: true,
+                ..Default::default()
             }
         })
         .collect()

@@ -18,6 +18,7 @@ use crate::gpu::{Commands, Gpu, OverlayDraw, OverlayRenderer, Recording, Swapcha
 use crate::render::cull::{BladeDraw, CullPass};
 use crate::render::{FrameUniforms, Renderer};
 use crate::scene::{Scene, ViewMode};
+use crate::sim::contact::Collider;
 use crate::sim::{Blade, GrassBlade};
 use crate::simulate::Simulation;
 
@@ -216,6 +217,22 @@ impl FrameRecorder {
                 "blades at rest have no wind to change".into(),
             )),
         }
+    }
+
+    /// The colliders from the next frame on, pressing the grass, pushing
+    /// the air and drawn (the viewer's ball). A recorder made without
+    /// colliders, or without dynamics, refuses any. Uploads and waits.
+    pub fn set_colliders(&mut self, gpu: &Gpu, colliders: &[Collider]) -> Result<()> {
+        match self.simulation.as_mut() {
+            Some(s) => s.set_colliders(gpu, &self.commands, colliders)?,
+            None if colliders.is_empty() => {}
+            None => {
+                return Err(Error::InvalidInput(
+                    "blades at rest cannot be pressed by colliders".into(),
+                ))
+            }
+        }
+        self.renderer.set_colliders(gpu, &self.commands, colliders)
     }
 
     pub fn renderer(&self) -> &Renderer {

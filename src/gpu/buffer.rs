@@ -100,6 +100,30 @@ impl Buffer {
             usage | vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::GpuOnly,
         )?;
+        dst.upload(gpu, commands, name, bytes, Access::NONE, then)?;
+        Ok(dst)
+    }
+
+    /// Overwrites the start of a buffer made with TRANSFER_DST with
+    /// `bytes` through a staging copy, after `before` (the accesses that
+    /// last touched it) and visible to `then`. Blocks until the copy is
+    /// done: call between submissions.
+    pub fn upload(
+        &self,
+        gpu: &Gpu,
+        commands: &Commands,
+        name: &str,
+        bytes: &[u8],
+        before: Access,
+        then: Access,
+    ) -> Result<()> {
+        if bytes.len() as u64 > self.size {
+            return Err(Error::InvalidInput(format!(
+                "{} bytes do not fit the {}-byte buffer {name:?}",
+                bytes.len(),
+                self.size
+            )));
+        }
         let mut staging = Buffer::new(
             gpu,
             &format!("{name} (staging)"),
@@ -109,10 +133,13 @@ impl Buffer {
         )?;
         staging.write(0, bytes);
         let rec = commands.begin()?;
-        rec.copy_buffer(&staging, &dst, dst.size);
-        rec.buffer_barrier(&dst, Access::COPY_WRITE, then);
+        if before != Access::NONE {
+            rec.buffer_barrier(self, before, Access::COPY_WRITE);
+        }
+        rec.copy_buffer(&staging, self, bytes.len() as u64);
+        rec.buffer_barrier(self, Access::COPY_WRITE, then);
         rec.submit_and_wait(&format!("uploading {name}"))?;
-        Ok(dst)
+        Ok(())
     }
 
     /// Copies the first `count` values of a device buffer (made with

@@ -221,8 +221,9 @@ pub fn collider_placement(collider: &Collider, t: f32) -> Placement {
 /// scene has neither.
 pub struct ObstacleMeshes {
     vertices: Option<Buffer>,
-    /// The obstacles' vertices, from the first (in world space).
-    fixed: u32,
+    /// The obstacles' triangles (in world space), first in the buffer;
+    /// kept to rebuild the buffer when the colliders change shape.
+    fixed: Vec<ObstacleVertex>,
     /// Each collider's vertices in the buffer (in its own frame), where it
     /// is drawn this frame, and what it is.
     colliders: Vec<(Range<u32>, Placement, Collider)>,
@@ -235,8 +236,16 @@ impl ObstacleMeshes {
         obstacles: &[Obstacle],
         colliders: &[Collider],
     ) -> Result<Self> {
-        let mut triangles = mesh(obstacles);
-        let fixed = triangles.len() as u32;
+        Self::build(gpu, commands, mesh(obstacles), colliders)
+    }
+
+    fn build(
+        gpu: &Gpu,
+        commands: &Commands,
+        fixed: Vec<ObstacleVertex>,
+        colliders: &[Collider],
+    ) -> Result<Self> {
+        let mut triangles = fixed.clone();
         let mut placed = Vec::with_capacity(colliders.len());
         for c in colliders {
             let first = triangles.len() as u32;
@@ -266,6 +275,36 @@ impl ObstacleMeshes {
         })
     }
 
+    /// Draws `colliders` from now on: where they have the shapes of those
+    /// drawn so far, only their motion changes; else their meshes are
+    /// made anew (uploads and waits: call between submissions).
+    pub fn set_colliders(
+        &mut self,
+        gpu: &Gpu,
+        commands: &Commands,
+        colliders: &[Collider],
+    ) -> Result<()> {
+        let same_shape = |a: &Collider, b: &Collider| {
+            (a.kind, a.radius, a.height) == (b.kind, b.radius, b.height)
+        };
+        let reshaped = colliders.len() != self.colliders.len()
+            || colliders
+                .iter()
+                .zip(&self.colliders)
+                .any(|(new, (_, _, old))| !same_shape(new, old));
+        if reshaped {
+            let fixed = std::mem::take(&mut self.fixed);
+            // The old buffer goes once the new one is made (no frame is in
+            // flight between submissions).
+            *self = Self::build(gpu, commands, fixed, colliders)?;
+        } else {
+            for (new, (_, _, old)) in colliders.iter().zip(&mut self.colliders) {
+                *old = new.clone();
+            }
+        }
+        Ok(())
+    }
+
     /// Places the colliders where they are at simulated time `t` (s), for
     /// the frames recorded from now on.
     pub fn place_colliders(&mut self, t: f32) {
@@ -280,14 +319,14 @@ impl ObstacleMeshes {
         if let Some(vertices) = &self.vertices {
             rec.bind_pipeline(pipeline);
             rec.bind_vertex_buffer(vertices);
-            if self.fixed > 0 {
+            if !self.fixed.is_empty() {
                 rec.push_constants(
                     pipeline,
                     &Placement {
                         model: Mat4::IDENTITY,
                     },
                 );
-                rec.draw_range(0..self.fixed);
+                rec.draw_range(0..self.fixed.len() as u32);
             }
             for (range, placement, _) in &self.colliders {
                 rec.push_constants(pipeline, placement);
@@ -386,6 +425,7 @@ mod tests {
             path_speed: 1.2,
             closed: true,
             roll: true,
+            ..Default::default()
         };
         let walker = Collider {
             kind: ColliderKind::Capsule,

@@ -114,6 +114,18 @@ impl Renderer {
         self.obstacles.place_colliders(t);
     }
 
+    /// Draws `colliders` from now on (the viewer's ball coming, going,
+    /// steered). Uploads and waits where their shapes change: call between
+    /// submissions.
+    pub fn set_colliders(
+        &mut self,
+        gpu: &Gpu,
+        commands: &Commands,
+        colliders: &[Collider],
+    ) -> Result<()> {
+        self.obstacles.set_colliders(gpu, commands, colliders)
+    }
+
     /// The frame uniforms both passes (and the cull pass) read.
     pub fn uniforms(&self) -> &Buffer {
         &self.uniforms

@@ -517,6 +517,12 @@ fn collider(c: &Collider) -> Check {
     }
     finite("position", &c.position.to_array())?;
     path(&c.path, c.path_speed)?;
+    if !(c.start.is_finite() && (0.0..=1e6).contains(&c.start)) {
+        return Err(FieldError::new(
+            "start",
+            format!("{} is not allowed, use 0 ..= 1e6 s", c.start),
+        ));
+    }
     let lowest = c.lowest();
     if lowest < -1e-4 {
         return Err(FieldError::new(

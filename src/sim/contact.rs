@@ -80,10 +80,11 @@ const fn bernstein(u: f32) -> [f32; 4] {
 }
 
 /// A collider's shape.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum ColliderKind {
     /// A ball; `position` is its centre.
+    #[default]
     Sphere,
     /// An upright capsule (a walker, a post); `position` is its lowest
     /// point, `height` its whole height, caps included.
@@ -92,7 +93,7 @@ pub enum ColliderKind {
 
 /// A thing that moves through the meadow (`[[collider]]` in a scene file),
 /// moving like a wind source: at `position`, or along `path`.
-#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Collider {
     pub kind: ColliderKind,
@@ -118,6 +119,15 @@ pub struct Collider {
     /// A sphere turns as it travels (drawn; the contact is the same).
     #[serde(default)]
     pub roll: bool,
+    /// The simulated time (s) it sets off along its path; until then it
+    /// waits at the path's first point.
+    #[serde(default)]
+    pub start: f32,
+    /// How a rolling sphere is turned when it sets off (drawn only; not a
+    /// scene key): the viewer's steered ball carries its turn from one
+    /// stretch to the next.
+    #[serde(skip)]
+    pub turned: Quat,
 }
 
 /// A collider at one instant: the segment a..b swept by `radius` (a == b
@@ -134,11 +144,16 @@ impl Collider {
     /// Its reference point (a sphere's centre, a capsule's lowest point),
     /// velocity and distance travelled at time t.
     pub fn motion_at(&self, t: f32) -> (Vec3, Vec3, f32) {
+        if t < self.start {
+            // Waiting to set off: still, at the first point.
+            let (at, _, _) = along_path(&self.path, 0.0, self.closed, 0.0, self.position);
+            return (at, Vec3::ZERO, 0.0);
+        }
         along_path(
             &self.path,
             self.path_speed,
             self.closed,
-            t.max(0.0),
+            t - self.start,
             self.position,
         )
     }
@@ -161,13 +176,18 @@ impl Collider {
         }
     }
 
-    /// How a rolling sphere is turned at time t (identity for anything
+    /// How a rolling sphere is turned at time t (`turned` for anything
     /// that does not roll): rolling without slipping on level ground, each
     /// stretch of its path turns it about the horizontal axis across its
     /// travel (up x direction) by the ground distance over its radius, so
     /// the point touching the ground stands still. Drawn only; the contact
     /// sees a sphere, whatever its turn.
     pub fn orientation_at(&self, t: f32) -> Quat {
+        (self.turn_along_path(t) * self.turned).normalize()
+    }
+
+    /// The turn since it set off: `orientation_at` without `turned`.
+    fn turn_along_path(&self, t: f32) -> Quat {
         let n = self.path.len();
         if !self.roll || self.kind != ColliderKind::Sphere || n < 2 || self.radius <= 0.0 {
             return Quat::IDENTITY;
@@ -489,7 +509,7 @@ pub struct GpuCollider {
     pub position_radius: [f32; 4],
     /// x: 0 sphere, 1 capsule; y: height; z: path points; w: path speed.
     pub shape: [f32; 4],
-    /// x: 1 when the path is closed.
+    /// x: 1 when the path is closed; y: the time it sets off (s).
     pub flags: [f32; 4],
     pub path: [[f32; 4]; MAX_PATH_POINTS],
 }
@@ -511,7 +531,7 @@ impl From<&Collider> for GpuCollider {
                 c.path.len().min(MAX_PATH_POINTS) as f32,
                 c.path_speed,
             ],
-            flags: [c.closed as u32 as f32, 0.0, 0.0, 0.0],
+            flags: [c.closed as u32 as f32, c.start, 0.0, 0.0],
             path,
         }
     }
@@ -531,6 +551,7 @@ mod tests {
             path_speed: 2.0,
             closed,
             roll: false,
+            ..Default::default()
         }
     }
 
@@ -601,6 +622,51 @@ mod tests {
         assert!(v.distance(back * 2.0) < 1e-5);
         let (p, _, _) = closed.motion_at(total / 2.0 + 0.5);
         assert!(p.distance(square[0] + Vec3::X) < 1e-4, "{p}");
+    }
+
+    /// `start` holds a collider at its first point until then, and a
+    /// ball set off again from where another stretch left it (`turned`, as
+    /// the viewer's steered ball) turns on from that turn: two stretches
+    /// chained give the turn of one path through both.
+    #[test]
+    fn a_collider_waits_for_its_start_and_carries_its_turn_on() {
+        let mut late = ball(
+            vec![Vec3::new(0.0, 0.3, 0.0), Vec3::new(4.0, 0.3, 0.0)],
+            false,
+        );
+        late.start = 1.5;
+        assert_eq!(
+            late.motion_at(1.0),
+            (Vec3::new(0.0, 0.3, 0.0), Vec3::ZERO, 0.0)
+        );
+        let (p, v, _) = late.motion_at(2.0);
+        assert!(
+            p.distance(Vec3::new(1.0, 0.3, 0.0)) < 1e-5 && v == Vec3::X * 2.0,
+            "{p} {v}"
+        );
+
+        let corner = [
+            Vec3::new(0.0, 0.3, 0.0),
+            Vec3::new(2.0, 0.3, 0.0),
+            Vec3::new(2.0, 0.3, 3.0),
+        ];
+        let mut whole = ball(corner.to_vec(), false);
+        whole.roll = true;
+        let mut first = ball(corner[..2].to_vec(), false);
+        first.roll = true;
+        let second = Collider {
+            path: corner[1..].to_vec(),
+            start: 1.0, // 2 m at 2 m/s
+            turned: first.orientation_at(1.0),
+            ..first.clone()
+        };
+        for t in [1.2f32, 2.0, 2.5, 4.0] {
+            let (a, b) = (whole.orientation_at(t), second.orientation_at(t));
+            assert!(a.angle_between(b) < 1e-4, "t {t}: {a} vs {b}");
+            assert!(whole.motion_at(t).0.distance(second.motion_at(t).0) < 1e-5);
+        }
+        // 2 m over a 0.3 m radius: 6.67 rad, 0.38 rad from where it began.
+        assert!(second.turned.angle_between(Quat::IDENTITY) > 0.3);
     }
 
     #[test]

@@ -1,6 +1,8 @@
 //! The colliders as the compute kernels read them (`Collider` in
 //! glsl/common/collider.glsl): the grass step, which they press, and the
-//! wind's forces kernel, whose air they push, each bind a copy.
+//! wind's forces kernel, whose air they push, each bind a copy. The copy
+//! has room for `MAX_COLLIDERS`, so a new set (the viewer's ball) is
+//! written into it in place and the descriptor sets stay as they are.
 
 use ash::vk;
 
@@ -8,14 +10,56 @@ use crate::error::{Error, Result};
 use crate::gpu::{Access, Buffer, Commands, Gpu};
 use crate::sim::contact::{Collider, GpuCollider, MAX_COLLIDERS};
 
-/// `colliders` uploaded as `name`; at least one entry (zeroed) so that the
-/// binding always names a live buffer (the kernels read `count` of them).
+/// `colliders` uploaded as `name` into a buffer with room for
+/// `MAX_COLLIDERS` (the kernels read `count` of them).
 pub fn upload(
     gpu: &Gpu,
     commands: &Commands,
     name: &str,
     colliders: &[Collider],
 ) -> Result<Buffer> {
+    let records = records(colliders)?;
+    let buffer = Buffer::new(
+        gpu,
+        name,
+        (MAX_COLLIDERS * std::mem::size_of::<GpuCollider>()) as u64,
+        vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
+        crate::gpu::MemoryLocation::GpuOnly,
+    )?;
+    buffer.upload(
+        gpu,
+        commands,
+        name,
+        bytemuck::cast_slice(&records),
+        Access::NONE,
+        Access::COMPUTE_READ,
+    )?;
+    Ok(buffer)
+}
+
+/// Writes `colliders` over what `buffer` (made by `upload`) held, after
+/// the kernels' earlier reads. Blocks: call between submissions.
+pub fn rewrite(
+    buffer: &Buffer,
+    gpu: &Gpu,
+    commands: &Commands,
+    name: &str,
+    colliders: &[Collider],
+) -> Result<()> {
+    let records = records(colliders)?;
+    buffer.upload(
+        gpu,
+        commands,
+        name,
+        bytemuck::cast_slice(&records),
+        Access::COMPUTE_READ,
+        Access::COMPUTE_READ,
+    )
+}
+
+/// The GPU records of `colliders`; one zeroed record where there are
+/// none, so that an upload is never empty.
+fn records(colliders: &[Collider]) -> Result<Vec<GpuCollider>> {
     if colliders.len() > MAX_COLLIDERS {
         return Err(Error::InvalidInput(format!(
             "{} colliders cannot be simulated, at most {MAX_COLLIDERS}",
@@ -26,12 +70,5 @@ pub fn upload(
     if records.is_empty() {
         records.push(GpuCollider::default());
     }
-    Buffer::with_data(
-        gpu,
-        commands,
-        name,
-        bytemuck::cast_slice(&records),
-        vk::BufferUsageFlags::STORAGE_BUFFER,
-        Access::COMPUTE_READ,
-    )
+    Ok(records)
 }

@@ -52,7 +52,8 @@ pub struct GrassPush {
     /// count of the canopy buffer.
     pub step: [f32; 4],
     /// x: time at the step's end (s), y: the pressed state's decay per
-    /// step, z: colliders (src/sim/contact.rs).
+    /// step, z: colliders (src/sim/contact.rs), w: 1 where each blade has
+    /// a pressed state (the pass was made with colliders).
     pub contact: [f32; 4],
 }
 
@@ -83,8 +84,8 @@ pub struct GrassPass {
     _no_canopy: Buffer,
     /// Each blade's pressed state (a placeholder without colliders).
     presses: Buffer,
-    /// Held for the set: the scene's colliders (a placeholder without).
-    _colliders: Buffer,
+    /// The colliders, with room for `MAX_COLLIDERS`.
+    colliders: Buffer,
     push: GrassPush,
     blade_count: u32,
 }
@@ -134,7 +135,12 @@ impl GrassPass {
                 wind.canopy.map_or(0.0, |(_, unit)| unit),
                 0.0,
             ],
-            contact: [0.0, press_decay(dt), colliders.len() as f32, 0.0],
+            contact: [
+                0.0,
+                press_decay(dt),
+                colliders.len() as f32,
+                !colliders.is_empty() as u32 as f32,
+            ],
         };
 
         // Host memory first: failing here leaves nothing on the GPU to undo.
@@ -179,7 +185,9 @@ impl GrassPass {
             Access::COMPUTE_READ_WRITE,
         )?;
         let canopy = wind.canopy.map_or(&no_canopy, |(buffer, _)| buffer);
-        // Without colliders the kernel touches neither: one entry each.
+        // Made without colliders, the kernel touches neither: one entry
+        // each. Made with them, each blade keeps a pressed state even when
+        // `set_colliders` takes them all away, so that it decays.
         let press_count = if colliders.is_empty() {
             1
         } else {
@@ -241,7 +249,7 @@ impl GrassPass {
             caps,
             _no_canopy: no_canopy,
             presses,
-            _colliders: colliders_buffer,
+            colliders: colliders_buffer,
             push,
             blade_count,
         })
@@ -249,6 +257,33 @@ impl GrassPass {
 
     pub fn blade_count(&self) -> u32 {
         self.blade_count
+    }
+
+    /// Whether each blade keeps a pressed state (made with colliders).
+    fn presses_live(&self) -> bool {
+        self.push.contact[3] != 0.0
+    }
+
+    /// The colliders from the next step on (the viewer's ball coming,
+    /// going, steered). A pass made without colliders has no pressed
+    /// states to give blades and refuses any. Uploads and waits: call
+    /// between submissions.
+    pub fn set_colliders(
+        &mut self,
+        gpu: &Gpu,
+        commands: &Commands,
+        colliders: &[Collider],
+    ) -> Result<()> {
+        if !colliders.is_empty() && !self.presses_live() {
+            return Err(Error::InvalidInput(
+                "this grass step was made without colliders and keeps no pressed state; \
+                 make it with the colliders it will meet"
+                    .into(),
+            ));
+        }
+        super::colliders::rewrite(&self.colliders, gpu, commands, "grass colliders", colliders)?;
+        self.push.contact[2] = colliders.len() as f32;
+        Ok(())
     }
 
     /// Symplectic Euler substeps per simulation step.
@@ -307,9 +342,10 @@ impl GrassPass {
         })
     }
 
-    /// Every blade's pressed state (for tests; empty without colliders).
+    /// Every blade's pressed state (for tests; empty for a pass made
+    /// without colliders).
     pub fn read_presses(&self, gpu: &Gpu, commands: &Commands) -> Result<Vec<Press>> {
-        if self.push.contact[2] == 0.0 {
+        if !self.presses_live() {
             return Ok(Vec::new());
         }
         self.presses

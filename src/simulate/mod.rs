@@ -13,6 +13,7 @@ pub mod wind_pass;
 use crate::error::{Error, Result};
 use crate::gpu::{Buffer, Commands, Gpu, Recording};
 use crate::scene::Scene;
+use crate::sim::contact::Collider;
 use crate::sim::{canopy, GrassBlade};
 
 pub use grass_pass::GrassPass;
@@ -97,6 +98,20 @@ impl Simulation {
             self.record_wind_step(rec);
             self.record_grass_step(rec);
         }
+    }
+
+    /// The colliders from the next step on, for the grass they press and
+    /// the air they push alike (the viewer's ball). A simulation made
+    /// without colliders refuses any. Uploads and waits: call between
+    /// submissions.
+    pub fn set_colliders(
+        &mut self,
+        gpu: &Gpu,
+        commands: &Commands,
+        colliders: &[Collider],
+    ) -> Result<()> {
+        self.grass.set_colliders(gpu, commands, colliders)?;
+        self.wind.set_colliders(gpu, commands, colliders)
     }
 
     /// Blade-steps at an angle cap so far (docs/physics.md).

@@ -18,6 +18,7 @@ use crate::gpu::{
     PipelineLayout, Recording,
 };
 use crate::shaders::{self, Spirv};
+use crate::sim::contact::Collider;
 use crate::sim::multigrid::{self, Multigrid};
 use crate::sim::wind::{FaceKind, PressureSolver, WindField, WindGrid, WindSettings, WindSource};
 
@@ -444,6 +445,25 @@ impl WindPass {
             drop(old);
             self.settings.sources = sources.to_vec();
         }
+        Ok(())
+    }
+
+    /// The colliders pushing the air from the next step on (the viewer's
+    /// ball). Uploads and waits: call between submissions.
+    pub fn set_colliders(
+        &mut self,
+        gpu: &Gpu,
+        commands: &Commands,
+        colliders: &[Collider],
+    ) -> Result<()> {
+        super::colliders::rewrite(
+            &self.buffers.colliders,
+            gpu,
+            commands,
+            "wind colliders",
+            colliders,
+        )?;
+        self.settings.colliders = colliders.to_vec();
         Ok(())
     }
 
