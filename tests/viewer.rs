@@ -328,3 +328,116 @@ fn ctrl_c_closes_the_window_cleanly_with_the_signals_status() {
     assert!(stderr.contains("interrupted by SIGINT"), "{stderr}");
     let _ = std::fs::remove_dir_all(&out);
 }
+
+/// The centre (x, y) of the strongly red pixels (the ball's red gores) and
+/// their share of the picture.
+fn red_centre(path: &Path) -> Option<((f64, f64), f64)> {
+    let img = image::open(path).unwrap().to_rgb8();
+    let (mut n, mut sx, mut sy) = (0u32, 0.0f64, 0.0f64);
+    for (x, y, p) in img.enumerate_pixels() {
+        if p[0] > 120 && p[0] as u32 > 2 * p[1] as u32 + 20 {
+            n += 1;
+            sx += x as f64;
+            sy += y as f64;
+        }
+    }
+    let share = n as f64 / (img.width() * img.height()) as f64;
+    (n > 0).then(|| ((sx / n as f64, sy / n as f64), share))
+}
+
+/// A pair "(x, z) m" after `prefix` on a line of `stdout`.
+fn ground_after(stdout: &str, prefix: &str) -> (f64, f64) {
+    let line = stdout
+        .lines()
+        .find_map(|l| l.split_once(prefix).map(|(_, rest)| rest))
+        .unwrap_or_else(|| panic!("no {prefix:?} in {stdout}"));
+    let inside = &line[line.find('(').unwrap() + 1..line.find(')').unwrap()];
+    let (x, z) = inside.split_once(", ").unwrap();
+    (x.parse().unwrap(), z.parse().unwrap())
+}
+
+/// B brings the ball onto the ground the window's middle looks at, drawn
+/// there; a right click rolls it towards the ground under the pointer,
+/// speeding up as `ACCELERATION` says; B takes it away again (validation
+/// clean, with the ball's collider changing every frame).
+#[test]
+fn b_brings_a_ball_a_right_click_rolls_it_and_b_takes_it_away() {
+    use meadow::commands::view::ball::{ACCELERATION, BALL_RADIUS};
+    let x = Xvfb::start();
+    let out = temp_out("viewer-ball");
+    let script = "\
+        0.2 key p\n\
+        0.3 key b\n\
+        0.5 key p\n\
+        0.6 roll 230 130\n\
+        5.0 key p\n\
+        5.2 key b\n\
+        5.4 key p\n\
+        5.8 key esc\n";
+    let (_, stdout) = finished(view(&x, script, &out));
+    let shots = screenshot_times(&stdout);
+    assert_eq!(shots.len(), 4, "{stdout}");
+
+    // Before B no red; after it the ball sits in the middle of the
+    // picture (its centre a radius above the ground point there).
+    assert!(
+        red_centre(&shots[0].0).is_none(),
+        "red before the ball came"
+    );
+    let ((cx, cy), share) = red_centre(&shots[1].0).expect("the ball is drawn");
+    // Measured: 0.08% (about 48 pixels at 320 x 180, partly behind a bunch).
+    assert!(
+        share > 0.0003,
+        "the ball covers only {share} of the picture"
+    );
+    assert!(
+        (cx - 160.0).abs() < 8.0 && (60.0..92.0).contains(&cy),
+        "the ball's red is centred at ({cx}, {cy}), not the window's middle"
+    );
+    let brought = ground_after(&stdout, "ball at ");
+    let goal = ground_after(&stdout, "ball rolling to ");
+    let from_time: f64 = stdout
+        .lines()
+        .find_map(|l| {
+            l.split_once(" m from t ")
+                .map(|(_, t)| t.trim_end_matches(" s"))
+        })
+        .unwrap()
+        .parse()
+        .unwrap();
+
+    // Rolled: along the way to the goal, as far as speeding up from rest
+    // at ACCELERATION goes in the simulated time since. Each frame's
+    // stretch takes the velocity reached at its start, so it runs ahead of
+    // a t^2 / 2 by a h t / 2 at most, for frames of h <= 0.1 s of
+    // simulated time (MAX_CATCH_UP_S).
+    let line = stdout
+        .lines()
+        .find(|l| l.contains(shots[2].0.to_str().unwrap()))
+        .unwrap();
+    let now = ground_after(line, "ball at ");
+    let moved = ((now.0 - brought.0).powi(2) + (now.1 - brought.1).powi(2)).sqrt();
+    let way = (goal.0 - brought.0, goal.1 - brought.1);
+    let along = ((now.0 - brought.0) * way.0 + (now.1 - brought.1) * way.1)
+        / (way.0.hypot(way.1) * moved.max(1e-9));
+    let t = shots[2].1 - from_time;
+    let free = 0.5 * ACCELERATION as f64 * t * t;
+    eprintln!(
+        "ball: brought to {brought:?}, goal {goal:?}; {moved} m in {t} s (speeding up \
+         from rest: {free} m), direction cosine {along}"
+    );
+    assert!(t > 0.05, "too little simulated time ({t} s) to see it roll");
+    assert!(along > 0.999, "it rolled off its way: cosine {along}");
+    let ahead = 0.5 * ACCELERATION as f64 * meadow::commands::view::MAX_CATCH_UP_S * t;
+    assert!(
+        moved >= free - 1e-4 && moved <= free + ahead + 1e-4,
+        "{moved} m in {t} s; speeding up at {ACCELERATION} m/s^2 from rest gives {free} m \
+         (up to {ahead} m more in frames)"
+    );
+    assert!(moved < way.0.hypot(way.1) + 1e-3 && BALL_RADIUS > 0.0);
+
+    // Taken away: no red again.
+    assert!(stdout.contains("ball taken away"), "{stdout}");
+    assert!(red_centre(&shots[3].0).is_none(), "the ball is still drawn");
+    let _ = std::fs::remove_dir_all(&out);
+}

@@ -5,6 +5,7 @@
 //! steps it may catch up (`MAX_CATCH_UP_S` of simulated time), time slows
 //! down instead of the steps piling up.
 
+pub mod ball;
 pub mod overlay;
 pub mod script;
 pub mod wind_controls;
@@ -16,7 +17,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use ash::vk;
-use glam::Vec3;
+use glam::{Vec3, Vec3Swizzles};
 use raw_window_handle::{HasDisplayHandle, HasWindowHandle};
 use winit::application::ApplicationHandler;
 use winit::dpi::PhysicalSize;
@@ -34,6 +35,8 @@ use crate::gpu::{surface, Gpu, GpuOptions, Surface, Swapchain, ValidationReport}
 use crate::render::FrameUniforms;
 use crate::report::{files, legend};
 use crate::scene::{field, Scene, ViewMode};
+use crate::sim::contact::{Collider, MAX_COLLIDERS};
+use ball::{Arrived, Ball};
 use overlay::{Overlay, Readout};
 use script::{Action, Script, FLYING_KEYS};
 use wind_controls::WindControls;
@@ -183,6 +186,13 @@ struct Live {
     wind: WindControls,
     /// The wind keys or a gust changed the wind's drive since the last frame.
     wind_changed: bool,
+    /// The ball B brings, while it is out.
+    ball: Option<Ball>,
+    /// Whether the simulation has room for the ball (the scene has fewer
+    /// than `MAX_COLLIDERS` colliders of its own).
+    ball_room: bool,
+    /// The colliders the GPU has now: the scene's, then the ball's stretch.
+    colliders: Vec<Collider>,
     /// The last frame's measurements, for the overlay.
     last_stats: FrameStats,
     script: Vec<(f64, Action)>,
@@ -246,14 +256,28 @@ impl Live {
         crate::frame::check_fits(gpu, &scene, width, height, request.msaa)?;
         let blades = scene.field()?;
         let dynamic = field::dynamic_blades(&blades, &scene.grass.dynamics, scene.seed)?;
+        // Made with a ball among the colliders, so that each blade keeps a
+        // pressed state for it; it is taken away before the first frame
+        // and B brings it back.
+        let ball_room = scene.colliders.len() < MAX_COLLIDERS;
+        let mut made = scene.clone();
+        if ball_room {
+            let (low, high) = ball_rectangle(&scene)?;
+            made.colliders.push(
+                Ball::new((low + high).extend(0.0).xzy() * 0.5, low, high)
+                    .stretch(0.0, 0.0)
+                    .0,
+            );
+        }
         let mut recorder = FrameRecorder::new(
             gpu,
-            &scene,
+            &made,
             (width, height),
             request.msaa,
             &blades,
             Some(&dynamic),
         )?;
+        recorder.set_colliders(gpu, &scene.colliders)?;
         // The scene's own start: the window opens on what `render` shows first.
         let mut steps = recorder.steps_until(scene.render.start as f64)?;
         while steps > 0 {
@@ -262,6 +286,7 @@ impl Live {
             steps -= batch;
         }
         let (eye, target) = scene.camera.at(scene.render.start);
+        let colliders = scene.colliders.clone();
         Ok(Self {
             wind: WindControls::new(&scene),
             overlay: Overlay::default(),
@@ -280,6 +305,9 @@ impl Live {
             pointer: (0.0, 0.0),
             pressed: None,
             wind_changed: false,
+            ball: None,
+            ball_room,
+            colliders,
             last_stats: FrameStats::default(),
             script: request.script.clone().unwrap_or_default().actions,
             first_frame: None,
@@ -360,6 +388,8 @@ impl Live {
                 self.wind_changed = true;
             }
             Action::Click(x, y) => self.drop_gust(x, y),
+            Action::Ball => self.toggle_ball(),
+            Action::RollTo(x, y) => self.roll_ball(x, y),
             Action::Hold(key, seconds) => {
                 self.take_over_camera();
                 let until = now + std::time::Duration::from_secs_f64(seconds);
@@ -405,6 +435,83 @@ impl Live {
             }
             None => println!("no gust: the pointer is above the horizon"),
         }
+    }
+
+    /// The ground point seen at pixel (x, y) of the window now.
+    fn ground_at(&self, (x, y): (f32, f32)) -> Option<Vec3> {
+        let size = self.window.inner_size();
+        wind_controls::ground_point(
+            &self.shown_scene(),
+            (size.width, size.height),
+            (x, y),
+            self.time() as f32,
+        )
+    }
+
+    /// B: the ball onto the ground where the window's middle looks, or away.
+    fn toggle_ball(&mut self) {
+        if self.ball.take().is_some() {
+            println!("ball taken away");
+            return;
+        }
+        let size = self.window.inner_size();
+        let middle = (size.width as f32 / 2.0, size.height as f32 / 2.0);
+        match self.ground_at(middle) {
+            Some(ground) => self.bring_ball(ground),
+            None => println!("no ball: the middle of the window looks above the horizon"),
+        }
+    }
+
+    fn bring_ball(&mut self, ground: Vec3) {
+        if !self.ball_room {
+            println!(
+                "no ball: the scene has {MAX_COLLIDERS} colliders, as many as a step simulates"
+            );
+            return;
+        }
+        match ball_rectangle(&self.scene) {
+            Ok((low, high)) => {
+                let ball = Ball::new(ground, low, high);
+                println!("ball at ({:.4}, {:.4}) m", ball.centre.x, ball.centre.z);
+                self.ball = Some(ball);
+            }
+            Err(e) => println!("no ball: {e}"),
+        }
+    }
+
+    /// A right click: the ball rolls to the ground under the pointer.
+    fn roll_ball(&mut self, x: f32, y: f32) {
+        let Some(ground) = self.ground_at((x, y)) else {
+            println!("the ball stays: the pointer is above the horizon");
+            return;
+        };
+        if self.ball.is_none() {
+            self.bring_ball(ground);
+        }
+        if let Some(ball) = self.ball.as_mut() {
+            let goal = ball.roll_to(ground);
+            println!(
+                "ball rolling to ({:.4}, {:.4}) m from t {:.4} s",
+                goal.x,
+                goal.z,
+                self.time()
+            );
+        }
+    }
+
+    /// What the overlay says about the ball.
+    fn ball_readout(&self) -> Option<String> {
+        let ball = self.ball.as_ref()?;
+        let at = format!("({:.1}, {:.1}) m", ball.centre.x, ball.centre.z);
+        Some(match ball.goal {
+            Some(goal) => format!(
+                "at {at}, {:.1} m/s to ({:.1}, {:.1}); right click: roll it, B: away",
+                ball.velocity.length(),
+                goal.x,
+                goal.z
+            ),
+            None => format!("at {at}; right click: roll it, B: away"),
+        })
     }
 
     /// What the overlay says about the wind.
@@ -509,6 +616,14 @@ impl Live {
                 .min(catch_up)
                 .min(affordable);
         }
+        update_colliders(
+            gpu,
+            &mut self.recorder,
+            &self.scene.colliders,
+            self.ball.as_mut(),
+            &mut self.colliders,
+            steps,
+        )?;
         let time = self.time() + steps as f64 * dt;
         let scene = self.shown_scene();
         let uniforms = FrameUniforms::new(&scene, extent.0, extent.1, self.view, time as f32);
@@ -523,6 +638,7 @@ impl Live {
             lod: self.scene.lod.enabled,
             view: format!("{:?}", self.view).to_lowercase(),
             wind: self.wind_readout(),
+            ball: self.ball_readout(),
         };
         let scale = self.window.scale_factor() as f32;
         let prepared =
@@ -548,8 +664,13 @@ impl Live {
 
         if std::mem::take(&mut self.screenshot_asked) {
             let path = self.screenshot(gpu, &uniforms, report.screenshots.len())?;
+            let ball = self
+                .ball
+                .as_ref()
+                .map(|b| format!(", ball at ({:.4}, {:.4}) m", b.centre.x, b.centre.z))
+                .unwrap_or_default();
             println!(
-                "wrote {} (simulated time {:.4} s, camera at {:?} looking at {:?})",
+                "wrote {} (simulated time {:.4} s, camera at {:?} looking at {:?}{ball})",
                 path.display(),
                 time,
                 scene.camera.position,
@@ -680,6 +801,14 @@ impl ApplicationHandler for App<'_> {
                 }
             }
             WindowEvent::MouseInput {
+                state: ElementState::Released,
+                button: MouseButton::Right,
+                ..
+            } => {
+                let (x, y) = live.pointer;
+                Some(Action::RollTo(x as f32, y as f32))
+            }
+            WindowEvent::MouseInput {
                 state,
                 button: MouseButton::Left,
                 ..
@@ -740,6 +869,44 @@ impl App<'_> {
         self.error.get_or_insert(e);
         event_loop.exit();
     }
+}
+
+/// The colliders for a frame's `steps`: the scene's, and the ball's
+/// stretch up to the frame's time; uploaded where they changed from
+/// `shown`, the set the GPU has.
+fn update_colliders(
+    gpu: &Gpu,
+    recorder: &mut FrameRecorder,
+    scene_colliders: &[Collider],
+    ball: Option<&mut Ball>,
+    shown: &mut Vec<Collider>,
+    steps: u64,
+) -> Result<()> {
+    let mut colliders = scene_colliders.to_vec();
+    if let (Some(ball), Some(simulation)) = (ball, recorder.simulation()) {
+        let (from, to) = (simulation.time_after(0), simulation.time_after(steps));
+        let (stretch, arrived) = ball.stretch(from as f32, to as f32);
+        if let Some(Arrived(at)) = arrived {
+            println!(
+                "ball stopped at ({:.3}, {:.3}) m at t {to:.2} s",
+                at.x, at.z
+            );
+        }
+        colliders.push(stretch);
+    }
+    if colliders != *shown {
+        recorder.set_colliders(gpu, &colliders)?;
+        *shown = colliders;
+    }
+    Ok(())
+}
+
+/// The rectangle (x, z) of the ground the ball may roll on: the wind's
+/// domain, so that it pushes air wherever it goes.
+fn ball_rectangle(scene: &Scene) -> Result<(glam::Vec2, glam::Vec2)> {
+    let grid = scene.wind_grid()?;
+    let low = grid.origin.xz();
+    Ok((low, low + (grid.cells.as_vec3() * grid.cell).xz()))
 }
 
 /// Reads and parses `--script FILE`.

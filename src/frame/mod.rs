@@ -85,6 +85,9 @@ pub struct FrameRecorder {
     timer: Option<SpanTimer<Phase>>,
     commands: Commands,
     extent: (u32, u32),
+    /// The colliders drawn (and simulated): the scene's until
+    /// `set_colliders` changes them; a resize keeps them.
+    colliders: Vec<Collider>,
     /// Why this device cannot time the grass draw inside the colour pass
     /// (`DeviceInfo::draw_timing_unavailable`); None where it can.
     draw_timing_unavailable: Option<String>,
@@ -103,7 +106,14 @@ impl FrameRecorder {
         dynamics: Option<&[GrassBlade]>,
     ) -> Result<Self> {
         let commands = Commands::new(gpu, "frame commands")?;
-        let renderer = Self::new_renderer(gpu, &commands, scene, (width, height), msaa)?;
+        let renderer = Self::new_renderer(
+            gpu,
+            &commands,
+            scene,
+            &scene.colliders,
+            (width, height),
+            msaa,
+        )?;
         let statistics = StatisticsQuery::new(gpu, "grass pipeline statistics")?;
         let shadow_statistics = StatisticsQuery::new(gpu, "shadow pass pipeline statistics")?;
         let timer = SpanTimer::new(gpu, 16, "frame phase timestamps")?;
@@ -122,6 +132,7 @@ impl FrameRecorder {
             timer,
             commands,
             extent: (width, height),
+            colliders: scene.colliders.clone(),
             draw_timing_unavailable: gpu.info().draw_timing_unavailable.clone(),
         })
     }
@@ -136,7 +147,14 @@ impl FrameRecorder {
         let msaa = self.renderer.samples();
         // The cull pass's set names the old renderer's uniforms: it goes first.
         self.cull = None;
-        self.renderer = Self::new_renderer(gpu, &self.commands, scene, (width, height), msaa)?;
+        self.renderer = Self::new_renderer(
+            gpu,
+            &self.commands,
+            scene,
+            &self.colliders,
+            (width, height),
+            msaa,
+        )?;
         self.cull = Self::cull_pass(gpu, scene, &self.renderer, &self.blades)?;
         self.extent = (width, height);
         Ok(())
@@ -146,6 +164,7 @@ impl FrameRecorder {
         gpu: &Gpu,
         commands: &Commands,
         scene: &Scene,
+        colliders: &[Collider],
         (width, height): (u32, u32),
         msaa: u32,
     ) -> Result<Renderer> {
@@ -156,7 +175,7 @@ impl FrameRecorder {
             msaa,
             scene.light.shadow_map,
             &scene.wind.obstacles,
-            &scene.colliders,
+            colliders,
         )
     }
 
@@ -232,7 +251,10 @@ impl FrameRecorder {
                 ))
             }
         }
-        self.renderer.set_colliders(gpu, &self.commands, colliders)
+        self.renderer
+            .set_colliders(gpu, &self.commands, colliders)?;
+        self.colliders = colliders.to_vec();
+        Ok(())
     }
 
     pub fn renderer(&self) -> &Renderer {

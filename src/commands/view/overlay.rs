@@ -26,6 +26,8 @@ pub struct Readout<'a> {
     pub lod: bool,
     pub view: String,
     pub wind: String,
+    /// The viewer's ball, where there is one.
+    pub ball: Option<String>,
 }
 
 pub struct Overlay {
@@ -199,5 +201,8 @@ fn panel(ui: &mut egui::Ui, r: &Readout) {
         r.view
     ));
     ui.label(format!("wind: {}", r.wind));
+    if let Some(ball) = &r.ball {
+        ui.label(format!("ball: {ball}"));
+    }
     ui.label("H: keys   O: hide this");
 }

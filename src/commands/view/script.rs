@@ -3,12 +3,14 @@
 //!
 //! ```text
 //! # seconds after the first frame, then what happens
-//! 0.5  key space          # any key the viewer knows: space . [ ] l v p h o esc
+//! 0.5  key space          # any key the viewer knows: space . [ ] l v p h o b esc
 //! 0.6  key up             # wind: up down (inflow speed), left right (heading)
 //! 1.0  hold w 0.5         # hold a key (w a s d q e) for 0.5 s
 //! 1.5  drag 40 -10        # look: a mouse drag of (40, -10) pixels
 //! 2.0  wheel 2            # flying speed up two notches
 //! 2.2  click 320 250      # a click at pixel (320, 250): a gust drops there
+//! 2.3  key b              # a ball on the ground the window's middle looks at
+//! 2.4  roll 400 260       # a right click at pixel (400, 260): the ball rolls there
 //! 2.5  resize 640 360     # the window's inner size
 //! 3.0  close              # the window's close button
 //! ```
@@ -43,6 +45,12 @@ pub enum Action {
     /// A click (press and release without dragging) at this pixel of the
     /// window: a gust drops on the ground under it.
     Click(f32, f32),
+    /// B: a ball brought onto the ground where the window's middle looks,
+    /// or taken away.
+    Ball,
+    /// A right click at this pixel: the ball rolls to the ground under it
+    /// (brought there first if it is away).
+    RollTo(f32, f32),
     /// Hold a flying key for this many seconds.
     Hold(char, f64),
     /// Look around by a mouse drag of (x, y) pixels.
@@ -71,6 +79,7 @@ impl Action {
             "p" => Self::Screenshot,
             "h" => Self::Help,
             "o" => Self::ToggleOverlay,
+            "b" => Self::Ball,
             "up" => Self::WindSpeed(1),
             "down" => Self::WindSpeed(-1),
             "left" => Self::WindTurn(1),
@@ -81,7 +90,7 @@ impl Action {
 }
 
 /// The keys and what they do, as H shows them (overlay and terminal).
-pub const KEYS: [(&str, &str); 14] = [
+pub const KEYS: [(&str, &str); 16] = [
     ("W A S D", "fly forward, left, back, right"),
     ("Q E", "fly down, up"),
     ("drag", "look around"),
@@ -95,6 +104,8 @@ pub const KEYS: [(&str, &str); 14] = [
     ("up down", "wind stronger, weaker"),
     ("left right", "turn the wind's heading"),
     ("click", "a gust on the ground, along the heading"),
+    ("B", "a ball: bring it where you look, take it away"),
+    ("right click", "roll the ball there"),
     ("O H Esc", "overlay, these keys, quit"),
 ];
 
@@ -127,7 +138,7 @@ impl Script {
             let bad = |what: &str| {
                 Error::InvalidInput(format!(
                     "{name} line {}: {what} in {line:?}; write SECONDS ACTION, e.g. \"1.5 key space\" \
-                     (the actions: key, hold, drag, wheel, click, resize, close)",
+                     (the actions: key, hold, drag, wheel, click, roll, resize, close)",
                     i + 1
                 ))
             };
@@ -146,7 +157,7 @@ impl Script {
             };
             let action = match (words.get(1).copied(), words.len()) {
                 (Some("key"), 3) => Action::of_key(words[2]).ok_or_else(|| {
-                    bad("no such key (space . [ ] l v p h o esc up down left right)")
+                    bad("no such key (space . [ ] l v p h o b esc up down left right)")
                 })?,
                 (Some("hold"), 4) => {
                     let key = words[2]
@@ -162,12 +173,16 @@ impl Script {
                 }
                 (Some("drag"), 4) => Action::Drag(number(2)? as f32, number(3)? as f32),
                 (Some("wheel"), 3) => Action::Wheel(number(2)? as f32),
-                (Some("click"), 4) => {
+                (Some(click @ ("click" | "roll")), 4) => {
                     let (x, y) = (number(2)?, number(3)?);
                     if x < 0.0 || y < 0.0 {
                         return Err(bad("a click is at a pixel, x and y >= 0"));
                     }
-                    Action::Click(x as f32, y as f32)
+                    if click == "click" {
+                        Action::Click(x as f32, y as f32)
+                    } else {
+                        Action::RollTo(x as f32, y as f32)
+                    }
                 }
                 (Some("resize"), 4) => {
                     let side = |v: f64| (1.0..=16384.0).contains(&v).then_some(v as u32);
@@ -195,7 +210,8 @@ mod tests {
     fn every_action_parses_and_comes_in_time_order() {
         let text = "# a demo\n2 close\n0.5 key space\n1 hold w 0.5  # forward\n\
                     1 drag 40 -10\n1.5 wheel -2\n1.7 resize 640 360\n0.6 key .\n\
-                    1.8 key up\n1.8 key right\n1.9 click 10 20.5\n1.9 key o\n";
+                    1.8 key up\n1.8 key right\n1.9 click 10 20.5\n1.9 key o\n\
+                    1.95 key b\n1.95 roll 30 40\n";
         let s = Script::parse("demo", text).unwrap();
         assert_eq!(
             s.actions,
@@ -210,6 +226,8 @@ mod tests {
                 (1.8, Action::WindTurn(-1)),
                 (1.9, Action::Click(10.0, 20.5)),
                 (1.9, Action::ToggleOverlay),
+                (1.95, Action::Ball),
+                (1.95, Action::RollTo(30.0, 40.0)),
                 (2.0, Action::Close),
             ]
         );
@@ -227,6 +245,7 @@ mod tests {
             ("1 drag 3", "unknown action or wrong number"),
             ("1 wheel NaN", "a number is missing"),
             ("1 click -3 4", "a click is at a pixel"),
+            ("1 roll -3 4", "a click is at a pixel"),
             ("1 click 3", "unknown action or wrong number"),
         ] {
             let e = Script::parse("s.txt", text).unwrap_err().to_string();
