@@ -60,15 +60,21 @@ pub fn rewrite(
 /// The GPU records of `colliders`; one zeroed record where there are
 /// none, so that an upload is never empty.
 fn records(colliders: &[Collider]) -> Result<Vec<GpuCollider>> {
+    check_count(colliders)?;
+    let mut records: Vec<GpuCollider> = colliders.iter().map(GpuCollider::from).collect();
+    if records.is_empty() {
+        records.push(GpuCollider::default());
+    }
+    Ok(records)
+}
+
+/// Refuses more colliders than a step simulates (before anything is made).
+pub fn check_count(colliders: &[Collider]) -> Result<()> {
     if colliders.len() > MAX_COLLIDERS {
         return Err(Error::InvalidInput(format!(
             "{} colliders cannot be simulated, at most {MAX_COLLIDERS}",
             colliders.len()
         )));
     }
-    let mut records: Vec<GpuCollider> = colliders.iter().map(GpuCollider::from).collect();
-    if records.is_empty() {
-        records.push(GpuCollider::default());
-    }
-    Ok(records)
+    Ok(())
 }

@@ -120,6 +120,7 @@ impl GrassPass {
                 blades.len()
             )));
         }
+        super::colliders::check_count(colliders)?;
         let substeps = substeps(blades, dt)?;
         let face_count: u64 = (0..3)
             .map(|a| grid.face_dims(a).as_u64vec3().element_product())
