@@ -320,6 +320,41 @@ fn the_gpu_counts_blade_steps_at_an_angle_cap_as_the_cpu_does() {
     assert!(close(caps.bend_a, cpu.caps.bend_a) && close(caps.bend_b, cpu.caps.bend_b));
 }
 
+/// What a grass pass with colliders left: each blade's state, pressed
+/// state and control points.
+fn read_touch(
+    gpu: &Gpu,
+    commands: &Commands,
+    pass: &GrassPass,
+    vertices: &BladeBuffer,
+) -> (
+    Vec<GrassState>,
+    Vec<meadow::sim::contact::Press>,
+    Vec<BladeVertex>,
+) {
+    let blades = pass.blade_count() as usize;
+    (
+        pass.read_states(gpu, commands).unwrap(),
+        pass.read_presses(gpu, commands).unwrap(),
+        vertices
+            .buffer()
+            .read_back(gpu, commands, blades * 4)
+            .unwrap(),
+    )
+}
+
+/// A ball 0.3 m across rolling through Fig. 10's middle bunch at 0.6 m/s.
+fn ball_through_the_middle_bunch() -> meadow::sim::contact::Collider {
+    meadow::sim::contact::Collider {
+        kind: meadow::sim::contact::ColliderKind::Sphere,
+        radius: 0.15,
+        path: vec![Vec3::new(-0.4, 0.15, -0.25), Vec3::new(0.5, 0.15, -0.25)],
+        path_speed: 0.6,
+        roll: true,
+        ..Default::default()
+    }
+}
+
 /// Touch on the GPU (glsl/grass/contact.glsl) against the CPU reference
 /// (src/sim/contact.rs): a ball rolls through Fig. 10's middle bunch and a
 /// capsule stands in the right one, in a gusting wind, 120 steps.
@@ -329,17 +364,7 @@ fn gpu_and_cpu_agree_on_colliders_pressing_the_grass() {
     let (scene, blades) = few_bunches();
     let grid = small_grid(&scene, [24, 8, 24]);
     let settings = turning_gusts(&scene, 2.0, 10.0);
-    let ball = Collider {
-        kind: ColliderKind::Sphere,
-        radius: 0.15,
-        height: 0.0,
-        position: Vec3::ZERO,
-        path: vec![Vec3::new(-0.4, 0.15, -0.25), Vec3::new(0.5, 0.15, -0.25)],
-        path_speed: 0.6,
-        closed: false,
-        roll: true,
-        ..Default::default()
-    };
+    let ball = ball_through_the_middle_bunch();
     let walker = Collider {
         kind: ColliderKind::Capsule,
         radius: 0.06,
@@ -395,12 +420,7 @@ fn gpu_and_cpu_agree_on_colliders_pressing_the_grass() {
         pass.record_step(&rec, 0, end_time(step));
     }
     rec.submit_and_wait("grass steps with colliders").unwrap();
-    let states = pass.read_states(&gpu, &commands).unwrap();
-    let presses = pass.read_presses(&gpu, &commands).unwrap();
-    let gpu_vertices: Vec<BladeVertex> = blade_buffer
-        .buffer()
-        .read_back(&gpu, &commands, blades.len() * 4)
-        .unwrap();
+    let (states, presses, gpu_vertices) = read_touch(&gpu, &commands, &pass, &blade_buffer);
     drop((pass, blade_buffer, wind_buffer, commands));
     finish(gpu);
 
@@ -443,18 +463,11 @@ fn gpu_and_cpu_agree_on_colliders_pressing_the_grass() {
 /// collider is gone, so the pressed blades rise as their states decay.
 #[test]
 fn colliders_changed_between_steps_reach_the_gpu_kernel() {
-    use meadow::sim::contact::{Collider, ColliderKind};
+    use meadow::sim::contact::Collider;
     let (scene, blades) = few_bunches();
     let grid = small_grid(&scene, [24, 8, 24]);
     let settings = turning_gusts(&scene, 2.0, 10.0);
-    let ball = Collider {
-        kind: ColliderKind::Sphere,
-        radius: 0.15,
-        path: vec![Vec3::new(-0.4, 0.15, -0.25), Vec3::new(0.5, 0.15, -0.25)],
-        path_speed: 0.6,
-        roll: true,
-        ..Default::default()
-    };
+    let ball = ball_through_the_middle_bunch();
     // Where the ball is when the turn comes, and its new heading.
     const TURN: usize = 40;
     const AWAY: usize = 80;
@@ -520,12 +533,7 @@ fn colliders_changed_between_steps_reach_the_gpu_kernel() {
         rec.submit_and_wait("grass steps with changing colliders")
             .unwrap();
     }
-    let states = pass.read_states(&gpu, &commands).unwrap();
-    let presses = pass.read_presses(&gpu, &commands).unwrap();
-    let gpu_vertices: Vec<BladeVertex> = blade_buffer
-        .buffer()
-        .read_back(&gpu, &commands, blades.len() * 4)
-        .unwrap();
+    let (states, presses, gpu_vertices) = read_touch(&gpu, &commands, &pass, &blade_buffer);
     drop((pass, blade_buffer, wind_buffer, commands));
     finish(gpu);
 
