@@ -200,14 +200,26 @@ fn a_drive_changed_between_steps_reaches_the_gpu_kernels() {
     gust.off_after = Some(1.21);
     after.sources.push(gust);
     let dt = 1.0 / 60.0;
+    // The colliders change too (the viewer's ball steered): the walker
+    // goes, and the ball sets off from a new place just after the change
+    // (between two steps, as the gust goes off).
+    let mut drive_only = after.clone();
+    after.colliders.truncate(1);
+    after.colliders[0].path = vec![Vec3::new(3.0, 0.8, 3.0), Vec3::new(-4.0, 0.8, 2.0)];
+    after.colliders[0].closed = false;
+    after.colliders[0].start = 50.5 * dt;
+    drive_only.colliders = before.colliders.clone();
     let commands = Commands::new(&gpu, "wind test commands").unwrap();
     let mut pass = WindPass::new(&gpu, &commands, grid, &before, 0.0).unwrap();
     let mut cpu = WindField::new(grid, &before);
     let mut unchanged = WindField::new(grid, &before);
+    let mut same_colliders = WindField::new(grid, &before);
     for (half, settings) in [(0, &before), (1, &after)] {
         if half == 1 {
             let speed = after.inflow.map(|i| i.speed);
             pass.set_drive(&gpu, &commands, speed, &after.sources)
+                .unwrap();
+            pass.set_colliders(&gpu, &commands, &after.colliders)
                 .unwrap();
         }
         let rec = commands.begin().unwrap();
@@ -215,17 +227,26 @@ fn a_drive_changed_between_steps_reaches_the_gpu_kernels() {
             pass.record_step(&rec, (half * 50 + n) as f32 * dt, dt);
             cpu.step(settings, dt);
             unchanged.step(&before, dt);
+            same_colliders.step(if half == 1 { &drive_only } else { &before }, dt);
         }
         rec.submit_and_wait("wind steps").unwrap();
     }
     let gpu_vel = pass.read_velocity(&gpu, &commands).unwrap();
     let err = relative_l2(&gpu_vel, &cpu.vel);
     let change = relative_l2(&unchanged.vel, &cpu.vel);
-    eprintln!("changed drive: GPU vs CPU {err:.3e}; the change itself {change:.3e}");
+    let colliders_change = relative_l2(&same_colliders.vel, &cpu.vel);
+    eprintln!(
+        "changed drive: GPU vs CPU {err:.3e}; the change itself {change:.3e}, the \
+         colliders' part {colliders_change:.3e}"
+    );
     assert!(err < GPU_CPU_TOLERANCE, "relative L2 difference {err:.3e}");
     assert!(
         change > 0.05,
         "the drive barely changed the wind: {change:.3e}"
+    );
+    assert!(
+        colliders_change > 1e3 * GPU_CPU_TOLERANCE,
+        "the colliders' change is too small to see: {colliders_change:.3e}"
     );
     // The inflow keeps its side: a speed of the other sign is refused.
     let refused = pass
