@@ -121,7 +121,8 @@ enum Command {
     /// time following the clock. Keys: W A S D Q E fly, drag to look,
     /// wheel speed; space pause, . step, [ ] time slower/faster, L LOD,
     /// V views, P screenshot (DIR/view_NNNN.png), arrows steer the wind,
-    /// click drops a gust, O overlay, H keys, Esc quit.
+    /// click drops a gust, B a ball (right click rolls it there), O
+    /// overlay, H keys, Esc quit.
     View {
         #[command(flatten)]
         scene: SceneArgs,
