@@ -191,8 +191,6 @@ struct Live {
     /// Whether the simulation has room for the ball (the scene has fewer
     /// than `MAX_COLLIDERS` colliders of its own).
     ball_room: bool,
-    /// The colliders the GPU has now: the scene's, then the ball's stretch.
-    colliders: Vec<Collider>,
     /// The last frame's measurements, for the overlay.
     last_stats: FrameStats,
     script: Vec<(f64, Action)>,
@@ -263,11 +261,9 @@ impl Live {
         let mut made = scene.clone();
         if ball_room {
             let (low, high) = ball_rectangle(&scene)?;
-            made.colliders.push(
-                Ball::new((low + high).extend(0.0).xzy() * 0.5, low, high)
-                    .stretch(0.0, 0.0)
-                    .0,
-            );
+            let middle = (low + high) * 0.5;
+            let mut parked = Ball::new(Vec3::new(middle.x, 0.0, middle.y), low, high);
+            made.colliders.push(parked.stretch(0.0, 0.0).0);
         }
         let mut recorder = FrameRecorder::new(
             gpu,
@@ -286,7 +282,6 @@ impl Live {
             steps -= batch;
         }
         let (eye, target) = scene.camera.at(scene.render.start);
-        let colliders = scene.colliders.clone();
         Ok(Self {
             wind: WindControls::new(&scene),
             overlay: Overlay::default(),
@@ -307,7 +302,6 @@ impl Live {
             wind_changed: false,
             ball: None,
             ball_room,
-            colliders,
             last_stats: FrameStats::default(),
             script: request.script.clone().unwrap_or_default().actions,
             first_frame: None,
@@ -621,7 +615,6 @@ impl Live {
             &mut self.recorder,
             &self.scene.colliders,
             self.ball.as_mut(),
-            &mut self.colliders,
             steps,
         )?;
         let time = self.time() + steps as f64 * dt;
@@ -872,14 +865,12 @@ impl App<'_> {
 }
 
 /// The colliders for a frame's `steps`: the scene's, and the ball's
-/// stretch up to the frame's time; uploaded where they changed from
-/// `shown`, the set the GPU has.
+/// stretch up to the frame's time; uploaded where they changed.
 fn update_colliders(
     gpu: &Gpu,
     recorder: &mut FrameRecorder,
     scene_colliders: &[Collider],
     ball: Option<&mut Ball>,
-    shown: &mut Vec<Collider>,
     steps: u64,
 ) -> Result<()> {
     let mut colliders = scene_colliders.to_vec();
@@ -894,9 +885,8 @@ fn update_colliders(
         }
         colliders.push(stretch);
     }
-    if colliders != *shown {
+    if colliders != recorder.colliders() {
         recorder.set_colliders(gpu, &colliders)?;
-        *shown = colliders;
     }
     Ok(())
 }

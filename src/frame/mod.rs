@@ -257,6 +257,11 @@ impl FrameRecorder {
         Ok(())
     }
 
+    /// The colliders drawn and simulated now.
+    pub fn colliders(&self) -> &[Collider] {
+        &self.colliders
+    }
+
     pub fn renderer(&self) -> &Renderer {
         &self.renderer
     }
