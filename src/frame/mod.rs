@@ -85,9 +85,6 @@ pub struct FrameRecorder {
     timer: Option<SpanTimer<Phase>>,
     commands: Commands,
     extent: (u32, u32),
-    /// The colliders drawn (and simulated): the scene's until
-    /// `set_colliders` changes them; a resize keeps them.
-    colliders: Vec<Collider>,
     /// Why this device cannot time the grass draw inside the colour pass
     /// (`DeviceInfo::draw_timing_unavailable`); None where it can.
     draw_timing_unavailable: Option<String>,
@@ -132,7 +129,6 @@ impl FrameRecorder {
             timer,
             commands,
             extent: (width, height),
-            colliders: scene.colliders.clone(),
             draw_timing_unavailable: gpu.info().draw_timing_unavailable.clone(),
         })
     }
@@ -147,11 +143,14 @@ impl FrameRecorder {
         let msaa = self.renderer.samples();
         // The cull pass's set names the old renderer's uniforms: it goes first.
         self.cull = None;
+        // The colliders drawn carry over (`set_colliders` may have changed
+        // the scene's).
+        let colliders = self.renderer.colliders().to_vec();
         self.renderer = Self::new_renderer(
             gpu,
             &self.commands,
             scene,
-            &self.colliders,
+            &colliders,
             (width, height),
             msaa,
         )?;
@@ -251,15 +250,12 @@ impl FrameRecorder {
                 ))
             }
         }
-        self.renderer
-            .set_colliders(gpu, &self.commands, colliders)?;
-        self.colliders = colliders.to_vec();
-        Ok(())
+        self.renderer.set_colliders(gpu, &self.commands, colliders)
     }
 
     /// The colliders drawn and simulated now.
     pub fn colliders(&self) -> &[Collider] {
-        &self.colliders
+        self.renderer.colliders()
     }
 
     pub fn renderer(&self) -> &Renderer {

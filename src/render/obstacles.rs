@@ -224,9 +224,10 @@ pub struct ObstacleMeshes {
     /// The obstacles' triangles (in world space), first in the buffer;
     /// kept to rebuild the buffer when the colliders change shape.
     fixed: Vec<ObstacleVertex>,
-    /// Each collider's vertices in the buffer (in its own frame), where it
-    /// is drawn this frame, and what it is.
-    colliders: Vec<(Range<u32>, Placement, Collider)>,
+    /// The colliders drawn, and each one's vertices in the buffer (in its
+    /// own frame) and where it is drawn this frame.
+    colliders: Vec<Collider>,
+    placed: Vec<(Range<u32>, Placement)>,
 }
 
 impl ObstacleMeshes {
@@ -250,11 +251,7 @@ impl ObstacleMeshes {
         for c in colliders {
             let first = triangles.len() as u32;
             triangles.extend(collider_mesh(c));
-            placed.push((
-                first..triangles.len() as u32,
-                collider_placement(c, 0.0),
-                c.clone(),
-            ));
+            placed.push((first..triangles.len() as u32, collider_placement(c, 0.0)));
         }
         let vertices = if triangles.is_empty() {
             None
@@ -271,7 +268,8 @@ impl ObstacleMeshes {
         Ok(Self {
             vertices,
             fixed,
-            colliders: placed,
+            colliders: colliders.to_vec(),
+            placed,
         })
     }
 
@@ -291,24 +289,27 @@ impl ObstacleMeshes {
             || colliders
                 .iter()
                 .zip(&self.colliders)
-                .any(|(new, (_, _, old))| !same_shape(new, old));
+                .any(|(new, old)| !same_shape(new, old));
         if reshaped {
             let fixed = std::mem::take(&mut self.fixed);
             // The old buffer goes once the new one is made (no frame is in
             // flight between submissions).
             *self = Self::build(gpu, commands, fixed, colliders)?;
         } else {
-            for (new, (_, _, old)) in colliders.iter().zip(&mut self.colliders) {
-                *old = new.clone();
-            }
+            self.colliders = colliders.to_vec();
         }
         Ok(())
+    }
+
+    /// The colliders drawn.
+    pub fn colliders(&self) -> &[Collider] {
+        &self.colliders
     }
 
     /// Places the colliders where they are at simulated time `t` (s), for
     /// the frames recorded from now on.
     pub fn place_colliders(&mut self, t: f32) {
-        for (_, placement, collider) in &mut self.colliders {
+        for ((_, placement), collider) in self.placed.iter_mut().zip(&self.colliders) {
             *placement = collider_placement(collider, t);
         }
     }
@@ -328,7 +329,7 @@ impl ObstacleMeshes {
                 );
                 rec.draw_range(0..self.fixed.len() as u32);
             }
-            for (range, placement, _) in &self.colliders {
+            for (range, placement) in &self.placed {
                 rec.push_constants(pipeline, placement);
                 rec.draw_range(range.clone());
             }

@@ -108,6 +108,11 @@ impl Renderer {
         self.shadow.write_uniforms(&uniforms);
     }
 
+    /// The colliders drawn.
+    pub fn colliders(&self) -> &[Collider] {
+        self.obstacles.colliders()
+    }
+
     /// Draws the colliders where they are at simulated time `t` (s), from
     /// the next recorded frame on.
     pub fn place_colliders(&mut self, t: f32) {

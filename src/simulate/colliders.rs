@@ -18,7 +18,7 @@ pub fn upload(
     name: &str,
     colliders: &[Collider],
 ) -> Result<Buffer> {
-    let records = records(colliders)?;
+    check_count(colliders)?;
     let buffer = Buffer::new(
         gpu,
         name,
@@ -26,14 +26,7 @@ pub fn upload(
         vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
         crate::gpu::MemoryLocation::GpuOnly,
     )?;
-    buffer.upload(
-        gpu,
-        commands,
-        name,
-        bytemuck::cast_slice(&records),
-        Access::NONE,
-        Access::COMPUTE_READ,
-    )?;
+    write(&buffer, gpu, commands, name, colliders, Access::NONE)?;
     Ok(buffer)
 }
 
@@ -46,26 +39,33 @@ pub fn rewrite(
     name: &str,
     colliders: &[Collider],
 ) -> Result<()> {
-    let records = records(colliders)?;
-    buffer.upload(
-        gpu,
-        commands,
-        name,
-        bytemuck::cast_slice(&records),
-        Access::COMPUTE_READ,
-        Access::COMPUTE_READ,
-    )
+    write(buffer, gpu, commands, name, colliders, Access::COMPUTE_READ)
 }
 
-/// The GPU records of `colliders`; one zeroed record where there are
-/// none, so that an upload is never empty.
-fn records(colliders: &[Collider]) -> Result<Vec<GpuCollider>> {
+/// The GPU records of `colliders` into `buffer`, after `before`, visible
+/// to the kernels' reads; one zeroed record where there are none, so
+/// that an upload is never empty.
+fn write(
+    buffer: &Buffer,
+    gpu: &Gpu,
+    commands: &Commands,
+    name: &str,
+    colliders: &[Collider],
+    before: Access,
+) -> Result<()> {
     check_count(colliders)?;
     let mut records: Vec<GpuCollider> = colliders.iter().map(GpuCollider::from).collect();
     if records.is_empty() {
         records.push(GpuCollider::default());
     }
-    Ok(records)
+    buffer.upload(
+        gpu,
+        commands,
+        name,
+        bytemuck::cast_slice(&records),
+        before,
+        Access::COMPUTE_READ,
+    )
 }
 
 /// Refuses more colliders than a step simulates (before anything is made).
