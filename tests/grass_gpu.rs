@@ -576,3 +576,108 @@ fn colliders_changed_between_steps_reach_the_gpu_kernel() {
         "pressed state {pressed_left} after the colliders went"
     );
 }
+
+/// The collider bins (glsl/grass/bin_colliders.comp) over a wide field:
+/// table1's 30 x 30 m meadow at 20,000 blades with `bench-grass`'s 128
+/// rolling balls. At three instants, every collider the CPU finds within a
+/// blade's reach (`ColliderState::near`) has its bit in the bin of that
+/// blade's root, the states the kernel evaluated are the CPU's
+/// (`Collider::at`), and the bins are tight: a few colliders per cell,
+/// not all of them.
+#[test]
+fn the_collider_bins_hold_every_blades_near_colliders() {
+    use meadow::sim::contact::reach;
+    let mut scene = Scene::builtin("table1").unwrap();
+    scene.set_blade_count(20_000).unwrap();
+    let generated = field::generate(&scene.grass, scene.seed).unwrap();
+    let blades = field::dynamic_blades(&generated, &scene.grass.dynamics, scene.seed).unwrap();
+    let roots: Vec<Vec3> = blades.iter().map(|b| b.rest_point(0)).collect();
+    let (low, high) = roots.iter().fold(
+        (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+        |(lo, hi), r| (lo.min(*r), hi.max(*r)),
+    );
+    let colliders = meadow::commands::bench_grass::bench_colliders(
+        128,
+        glam::Vec2::new(low.x, low.z),
+        glam::Vec2::new(high.x, high.z),
+    );
+    let grid = small_grid(&scene, [8, 4, 8]);
+    let faces: u32 = (0..3).map(|a| grid.face_dims(a).element_product()).sum();
+    let still = vec![0.0f32; faces as usize];
+
+    let gpu = strict_gpu();
+    let commands = Commands::new(&gpu, "collider bins test commands").unwrap();
+    let wind_buffer = recorded_wind(&gpu, &commands, "still air", &still);
+    let blade_buffer =
+        BladeBuffer::uninitialised(&gpu, "collider bins test vertices", blades.len()).unwrap();
+    let pass = GrassPass::new(
+        &gpu,
+        &commands,
+        &blades,
+        blade_buffer.buffer(),
+        &recorded_input(&wind_buffer, grid),
+        &colliders,
+        DT,
+    )
+    .unwrap();
+    let bin_grid = *pass.collider_bins().grid();
+    let mut read = Vec::new();
+    for t in [0.5f32, 3.7, 11.2] {
+        let rec = commands.begin().unwrap();
+        pass.record_step(&rec, 0, t);
+        rec.submit_and_wait("a grass step with 128 colliders")
+            .unwrap();
+        read.push((
+            t,
+            pass.collider_bins().read_bins(&gpu, &commands).unwrap(),
+            pass.collider_bins().read_states(&gpu, &commands).unwrap(),
+        ));
+    }
+    drop((pass, blade_buffer, wind_buffer, commands));
+    finish(gpu);
+
+    for (t, bins, states) in read {
+        let mut state_error = 0.0f32;
+        for (c, gpu_state) in colliders.iter().zip(&states) {
+            let cpu = c.at(t);
+            state_error = state_error
+                .max(cpu.a.distance(gpu_state.a))
+                .max(cpu.b.distance(gpu_state.b))
+                .max(cpu.velocity.distance(gpu_state.velocity))
+                .max((cpu.radius - gpu_state.radius).abs());
+        }
+        let mut near_pairs = 0usize;
+        for (blade, root) in blades.iter().zip(&roots) {
+            let bin = bins[bin_grid.cell_of(*root)];
+            for (c, collider) in colliders.iter().enumerate() {
+                if collider.at(t).near(*root, reach(blade)) {
+                    near_pairs += 1;
+                    assert!(
+                        bin[c / 32] & (1 << (c % 32)) != 0,
+                        "t = {t} s: collider {c} reaches the blade rooted at {root} \
+                         but is not in its bin {}",
+                        bin_grid.cell_of(*root)
+                    );
+                }
+            }
+        }
+        let marked: u32 = bins.iter().flatten().map(|w| w.count_ones()).sum();
+        let per_cell = marked as f32 / bins.len() as f32;
+        eprintln!(
+            "t = {t} s: {near_pairs} blade-collider pairs within reach, all binned; \
+             {per_cell:.2} colliders per cell of {} x {} ({:.2} m); states off by {state_error:e}",
+            bin_grid.columns,
+            bin_grid.rows,
+            1.0 / bin_grid.per_metre
+        );
+        assert!(
+            near_pairs > 1000,
+            "only {near_pairs} pairs: the test tests little"
+        );
+        assert!(state_error < 1e-4, "states differ by {state_error:e}");
+        assert!(
+            per_cell < 4.0,
+            "{per_cell} colliders per cell: the bins are loose"
+        );
+    }
+}

@@ -1,8 +1,8 @@
 // Touch (ours; docs/physics.md, "Colliders"): spheres and upright capsules
 // press the grass. The same model, function for function and in the same f32
 // arithmetic, as the CPU reference src/sim/contact.rs, whose header gives it.
-// Compute only: each workgroup gathers the colliders near its blades into
-// shared memory once per step (`gather_near_colliders`).
+// Compute only: the including kernel declares the colliders at the step's
+// end and defines COLLIDER_STATE(c), collider c of them.
 #ifndef MEADOW_GRASS_CONTACT_GLSL
 #define MEADOW_GRASS_CONTACT_GLSL
 
@@ -21,14 +21,6 @@ struct Press {
     float pressed;
     float touched;
 };
-
-// The colliders near this workgroup's blades, in scene order.
-shared ColliderState near_colliders[MAX_COLLIDERS];
-shared uint near_collider_count;
-shared ColliderState all_colliders[MAX_COLLIDERS];
-shared uint collider_is_near[MAX_COLLIDERS];
-shared vec4 roots_low[64];
-shared vec4 roots_high[64];
 
 // The points tested against colliders, as weights of P0..P3 (`SAMPLES`):
 // P1, P2, P3 and the drawn curve at u = 1/8 .. 7/8 (Bernstein weights).
@@ -90,9 +82,9 @@ void point_rates(GrassBlade b, vec4 angle, float pressed, Pose p, out vec3 rates
 
 // `contact::resolve`: up to CONTACT_ITERATIONS projections of the deepest
 // point (the ground first), each with its velocity impulse. Returns whether
-// a collider was touched; p is left the pose of the state. `near`: which
-// of the workgroup's near colliders this blade can reach (one bit each, in
-// list order), its own list (`contact::near_blade`).
+// a collider was touched; p is left the pose of the state. `near`: the
+// colliders this blade can reach, one bit each in scene order, its own
+// list (`contact::near_blade`).
 bool resolve_contacts(GrassBlade b, inout GrassState s, float pressed, inout Pose p, uvec4 near) {
     bool touched = false;
     int moved = split_edge(b) < 3 ? 3 : 2;
@@ -117,12 +109,12 @@ bool resolve_contacts(GrassBlade b, inout GrassState s, float pressed, inout Pos
               for (uint bits = near[word]; bits != 0u; bits &= bits - 1u) {
                 uint c = word * 32u + uint(findLSB(bits));
                 for (int k = 0; k < CONTACT_SAMPLES; ++k) {
-                    vec4 d = collider_distance(near_colliders[c], contact_sample(p, CONTACT_SAMPLE_WEIGHTS[k]));
+                    vec4 d = collider_distance(COLLIDER_STATE(c), contact_sample(p, CONTACT_SAMPLE_WEIGHTS[k]));
                     if (d.x < 0.0 && (sample_index < 0 || -d.x > depth)) {
                         sample_index = k;
                         depth = -d.x;
                         normal = d.yzw;
-                        surface_velocity = near_colliders[c].velocity.xyz;
+                        surface_velocity = COLLIDER_STATE(c).velocity.xyz;
                     }
                 }
               }

@@ -226,7 +226,7 @@ float press_give(float pressed);
 // One simulation step in `substeps` symplectic Euler substeps of h:
 // omega' = omega + (N / I) h, theta' = theta + omega' h, the damping in N
 // taken at (omega + omega') / 2. A blade in the pressed state `pressed`, or
-// near colliders of the workgroup's list (the bits of `near`), resolves its
+// colliders it can reach (the bits of `near`, in scene order), resolves its
 // contacts after each substep (`grass::step_touching`); returns whether it
 // touched one.
 bool blade_step(GrassBlade b, inout GrassState s, vec3 wind, float h, uint substeps,

@@ -10,6 +10,12 @@ layout(local_size_x = 64) in;
 #include "wind_grid.glsl"
 #include "blade_vertex.glsl"
 #include "dynamics.glsl"
+#include "collider.glsl"
+
+// The colliders at the step's end, evaluated once by the binning pass
+// (bin_colliders.comp); contact.glsl reads them, so they come before it.
+layout(set = 0, binding = 7, std430) readonly buffer ColliderStates { ColliderState collider_states[]; };
+#define COLLIDER_STATE(c) collider_states[c]
 #include "contact.glsl"
 
 layout(push_constant, std430) uniform Push {
@@ -19,6 +25,8 @@ layout(push_constant, std430) uniform Push {
     vec4 step;       // x: simulation step dt (s), y: substep h = dt / substeps (s), z: m^2 per canopy count
     vec4 contact;    // x: time at the step's end (s), y: the pressed state's decay per step, z: colliders,
                      // w: 1 where each blade has a pressed state (made with colliders)
+    vec4 bin_grid;   // xy: the collider bins' corner (x, z; m), z: cells per metre
+    uvec4 bin_cells; // x: columns (along x), y: rows (along z)
 } pc;
 
 layout(set = 0, binding = 0, std430) readonly buffer Blades { GrassBlade blades[]; };
@@ -36,50 +44,17 @@ layout(set = 0, binding = 4, std430) buffer Caps { uint caps[]; };
 // The frontal area per wind cell in counts of pc.step.z m^2 (two-way
 // coupling; `deposit` in src/sim/canopy.rs), which the wind cleared.
 layout(set = 0, binding = 5, std430) buffer Canopy { uint canopy[]; };
-// Each blade's pressed state (`Press` in src/sim/contact.rs) and the scene's
-// colliders; placeholders the kernel never touches when made without.
+// Each blade's pressed state (`Press` in src/sim/contact.rs) and the
+// colliders' bins; placeholders the kernel never touches when made without.
 layout(set = 0, binding = 6, std430) buffer Presses { Press presses[]; };
-layout(set = 0, binding = 7, std430) readonly buffer Colliders { Collider colliders[]; };
+// Four words per cell, one bit per collider (bin_colliders.comp).
+layout(set = 0, binding = 8, std430) readonly buffer ColliderBins { uvec4 collider_bins[]; };
 
-// Every invocation of the workgroup calls this (it has barriers): the
-// colliders at the step's end whose box, grown by the radius, meets the box
-// of this workgroup's roots grown by their reach, in scene order. A superset
-// of each blade's near colliders on the CPU (`ColliderState::near`): a
-// collider left out cannot reach any point of these blades.
-void gather_near_colliders(bool in_range, vec3 root, float reach, uint count) {
-    uint l = gl_LocalInvocationIndex;
-    roots_low[l] = in_range ? vec4(root - vec3(reach), 0.0) : vec4(1e30);
-    roots_high[l] = in_range ? vec4(root + vec3(reach), 0.0) : vec4(-1e30);
-    barrier();
-    for (uint half_size = 32u; half_size > 0u; half_size >>= 1) {
-        if (l < half_size) {
-            roots_low[l] = min(roots_low[l], roots_low[l + half_size]);
-            roots_high[l] = max(roots_high[l], roots_high[l + half_size]);
-        }
-        barrier();
-    }
-    vec3 low = roots_low[0].xyz;
-    vec3 high = roots_high[0].xyz;
-    for (uint c = l; c < count; c += 64u) {
-        ColliderState st = collider_at(colliders[c], pc.contact.x);
-        float r = st.a_radius.w;
-        vec3 lo = min(st.a_radius.xyz, st.b.xyz) - vec3(r);
-        vec3 hi = max(st.a_radius.xyz, st.b.xyz) + vec3(r);
-        all_colliders[c] = st;
-        collider_is_near[c] = all(lessThanEqual(lo, high)) && all(greaterThanEqual(hi, low)) ? 1u : 0u;
-    }
-    barrier();
-    if (l == 0u) {
-        uint n = 0u;
-        for (uint c = 0u; c < count; ++c) {
-            if (collider_is_near[c] != 0u) {
-                near_colliders[n] = all_colliders[c];
-                n += 1u;
-            }
-        }
-        near_collider_count = n;
-    }
-    barrier();
+// The bin of a root: the same arithmetic as bin_colliders.comp's cells.
+uint bin_of(vec3 root) {
+    vec2 cell = floor((root.xz - pc.bin_grid.xy) * pc.bin_grid.z);
+    uvec2 at = uvec2(clamp(cell, vec2(0.0), vec2(pc.bin_cells.xy) - 1.0));
+    return at.y * pc.bin_cells.x + at.x;
 }
 
 #define WIND_VELOCITY(i) wind_velocity[pc.control.z + (i)]
@@ -109,29 +84,26 @@ void lay_frontal_area(GrassBlade b, Pose p, vec3 wind) {
 
 void main() {
     uint id = gl_GlobalInvocationID.x;
-    bool in_range = id < pc.control.x;
-    GrassBlade b;
-    if (in_range) {
-        b = blades[id];
+    if (id >= pc.control.x) {
+        return;
     }
-    // The collider count is uniform, so the whole workgroup gathers or none.
-    uint collider_count = uint(pc.contact.z);
+    GrassBlade b = blades[id];
+    // This blade's own near colliders (`contact::near_blade`), as bits in
+    // scene order: those of its root's bin within its reach. Most blades'
+    // bins are empty, and they skip the contact entirely.
     uvec4 near = uvec4(0u);
-    if (collider_count > 0u) {
-        vec3 root = in_range ? b.rest[0].xyz : vec3(0.0);
-        float reach = in_range ? blade_reach(b) : 0.0;
-        gather_near_colliders(in_range, root, reach, collider_count);
-        // This blade's own near colliders (`ColliderState::near`), as bits
-        // of the workgroup's list: most blades of a workgroup that meets a
-        // collider are out of its reach, and skip the contact entirely.
-        for (uint c = 0u; c < near_collider_count; ++c) {
-            if (collider_distance(near_colliders[c], root).x < reach) {
-                near[c >> 5] |= 1u << (c & 31u);
+    if (pc.contact.z > 0.0) {
+        vec3 root = b.rest[0].xyz;
+        float reach = blade_reach(b);
+        uvec4 binned = collider_bins[bin_of(root)];
+        for (uint word = 0u; word < 4u; ++word) {
+            for (uint bits = binned[word]; bits != 0u; bits &= bits - 1u) {
+                uint c = word * 32u + uint(findLSB(bits));
+                if (collider_distance(collider_states[c], root).x < reach) {
+                    near[word] |= 1u << (c & 31u);
+                }
             }
         }
-    }
-    if (!in_range) {
-        return;
     }
     GrassState s = states[id];
     // Pressed states live on while the colliders are away, and decay.

@@ -23,6 +23,7 @@ use crate::gpu::{
 use crate::sim::contact::{press_decay, Collider, Press};
 use crate::sim::grass::{substeps, CapCounts, GrassBlade, GrassState};
 use crate::sim::BladeVertex;
+use crate::simulate::collider_bins::{BinGrid, ColliderBins};
 use crate::simulate::wind_pass::WindInput;
 
 const LOCAL_SIZE: u32 = 64;
@@ -55,6 +56,11 @@ pub struct GrassPush {
     /// step, z: colliders (src/sim/contact.rs), w: 1 where each blade has
     /// a pressed state (the pass was made with colliders).
     pub contact: [f32; 4],
+    /// The collider bins' grid (`BinGrid`): xy its corner (x, z), z cells
+    /// per metre.
+    pub bin_grid: [f32; 4],
+    /// x: the bins' columns (along x), y: rows (along z).
+    pub bin_cells: [u32; 4],
 }
 
 /// Set 0 of the grass kernel.
@@ -66,7 +72,8 @@ pub const GRASS_SET: &[LayoutBinding] = &[
     LayoutBinding::compute_storage(4), // angle-cap counters
     LayoutBinding::compute_storage(5), // canopy: frontal area per wind cell (two-way coupling)
     LayoutBinding::compute_storage(6), // pressed state per blade (colliders)
-    LayoutBinding::compute_storage(7), // colliders
+    LayoutBinding::compute_storage(7), // collider states at the step's end
+    LayoutBinding::compute_storage(8), // collider bins
 ];
 
 pub struct GrassPass {
@@ -84,8 +91,8 @@ pub struct GrassPass {
     _no_canopy: Buffer,
     /// Each blade's pressed state (a placeholder without colliders).
     presses: Buffer,
-    /// The colliders, with room for `MAX_COLLIDERS`.
-    colliders: Buffer,
+    /// The colliders, evaluated and binned before each step.
+    bins: ColliderBins,
     push: GrassPush,
     blade_count: u32,
 }
@@ -125,6 +132,7 @@ impl GrassPass {
         let face_count: u64 = (0..3)
             .map(|a| grid.face_dims(a).as_u64vec3().element_product())
             .sum();
+        let bin_grid = BinGrid::covering(blades);
         let push = GrassPush {
             cells: [grid.cells.x, grid.cells.y, grid.cells.z, face_count as u32],
             origin: grid.origin.extend(0.0).to_array(),
@@ -142,6 +150,13 @@ impl GrassPass {
                 colliders.len() as f32,
                 !colliders.is_empty() as u32 as f32,
             ],
+            bin_grid: [
+                bin_grid.corner.x,
+                bin_grid.corner.y,
+                bin_grid.per_metre,
+                0.0,
+            ],
+            bin_cells: [bin_grid.columns, bin_grid.rows, 0, 0],
         };
 
         // Host memory first: failing here leaves nothing on the GPU to undo.
@@ -207,8 +222,7 @@ impl GrassPass {
             usage,
             Access::COMPUTE_READ_WRITE,
         )?;
-        let colliders_buffer =
-            super::colliders::upload(gpu, commands, "grass colliders", colliders)?;
+        let bins = ColliderBins::new(gpu, commands, bin_grid, colliders)?;
         let layout = PipelineLayout::new::<GrassPush>(
             gpu,
             GRASS_SET,
@@ -238,7 +252,8 @@ impl GrassPass {
                     } else {
                         Bound::Buffer(&presses)
                     },
-                    Bound::Buffer(&colliders_buffer),
+                    Bound::Buffer(bins.states()),
+                    Bound::Buffer(bins.bins()),
                 ]
             },
         )?;
@@ -250,7 +265,7 @@ impl GrassPass {
             caps,
             _no_canopy: no_canopy,
             presses,
-            colliders: colliders_buffer,
+            bins,
             push,
             blade_count,
         })
@@ -282,9 +297,14 @@ impl GrassPass {
                     .into(),
             ));
         }
-        super::colliders::rewrite(&self.colliders, gpu, commands, "grass colliders", colliders)?;
+        self.bins.set_colliders(gpu, commands, colliders)?;
         self.push.contact[2] = colliders.len() as f32;
         Ok(())
+    }
+
+    /// The colliders' bins (for tests).
+    pub fn collider_bins(&self) -> &ColliderBins {
+        &self.bins
     }
 
     /// Symplectic Euler substeps per simulation step.
@@ -294,8 +314,8 @@ impl GrassPass {
 
     /// Records one simulation step, sampling the wind velocity copy that
     /// starts `wind_offset` floats into the wind buffer (0 for `WindPass`'s
-    /// state). Waits for earlier compute (the wind step, the previous grass
-    /// step), uploads and the wind's clearing of the canopy, and the
+    /// state), after binning the colliders (`ColliderBins::record`). Waits
+    /// for earlier compute (the wind step, the previous grass step), uploads and the wind's clearing of the canopy, and the
     /// previous draw's vertex reads; ends with the
     /// vertices visible to the vertex input stage and to compute.
     ///
@@ -305,6 +325,7 @@ impl GrassPass {
         let mut push = self.push;
         push.control[2] = wind_offset;
         push.contact[0] = end_time;
+        self.bins.record(rec, end_time);
         rec.barrier(
             Access::COMPUTE_WRITE
                 .and(Access::VERTEX_INPUT)

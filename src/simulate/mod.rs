@@ -6,6 +6,7 @@
 //! whole steps of the scene's dt. It writes the blade buffer it is handed
 //! and knows nothing of the rendering.
 
+pub mod collider_bins;
 mod colliders;
 pub mod grass_pass;
 pub mod wind_pass;

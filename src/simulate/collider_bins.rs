@@ -1,0 +1,314 @@
+//! Collider binning for the grass step (glsl/grass/bin_colliders.comp):
+//! before each step, one invocation per collider evaluates it at the
+//! step's end once, and marks it in the cells of a coarse grid over the
+//! field's roots that it can reach (its box grown by its radius and the
+//! longest blade's reach). Each blade then tests only the colliders of
+//! its root's cell, in scene order: a superset of its near colliders
+//! (`contact::near_blade`), so the grass step is the same as without
+//! bins, at a cost that follows how many colliders are near, not how many
+//! there are.
+//!
+//! The pass owns the colliders' GPU records (`colliders::upload`), their
+//! states at the step's end and the bins; the grass step binds the last
+//! two.
+
+use ash::vk;
+use glam::{Vec2, Vec3};
+
+use crate::error::Result;
+use crate::gpu::{
+    Access, Bound, Buffer, Commands, DescriptorSet, Gpu, LayoutBinding, MemoryLocation, Pipeline,
+    PipelineLayout, Recording,
+};
+use crate::sim::contact::{reach, Collider, ColliderState, MAX_COLLIDERS};
+use crate::sim::grass::GrassBlade;
+
+const LOCAL_SIZE: u32 = 64;
+/// Cells along the grid's longer side at most: 64 x 64 cells of 16 bytes
+/// are 64 KiB, cleared each step.
+pub const MAX_CELLS_PER_SIDE: u32 = 64;
+/// Metres the grid and each collider's reach are widened by, so that
+/// rounding never leaves a root outside the cells its colliders mark.
+const MARGIN: f32 = 1e-3;
+/// Words per cell: one bit per collider.
+const WORDS_PER_CELL: usize = MAX_COLLIDERS / 32;
+
+/// The bins' grid: square cells over the roots' extent in x and z.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BinGrid {
+    /// The corner at the lowest x and z (m).
+    pub corner: Vec2,
+    /// Cells per metre.
+    pub per_metre: f32,
+    pub columns: u32,
+    pub rows: u32,
+    /// The longest blade's reach, with the margin (m).
+    pub reach: f32,
+    /// The roots' lowest and highest y (m).
+    pub root_y: (f32, f32),
+}
+
+impl BinGrid {
+    /// The grid over `blades`' roots: cells at least the longest reach
+    /// across (a smaller cell would mark more cells for the same
+    /// colliders), at most `MAX_CELLS_PER_SIDE` along the longer side.
+    pub fn covering(blades: &[GrassBlade]) -> Self {
+        let mut low = Vec3::splat(f32::INFINITY);
+        let mut high = Vec3::splat(f32::NEG_INFINITY);
+        let mut longest = 0.0f32;
+        for blade in blades {
+            let root = Vec3::from_slice(&blade.rest[0][..3]);
+            low = low.min(root);
+            high = high.max(root);
+            longest = longest.max(reach(blade));
+        }
+        if blades.is_empty() {
+            (low, high) = (Vec3::ZERO, Vec3::ZERO);
+        }
+        let corner = Vec2::new(low.x, low.z) - MARGIN;
+        let extent = Vec2::new(high.x - low.x, high.z - low.z) + 2.0 * MARGIN;
+        let cell = (extent.max_element() / (MAX_CELLS_PER_SIDE - 1) as f32).max(longest);
+        let per_metre = 1.0 / cell.max(MARGIN);
+        // The highest root lies at least the margin inside the last cell
+        // (the minimum only guards rounding).
+        let side = |length: f32| ((length * per_metre).floor() as u32 + 1).min(MAX_CELLS_PER_SIDE);
+        Self {
+            corner,
+            per_metre,
+            columns: side(extent.x),
+            rows: side(extent.y),
+            reach: longest + MARGIN,
+            root_y: (low.y, high.y),
+        }
+    }
+
+    pub fn cell_count(&self) -> usize {
+        (self.columns * self.rows) as usize
+    }
+
+    /// The cell a root lies in (`bin_of` in glsl/grass/step.comp).
+    pub fn cell_of(&self, root: Vec3) -> usize {
+        let cell = ((Vec2::new(root.x, root.z) - self.corner) * self.per_metre).floor();
+        let column = cell.x.clamp(0.0, (self.columns - 1) as f32) as u32;
+        let row = cell.y.clamp(0.0, (self.rows - 1) as f32) as u32;
+        (row * self.columns + column) as usize
+    }
+}
+
+/// Push constants of glsl/grass/bin_colliders.comp.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
+struct BinPush {
+    /// xy: the grid's corner (x, z), z: cells per metre, w: time at the
+    /// step's end (s).
+    grid: [f32; 4],
+    /// x: columns, y: rows, z: colliders.
+    cells: [u32; 4],
+    /// x: the longest reach with the margin, y, z: the roots' lowest and
+    /// highest y.
+    reach: [f32; 4],
+}
+
+/// Set 0 of the binning kernel.
+const BIN_SET: &[LayoutBinding] = &[
+    LayoutBinding::compute_storage(0), // colliders
+    LayoutBinding::compute_storage(1), // collider states at the step's end
+    LayoutBinding::compute_storage(2), // bins: four words per cell
+];
+
+pub struct ColliderBins {
+    // Declared first, dropped first: the set points at the buffers.
+    set: DescriptorSet,
+    pipeline: Pipeline,
+    /// The colliders, with room for `MAX_COLLIDERS`.
+    colliders: Buffer,
+    states: Buffer,
+    bins: Buffer,
+    grid: BinGrid,
+    count: u32,
+}
+
+impl ColliderBins {
+    /// Bins over `grid` (`BinGrid::covering` the blades), with
+    /// `colliders` uploaded.
+    pub fn new(
+        gpu: &Gpu,
+        commands: &Commands,
+        grid: BinGrid,
+        colliders: &[Collider],
+    ) -> Result<Self> {
+        let colliders_buffer =
+            super::colliders::upload(gpu, commands, "grass colliders", colliders)?;
+        let states = Buffer::new(
+            gpu,
+            "grass collider states (step's end)",
+            (MAX_COLLIDERS * 3 * std::mem::size_of::<[f32; 4]>()) as u64,
+            vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC,
+            MemoryLocation::GpuOnly,
+        )?;
+        let bins = Buffer::new(
+            gpu,
+            "grass collider bins",
+            (grid.cell_count() * WORDS_PER_CELL * 4) as u64,
+            vk::BufferUsageFlags::STORAGE_BUFFER
+                | vk::BufferUsageFlags::TRANSFER_DST
+                | vk::BufferUsageFlags::TRANSFER_SRC,
+            MemoryLocation::GpuOnly,
+        )?;
+        let layout = PipelineLayout::new::<BinPush>(
+            gpu,
+            BIN_SET,
+            vk::ShaderStageFlags::COMPUTE,
+            "grass collider binning",
+        )?;
+        let pipeline = Pipeline::compute(gpu, &layout, &crate::shaders::GRASS_BIN_COLLIDERS_COMP)?;
+        let set = DescriptorSet::new(
+            gpu,
+            &layout,
+            BIN_SET,
+            &[
+                Bound::Buffer(&colliders_buffer),
+                Bound::Buffer(&states),
+                Bound::Buffer(&bins),
+            ],
+            "grass collider binning set",
+        )?;
+        Ok(Self {
+            set,
+            pipeline,
+            colliders: colliders_buffer,
+            states,
+            bins,
+            grid,
+            count: colliders.len() as u32,
+        })
+    }
+
+    /// The colliders from the next step on. Uploads and waits: call
+    /// between submissions.
+    pub fn set_colliders(
+        &mut self,
+        gpu: &Gpu,
+        commands: &Commands,
+        colliders: &[Collider],
+    ) -> Result<()> {
+        super::colliders::rewrite(&self.colliders, gpu, commands, "grass colliders", colliders)?;
+        self.count = colliders.len() as u32;
+        Ok(())
+    }
+
+    pub fn grid(&self) -> &BinGrid {
+        &self.grid
+    }
+
+    /// The colliders' states at the step's end, as the grass step reads
+    /// them (`ColliderState` in glsl/common/collider.glsl).
+    pub fn states(&self) -> &Buffer {
+        &self.states
+    }
+
+    /// Four words per cell, one bit per collider.
+    pub fn bins(&self) -> &Buffer {
+        &self.bins
+    }
+
+    /// Records the binning for a step ending at `end_time`: after the
+    /// last step's reads of the states and bins, and before the next
+    /// step, whose first barrier waits for compute writes. Nothing
+    /// without colliders.
+    pub fn record(&self, rec: &Recording, end_time: f32) {
+        if self.count == 0 {
+            return;
+        }
+        rec.barrier(Access::COMPUTE_READ_WRITE, Access::TRANSFER_WRITE);
+        rec.fill_buffer(&self.bins, 0);
+        rec.barrier(Access::TRANSFER_WRITE, Access::COMPUTE_READ_WRITE);
+        let g = &self.grid;
+        let push = BinPush {
+            grid: [g.corner.x, g.corner.y, g.per_metre, end_time],
+            cells: [g.columns, g.rows, self.count, 0],
+            reach: [g.reach, g.root_y.0, g.root_y.1, 0.0],
+        };
+        rec.bind_pipeline(&self.pipeline);
+        rec.bind_set(&self.pipeline, &self.set);
+        rec.push_constants(&self.pipeline, &push);
+        rec.dispatch(self.count.div_ceil(LOCAL_SIZE));
+    }
+
+    /// The bins the last recorded binning left (for tests).
+    pub fn read_bins(&self, gpu: &Gpu, commands: &Commands) -> Result<Vec<[u32; 4]>> {
+        self.bins.read_back(gpu, commands, self.grid.cell_count())
+    }
+
+    /// The colliders' states the last recorded binning left (for tests).
+    pub fn read_states(&self, gpu: &Gpu, commands: &Commands) -> Result<Vec<ColliderState>> {
+        let raw: Vec<[[f32; 4]; 3]> = self.states.read_back(gpu, commands, self.count as usize)?;
+        Ok(raw
+            .iter()
+            .map(|[a, b, v]| ColliderState {
+                a: Vec3::from_slice(&a[..3]),
+                b: Vec3::from_slice(&b[..3]),
+                radius: a[3],
+                velocity: Vec3::from_slice(&v[..3]),
+            })
+            .collect())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn blade_at(x: f32, z: f32, height: f32) -> GrassBlade {
+        let mut blade = GrassBlade::default();
+        for i in 0..4 {
+            blade.rest[i] = [x, height * i as f32 / 3.0, z, 0.0];
+        }
+        blade
+    }
+
+    #[test]
+    fn the_grid_holds_every_root_and_its_cells_are_at_least_a_reach_across() {
+        let blades: Vec<GrassBlade> = (0..400)
+            .map(|i| {
+                blade_at(
+                    (i % 20) as f32 * 1.5 - 10.0,
+                    (i / 20) as f32 * 0.7 + 3.0,
+                    0.6,
+                )
+            })
+            .collect();
+        let grid = BinGrid::covering(&blades);
+        assert!((1.0 / grid.per_metre) >= 0.6 - 1e-6);
+        assert!(grid.columns <= MAX_CELLS_PER_SIDE && grid.rows <= MAX_CELLS_PER_SIDE);
+        for blade in &blades {
+            let root = Vec3::from_slice(&blade.rest[0][..3]);
+            let cell = (Vec2::new(root.x, root.z) - grid.corner) * grid.per_metre;
+            assert!(cell.x >= 0.0 && cell.y >= 0.0, "{root} before the corner");
+            assert!(
+                cell.x < grid.columns as f32 && cell.y < grid.rows as f32,
+                "{root} beyond the last cell"
+            );
+        }
+        // 28.5 m along x in cells of 0.6 m: 48 columns; 13.3 m along z: 23 rows.
+        assert_eq!((grid.columns, grid.rows), (48, 23));
+    }
+
+    #[test]
+    fn a_wide_field_has_at_most_sixty_four_cells_a_side() {
+        let blades = [blade_at(0.0, 0.0, 0.5), blade_at(200.0, 50.0, 0.5)];
+        let grid = BinGrid::covering(&blades);
+        // 200 m in 63 cells (the last root inside the last), or 64 if
+        // rounding puts it at the 63rd's far edge.
+        assert!(
+            (63..=MAX_CELLS_PER_SIDE).contains(&grid.columns),
+            "{grid:?}"
+        );
+        assert_eq!(grid.rows, 16);
+        assert_eq!(
+            grid.cell_of(Vec3::new(200.0, 0.0, 50.0)),
+            grid.cell_count() - 1
+        );
+        assert_eq!(grid.cell_of(Vec3::ZERO), 0);
+    }
+}
