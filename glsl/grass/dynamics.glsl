@@ -228,7 +228,7 @@ float press_give(float pressed);
 // taken at (omega + omega') / 2. A blade in the pressed state `pressed`, or
 // colliders it can reach (the bits of `near`, in scene order), resolves its
 // contacts after each substep (`grass::step_touching`); returns whether it
-// touched one.
+// touched one. Only step_touching.comp has the contact (step.glsl).
 bool blade_step(GrassBlade b, inout GrassState s, vec3 wind, float h, uint substeps,
                 float pressed, uvec4 near) {
     wind = guard_wind(wind);
@@ -257,9 +257,11 @@ bool blade_step(GrassBlade b, inout GrassState s, vec3 wind, float h, uint subst
             ground_contact(s, before);
             p = blade_pose(b, s.angle, pressed);
         }
+#ifdef GRASS_TOUCHING
         if (any(notEqual(near, uvec4(0u))) || pressed != 0.0) {
             touched = resolve_contacts(b, s, pressed, p, near) || touched;
         }
+#endif
     }
     return touched;
 }

@@ -208,6 +208,24 @@ impl Recording<'_> {
         };
     }
 
+    /// Writes `words` into `buffer` from byte `offset` (a multiple of 4),
+    /// as a transfer; at most 64 KiB, carried in the command buffer.
+    pub fn update_buffer(&self, buffer: &Buffer, offset: u64, words: &[u32]) {
+        debug_assert!(offset % 4 == 0 && !words.is_empty() && words.len() <= 16384);
+        // SAFETY: recording outside rendering; the buffer is live and made
+        // with TRANSFER_DST; offset and size are multiples of 4 and the
+        // size at most 65536 bytes (asserted above, and the callers write
+        // a few words within the buffer).
+        unsafe {
+            self.device.raw.cmd_update_buffer(
+                self.cmd,
+                buffer.raw,
+                offset,
+                bytemuck::cast_slice(words),
+            )
+        };
+    }
+
     /// Copies the first `bytes` of `src` to the start of `dst`.
     pub fn copy_buffer(&self, src: &Buffer, dst: &Buffer, bytes: u64) {
         let region = vk::BufferCopy {
@@ -328,6 +346,19 @@ impl Recording<'_> {
     pub fn dispatch(&self, groups: u32) {
         // SAFETY: recording, with a compute pipeline and its set bound.
         unsafe { self.device.raw.cmd_dispatch(self.cmd, groups, 1, 1) };
+    }
+
+    /// A dispatch whose workgroup counts (a `VkDispatchIndirectCommand`)
+    /// the GPU wrote at byte `offset` of `buffer`.
+    pub fn dispatch_indirect(&self, buffer: &Buffer, offset: u64) {
+        // SAFETY: recording, with a compute pipeline and its set bound; the
+        // buffer is live, made with INDIRECT_BUFFER, and holds the 12-byte
+        // command at the 4-aligned `offset` (the callers' layouts say so).
+        unsafe {
+            self.device
+                .raw
+                .cmd_dispatch_indirect(self.cmd, buffer.raw, offset)
+        };
     }
 
     /// Begins rendering into `targets` over their whole extent, with the

@@ -74,14 +74,28 @@ pub const GRASS_SET: &[LayoutBinding] = &[
     LayoutBinding::compute_storage(6), // pressed state per blade (colliders)
     LayoutBinding::compute_storage(7), // collider states at the step's end
     LayoutBinding::compute_storage(8), // collider bins
+    LayoutBinding::compute_storage(9), // the batch's blades near a collider or pressed
 ];
+
+/// Words before each batch's list of touching blades: the indirect
+/// dispatch (3), the count, and padding to the 256 bytes any storage
+/// offset alignment divides.
+const TOUCHING_HEADER_WORDS: u32 = 64;
 
 pub struct GrassPass {
     // Declared first, dropped first: the sets point at the buffers. One
     // set per batch of blades (`gpu::batches`): a million blades are more
     // than lavapipe lets one binding reach.
     batches: Vec<(DescriptorSet, Range<u32>)>,
+    /// Every blade, but those near a collider or pressed it lists.
     pipeline: Pipeline,
+    /// The listed blades, with the contact; only with colliders.
+    touching_pipeline: Option<Pipeline>,
+    /// Per batch, from the byte offset of its entry in `touching_offsets`:
+    /// the indirect dispatch, the count and the blades near a collider
+    /// or pressed (a placeholder without colliders).
+    touching: Buffer,
+    touching_offsets: Vec<u64>,
     /// Held for the set: the kernel reads the rest shapes and physics.
     _blades: Buffer,
     states: Buffer,
@@ -232,6 +246,37 @@ impl GrassPass {
         let pipeline = Pipeline::compute(gpu, &layout, &crate::shaders::GRASS_STEP_COMP)?;
         use std::mem::size_of;
         let has_colliders = !colliders.is_empty();
+        let touching_pipeline = if has_colliders {
+            Some(Pipeline::compute(
+                gpu,
+                &layout,
+                &crate::shaders::GRASS_STEP_TOUCHING_COMP,
+            )?)
+        } else {
+            None
+        };
+        // Batch k's list starts TOUCHING_HEADER_WORDS * k words past its
+        // first blade: each batch's header before its blades.
+        let batch_len = crate::gpu::batches::storage_batch_len(gpu, BLADE_BYTES_BOUND)?;
+        let list_start = |blades: &Range<u32>| {
+            4 * (blades.start as u64
+                + TOUCHING_HEADER_WORDS as u64 * (blades.start / batch_len) as u64)
+        };
+        let list_words = if has_colliders {
+            blade_count as u64
+                + TOUCHING_HEADER_WORDS as u64 * blade_count.div_ceil(batch_len) as u64
+        } else {
+            TOUCHING_HEADER_WORDS as u64
+        };
+        let touching = Buffer::new(
+            gpu,
+            "grass blades touching (near a collider or pressed)",
+            4 * list_words,
+            vk::BufferUsageFlags::STORAGE_BUFFER
+                | vk::BufferUsageFlags::INDIRECT_BUFFER
+                | vk::BufferUsageFlags::TRANSFER_DST,
+            crate::gpu::MemoryLocation::GpuOnly,
+        )?;
         let batches = crate::gpu::sets_per_batch(
             gpu,
             &layout,
@@ -254,12 +299,28 @@ impl GrassPass {
                     },
                     Bound::Buffer(bins.states()),
                     Bound::Buffer(bins.bins()),
+                    if has_colliders {
+                        Bound::Part {
+                            buffer: &touching,
+                            offset: list_start(blades),
+                            size: 4 * (TOUCHING_HEADER_WORDS + blades.len() as u32) as u64,
+                        }
+                    } else {
+                        Bound::Buffer(&touching)
+                    },
                 ]
             },
         )?;
+        let touching_offsets = batches
+            .iter()
+            .map(|(_, blades)| list_start(blades))
+            .collect();
         Ok(Self {
             batches,
             pipeline,
+            touching_pipeline,
+            touching,
+            touching_offsets,
             _blades: blades_buffer,
             states,
             caps,
@@ -326,6 +387,16 @@ impl GrassPass {
         push.control[2] = wind_offset;
         push.contact[0] = end_time;
         self.bins.record(rec, end_time);
+        if self.touching_pipeline.is_some() {
+            // Empty lists, after the last step's dispatch and reads.
+            rec.barrier(
+                Access::COMPUTE_READ_WRITE.and(Access::DRAW_INDIRECT),
+                Access::TRANSFER_WRITE,
+            );
+            for &offset in &self.touching_offsets {
+                rec.update_buffer(&self.touching, offset, &[0, 1, 1, 0]);
+            }
+        }
         rec.barrier(
             Access::COMPUTE_WRITE
                 .and(Access::VERTEX_INPUT)
@@ -343,6 +414,24 @@ impl GrassPass {
             rec.bind_set(&self.pipeline, set);
             rec.push_constants(&self.pipeline, &push);
             rec.dispatch(push.control[0].div_ceil(LOCAL_SIZE));
+        }
+        if let Some(touching_pipeline) = &self.touching_pipeline {
+            rec.barrier(
+                Access::COMPUTE_WRITE,
+                Access::DRAW_INDIRECT.and(Access::COMPUTE_READ_WRITE),
+            );
+            rec.bind_pipeline(touching_pipeline);
+            for (i, ((set, blades), &offset)) in
+                self.batches.iter().zip(&self.touching_offsets).enumerate()
+            {
+                if i > 0 {
+                    rec.barrier(Access::COMPUTE_WRITE, Access::COMPUTE_READ_WRITE);
+                }
+                push.control[0] = blades.len() as u32;
+                rec.bind_set(touching_pipeline, set);
+                rec.push_constants(touching_pipeline, &push);
+                rec.dispatch_indirect(&self.touching, offset);
+            }
         }
         rec.barrier(
             Access::COMPUTE_WRITE,

@@ -1,0 +1,204 @@
+// The grass step (paper section 4), in two kernels: step.comp, one
+// invocation per blade, and step_touching.comp (GRASS_TOUCHING defined),
+// one per blade of the list step.comp made of those near a collider or
+// pressed. Each samples the wind at its blade's tip, advances swinging,
+// bending and twisting, and writes the four deformed control points and
+// width vectors straight into the vertex buffer the blade pipeline draws.
+// Mirrors `GrassField::step` in src/sim/grass.rs.
+//
+// Why two: a SIMD device without branches (lavapipe runs 8 blades a lane
+// each) pays for the contact code in every blade of a group that skips it;
+// the blades that touch nothing run a kernel without it.
+#ifndef MEADOW_GRASS_STEP_GLSL
+#define MEADOW_GRASS_STEP_GLSL
+
+layout(local_size_x = 64) in;
+
+#include "wind_grid.glsl"
+#include "blade_vertex.glsl"
+#include "dynamics.glsl"
+#include "collider.glsl"
+
+// The colliders at the step's end, evaluated once by the binning pass
+// (bin_colliders.comp); contact.glsl reads them, so they come before it.
+layout(set = 0, binding = 7, std430) readonly buffer ColliderStates { ColliderState collider_states[]; };
+#define COLLIDER_STATE(c) collider_states[c]
+#include "contact.glsl"
+
+layout(push_constant, std430) uniform Push {
+    WindGridParams grid;
+    uvec4 control;   // x: blades, y: substeps, z: offset (floats) of the wind velocity copy to sample,
+                     // w: 1 to lay the canopy's frontal area (two-way coupling)
+    vec4 step;       // x: simulation step dt (s), y: substep h = dt / substeps (s), z: m^2 per canopy count
+    vec4 contact;    // x: time at the step's end (s), y: the pressed state's decay per step, z: colliders,
+                     // w: 1 where each blade has a pressed state (made with colliders)
+    vec4 bin_grid;   // xy: the collider bins' corner (x, z; m), z: cells per metre
+    uvec4 bin_cells; // x: columns (along x), y: rows (along z)
+} pc;
+
+layout(set = 0, binding = 0, std430) readonly buffer Blades { GrassBlade blades[]; };
+layout(set = 0, binding = 1, std430) buffer States { GrassState states[]; };
+struct Vertex {
+    vec4 position;
+    vec4 width;
+};
+// Written only; not declared writeonly because naga does not take it.
+layout(set = 0, binding = 2, std430) buffer Vertices { Vertex vertices[]; };
+layout(set = 0, binding = 3, std430) readonly buffer Wind { float wind_velocity[]; };
+// Blade-steps that ended at an angle cap (`CapCounts` in src/sim/grass.rs):
+// [0] any motion, [1 + m] motion m (swing, bend A, bend B, twist).
+layout(set = 0, binding = 4, std430) buffer Caps { uint caps[]; };
+// The frontal area per wind cell in counts of pc.step.z m^2 (two-way
+// coupling; `deposit` in src/sim/canopy.rs), which the wind cleared.
+layout(set = 0, binding = 5, std430) buffer Canopy { uint canopy[]; };
+// Each blade's pressed state (`Press` in src/sim/contact.rs) and the
+// colliders' bins; placeholders the kernel never touches when made without.
+layout(set = 0, binding = 6, std430) buffer Presses { Press presses[]; };
+// Four words per cell, one bit per collider (bin_colliders.comp).
+layout(set = 0, binding = 8, std430) readonly buffer ColliderBins { uvec4 collider_bins[]; };
+// The blades of this batch near a collider or pressed, which step.comp
+// leaves to step_touching.comp: [0..3) the indirect dispatch's workgroups,
+// [3] how many, then their indices in the batch, in no set order (each
+// blade's step is its own; the sums it adds are integers).
+layout(set = 0, binding = 9, std430) buffer Touching { uint touching[]; };
+#define TOUCHING_HEADER 4u
+
+// The bin of a root: the same arithmetic as bin_colliders.comp's cells.
+uint bin_of(vec3 root) {
+    vec2 cell = floor((root.xz - pc.bin_grid.xy) * pc.bin_grid.z);
+    uvec2 at = uvec2(clamp(cell, vec2(0.0), vec2(pc.bin_cells.xy) - 1.0));
+    return at.y * pc.bin_cells.x + at.x;
+}
+
+#define WIND_VELOCITY(i) wind_velocity[pc.control.z + (i)]
+#include "wind_sample.glsl"
+
+// Two-way coupling (`deposit` in src/sim/canopy.rs): each edge's plate,
+// projected across the wind the blade felt, added to the cell its midpoint
+// lies in, in whole counts. Integer sums: the same in any order.
+void lay_frontal_area(GrassBlade b, Pose p, vec3 wind) {
+    float speed = length(wind);
+    if (speed <= 1e-6) {
+        return;
+    }
+    vec3 along = wind / speed;
+    for (int i = 0; i < 3; ++i) {
+        vec3 n = cross(p.w_local[i], p.e[i]);
+        float n_len = length(n);
+        float facing = n_len > 1e-12 ? abs(dot(n, along) / n_len) : 0.0;
+        float area = length(rest_point(b, i + 1) - rest_point(b, i)) * 2.0 * b.width.w * facing;
+        vec3 mid = (p.points[i] + p.points[i + 1]) * 0.5;
+        vec3 g = floor((mid - pc.grid.origin.xyz) / pc.grid.cell_size.xyz);
+        if (all(greaterThanEqual(g, vec3(0.0))) && all(lessThan(g, vec3(pc.grid.cells.xyz)))) {
+            atomicAdd(canopy[cell_index(pc.grid, uvec3(g))], uint(area / pc.step.z + 0.5));
+        }
+    }
+}
+
+// This blade's own near colliders (`contact::near_blade`), as bits in
+// scene order: those of its root's bin within its reach.
+uvec4 near_colliders(GrassBlade b) {
+    uvec4 near = uvec4(0u);
+    if (pc.contact.z > 0.0) {
+        vec3 root = b.rest[0].xyz;
+        float reach = blade_reach(b);
+        uvec4 binned = collider_bins[bin_of(root)];
+        for (uint word = 0u; word < 4u; ++word) {
+            for (uint bits = binned[word]; bits != 0u; bits &= bits - 1u) {
+                uint c = word * 32u + uint(findLSB(bits));
+                if (collider_distance(collider_states[c], root).x < reach) {
+                    near[word] |= 1u << (c & 31u);
+                }
+            }
+        }
+    }
+    return near;
+}
+
+// The step's end for blade `id`: its state, the cap counters, its frontal
+// area (two-way coupling) and its control points.
+void write_blade(uint id, GrassBlade b, GrassState s, float pressed, vec3 felt) {
+    states[id] = s;
+    bool capped = false;
+    for (int m = 0; m < 4; ++m) {
+        if (abs(s.angle[m]) >= MAX_ANGLE) {
+            atomicAdd(caps[1 + m], 1u);
+            capped = true;
+        }
+    }
+    if (capped) {
+        atomicAdd(caps[0], 1u);
+    }
+
+    Pose p = blade_pose(b, s.angle, pressed);
+    if (pc.control.w != 0u) {
+        lay_frontal_area(b, p, guard_wind(felt));
+    }
+
+    // Width vectors: the twisted E_w_local of the edge ending at each point
+    // (the root takes the root edge's); w: the tip edge's angle from rest.
+    vec3 rest_tip = normalize_or(rest_point(b, 3) - rest_point(b, 2), UP);
+    float displacement = atan(length(cross(rest_tip, p.e[2])), dot(rest_tip, p.e[2]));
+    for (int i = 0; i < BLADE_CONTROL_POINTS; ++i) {
+        int edge = max(i, 1) - 1;
+        vertices[4u * id + uint(i)] = Vertex(vec4(p.points[i], b.rest[i].w),
+                                             vec4(p.w_local[edge] * b.width.w, displacement));
+    }
+}
+
+#ifndef GRASS_TOUCHING
+
+// Every blade: one near a collider or pressed (pressed states live only in
+// a pass made with colliders) goes on the list; the others take the
+// paper's step, without the contact.
+void main() {
+    uint id = gl_GlobalInvocationID.x;
+    if (id >= pc.control.x) {
+        return;
+    }
+    GrassBlade b = blades[id];
+    if (pc.contact.w != 0.0) {
+        Press press = presses[id];
+        bool pressed = press_next(press, pc.step.x, pc.contact.y) != 0.0;
+        if (pressed || any(notEqual(near_colliders(b), uvec4(0u)))) {
+            uint slot = atomicAdd(touching[3], 1u);
+            touching[TOUCHING_HEADER + slot] = id;
+            atomicMax(touching[0], slot / 64u + 1u);
+            return;
+        }
+        if (press.pressed != 0.0) {
+            // Decayed to nothing this step (`Press::next`).
+            presses[id] = Press(0.0, 0.0);
+        }
+    }
+    GrassState s = states[id];
+    // The wind only at the tip (paper section 4), as the last step left it.
+    vec3 tip = blade_pose(b, s.angle, 0.0).points[3];
+    vec3 felt = sample_wind(pc.grid, tip);
+    blade_step(b, s, felt, pc.step.y, pc.control.y, 0.0, uvec4(0u));
+    write_blade(id, b, s, 0.0, felt);
+}
+
+#else
+
+// The listed blades, with the contact.
+void main() {
+    if (gl_GlobalInvocationID.x >= touching[3]) {
+        return;
+    }
+    uint id = touching[TOUCHING_HEADER + gl_GlobalInvocationID.x];
+    GrassBlade b = blades[id];
+    uvec4 near = near_colliders(b);
+    GrassState s = states[id];
+    Press press = presses[id];
+    // The wind only at the tip (paper section 4), as the last step left it.
+    vec3 tip = blade_pose(b, s.angle, press.pressed).points[3];
+    vec3 felt = sample_wind(pc.grid, tip);
+    float pressed = press_next(press, pc.step.x, pc.contact.y);
+    bool touched = blade_step(b, s, felt, pc.step.y, pc.control.y, pressed, near);
+    presses[id] = Press(pressed, touched ? 1.0 : 0.0);
+    write_blade(id, b, s, pressed, felt);
+}
+
+#endif
+#endif
