@@ -1,8 +1,9 @@
 //! No leak per frame: 200 frames of an animated render (validation on, the
 //! simulation stepping with a ball rolling through, every frame read back,
-//! written as PNG and added to the GIF) keep host memory flat after warm-up, measured two ways: the
-//! process's resident set (RSS), and malloc's bytes in use, which sees a
-//! small leak at once where the RSS hides it in the heap's free room.
+//! written as PNG and added to the GIF) keep host memory flat after
+//! warm-up, measured two ways: the process's resident set (RSS), and
+//! malloc's bytes in use, which sees a small leak at once where the RSS
+//! hides it in the heap's free room.
 //! Leaked Vulkan objects are validation's to find (at vkDestroyDevice);
 //! this finds host memory kept per frame by meadow, the driver or the layer.
 
