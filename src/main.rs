@@ -717,7 +717,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 None => println!("memory floor: n/a (no timestamps on this device)"),
             }
             println!(
-                "{:>9}  {:>9}  {:>8}  {:>10}  {:>10}  {:>18}  {:>10}  {:>9}  {:>11}  {:>10}",
+                "{:>9}  {:>9}  {:>8}  {:>10}  {:>10}  {:>18}  {:>10}  {:>9}  {:>11}  {:>10}  {:>8}",
                 "blades",
                 "colliders",
                 "substeps",
@@ -727,12 +727,13 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 "MB / step",
                 "floor ms",
                 "step/floor",
-                "x no coll."
+                "x no coll.",
+                "touching"
             );
             let ms = |v: Option<f64>| v.map_or("n/a".to_string(), |v| format!("{v:.3}"));
             for r in &bench.rows {
                 println!(
-                    "{:>9}  {:>9}  {:>8}  {:>10}  {:>10}  {:>18}  {:>10.1}  {:>9}  {:>11}  {:>10}",
+                    "{:>9}  {:>9}  {:>8}  {:>10}  {:>10}  {:>18}  {:>10.1}  {:>9}  {:>11}  {:>10}  {:>7.1}%",
                     r.blades,
                     r.colliders,
                     r.substeps,
@@ -744,7 +745,8 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                     r.over_floor
                         .map_or("n/a".to_string(), |v| format!("{v:.2}x")),
                     r.over_collider_free
-                        .map_or("-".to_string(), |v| format!("{v:.2}x"))
+                        .map_or("-".to_string(), |v| format!("{v:.2}x")),
+                    100.0 * r.touching as f64 / r.blades as f64
                 );
             }
             println!("wrote {}", path.display());

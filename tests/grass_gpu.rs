@@ -627,8 +627,9 @@ fn colliders_changed_between_steps_reach_the_gpu_kernel() {
 /// rolling balls. At three instants, every collider the CPU finds within a
 /// blade's reach (`ColliderState::near`) has its bit in the bin of that
 /// blade's root, the states the kernel evaluated are the CPU's
-/// (`Collider::at`), and the bins are tight: a few colliders per cell,
-/// not all of them.
+/// (`Collider::at`), the bins are tight (a few colliders per cell, not
+/// all of them), and the step lists for its touching kernel exactly the
+/// blades near a collider (the first step) or pressed (later ones).
 #[test]
 fn the_collider_bins_hold_every_blades_near_colliders() {
     use meadow::sim::contact::reach;
@@ -676,12 +677,13 @@ fn the_collider_bins_hold_every_blades_near_colliders() {
             t,
             pass.collider_bins().read_bins(&gpu, &commands).unwrap(),
             pass.collider_bins().read_states(&gpu, &commands).unwrap(),
+            pass.read_touching(&gpu, &commands).unwrap(),
         ));
     }
     drop((pass, blade_buffer, wind_buffer, commands));
     finish(gpu);
 
-    for (t, bins, states) in read {
+    for (k, (t, bins, states, touching)) in read.into_iter().enumerate() {
         let mut state_error = 0.0f32;
         for (c, gpu_state) in colliders.iter().zip(&states) {
             let cpu = c.at(t);
@@ -692,10 +694,13 @@ fn the_collider_bins_hold_every_blades_near_colliders() {
                 .max((cpu.radius - gpu_state.radius).abs());
         }
         let mut near_pairs = 0usize;
+        let mut near_blades = 0u64;
         for (blade, root) in blades.iter().zip(&roots) {
             let bin = bins[bin_grid.cell_of(*root)];
+            let mut near = false;
             for (c, collider) in colliders.iter().enumerate() {
                 if collider.at(t).near(*root, reach(blade)) {
+                    near = true;
                     near_pairs += 1;
                     assert!(
                         bin[c / 32] & (1 << (c % 32)) != 0,
@@ -705,16 +710,28 @@ fn the_collider_bins_hold_every_blades_near_colliders() {
                     );
                 }
             }
+            near_blades += near as u64;
         }
         let marked: u32 = bins.iter().flatten().map(|w| w.count_ones()).sum();
         let per_cell = marked as f32 / bins.len() as f32;
         eprintln!(
             "t = {t} s: {near_pairs} blade-collider pairs within reach, all binned; \
-             {per_cell:.2} colliders per cell of {} x {} ({:.2} m); states off by {state_error:e}",
+             {per_cell:.2} colliders per cell of {} x {} ({:.2} m); states off by {state_error:e}; \
+             {touching} blades stepped with the contact, {near_blades} near a collider",
             bin_grid.columns,
             bin_grid.rows,
             1.0 / bin_grid.per_metre
         );
+        // The first step has no pressed blades: it lists exactly those
+        // near a collider; later ones add the pressed.
+        if k == 0 {
+            assert_eq!(touching, near_blades, "blades listed for the contact");
+        } else {
+            assert!(
+                touching >= near_blades,
+                "{touching} listed, {near_blades} near"
+            );
+        }
         assert!(
             near_pairs > 1000,
             "only {near_pairs} pairs: the test tests little"

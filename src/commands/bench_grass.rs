@@ -57,6 +57,9 @@ pub struct GrassBenchRow {
     /// The median step over the same count's without colliders, where
     /// both ran (the goal: at most 2 at 128 colliders).
     pub over_collider_free: Option<f64>,
+    /// Blades the last step stepped with the contact (near a collider or
+    /// pressed; src/simulate/grass_pass.rs).
+    pub touching: u64,
 }
 
 /// The device's copy bandwidth: one buffer copied into another with
@@ -267,6 +270,7 @@ fn bench_count(
         None => Vec::new(),
     };
     let timing = median_p95(&times);
+    let touching = grass.read_touching(gpu, &commands)?;
     let bytes_per_step = crate::simulate::grass_pass::bytes_per_step(count);
     let floor_ms = copy.map(|c| bytes_per_step as f64 / (c.gb_per_s * 1e9) * 1e3);
     Ok(GrassBenchRow {
@@ -277,6 +281,7 @@ fn bench_count(
             .filter(|(f, _)| *f > 0.0)
             .map(|(f, t)| t.0 / f),
         over_collider_free: None,
+        touching,
         blades: count,
         colliders,
         substeps: grass.substeps(),

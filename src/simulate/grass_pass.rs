@@ -274,7 +274,8 @@ impl GrassPass {
             4 * list_words,
             vk::BufferUsageFlags::STORAGE_BUFFER
                 | vk::BufferUsageFlags::INDIRECT_BUFFER
-                | vk::BufferUsageFlags::TRANSFER_DST,
+                | vk::BufferUsageFlags::TRANSFER_DST
+                | vk::BufferUsageFlags::TRANSFER_SRC,
             crate::gpu::MemoryLocation::GpuOnly,
         )?;
         let batches = crate::gpu::sets_per_batch(
@@ -451,6 +452,22 @@ impl GrassPass {
             bend_b: c[3] as u64,
             twist: c[4] as u64,
         })
+    }
+
+    /// How many blades the last recorded step stepped with the contact
+    /// (near a collider or pressed): 0 for a pass made without colliders.
+    pub fn read_touching(&self, gpu: &Gpu, commands: &Commands) -> Result<u64> {
+        if self.touching_pipeline.is_none() {
+            return Ok(0);
+        }
+        let words: Vec<u32> =
+            self.touching
+                .read_back(gpu, commands, (self.touching.size / 4) as usize)?;
+        Ok(self
+            .touching_offsets
+            .iter()
+            .map(|&offset| words[offset as usize / 4 + 3] as u64)
+            .sum())
     }
 
     /// Every blade's pressed state (for tests; empty for a pass made
