@@ -38,7 +38,7 @@ void main() {
     if (high.y < pc.reach.y || low.y > pc.reach.z) {
         return;
     }
-    // Cells as the step kernel finds a root's (`bin_of` in step.comp),
+    // Cells as the step kernel finds a root's (`bin_of` in step.glsl),
     // clamped in float first so that a collider far off never overflows.
     vec2 columns_rows = vec2(pc.cells.xy);
     vec2 first = clamp(floor((low.xz - pc.grid.xy) * pc.grid.z), vec2(-1.0), columns_rows);

@@ -12,7 +12,7 @@
 //!
 //! The area is summed in fixed point, `unit` square metres per count, so
 //! the GPU's atomic adds give the same sum in any order and a run's frames
-//! are the same every time. glsl/grass/step.comp lays the area as
+//! are the same every time. glsl/grass/step.glsl lays the area as
 //! `deposit` does; glsl/wind/advect.comp takes the drag.
 
 use glam::Vec3;

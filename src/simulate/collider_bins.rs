@@ -86,7 +86,7 @@ impl BinGrid {
         (self.columns * self.rows) as usize
     }
 
-    /// The cell a root lies in (`bin_of` in glsl/grass/step.comp).
+    /// The cell a root lies in (`bin_of` in glsl/grass/step.glsl).
     pub fn cell_of(&self, root: Vec3) -> usize {
         let cell = ((Vec2::new(root.x, root.z) - self.corner) * self.per_metre).floor();
         let column = cell.x.clamp(0.0, (self.columns - 1) as f32) as u32;

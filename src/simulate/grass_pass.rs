@@ -4,6 +4,13 @@
 //! writes the deformed control points into the vertex buffer the blade
 //! pipeline draws: the vertex data never goes through the CPU.
 //!
+//! With colliders, the colliders are binned first (`ColliderBins`), and
+//! step.comp leaves the blades near one or pressed to a second kernel,
+//! glsl/grass/step_touching.comp, dispatched indirectly over the list it
+//! made: the blades that touch nothing never run the contact's code, which
+//! a device running blades in SIMD lanes would otherwise pay for in every
+//! lane (glsl/grass/step.glsl).
+//!
 //! With two-way coupling it also lays each blade's frontal area into the
 //! wind's canopy buffer (src/sim/canopy.rs), which the next wind step's
 //! advection reads as drag.
@@ -39,7 +46,7 @@ const BLADE_BYTES_BOUND: u64 = {
 /// Any motion at its cap, then swing, bend A, bend B, twist.
 const CAP_COUNTERS: usize = 5;
 
-/// Push constants of glsl/grass/step.comp.
+/// Push constants of the grass kernels (glsl/grass/step.glsl).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct GrassPush {
@@ -376,9 +383,11 @@ impl GrassPass {
 
     /// Records one simulation step, sampling the wind velocity copy that
     /// starts `wind_offset` floats into the wind buffer (0 for `WindPass`'s
-    /// state), after binning the colliders (`ColliderBins::record`). Waits
-    /// for earlier compute (the wind step, the previous grass step), uploads and the wind's clearing of the canopy, and the
-    /// previous draw's vertex reads; ends with the
+    /// state): with colliders, their binning (`ColliderBins::record`), the
+    /// lists emptied, step.comp, then step_touching.comp over each
+    /// batch's list. Waits for earlier compute (the wind step, the
+    /// previous grass step), uploads and the wind's clearing of the
+    /// canopy, and the previous draw's vertex reads; ends with the
     /// vertices visible to the vertex input stage and to compute.
     ///
     /// `end_time` is the simulated time at the step's end, where the
