@@ -62,6 +62,9 @@ layout(set = 0, binding = 8, std430) readonly buffer ColliderBins { uvec4 collid
 // blade's step is its own; the sums it adds are integers).
 layout(set = 0, binding = 9, std430) buffer Touching { uint touching[]; };
 #define TOUCHING_HEADER 4u
+// The blades are stepped in place order (src/simulate/place_order.rs):
+// slot id steps the blade whose control points go to vertex_slot[id].
+layout(set = 0, binding = 10, std430) readonly buffer VertexSlots { uint vertex_slot[]; };
 
 // The bin of a root: the same arithmetic as bin_colliders.comp's cells.
 uint bin_of(vec3 root) {
@@ -115,8 +118,8 @@ uvec4 near_colliders(GrassBlade b) {
     return near;
 }
 
-// The step's end for blade `id`: its state, the cap counters, its frontal
-// area (two-way coupling) and its control points.
+// The step's end for the blade of slot `id`: its state, the cap counters,
+// its frontal area (two-way coupling) and its control points.
 void write_blade(uint id, GrassBlade b, GrassState s, float pressed, vec3 felt) {
     states[id] = s;
     bool capped = false;
@@ -139,9 +142,10 @@ void write_blade(uint id, GrassBlade b, GrassState s, float pressed, vec3 felt) 
     // (the root takes the root edge's); w: the tip edge's angle from rest.
     vec3 rest_tip = normalize_or(rest_point(b, 3) - rest_point(b, 2), UP);
     float displacement = atan(length(cross(rest_tip, p.e[2])), dot(rest_tip, p.e[2]));
+    uint at = vertex_slot[id];
     for (int i = 0; i < BLADE_CONTROL_POINTS; ++i) {
         int edge = max(i, 1) - 1;
-        vertices[4u * id + uint(i)] = Vertex(vec4(p.points[i], b.rest[i].w),
+        vertices[4u * at + uint(i)] = Vertex(vec4(p.points[i], b.rest[i].w),
                                              vec4(p.w_local[edge] * b.width.w, displacement));
     }
 }

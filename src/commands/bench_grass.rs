@@ -217,7 +217,7 @@ fn bench_count(
     let dynamic = field::dynamic_blades(&blades, &scene.grass.dynamics, scene.seed)?;
     gpu.check_fits(
         &format!("{count} blades"),
-        crate::simulate::grass_pass::device_bytes(count),
+        crate::simulate::grass_pass::device_bytes(count, !scene.colliders.is_empty()),
     )?;
 
     let grid = scene.wind_grid()?;

@@ -251,9 +251,6 @@ impl Live {
         let scene = request.scene.clone();
         let size = window.inner_size();
         let (width, height) = (size.width.max(1), size.height.max(1));
-        crate::frame::check_fits(gpu, &scene, width, height, request.msaa)?;
-        let blades = scene.field()?;
-        let dynamic = field::dynamic_blades(&blades, &scene.grass.dynamics, scene.seed)?;
         // Made with a ball among the colliders, so that each blade keeps a
         // pressed state for it; it is taken away before the first frame
         // and B brings it back.
@@ -265,6 +262,9 @@ impl Live {
             let mut parked = Ball::new(Vec3::new(middle.x, 0.0, middle.y), low, high);
             made.colliders.push(parked.stretch(0.0, 0.0).0);
         }
+        crate::frame::check_fits(gpu, &made, width, height, request.msaa)?;
+        let blades = scene.field()?;
+        let dynamic = field::dynamic_blades(&blades, &scene.grass.dynamics, scene.seed)?;
         let mut recorder = FrameRecorder::new(
             gpu,
             &made,

@@ -521,7 +521,7 @@ pub fn check_fits(gpu: &Gpu, scene: &Scene, width: u32, height: u32, msaa: u32) 
             "{} blades at {width}x{height} with {msaa}x MSAA",
             scene.blade_count()
         ),
-        crate::simulate::grass_pass::device_bytes(scene.blade_count())
+        crate::simulate::grass_pass::device_bytes(scene.blade_count(), !scene.colliders.is_empty())
             + if scene.cull.enabled {
                 crate::render::cull::device_bytes(scene.blade_count())
             } else {

@@ -82,6 +82,7 @@ pub const GRASS_SET: &[LayoutBinding] = &[
     LayoutBinding::compute_storage(7), // collider states at the step's end
     LayoutBinding::compute_storage(8), // collider bins
     LayoutBinding::compute_storage(9), // the batch's blades near a collider or pressed
+    LayoutBinding::compute_storage(10), // each slot's blade, whose control points it writes
 ];
 
 /// Words before each batch's list of touching blades: the indirect
@@ -103,8 +104,14 @@ pub struct GrassPass {
     /// or pressed (a placeholder without colliders).
     touching: Buffer,
     touching_offsets: Vec<u64>,
-    /// Held for the set: the kernel reads the rest shapes and physics.
+    /// Held for the set: the kernel reads the rest shapes and physics,
+    /// in place order.
     _blades: Buffer,
+    /// Held for the set: each slot's blade's index in its batch.
+    _vertex_slots: Buffer,
+    /// The blade each slot steps (`place_order::by_place`): the states
+    /// and pressed states lie in this order.
+    order: Vec<u32>,
     states: Buffer,
     /// Blade-steps at an angle cap: any motion, then each motion.
     caps: Buffer,
@@ -181,6 +188,29 @@ impl GrassPass {
         };
 
         // Host memory first: failing here leaves nothing on the GPU to undo.
+        // The kernels step the blades in place order (`place_order`) and
+        // write each one's control points at its own index.
+        let batch_len = crate::gpu::batches::storage_batch_len(gpu, BLADE_BYTES_BOUND)?;
+        let ranges = crate::gpu::batches::batches(blade_count, batch_len)?;
+        // Without colliders every blade takes the same path: scene order
+        // keeps the control points' writes contiguous.
+        let order = if colliders.is_empty() {
+            try_collect(blades.len(), 0..blade_count, "the blades' order")?
+        } else {
+            super::place_order::by_place(blades, &ranges)
+        };
+        let placed = try_collect(
+            blades.len(),
+            order.iter().map(|&i| blades[i as usize]),
+            "the blades in place order",
+        )?;
+        let mut vertex_slots =
+            try_collect(blades.len(), order.iter().copied(), "the blades' order")?;
+        for range in &ranges {
+            for slot in &mut vertex_slots[range.start as usize..range.end as usize] {
+                *slot -= range.start;
+            }
+        }
         let rest = try_collect(
             blades.len(),
             std::iter::repeat(GrassState::default()),
@@ -190,8 +220,17 @@ impl GrassPass {
         let blades_buffer = Buffer::with_data(
             gpu,
             commands,
-            "grass blades (rest shape, physics)",
-            bytemuck::cast_slice(blades),
+            "grass blades (rest shape, physics; place order)",
+            bytemuck::cast_slice(&placed),
+            usage,
+            Access::COMPUTE_READ,
+        )?;
+        drop(placed);
+        let vertex_slots = Buffer::with_data(
+            gpu,
+            commands,
+            "grass vertex slots (each blade's index in its batch)",
+            bytemuck::cast_slice(&vertex_slots),
             usage,
             Access::COMPUTE_READ,
         )?;
@@ -264,7 +303,6 @@ impl GrassPass {
         };
         // Batch k's list starts TOUCHING_HEADER_WORDS * k words past its
         // first blade: each batch's header before its blades.
-        let batch_len = crate::gpu::batches::storage_batch_len(gpu, BLADE_BYTES_BOUND)?;
         let list_start = |blades: &Range<u32>| {
             4 * (blades.start as u64
                 + TOUCHING_HEADER_WORDS as u64 * (blades.start / batch_len) as u64)
@@ -316,6 +354,7 @@ impl GrassPass {
                     } else {
                         Bound::Buffer(&touching)
                     },
+                    part(&vertex_slots, blades, size_of::<u32>()),
                 ]
             },
         )?;
@@ -330,6 +369,8 @@ impl GrassPass {
             touching,
             touching_offsets,
             _blades: blades_buffer,
+            _vertex_slots: vertex_slots,
+            order,
             states,
             caps,
             _no_canopy: no_canopy,
@@ -485,34 +526,57 @@ impl GrassPass {
         if !self.presses_live() {
             return Ok(Vec::new());
         }
-        self.presses
-            .read_back(gpu, commands, self.blade_count as usize)
+        let placed = self
+            .presses
+            .read_back(gpu, commands, self.blade_count as usize)?;
+        Ok(self.in_scene_order(placed))
     }
 
     /// Every blade's angles and angular velocities (for tests and reports).
     pub fn read_states(&self, gpu: &Gpu, commands: &Commands) -> Result<Vec<GrassState>> {
-        self.states
-            .read_back(gpu, commands, self.blade_count as usize)
+        let placed = self
+            .states
+            .read_back(gpu, commands, self.blade_count as usize)?;
+        Ok(self.in_scene_order(placed))
+    }
+
+    /// Per-slot values (place order) in the blades' scene order.
+    fn in_scene_order<T: Copy + Default>(&self, placed: Vec<T>) -> Vec<T> {
+        let mut out = vec![T::default(); placed.len()];
+        for (value, &blade) in placed.into_iter().zip(&self.order) {
+            out[blade as usize] = value;
+        }
+        out
     }
 }
 
 /// Bytes one grass step must move at least for `blades` blades: each
-/// blade's rest shape and physics read, its state read and written, its
-/// four control points written (the substeps run in registers). The wind
-/// grid it samples (under a MiB, held in caches) and the cap counters are
-/// not counted: this is the memory-bandwidth floor's numerator.
+/// blade's rest shape and physics read, its slot's index read, its state
+/// read and written, its four control points written (the substeps run
+/// in registers). The wind grid it samples (under a MiB, held in caches),
+/// the cap counters and the colliders' lists are not counted: this is the
+/// memory-bandwidth floor's numerator.
 pub fn bytes_per_step(blades: usize) -> u64 {
     use std::mem::size_of;
-    let per_blade =
-        size_of::<GrassBlade>() + 2 * size_of::<GrassState>() + 4 * size_of::<BladeVertex>();
+    let per_blade = size_of::<GrassBlade>()
+        + size_of::<u32>()
+        + 2 * size_of::<GrassState>()
+        + 4 * size_of::<BladeVertex>();
     blades as u64 * per_blade as u64
 }
 
 /// Device memory the grass of `blades` blades needs: the vertex buffer the
-/// pipeline draws, the rest shapes with physics, and the state.
-pub fn device_bytes(blades: usize) -> u64 {
+/// pipeline draws, the rest shapes with physics, the slots' indices, the
+/// state, and with colliders each blade's pressed state and a place on
+/// the touching list.
+pub fn device_bytes(blades: usize, with_colliders: bool) -> u64 {
     use std::mem::size_of;
-    let per_blade =
-        4 * size_of::<BladeVertex>() + size_of::<GrassBlade>() + size_of::<GrassState>();
+    let mut per_blade = 4 * size_of::<BladeVertex>()
+        + size_of::<GrassBlade>()
+        + size_of::<u32>()
+        + size_of::<GrassState>();
+    if with_colliders {
+        per_blade += size_of::<Press>() + size_of::<u32>();
+    }
     blades as u64 * per_blade as u64
 }

@@ -9,6 +9,7 @@
 pub mod collider_bins;
 mod colliders;
 pub mod grass_pass;
+mod place_order;
 pub mod wind_pass;
 
 use crate::error::{Error, Result};
