@@ -85,9 +85,10 @@ pub const GRASS_SET: &[LayoutBinding] = &[
     LayoutBinding::compute_storage(10), // each slot's blade, whose control points it writes
 ];
 
-/// Words before each batch's list of touching blades: the indirect
-/// dispatch (3), the count, and padding to the 256 bytes any storage
-/// offset alignment divides.
+/// Words each batch's list of touching blades has beyond one per blade:
+/// the indirect dispatch (3) and the count before its blades, padding
+/// after them, so that the next batch's list starts at a multiple of the
+/// 256 bytes any storage offset alignment divides.
 const TOUCHING_HEADER_WORDS: u32 = 64;
 
 pub struct GrassPass {
@@ -105,7 +106,7 @@ pub struct GrassPass {
     touching: Buffer,
     touching_offsets: Vec<u64>,
     /// Held for the set: the kernel reads the rest shapes and physics,
-    /// in place order.
+    /// in slot order.
     _blades: Buffer,
     /// Held for the set: each slot's blade's index in its batch.
     _vertex_slots: Buffer,
@@ -220,7 +221,7 @@ impl GrassPass {
         let blades_buffer = Buffer::with_data(
             gpu,
             commands,
-            "grass blades (rest shape, physics; place order)",
+            "grass blades (rest shape, physics; slot order)",
             bytemuck::cast_slice(&placed),
             usage,
             Access::COMPUTE_READ,
@@ -302,7 +303,8 @@ impl GrassPass {
             None
         };
         // Batch k's list starts TOUCHING_HEADER_WORDS * k words past its
-        // first blade: each batch's header before its blades.
+        // first blade: the lists before it take that many more words than
+        // their blades.
         let list_start = |blades: &Range<u32>| {
             4 * (blades.start as u64
                 + TOUCHING_HEADER_WORDS as u64 * (blades.start / batch_len) as u64)
