@@ -6,9 +6,10 @@
 // width vectors straight into the vertex buffer the blade pipeline draws.
 // Mirrors `GrassField::step` in src/sim/grass.rs.
 //
-// Why two: a SIMD device without branches (lavapipe runs 8 blades a lane
-// each) pays for the contact code in every blade of a group that skips it;
-// the blades that touch nothing run a kernel without it.
+// Why two: a SIMD device that runs every branch masked (lavapipe: 8 blades
+// in the lanes of one register) pays for the contact code in every blade
+// of a group, touching or not; the blades that touch nothing run a kernel
+// without it.
 #ifndef MEADOW_GRASS_STEP_GLSL
 #define MEADOW_GRASS_STEP_GLSL
 
@@ -51,19 +52,21 @@ layout(set = 0, binding = 4, std430) buffer Caps { uint caps[]; };
 // The frontal area per wind cell in counts of pc.step.z m^2 (two-way
 // coupling; `deposit` in src/sim/canopy.rs), which the wind cleared.
 layout(set = 0, binding = 5, std430) buffer Canopy { uint canopy[]; };
-// Each blade's pressed state (`Press` in src/sim/contact.rs) and the
-// colliders' bins; placeholders the kernel never touches when made without.
+// Each blade's pressed state (`Press` in src/sim/contact.rs); like the
+// colliders' states, bins and lists below, a placeholder the kernels never
+// touch when made without colliders.
 layout(set = 0, binding = 6, std430) buffer Presses { Press presses[]; };
 // Four words per cell, one bit per collider (bin_colliders.comp).
 layout(set = 0, binding = 8, std430) readonly buffer ColliderBins { uvec4 collider_bins[]; };
 // The blades of this batch near a collider or pressed, which step.comp
 // leaves to step_touching.comp: [0..3) the indirect dispatch's workgroups,
-// [3] how many, then their indices in the batch, in no set order (each
+// [3] how many, then their slots in the batch, in no set order (each
 // blade's step is its own; the sums it adds are integers).
 layout(set = 0, binding = 9, std430) buffer Touching { uint touching[]; };
 #define TOUCHING_HEADER 4u
-// The blades are stepped in place order (src/simulate/place_order.rs):
-// slot id steps the blade whose control points go to vertex_slot[id].
+// Slot id steps the blade whose control points go to vertex_slot[id]: in
+// place order with colliders (src/simulate/place_order.rs), else the
+// blade's own.
 layout(set = 0, binding = 10, std430) readonly buffer VertexSlots { uint vertex_slot[]; };
 
 // The bin of a root: the same arithmetic as bin_colliders.comp's cells.
@@ -165,9 +168,9 @@ void main() {
         Press press = presses[id];
         bool pressed = press_next(press, pc.step.x, pc.contact.y) != 0.0;
         if (pressed || any(notEqual(near_colliders(b), uvec4(0u)))) {
-            uint slot = atomicAdd(touching[3], 1u);
-            touching[TOUCHING_HEADER + slot] = id;
-            atomicMax(touching[0], slot / 64u + 1u);
+            uint entry = atomicAdd(touching[3], 1u);
+            touching[TOUCHING_HEADER + entry] = id;
+            atomicMax(touching[0], entry / 64u + 1u);
             return;
         }
         if (press.pressed != 0.0) {
