@@ -94,6 +94,30 @@ fn recorded_input(velocity: &Buffer, grid: WindGrid) -> WindInput<'_> {
     }
 }
 
+/// A grass pass over `blades` with its vertex buffer, named `name`,
+/// stepping DT.
+fn grass_pass(
+    gpu: &Gpu,
+    commands: &Commands,
+    name: &str,
+    blades: &[GrassBlade],
+    wind: &WindInput,
+    colliders: &[meadow::sim::contact::Collider],
+) -> (GrassPass, BladeBuffer) {
+    let vertices = BladeBuffer::uninitialised(gpu, name, blades.len()).unwrap();
+    let pass = GrassPass::new(
+        gpu,
+        commands,
+        blades,
+        vertices.buffer(),
+        wind,
+        colliders,
+        DT,
+    )
+    .unwrap();
+    (pass, vertices)
+}
+
 fn small_grid(scene: &Scene, cells: [u32; 3]) -> WindGrid {
     let full = scene.wind_grid().unwrap();
     WindGrid::new(UVec3::from(cells), full.origin, full.size()).unwrap()
@@ -180,19 +204,15 @@ fn agree_over_500_steps_of_recorded_wind(
     let gpu = strict_gpu_with(storage_range);
     let commands = Commands::new(&gpu, "grass test commands").unwrap();
     let wind_buffer = recorded_wind(&gpu, &commands, "recorded wind", &recorded);
-    let blade_buffer =
-        BladeBuffer::uninitialised(&gpu, "grass test vertices", blades.len()).unwrap();
-    let vertices = blade_buffer.buffer();
-    let pass = GrassPass::new(
+    let (pass, blade_buffer) = grass_pass(
         &gpu,
         &commands,
+        "grass test vertices",
         &blades,
-        vertices,
         &recorded_input(&wind_buffer, grid),
         &[],
-        DT,
-    )
-    .unwrap();
+    );
+    let vertices = blade_buffer.buffer();
     assert_eq!(pass.substeps(), cpu.substeps);
     let rec = commands.begin().unwrap();
     for step in 0..500 {
@@ -281,17 +301,14 @@ fn the_gpu_counts_blade_steps_at_an_angle_cap_as_the_cpu_does() {
     let gpu = strict_gpu();
     let commands = Commands::new(&gpu, "cap count test commands").unwrap();
     let wind_buffer = recorded_wind(&gpu, &commands, "steady gale", &recorded);
-    let blade_buffer = BladeBuffer::uninitialised(&gpu, "cap test vertices", blades.len()).unwrap();
-    let pass = GrassPass::new(
+    let (pass, blade_buffer) = grass_pass(
         &gpu,
         &commands,
+        "cap test vertices",
         &blades,
-        blade_buffer.buffer(),
         &recorded_input(&wind_buffer, grid),
         &[],
-        DT,
-    )
-    .unwrap();
+    );
     let rec = commands.begin().unwrap();
     for step in 0..300 {
         pass.record_step(&rec, 0, end_time(step));
@@ -420,18 +437,14 @@ fn colliders_pressing_the_grass(count: Option<usize>, storage_range: Option<u32>
     let gpu = strict_gpu_with(storage_range);
     let commands = Commands::new(&gpu, "contact test commands").unwrap();
     let wind_buffer = recorded_wind(&gpu, &commands, "recorded wind", &recorded);
-    let blade_buffer =
-        BladeBuffer::uninitialised(&gpu, "contact test vertices", blades.len()).unwrap();
-    let pass = GrassPass::new(
+    let (pass, blade_buffer) = grass_pass(
         &gpu,
         &commands,
+        "contact test vertices",
         &blades,
-        blade_buffer.buffer(),
         &recorded_input(&wind_buffer, grid),
         &colliders,
-        DT,
-    )
-    .unwrap();
+    );
     let rec = commands.begin().unwrap();
     for step in 0..STEPS {
         pass.record_step(&rec, 0, end_time(step));
@@ -556,18 +569,14 @@ fn colliders_changed_between_steps_reach_the_gpu_kernel() {
     let gpu = strict_gpu();
     let commands = Commands::new(&gpu, "changed colliders test commands").unwrap();
     let wind_buffer = recorded_wind(&gpu, &commands, "recorded wind", &recorded);
-    let blade_buffer =
-        BladeBuffer::uninitialised(&gpu, "changed colliders test vertices", blades.len()).unwrap();
-    let mut pass = GrassPass::new(
+    let (mut pass, blade_buffer) = grass_pass(
         &gpu,
         &commands,
+        "changed colliders test vertices",
         &blades,
-        blade_buffer.buffer(),
         &recorded_input(&wind_buffer, grid),
         &schedule(0),
-        DT,
-    )
-    .unwrap();
+    );
     for (from, to) in [(0, TURN), (TURN, AWAY), (AWAY, STEPS)] {
         pass.set_colliders(&gpu, &commands, &schedule(from))
             .unwrap();
@@ -654,18 +663,14 @@ fn the_collider_bins_hold_every_blades_near_colliders() {
     let gpu = strict_gpu();
     let commands = Commands::new(&gpu, "collider bins test commands").unwrap();
     let wind_buffer = recorded_wind(&gpu, &commands, "still air", &still);
-    let blade_buffer =
-        BladeBuffer::uninitialised(&gpu, "collider bins test vertices", blades.len()).unwrap();
-    let pass = GrassPass::new(
+    let (pass, blade_buffer) = grass_pass(
         &gpu,
         &commands,
+        "collider bins test vertices",
         &blades,
-        blade_buffer.buffer(),
         &recorded_input(&wind_buffer, grid),
         &colliders,
-        DT,
-    )
-    .unwrap();
+    );
     let bin_grid = *pass.collider_bins().grid();
     let mut read = Vec::new();
     for t in [0.5f32, 3.7, 11.2] {
