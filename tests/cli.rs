@@ -682,11 +682,20 @@ fn bench_grass_times_small_counts_and_refuses_bad_ones() {
             assert!(row["step_ms_p95"].as_f64().unwrap() >= ms);
         }
         assert!(row["paper_ms"].is_null(), "the paper has no 1k figure");
-        // The memory floor: each blade's rest shape read, state read and
-        // written, four control points written, at the copy bandwidth
-        // measured in the same run.
+        // Blades stepped with the contact: none without colliders; with
+        // 3 balls over the field, some and not all.
+        let touching = row["touching"].as_u64().unwrap();
+        if colliders == 0 {
+            assert_eq!(touching, 0, "{row}");
+        } else {
+            assert!(touching > 0 && touching < blades as u64, "{row}");
+        }
+        // The memory floor: each blade's rest shape and slot index read,
+        // state read and written, four control points written, at the copy
+        // bandwidth measured in the same run.
         use std::mem::size_of;
         let per_blade = size_of::<meadow::sim::grass::GrassBlade>()
+            + size_of::<u32>()
             + 2 * size_of::<meadow::sim::grass::GrassState>()
             + 4 * size_of::<meadow::sim::BladeVertex>();
         assert_eq!(row["bytes_per_step"], (blades * per_blade) as u64, "{row}");
