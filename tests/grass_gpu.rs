@@ -578,8 +578,7 @@ fn colliders_changed_between_steps_reach_the_gpu_kernel() {
         &schedule(0),
     );
     for (from, to) in [(0, TURN), (TURN, AWAY), (AWAY, STEPS)] {
-        pass.set_colliders(&gpu, &commands, &schedule(from))
-            .unwrap();
+        pass.set_colliders(&schedule(from)).unwrap();
         let rec = commands.begin().unwrap();
         for step in from..to {
             pass.record_step(&rec, 0, end_time(step));

@@ -113,7 +113,19 @@ fn descriptor_layouts_match_reflection() {
     check_pipeline("obstacle shadow", OBSTACLE_SHADOW_STAGES, SHADOW_SET);
     // The five wind kernels share one set layout.
     check_pipeline("wind", &WIND_KERNELS, WIND_SET);
-    check_pipeline("grass", &[&shaders::GRASS_STEP_COMP], GRASS_SET);
+    check_pipeline(
+        "grass",
+        &[
+            &shaders::GRASS_STEP_COMP,
+            &shaders::GRASS_STEP_TOUCHING_COMP,
+        ],
+        GRASS_SET,
+    );
+    check_pipeline(
+        "grass collider binning",
+        &[&shaders::GRASS_BIN_COLLIDERS_COMP],
+        meadow::simulate::collider_bins::BIN_SET,
+    );
     // The cull pass's three kernels share one set layout.
     check_pipeline(
         "cull",
@@ -414,7 +426,9 @@ fn grass_blade_state_vertex_and_push_constants_match_the_glsl_side() {
             0,
             offset_of!(GrassPush, control),
             offset_of!(GrassPush, step),
-            offset_of!(GrassPush, contact)
+            offset_of!(GrassPush, contact),
+            offset_of!(GrassPush, bin_grid),
+            offset_of!(GrassPush, bin_cells)
         ]
         .map(|o| o as u32)
     );
@@ -429,7 +443,18 @@ fn grass_blade_state_vertex_and_push_constants_match_the_glsl_side() {
         offsets,
         [offset_of!(Press, pressed), offset_of!(Press, touched)].map(|o| o as u32)
     );
+    // The colliders' states at the step's end, as the binning kernel
+    // writes them and `ColliderBins::read_states` reads them: a, radius;
+    // b; velocity.
     let (offsets, span, stride) = array_element_layout(&module, 7);
+    assert_eq!((span, stride), (size(48), size(48)));
+    assert_eq!(offsets, [0, 16, 32]);
+    let (bins, _) = reflect::naga_module(&shaders::GRASS_BIN_COLLIDERS_COMP).unwrap();
+    let (offsets, span, stride) = array_element_layout(&bins, 1);
+    assert_eq!((span, stride), (size(48), size(48)));
+    assert_eq!(offsets, [0, 16, 32]);
+    // The colliders as the binning kernel reads them.
+    let (offsets, span, stride) = array_element_layout(&bins, 0);
     assert_eq!((span, stride), (size(176), size(176)));
     assert_eq!(std::mem::size_of::<GpuCollider>(), 176);
     assert_eq!(

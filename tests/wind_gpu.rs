@@ -219,8 +219,7 @@ fn a_drive_changed_between_steps_reaches_the_gpu_kernels() {
             let speed = after.inflow.map(|i| i.speed);
             pass.set_drive(&gpu, &commands, speed, &after.sources)
                 .unwrap();
-            pass.set_colliders(&gpu, &commands, &after.colliders)
-                .unwrap();
+            pass.set_colliders(&after.colliders).unwrap();
         }
         let rec = commands.begin().unwrap();
         for n in 0..50 {

@@ -239,10 +239,12 @@ impl FrameRecorder {
 
     /// The colliders from the next frame on, pressing the grass, pushing
     /// the air and drawn (the viewer's ball). A recorder made without
-    /// colliders, or without dynamics, refuses any. Uploads and waits.
+    /// colliders, or without dynamics, refuses any. Their motion goes to
+    /// the GPU in the next frame's command buffer; only new shapes upload
+    /// (and wait for) meshes.
     pub fn set_colliders(&mut self, gpu: &Gpu, colliders: &[Collider]) -> Result<()> {
         match self.simulation.as_mut() {
-            Some(s) => s.set_colliders(gpu, &self.commands, colliders)?,
+            Some(s) => s.set_colliders(colliders)?,
             None if colliders.is_empty() => {}
             None => {
                 return Err(Error::InvalidInput(

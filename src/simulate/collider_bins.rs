@@ -8,9 +8,9 @@
 //! bins, at a cost that follows how many colliders are near, not how many
 //! there are.
 //!
-//! The pass owns the colliders' GPU records (`colliders::upload`), their
-//! states at the step's end and the bins; the grass step binds the last
-//! two.
+//! The pass owns the colliders' GPU records (written in the command
+//! buffer before each binning, `colliders::record_write`), their states at
+//! the step's end and the bins; the grass step binds the last two.
 
 use ash::vk;
 use glam::{Vec2, Vec3};
@@ -20,7 +20,7 @@ use crate::gpu::{
     Access, Bound, Buffer, Commands, DescriptorSet, Gpu, LayoutBinding, MemoryLocation, Pipeline,
     PipelineLayout, Recording,
 };
-use crate::sim::contact::{reach, Collider, ColliderState, MAX_COLLIDERS};
+use crate::sim::contact::{reach, Collider, ColliderState, GpuCollider, MAX_COLLIDERS};
 use crate::sim::grass::GrassBlade;
 
 const LOCAL_SIZE: u32 = 64;
@@ -110,7 +110,7 @@ struct BinPush {
 }
 
 /// Set 0 of the binning kernel.
-const BIN_SET: &[LayoutBinding] = &[
+pub const BIN_SET: &[LayoutBinding] = &[
     LayoutBinding::compute_storage(0), // colliders
     LayoutBinding::compute_storage(1), // collider states at the step's end
     LayoutBinding::compute_storage(2), // bins: four words per cell
@@ -125,20 +125,16 @@ pub struct ColliderBins {
     states: Buffer,
     bins: Buffer,
     grid: BinGrid,
-    count: u32,
+    /// The colliders as the kernel reads them, written before each
+    /// binning.
+    records: Vec<GpuCollider>,
 }
 
 impl ColliderBins {
-    /// Bins over `grid` (`BinGrid::covering` the blades), with
-    /// `colliders` uploaded.
-    pub fn new(
-        gpu: &Gpu,
-        commands: &Commands,
-        grid: BinGrid,
-        colliders: &[Collider],
-    ) -> Result<Self> {
-        let colliders_buffer =
-            super::colliders::upload(gpu, commands, "grass colliders", colliders)?;
+    /// Bins over `grid` (`BinGrid::covering` the blades) for `colliders`.
+    pub fn new(gpu: &Gpu, grid: BinGrid, colliders: &[Collider]) -> Result<Self> {
+        let records = super::colliders::records(colliders)?;
+        let colliders_buffer = super::colliders::buffer(gpu, "grass colliders")?;
         let states = Buffer::new(
             gpu,
             "grass collider states (step's end)",
@@ -180,21 +176,18 @@ impl ColliderBins {
             states,
             bins,
             grid,
-            count: colliders.len() as u32,
+            records,
         })
     }
 
-    /// The colliders from the next step on. Uploads and waits: call
-    /// between submissions.
-    pub fn set_colliders(
-        &mut self,
-        gpu: &Gpu,
-        commands: &Commands,
-        colliders: &[Collider],
-    ) -> Result<()> {
-        super::colliders::rewrite(&self.colliders, gpu, commands, "grass colliders", colliders)?;
-        self.count = colliders.len() as u32;
+    /// The colliders from the next recorded binning on.
+    pub fn set_colliders(&mut self, colliders: &[Collider]) -> Result<()> {
+        self.records = super::colliders::records(colliders)?;
         Ok(())
+    }
+
+    fn count(&self) -> u32 {
+        self.records.len() as u32
     }
 
     pub fn grid(&self) -> &BinGrid {
@@ -217,22 +210,23 @@ impl ColliderBins {
     /// step, whose first barrier waits for compute writes. Nothing
     /// without colliders.
     pub fn record(&self, rec: &Recording, end_time: f32) {
-        if self.count == 0 {
+        if self.records.is_empty() {
             return;
         }
+        super::colliders::record_write(&self.colliders, rec, &self.records);
         rec.barrier(Access::COMPUTE_READ_WRITE, Access::TRANSFER_WRITE);
         rec.fill_buffer(&self.bins, 0);
         rec.barrier(Access::TRANSFER_WRITE, Access::COMPUTE_READ_WRITE);
         let g = &self.grid;
         let push = BinPush {
             grid: [g.corner.x, g.corner.y, g.per_metre, end_time],
-            cells: [g.columns, g.rows, self.count, 0],
+            cells: [g.columns, g.rows, self.count(), 0],
             reach: [g.reach, g.root_y.0, g.root_y.1, 0.0],
         };
         rec.bind_pipeline(&self.pipeline);
         rec.bind_set(&self.pipeline, &self.set);
         rec.push_constants(&self.pipeline, &push);
-        rec.dispatch(self.count.div_ceil(LOCAL_SIZE));
+        rec.dispatch(self.count().div_ceil(LOCAL_SIZE));
     }
 
     /// The bins the last recorded binning left (for tests).
@@ -242,7 +236,7 @@ impl ColliderBins {
 
     /// The colliders' states the last recorded binning left (for tests).
     pub fn read_states(&self, gpu: &Gpu, commands: &Commands) -> Result<Vec<ColliderState>> {
-        let raw: Vec<[[f32; 4]; 3]> = self.states.read_back(gpu, commands, self.count as usize)?;
+        let raw: Vec<[[f32; 4]; 3]> = self.states.read_back(gpu, commands, self.records.len())?;
         Ok(raw
             .iter()
             .map(|[a, b, v]| ColliderState {

@@ -283,7 +283,7 @@ impl GrassPass {
             usage,
             Access::COMPUTE_READ_WRITE,
         )?;
-        let bins = ColliderBins::new(gpu, commands, bin_grid, colliders)?;
+        let bins = ColliderBins::new(gpu, bin_grid, colliders)?;
         let layout = PipelineLayout::new::<GrassPush>(
             gpu,
             GRASS_SET,
@@ -392,16 +392,11 @@ impl GrassPass {
         self.push.contact[3] != 0.0
     }
 
-    /// The colliders from the next step on (the viewer's ball coming,
-    /// going, steered). A pass made without colliders has no pressed
-    /// states to give blades and refuses any. Uploads and waits: call
-    /// between submissions.
-    pub fn set_colliders(
-        &mut self,
-        gpu: &Gpu,
-        commands: &Commands,
-        colliders: &[Collider],
-    ) -> Result<()> {
+    /// The colliders from the next recorded step on (the viewer's ball
+    /// coming, going, steered): written in the command buffer, no upload.
+    /// A pass made without colliders has no pressed states to give blades
+    /// and refuses any.
+    pub fn set_colliders(&mut self, colliders: &[Collider]) -> Result<()> {
         if !colliders.is_empty() && !self.presses_live() {
             return Err(Error::InvalidInput(
                 "this grass step was made without colliders and keeps no pressed state; \
@@ -409,7 +404,7 @@ impl GrassPass {
                     .into(),
             ));
         }
-        self.bins.set_colliders(gpu, commands, colliders)?;
+        self.bins.set_colliders(colliders)?;
         self.push.contact[2] = colliders.len() as f32;
         Ok(())
     }

@@ -102,18 +102,13 @@ impl Simulation {
         }
     }
 
-    /// The colliders from the next step on, for the grass they press and
-    /// the air they push alike (the viewer's ball). A simulation made
-    /// without colliders refuses any. Uploads and waits: call between
-    /// submissions.
-    pub fn set_colliders(
-        &mut self,
-        gpu: &Gpu,
-        commands: &Commands,
-        colliders: &[Collider],
-    ) -> Result<()> {
-        self.grass.set_colliders(gpu, commands, colliders)?;
-        self.wind.set_colliders(gpu, commands, colliders)
+    /// The colliders from the next recorded step on, for the grass they
+    /// press and the air they push alike (the viewer's ball): written in
+    /// the command buffer, no upload. A simulation made without colliders
+    /// refuses any, and changes neither pass.
+    pub fn set_colliders(&mut self, colliders: &[Collider]) -> Result<()> {
+        self.grass.set_colliders(colliders)?;
+        self.wind.set_colliders(colliders)
     }
 
     /// Blade-steps at an angle cap so far (docs/physics.md).

@@ -18,7 +18,7 @@ use crate::gpu::{
     PipelineLayout, Recording,
 };
 use crate::shaders::{self, Spirv};
-use crate::sim::contact::Collider;
+use crate::sim::contact::{Collider, GpuCollider};
 use crate::sim::multigrid::{self, Multigrid};
 use crate::sim::wind::{FaceKind, PressureSolver, WindField, WindGrid, WindSettings, WindSource};
 
@@ -227,12 +227,7 @@ impl WindBuffers {
             )?,
             levels: uploaded("wind multigrid levels", bytemuck::cast_slice(&table))?,
             canopy: device_buffer("wind canopy frontal area (fixed point)", cell_count as u64)?,
-            colliders: super::colliders::upload(
-                gpu,
-                commands,
-                "wind colliders",
-                &settings.colliders,
-            )?,
+            colliders: super::colliders::buffer(gpu, "wind colliders")?,
         };
         let rec = commands.begin()?;
         rec.fill_buffer(&buffers.velocity, 0);
@@ -305,6 +300,8 @@ pub struct WindPass {
     /// Whether the inflow (if any) enters at x = min: fixed when the
     /// faces were classified.
     inflow_enters_low: bool,
+    /// The colliders as forces.comp reads them, written before each step.
+    collider_records: Vec<GpuCollider>,
 }
 
 /// The wind as the grass step sees it: the velocity it samples and, with
@@ -393,6 +390,7 @@ impl WindPass {
             coarse_cells: field.multigrid.coarse_cell_count() as u32,
             canopy_unit,
             inflow_enters_low: settings.inflow.is_none_or(|i| i.speed >= 0.0),
+            collider_records: super::colliders::records(&settings.colliders)?,
         })
     }
 
@@ -448,21 +446,10 @@ impl WindPass {
         Ok(())
     }
 
-    /// The colliders pushing the air from the next step on (the viewer's
-    /// ball). Uploads and waits: call between submissions.
-    pub fn set_colliders(
-        &mut self,
-        gpu: &Gpu,
-        commands: &Commands,
-        colliders: &[Collider],
-    ) -> Result<()> {
-        super::colliders::rewrite(
-            &self.buffers.colliders,
-            gpu,
-            commands,
-            "wind colliders",
-            colliders,
-        )?;
+    /// The colliders pushing the air from the next recorded step on (the
+    /// viewer's ball): written in the command buffer, no upload.
+    pub fn set_colliders(&mut self, colliders: &[Collider]) -> Result<()> {
+        self.collider_records = super::colliders::records(colliders)?;
         self.settings.colliders = colliders.to_vec();
         Ok(())
     }
@@ -556,8 +543,10 @@ impl WindPass {
             rec.dispatch(groups);
         };
         let between_kernels = || rec.barrier(Access::COMPUTE_WRITE, Access::COMPUTE_READ_WRITE);
-        // Whatever read or wrote the wind before (the previous step, the
-        // grass sampling it) finishes first.
+        // The colliders where they are now; then whatever read or wrote
+        // the wind before (the previous step, the grass sampling it)
+        // finishes first.
+        super::colliders::record_write(&self.buffers.colliders, rec, &self.collider_records);
         rec.barrier(Access::ANY_WRITE, Access::COMPUTE_READ_WRITE);
         rec.bind_set(&self.kernels[FORCES], &self.set);
         dispatch(FORCES, face_groups, 0, [0; 3]);
