@@ -186,7 +186,8 @@ impl ColliderBins {
         Ok(())
     }
 
-    fn count(&self) -> u32 {
+    /// How many colliders the next binning evaluates.
+    pub fn count(&self) -> u32 {
         self.records.len() as u32
     }
 

@@ -176,7 +176,7 @@ impl GrassPass {
             contact: [
                 0.0,
                 press_decay(dt),
-                colliders.len() as f32,
+                0.0, // the colliders' count, at each step from the bins
                 !colliders.is_empty() as u32 as f32,
             ],
             bin_grid: [
@@ -404,9 +404,7 @@ impl GrassPass {
                     .into(),
             ));
         }
-        self.bins.set_colliders(colliders)?;
-        self.push.contact[2] = colliders.len() as f32;
-        Ok(())
+        self.bins.set_colliders(colliders)
     }
 
     /// The colliders' bins (for tests).
@@ -434,6 +432,7 @@ impl GrassPass {
         let mut push = self.push;
         push.control[2] = wind_offset;
         push.contact[0] = end_time;
+        push.contact[2] = self.bins.count() as f32;
         self.bins.record(rec, end_time);
         if self.touching_pipeline.is_some() {
             // Empty lists, after the last step's dispatch and reads.
