@@ -214,8 +214,8 @@ impl ColliderBins {
         if self.records.is_empty() {
             return;
         }
+        // The write's barrier orders the fill after the last step too.
         super::colliders::record_write(&self.colliders, rec, &self.records);
-        rec.barrier(Access::COMPUTE_READ_WRITE, Access::TRANSFER_WRITE);
         rec.fill_buffer(&self.bins, 0);
         rec.barrier(Access::TRANSFER_WRITE, Access::COMPUTE_READ_WRITE);
         let g = &self.grid;

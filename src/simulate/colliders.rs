@@ -30,15 +30,16 @@ pub fn records(colliders: &[Collider]) -> Result<Vec<GpuCollider>> {
     Ok(colliders.iter().map(GpuCollider::from).collect())
 }
 
-/// Records `records` written over `buffer` (made by `buffer`), after the
-/// kernels' earlier reads of it; the caller's next barrier makes transfer
-/// writes visible to compute. Nothing where there are none: the kernels
+/// Records `records` written over `buffer` (made by `buffer`), after
+/// every earlier compute read and write (so a transfer recorded next may
+/// rely on it too); the caller's next barrier makes transfer writes
+/// visible to compute. Nothing where there are none: the kernels
 /// then read none. At most 22.5 KiB, carried in the command buffer.
 pub fn record_write(buffer: &Buffer, rec: &Recording, records: &[GpuCollider]) {
     if records.is_empty() {
         return;
     }
-    rec.barrier(Access::COMPUTE_READ, Access::TRANSFER_WRITE);
+    rec.barrier(Access::COMPUTE_READ_WRITE, Access::TRANSFER_WRITE);
     rec.update_buffer(buffer, 0, bytemuck::cast_slice(records));
 }
 
