@@ -134,6 +134,13 @@ impl Access {
         ),
         vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
     );
+    /// Compute shaders sampling an image (the depth pyramid reading the
+    /// colour pass's depth).
+    pub const COMPUTE_SAMPLED: Self = access(
+        vk::PipelineStageFlags2::COMPUTE_SHADER,
+        vk::AccessFlags2::SHADER_SAMPLED_READ,
+        vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+    );
     /// Fragment shaders sampling an image.
     pub const FRAGMENT_SAMPLED: Self = access(
         vk::PipelineStageFlags2::FRAGMENT_SHADER,

@@ -348,6 +348,12 @@ impl Recording<'_> {
         unsafe { self.device.raw.cmd_dispatch(self.cmd, groups, 1, 1) };
     }
 
+    /// A dispatch of `x` x `y` workgroups (a kernel over an image).
+    pub fn dispatch_2d(&self, x: u32, y: u32) {
+        // SAFETY: recording, with a compute pipeline and its set bound.
+        unsafe { self.device.raw.cmd_dispatch(self.cmd, x, y, 1) };
+    }
+
     /// A dispatch whose workgroup counts (a `VkDispatchIndirectCommand`)
     /// the GPU wrote at byte `offset` of `buffer`.
     pub fn dispatch_indirect(&self, buffer: &Buffer, offset: u64) {
