@@ -390,6 +390,11 @@ struct SceneArgs {
     /// in both passes (default: the scene's [cull], on).
     #[arg(long, value_enum)]
     cull: Option<OnOff>,
+    /// Occlusion culling (with --cull on): leave out the blades hidden
+    /// behind the previous frame's depth (default: the scene's [cull]
+    /// occlusion, off: it pays only behind large occluders).
+    #[arg(long, value_enum)]
+    occlusion: Option<OnOff>,
     /// What to show: the shaded grass, or a debug view.
     #[arg(long, value_enum)]
     view: Option<ViewMode>,
@@ -428,6 +433,9 @@ impl SceneArgs {
         }
         if let Some(cull) = self.cull {
             scene.cull.enabled = cull == OnOff::On;
+        }
+        if let Some(occlusion) = self.occlusion {
+            scene.cull.occlusion = occlusion == OnOff::On;
         }
         Ok(scene)
     }

@@ -136,6 +136,18 @@ fn descriptor_layouts_match_reflection() {
         ],
         meadow::render::cull::CULL_SET,
     );
+    // The depth pyramid's kernels (one of the two base kernels per
+    // sample count) share one set layout.
+    for base in [
+        &shaders::CULL_PYRAMID_BASE_COMP,
+        &shaders::CULL_PYRAMID_BASE_MULTISAMPLED_COMP,
+    ] {
+        check_pipeline(
+            "depth pyramid",
+            &[base, &shaders::CULL_PYRAMID_REDUCE_COMP],
+            meadow::render::depth_pyramid::PYRAMID_SET,
+        );
+    }
     // The bench's floor: vertex and fragment only.
     check_pipeline(
         "floor",
@@ -365,12 +377,26 @@ fn assert_blade_vertices(module: &naga::Module, binding: u32) {
 fn the_cull_pass_reads_the_vertices_the_grass_step_writes() {
     let (module, _) = reflect::naga_module(&shaders::CULL_FLAGS_COMP).unwrap();
     assert_blade_vertices(&module, 1);
-    // The same push constants in every kernel: a uvec4 of counts and a
-    // vec4 of the tests' parameters (`CullPush`).
+    // The same push constants in every kernel (`CullPush`): a uvec4 of
+    // counts and a vec4 of the tests' parameters, then, read by the flag
+    // kernel alone, the pyramid's camera (a mat4) and a uvec4 of its size.
+    let (module, _) = reflect::naga_module(&shaders::CULL_FLAGS_COMP).unwrap();
+    assert_eq!(push_constant_layout(&module), (vec![0, 16, 32, 96], 112));
+    for spirv in [&shaders::CULL_SCAN_COMP, &shaders::CULL_COMPACT_COMP] {
+        let (module, _) = reflect::naga_module(spirv).unwrap();
+        assert_eq!(
+            push_constant_layout(&module),
+            (vec![0, 16], 32),
+            "{}",
+            spirv.path
+        );
+    }
+    // The depth pyramid's kernels (`PyramidPush`): the level below's place
+    // and size, then the level written's; the base kernel reads the second.
     for spirv in [
-        &shaders::CULL_FLAGS_COMP,
-        &shaders::CULL_SCAN_COMP,
-        &shaders::CULL_COMPACT_COMP,
+        &shaders::CULL_PYRAMID_BASE_COMP,
+        &shaders::CULL_PYRAMID_BASE_MULTISAMPLED_COMP,
+        &shaders::CULL_PYRAMID_REDUCE_COMP,
     ] {
         let (module, _) = reflect::naga_module(spirv).unwrap();
         assert_eq!(

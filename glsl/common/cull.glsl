@@ -13,6 +13,7 @@
 #define CULL_CASTER  2u   // drawn by the shadow pass
 #define CULL_KEPT    4u   // not thinned out by distance
 #define CULL_FACING  8u   // kept, and not seen edge-on from the camera
+#define CULL_OCCLUDED 16u // in view but hidden in the previous frame's depth (not drawn)
 
 // Workgroup of the flag and compaction kernels: one blade per invocation.
 #define CULL_GROUP 256u
@@ -94,11 +95,11 @@ float least_alignment(Vertex v[4], vec3 dir[4]) {
 // saw it). A sun too low to sweep leaves every blade a caster; a blade the
 // distance thinning drops is drawn by neither pass; `edge_on` (a cosine,
 // 1 = off) leaves out blades seen edge-on from the camera (colour pass)
-// and from the sun (shadow pass).
-uint cull_flags(Vertex v[4], bool shadows, float edge_on) {
+// and from the sun (shadow pass). `lo` and `hi` return the blade's bounds
+// (for the occlusion test, glsl/cull/flags.comp).
+uint cull_flags(Vertex v[4], bool shadows, float edge_on, out vec3 lo, out vec3 hi) {
     float width_scale = thinning_scale(v[0].position);
     uint kept = uint(width_scale > 0.0);
-    vec3 lo, hi;
     blade_bounds(v, width_scale, lo, hi);
     vec3 light = frame.light_dir.xyz;
     vec3 to_eye[4], to_sun[4];
@@ -111,8 +112,10 @@ uint cull_flags(Vertex v[4], bool shadows, float edge_on) {
     uint in_view = kept & facing_eye & uint(box_in_frustum(frame.view_proj, lo, hi));
     uint low_sun = uint(light.y < LOWEST_SWEPT_SUN);
     light.y = max(light.y, LOWEST_SWEPT_SUN);
-    shadow_sweep(light, lo, hi);
-    uint caster = kept & facing_sun & uint(shadows) & (low_sun | uint(box_in_frustum(frame.view_proj, lo, hi)));
+    vec3 swept_lo = lo, swept_hi = hi;
+    shadow_sweep(light, swept_lo, swept_hi);
+    uint caster = kept & facing_sun & uint(shadows)
+                & (low_sun | uint(box_in_frustum(frame.view_proj, swept_lo, swept_hi)));
     return in_view * CULL_IN_VIEW | caster * CULL_CASTER | kept * CULL_KEPT
          | (kept & facing_eye) * CULL_FACING;
 }

@@ -18,10 +18,13 @@ layout(set = 0, binding = 3, std430) buffer Groups { uvec4 group_counts[]; };
 // Two VkDrawIndexedIndirectCommand (index count, instance count, first
 // index, vertex offset, first instance): the colour pass's, the shadow
 // pass's; then the blades tested, those the distance thinning kept, and
-// those of them not seen edge-on from the camera.
+// those of them not seen edge-on from the camera, and the blades in view
+// the previous frame's depth hides.
 layout(set = 0, binding = 4, std430) buffer Draws { uint draws[]; };
+layout(set = 0, binding = 7, std430) readonly buffer GroupsOccluded { uint group_occluded[]; };
 
 shared uvec4 sums[256];
+shared uint occluded;
 
 void main() {
     uint i = gl_LocalInvocationID.x;
@@ -29,9 +32,16 @@ void main() {
     uint chunk = (groups + 255u) / 256u;
     uint first = min(i * chunk, groups), last = min(first + chunk, groups);
     uvec4 sum = uvec4(0u);
+    uint hidden = 0u;
     for (uint g = first; g < last; ++g) {
         sum += group_counts[g];
+        hidden += group_occluded[g];
     }
+    if (i == 0u) {
+        occluded = 0u;
+    }
+    barrier();
+    atomicAdd(occluded, hidden);
     // Inclusive scan of the chunks' sums (Hillis-Steele).
     sums[i] = sum;
     barrier();
@@ -62,5 +72,6 @@ void main() {
         draws[10] = pc.control.x;
         draws[11] = total.z;       // kept by the distance thinning
         draws[12] = total.w;       // of those, not edge-on to the camera
+        draws[13] = occluded;      // in view, hidden by the previous frame's depth
     }
 }

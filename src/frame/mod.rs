@@ -3,7 +3,7 @@
 //! the pipeline-statistics query, and records, in one submission:
 //!
 //! simulate (wind step, grass step) x steps -> cull -> shadow pass ->
-//! colour pass (sky, ground, grass) -> read-back.
+//! colour pass (sky, ground, grass) -> depth pyramid -> read-back.
 //!
 //! The simulating and rendering phases do not know each other; this is the
 //! one place that puts them in order.
@@ -175,6 +175,7 @@ impl FrameRecorder {
             scene.light.shadow_map,
             &scene.wind.obstacles,
             colliders,
+            scene.cull.enabled && scene.cull.occlusion,
         )
     }
 
@@ -195,6 +196,7 @@ impl FrameRecorder {
                     blades.count(),
                     renderer.shadows(),
                     scene.cull.edge_on,
+                    renderer.depth_pyramid().map(|p| p.buffer()),
                 )
             })
             .transpose()
@@ -293,6 +295,8 @@ impl FrameRecorder {
                 "a still of blades at rest cannot be simulated".into(),
             ));
         };
+        // The last frame's depth shows the blades where they were.
+        self.renderer.forget_depth();
         let rec = self.commands.begin()?;
         simulation.record_steps(&rec, steps);
         rec.submit_and_wait("simulating ahead of a frame")
@@ -357,13 +361,16 @@ impl FrameRecorder {
             ));
         }
         self.renderer.set_uniforms(uniforms);
+        let occluders = self
+            .renderer
+            .begin_frame(glam::Mat4::from_cols_array(&uniforms.view_proj));
         // The colliders are drawn where the blades see them after the steps.
         if let Some(s) = &self.simulation {
             self.renderer.place_colliders(s.time_after(steps) as f32);
         }
-        // Two spans per simulation step, six for the frame's own phases.
+        // Two spans per simulation step, seven for the frame's own phases.
         if let Some(timer) = self.timer.as_mut() {
-            let pairs = u32::try_from(steps.saturating_mul(2).saturating_add(6)).map_err(|_| {
+            let pairs = u32::try_from(steps.saturating_mul(2).saturating_add(7)).map_err(|_| {
                 Error::InvalidInput(format!(
                     "{steps} simulation steps in one frame are too many to time"
                 ))
@@ -394,7 +401,7 @@ impl FrameRecorder {
             }
         }
         if let Some(cull) = cull.as_ref() {
-            t.span(&rec, Phase::Cull, |rec| cull.record(rec));
+            t.span(&rec, Phase::Cull, |rec| cull.record(rec, occluders));
         }
         let (color_draw, shadow_draw) = match cull.as_ref() {
             Some(c) => (
@@ -426,7 +433,13 @@ impl FrameRecorder {
         }
         renderer.end_color(&rec);
         t.end(&rec, color);
-        let ended = end(rec, renderer, &mut t)?;
+        // The pyramid's build is the occlusion test's cost: timed as culling.
+        if renderer.depth_pyramid().is_some() {
+            t.span(&rec, Phase::Cull, |rec| renderer.record_depth_pyramid(rec));
+        }
+        let ended = end(rec, renderer, &mut t);
+        renderer.end_frame(ended.is_ok());
+        let ended = ended?;
 
         let timings = match &self.timer {
             Some(t) => {
@@ -526,6 +539,11 @@ pub fn check_fits(gpu: &Gpu, scene: &Scene, width: u32, height: u32, msaa: u32) 
         crate::simulate::grass_pass::device_bytes(scene.blade_count(), !scene.colliders.is_empty())
             + if scene.cull.enabled {
                 crate::render::cull::device_bytes(scene.blade_count())
+            } else {
+                0
+            }
+            + if scene.cull.enabled && scene.cull.occlusion {
+                crate::render::depth_pyramid::device_bytes(width, height)
             } else {
                 0
             }

@@ -3,17 +3,18 @@
 //! tests every blade's current control points (glsl/common/cull.glsl; the
 //! CPU reference is src/render/visibility.rs) and compacts the survivors
 //! into two index lists, one for the colour pass (blades whose bounds
-//! reach into the view) and one for the shadow pass (blades whose shadow
-//! can fall into the view), each drawn by one indexed indirect draw. The
-//! pipeline the survivors go through is the paper's, unchanged.
+//! reach into the view and are not hidden behind the previous frame's
+//! depth, src/render/depth_pyramid.rs) and one for the shadow pass (blades
+//! whose shadow can fall into the view), each drawn by one indexed indirect
+//! draw. The pipeline the survivors go through is the paper's, unchanged.
 //!
 //! Three kernels: flags (one invocation per blade, a count per
 //! workgroup), scan (one workgroup: each workgroup's first slot, and the
 //! draws) and compact (each survivor writes its indices at its slot). The
 //! lists keep blade order, so the frames are the same every run.
 //!
-//! The pass binds the blade buffer and the frame uniforms, which it does
-//! not own; their owners must outlive it.
+//! The pass binds the blade buffer, the frame uniforms and the depth
+//! pyramid, which it does not own; their owners must outlive it.
 
 use std::ops::Range;
 
@@ -24,6 +25,7 @@ use crate::gpu::{
     Access, Bound, Buffer, DescriptorKind, DescriptorSet, Gpu, LayoutBinding, MemoryLocation,
     Pipeline, PipelineLayout, Recording,
 };
+use crate::render::depth_pyramid::Occluders;
 
 /// Blades per workgroup of the flag and compaction kernels (CULL_GROUP).
 const GROUP: u32 = 256;
@@ -32,9 +34,10 @@ const BLADE_BYTES: usize = 4 * std::mem::size_of::<crate::sim::BladeVertex>();
 /// Bytes of one `VkDrawIndexedIndirectCommand`.
 const DRAW_BYTES: u64 = 20;
 /// Words of the draws buffer: the colour draw, the shadow draw, the
-/// blades tested, those the distance thinning left and those of them not
-/// seen edge-on from the camera.
-const DRAW_WORDS: usize = 13;
+/// blades tested, those the distance thinning left, those of them not
+/// seen edge-on from the camera, and the blades in view the previous
+/// frame's depth hides.
+const DRAW_WORDS: usize = 14;
 
 /// Push constants of the three kernels.
 #[repr(C)]
@@ -45,6 +48,11 @@ struct CullPush {
     control: [u32; 4],
     /// x: the orientation test's cosine (`edge_on`; 1 = off).
     tests: [f32; 4],
+    /// World to clip space of the frame the depth pyramid holds.
+    seen_from: [f32; 16],
+    /// x, y: the pyramid's level 0 size; z: its levels; w: 1 = it holds a
+    /// frame (0: no blade is occluded).
+    pyramid: [u32; 4],
 }
 
 /// Set 0 of the cull kernels.
@@ -61,6 +69,8 @@ pub const CULL_SET: &[LayoutBinding] = &[
     LayoutBinding::compute_storage(4), // the two indirect draws and the count tested
     LayoutBinding::compute_storage(5), // the colour pass's index list
     LayoutBinding::compute_storage(6), // the shadow pass's index list
+    LayoutBinding::compute_storage(7), // per workgroup: blades occluded
+    LayoutBinding::compute_storage(8), // the depth pyramid (glsl/common/depth_pyramid.glsl)
 ];
 
 /// Of the blades tested in the last frame, how many each pass drew.
@@ -73,8 +83,12 @@ pub struct CullCounts {
     /// Of those, not seen edge-on from the camera (all of them with the
     /// orientation test off).
     pub face_camera: u32,
-    /// Drawn by the colour pass: their bounds reach into the view.
+    /// Drawn by the colour pass: their bounds reach into the view, and
+    /// the previous frame's depth does not hide them.
     pub in_view: u32,
+    /// In view, but hidden behind the previous frame's depth: not drawn
+    /// (0 with occlusion culling off, and in a frame with no frame before).
+    pub occluded: u32,
     /// Drawn by the shadow pass: their shadow can fall into the view
     /// (all of them when the sun is too low to bound it; none when
     /// shadows are off).
@@ -126,6 +140,9 @@ pub struct CullPass {
     compact_kernel: Pipeline,
     _flags: Buffer,
     _groups: Buffer,
+    _groups_occluded: Buffer,
+    /// Bound in the pyramid's place when there is none.
+    _no_pyramid: Option<Buffer>,
     /// The draws and the count tested; host-visible so each frame's
     /// counts can be read after it.
     draws: Buffer,
@@ -138,7 +155,8 @@ impl CullPass {
     /// The pass over `blade_count` blades of `blades` (4 control points
     /// each), seen as `frame_uniforms` says; shadow casters are listed
     /// only with `shadows`; blades seen edge-on closer than the cosine
-    /// `edge_on` are left out (1: none).
+    /// `edge_on` are left out (1: none); with a depth `pyramid`'s buffer,
+    /// blades hidden behind it are left out of the colour list.
     pub fn new(
         gpu: &Gpu,
         frame_uniforms: &Buffer,
@@ -146,6 +164,7 @@ impl CullPass {
         blade_count: u32,
         shadows: bool,
         edge_on: f32,
+        pyramid: Option<&Buffer>,
     ) -> Result<Self> {
         if blade_count == 0 || blade_count > u32::MAX / 4 {
             return Err(Error::InvalidInput(format!(
@@ -168,6 +187,24 @@ impl CullPass {
             storage,
             MemoryLocation::GpuOnly,
         )?;
+        let groups_occluded = Buffer::new(
+            gpu,
+            "cull workgroup counts of occluded blades",
+            4 * groups as u64,
+            storage,
+            MemoryLocation::GpuOnly,
+        )?;
+        let no_pyramid = match pyramid {
+            Some(_) => None,
+            None => Some(Buffer::new(
+                gpu,
+                "cull depth pyramid (unused: no occlusion culling)",
+                16,
+                storage,
+                MemoryLocation::GpuOnly,
+            )?),
+        };
+        let pyramid = pyramid.or(no_pyramid.as_ref()).expect("one of the two");
         let draws = Buffer::new(
             gpu,
             "cull indirect draws (colour, shadow) and count",
@@ -219,6 +256,8 @@ impl CullPass {
                     Bound::Buffer(&draws),
                     Bound::Buffer(&color_list),
                     Bound::Buffer(&shadow_list),
+                    Bound::Buffer(&groups_occluded),
+                    Bound::Buffer(pyramid),
                 ]
             },
         )?;
@@ -229,21 +268,31 @@ impl CullPass {
             compact_kernel,
             _flags: flags,
             _groups: group_counts,
+            _groups_occluded: groups_occluded,
+            _no_pyramid: no_pyramid,
             draws,
             color_list,
             shadow_list,
             push: CullPush {
                 control: [blade_count, groups, shadows as u32, 0],
                 tests: [edge_on, 0.0, 0.0, 0.0],
+                seen_from: [0.0; 16],
+                pyramid: [1, 1, 1, 0],
             },
         })
     }
 
-    /// Records the three kernels. Waits for the grass step's writes (and
-    /// the blades' upload), and for the previous frame's draws to finish
-    /// reading the lists; ends with the lists and draws visible to the
-    /// draws and the host.
-    pub fn record(&self, rec: &Recording) {
+    /// Records the three kernels, testing the blades in view against
+    /// `occluders` (None: none is occluded). Waits for the grass step's
+    /// writes (and the blades' upload), the previous frame's pyramid, and
+    /// the previous frame's draws to finish reading the lists; ends with
+    /// the lists and draws visible to the draws and the host.
+    pub fn record(&self, rec: &Recording, occluders: Option<Occluders>) {
+        let mut push = self.push;
+        if let Some(o) = occluders {
+            push.seen_from = o.seen_from.to_cols_array();
+            push.pyramid = [o.width, o.height, o.levels, 1];
+        }
         rec.barrier(
             Access::COMPUTE_WRITE
                 .and(Access::COPY_WRITE)
@@ -254,7 +303,6 @@ impl CullPass {
         // The batches write their own blades' flags and workgroups' counts.
         rec.bind_pipeline(&self.flags_kernel);
         for (set, blades) in &self.batches {
-            let mut push = self.push;
             push.control[3] = blades.start;
             rec.bind_set(&self.flags_kernel, set);
             rec.push_constants(&self.flags_kernel, &push);
@@ -268,7 +316,7 @@ impl CullPass {
             rec.barrier(Access::COMPUTE_WRITE, Access::COMPUTE_READ_WRITE);
             rec.bind_pipeline(kernel);
             rec.bind_set(kernel, first_set);
-            rec.push_constants(kernel, &self.push);
+            rec.push_constants(kernel, &push);
             rec.dispatch(dispatch);
         }
         rec.barrier(
@@ -310,6 +358,7 @@ impl CullPass {
             thinned_to: words[11],
             face_camera: words[12],
             in_view: words[0] / 4,
+            occluded: words[13],
             shadow_casters: words[5] / 4,
         }
     }
@@ -343,7 +392,7 @@ fn read_list(
 }
 
 /// Device memory the cull pass needs for `blades` blades: flags, two
-/// lists of four indices, four counts per workgroup.
+/// lists of four indices, five counts per workgroup.
 pub fn device_bytes(blades: usize) -> u64 {
-    blades as u64 * (4 + 16 + 16) + 16 * (blades as u64).div_ceil(GROUP as u64)
+    blades as u64 * (4 + 16 + 16) + 20 * (blades as u64).div_ceil(GROUP as u64)
 }

@@ -6,6 +6,7 @@
 //! blade buffer it is handed and knows nothing of the simulation.
 
 pub mod cull;
+pub mod depth_pyramid;
 pub mod floor;
 pub mod frame_uniforms;
 pub mod obstacles;

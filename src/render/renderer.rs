@@ -1,7 +1,8 @@
 //! The rendering phase of a frame (paper section 5): the shadow pass from
 //! the sun, then the colour pass (sky, ground, and the grass through the
-//! tessellation and geometry stages) resolved from MSAA, then the copy of
-//! the frame into host memory. Each step records into the frame's command
+//! tessellation and geometry stages) resolved from MSAA, the depth pyramid
+//! the next frame's occlusion test reads, then the copy of the frame into
+//! host memory. Each step records into the frame's command
 //! buffer; the frame recorder calls them in order and times them.
 
 use crate::error::{Error, Result};
@@ -10,6 +11,7 @@ use crate::gpu::{
     TargetFormats,
 };
 use crate::render::cull::BladeDraw;
+use crate::render::depth_pyramid::{DepthPyramid, Occluders};
 use crate::render::frame_uniforms::FrameUniforms;
 use crate::render::obstacles::ObstacleMeshes;
 use crate::render::pipelines::{RenderPipelines, FRAME_SET};
@@ -30,14 +32,20 @@ pub struct Renderer {
     shadow: ShadowMap,
     obstacles: ObstacleMeshes,
     pipelines: RenderPipelines,
+    /// Built from the colour pass's depth each frame, with occlusion
+    /// culling; its set samples the depth target, so it goes first.
+    pyramid: Option<DepthPyramid>,
     targets: RenderTargets,
 }
 
 impl Renderer {
     /// Builds the targets and pipelines for a `width` x `height` image with
     /// up to `msaa` samples and a `shadow_map` x `shadow_map` shadow map (0:
-    /// no shadows), drawing `obstacles` and `colliders` among the grass.
-    /// `commands` uploads the surface textures and their meshes.
+    /// no shadows), drawing `obstacles` and `colliders` among the grass;
+    /// with `occlusion`, each frame's depth goes into a depth pyramid for
+    /// the next frame's cull pass. `commands` uploads the surface textures
+    /// and their meshes.
+    #[allow(clippy::too_many_arguments)]
     pub fn new(
         gpu: &Gpu,
         commands: &Commands,
@@ -46,8 +54,12 @@ impl Renderer {
         shadow_map: u32,
         obstacles: &[Obstacle],
         colliders: &[Collider],
+        occlusion: bool,
     ) -> Result<Self> {
-        let targets = RenderTargets::new(gpu, width, height, choose_samples(gpu, msaa))?;
+        let targets = RenderTargets::new(gpu, width, height, choose_samples(gpu, msaa), occlusion)?;
+        let pyramid = occlusion
+            .then(|| DepthPyramid::new(gpu, &targets.depth))
+            .transpose()?;
         let pipelines = RenderPipelines::new(gpu, targets.formats(), shadow_map > 0)?;
         let max_side = gpu.limits().max_image_dimension2_d;
         if shadow_map > max_side {
@@ -82,8 +94,43 @@ impl Renderer {
             shadow,
             obstacles,
             pipelines,
+            pyramid,
             targets,
         })
+    }
+
+    /// The depth pyramid (None without occlusion culling).
+    pub fn depth_pyramid(&self) -> Option<&DepthPyramid> {
+        self.pyramid.as_ref()
+    }
+
+    /// A frame seen as `view_proj` is being recorded: what its cull pass
+    /// tests blades against (None: nothing is occluded), its camera noted
+    /// for the pyramid it builds.
+    pub fn begin_frame(&mut self, view_proj: glam::Mat4) -> Option<Occluders> {
+        self.pyramid.as_mut()?.begin_frame(view_proj)
+    }
+
+    /// The frame begun last finished (its depth built the pyramid) or not.
+    pub fn end_frame(&mut self, finished: bool) {
+        if let Some(p) = self.pyramid.as_mut() {
+            p.end_frame(finished);
+        }
+    }
+
+    /// The last frame's depth no longer stands for the next (the
+    /// simulation jumped ahead).
+    pub fn forget_depth(&mut self) {
+        if let Some(p) = self.pyramid.as_mut() {
+            p.forget();
+        }
+    }
+
+    /// After the colour pass: this frame's depth into the pyramid.
+    pub fn record_depth_pyramid(&self, rec: &Recording) {
+        if let Some(p) = &self.pyramid {
+            p.record_build(rec, &self.targets.depth);
+        }
     }
 
     /// The MSAA sample count actually used.
@@ -162,7 +209,7 @@ impl Renderer {
         rec.begin_rendering(&Attachments {
             color: Some((&t.color, t.resolve.as_ref())),
             depth: &t.depth,
-            store_depth: false,
+            store_depth: self.pyramid.is_some(),
         });
         let p = &self.pipelines;
         rec.bind_set(&p.sky, &self.frame_set);
@@ -220,8 +267,9 @@ impl Renderer {
 }
 
 /// Layout transitions of `t`'s images into attachment layouts, contents
-/// discarded. The previous frame (or the bench's floor) wrote these images
-/// and copied from the final one, so wait for those writes and reads first.
+/// discarded. The previous frame (or the bench's floor) wrote these images,
+/// copied from the final one and built a depth pyramid from the depth, so
+/// wait for those writes and reads first.
 pub fn to_attachments(t: &RenderTargets) -> Vec<ImageTransition<'_>> {
     // At 1x the colour target is also the copy source of the last frame.
     let color_before = match t.resolve {
@@ -230,7 +278,11 @@ pub fn to_attachments(t: &RenderTargets) -> Vec<ImageTransition<'_>> {
     };
     let mut transitions = vec![
         ImageTransition::discarding(&t.color, color_before, Access::COLOR_ATTACHMENT),
-        ImageTransition::discarding(&t.depth, Access::DEPTH_ATTACHMENT, Access::DEPTH_ATTACHMENT),
+        ImageTransition::discarding(
+            &t.depth,
+            Access::DEPTH_ATTACHMENT.and(Access::COMPUTE_SAMPLED),
+            Access::DEPTH_ATTACHMENT,
+        ),
     ];
     if let Some(resolve) = &t.resolve {
         transitions.push(ImageTransition::discarding(

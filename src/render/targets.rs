@@ -35,7 +35,15 @@ pub fn choose_samples(gpu: &Gpu, requested: u32) -> vk::SampleCountFlags {
 }
 
 impl RenderTargets {
-    pub fn new(gpu: &Gpu, width: u32, height: u32, samples: vk::SampleCountFlags) -> Result<Self> {
+    /// `depth_sampled`: the depth target is kept after the colour pass and
+    /// read by compute (the depth pyramid), not transient.
+    pub fn new(
+        gpu: &Gpu,
+        width: u32,
+        height: u32,
+        samples: vk::SampleCountFlags,
+        depth_sampled: bool,
+    ) -> Result<Self> {
         let limits = gpu.limits();
         let max = limits
             .max_framebuffer_width
@@ -77,7 +85,11 @@ impl RenderTargets {
                 extent,
                 samples,
                 usage: vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT
-                    | vk::ImageUsageFlags::TRANSIENT_ATTACHMENT,
+                    | if depth_sampled {
+                        vk::ImageUsageFlags::SAMPLED
+                    } else {
+                        vk::ImageUsageFlags::TRANSIENT_ATTACHMENT
+                    },
                 aspect: vk::ImageAspectFlags::DEPTH,
                 mip_levels: 1,
             },

@@ -5,6 +5,7 @@
 
 use glam::{Mat4, Vec3, Vec4};
 
+use crate::render::depth_pyramid::Level;
 use crate::render::thinning::Thinning;
 use crate::sim::BladeVertex;
 
@@ -85,6 +86,62 @@ impl Bounds {
                 n.dot(far_corner) + plane.w
             })
             .fold(f32::INFINITY, f32::min)
+    }
+}
+
+impl Bounds {
+    /// Whether the depth pyramid `pyramid` (every level, placed as
+    /// `levels` says) of a frame seen as `seen_from` hides the box wholly
+    /// (glsl/cull/flags.comp `box_occluded`): its nearest depth lies
+    /// behind the farthest of every texel under its screen rectangle, at
+    /// the level where that spans at most 2 x 2 texels; never when the
+    /// box reaches behind that camera or out of its view. Also how near
+    /// the decision came to going the other way: the least distance (in
+    /// depth, or in the rectangle's normalised coordinates) of a compared
+    /// value from its threshold.
+    pub fn occluded(self, seen_from: &Mat4, pyramid: &[f32], levels: &[Level]) -> (bool, f32) {
+        let mut rect_lo = glam::Vec2::splat(f32::MAX);
+        let mut rect_hi = glam::Vec2::splat(f32::MIN);
+        let mut nearest = f32::MAX;
+        let mut in_front = true;
+        for c in 0..8 {
+            let corner = Vec3::select(
+                glam::BVec3::new(c & 1 != 0, c & 2 != 0, c & 4 != 0),
+                self.hi,
+                self.lo,
+            );
+            let clip = *seen_from * corner.extend(1.0);
+            in_front &= clip.w > 1e-6 && clip.z >= 0.0;
+            let ndc = clip.truncate() / clip.w.max(1e-6);
+            rect_lo = rect_lo.min(ndc.truncate());
+            rect_hi = rect_hi.max(ndc.truncate());
+            nearest = nearest.min(ndc.z);
+        }
+        let edge = (rect_lo + 1.0)
+            .min_element()
+            .min((1.0 - rect_hi).min_element());
+        if !in_front || edge < 0.0 {
+            return (false, edge.abs());
+        }
+        let base = levels[0];
+        let size = glam::Vec2::new(base.width as f32, base.height as f32);
+        let a = ((rect_lo * 0.5 + 0.5) * size).clamp(glam::Vec2::ZERO, size - 1.0);
+        let b = ((rect_hi * 0.5 + 0.5) * size).clamp(glam::Vec2::ZERO, size - 1.0);
+        let extent = (b - a).max_element();
+        let level = (extent.max(1.0).log2().ceil() as usize).min(levels.len() - 1);
+        let at = levels[level];
+        let first = (a.x as u32 >> level, a.y as u32 >> level);
+        let last = (
+            (b.x as u32 >> level).min(at.width - 1),
+            (b.y as u32 >> level).min(at.height - 1),
+        );
+        let mut farthest = 0.0f32;
+        for y in first.1..=last.1 {
+            for x in first.0..=last.0 {
+                farthest = farthest.max(pyramid[(at.offset + y * at.width + x) as usize]);
+            }
+        }
+        (nearest > farthest, (nearest - farthest).abs().min(edge))
     }
 }
 

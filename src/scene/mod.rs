@@ -211,6 +211,14 @@ impl Default for Lod {
 /// `thin_least`, and widens the blades it keeps so the far meadow keeps
 /// its coverage; a blade about to be dropped narrows away over `thin_band`
 /// (a share of the blades) rather than popping.
+///
+/// With `occlusion` (off by default), a blade in view that lies wholly
+/// behind the previous frame's depth is not drawn
+/// (src/render/depth_pyramid.rs); the first frame, and a frame after a
+/// jump ahead in time, draws them all. A meadow is porous: through the
+/// gaps between blades the depth shows the ground behind, so blades hide
+/// blades almost never and the test pays only behind large opaque
+/// occluders (docs/perf.md measures it).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Cull {
@@ -227,6 +235,9 @@ pub struct Cull {
     /// of the rays from the camera to it (from the sun, for the shadow
     /// pass) is seen edge-on and left out; 1 keeps every blade.
     pub edge_on: f32,
+    /// Occlusion: blades hidden behind the previous frame's depth are
+    /// left out of the colour pass.
+    pub occlusion: bool,
 }
 
 impl Default for Cull {
@@ -237,6 +248,7 @@ impl Default for Cull {
             thin_least: 0.125,
             thin_band: 0.5,
             edge_on: 0.9,
+            occlusion: false,
         }
     }
 }
