@@ -250,8 +250,8 @@ pub fn markdown(b: &Bench) -> String {
 /// the same run.
 fn culling_markdown(b: &Bench) -> String {
     let mut md = "\n## Culling, off and on in this run\n\n\
-         | blades | LOD | left by distance | not edge-on | in view | shadow casters | render ms off | on | off / on | GPU frame ms off | on | off / on |\n\
-         |---|---|---|---|---|---|---|---|---|---|---|---|\n"
+         | blades | LOD | left by distance | not edge-on | occluded | in view | shadow casters | render ms off | on | off / on | GPU frame ms off | on | off / on |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|---|---|\n"
         .to_string();
     let frame = |r: &BenchRow| r.timing.gpu_ms.and_then(|g| g.frame).map(|s| s.median);
     let render = |r: &BenchRow| r.render_ms.map(|s| s.median);
@@ -268,19 +268,32 @@ fn culling_markdown(b: &Bench) -> String {
             continue;
         };
         let share = |n: u32, of: u32| format!("{n} ({:.0}%)", 100.0 * n as f64 / of.max(1) as f64);
-        let [kept, facing, in_view, casters] = on.cull_counts.map_or(
-            ["n/a".to_string(), "n/a".into(), "n/a".into(), "n/a".into()],
+        let [kept, facing, occluded, in_view, casters] = on.cull_counts.map_or(
+            [
+                "n/a".to_string(),
+                "n/a".into(),
+                "n/a".into(),
+                "n/a".into(),
+                "n/a".into(),
+            ],
             |c| {
-                [c.thinned_to, c.face_camera, c.in_view, c.shadow_casters]
-                    .map(|n| share(n, c.blades))
+                [
+                    c.thinned_to,
+                    c.face_camera,
+                    c.occluded,
+                    c.in_view,
+                    c.shadow_casters,
+                ]
+                .map(|n| share(n, c.blades))
             },
         );
         md += &format!(
-            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
             on.blades,
             if on.lod { "on" } else { "off" },
             kept,
             facing,
+            occluded,
             in_view,
             casters,
             ms(off.render_ms),

@@ -115,8 +115,8 @@ pub fn summary(report: &RenderReport, out: &Path) -> String {
     match &report.cull_counts {
         Some(c) => {
             text += &format!(
-            "culling: {} of {} blades left by distance thinning, {} of them not edge-on to the camera, {} in view, {} shadow casters\n",
-            c.thinned_to, c.blades, c.face_camera, c.in_view, c.shadow_casters
+            "culling: {} of {} blades left by distance thinning, {} of them not edge-on to the camera, {} hidden by the previous frame's depth, {} in view, {} shadow casters\n",
+            c.thinned_to, c.blades, c.face_camera, c.occluded, c.in_view, c.shadow_casters
         )
         }
         None => text += "culling: off (every blade drawn in both passes)\n",
