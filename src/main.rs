@@ -198,6 +198,10 @@ enum Command {
         /// 0 turns shadows off).
         #[arg(long, value_name = "TEXELS")]
         shadow_map: Option<u32>,
+        /// Occlusion culling in the rows with culling on (default: the
+        /// scene's [cull] occlusion, off).
+        #[arg(long, value_enum)]
+        occlusion: Option<OnOff>,
         #[arg(long, default_value = "out/bench")]
         out: PathBuf,
         #[command(flatten)]
@@ -640,6 +644,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             height,
             msaa,
             shadow_map,
+            occlusion,
             out,
             device,
         } => {
@@ -650,6 +655,9 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             let mut scene = Scene::load(&scene)?;
             if let Some(n) = shadow_map {
                 scene.set_shadow_map(n)?;
+            }
+            if let Some(occlusion) = occlusion {
+                scene.cull.occlusion = occlusion == OnOff::On;
             }
             let request = meadow::commands::bench::BenchRequest {
                 scene,

@@ -1,5 +1,6 @@
 //! No leak per frame: 200 frames of an animated render (validation on, the
-//! simulation stepping with a ball rolling through, every frame read back,
+//! simulation stepping with a ball rolling through, occlusion culling
+//! against each last frame's depth, every frame read back,
 //! written as PNG and added to the GIF) keep host memory flat after
 //! warm-up, measured two ways: the process's resident set (RSS), and
 //! malloc's bytes in use, which sees a small leak at once where the RSS
@@ -109,6 +110,9 @@ fn two_hundred_frames_do_not_grow_host_memory_after_warm_up() {
         roll: true,
         ..Default::default()
     });
+    // Occlusion culling on (off by default): the depth pyramid is built and
+    // read every frame too.
+    scene.cull.occlusion = true;
     let request = common::strict_request(scene, 320, 180, FRAMES, 30.0);
     let dir = common::binary::temp_out("rss");
     let mut rss = Vec::new();
