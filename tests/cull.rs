@@ -299,15 +299,7 @@ fn picture_change(
     let far = edge_row..edge_row + (h - edge_row) / 3;
     let near = far.end..h;
 
-    let rgb = |f: &Frame| -> Vec<u8> {
-        f.rgba
-            .chunks_exact(4)
-            .flat_map(|p| [p[0], p[1], p[2]])
-            .collect()
-    };
-    let a = nv_flip::FlipImageRgb8::with_data(size.0, size.1, &rgb(full));
-    let b = nv_flip::FlipImageRgb8::with_data(size.0, size.1, &rgb(changed));
-    let error = nv_flip::flip(a, b, nv_flip::DEFAULT_PIXELS_PER_DEGREE).to_vec();
+    let error = common::flip_errors(full, changed);
     let shift = |rows: &std::ops::Range<usize>| {
         let (before, after) = (
             rows_colour(&full.rgba, w, rows.clone()),

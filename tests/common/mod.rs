@@ -125,6 +125,19 @@ pub fn mean_rgb(frame: &Frame, x0: u32, y0: u32, x1: u32, y1: u32) -> [f64; 3] {
     sum.map(|s| s / n)
 }
 
+/// The FLIP error of each pixel between two frames of the same size.
+pub fn flip_errors(a: &Frame, b: &Frame) -> Vec<f32> {
+    assert_eq!((a.width, a.height), (b.width, b.height));
+    let rgb = |f: &Frame| -> Vec<u8> {
+        f.rgba
+            .chunks_exact(4)
+            .flat_map(|p| [p[0], p[1], p[2]])
+            .collect()
+    };
+    let image = |f: &Frame| nv_flip::FlipImageRgb8::with_data(f.width, f.height, &rgb(f));
+    nv_flip::flip(image(a), image(b), nv_flip::DEFAULT_PIXELS_PER_DEGREE).to_vec()
+}
+
 /// The mean FLIP error between two picture files of the same size.
 pub fn mean_flip_of_files(a: &std::path::Path, b: &std::path::Path) -> f32 {
     let a = image::open(a)
