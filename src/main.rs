@@ -439,6 +439,11 @@ impl SceneArgs {
             scene.cull.enabled = cull == OnOff::On;
         }
         if let Some(occlusion) = self.occlusion {
+            if occlusion == OnOff::On && !scene.cull.enabled {
+                anyhow::bail!(
+                    "--occlusion on is part of culling, which is off; drop --cull off (or the scene's [cull] enabled = false)"
+                );
+            }
             scene.cull.occlusion = occlusion == OnOff::On;
         }
         Ok(scene)

@@ -393,6 +393,15 @@ fn flags_out_of_range_are_refused_by_their_own_name() {
 }
 
 #[test]
+fn occlusion_asked_with_culling_off_is_refused() {
+    assert_refused(
+        &["render", "--cull", "off", "--occlusion", "on"],
+        &[],
+        "--occlusion on is part of culling, which is off",
+    );
+}
+
+#[test]
 fn a_device_without_tessellation_is_refused_by_name() {
     assert_refused(
         &["render", "--width", "64", "--height", "64"],
