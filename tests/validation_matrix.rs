@@ -161,6 +161,26 @@ fn every_command_line_path_is_validation_clean_with_best_practices() {
         &[],
         &mut seen,
     );
+    // Occlusion culling (off by default): the depth pyramid built from the
+    // multisampled depth and, at 1x, from the single-sample one, and read
+    // by the next frame's cull pass.
+    for msaa in ["4", "1"] {
+        render(
+            &format!("--occlusion on --msaa {msaa}"),
+            &[
+                "--scene",
+                &few,
+                "--frames",
+                "2",
+                "--occlusion",
+                "on",
+                "--msaa",
+                msaa,
+            ],
+            &[],
+            &mut seen,
+        );
+    }
     render(
         "no timestamps or statistics",
         &["--scene", &few, "--frames", "2"],
