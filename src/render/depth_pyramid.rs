@@ -116,12 +116,10 @@ impl DepthPyramid {
         }
         let extent = depth.extent;
         let levels = levels(extent.width, extent.height);
-        let last = levels.last().expect("a pyramid has a level");
-        let texels = (last.offset + last.width * last.height) as u64;
         let buffer = Buffer::new(
             gpu,
             "depth pyramid (every level, farthest depth per texel)",
-            4 * texels,
+            bytes(&levels),
             vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC,
             MemoryLocation::GpuOnly,
         )?;
@@ -237,7 +235,12 @@ impl DepthPyramid {
 
 /// Device memory of a pyramid over a `width` x `height` frame.
 pub fn device_bytes(width: u32, height: u32) -> u64 {
-    let last = *levels(width, height).last().expect("a pyramid has a level");
+    bytes(&levels(width, height))
+}
+
+/// Bytes of the buffer holding `levels`: one float per texel.
+fn bytes(levels: &[Level]) -> u64 {
+    let last = levels.last().expect("a pyramid has a level");
     4 * (last.offset + last.width * last.height) as u64
 }
 
