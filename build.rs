@@ -2,7 +2,8 @@
 //!
 //! The stage comes from the extension (.vert .tesc .tese .geom .frag .comp).
 //! `#include "x.glsl"` resolves against the including file's folder, then
-//! `glsl/common/`. The SPIR-V lands in OUT_DIR and `shaders.rs` there embeds
+//! `glsl/common/`, then the generated `interface.glsl` (src/interface/defs.rs,
+//! written as GLSL by src/interface_build.rs). The SPIR-V lands in OUT_DIR and `shaders.rs` there embeds
 //! it, so the binary needs no shader files at run time. A GLSL error fails
 //! the build with the file, line and glslang's message.
 
@@ -11,6 +12,33 @@ use std::path::{Path, PathBuf};
 
 #[path = "src/shader_build.rs"]
 mod glsl_compile;
+
+#[macro_use]
+#[path = "src/interface_build.rs"]
+mod interface_build;
+
+/// src/interface/defs.rs as the build reads it: its items, recorded.
+fn interface_items() -> Vec<interface_build::Item> {
+    let mut items = Vec::new();
+    macro_rules! gpu_interface {
+        ($($t:tt)*) => { gpu_interface_record! { items; $($t)* } };
+    }
+    include!("src/interface/defs.rs");
+    items
+}
+
+/// Writes the interface's GLSL into `dir` and its Rust layout checks into
+/// OUT_DIR.
+fn write_interface(dir: &Path, out_dir: &Path) {
+    println!("cargo:rerun-if-changed=src/interface/defs.rs");
+    println!("cargo:rerun-if-changed=src/interface_build.rs");
+    let generated = interface_build::generate(&interface_items())
+        .unwrap_or_else(|e| panic!("src/interface/defs.rs: {e}"));
+    std::fs::create_dir_all(dir).expect("make the generated GLSL folder");
+    std::fs::write(dir.join("interface.glsl"), generated.glsl).expect("write interface.glsl");
+    std::fs::write(out_dir.join("interface_layout.rs"), generated.rust)
+        .expect("write interface_layout.rs");
+}
 
 fn collect(dir: &Path, out: &mut Vec<PathBuf>) {
     let mut entries: Vec<_> = std::fs::read_dir(dir)
@@ -32,6 +60,8 @@ fn main() {
     let glsl = root.join("glsl");
     let out_dir = PathBuf::from(std::env::var("OUT_DIR").unwrap());
     println!("cargo:rerun-if-changed=glsl");
+    let generated_glsl = out_dir.join("glsl");
+    write_interface(&generated_glsl, &out_dir);
 
     let mut files = Vec::new();
     collect(&glsl, &mut files);
@@ -52,7 +82,7 @@ fn main() {
         let (words, included) = match glsl_compile::compile(
             &Path::new("glsl").join(rel),
             &text,
-            &glsl.join("common"),
+            &[&glsl.join("common"), &generated_glsl],
         ) {
             Ok(ok) => ok,
             Err(message) => {

@@ -4,7 +4,9 @@
 //!
 //! 1. `gpu`: Vulkan (the only `unsafe`), and `error`.
 //! 2. `scene` and `sim`: scenes, and the paper's model on the CPU (the
-//!    reference the GPU is checked against); `shaders`, the embedded SPIR-V.
+//!    reference the GPU is checked against); `shaders`, the embedded SPIR-V;
+//!    `interface`, the push constants and constants Rust and GLSL share,
+//!    written once (src/interface/defs.rs; build.rs writes the GLSL).
 //! 3. `simulate` (wind and grass on GPU compute) and `render` (the paper's
 //!    render pipeline, shadow map, targets, read-back): siblings.
 //! 4. `frame`: the blade buffer both share, and the frame recorder.
@@ -17,6 +19,7 @@ pub mod commands;
 pub mod error;
 pub mod frame;
 pub mod gpu;
+pub mod interface;
 pub mod render;
 pub mod report;
 pub mod scene;

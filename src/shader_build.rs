@@ -11,7 +11,9 @@ use glslang::{
 };
 
 struct Includer {
-    common: PathBuf,
+    /// Folders searched after the including file's own (glsl/common, the
+    /// generated interface's).
+    dirs: Vec<PathBuf>,
     /// The folder of the file being compiled: includes are looked up there first.
     base: PathBuf,
     /// Every file pulled in, so that cargo rebuilds when one changes.
@@ -31,8 +33,8 @@ impl IncludeHandler for Includer {
             .filter(|p| !p.as_os_str().is_empty())
             .map(Path::to_path_buf)
             .unwrap_or_else(|| self.base.clone());
-        let path = [from.join(header), self.common.join(header)]
-            .into_iter()
+        let path = std::iter::once(from.join(header))
+            .chain(self.dirs.iter().map(|d| d.join(header)))
             .find(|p| p.is_file())?;
         let data = std::fs::read_to_string(&path).ok()?;
         self.seen.push(path.clone());
@@ -56,9 +58,14 @@ pub fn stage_of(path: &Path) -> Option<(ShaderStage, &'static str)> {
 }
 
 /// Compiles GLSL `text` (from `name`, for messages and relative includes)
-/// to SPIR-V words. Returns the words and every file it included, or one
+/// to SPIR-V words; includes not beside the including file are looked up
+/// in `dirs`, in order. Returns the words and every file it included, or one
 /// line per glslang error: "NAME: ERROR: file:line: message".
-pub fn compile(name: &Path, text: &str, common: &Path) -> Result<(Vec<u32>, Vec<PathBuf>), String> {
+pub fn compile(
+    name: &Path,
+    text: &str,
+    dirs: &[&Path],
+) -> Result<(Vec<u32>, Vec<PathBuf>), String> {
     let (stage, _) =
         stage_of(name).ok_or_else(|| format!("{}: unknown shader stage", name.display()))?;
     let compiler = Compiler::acquire().ok_or("glslang failed to initialise")?;
@@ -75,7 +82,7 @@ pub fn compile(name: &Path, text: &str, common: &Path) -> Result<(Vec<u32>, Vec<
     };
     let source = ShaderSource::from(text.to_string());
     let mut includer = Includer {
-        common: common.to_path_buf(),
+        dirs: dirs.iter().map(|d| d.to_path_buf()).collect(),
         base: name.parent().unwrap_or(Path::new(".")).to_path_buf(),
         seen: Vec::new(),
     };

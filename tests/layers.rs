@@ -10,19 +10,43 @@ const ALLOWED: &[(&str, &[&str])] = &[
     ("error", &[]),
     ("gpu", &["error"]),
     ("shaders", &["gpu"]),
-    ("sim", &["error"]),
+    ("interface", &[]),
+    ("sim", &["error", "interface"]),
     ("scene", &["error", "sim"]),
-    ("simulate", &["error", "gpu", "shaders", "sim", "scene"]),
-    ("render", &["error", "gpu", "shaders", "sim", "scene"]),
+    (
+        "simulate",
+        &["error", "gpu", "shaders", "interface", "sim", "scene"],
+    ),
+    (
+        "render",
+        &["error", "gpu", "shaders", "interface", "sim", "scene"],
+    ),
     (
         "frame",
-        &["error", "gpu", "sim", "scene", "simulate", "render"],
+        &[
+            "error",
+            "gpu",
+            "interface",
+            "sim",
+            "scene",
+            "simulate",
+            "render",
+        ],
     ),
     ("report", &["error", "gpu", "sim", "scene", "frame"]),
     (
         "commands",
         &[
-            "error", "gpu", "shaders", "sim", "scene", "simulate", "render", "frame", "report",
+            "error",
+            "gpu",
+            "shaders",
+            "interface",
+            "sim",
+            "scene",
+            "simulate",
+            "render",
+            "frame",
+            "report",
         ],
     ),
 ];
@@ -80,7 +104,7 @@ fn modules() -> BTreeMap<String, Vec<(PathBuf, String)>> {
         let rel = path.strip_prefix(&src).unwrap();
         let top = rel.iter().next().unwrap().to_string_lossy();
         let top = top.trim_end_matches(".rs").to_string();
-        if ["lib", "main", "shader_build"].contains(&top.as_str()) {
+        if ["lib", "main", "shader_build", "interface_build"].contains(&top.as_str()) {
             continue;
         }
         let code = code_only(&std::fs::read_to_string(&path).unwrap());

@@ -13,7 +13,7 @@ fn a_glsl_error_names_file_line_and_message() {
     let err = glsl_compile::compile(
         Path::new("glsl/blade/broken.frag"),
         src,
-        Path::new("glsl/common"),
+        &[Path::new("glsl/common")],
     )
     .unwrap_err();
     assert!(err.starts_with("glsl/blade/broken.frag: ERROR:"), "{err}");
@@ -26,7 +26,7 @@ fn includes_resolve_against_glsl_common() {
     let src = "#version 450\n#extension GL_GOOGLE_include_directive : require\n#include \"frame.glsl\"\nlayout(location = 0) out vec4 c;\nvoid main() { c = frame.light_color; }\n";
     let common = Path::new(env!("CARGO_MANIFEST_DIR")).join("glsl/common");
     let (words, included) =
-        glsl_compile::compile(Path::new("glsl/test/include.frag"), src, &common).unwrap();
+        glsl_compile::compile(Path::new("glsl/test/include.frag"), src, &[&common]).unwrap();
     assert_eq!(words[0], 0x0723_0203, "not SPIR-V");
     assert!(
         included.iter().any(|p| p.ends_with("frame.glsl")),

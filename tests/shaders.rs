@@ -11,7 +11,7 @@ mod common;
 use ash::vk;
 use common::reflect::{self, Binding};
 use meadow::gpu::LayoutBinding;
-use meadow::render::obstacles::Placement;
+use meadow::interface::{StructLayout, LAYOUTS};
 use meadow::render::pipelines::{
     BLADE_ATTRIBUTES, BLADE_STAGES, FRAME_SET, GROUND_STAGES, OBSTACLE_SHADOW_STAGES,
     OBSTACLE_STAGES, SHADOW_SET, SHADOW_STAGES, SKY_STAGES,
@@ -20,8 +20,8 @@ use meadow::render::FrameUniforms;
 use meadow::shaders::{self, ShaderStage, Spirv};
 use meadow::sim::contact::GpuCollider;
 use meadow::sim::{BladeVertex, GrassBlade, GrassState};
-use meadow::simulate::grass_pass::{GrassPush, GRASS_SET};
-use meadow::simulate::wind_pass::{GpuWindSource, WindPush, WIND_KERNELS, WIND_SET};
+use meadow::simulate::grass_pass::GRASS_SET;
+use meadow::simulate::wind_pass::{GpuWindSource, WIND_KERNELS, WIND_SET};
 
 #[test]
 fn every_stage_naga_supports_parses_and_validates() {
@@ -269,15 +269,123 @@ fn every_module_passes_spirv_val_when_installed() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// Member offsets and size of the module's push-constant block.
-fn push_constant_layout(module: &naga::Module) -> (Vec<u32>, u32) {
+/// The name of the interface struct (src/interface/defs.rs) that is the
+/// one member of the module's push-constant block, or None without a block.
+/// Panics on a block of anything else: every push constant is written once.
+fn push_constant_struct(spirv: &Spirv) -> Option<String> {
+    let (module, _) = reflect::naga_module(spirv).unwrap();
     let push = module
         .global_variables
         .iter()
         .map(|(_, v)| v)
-        .find(|v| v.space == naga::AddressSpace::PushConstant)
-        .expect("a push-constant block");
-    struct_layout(module, push.ty)
+        .find(|v| v.space == naga::AddressSpace::PushConstant)?;
+    let naga::TypeInner::Struct { members, .. } = &module.types[push.ty].inner else {
+        panic!("{}: the push-constant block is no block", spirv.path)
+    };
+    let inner = match members.as_slice() {
+        [one] => &module.types[one.ty],
+        _ => panic!(
+            "{}: the push-constant block has {} members; declare it as one struct of src/interface/defs.rs",
+            spirv.path,
+            members.len()
+        ),
+    };
+    let name = inner.name.clone().unwrap_or_default();
+    assert!(
+        LAYOUTS.iter().any(|l| l.name == name),
+        "{}: the push-constant block's member is `{name}`, not a struct of src/interface/defs.rs",
+        spirv.path
+    );
+    Some(name)
+}
+
+/// Every struct of the interface that a shader declares, compared with
+/// the Rust side field by field: name, offset and size, as naga reads the
+/// compiled SPIR-V. (build.rs already checks the Rust offsets against
+/// std430 at compile time; this reads what glslang actually laid out.)
+#[test]
+fn every_interface_struct_is_laid_out_in_each_shader_as_in_rust() {
+    let mut seen = BTreeSet::new();
+    for spirv in shaders::ALL.iter().filter(|s| s.stage.naga_supported()) {
+        let (module, _) = reflect::naga_module(spirv).unwrap();
+        for (_, ty) in module.types.iter() {
+            let naga::TypeInner::Struct { members, span } = &ty.inner else {
+                continue;
+            };
+            let Some(rust) = LAYOUTS.iter().find(|l| Some(l.name) == ty.name.as_deref()) else {
+                continue;
+            };
+            let glsl: Vec<(String, usize)> = members
+                .iter()
+                .map(|m| (m.name.clone().unwrap_or_default(), m.offset as usize))
+                .collect();
+            let expected: Vec<(String, usize)> = rust
+                .fields
+                .iter()
+                .map(|&(n, o)| (n.to_string(), o))
+                .collect();
+            assert_eq!(glsl, expected, "{}: {}", spirv.path, rust.name);
+            assert_eq!(
+                *span as usize, rust.size,
+                "{}: {}'s size",
+                spirv.path, rust.name
+            );
+            seen.insert(rust.name);
+        }
+    }
+    let unseen: Vec<&str> = LAYOUTS
+        .iter()
+        .map(|l: &StructLayout| l.name)
+        .filter(|n| !seen.contains(n))
+        .collect();
+    assert!(unseen.is_empty(), "no shader declares {unseen:?}");
+}
+
+/// Each pipeline's push constants are the interface struct its Rust side
+/// pushes, in every stage that declares them.
+#[test]
+fn every_push_constant_block_is_its_interface_struct() {
+    let expect = |spirvs: &[&Spirv], name: &str| {
+        for spirv in spirvs {
+            assert_eq!(
+                push_constant_struct(spirv).as_deref(),
+                Some(name),
+                "{}",
+                spirv.path
+            );
+        }
+    };
+    expect(&WIND_KERNELS, "WindPush");
+    expect(
+        &[
+            &shaders::GRASS_STEP_COMP,
+            &shaders::GRASS_STEP_TOUCHING_COMP,
+        ],
+        "GrassPush",
+    );
+    expect(&[&shaders::GRASS_BIN_COLLIDERS_COMP], "BinPush");
+    expect(
+        &[
+            &shaders::CULL_FLAGS_COMP,
+            &shaders::CULL_SCAN_COMP,
+            &shaders::CULL_COMPACT_COMP,
+        ],
+        "CullPush",
+    );
+    expect(
+        &[
+            &shaders::CULL_PYRAMID_BASE_COMP,
+            &shaders::CULL_PYRAMID_BASE_MULTISAMPLED_COMP,
+            &shaders::CULL_PYRAMID_REDUCE_COMP,
+        ],
+        "PyramidPush",
+    );
+    expect(&[&shaders::BENCH_FLOOR_VERT], "FloorPush");
+    expect(&[&shaders::OBSTACLE_OBSTACLE_VERT], "Placement");
+    // No other stage declares push constants it would not be given.
+    for spirv in shaders::ALL.iter().filter(|s| s.stage.naga_supported()) {
+        push_constant_struct(spirv);
+    }
 }
 
 /// Member offsets and size of a struct type in a naga module.
@@ -291,7 +399,7 @@ fn struct_layout(module: &naga::Module, ty: naga::Handle<naga::Type>) -> (Vec<u3
 }
 
 #[test]
-fn wind_source_and_push_constants_match_the_glsl_side() {
+fn wind_sources_and_colliders_match_the_glsl_side() {
     let (module, _) = reflect::naga_module(&shaders::WIND_FORCES_COMP).unwrap();
     // The sources buffer: a block whose one member is a runtime array of WindSource.
     let (offsets, span, stride) = array_element_layout(&module, 5);
@@ -309,38 +417,10 @@ fn wind_source_and_push_constants_match_the_glsl_side() {
         ]
         .map(|o| o as u32)
     );
-    // The push-constant block.
-    let (offsets, span) = push_constant_layout(&module);
-    assert_eq!(span as usize, std::mem::size_of::<WindPush>());
-    // grid (cells, origin, cell_size) is one nested struct of 48 bytes.
-    assert_eq!(
-        offsets,
-        [
-            0,
-            offset_of!(WindPush, step),
-            offset_of!(WindPush, control),
-            offset_of!(WindPush, inflow),
-            offset_of!(WindPush, inflow_phases),
-            offset_of!(WindPush, multigrid)
-        ]
-        .map(|o| o as u32)
-    );
-    assert_eq!(offset_of!(WindPush, step), 48);
     // The colliders the forces kernel reads, as the grass kernel does.
     let (_, span, stride) = array_element_layout(&module, 10);
     assert_eq!(stride as usize, std::mem::size_of::<GpuCollider>());
     assert_eq!(span as usize, std::mem::size_of::<GpuCollider>());
-}
-
-/// The obstacle pipelines' push constants: one model matrix
-/// (`obstacles::Placement`), in both of its stages' view.
-#[test]
-fn obstacle_placement_matches_the_glsl_side() {
-    let (module, _) = reflect::naga_module(&shaders::OBSTACLE_OBSTACLE_VERT).unwrap();
-    let (offsets, span) = push_constant_layout(&module);
-    assert_eq!(offsets, [0]);
-    assert_eq!(span as usize, std::mem::size_of::<Placement>());
-    assert_eq!(std::mem::size_of::<Placement>(), 64);
 }
 
 /// Offsets and size of the element struct of the runtime array that is
@@ -377,29 +457,6 @@ fn assert_blade_vertices(module: &naga::Module, binding: u32) {
 fn the_cull_pass_reads_the_vertices_the_grass_step_writes() {
     let (module, _) = reflect::naga_module(&shaders::CULL_FLAGS_COMP).unwrap();
     assert_blade_vertices(&module, 1);
-    // The same push constants in every kernel (`CullPush`): a uvec4 of
-    // counts and a vec4 of the tests' parameters, then, read by the flag
-    // kernel alone, the pyramid's camera (a mat4) and a uvec4 of its size.
-    let (module, _) = reflect::naga_module(&shaders::CULL_FLAGS_COMP).unwrap();
-    assert_eq!(push_constant_layout(&module), (vec![0, 16, 32, 96], 112));
-    // The scan and the compaction read the first two; the depth pyramid's
-    // kernels (`PyramidPush`) have the same shape: the level below's place
-    // and size, then the level written's (the base kernel reads the second).
-    for spirv in [
-        &shaders::CULL_SCAN_COMP,
-        &shaders::CULL_COMPACT_COMP,
-        &shaders::CULL_PYRAMID_BASE_COMP,
-        &shaders::CULL_PYRAMID_BASE_MULTISAMPLED_COMP,
-        &shaders::CULL_PYRAMID_REDUCE_COMP,
-    ] {
-        let (module, _) = reflect::naga_module(spirv).unwrap();
-        assert_eq!(
-            push_constant_layout(&module),
-            (vec![0, 16], 32),
-            "{}",
-            spirv.path
-        );
-    }
 }
 
 #[test]
@@ -437,22 +494,6 @@ fn grass_blade_state_vertex_and_push_constants_match_the_glsl_side() {
 
     // The kernel writes what the vertex stage reads.
     assert_blade_vertices(&module, 2);
-
-    let (offsets, span) = push_constant_layout(&module);
-    assert_eq!(span as usize, std::mem::size_of::<GrassPush>());
-    assert_eq!(
-        offsets,
-        [
-            0,
-            offset_of!(GrassPush, control),
-            offset_of!(GrassPush, step),
-            offset_of!(GrassPush, contact),
-            offset_of!(GrassPush, bin_grid),
-            offset_of!(GrassPush, bin_cells)
-        ]
-        .map(|o| o as u32)
-    );
-    assert_eq!(offset_of!(GrassPush, control), 48);
 
     // The pressed state and the colliders (src/sim/contact.rs).
     use meadow::sim::contact::Press;

@@ -9,18 +9,14 @@
 #include "frame.glsl"
 #include "blade_vertex.glsl"
 
-struct ControlPoint {
-    vec4 position;
-    vec4 width;
-};
-
 layout(set = 0, binding = 1, std430) readonly buffer Blades {
-    ControlPoint points[];
+    BladeVertex points[];
 } blades;
 
-layout(push_constant) uniform Push {
-    uint segments;
-} push;
+// FloorPush: src/interface/defs.rs.
+layout(push_constant, std430) uniform Push {
+    FloorPush push;
+};
 
 layout(location = 0) out float v_along;
 

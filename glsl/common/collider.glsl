@@ -1,40 +1,28 @@
 // Colliders (ours; docs/physics.md, "Colliders"): spheres and upright
 // capsules moving through the meadow, as the grass kernel (which they press)
 // and the wind's forces kernel (whose air they push) read them. Mirrors
-// `Collider`, `ColliderState` and `GpuCollider` in src/sim/contact.rs.
+// `Collider` and `ColliderState` in src/sim/contact.rs.
 #ifndef MEADOW_COLLIDER_GLSL
 #define MEADOW_COLLIDER_GLSL
 
 #include "path.glsl"
 
-#define MAX_COLLIDERS 128   // `MAX_COLLIDERS`
+// MAX_COLLIDERS, GpuCollider and GpuColliderState (a collider at one
+// instant: the segment a..b swept by the radius, and the velocity of its
+// centre).
+#include "interface.glsl"
+
 const vec3 COLLIDER_UP = vec3(0.0, 1.0, 0.0);
 
-// `GpuCollider` in src/sim/contact.rs (std430, 176 bytes).
-struct Collider {
-    vec4 position_radius;  // xyz: position without a path; w: radius
-    vec4 shape;            // x: 0 sphere, 1 capsule; y: height; z: path points; w: path speed
-    vec4 flags;            // x: 1 when the path is closed; y: the time it sets off (s)
-    vec4 path[PATH_POINTS];
-};
-
-// A collider at one instant: the segment a..b swept by the radius, and the
-// velocity of its centre (`ColliderState`).
-struct ColliderState {
-    vec4 a_radius;   // xyz: a; w: radius
-    vec4 b;          // xyz: b
-    vec4 velocity;   // xyz
-};
-
 // `Collider::motion_at` and `Collider::at`: position and velocity at time t.
-ColliderState collider_at(Collider c, float t) {
+GpuColliderState collider_at(GpuCollider c, float t) {
     vec3 velocity;
     // Until it sets off (flags.y) it waits, still, at its first point.
     bool waiting = t < c.flags.y;
     vec3 p = along_path(c.path, uint(c.shape.z), waiting ? 0.0 : c.shape.w, c.flags.x != 0.0,
                         max(t - c.flags.y, 0.0), c.position_radius.xyz, velocity);
     float r = c.position_radius.w;
-    ColliderState st;
+    GpuColliderState st;
     if (c.shape.x == 0.0) {
         st.a_radius = vec4(p, r);
         st.b = vec4(p, 0.0);
@@ -47,7 +35,7 @@ ColliderState collider_at(Collider c, float t) {
 }
 
 // `ColliderState::distance`: signed distance (x) and outward normal (yzw).
-vec4 collider_distance(ColliderState c, vec3 p) {
+vec4 collider_distance(GpuColliderState c, vec3 p) {
     vec3 a = c.a_radius.xyz;
     vec3 ab = c.b.xyz - a;
     float len2 = dot(ab, ab);

@@ -15,19 +15,15 @@
 #define CULL_FACING  8u   // kept, and not seen edge-on from the camera
 #define CULL_OCCLUDED 16u // in view but hidden in the previous frame's depth (not drawn)
 
-// Workgroup of the flag and compaction kernels: one blade per invocation.
-#define CULL_GROUP 256u
-
-struct Vertex {
-    vec4 position;
-    vec4 width;
-};
+// CULL_GROUP, the workgroup of the flag and compaction kernels, and
+// BladeVertex.
+#include "interface.glsl"
 
 // The box around everything the geometry stage can emit for a blade: the
 // Bezier curve (eq. 1) and its interpolated width vector lie in the hull
 // of the control points and width vectors, and the taper only narrows.
 // `width_scale` is the distance thinning's (glsl/common/thinning.glsl).
-void blade_bounds(Vertex v[4], float width_scale, out vec3 lo, out vec3 hi) {
+void blade_bounds(BladeVertex v[4], float width_scale, out vec3 lo, out vec3 hi) {
     lo = vec3(3.0e38);
     hi = vec3(-3.0e38);
     for (int i = 0; i < 4; ++i) {
@@ -75,7 +71,7 @@ void shadow_sweep(vec3 light, inout vec3 lo, inout vec3 hi) {
 // shows (or casts) only a sliver, at most sqrt(1 - edge_on^2) of its
 // width; the cull pass leaves it out. A blade without width counts as
 // seen face-on (it emits nothing anyway).
-float least_alignment(Vertex v[4], vec3 dir[4]) {
+float least_alignment(BladeVertex v[4], vec3 dir[4]) {
     float least = 1.0;
     for (int i = 0; i < 4; ++i) {
         vec3 w = v[i].width.xyz;
@@ -97,7 +93,7 @@ float least_alignment(Vertex v[4], vec3 dir[4]) {
 // 1 = off) leaves out blades seen edge-on from the camera (colour pass)
 // and from the sun (shadow pass). `lo` and `hi` return the blade's bounds
 // (for the occlusion test, glsl/cull/flags.comp).
-uint cull_flags(Vertex v[4], bool shadows, float edge_on, out vec3 lo, out vec3 hi) {
+uint cull_flags(BladeVertex v[4], bool shadows, float edge_on, out vec3 lo, out vec3 hi) {
     float width_scale = thinning_scale(v[0].position);
     uint kept = uint(width_scale > 0.0);
     blade_bounds(v, width_scale, lo, hi);

@@ -1,6 +1,6 @@
-// One blade as the grass dynamics reads and keeps it. Mirrors `GrassBlade`
-// and `GrassState` in src/sim/grass.rs (std430: 144 and 32 bytes); a test
-// compares the member offsets.
+// One blade as the grass dynamics reads and keeps it: `GrassBlade` and
+// `GrassState`, written once in src/interface/defs.rs (std430: 144 and 32
+// bytes).
 #ifndef MEADOW_GRASS_BLADE_GLSL
 #define MEADOW_GRASS_BLADE_GLSL
 
@@ -10,18 +10,7 @@
 #define BEND_B 2   // bending of a drooping blade's falling edges
 #define TWIST  3
 
-struct GrassBlade {
-    vec4 rest[4];    // xyz: rest control point P_i; w: per-blade random value
-    vec4 width;      // xyz: rest E_w (unit, horizontal); w: half width (m)
-    vec4 stiffness;  // k_i of edges 0, 1, 2 (root to tip); w: first edge of bending group B (3: none)
-    vec4 drag;       // sigma S per motion
-    vec4 inertia;    // I = m r^2 per motion
-    vec4 damping;    // c per motion
-};
-
-struct GrassState {
-    vec4 angle;      // theta per motion (rad)
-    vec4 velocity;   // omega per motion (rad/s)
-};
+// GrassBlade and GrassState: src/interface/defs.rs.
+#include "interface.glsl"
 
 #endif

@@ -3,13 +3,13 @@
 #ifndef MEADOW_PATH_GLSL
 #define MEADOW_PATH_GLSL
 
-#define PATH_POINTS 8   // `MAX_PATH_POINTS`
+#include "interface.glsl"   // MAX_PATH_POINTS
 
 // Where a point moving at `speed` through the first n waypoints of `path` is
 // at time t (velocity: how fast, where): round and round when closed, else
 // once, stopping at the end. With fewer than two points or no speed it stays
 // at the first point, or at `fallback` without one.
-vec3 along_path(vec4 path[PATH_POINTS], uint n, float speed, bool closed, float t,
+vec3 along_path(vec4 path[MAX_PATH_POINTS], uint n, float speed, bool closed, float t,
                 vec3 fallback, out vec3 velocity) {
     velocity = vec3(0.0);
     if (n < 2u || speed <= 0.0) {

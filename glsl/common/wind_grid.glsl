@@ -10,11 +10,8 @@
 #define FACE_WALL   1u
 #define FACE_INFLOW 2u
 
-struct WindGridParams {
-    uvec4 cells;        // xyz: cells per axis; w: total faces (all three components)
-    vec4 origin;        // xyz: world position of the grid's minimum corner
-    vec4 cell_size;     // xyz: cell size per axis (m)
-};
+// WindGridParams: src/interface/defs.rs.
+#include "interface.glsl"
 
 uvec3 face_dims(WindGridParams g, uint axis) {
     uvec3 d = g.cells.xyz;

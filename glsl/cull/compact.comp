@@ -6,12 +6,12 @@
 
 #include "cull.glsl"
 
-layout(local_size_x = 256) in;
+layout(local_size_x = CULL_GROUP) in;
 
+// CullPush: src/interface/defs.rs.
 layout(push_constant, std430) uniform Push {
-    uvec4 control;   // x: blades, y: workgroups of the flag kernel, z: 1 = shadows on
-    vec4 tests;      // x: edge_on (read by the flag kernel only)
-} pc;
+    CullPush pc;
+};
 
 layout(set = 0, binding = 2, std430) buffer Flags { uint flags[]; };
 layout(set = 0, binding = 3, std430) buffer Groups { uvec4 group_counts[]; };
@@ -23,7 +23,7 @@ shared uvec2 ranks[CULL_GROUP];
 void main() {
     uint blade = gl_GlobalInvocationID.x;
     uint i = gl_LocalInvocationID.x;
-    uint f = blade < pc.control.x ? flags[blade] : 0u;
+    uint f = blade < pc.blade_count ? flags[blade] : 0u;
     uvec2 mine = uvec2(f & CULL_IN_VIEW, (f & CULL_CASTER) >> 1);
     ranks[i] = mine;
     barrier();

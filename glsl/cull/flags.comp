@@ -10,19 +10,15 @@
 #include "cull.glsl"
 #include "depth_pyramid.glsl"
 
-layout(local_size_x = 256) in;
+layout(local_size_x = CULL_GROUP) in;
 
+// CullPush: src/interface/defs.rs.
 layout(push_constant, std430) uniform Push {
-    uvec4 control;   // x: blades, y: workgroups of the flag kernel, z: 1 = shadows on,
-                     // w: this batch's first blade (a multiple of CULL_GROUP)
-    vec4 tests;      // x: edge_on, the orientation test's cosine (1 = off)
-    mat4 seen_from;  // world to clip space of the frame the pyramid holds
-    uvec4 pyramid;   // x, y: its level 0's size; z: its levels; w: 1 = it holds
-                     // a frame (0: no blade is occluded)
-} pc;
+    CullPush pc;
+};
 
 // This batch's blades' control points (src/gpu/batches.rs).
-layout(set = 0, binding = 1, std430) readonly buffer Vertices { Vertex vertices[]; };
+layout(set = 0, binding = 1, std430) readonly buffer Vertices { BladeVertex vertices[]; };
 layout(set = 0, binding = 2, std430) buffer Flags { uint flags[]; };
 layout(set = 0, binding = 3, std430) buffer Groups { uvec4 group_counts[]; };
 layout(set = 0, binding = 7, std430) buffer GroupsOccluded { uint group_occluded[]; };
@@ -54,12 +50,12 @@ uint box_occluded(vec3 lo, vec3 hi) {
         nearest = min(nearest, ndc.z);
     }
     uint on_screen = uint(all(greaterThanEqual(rect_lo, vec2(-1.0))) && all(lessThanEqual(rect_hi, vec2(1.0))));
-    vec2 size = vec2(pc.pyramid.xy);
+    vec2 size = vec2(uvec2(pc.pyramid_width, pc.pyramid_height));
     vec2 a = clamp((rect_lo * 0.5 + 0.5) * size, vec2(0.0), size - 1.0);
     vec2 b = clamp((rect_hi * 0.5 + 0.5) * size, vec2(0.0), size - 1.0);
     float extent = max(b.x - a.x, b.y - a.y);
-    uint level = min(uint(ceil(log2(max(extent, 1.0)))), pc.pyramid.z - 1u);
-    uvec3 at = pyramid_level(pc.pyramid.xy, level);
+    uint level = min(uint(ceil(log2(max(extent, 1.0)))), pc.pyramid_levels - 1u);
+    uvec3 at = pyramid_level(uvec2(pc.pyramid_width, pc.pyramid_height), level);
     uvec2 first = uvec2(a) >> level, last = min(uvec2(b) >> level, at.yz - 1u);
     float farthest = 0.0;
     for (uint y = first.y; y <= last.y; ++y) {
@@ -67,21 +63,21 @@ uint box_occluded(vec3 lo, vec3 hi) {
             farthest = max(farthest, pyramid[at.x + y * at.y + x]);
         }
     }
-    return pc.pyramid.w & in_front & on_screen & uint(nearest > farthest);
+    return pc.pyramid_holds & in_front & on_screen & uint(nearest > farthest);
 }
 
 void main() {
     uint in_batch = gl_GlobalInvocationID.x;
-    uint blade = pc.control.w + in_batch;
+    uint blade = pc.first_blade + in_batch;
     uint i = gl_LocalInvocationID.x;
     uint f = 0u;
-    if (blade < pc.control.x) {
-        Vertex v[4];
+    if (blade < pc.blade_count) {
+        BladeVertex v[4];
         for (int k = 0; k < 4; ++k) {
             v[k] = vertices[4u * in_batch + uint(k)];
         }
         vec3 lo, hi;
-        f = cull_flags(v, pc.control.z != 0u, pc.tests.x, lo, hi);
+        f = cull_flags(v, pc.shadows != 0u, pc.edge_on, lo, hi);
         uint occluded = (f & CULL_IN_VIEW) & box_occluded(lo, hi);
         f = (f & ~(occluded * CULL_IN_VIEW)) | occluded * CULL_OCCLUDED;
         flags[blade] = f;
@@ -97,7 +93,7 @@ void main() {
         barrier();
     }
     if (i == 0u) {
-        uint group = pc.control.w / CULL_GROUP + gl_WorkGroupID.x;
+        uint group = pc.first_blade / CULL_GROUP + gl_WorkGroupID.x;
         group_counts[group] = counts[0];
         group_occluded[group] = occluded_counts[0];
     }

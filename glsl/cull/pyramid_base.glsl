@@ -4,12 +4,14 @@
 
 #extension GL_EXT_samplerless_texture_functions : require
 
-layout(local_size_x = 8, local_size_y = 8) in;
+#include "interface.glsl"
 
+layout(local_size_x = PYRAMID_TILE, local_size_y = PYRAMID_TILE) in;
+
+// PyramidPush: src/interface/defs.rs.
 layout(push_constant, std430) uniform Push {
-    uvec4 below;   // read by the levels above only
-    uvec4 level;   // x: offset in the buffer (0), y, z: the depth image's size
-} pc;
+    PyramidPush pc;
+};
 
 #ifdef PYRAMID_MULTISAMPLED
 layout(set = 0, binding = 0) uniform texture2DMS depth_image;
@@ -20,7 +22,7 @@ layout(set = 0, binding = 1, std430) buffer Pyramid { float pyramid[]; };
 
 void main() {
     uvec2 p = gl_GlobalInvocationID.xy;
-    if (p.x < pc.level.y && p.y < pc.level.z) {
+    if (p.x < pc.level.width && p.y < pc.level.height) {
 #ifdef PYRAMID_MULTISAMPLED
         int samples = textureSamples(depth_image);
         float farthest = 0.0;
@@ -30,6 +32,6 @@ void main() {
 #else
         float farthest = texelFetch(depth_image, ivec2(p), 0).r;
 #endif
-        pyramid[pc.level.x + p.y * pc.level.y + p.x] = farthest;
+        pyramid[pc.level.offset + p.y * pc.level.width + p.x] = farthest;
     }
 }

@@ -9,10 +9,10 @@
 
 layout(local_size_x = 256) in;
 
+// CullPush: src/interface/defs.rs.
 layout(push_constant, std430) uniform Push {
-    uvec4 control;   // x: blades, y: workgroups of the flag kernel, z: 1 = shadows on
-    vec4 tests;      // x: edge_on (read by the flag kernel only)
-} pc;
+    CullPush pc;
+};
 
 layout(set = 0, binding = 3, std430) buffer Groups { uvec4 group_counts[]; };
 // Two VkDrawIndexedIndirectCommand (index count, instance count, first
@@ -28,7 +28,7 @@ shared uint occluded;
 
 void main() {
     uint i = gl_LocalInvocationID.x;
-    uint groups = pc.control.y;
+    uint groups = pc.flag_groups;
     uint chunk = (groups + 255u) / 256u;
     uint first = min(i * chunk, groups), last = min(first + chunk, groups);
     uvec4 sum = uvec4(0u);
@@ -69,7 +69,7 @@ void main() {
         draws[7] = 0u;
         draws[8] = 0u;
         draws[9] = 0u;
-        draws[10] = pc.control.x;
+        draws[10] = pc.blade_count;
         draws[11] = total.z;       // kept by the distance thinning
         draws[12] = total.w;       // of those, not edge-on to the camera
         draws[13] = occluded;      // in view, hidden by the previous frame's depth

@@ -9,40 +9,39 @@
 // the CPU (`contact::near_blade`), as a collider left out cannot reach it.
 // The bins are cleared before (a fill); bits are or-ed, the same in any order.
 
-layout(local_size_x = 64) in;
-
 #include "collider.glsl"
 
-layout(push_constant, std430) uniform Push {
-    vec4 grid;     // xy: the grid's corner (x, z; m), z: cells per metre, w: time at the step's end (s)
-    uvec4 cells;   // x: columns (along x), y: rows (along z), z: colliders
-    vec4 reach;    // x: the longest blade's reach with a margin (m), y, z: the roots' lowest and highest y (m)
-} pc;
+layout(local_size_x = GRASS_GROUP) in;
 
-layout(set = 0, binding = 0, std430) readonly buffer Colliders { Collider colliders[]; };
+// BinPush: src/interface/defs.rs.
+layout(push_constant, std430) uniform Push {
+    BinPush pc;
+};
+
+layout(set = 0, binding = 0, std430) readonly buffer Colliders { GpuCollider colliders[]; };
 // Written only; not declared writeonly because naga does not take it.
-layout(set = 0, binding = 1, std430) buffer States { ColliderState states[]; };
+layout(set = 0, binding = 1, std430) buffer States { GpuColliderState states[]; };
 // Four words per cell (bit c: collider c), row after row.
 layout(set = 0, binding = 2, std430) buffer Bins { uint bins[]; };
 
 void main() {
     uint c = gl_GlobalInvocationID.x;
-    if (c >= pc.cells.z) {
+    if (c >= pc.collider_count) {
         return;
     }
-    ColliderState st = collider_at(colliders[c], pc.grid.w);
+    GpuColliderState st = collider_at(colliders[c], pc.end_time);
     states[c] = st;
-    float grow = st.a_radius.w + pc.reach.x;
+    float grow = st.a_radius.w + pc.reach;
     vec3 low = min(st.a_radius.xyz, st.b.xyz) - vec3(grow);
     vec3 high = max(st.a_radius.xyz, st.b.xyz) + vec3(grow);
-    if (high.y < pc.reach.y || low.y > pc.reach.z) {
+    if (high.y < pc.root_low || low.y > pc.root_high) {
         return;
     }
     // Cells as the step kernel finds a root's (`bin_of` in step.glsl),
     // clamped in float first so that a collider far off never overflows.
-    vec2 columns_rows = vec2(pc.cells.xy);
-    vec2 first = clamp(floor((low.xz - pc.grid.xy) * pc.grid.z), vec2(-1.0), columns_rows);
-    vec2 last = clamp(floor((high.xz - pc.grid.xy) * pc.grid.z), vec2(-1.0), columns_rows);
+    vec2 columns_rows = vec2(uvec2(pc.columns, pc.rows));
+    vec2 first = clamp(floor((low.xz - pc.corner) * pc.per_metre), vec2(-1.0), columns_rows);
+    vec2 last = clamp(floor((high.xz - pc.corner) * pc.per_metre), vec2(-1.0), columns_rows);
     if (any(lessThan(last, vec2(0.0))) || any(greaterThanEqual(first, columns_rows))) {
         return;
     }
@@ -52,7 +51,7 @@ void main() {
     uint bit = 1u << (c & 31u);
     for (uint row = from.y; row <= to.y; ++row) {
         for (uint column = from.x; column <= to.x; ++column) {
-            atomicOr(bins[4u * (row * pc.cells.x + column) + word], bit);
+            atomicOr(bins[4u * (row * pc.columns + column) + word], bit);
         }
     }
 }

@@ -15,12 +15,8 @@ const float MAX_CORRECTION = 0.5;     // rad: one angle's largest change per pro
 const float PRESS_SOFTENING = 0.9;
 const float PRESS_RISE_TIME = 0.05;   // s
 
-// `Press` in src/sim/contact.rs: the pressed state the last step used, and
-// 1 if it touched a collider.
-struct Press {
-    float pressed;
-    float touched;
-};
+// `Press` (src/interface/defs.rs) holds the pressed state the last step
+// used, and 1 if it touched a collider.
 
 // The points tested against colliders, as weights of P0..P3 (`SAMPLES`):
 // P1, P2, P3 and the drawn curve at u = 1/8 .. 7/8 (Bernstein weights).

@@ -13,43 +13,33 @@
 #ifndef MEADOW_GRASS_STEP_GLSL
 #define MEADOW_GRASS_STEP_GLSL
 
-layout(local_size_x = 64) in;
-
 #include "wind_grid.glsl"
 #include "blade_vertex.glsl"
 #include "dynamics.glsl"
 #include "collider.glsl"
 
+layout(local_size_x = GRASS_GROUP) in;
+
 // The colliders at the step's end, evaluated once by the binning pass
 // (bin_colliders.comp); contact.glsl reads them, so they come before it.
-layout(set = 0, binding = 7, std430) readonly buffer ColliderStates { ColliderState collider_states[]; };
+layout(set = 0, binding = 7, std430) readonly buffer ColliderStates { GpuColliderState collider_states[]; };
 #define COLLIDER_STATE(c) collider_states[c]
 #include "contact.glsl"
 
+// GrassPush: src/interface/defs.rs.
 layout(push_constant, std430) uniform Push {
-    WindGridParams grid;
-    uvec4 control;   // x: blades, y: substeps, z: offset (floats) of the wind velocity copy to sample,
-                     // w: 1 to lay the canopy's frontal area (two-way coupling)
-    vec4 step;       // x: simulation step dt (s), y: substep h = dt / substeps (s), z: m^2 per canopy count
-    vec4 contact;    // x: time at the step's end (s), y: the pressed state's decay per step, z: colliders,
-                     // w: 1 where each blade has a pressed state (made with colliders)
-    vec4 bin_grid;   // xy: the collider bins' corner (x, z; m), z: cells per metre
-    uvec4 bin_cells; // x: columns (along x), y: rows (along z)
-} pc;
+    GrassPush pc;
+};
 
 layout(set = 0, binding = 0, std430) readonly buffer Blades { GrassBlade blades[]; };
 layout(set = 0, binding = 1, std430) buffer States { GrassState states[]; };
-struct Vertex {
-    vec4 position;
-    vec4 width;
-};
 // Written only; not declared writeonly because naga does not take it.
-layout(set = 0, binding = 2, std430) buffer Vertices { Vertex vertices[]; };
+layout(set = 0, binding = 2, std430) buffer Vertices { BladeVertex vertices[]; };
 layout(set = 0, binding = 3, std430) readonly buffer Wind { float wind_velocity[]; };
 // Blade-steps that ended at an angle cap (`CapCounts` in src/sim/grass.rs):
 // [0] any motion, [1 + m] motion m (swing, bend A, bend B, twist).
 layout(set = 0, binding = 4, std430) buffer Caps { uint caps[]; };
-// The frontal area per wind cell in counts of pc.step.z m^2 (two-way
+// The frontal area per wind cell in counts of pc.canopy_unit m^2 (two-way
 // coupling; `deposit` in src/sim/canopy.rs), which the wind cleared.
 layout(set = 0, binding = 5, std430) buffer Canopy { uint canopy[]; };
 // Each blade's pressed state (`Press` in src/sim/contact.rs); like the
@@ -63,7 +53,6 @@ layout(set = 0, binding = 8, std430) readonly buffer ColliderBins { uvec4 collid
 // [3] how many, then their slots in the batch, in no set order (each
 // blade's step is its own; the sums it adds are integers).
 layout(set = 0, binding = 9, std430) buffer Touching { uint touching[]; };
-#define TOUCHING_HEADER 4u
 // Slot id steps the blade whose control points go to vertex_slot[id]: in
 // place order with colliders (src/simulate/place_order.rs), else the
 // blade's own.
@@ -71,12 +60,12 @@ layout(set = 0, binding = 10, std430) readonly buffer VertexSlots { uint vertex_
 
 // The bin of a root: the same arithmetic as bin_colliders.comp's cells.
 uint bin_of(vec3 root) {
-    vec2 cell = floor((root.xz - pc.bin_grid.xy) * pc.bin_grid.z);
-    uvec2 at = uvec2(clamp(cell, vec2(0.0), vec2(pc.bin_cells.xy) - 1.0));
-    return at.y * pc.bin_cells.x + at.x;
+    vec2 cell = floor((root.xz - pc.bin_corner) * pc.bin_per_metre);
+    uvec2 at = uvec2(clamp(cell, vec2(0.0), vec2(uvec2(pc.bin_columns, pc.bin_rows)) - 1.0));
+    return at.y * pc.bin_columns + at.x;
 }
 
-#define WIND_VELOCITY(i) wind_velocity[pc.control.z + (i)]
+#define WIND_VELOCITY(i) wind_velocity[pc.wind_offset + (i)]
 #include "wind_sample.glsl"
 
 // Two-way coupling (`deposit` in src/sim/canopy.rs): each edge's plate,
@@ -96,7 +85,7 @@ void lay_frontal_area(GrassBlade b, Pose p, vec3 wind) {
         vec3 mid = (p.points[i] + p.points[i + 1]) * 0.5;
         vec3 g = floor((mid - pc.grid.origin.xyz) / pc.grid.cell_size.xyz);
         if (all(greaterThanEqual(g, vec3(0.0))) && all(lessThan(g, vec3(pc.grid.cells.xyz)))) {
-            atomicAdd(canopy[cell_index(pc.grid, uvec3(g))], uint(area / pc.step.z + 0.5));
+            atomicAdd(canopy[cell_index(pc.grid, uvec3(g))], uint(area / pc.canopy_unit + 0.5));
         }
     }
 }
@@ -105,7 +94,7 @@ void lay_frontal_area(GrassBlade b, Pose p, vec3 wind) {
 // scene order: those of its root's bin within its reach.
 uvec4 near_colliders(GrassBlade b) {
     uvec4 near = uvec4(0u);
-    if (pc.contact.z > 0.0) {
+    if (pc.collider_count > 0u) {
         vec3 root = b.rest[0].xyz;
         float reach = blade_reach(b);
         uvec4 binned = collider_bins[bin_of(root)];
@@ -137,7 +126,7 @@ void write_blade(uint id, GrassBlade b, GrassState s, float pressed, vec3 felt) 
     }
 
     Pose p = blade_pose(b, s.angle, pressed);
-    if (pc.control.w != 0u) {
+    if (pc.lay_canopy != 0u) {
         lay_frontal_area(b, p, guard_wind(felt));
     }
 
@@ -148,7 +137,7 @@ void write_blade(uint id, GrassBlade b, GrassState s, float pressed, vec3 felt) 
     uint at = vertex_slot[id];
     for (int i = 0; i < BLADE_CONTROL_POINTS; ++i) {
         int edge = max(i, 1) - 1;
-        vertices[4u * at + uint(i)] = Vertex(vec4(p.points[i], b.rest[i].w),
+        vertices[4u * at + uint(i)] = BladeVertex(vec4(p.points[i], b.rest[i].w),
                                              vec4(p.w_local[edge] * b.width.w, displacement));
     }
 }
@@ -160,17 +149,17 @@ void write_blade(uint id, GrassBlade b, GrassState s, float pressed, vec3 felt) 
 // paper's step, without the contact.
 void main() {
     uint id = gl_GlobalInvocationID.x;
-    if (id >= pc.control.x) {
+    if (id >= pc.blade_count) {
         return;
     }
     GrassBlade b = blades[id];
-    if (pc.contact.w != 0.0) {
+    if (pc.pressed_states != 0u) {
         Press press = presses[id];
-        bool pressed = press_next(press, pc.step.x, pc.contact.y) != 0.0;
+        bool pressed = press_next(press, pc.dt, pc.press_decay) != 0.0;
         if (pressed || any(notEqual(near_colliders(b), uvec4(0u)))) {
             uint entry = atomicAdd(touching[3], 1u);
             touching[TOUCHING_HEADER + entry] = id;
-            atomicMax(touching[0], entry / 64u + 1u);
+            atomicMax(touching[0], entry / GRASS_GROUP + 1u);
             return;
         }
         if (press.pressed != 0.0) {
@@ -182,7 +171,7 @@ void main() {
     // The wind only at the tip (paper section 4), as the last step left it.
     vec3 tip = blade_pose(b, s.angle, 0.0).points[3];
     vec3 felt = sample_wind(pc.grid, tip);
-    blade_step(b, s, felt, pc.step.y, pc.control.y, 0.0, uvec4(0u));
+    blade_step(b, s, felt, pc.substep, pc.substeps, 0.0, uvec4(0u));
     write_blade(id, b, s, 0.0, felt);
 }
 
@@ -201,8 +190,8 @@ void main() {
     // The wind only at the tip (paper section 4), as the last step left it.
     vec3 tip = blade_pose(b, s.angle, press.pressed).points[3];
     vec3 felt = sample_wind(pc.grid, tip);
-    float pressed = press_next(press, pc.step.x, pc.contact.y);
-    bool touched = blade_step(b, s, felt, pc.step.y, pc.control.y, pressed, near);
+    float pressed = press_next(press, pc.dt, pc.press_decay);
+    bool touched = blade_step(b, s, felt, pc.substep, pc.substeps, pressed, near);
     presses[id] = Press(pressed, touched ? 1.0 : 0.0);
     write_blade(id, b, s, pressed, felt);
 }

@@ -6,10 +6,12 @@
 // model matrix (the identity for obstacles, made in world space). The same
 // shader serves the shadow pass, whose frame uniforms are the light's.
 #include "frame.glsl"
+#include "interface.glsl"
 
-layout(push_constant) uniform Placement {
-    mat4 model; // the mesh's own frame -> world (rotation and translation)
-} placement;
+// Placement: src/interface/defs.rs.
+layout(push_constant, std430) uniform Push {
+    Placement placement;
+};
 
 layout(location = 0) in vec3 in_position;
 layout(location = 1) in vec3 in_normal;

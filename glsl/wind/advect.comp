@@ -10,7 +10,7 @@
 
 void main() {
     uint id = gl_GlobalInvocationID.x;
-    uint faces = pc.grid.cells.w;
+    uint faces = pc.grid.faces;
     if (id >= faces) {
         return;
     }
@@ -23,9 +23,9 @@ void main() {
     face_of(pc.grid, id, axis, f);
     vec3 x = face_position(pc.grid, axis, f);
     vec3 v = sample_wind(pc.grid, x);
-    vec3 back = x - pc.step.y * v;
+    vec3 back = x - pc.dt * v;
     float u = sample_component(pc.grid, axis, back);
-    if (pc.step.z > 0.0) {
+    if (pc.canopy_drag > 0.0) {
         // The frontal area per volume at the face: the two cells it parts
         // (the inside one at the grid's sides), `face_canopy_density`.
         uvec3 left = f;
@@ -33,8 +33,8 @@ void main() {
         uvec3 right = f;
         right[axis] = min(f[axis], pc.grid.cells[axis] - 1u);
         float a = (float(canopy[cell_index(pc.grid, left)]) + float(canopy[cell_index(pc.grid, right)]))
-                * pc.step.w;
-        u /= 1.0 + pc.step.y * pc.step.z * a * length(v);
+                * pc.area_per_count;
+        u /= 1.0 + pc.dt * pc.canopy_drag * a * length(v);
     }
     vel[faces + id] = u;
 }

@@ -13,9 +13,9 @@ void main() {
     if (c >= cells) {
         return;
     }
-    if (pc.control.w == 1u) {
+    if (pc.pressure_from_zero == 1u) {
         pressure[c] = 0.0;
-    } else if (pc.control.z == 1u) {
+    } else if (pc.pressure_result == 1u) {
         pressure[c] = pressure[cells + c];
     }
     if (solid[c] != 0u) {
@@ -24,7 +24,7 @@ void main() {
     }
     uvec3 n = pc.grid.cells.xyz;
     uvec3 cell = uvec3(c % n.x, (c / n.x) % n.y, c / (n.x * n.y));
-    uint faces = pc.grid.cells.w;
+    uint faces = pc.grid.faces;
     float div = 0.0;
     for (uint axis = 0u; axis < 3u; ++axis) {
         uvec3 hi = cell;

@@ -7,10 +7,10 @@
 #include "wind_kernel.glsl"
 #include "collider.glsl"
 
-layout(set = 0, binding = 10, std430) readonly buffer Colliders { Collider colliders[]; };
+layout(set = 0, binding = 10, std430) readonly buffer Colliders { GpuCollider colliders[]; };
 
 // Every collider where it is at this step's time, once per workgroup.
-shared ColliderState moving[MAX_COLLIDERS];
+shared GpuColliderState moving[MAX_COLLIDERS];
 
 float falloff(float d, float r) {
     float q = 1.0 - (d / r) * (d / r);
@@ -18,7 +18,7 @@ float falloff(float d, float r) {
 }
 
 // Position of a source moving along its closed path at time t.
-vec3 source_position(WindSource s, float t) {
+vec3 source_position(GpuWindSource s, float t) {
     vec3 unused_velocity;
     return along_path(s.path, uint(s.motion.z), s.motion.y, true, t, s.position_radius.xyz,
                       unused_velocity);
@@ -26,14 +26,14 @@ vec3 source_position(WindSource s, float t) {
 
 void main() {
     uint id = gl_GlobalInvocationID.x;
-    float t = pc.step.x;
-    float dt = pc.step.y;
-    uint moving_count = uint(pc.inflow_phases.w);
+    float t = pc.time;
+    float dt = pc.dt;
+    uint moving_count = pc.collider_count;
     for (uint i = gl_LocalInvocationIndex; i < moving_count; i += gl_WorkGroupSize.x) {
         moving[i] = collider_at(colliders[i], t);
     }
     barrier();
-    if (id >= pc.grid.cells.w) {
+    if (id >= pc.grid.faces) {
         return;
     }
     uint kind = face_kind[id];
@@ -50,8 +50,8 @@ void main() {
         return;
     }
     float a = 0.0;
-    for (uint i = 0u; i < pc.control.x; ++i) {
-        WindSource s = sources[i];
+    for (uint i = 0u; i < pc.source_count; ++i) {
+        GpuWindSource s = sources[i];
         // The direction turns about +y (paper Fig. 11: a rotating wind).
         float angle = s.motion.x * t;
         float sn = sin(angle), cs = cos(angle);

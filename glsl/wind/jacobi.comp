@@ -11,8 +11,8 @@ void main() {
     if (c >= cells) {
         return;
     }
-    uint read = pc.control.y * cells;
-    uint write = (1u - pc.control.y) * cells;
+    uint read = pc.pressure_read * cells;
+    uint write = (1u - pc.pressure_read) * cells;
     if (solid[c] != 0u) {
         pressure[write + c] = 0.0;
         return;

@@ -1,8 +1,8 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// Multigrid, the coarsest level pc.multigrid.x (at most 64 cells,
+// Multigrid, the coarsest level pc.mg_level (at most 64 cells,
 // `MAX_COARSEST_CELLS`; the shared array holds up to 512):
-// pc.multigrid.z red-black Gauss-Seidel sweeps in one workgroup, the
+// pc.coarsest_sweeps red-black Gauss-Seidel sweeps in one workgroup, the
 // pressure held in shared memory between half-sweeps.
 #include "multigrid.glsl"
 
@@ -10,7 +10,7 @@ const uint COARSEST_CAPACITY = 512u;
 shared float p_shared[COARSEST_CAPACITY];
 
 void main() {
-    uint l = pc.multigrid.x;
+    uint l = pc.mg_level;
     uint n = mg_cell_count(l);
     uint lane = gl_LocalInvocationID.x;
     for (uint i = lane; i < n; i += gl_WorkGroupSize.x) {
@@ -18,7 +18,7 @@ void main() {
     }
     barrier();
     uvec3 dims = levels[l].cells.xyz;
-    for (uint sweep = 0u; sweep < pc.multigrid.z; ++sweep) {
+    for (uint sweep = 0u; sweep < pc.coarsest_sweeps; ++sweep) {
         for (uint color = 0u; color < 2u; ++color) {
             for (uint i = lane; i < n; i += gl_WorkGroupSize.x) {
                 uvec3 c = mg_cell_of(l, i);

@@ -1,13 +1,13 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// Multigrid, restriction from level pc.multigrid.x to the next: each coarse
+// Multigrid, restriction from level pc.mg_level to the next: each coarse
 // cell gathers the fine residuals weighted by the transpose of the
 // interpolation (saved by mg_residual.comp), and its correction starts
 // from zero (`Multigrid::v_cycle`).
 #include "multigrid.glsl"
 
 void main() {
-    uint l = pc.multigrid.x;
+    uint l = pc.mg_level;
     uint index = gl_GlobalInvocationID.x;
     if (index >= mg_cell_count(l + 1u)) {
         return;
@@ -30,6 +30,6 @@ void main() {
         }
     }
     uint at = levels[l + 1u].cells.w + index;
-    coarse[pc.multigrid.w + at] = sum;
+    coarse[pc.coarse_cells + at] = sum;
     coarse[at] = 0.0;
 }

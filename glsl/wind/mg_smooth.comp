@@ -1,15 +1,15 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 // Multigrid, one red-black Gauss-Seidel half-sweep on level
-// pc.multigrid.x: the cells of colour pc.multigrid.y take the value that
+// pc.mg_level: the cells of colour pc.mg_color take the value that
 // zeroes their residual (`Level::smooth`). One thread per cell of that
 // colour.
 #include "multigrid.glsl"
 
 void main() {
-    uint l = pc.multigrid.x;
+    uint l = pc.mg_level;
     uvec3 c;
-    if (!mg_cell_of_color(l, gl_GlobalInvocationID.x, pc.multigrid.y, c)) {
+    if (!mg_cell_of_color(l, gl_GlobalInvocationID.x, pc.mg_color, c)) {
         return;
     }
     uint index = mg_cell_index(l, c);

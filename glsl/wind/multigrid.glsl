@@ -6,14 +6,10 @@
 
 #include "wind_kernel.glsl"
 
-struct MgLevel {
-    uvec4 cells;        // xyz: cells; w: offset of this level in the coarse arrays
-    uvec4 ratio;        // xyz: fine cells per coarse cell towards the next level
-    uvec4 conductance;  // xyz: offset of each axis's face conductances
-};
+// MgLevel: src/interface/defs.rs.
 layout(set = 0, binding = 6, std430) readonly buffer Conductance { float conductance[]; };
 // Coarse levels (1 and up): pressure at [0, C), right-hand side at [C, 2C),
-// C = pc.multigrid.w.
+// C = pc.coarse_cells.
 layout(set = 0, binding = 7, std430) buffer Coarse { float coarse[]; };
 layout(set = 0, binding = 8, std430) readonly buffer Levels { MgLevel levels[]; };
 
@@ -57,7 +53,7 @@ float mg_b(uint l, uint index) {
         vec3 h = pc.grid.cell_size.xyz;
         return -divergence[index] * h.x * h.y * h.z;
     }
-    return coarse[pc.multigrid.w + levels[l].cells.w + index];
+    return coarse[pc.coarse_cells + levels[l].cells.w + index];
 }
 
 // The 6-point stencil at cell c: x = sum of K, y = sum of K * p_nb.

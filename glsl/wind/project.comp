@@ -6,7 +6,7 @@
 
 void main() {
     uint id = gl_GlobalInvocationID.x;
-    uint faces = pc.grid.cells.w;
+    uint faces = pc.grid.faces;
     if (id >= faces) {
         return;
     }
@@ -17,7 +17,7 @@ void main() {
     uint axis;
     uvec3 f;
     face_of(pc.grid, id, axis, f);
-    uint p = pc.control.z * cell_count();
+    uint p = pc.pressure_result * cell_count();
     uvec3 n = pc.grid.cells.xyz;
     float p_right = f[axis] < n[axis] ? pressure[p + cell_index(pc.grid, f)] : 0.0;
     float p_left = 0.0;

@@ -25,10 +25,9 @@ use crate::gpu::{
     Access, Bound, Buffer, DescriptorKind, DescriptorSet, Gpu, LayoutBinding, MemoryLocation,
     Pipeline, PipelineLayout, Recording,
 };
+use crate::interface::{CullPush, CULL_GROUP as GROUP};
 use crate::render::depth_pyramid::Occluders;
 
-/// Blades per workgroup of the flag and compaction kernels (CULL_GROUP).
-const GROUP: u32 = 256;
 /// Bytes of one blade's control points, the flag kernel's per-blade part.
 const BLADE_BYTES: usize = 4 * std::mem::size_of::<crate::sim::BladeVertex>();
 /// Bytes of one `VkDrawIndexedIndirectCommand`.
@@ -38,22 +37,6 @@ const DRAW_BYTES: u64 = 20;
 /// seen edge-on from the camera, and the blades in view the previous
 /// frame's depth hides.
 const DRAW_WORDS: usize = 14;
-
-/// Push constants of the three kernels.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
-struct CullPush {
-    /// x: blades, y: workgroups of the flag kernel, z: 1 = shadows on,
-    /// w: the first blade of the flag kernel's batch.
-    control: [u32; 4],
-    /// x: the orientation test's cosine (`edge_on`; 1 = off).
-    tests: [f32; 4],
-    /// World to clip space of the frame the depth pyramid holds.
-    seen_from: [f32; 16],
-    /// x, y: the pyramid's level 0 size; z: its levels; w: 1 = it holds a
-    /// frame (0: no blade is occluded).
-    pyramid: [u32; 4],
-}
 
 /// Set 0 of the cull kernels.
 pub const CULL_SET: &[LayoutBinding] = &[
@@ -274,10 +257,15 @@ impl CullPass {
             color_list,
             shadow_list,
             push: CullPush {
-                control: [blade_count, groups, shadows as u32, 0],
-                tests: [edge_on, 0.0, 0.0, 0.0],
-                seen_from: [0.0; 16],
-                pyramid: [1, 1, 1, 0],
+                blade_count,
+                flag_groups: groups,
+                shadows: shadows as u32,
+                edge_on,
+                pyramid_width: 1,
+                pyramid_height: 1,
+                pyramid_levels: 1,
+                pyramid_holds: 0,
+                ..CullPush::default()
             },
         })
     }
@@ -290,8 +278,11 @@ impl CullPass {
     pub fn record(&self, rec: &Recording, occluders: Option<Occluders>) {
         let mut push = self.push;
         if let Some(o) = occluders {
-            push.seen_from = o.seen_from.to_cols_array();
-            push.pyramid = [o.width, o.height, o.levels, 1];
+            push.seen_from = o.seen_from.to_cols_array_2d();
+            push.pyramid_width = o.width;
+            push.pyramid_height = o.height;
+            push.pyramid_levels = o.levels;
+            push.pyramid_holds = 1;
         }
         rec.barrier(
             Access::COMPUTE_WRITE
@@ -303,7 +294,7 @@ impl CullPass {
         // The batches write their own blades' flags and workgroups' counts.
         rec.bind_pipeline(&self.flags_kernel);
         for (set, blades) in &self.batches {
-            push.control[3] = blades.start;
+            push.first_blade = blades.start;
             rec.bind_set(&self.flags_kernel, set);
             rec.push_constants(&self.flags_kernel, &push);
             rec.dispatch((blades.len() as u32).div_ceil(GROUP));
@@ -311,7 +302,7 @@ impl CullPass {
         let first_set = &self.batches[0].0;
         for (kernel, dispatch) in [
             (&self.scan_kernel, 1),
-            (&self.compact_kernel, self.push.control[1]),
+            (&self.compact_kernel, self.push.flag_groups),
         ] {
             rec.barrier(Access::COMPUTE_WRITE, Access::COMPUTE_READ_WRITE);
             rec.bind_pipeline(kernel);

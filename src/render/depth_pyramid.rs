@@ -23,8 +23,8 @@ use crate::gpu::{
     LayoutBinding, MemoryLocation, Pipeline, PipelineLayout, Recording,
 };
 
-/// Texels per side of the pyramid kernels' 8 x 8 workgroups.
-const TILE: u32 = 8;
+pub use crate::interface::PyramidLevel as Level;
+use crate::interface::{PyramidPush, PYRAMID_TILE as TILE};
 
 /// Set 0 of the pyramid kernels.
 pub const PYRAMID_SET: &[LayoutBinding] = &[
@@ -36,25 +36,6 @@ pub const PYRAMID_SET: &[LayoutBinding] = &[
     }, // the colour pass's depth, read by texel
     LayoutBinding::compute_storage(1), // every level of the pyramid
 ];
-
-/// Push constants of the pyramid kernels: where the level below starts in
-/// the buffer and its size, and the same for the level written (the base
-/// kernel reads only `level`'s size, the depth image's).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
-struct PyramidPush {
-    below: [u32; 4],
-    level: [u32; 4],
-}
-
-/// One level of the pyramid: its first texel's place in the buffer and
-/// its size.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Level {
-    pub offset: u32,
-    pub width: u32,
-    pub height: u32,
-}
 
 /// The levels of the pyramid over a `width` x `height` depth image, as
 /// glsl/common/depth_pyramid.glsl places them.
@@ -209,9 +190,10 @@ impl DepthPyramid {
         )]);
         rec.barrier(Access::COMPUTE_READ, Access::COMPUTE_WRITE);
         let base = self.levels[0];
+        // The base kernel reads only the level it writes: the depth image's size.
         let push = PyramidPush {
-            below: [0; 4],
-            level: [base.offset, base.width, base.height, 0],
+            below: Level::default(),
+            level: base,
         };
         rec.bind_pipeline(&self.base_kernel);
         rec.bind_set(&self.base_kernel, &self.set);
@@ -222,10 +204,7 @@ impl DepthPyramid {
         for pair in self.levels.windows(2) {
             let [below, level] = [pair[0], pair[1]];
             rec.barrier(Access::COMPUTE_WRITE, Access::COMPUTE_READ_WRITE);
-            let push = PyramidPush {
-                below: [below.offset, below.width, below.height, 0],
-                level: [level.offset, level.width, level.height, 0],
-            };
+            let push = PyramidPush { below, level };
             rec.push_constants(&self.reduce_kernel, &push);
             rec.dispatch_2d(level.width.div_ceil(TILE), level.height.div_ceil(TILE));
         }

@@ -14,6 +14,7 @@ use crate::gpu::{
     Access, Attachments, Bound, Buffer, Commands, DescriptorKind, DescriptorSet, Gpu, GraphicsDesc,
     LayoutBinding, Pipeline, PipelineLayout, TargetFormats,
 };
+use crate::interface::FloorPush;
 use crate::render::frame_uniforms::FrameUniforms;
 use crate::render::renderer::to_attachments;
 use crate::render::targets::RenderTargets;
@@ -60,9 +61,12 @@ impl FloorPass {
         let Some(timestamps) = TimestampQueries::new(gpu, 1, "floor timestamps")? else {
             return Ok(None);
         };
-        // Push constant: quads per blade.
-        let layout: Arc<PipelineLayout> =
-            PipelineLayout::new::<u32>(gpu, FLOOR_SET, vk::ShaderStageFlags::VERTEX, "floor")?;
+        let layout: Arc<PipelineLayout> = PipelineLayout::new::<FloorPush>(
+            gpu,
+            FLOOR_SET,
+            vk::ShaderStageFlags::VERTEX,
+            "floor",
+        )?;
         let pipeline = Pipeline::graphics(
             gpu,
             &layout,
@@ -136,7 +140,7 @@ impl FloorPass {
             });
             rec.bind_pipeline(&self.pipeline);
             rec.bind_set(&self.pipeline, &self.set);
-            rec.push_constants(&self.pipeline, &segments);
+            rec.push_constants(&self.pipeline, &FloorPush { segments });
             self.timestamps.stamp(&rec, 0, false);
             rec.draw(vertices);
             self.timestamps.stamp(&rec, 0, true);

@@ -43,12 +43,15 @@ const BALL_ALBEDO: [Vec3; 2] = [Vec3::new(0.6, 0.05, 0.03), Vec3::new(0.78, 0.76
 const BALL_GORES: usize = 8;
 const CAPSULE_ALBEDO: Vec3 = Vec3::new(0.07, 0.1, 0.22);
 
-/// The push constants of the obstacle pipelines (glsl/obstacle/obstacle.vert's
-/// `Placement`): where a mesh's own frame lies in the world.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct Placement {
-    pub model: Mat4,
+/// The push constants of the obstacle pipelines: where a mesh's own frame
+/// lies in the world.
+pub use crate::interface::Placement;
+
+/// The placement of a mesh whose frame is `model` (its frame to world).
+pub fn placement(model: Mat4) -> Placement {
+    Placement {
+        model: model.to_cols_array_2d(),
+    }
 }
 
 fn vertex(p: Vec3, n: Vec3, albedo: Vec3) -> ObstacleVertex {
@@ -212,9 +215,10 @@ pub fn collider_mesh(collider: &Collider) -> Vec<ObstacleVertex> {
 /// it has rolled.
 pub fn collider_placement(collider: &Collider, t: f32) -> Placement {
     let (at, _, _) = collider.motion_at(t);
-    Placement {
-        model: Mat4::from_rotation_translation(collider.orientation_at(t), at),
-    }
+    placement(Mat4::from_rotation_translation(
+        collider.orientation_at(t),
+        at,
+    ))
 }
 
 /// The obstacles' and colliders' triangles on the GPU; nothing when the
@@ -321,12 +325,7 @@ impl ObstacleMeshes {
             rec.bind_pipeline(pipeline);
             rec.bind_vertex_buffer(vertices);
             if !self.fixed.is_empty() {
-                rec.push_constants(
-                    pipeline,
-                    &Placement {
-                        model: Mat4::IDENTITY,
-                    },
-                );
+                rec.push_constants(pipeline, &placement(Mat4::IDENTITY));
                 rec.draw_range(0..self.fixed.len() as u32);
             }
             for (range, placement) in &self.placed {
@@ -439,7 +438,7 @@ mod tests {
             let tris = collider_mesh(&c);
             assert!(!tris.is_empty() && tris.len() % 3 == 0);
             for t in [0.0, 1.3, 5.0] {
-                let model = collider_placement(&c, t).model;
+                let model = Mat4::from_cols_array_2d(&collider_placement(&c, t).model);
                 let state = c.at(t);
                 let inside = (state.a + state.b) / 2.0;
                 for tri in tris.chunks(3) {

@@ -104,16 +104,8 @@ pub fn bezier(p: &[Vec3; 4], t: f32) -> Vec3 {
     p[0] * (s * s * s) + p[1] * (3.0 * s * s * t) + p[2] * (3.0 * s * t * t) + p[3] * (t * t * t)
 }
 
-/// One control point as the render pipeline reads it (see
-/// glsl/common/blade_vertex.glsl): four per blade, one patch.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct BladeVertex {
-    /// xyz: control point in world space; w: per-blade random value.
-    pub position: [f32; 4],
-    /// xyz: half-width vector at this point; w: angular displacement (rad).
-    pub width: [f32; 4],
-}
+/// One control point as the render pipeline reads it (src/interface/defs.rs).
+pub use crate::interface::BladeVertex;
 
 #[cfg(test)]
 mod tests {

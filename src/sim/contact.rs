@@ -35,9 +35,9 @@ use crate::sim::grass::{
 };
 use crate::sim::path::{along_path, MAX_PATH_POINTS};
 
-/// The most colliders a scene may have: the GPU kernel gathers each
-/// workgroup's near ones into a list of this length.
-pub const MAX_COLLIDERS: usize = 128;
+/// The most colliders a scene may have (src/interface/defs.rs: the
+/// collider bins hold a bit for each).
+pub use crate::interface::MAX_COLLIDERS;
 
 /// Projections per substep: each pushes the deepest point out.
 pub const CONTACT_ITERATIONS: usize = 8;
@@ -425,18 +425,11 @@ pub fn resolve(
     touched
 }
 
-/// A blade's pressed state as the grass step keeps it (`Press` in
-/// glsl/grass/contact.glsl, std430, 8 bytes): the pressed state its last
-/// step used (and its pose shows) and whether that step touched a
-/// collider. The next step starts from `Press::next`, so a step's pose,
-/// contacts and drawn shape all use one value.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct Press {
-    pub pressed: f32,
-    /// 1 if the step touched a collider, else 0.
-    pub touched: f32,
-}
+/// A blade's pressed state as the grass step keeps it (src/interface/defs.rs):
+/// the pressed state its last step used (and its pose shows) and whether
+/// that step touched a collider. The next step starts from `Press::next`,
+/// so a step's pose, contacts and drawn shape all use one value.
+pub use crate::interface::Press;
 
 impl Press {
     /// The pressed state of the next step of `dt`: raised by dt /
@@ -500,19 +493,8 @@ pub fn near_blade(states: &[ColliderState], root: Vec3, reach: f32) -> Vec<Colli
         .collect()
 }
 
-/// The GPU record of one collider (`Collider` in glsl/grass/contact.glsl,
-/// std430, 176 bytes).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct GpuCollider {
-    /// xyz: position (without a path); w: radius.
-    pub position_radius: [f32; 4],
-    /// x: 0 sphere, 1 capsule; y: height; z: path points; w: path speed.
-    pub shape: [f32; 4],
-    /// x: 1 when the path is closed; y: the time it sets off (s).
-    pub flags: [f32; 4],
-    pub path: [[f32; 4]; MAX_PATH_POINTS],
-}
+/// The GPU record of one collider (src/interface/defs.rs).
+pub use crate::interface::GpuCollider;
 
 impl From<&Collider> for GpuCollider {
     fn from(c: &Collider) -> Self {

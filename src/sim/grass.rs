@@ -108,34 +108,9 @@ impl BladePhysics {
     }
 }
 
-/// One blade as the grass kernel reads it (`GrassBlade` in
-/// glsl/common/grass_blade.glsl, std430, 144 bytes). Everything derivable
-/// from the rest shape and the physics is computed once, here.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct GrassBlade {
-    /// xyz: rest control point P_i; w: per-blade random value (colour).
-    pub rest: [[f32; 4]; 4],
-    /// xyz: rest E_w (unit, horizontal); w: half width (m).
-    pub width: [f32; 4],
-    /// k_i of edges 0, 1, 2 (root to tip); w: first edge of bending group B
-    /// (3: one group).
-    pub stiffness: [f32; 4],
-    /// sigma S per motion (S: the area the motion exposes).
-    pub drag: [f32; 4],
-    /// I = m r^2 per motion.
-    pub inertia: [f32; 4],
-    /// c per motion.
-    pub damping: [f32; 4],
-}
-
-/// Angle and angular velocity of each motion (`GrassState` in GLSL).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct GrassState {
-    pub angle: [f32; 4],
-    pub velocity: [f32; 4],
-}
+/// One blade as the grass kernel reads it, and its state: angle and angular
+/// velocity of each motion (src/interface/defs.rs).
+pub use crate::interface::{GrassBlade, GrassState};
 
 /// The current shape of a blade, rebuilt from the rest shape and the angles.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -4,8 +4,9 @@
 
 use glam::Vec3;
 
-/// The most waypoints of a path (the GPU records hold 8).
-pub const MAX_PATH_POINTS: usize = 8;
+/// The most waypoints of a path (src/interface/defs.rs: the GPU records
+/// hold as many).
+pub use crate::interface::MAX_PATH_POINTS;
 
 /// Where a point moving at `speed` through the waypoints `path` is at time
 /// t, its velocity, and the distance it has travelled: round and round when

@@ -20,10 +20,9 @@ use crate::gpu::{
     Access, Bound, Buffer, Commands, DescriptorSet, Gpu, LayoutBinding, MemoryLocation, Pipeline,
     PipelineLayout, Recording,
 };
+use crate::interface::{BinPush, GpuColliderState, GRASS_GROUP};
 use crate::sim::contact::{reach, Collider, ColliderState, GpuCollider, MAX_COLLIDERS};
 use crate::sim::grass::GrassBlade;
-
-const LOCAL_SIZE: u32 = 64;
 /// Cells along the grid's longer side at most: 64 x 64 cells of 16 bytes
 /// are 64 KiB, cleared each step.
 pub const MAX_CELLS_PER_SIDE: u32 = 64;
@@ -93,20 +92,6 @@ impl BinGrid {
         let row = cell.y.clamp(0.0, (self.rows - 1) as f32) as u32;
         (row * self.columns + column) as usize
     }
-}
-
-/// Push constants of glsl/grass/bin_colliders.comp.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
-struct BinPush {
-    /// xy: the grid's corner (x, z), z: cells per metre, w: time at the
-    /// step's end (s).
-    grid: [f32; 4],
-    /// x: columns, y: rows, z: colliders.
-    cells: [u32; 4],
-    /// x: the longest reach with the margin, y, z: the roots' lowest and
-    /// highest y.
-    reach: [f32; 4],
 }
 
 /// Set 0 of the binning kernel.
@@ -220,14 +205,20 @@ impl ColliderBins {
         rec.barrier(Access::TRANSFER_WRITE, Access::COMPUTE_READ_WRITE);
         let g = &self.grid;
         let push = BinPush {
-            grid: [g.corner.x, g.corner.y, g.per_metre, end_time],
-            cells: [g.columns, g.rows, self.count(), 0],
-            reach: [g.reach, g.root_y.0, g.root_y.1, 0.0],
+            corner: g.corner.to_array(),
+            per_metre: g.per_metre,
+            end_time,
+            columns: g.columns,
+            rows: g.rows,
+            collider_count: self.count(),
+            reach: g.reach,
+            root_low: g.root_y.0,
+            root_high: g.root_y.1,
         };
         rec.bind_pipeline(&self.pipeline);
         rec.bind_set(&self.pipeline, &self.set);
         rec.push_constants(&self.pipeline, &push);
-        rec.dispatch(self.count().div_ceil(LOCAL_SIZE));
+        rec.dispatch(self.count().div_ceil(GRASS_GROUP));
     }
 
     /// The bins the last recorded binning left (for tests).
@@ -237,14 +228,15 @@ impl ColliderBins {
 
     /// The colliders' states the last recorded binning left (for tests).
     pub fn read_states(&self, gpu: &Gpu, commands: &Commands) -> Result<Vec<ColliderState>> {
-        let raw: Vec<[[f32; 4]; 3]> = self.states.read_back(gpu, commands, self.records.len())?;
+        let raw: Vec<GpuColliderState> =
+            self.states.read_back(gpu, commands, self.records.len())?;
         Ok(raw
             .iter()
-            .map(|[a, b, v]| ColliderState {
-                a: Vec3::from_slice(&a[..3]),
-                b: Vec3::from_slice(&b[..3]),
-                radius: a[3],
-                velocity: Vec3::from_slice(&v[..3]),
+            .map(|s| ColliderState {
+                a: Vec3::from_slice(&s.a_radius[..3]),
+                b: Vec3::from_slice(&s.b[..3]),
+                radius: s.a_radius[3],
+                velocity: Vec3::from_slice(&s.velocity[..3]),
             })
             .collect())
     }

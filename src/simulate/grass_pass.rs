@@ -27,13 +27,12 @@ use crate::gpu::{
     part, Access, Bound, Buffer, Commands, DescriptorSet, Gpu, LayoutBinding, Pipeline,
     PipelineLayout, Recording,
 };
+use crate::interface::{GrassPush, GRASS_GROUP};
 use crate::sim::contact::{press_decay, Collider, Press};
 use crate::sim::grass::{substeps, CapCounts, GrassBlade, GrassState};
 use crate::sim::BladeVertex;
 use crate::simulate::collider_bins::{BinGrid, ColliderBins};
-use crate::simulate::wind_pass::WindInput;
-
-const LOCAL_SIZE: u32 = 64;
+use crate::simulate::wind_pass::{grid_params, WindInput};
 /// Bytes of the largest per-blade part the kernel binds (the rest shape
 /// and physics, the state, the four control points): what limits a batch.
 const BLADE_BYTES_BOUND: u64 = {
@@ -45,30 +44,6 @@ const BLADE_BYTES_BOUND: u64 = {
 };
 /// Any motion at its cap, then swing, bend A, bend B, twist.
 const CAP_COUNTERS: usize = 5;
-
-/// Push constants of the grass kernels (glsl/grass/step.glsl).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct GrassPush {
-    pub cells: [u32; 4],
-    pub origin: [f32; 4],
-    pub cell_size: [f32; 4],
-    /// x: blades, y: substeps, z: offset (floats) of the wind copy to
-    /// sample, w: 1 to lay the canopy's frontal area (two-way coupling).
-    pub control: [u32; 4],
-    /// x: simulation step dt, y: substep h = dt / substeps (s), z: m^2 per
-    /// count of the canopy buffer.
-    pub step: [f32; 4],
-    /// x: time at the step's end (s), y: the pressed state's decay per
-    /// step, z: colliders (src/sim/contact.rs), w: 1 where each blade has
-    /// a pressed state (the pass was made with colliders).
-    pub contact: [f32; 4],
-    /// The collider bins' grid (`BinGrid`): xy its corner (x, z), z cells
-    /// per metre.
-    pub bin_grid: [f32; 4],
-    /// x: the bins' columns (along x), y: rows (along z).
-    pub bin_cells: [u32; 4],
-}
 
 /// Set 0 of the grass kernel.
 pub const GRASS_SET: &[LayoutBinding] = &[
@@ -162,30 +137,23 @@ impl GrassPass {
             .map(|a| grid.face_dims(a).as_u64vec3().element_product())
             .sum();
         let bin_grid = BinGrid::covering(blades);
+        // The wind's offset, the step's end time and the colliders' count
+        // are set at each step (`record_step`).
         let push = GrassPush {
-            cells: [grid.cells.x, grid.cells.y, grid.cells.z, face_count as u32],
-            origin: grid.origin.extend(0.0).to_array(),
-            cell_size: grid.cell.extend(0.0).to_array(),
-            control: [blade_count, substeps, 0, wind.canopy.is_some() as u32],
-            step: [
-                dt,
-                dt / substeps as f32,
-                wind.canopy.map_or(0.0, |(_, unit)| unit),
-                0.0,
-            ],
-            contact: [
-                0.0,
-                press_decay(dt),
-                0.0, // the colliders' count, at each step from the bins
-                !colliders.is_empty() as u32 as f32,
-            ],
-            bin_grid: [
-                bin_grid.corner.x,
-                bin_grid.corner.y,
-                bin_grid.per_metre,
-                0.0,
-            ],
-            bin_cells: [bin_grid.columns, bin_grid.rows, 0, 0],
+            grid: grid_params(grid, face_count as u32),
+            blade_count,
+            substeps,
+            lay_canopy: wind.canopy.is_some() as u32,
+            dt,
+            substep: dt / substeps as f32,
+            canopy_unit: wind.canopy.map_or(0.0, |(_, unit)| unit),
+            press_decay: press_decay(dt),
+            pressed_states: !colliders.is_empty() as u32,
+            bin_per_metre: bin_grid.per_metre,
+            bin_corner: bin_grid.corner.to_array(),
+            bin_columns: bin_grid.columns,
+            bin_rows: bin_grid.rows,
+            ..GrassPush::default()
         };
 
         // Host memory first: failing here leaves nothing on the GPU to undo.
@@ -389,7 +357,7 @@ impl GrassPass {
 
     /// Whether each blade keeps a pressed state (made with colliders).
     fn presses_live(&self) -> bool {
-        self.push.contact[3] != 0.0
+        self.push.pressed_states != 0
     }
 
     /// The colliders from the next recorded step on (the viewer's ball
@@ -414,7 +382,7 @@ impl GrassPass {
 
     /// Symplectic Euler substeps per simulation step.
     pub fn substeps(&self) -> u32 {
-        self.push.control[1]
+        self.push.substeps
     }
 
     /// Records one simulation step, sampling the wind velocity copy that
@@ -430,9 +398,9 @@ impl GrassPass {
     /// colliders stand (`contact::step_end_time`).
     pub fn record_step(&self, rec: &Recording, wind_offset: u32, end_time: f32) {
         let mut push = self.push;
-        push.control[2] = wind_offset;
-        push.contact[0] = end_time;
-        push.contact[2] = self.bins.count() as f32;
+        push.wind_offset = wind_offset;
+        push.end_time = end_time;
+        push.collider_count = self.bins.count();
         self.bins.record(rec, end_time);
         if self.touching_pipeline.is_some() {
             // Empty lists, after the last step's dispatch and reads.
@@ -457,10 +425,10 @@ impl GrassPass {
                 // The batches share the cap counters and the canopy.
                 rec.barrier(Access::COMPUTE_WRITE, Access::COMPUTE_READ_WRITE);
             }
-            push.control[0] = blades.len() as u32;
+            push.blade_count = blades.len() as u32;
             rec.bind_set(&self.pipeline, set);
             rec.push_constants(&self.pipeline, &push);
-            rec.dispatch(push.control[0].div_ceil(LOCAL_SIZE));
+            rec.dispatch(push.blade_count.div_ceil(GRASS_GROUP));
         }
         if let Some(touching_pipeline) = &self.touching_pipeline {
             rec.barrier(
@@ -474,7 +442,7 @@ impl GrassPass {
                 if i > 0 {
                     rec.barrier(Access::COMPUTE_WRITE, Access::COMPUTE_READ_WRITE);
                 }
-                push.control[0] = blades.len() as u32;
+                push.blade_count = blades.len() as u32;
                 rec.bind_set(touching_pipeline, set);
                 rec.push_constants(touching_pipeline, &push);
                 rec.dispatch_indirect(&self.touching, offset);

@@ -22,36 +22,12 @@ use crate::sim::contact::{Collider, GpuCollider};
 use crate::sim::multigrid::{self, Multigrid};
 use crate::sim::wind::{FaceKind, PressureSolver, WindField, WindGrid, WindSettings, WindSource};
 
+use crate::interface::{MgLevel, WindGridParams, WindPush, WIND_GROUP};
 /// Waypoints a source's path may have on the GPU.
 pub use crate::sim::wind::MAX_PATH_POINTS;
-const LOCAL_SIZE: u32 = 64;
 
-/// Push constants of every wind kernel (`Push` in glsl/wind/wind_kernel.glsl).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct WindPush {
-    pub cells: [u32; 4],
-    pub origin: [f32; 4],
-    pub cell_size: [f32; 4],
-    pub step: [f32; 4],
-    pub control: [u32; 4],
-    pub inflow: [f32; 4],
-    pub inflow_phases: [f32; 4],
-    /// Multigrid: level, colour, coarsest sweeps, coarse cells of all levels.
-    pub multigrid: [u32; 4],
-}
-
-/// One wind source as the kernels read it (`WindSource` in wind_kernel.glsl).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct GpuWindSource {
-    pub position_radius: [f32; 4],
-    pub direction_strength: [f32; 4],
-    pub motion: [f32; 4],
-    pub gust: [f32; 4],
-    pub gust_phases: [f32; 4],
-    pub path: [[f32; 4]; MAX_PATH_POINTS],
-}
+/// One wind source as the kernels read it (src/interface/defs.rs).
+pub use crate::interface::GpuWindSource;
 
 impl GpuWindSource {
     pub fn from_source(s: &WindSource) -> Result<Self> {
@@ -123,17 +99,8 @@ const MG_COARSEST: usize = 7;
 const MG_PROLONG: usize = 8;
 const PROJECT: usize = 9;
 
-/// One multigrid level as the kernels read it (`MgLevel` in glsl/wind/multigrid.glsl).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
-struct GpuLevel {
-    cells: [u32; 4],
-    ratio: [u32; 4],
-    conductance: [u32; 4],
-}
-
 /// The level table and every level's conductances, concatenated.
-fn multigrid_tables(mg: &Multigrid) -> (Vec<GpuLevel>, Vec<f32>) {
+fn multigrid_tables(mg: &Multigrid) -> (Vec<MgLevel>, Vec<f32>) {
     let mut table = Vec::new();
     let mut conductance = Vec::new();
     let mut coarse_offset = 0u32;
@@ -144,7 +111,7 @@ fn multigrid_tables(mg: &Multigrid) -> (Vec<GpuLevel>, Vec<f32>) {
             conductance.extend_from_slice(k);
         }
         let first = table.is_empty();
-        table.push(GpuLevel {
+        table.push(MgLevel {
             cells: level
                 .cells
                 .extend(if first { 0 } else { coarse_offset })
@@ -479,7 +446,10 @@ impl WindPass {
             .read_back(gpu, commands, self.cell_count as usize)
     }
 
-    fn push(&self, time: f32, dt: f32, control: [u32; 4], multigrid: [u32; 3]) -> WindPush {
+    /// The push constants of a step at `time`, the pressure solve's
+    /// halves and the multigrid level and colour a kernel works on left at
+    /// zero.
+    fn push(&self, time: f32, dt: f32) -> WindPush {
         let inflow = self.settings.inflow;
         let phases = inflow.map(|i| i.gust.phases()).unwrap_or_default();
         // The canopy drag's C_d (0: none) and what one count on each side
@@ -494,27 +464,28 @@ impl WindPass {
         } else {
             (0.0, 0.0)
         };
+        let multigrid = self.settings.solver == PressureSolver::Multigrid;
         WindPush {
-            cells: [
-                self.grid.cells.x,
-                self.grid.cells.y,
-                self.grid.cells.z,
-                self.face_count,
-            ],
-            origin: self.grid.origin.extend(0.0).to_array(),
-            cell_size: self.grid.cell.extend(0.0).to_array(),
-            step: [time, dt, drag, per_count],
-            control,
-            inflow: inflow
-                .map(|i| [i.speed, i.gust.amplitude, i.gust.frequency, 0.0])
-                .unwrap_or_default(),
-            inflow_phases: [
-                phases[0],
-                phases[1],
-                phases[2],
-                self.settings.colliders.len() as f32,
-            ],
-            multigrid: [multigrid[0], multigrid[1], multigrid[2], self.coarse_cells],
+            grid: grid_params(&self.grid, self.face_count),
+            time,
+            dt,
+            canopy_drag: drag,
+            area_per_count: per_count,
+            source_count: self.settings.sources.len() as u32,
+            pressure_read: 0,
+            pressure_result: if multigrid {
+                0
+            } else {
+                self.settings.jacobi_iterations % 2
+            },
+            pressure_from_zero: multigrid as u32,
+            inflow_speed: inflow.map_or(0.0, |i| i.speed),
+            gust_amplitude: inflow.map_or(0.0, |i| i.gust.amplitude),
+            gust_frequency: inflow.map_or(0.0, |i| i.gust.frequency),
+            gust_phases: phases,
+            collider_count: self.settings.colliders.len() as u32,
+            coarse_cells: self.coarse_cells,
+            ..WindPush::default()
         }
     }
 
@@ -522,23 +493,28 @@ impl WindPass {
     /// new velocity (copy A) written by compute; a reader must wait on
     /// COMPUTE_SHADER writes.
     pub fn record_step(&self, rec: &Recording, time: f32, dt: f32) {
-        let sources = self.settings.sources.len() as u32;
         let multigrid = self.settings.solver == PressureSolver::Multigrid;
         let iterations = self.settings.jacobi_iterations;
-        let result_half = if multigrid { 0 } else { iterations % 2 };
-        let face_groups = self.face_count.div_ceil(LOCAL_SIZE);
-        let cell_groups = self.cell_count.div_ceil(LOCAL_SIZE);
-        let dispatch = |kernel: usize, groups: u32, read: u32, level: [u32; 3]| {
+        let face_groups = self.face_count.div_ceil(WIND_GROUP);
+        let cell_groups = self.cell_count.div_ceil(WIND_GROUP);
+        let step = self.push(time, dt);
+        // A kernel over `groups` workgroups; `read` the Jacobi half it
+        // reads, `level` the multigrid level, colour and coarsest sweeps.
+        let dispatch = |kernel: usize,
+                        groups: u32,
+                        read: u32,
+                        [mg_level, mg_color, coarsest_sweeps]: [u32; 3]| {
             let pipeline = &self.kernels[kernel];
             rec.bind_pipeline(pipeline);
             rec.push_constants(
                 pipeline,
-                &self.push(
-                    time,
-                    dt,
-                    [sources, read, result_half, multigrid as u32],
-                    level,
-                ),
+                &WindPush {
+                    pressure_read: read,
+                    mg_level,
+                    mg_color,
+                    coarsest_sweeps,
+                    ..step
+                },
             );
             rec.dispatch(groups);
         };
@@ -562,9 +538,9 @@ impl WindPass {
         dispatch(DIVERGENCE, cell_groups, 0, [0; 3]);
         between_kernels();
         if multigrid {
-            let groups = |l: usize| self.level_cells[l].div_ceil(LOCAL_SIZE);
+            let groups = |l: usize| self.level_cells[l].div_ceil(WIND_GROUP);
             // One thread per cell of the colour being smoothed.
-            let color_groups = |l: usize| self.level_color_cells[l].div_ceil(LOCAL_SIZE);
+            let color_groups = |l: usize| self.level_color_cells[l].div_ceil(WIND_GROUP);
             let smooth = |l: usize, sweeps: u32| {
                 for _ in 0..sweeps {
                     for color in 0..2 {
@@ -633,5 +609,17 @@ impl WindPass {
     /// in the layout of glsl/common/wind_grid.glsl. The grass samples it.
     pub fn velocity(&self) -> &Buffer {
         &self.buffers.velocity
+    }
+}
+
+/// The wind grid as the kernels read it (`WindGridParams`), with `faces`
+/// faces in one velocity copy.
+pub fn grid_params(grid: &WindGrid, faces: u32) -> WindGridParams {
+    WindGridParams {
+        cells: grid.cells.to_array(),
+        faces,
+        origin: grid.origin.to_array(),
+        cell_size: grid.cell.to_array(),
+        ..WindGridParams::default()
     }
 }

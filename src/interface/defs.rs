@@ -1,0 +1,308 @@
+// The one source of the Rust/GLSL interface: every push-constant block the
+// kernels and pipelines read, the records of the storage buffers both sides
+// write or read, and the constants both sides use. The library
+// makes `#[repr(C)]` structs and constants of it (src/interface/mod.rs);
+// build.rs writes the GLSL (`interface.glsl`, which shaders include) and a
+// compile-time check that each Rust field lies where std430 puts it
+// (src/interface_build.rs). Field types: f32, u32, i32, `[T; 2..4]` of
+// those (vectors; a vec3 is aligned to 16 bytes and a scalar may follow it
+// in the same 16), `Mat4Columns` (mat4), arrays, structs defined above.
+// A struct named `...Push` must fit 128 bytes. Fields named `_pad*` only
+// fill the bytes std430 leaves between members.
+gpu_interface! {
+    /// Invocations per workgroup of every wind kernel (glsl/wind/).
+    pub const WIND_GROUP: u32 = 64;
+    /// Invocations per workgroup of the grass step and collider-binning
+    /// kernels (glsl/grass/).
+    pub const GRASS_GROUP: u32 = 64;
+    /// Blades per workgroup of the cull pass's flag and compaction kernels:
+    /// one blade per invocation (glsl/cull/).
+    pub const CULL_GROUP: u32 = 256;
+    /// Texels a side of the depth pyramid kernels' 2D workgroups.
+    pub const PYRAMID_TILE: u32 = 8;
+    /// Words before the blades of a batch's list of touching blades: the
+    /// indirect dispatch's three workgroup counts, then the count.
+    pub const TOUCHING_HEADER: u32 = 4;
+    /// Waypoints a moving source or collider's path may have.
+    pub const MAX_PATH_POINTS: usize = 8;
+    /// Colliders a scene may have (the collider bins hold one bit each).
+    pub const MAX_COLLIDERS: usize = 128;
+
+    /// One control point of a blade as the render pipeline reads it: four
+    /// per blade, one patch; the grass step writes them
+    /// (glsl/common/blade_vertex.glsl).
+    pub struct BladeVertex {
+        /// xyz: control point in world space; w: per-blade random value in
+        /// [0, 1) (colour variation).
+        pub position: [f32; 4],
+        /// xyz: half-width vector at this point (E_w times half width); w:
+        /// angular displacement from rest (rad; the motion view).
+        pub width: [f32; 4],
+    }
+
+    /// One blade as the grass kernel reads it (glsl/common/grass_blade.glsl;
+    /// src/sim/grass.rs derives it). Everything derivable from the rest
+    /// shape and the physics is computed once. Per-motion vec4s are in the
+    /// order swing, bend A, bend B, twist.
+    pub struct GrassBlade {
+        /// xyz: rest control point P_i; w: per-blade random value (colour).
+        pub rest: [[f32; 4]; 4],
+        /// xyz: rest E_w (unit, horizontal); w: half width (m).
+        pub width: [f32; 4],
+        /// k_i of edges 0, 1, 2 (root to tip); w: first edge of bending
+        /// group B (3: one group).
+        pub stiffness: [f32; 4],
+        /// sigma S per motion (S: the area the motion exposes).
+        pub drag: [f32; 4],
+        /// I = m r^2 per motion.
+        pub inertia: [f32; 4],
+        /// c per motion.
+        pub damping: [f32; 4],
+    }
+
+    /// Angle and angular velocity of each motion.
+    pub struct GrassState {
+        /// theta per motion (rad).
+        pub angle: [f32; 4],
+        /// omega per motion (rad/s).
+        pub velocity: [f32; 4],
+    }
+
+    /// A blade's pressed state as the grass step keeps it
+    /// (glsl/grass/contact.glsl; `Press::next` in src/sim/contact.rs): the
+    /// pressed state its last step used (and its pose shows) and whether
+    /// that step touched a collider.
+    pub struct Press {
+        pub pressed: f32,
+        /// 1 if the step touched a collider, else 0.
+        pub touched: f32,
+    }
+
+    /// One collider as the binning and wind kernels read it
+    /// (glsl/common/collider.glsl; `Collider` in src/sim/contact.rs).
+    pub struct GpuCollider {
+        /// xyz: position (without a path); w: radius.
+        pub position_radius: [f32; 4],
+        /// x: 0 sphere, 1 capsule; y: height; z: path points; w: path speed.
+        pub shape: [f32; 4],
+        /// x: 1 when the path is closed; y: the time it sets off (s).
+        pub flags: [f32; 4],
+        /// xyz: waypoints.
+        pub path: [[f32; 4]; MAX_PATH_POINTS],
+    }
+
+    /// A collider at one instant, as the binning kernel writes it for the
+    /// grass step (`ColliderState` in src/sim/contact.rs): the segment a..b
+    /// swept by the radius, and the velocity of its centre.
+    pub struct GpuColliderState {
+        /// xyz: a; w: radius.
+        pub a_radius: [f32; 4],
+        /// xyz: b.
+        pub b: [f32; 4],
+        /// xyz: velocity (m/s).
+        pub velocity: [f32; 4],
+    }
+
+    /// One wind source as the wind kernels read it
+    /// (glsl/wind/wind_kernel.glsl; `WindSource` in src/sim/wind.rs).
+    pub struct GpuWindSource {
+        /// xyz: position at t = 0; w: radius (m).
+        pub position_radius: [f32; 4],
+        /// xyz: unit direction at t = 0; w: strength (m/s^2).
+        pub direction_strength: [f32; 4],
+        /// x: rotation speed (rad/s), y: path speed (m/s), z: path points,
+        /// w: off after (s).
+        pub motion: [f32; 4],
+        /// x: gust amplitude, y: gust frequency (Hz).
+        pub gust: [f32; 4],
+        /// xyz: the gust's phases.
+        pub gust_phases: [f32; 4],
+        /// xyz: waypoints of the closed path.
+        pub path: [[f32; 4]; MAX_PATH_POINTS],
+    }
+
+    /// One multigrid level as the kernels read it (glsl/wind/multigrid.glsl;
+    /// src/sim/multigrid.rs).
+    pub struct MgLevel {
+        /// xyz: cells; w: offset of this level in the coarse arrays.
+        pub cells: [u32; 4],
+        /// xyz: fine cells per coarse cell towards the next level.
+        pub ratio: [u32; 4],
+        /// xyz: offset of each axis's face conductances.
+        pub conductance: [u32; 4],
+    }
+
+    /// The wind grid as every wind and grass kernel sees it (staggered: the
+    /// velocity's component a lives on the cells' a-faces;
+    /// glsl/common/wind_grid.glsl).
+    pub struct WindGridParams {
+        /// Cells along x, y and z.
+        pub cells: [u32; 3],
+        /// Faces of all three components: the length of one velocity copy.
+        pub faces: u32,
+        /// World position of the grid's minimum corner (m).
+        pub origin: [f32; 3],
+        pub _pad0: f32,
+        /// Cell size along each axis (m).
+        pub cell_size: [f32; 3],
+        pub _pad1: f32,
+    }
+
+    /// Push constants of every wind kernel (glsl/wind/wind_kernel.glsl).
+    pub struct WindPush {
+        pub grid: WindGridParams,
+        /// Simulation time at the step's start (s).
+        pub time: f32,
+        /// The step dt (s).
+        pub dt: f32,
+        /// The canopy drag coefficient C_d (0: one-way coupling, no drag).
+        pub canopy_drag: f32,
+        /// Frontal area per volume (1/m) that one canopy count on each side
+        /// of a face adds to it.
+        pub area_per_count: f32,
+        /// Wind sources in the sources buffer.
+        pub source_count: u32,
+        /// Jacobi: the pressure half this iteration reads (0 or 1).
+        pub pressure_read: u32,
+        /// The pressure half holding the solve's result.
+        pub pressure_result: u32,
+        /// 1 when the pressure solve starts from zero (multigrid), 0 when
+        /// from the previous step's (Jacobi).
+        pub pressure_from_zero: u32,
+        /// The inflow's mean speed (m/s; 0: no inflow).
+        pub inflow_speed: f32,
+        /// The inflow gusts' relative amplitude.
+        pub gust_amplitude: f32,
+        /// The inflow gusts' frequency (Hz).
+        pub gust_frequency: f32,
+        pub _pad0: f32,
+        /// The phases of the gusts' three sines.
+        pub gust_phases: [f32; 3],
+        /// Colliders pushing the air (the forces kernel).
+        pub collider_count: u32,
+        /// Multigrid: the level a kernel works on.
+        pub mg_level: u32,
+        /// Multigrid: the colour a smoothing sweep updates (0 or 1).
+        pub mg_color: u32,
+        /// Multigrid: Gauss-Seidel sweeps on the coarsest level.
+        pub coarsest_sweeps: u32,
+        /// Multigrid: coarse cells of all levels (where the right-hand
+        /// sides start in the coarse buffer).
+        pub coarse_cells: u32,
+    }
+
+    /// Push constants of the grass kernels (glsl/grass/step.glsl).
+    pub struct GrassPush {
+        pub grid: WindGridParams,
+        /// Blades this dispatch steps.
+        pub blade_count: u32,
+        /// Substeps per step.
+        pub substeps: u32,
+        /// Where (in floats) the wind velocity copy to sample starts.
+        pub wind_offset: u32,
+        /// 1 to lay the canopy's frontal area (two-way coupling).
+        pub lay_canopy: u32,
+        /// The simulation step dt (s).
+        pub dt: f32,
+        /// The substep h = dt / substeps (s).
+        pub substep: f32,
+        /// m^2 per count of the canopy buffer.
+        pub canopy_unit: f32,
+        /// Time at the step's end (s): where the colliders are.
+        pub end_time: f32,
+        /// The pressed state's decay per step.
+        pub press_decay: f32,
+        /// Colliders (src/sim/contact.rs), taken from the bins at each step.
+        pub collider_count: u32,
+        /// 1 where each blade has a pressed state (made with colliders).
+        pub pressed_states: u32,
+        /// The collider bins: cells per metre.
+        pub bin_per_metre: f32,
+        /// The collider bins' corner (x, z; m).
+        pub bin_corner: [f32; 2],
+        /// The collider bins' columns (along x).
+        pub bin_columns: u32,
+        /// The collider bins' rows (along z).
+        pub bin_rows: u32,
+    }
+
+    /// Push constants of the collider-binning kernel
+    /// (glsl/grass/bin_colliders.comp).
+    pub struct BinPush {
+        /// The bins' corner (x, z; m).
+        pub corner: [f32; 2],
+        /// Cells per metre.
+        pub per_metre: f32,
+        /// Time at the step's end (s).
+        pub end_time: f32,
+        /// Columns (along x).
+        pub columns: u32,
+        /// Rows (along z).
+        pub rows: u32,
+        /// Colliders to bin.
+        pub collider_count: u32,
+        /// The longest blade's reach, with a margin (m).
+        pub reach: f32,
+        /// The roots' lowest y (m).
+        pub root_low: f32,
+        /// The roots' highest y (m).
+        pub root_high: f32,
+    }
+
+    /// Push constants of the cull pass's kernels (glsl/cull/).
+    pub struct CullPush {
+        /// World to clip space of the frame the depth pyramid holds.
+        pub seen_from: Mat4Columns,
+        /// Blades of the field (the flag kernel's batch starts at
+        /// `first_blade`).
+        pub blade_count: u32,
+        /// Workgroups of the flag kernel over all blades.
+        pub flag_groups: u32,
+        /// 1 when shadows are on: shadow casters are listed.
+        pub shadows: u32,
+        /// The flag kernel's batch's first blade (a multiple of CULL_GROUP).
+        pub first_blade: u32,
+        /// The orientation test's cosine (`edge_on`; 1 = off).
+        pub edge_on: f32,
+        /// The pyramid's level 0 width.
+        pub pyramid_width: u32,
+        /// The pyramid's level 0 height.
+        pub pyramid_height: u32,
+        /// The pyramid's levels.
+        pub pyramid_levels: u32,
+        /// 1 when the pyramid holds a frame (0: no blade is occluded).
+        pub pyramid_holds: u32,
+        pub _pad0: u32,
+        pub _pad1: u32,
+        pub _pad2: u32,
+    }
+
+    /// One level of the depth pyramid: where its first texel lies in the
+    /// pyramid's buffer (in floats) and its size.
+    pub struct PyramidLevel {
+        pub offset: u32,
+        pub width: u32,
+        pub height: u32,
+    }
+
+    /// Push constants of the depth pyramid's kernels (glsl/cull/pyramid_*).
+    pub struct PyramidPush {
+        /// The level read (the reduce kernel only).
+        pub below: PyramidLevel,
+        /// The level written.
+        pub level: PyramidLevel,
+    }
+
+    /// Push constants of the bench's floor (glsl/bench/floor.vert).
+    pub struct FloorPush {
+        /// Quads along each blade.
+        pub segments: u32,
+    }
+
+    /// Push constants of the obstacle pipelines (glsl/obstacle/): where a
+    /// mesh's own frame lies in the world.
+    pub struct Placement {
+        /// The mesh's frame to world (rotation and translation), column-major.
+        pub model: Mat4Columns,
+    }
+}
