@@ -7,7 +7,7 @@ use common::sim::{Figures, SimRig};
 use common::{finish, strict_gpu, strict_gpu_with, to_vec3};
 use glam::{UVec3, Vec3};
 use meadow::frame::BladeBuffer;
-use meadow::gpu::{Access, Buffer, Commands, Gpu};
+use meadow::gpu::{Access, Buffer, CommandPool, Gpu};
 use meadow::scene::{field, Scene};
 use meadow::sim::wind::{Gust, Inflow, WindField, WindGrid, WindSettings, WindSource};
 use meadow::sim::GrassField;
@@ -73,7 +73,7 @@ impl Differences {
 }
 
 /// A recorded wind velocity on the GPU, for the grass step to sample.
-fn recorded_wind(gpu: &Gpu, commands: &Commands, name: &str, recorded: &[f32]) -> Buffer {
+fn recorded_wind(gpu: &Gpu, commands: &CommandPool, name: &str, recorded: &[f32]) -> Buffer {
     Buffer::with_data(
         gpu,
         commands,
@@ -98,7 +98,7 @@ fn recorded_input(velocity: &Buffer, grid: WindGrid) -> WindInput<'_> {
 /// stepping DT.
 fn grass_pass(
     gpu: &Gpu,
-    commands: &Commands,
+    commands: &CommandPool,
     name: &str,
     blades: &[GrassBlade],
     wind: &WindInput,
@@ -202,7 +202,7 @@ fn agree_over_500_steps_of_recorded_wind(
 
     // GPU: the same 500 steps in one submission.
     let gpu = strict_gpu_with(storage_range);
-    let commands = Commands::new(&gpu, "grass test commands").unwrap();
+    let commands = CommandPool::new(&gpu, "grass test commands").unwrap();
     let wind_buffer = recorded_wind(&gpu, &commands, "recorded wind", &recorded);
     let (pass, blade_buffer) = grass_pass(
         &gpu,
@@ -299,7 +299,7 @@ fn the_gpu_counts_blade_steps_at_an_angle_cap_as_the_cpu_does() {
     }
 
     let gpu = strict_gpu();
-    let commands = Commands::new(&gpu, "cap count test commands").unwrap();
+    let commands = CommandPool::new(&gpu, "cap count test commands").unwrap();
     let wind_buffer = recorded_wind(&gpu, &commands, "steady gale", &recorded);
     let (pass, blade_buffer) = grass_pass(
         &gpu,
@@ -341,7 +341,7 @@ fn the_gpu_counts_blade_steps_at_an_angle_cap_as_the_cpu_does() {
 /// state and control points.
 fn read_touch(
     gpu: &Gpu,
-    commands: &Commands,
+    commands: &CommandPool,
     pass: &GrassPass,
     vertices: &BladeBuffer,
 ) -> (
@@ -435,7 +435,7 @@ fn colliders_pressing_the_grass(count: Option<usize>, storage_range: Option<u32>
     }
 
     let gpu = strict_gpu_with(storage_range);
-    let commands = Commands::new(&gpu, "contact test commands").unwrap();
+    let commands = CommandPool::new(&gpu, "contact test commands").unwrap();
     let wind_buffer = recorded_wind(&gpu, &commands, "recorded wind", &recorded);
     let (pass, blade_buffer) = grass_pass(
         &gpu,
@@ -567,7 +567,7 @@ fn colliders_changed_between_steps_reach_the_gpu_kernel() {
     let unchanged = cpu_run(false);
 
     let gpu = strict_gpu();
-    let commands = Commands::new(&gpu, "changed colliders test commands").unwrap();
+    let commands = CommandPool::new(&gpu, "changed colliders test commands").unwrap();
     let wind_buffer = recorded_wind(&gpu, &commands, "recorded wind", &recorded);
     let (mut pass, blade_buffer) = grass_pass(
         &gpu,
@@ -660,7 +660,7 @@ fn the_collider_bins_hold_every_blades_near_colliders() {
     let still = vec![0.0f32; faces as usize];
 
     let gpu = strict_gpu();
-    let commands = Commands::new(&gpu, "collider bins test commands").unwrap();
+    let commands = CommandPool::new(&gpu, "collider bins test commands").unwrap();
     let wind_buffer = recorded_wind(&gpu, &commands, "still air", &still);
     let (pass, blade_buffer) = grass_pass(
         &gpu,

@@ -6,7 +6,7 @@ mod common;
 use common::wind_scenes::{self, behaviour_grid, blowing_source};
 use common::{finish, strict_gpu};
 use glam::{UVec3, Vec3};
-use meadow::gpu::Commands;
+use meadow::gpu::CommandPool;
 use meadow::sim::contact::{Collider, ColliderKind};
 use meadow::sim::wind::{
     FaceKind, Gust, Inflow, Obstacle, PressureSolver, WindField, WindGrid, WindSettings, WindSource,
@@ -98,7 +98,7 @@ fn run_gpu(
     steps: u32,
     dt: f32,
 ) -> [Vec<f32>; 3] {
-    let commands = Commands::new(gpu, "wind test commands").unwrap();
+    let commands = CommandPool::new(gpu, "wind test commands").unwrap();
     let pass = WindPass::new(gpu, &commands, grid, settings, 0.0).unwrap();
     let rec = commands.begin().unwrap();
     for n in 0..steps {
@@ -209,7 +209,7 @@ fn a_drive_changed_between_steps_reaches_the_gpu_kernels() {
     after.colliders[0].closed = false;
     after.colliders[0].start = 50.5 * dt;
     drive_only.colliders = before.colliders.clone();
-    let commands = Commands::new(&gpu, "wind test commands").unwrap();
+    let commands = CommandPool::new(&gpu, "wind test commands").unwrap();
     let mut pass = WindPass::new(&gpu, &commands, grid, &before, 0.0).unwrap();
     let mut cpu = WindField::new(grid, &before);
     let mut unchanged = WindField::new(grid, &before);
@@ -280,7 +280,7 @@ fn gpu_wind_stays_finite_for_10000_steps_at_the_strongest_settings() {
             seed: 1,
         },
     });
-    let commands = Commands::new(&gpu, "wind soak").unwrap();
+    let commands = CommandPool::new(&gpu, "wind soak").unwrap();
     let pass = WindPass::new(&gpu, &commands, grid, &settings, 0.0).unwrap();
     let dt = 1.0 / 60.0;
     for batch in 0..10 {
@@ -304,7 +304,7 @@ fn gpu_wind_stays_finite_for_10000_steps_at_the_strongest_settings() {
 /// `WindField` (same layout) for sampling and divergence.
 struct GpuWind<'a> {
     gpu: &'a meadow::gpu::Gpu,
-    commands: Commands,
+    commands: CommandPool,
     pass: WindPass,
     settings: WindSettings,
     steps: u32,
@@ -312,7 +312,7 @@ struct GpuWind<'a> {
 
 impl<'a> GpuWind<'a> {
     fn new(gpu: &'a meadow::gpu::Gpu, settings: &WindSettings) -> Self {
-        let commands = Commands::new(gpu, "wind behaviour commands").unwrap();
+        let commands = CommandPool::new(gpu, "wind behaviour commands").unwrap();
         let pass = WindPass::new(gpu, &commands, behaviour_grid(), settings, 0.0).unwrap();
         Self {
             gpu,
@@ -452,7 +452,7 @@ fn rms_over_fluid(values: &[f32], solid: &[bool]) -> f64 {
 fn gpu_multigrid_leaves_under_1_percent_of_the_divergence_on_every_shipped_scene() {
     const STEPS: u32 = 10;
     let gpu = strict_gpu();
-    let commands = Commands::new(&gpu, "multigrid scene commands").unwrap();
+    let commands = CommandPool::new(&gpu, "multigrid scene commands").unwrap();
     let mut failures = Vec::new();
     for (name, _) in meadow::scene::BUILTIN {
         let scene = meadow::scene::Scene::load(name).unwrap();

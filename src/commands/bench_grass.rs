@@ -14,7 +14,7 @@ use crate::error::{Error, Result};
 use crate::frame::timing::median_p95;
 use crate::frame::BladeBuffer;
 use crate::gpu::query::TimestampQueries;
-use crate::gpu::{Access, Commands, Gpu, GpuOptions, ValidationReport};
+use crate::gpu::{Access, CommandPool, Gpu, GpuOptions, ValidationReport};
 use crate::scene::{field, Scene, MAX_BLADES};
 use crate::sim::canopy;
 use crate::sim::contact::{Collider, ColliderKind, MAX_COLLIDERS};
@@ -222,7 +222,7 @@ fn bench_count(
 
     let grid = scene.wind_grid()?;
     let dt = scene.wind.dt;
-    let commands = Commands::new(gpu, "grass bench commands")?;
+    let commands = CommandPool::new(gpu, "grass bench commands")?;
     let wind = WindPass::new(
         gpu,
         &commands,
@@ -323,7 +323,7 @@ fn copy_bandwidth(gpu: &Gpu) -> Result<Option<CopyBandwidth>> {
         buffer("bandwidth copy source")?,
         buffer("bandwidth copy target")?,
     );
-    let commands = Commands::new(gpu, "bandwidth copy commands")?;
+    let commands = CommandPool::new(gpu, "bandwidth copy commands")?;
     let rec = commands.begin()?;
     // Written once first, so no page is touched for the first time while
     // timed.

@@ -12,7 +12,7 @@ use std::path::Path;
 use crate::commands::{on_gpu, write_json};
 use crate::error::{Error, Result};
 use crate::frame::BladeBuffer;
-use crate::gpu::{Commands, Gpu, GpuOptions, ValidationReport};
+use crate::gpu::{CommandPool, Gpu, GpuOptions, ValidationReport};
 use crate::report::files;
 use crate::report::space_time::{self, SpaceTime};
 use crate::scene::{field, Scene};
@@ -257,7 +257,7 @@ pub fn trace(
     let scene = &request.scene;
     let rest = scene.field()?;
     let dynamic = field::dynamic_blades(&rest, &scene.grass.dynamics, scene.seed)?;
-    let commands = Commands::new(gpu, "trace commands")?;
+    let commands = CommandPool::new(gpu, "trace commands")?;
     let vertices = BladeBuffer::new(gpu, &commands, &rest)?;
     let mut simulation = Simulation::new(gpu, &commands, scene, &dynamic, vertices.buffer())?;
     let blades = request.blades.indices(rest.len(), scene.seed);
@@ -314,7 +314,7 @@ pub fn trace(
 /// Reads the traced blades' tips and angles after `step` steps.
 fn sample(
     gpu: &Gpu,
-    commands: &Commands,
+    commands: &CommandPool,
     simulation: &Simulation,
     vertices: &BladeBuffer,
     wind: Option<&mut WindField>,

@@ -11,7 +11,7 @@ use crate::error::Result;
 use crate::frame::timing::median_p95;
 use crate::frame::BladeBuffer;
 use crate::gpu::query::TimestampQueries;
-use crate::gpu::{Commands, Gpu, GpuOptions, ValidationReport};
+use crate::gpu::{CommandPool, Gpu, GpuOptions, ValidationReport};
 use crate::report::files;
 pub use crate::report::wind::SolverTiming;
 use crate::report::wind_slices::{self, Outlines, Slice};
@@ -113,7 +113,7 @@ enum Stepper {
 }
 
 impl Stepper {
-    fn new(gpu: &Gpu, commands: &Commands, scene: &Scene) -> Result<Self> {
+    fn new(gpu: &Gpu, commands: &CommandPool, scene: &Scene) -> Result<Self> {
         let grid = scene.wind_grid()?;
         if scene.wind.coupling == Coupling::OneWay {
             let pass = WindPass::new(gpu, commands, grid, &scene.wind_settings(), 0.0)?;
@@ -153,7 +153,7 @@ impl Stepper {
     }
 }
 
-fn run_steps(gpu: &Gpu, commands: &Commands, scene: &Scene, steps: u32) -> Result<Stepped> {
+fn run_steps(gpu: &Gpu, commands: &CommandPool, scene: &Scene, steps: u32) -> Result<Stepped> {
     let dt = scene.wind.dt;
     let mut stepper = Stepper::new(gpu, commands, scene)?;
     let timestamps = TimestampQueries::new(gpu, STEPS_PER_SUBMIT, "wind step timestamps")?;
@@ -205,7 +205,7 @@ fn rms_over_fluid(values: &[f32], solid: &[bool]) -> f32 {
 /// The scene's wind run `steps` steps with each solver (its V-cycles, its
 /// Jacobi iterations), multigrid first.
 pub fn compare_solvers(gpu: &Gpu, scene: &Scene, steps: u32) -> Result<Vec<SolverTiming>> {
-    let commands = Commands::new(gpu, "wind solver comparison commands")?;
+    let commands = CommandPool::new(gpu, "wind solver comparison commands")?;
     let mut timings = Vec::new();
     for solver in [PressureSolver::Multigrid, PressureSolver::Jacobi] {
         let mut scene = scene.clone();
@@ -238,7 +238,7 @@ fn run(
     out_dir: &Path,
 ) -> Result<WindReport> {
     let dt = scene.wind.dt;
-    let commands = Commands::new(gpu, "wind commands")?;
+    let commands = CommandPool::new(gpu, "wind commands")?;
     let Stepped {
         field,
         times,

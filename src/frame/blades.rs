@@ -6,7 +6,7 @@
 use ash::vk;
 
 use crate::error::{try_collect, Error, Result};
-use crate::gpu::{Access, Buffer, Commands, Gpu, MemoryLocation};
+use crate::gpu::{Access, Buffer, CommandPool, Gpu, MemoryLocation};
 use crate::sim::{Blade, BladeVertex};
 
 const USAGE: vk::BufferUsageFlags = vk::BufferUsageFlags::from_raw(
@@ -22,7 +22,7 @@ pub struct BladeBuffer {
 
 impl BladeBuffer {
     /// The blades' rest shape, uploaded once.
-    pub fn new(gpu: &Gpu, commands: &Commands, blades: &[Blade]) -> Result<Self> {
+    pub fn new(gpu: &Gpu, commands: &CommandPool, blades: &[Blade]) -> Result<Self> {
         let count = drawable(blades.len())?;
         let vertices: Vec<BladeVertex> = try_collect(
             4 * blades.len(),

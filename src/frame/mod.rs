@@ -14,7 +14,7 @@ pub mod timing;
 use crate::error::{Error, Result};
 use crate::gpu::query::{PipelineStatistics, Span, SpanTimer, StatisticsQuery};
 use crate::gpu::swapchain::Presented;
-use crate::gpu::{Commands, Gpu, OverlayDraw, OverlayRenderer, Recording, Swapchain};
+use crate::gpu::{CommandPool, Gpu, OverlayDraw, OverlayRenderer, Recording, Swapchain};
 use crate::render::cull::{BladeDraw, CullPass};
 use crate::render::{FrameUniforms, Renderer};
 use crate::scene::{Scene, ViewMode};
@@ -83,7 +83,7 @@ pub struct FrameRecorder {
     statistics: StatisticsQuery,
     shadow_statistics: StatisticsQuery,
     timer: Option<SpanTimer<Phase>>,
-    commands: Commands,
+    commands: CommandPool,
     extent: (u32, u32),
     /// Why this device cannot time the grass draw inside the colour pass
     /// (`DeviceInfo::draw_timing_unavailable`); None where it can.
@@ -102,7 +102,7 @@ impl FrameRecorder {
         blades: &[Blade],
         dynamics: Option<&[GrassBlade]>,
     ) -> Result<Self> {
-        let commands = Commands::new(gpu, "frame commands")?;
+        let commands = CommandPool::new(gpu, "frame commands")?;
         let renderer = Self::new_renderer(
             gpu,
             &commands,
@@ -161,7 +161,7 @@ impl FrameRecorder {
 
     fn new_renderer(
         gpu: &Gpu,
-        commands: &Commands,
+        commands: &CommandPool,
         scene: &Scene,
         colliders: &[Collider],
         (width, height): (u32, u32),
@@ -275,7 +275,7 @@ impl FrameRecorder {
         &self.blades
     }
 
-    pub fn commands(&self) -> &Commands {
+    pub fn commands(&self) -> &CommandPool {
         &self.commands
     }
 

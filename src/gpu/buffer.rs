@@ -8,7 +8,7 @@ use gpu_allocator::vulkan::Allocation;
 
 use crate::error::{Error, Result, VkResultExt};
 use crate::gpu::barrier::Access;
-use crate::gpu::commands::Commands;
+use crate::gpu::command_pool::CommandPool;
 use crate::gpu::device::Device;
 use crate::gpu::memory::MemoryLocation;
 use crate::gpu::Gpu;
@@ -87,7 +87,7 @@ impl Buffer {
     /// the copy is done.
     pub fn with_data(
         gpu: &Gpu,
-        commands: &Commands,
+        commands: &CommandPool,
         name: &str,
         bytes: &[u8],
         usage: vk::BufferUsageFlags,
@@ -111,7 +111,7 @@ impl Buffer {
     pub fn upload(
         &self,
         gpu: &Gpu,
-        commands: &Commands,
+        commands: &CommandPool,
         name: &str,
         bytes: &[u8],
         before: Access,
@@ -148,7 +148,7 @@ impl Buffer {
     pub fn read_back<T: bytemuck::Pod>(
         &self,
         gpu: &Gpu,
-        commands: &Commands,
+        commands: &CommandPool,
         count: usize,
     ) -> Result<Vec<T>> {
         let bytes = (count * std::mem::size_of::<T>()) as u64;

@@ -6,8 +6,8 @@
 use ash::vk;
 
 use crate::error::{Error, Result, VkResultExt};
-use crate::gpu::commands::Recording;
 use crate::gpu::owned::Owned;
+use crate::gpu::recording::Recording;
 use crate::gpu::Gpu;
 
 /// Counters read back for one draw. Their order is the order of the bits in

@@ -356,13 +356,21 @@ impl CullPass {
 
     /// The colour list of the last frame (blade indices, in order), for
     /// tests: read back from the device.
-    pub fn read_color_list(&self, gpu: &Gpu, commands: &crate::gpu::Commands) -> Result<Vec<u32>> {
+    pub fn read_color_list(
+        &self,
+        gpu: &Gpu,
+        commands: &crate::gpu::CommandPool,
+    ) -> Result<Vec<u32>> {
         let n = self.counts().in_view as usize;
         read_list(gpu, commands, &self.color_list, n)
     }
 
     /// The shadow list of the last frame, as `read_color_list`.
-    pub fn read_shadow_list(&self, gpu: &Gpu, commands: &crate::gpu::Commands) -> Result<Vec<u32>> {
+    pub fn read_shadow_list(
+        &self,
+        gpu: &Gpu,
+        commands: &crate::gpu::CommandPool,
+    ) -> Result<Vec<u32>> {
         let n = self.counts().shadow_casters as usize;
         read_list(gpu, commands, &self.shadow_list, n)
     }
@@ -371,7 +379,7 @@ impl CullPass {
 /// The blades of a list: every fourth index over 4.
 fn read_list(
     gpu: &Gpu,
-    commands: &crate::gpu::Commands,
+    commands: &crate::gpu::CommandPool,
     list: &Buffer,
     blades: usize,
 ) -> Result<Vec<u32>> {

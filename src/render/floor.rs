@@ -11,8 +11,8 @@ use ash::vk;
 use crate::error::{Error, Result};
 use crate::gpu::query::TimestampQueries;
 use crate::gpu::{
-    Access, Attachments, Bound, Buffer, Commands, DescriptorKind, DescriptorSet, Gpu, GraphicsDesc,
-    LayoutBinding, Pipeline, PipelineLayout, TargetFormats,
+    Access, Attachments, Bound, Buffer, CommandPool, DescriptorKind, DescriptorSet, Gpu,
+    GraphicsDesc, LayoutBinding, Pipeline, PipelineLayout, TargetFormats,
 };
 use crate::interface::FloorPush;
 use crate::render::frame_uniforms::FrameUniforms;
@@ -104,7 +104,7 @@ impl FloorPass {
     /// the pass was made with.
     pub fn time(
         &mut self,
-        commands: &Commands,
+        commands: &CommandPool,
         targets: &RenderTargets,
         blade_vertices: &Buffer,
         uniforms: &FrameUniforms,

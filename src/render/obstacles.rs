@@ -15,7 +15,7 @@ use ash::vk;
 use glam::{Mat4, Vec3};
 
 use crate::error::Result;
-use crate::gpu::{Access, Buffer, Commands, Gpu, Pipeline, Recording};
+use crate::gpu::{Access, Buffer, CommandPool, Gpu, Pipeline, Recording};
 use crate::sim::contact::{Collider, ColliderKind};
 use crate::sim::wind::Obstacle;
 
@@ -237,7 +237,7 @@ pub struct ObstacleMeshes {
 impl ObstacleMeshes {
     pub fn new(
         gpu: &Gpu,
-        commands: &Commands,
+        commands: &CommandPool,
         obstacles: &[Obstacle],
         colliders: &[Collider],
     ) -> Result<Self> {
@@ -246,7 +246,7 @@ impl ObstacleMeshes {
 
     fn build(
         gpu: &Gpu,
-        commands: &Commands,
+        commands: &CommandPool,
         fixed: Vec<ObstacleVertex>,
         colliders: &[Collider],
     ) -> Result<Self> {
@@ -283,7 +283,7 @@ impl ObstacleMeshes {
     pub fn set_colliders(
         &mut self,
         gpu: &Gpu,
-        commands: &Commands,
+        commands: &CommandPool,
         colliders: &[Collider],
     ) -> Result<()> {
         let same_shape = |a: &Collider, b: &Collider| {

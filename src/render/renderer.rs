@@ -7,8 +7,8 @@
 
 use crate::error::{Error, Result};
 use crate::gpu::{
-    Access, Attachments, Bound, Buffer, Commands, DescriptorSet, Gpu, ImageTransition, Recording,
-    TargetFormats,
+    Access, Attachments, Bound, Buffer, CommandPool, DescriptorSet, Gpu, ImageTransition,
+    Recording, TargetFormats,
 };
 use crate::render::cull::BladeDraw;
 use crate::render::depth_pyramid::{DepthPyramid, Occluders};
@@ -48,7 +48,7 @@ impl Renderer {
     #[allow(clippy::too_many_arguments)]
     pub fn new(
         gpu: &Gpu,
-        commands: &Commands,
+        commands: &CommandPool,
         (width, height): (u32, u32),
         msaa: u32,
         shadow_map: u32,
@@ -172,7 +172,7 @@ impl Renderer {
     pub fn set_colliders(
         &mut self,
         gpu: &Gpu,
-        commands: &Commands,
+        commands: &CommandPool,
         colliders: &[Collider],
     ) -> Result<()> {
         self.obstacles.set_colliders(gpu, commands, colliders)

@@ -6,7 +6,7 @@ use ash::vk;
 
 use crate::error::Result;
 use crate::gpu::{
-    Access, Bound, Buffer, Commands, Gpu, Image, ImageDesc, ImageTransition, MemoryLocation,
+    Access, Bound, Buffer, CommandPool, Gpu, Image, ImageDesc, ImageTransition, MemoryLocation,
     Sampler,
 };
 use crate::render::texture_maps::{self, mip_chain, mip_levels};
@@ -21,7 +21,7 @@ pub struct SurfaceTextures {
 }
 
 impl SurfaceTextures {
-    pub fn new(gpu: &Gpu, commands: &Commands) -> Result<Self> {
+    pub fn new(gpu: &Gpu, commands: &CommandPool) -> Result<Self> {
         let grass = upload(
             gpu,
             commands,
@@ -66,7 +66,7 @@ impl SurfaceTextures {
 /// Makes a device-local image with `base`'s whole mip chain and copies the
 /// levels in through one staging buffer; the image ends readable by
 /// fragment shaders.
-fn upload(gpu: &Gpu, commands: &Commands, name: &str, base: image::RgbaImage) -> Result<Image> {
+fn upload(gpu: &Gpu, commands: &CommandPool, name: &str, base: image::RgbaImage) -> Result<Image> {
     let (w, h) = base.dimensions();
     let chain = mip_chain(base);
     let image = Image::new(

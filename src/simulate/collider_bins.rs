@@ -17,8 +17,8 @@ use glam::{Vec2, Vec3};
 
 use crate::error::Result;
 use crate::gpu::{
-    Access, Bound, Buffer, Commands, DescriptorSet, Gpu, LayoutBinding, MemoryLocation, Pipeline,
-    PipelineLayout, Recording,
+    Access, Bound, Buffer, CommandPool, DescriptorSet, Gpu, LayoutBinding, MemoryLocation,
+    Pipeline, PipelineLayout, Recording,
 };
 use crate::interface::{BinPush, GpuColliderState, GRASS_GROUP};
 use crate::sim::contact::{reach, Collider, ColliderState, GpuCollider, MAX_COLLIDERS};
@@ -222,12 +222,12 @@ impl ColliderBins {
     }
 
     /// The bins the last recorded binning left (for tests).
-    pub fn read_bins(&self, gpu: &Gpu, commands: &Commands) -> Result<Vec<[u32; 4]>> {
+    pub fn read_bins(&self, gpu: &Gpu, commands: &CommandPool) -> Result<Vec<[u32; 4]>> {
         self.bins.read_back(gpu, commands, self.grid.cell_count())
     }
 
     /// The colliders' states the last recorded binning left (for tests).
-    pub fn read_states(&self, gpu: &Gpu, commands: &Commands) -> Result<Vec<ColliderState>> {
+    pub fn read_states(&self, gpu: &Gpu, commands: &CommandPool) -> Result<Vec<ColliderState>> {
         let raw: Vec<GpuColliderState> =
             self.states.read_back(gpu, commands, self.records.len())?;
         Ok(raw

@@ -24,7 +24,7 @@ use std::ops::Range;
 
 use crate::error::{try_collect, Error, Result};
 use crate::gpu::{
-    part, Access, Bound, Buffer, Commands, DescriptorSet, Gpu, LayoutBinding, Pipeline,
+    part, Access, Bound, Buffer, CommandPool, DescriptorSet, Gpu, LayoutBinding, Pipeline,
     PipelineLayout, Recording,
 };
 use crate::interface::{GrassPush, GRASS_GROUP};
@@ -109,7 +109,7 @@ impl GrassPass {
     /// the stiffest blade (`sim::grass::substeps`).
     pub fn new(
         gpu: &Gpu,
-        commands: &Commands,
+        commands: &CommandPool,
         blades: &[GrassBlade],
         vertices: &Buffer,
         wind: &WindInput,
@@ -456,7 +456,7 @@ impl GrassPass {
 
     /// The blade-steps at an angle cap over the `steps` steps recorded so
     /// far (the counters cover every step since the pass was made).
-    pub fn read_caps(&self, gpu: &Gpu, commands: &Commands, steps: u64) -> Result<CapCounts> {
+    pub fn read_caps(&self, gpu: &Gpu, commands: &CommandPool, steps: u64) -> Result<CapCounts> {
         let c: Vec<u32> = self.caps.read_back(gpu, commands, CAP_COUNTERS)?;
         Ok(CapCounts {
             blade_steps: steps * self.blade_count as u64,
@@ -470,7 +470,7 @@ impl GrassPass {
 
     /// How many blades the last recorded step stepped with the contact
     /// (near a collider or pressed): 0 for a pass made without colliders.
-    pub fn read_touching(&self, gpu: &Gpu, commands: &Commands) -> Result<u64> {
+    pub fn read_touching(&self, gpu: &Gpu, commands: &CommandPool) -> Result<u64> {
         if self.touching_pipeline.is_none() {
             return Ok(0);
         }
@@ -486,7 +486,7 @@ impl GrassPass {
 
     /// Every blade's pressed state (for tests; empty for a pass made
     /// without colliders).
-    pub fn read_presses(&self, gpu: &Gpu, commands: &Commands) -> Result<Vec<Press>> {
+    pub fn read_presses(&self, gpu: &Gpu, commands: &CommandPool) -> Result<Vec<Press>> {
         if !self.presses_live() {
             return Ok(Vec::new());
         }
@@ -497,7 +497,7 @@ impl GrassPass {
     }
 
     /// Every blade's angles and angular velocities (for tests and reports).
-    pub fn read_states(&self, gpu: &Gpu, commands: &Commands) -> Result<Vec<GrassState>> {
+    pub fn read_states(&self, gpu: &Gpu, commands: &CommandPool) -> Result<Vec<GrassState>> {
         let placed = self
             .states
             .read_back(gpu, commands, self.blade_count as usize)?;

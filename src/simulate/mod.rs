@@ -13,7 +13,7 @@ mod place_order;
 pub mod wind_pass;
 
 use crate::error::{Error, Result};
-use crate::gpu::{Buffer, Commands, Gpu, Recording};
+use crate::gpu::{Buffer, CommandPool, Gpu, Recording};
 use crate::scene::Scene;
 use crate::sim::contact::Collider;
 use crate::sim::{canopy, GrassBlade};
@@ -35,7 +35,7 @@ impl Simulation {
     /// into `vertices` (the blade buffer, which must outlive this).
     pub fn new(
         gpu: &Gpu,
-        commands: &Commands,
+        commands: &CommandPool,
         scene: &Scene,
         blades: &[GrassBlade],
         vertices: &Buffer,
@@ -115,7 +115,7 @@ impl Simulation {
     pub fn cap_counts(
         &self,
         gpu: &Gpu,
-        commands: &Commands,
+        commands: &CommandPool,
     ) -> Result<crate::sim::grass::CapCounts> {
         self.grass.read_caps(gpu, commands, self.steps_done)
     }

@@ -14,8 +14,8 @@ use bytemuck::Zeroable;
 
 use crate::error::{Error, Result};
 use crate::gpu::{
-    Access, Bound, Buffer, Commands, DescriptorSet, Gpu, LayoutBinding, MemoryLocation, Pipeline,
-    PipelineLayout, Recording,
+    Access, Bound, Buffer, CommandPool, DescriptorSet, Gpu, LayoutBinding, MemoryLocation,
+    Pipeline, PipelineLayout, Recording,
 };
 use crate::shaders::{self, Spirv};
 use crate::sim::contact::{Collider, GpuCollider};
@@ -153,7 +153,7 @@ impl WindBuffers {
     /// the previous step's).
     fn new(
         gpu: &Gpu,
-        commands: &Commands,
+        commands: &CommandPool,
         field: &WindField,
         settings: &WindSettings,
         face_count: u32,
@@ -208,7 +208,7 @@ impl WindBuffers {
 
     /// The sources as the kernels read them, uploaded; at least one
     /// entry (zeroed) so that the binding is never empty.
-    fn sources(gpu: &Gpu, commands: &Commands, sources: &[WindSource]) -> Result<Buffer> {
+    fn sources(gpu: &Gpu, commands: &CommandPool, sources: &[WindSource]) -> Result<Buffer> {
         let mut gpu_sources = sources
             .iter()
             .map(GpuWindSource::from_source)
@@ -291,7 +291,7 @@ impl WindPass {
     /// (`sim::canopy::unit` of its blades; 0 with no grass).
     pub fn new(
         gpu: &Gpu,
-        commands: &Commands,
+        commands: &CommandPool,
         grid: WindGrid,
         settings: &WindSettings,
         canopy_unit: f32,
@@ -375,7 +375,7 @@ impl WindPass {
     pub fn set_drive(
         &mut self,
         gpu: &Gpu,
-        commands: &Commands,
+        commands: &CommandPool,
         inflow_speed: Option<f32>,
         sources: &[WindSource],
     ) -> Result<()> {
@@ -440,7 +440,7 @@ impl WindPass {
 
     /// The frontal area per cell the grass laid last step, in counts of
     /// `canopy_unit` m^2 (for tests and pictures).
-    pub fn read_canopy(&self, gpu: &Gpu, commands: &Commands) -> Result<Vec<u32>> {
+    pub fn read_canopy(&self, gpu: &Gpu, commands: &CommandPool) -> Result<Vec<u32>> {
         self.buffers
             .canopy
             .read_back(gpu, commands, self.cell_count as usize)
@@ -582,7 +582,7 @@ impl WindPass {
 
     /// Copies the velocity (copy A: x, y, z components) back to the host:
     /// for tests, pictures and statistics, not per frame.
-    pub fn read_velocity(&self, gpu: &Gpu, commands: &Commands) -> Result<[Vec<f32>; 3]> {
+    pub fn read_velocity(&self, gpu: &Gpu, commands: &CommandPool) -> Result<[Vec<f32>; 3]> {
         let all: Vec<f32> =
             self.buffers
                 .velocity
@@ -599,7 +599,7 @@ impl WindPass {
     }
 
     /// The divergence of the last step's advected field, before projection.
-    pub fn read_divergence(&self, gpu: &Gpu, commands: &Commands) -> Result<Vec<f32>> {
+    pub fn read_divergence(&self, gpu: &Gpu, commands: &CommandPool) -> Result<Vec<f32>> {
         self.buffers
             .divergence
             .read_back(gpu, commands, self.cell_count as usize)

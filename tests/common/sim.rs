@@ -4,7 +4,7 @@
 
 use glam::Vec3;
 use meadow::frame::BladeBuffer;
-use meadow::gpu::{Commands, Gpu};
+use meadow::gpu::{CommandPool, Gpu};
 use meadow::scene::{field, Scene};
 use meadow::sim::{BladeVertex, GrassBlade, GrassState};
 use meadow::simulate::Simulation;
@@ -43,7 +43,7 @@ pub struct SimRig {
     // Declared before the buffer it writes: dropped first.
     simulation: Simulation,
     vertices: BladeBuffer,
-    commands: Commands,
+    commands: CommandPool,
 }
 
 impl SimRig {
@@ -51,7 +51,7 @@ impl SimRig {
     pub fn new(gpu: &Gpu, scene: &Scene) -> Self {
         let rest = scene.field().unwrap();
         let blades = field::dynamic_blades(&rest, &scene.grass.dynamics, scene.seed).unwrap();
-        let commands = Commands::new(gpu, "test simulation commands").unwrap();
+        let commands = CommandPool::new(gpu, "test simulation commands").unwrap();
         let vertices =
             BladeBuffer::uninitialised(gpu, "test blade vertices", blades.len()).unwrap();
         let simulation =

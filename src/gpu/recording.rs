@@ -1,9 +1,7 @@
-//! A command pool with one primary command buffer and a fence: begin a
-//! `Recording`, record into it, submit and wait. Offscreen rendering needs
-//! nothing more. `Recording` is the only way commands are recorded: each
-//! method is one Vulkan command on objects this module's types own.
-
-use std::sync::Arc;
+//! A command buffer being recorded (`CommandPool::begin`, in
+//! src/gpu/command_pool.rs). `Recording` is the only way commands are
+//! recorded: each method is one Vulkan command on objects the Vulkan
+//! layer's types own.
 
 use ash::vk;
 
@@ -11,76 +9,12 @@ use crate::error::{Error, Result, VkResultExt};
 use crate::gpu::barrier::{Access, ImageTransition};
 use crate::gpu::descriptors::DescriptorSet;
 use crate::gpu::device::Device;
-use crate::gpu::owned::Owned;
 use crate::gpu::pipeline::Pipeline;
-use crate::gpu::{Buffer, Gpu, Image};
-
-pub struct Commands {
-    device: Arc<Device>,
-    /// Declared before the pool: a fence's drop needs nothing else.
-    fence: Owned<vk::Fence>,
-    pool: Owned<vk::CommandPool>,
-    cmd: vk::CommandBuffer,
-}
+use crate::gpu::{Buffer, Image};
 
 /// How long one submission may run before we call the device hung (lavapipe
 /// renders big scenes slowly, so this is generous).
 const SUBMIT_TIMEOUT_NS: u64 = 600 * 1_000_000_000;
-
-impl Commands {
-    pub fn new(gpu: &Gpu, name: &str) -> Result<Self> {
-        let device = gpu.device();
-        // One buffer per pool: resetting the pool resets it, cheaper than
-        // a pool that tracks buffers for resetting one by one.
-        let pool_info =
-            vk::CommandPoolCreateInfo::default().queue_family_index(device.queue_family);
-        // SAFETY: a valid create info on a live device.
-        let pool = unsafe { device.raw.create_command_pool(&pool_info, None) }
-            .vk_context("vkCreateCommandPool", name)?;
-        let pool = Owned::new(device, pool, &format!("{name} pool"));
-        let alloc = vk::CommandBufferAllocateInfo::default()
-            .command_pool(pool.raw())
-            .level(vk::CommandBufferLevel::PRIMARY)
-            .command_buffer_count(1);
-        // SAFETY: the pool is live; its buffers are freed with it.
-        let cmd = unsafe { device.raw.allocate_command_buffers(&alloc) }
-            .vk_context("vkAllocateCommandBuffers", name)?[0];
-        device.name(cmd, name);
-        // SAFETY: a valid create info on a live device.
-        let fence = unsafe {
-            device
-                .raw
-                .create_fence(&vk::FenceCreateInfo::default(), None)
-        }
-        .vk_context("vkCreateFence", name)?;
-        let fence = Owned::new(device, fence, &format!("{name} fence"));
-        Ok(Self {
-            device: device.clone(),
-            fence,
-            pool,
-            cmd,
-        })
-    }
-
-    /// Resets the pool (and so its one command buffer) and begins recording.
-    pub fn begin(&self) -> Result<Recording<'_>> {
-        let device = &self.device.raw;
-        // SAFETY: the previous submission (if any) was waited for in
-        // `submit_and_wait`, so the pool's buffer is not in flight.
-        unsafe { device.reset_command_pool(self.pool.raw(), vk::CommandPoolResetFlags::empty()) }
-            .vk_context("vkResetCommandPool", "frame commands")?;
-        let info = vk::CommandBufferBeginInfo::default()
-            .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
-        // SAFETY: the buffer was just reset (initial state).
-        unsafe { device.begin_command_buffer(self.cmd, &info) }
-            .vk_context("vkBeginCommandBuffer", "frame commands")?;
-        Ok(Recording {
-            device: &self.device,
-            cmd: self.cmd,
-            commands: self,
-        })
-    }
-}
 
 /// What a render pass instance draws into: a colour target (with the
 /// single-sample image it resolves into, when multisampled) and a depth
@@ -97,7 +31,8 @@ pub struct Attachments<'a> {
 pub struct Recording<'a> {
     pub(super) device: &'a Device,
     pub(super) cmd: vk::CommandBuffer,
-    commands: &'a Commands,
+    /// The pool's fence, which a submission signals and waits for.
+    pub(super) fence: vk::Fence,
 }
 
 impl Recording<'_> {
@@ -116,7 +51,7 @@ impl Recording<'_> {
         signals: &[vk::SemaphoreSubmitInfo],
     ) -> Result<()> {
         let device = &self.device.raw;
-        let fence = self.commands.fence.raw();
+        let fence = self.fence;
         // SAFETY: `cmd` is in the recording state (begun by `begin`).
         unsafe { device.end_command_buffer(self.cmd) }.vk_context("vkEndCommandBuffer", what)?;
         self.device.faults.submission(what)?;

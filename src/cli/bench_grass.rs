@@ -1,0 +1,121 @@
+//! `meadow bench-grass`: its arguments, and what it prints of the
+//! library's work (src/commands/bench_grass.rs).
+
+use std::path::PathBuf;
+
+use meadow::scene::Scene;
+
+use super::DeviceArgs;
+
+#[derive(clap::Args)]
+pub struct BenchGrassArgs {
+    /// A built-in scene or a scene file (.toml).
+    #[arg(long, default_value = "table1")]
+    scene: String,
+    /// Blade counts, comma-separated (50k, 1.5m, 1200).
+    #[arg(long, default_value = "50k,100k,150k,200k")]
+    blades: String,
+    /// Numbers of balls rolling through the field, comma-separated
+    /// (e.g. 0,1,16,128): each blade count runs with each, and each
+    /// row gives its cost over the count's row without (0).
+    #[arg(long, default_value = "0")]
+    colliders: String,
+    /// Timed steps per count (the median and p95 are reported).
+    #[arg(long, default_value_t = 30)]
+    steps: u32,
+    /// Untimed grass steps before timing.
+    #[arg(long, default_value_t = 5)]
+    warmup: u32,
+    #[arg(long, default_value = "out/bench-grass")]
+    out: PathBuf,
+    #[command(flatten)]
+    device: DeviceArgs,
+}
+
+pub fn run(args: BenchGrassArgs) -> anyhow::Result<()> {
+    let BenchGrassArgs {
+        scene,
+        blades,
+        colliders,
+        steps,
+        warmup,
+        out,
+        device,
+    } = args;
+    let scene = Scene::load(&scene)?;
+    let counts = blades
+        .split(',')
+        .map(meadow::commands::bench_grass::parse_count)
+        .collect::<Result<Vec<_>, _>>()?;
+    let colliders = colliders
+        .split(',')
+        .map(|c| {
+            c.trim().parse::<usize>().map_err(|_| {
+                anyhow::anyhow!(
+                    "collider count {c:?} is not a count, write e.g. --colliders 0,1,16,128"
+                )
+            })
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    meadow::report::files::ensure_dir(&out)?;
+    let bench = meadow::commands::bench_grass::bench_grass(
+        &scene,
+        &counts,
+        &colliders,
+        steps,
+        warmup,
+        &device.options()?,
+    )?;
+    let json = serde_json::to_vec_pretty(&bench).expect("bench serialises");
+    let path = out.join("grass_bench.json");
+    meadow::report::files::write_atomic(&path, &json)?;
+    println!(
+        "grass step on {} [{}], scene {}, {} timed steps per count (medians)",
+        bench.device, bench.device_type, bench.scene, steps
+    );
+    match &bench.copy_bandwidth {
+        Some(c) => println!(
+            "memory floor: the bytes each step must read and write at {:.1} GB/s, this device's \
+             copy bandwidth (median of {} copies of {} MiB, read + write)",
+            c.gb_per_s,
+            c.copies,
+            c.bytes >> 20
+        ),
+        None => println!("memory floor: n/a (no timestamps on this device)"),
+    }
+    println!(
+        "{:>9}  {:>9}  {:>8}  {:>10}  {:>10}  {:>18}  {:>10}  {:>9}  {:>11}  {:>10}  {:>8}",
+        "blades",
+        "colliders",
+        "substeps",
+        "median ms",
+        "p95 ms",
+        "paper (GTX 670) ms",
+        "MB / step",
+        "floor ms",
+        "step/floor",
+        "x no coll.",
+        "touching"
+    );
+    let ms = |v: Option<f64>| v.map_or("n/a".to_string(), |v| format!("{v:.3}"));
+    for r in &bench.rows {
+        println!(
+            "{:>9}  {:>9}  {:>8}  {:>10}  {:>10}  {:>18}  {:>10.1}  {:>9}  {:>11}  {:>10}  {:>7.1}%",
+            r.blades,
+            r.colliders,
+            r.substeps,
+            ms(r.step_ms_median),
+            ms(r.step_ms_p95),
+            r.paper_ms.map_or("-".to_string(), |v| format!("{v:.1}")),
+            r.bytes_per_step as f64 / 1e6,
+            ms(r.floor_ms),
+            r.over_floor
+                .map_or("n/a".to_string(), |v| format!("{v:.2}x")),
+            r.over_collider_free
+                .map_or("-".to_string(), |v| format!("{v:.2}x")),
+            100.0 * r.touching as f64 / r.blades as f64
+        );
+    }
+    println!("wrote {}", path.display());
+    Ok(())
+}

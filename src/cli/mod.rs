@@ -1,0 +1,209 @@
+//! The command line: each `meadow` command's arguments and what it prints
+//! (one file per command, beside the library's src/commands/), and what
+//! they share: the device and scene arguments, and stopping on a signal.
+//! main.rs parses and dispatches; the library does the work.
+
+use std::sync::atomic::AtomicUsize;
+use std::sync::Arc;
+
+use anyhow::Context as _;
+use clap::ValueEnum;
+
+use meadow::gpu::{FaultPlan, GpuOptions, ValidationOptions};
+use meadow::scene::{Scene, ViewMode};
+use meadow::sim::wind::Coupling;
+
+pub mod bench;
+pub mod bench_grass;
+pub mod devices;
+pub mod render;
+pub mod reproduce;
+pub mod scenes;
+pub mod trace;
+pub mod view;
+pub mod wind;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum OnOff {
+    On,
+    Off,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum LodArg {
+    Both,
+    On,
+    Off,
+}
+
+#[derive(clap::Args)]
+pub struct DeviceArgs {
+    /// Use the first Vulkan device whose name contains this text.
+    #[arg(long, value_name = "SUBSTRING")]
+    device: Option<String>,
+    /// Enable the Khronos validation layer (core and synchronization checks);
+    /// any error it reports makes the run fail.
+    #[arg(long)]
+    validation: bool,
+    /// With --validation: also the best-practices checks (warnings).
+    #[arg(long, requires = "validation")]
+    best_practices: bool,
+    /// Refuse work that needs more GPU memory than this (default: half the
+    /// device's largest memory heap).
+    #[arg(long, value_name = "MIB", value_parser = clap::value_parser!(u64).range(1..=16_777_216))]
+    gpu_memory_mib: Option<u64>,
+}
+
+impl DeviceArgs {
+    pub fn options(&self) -> anyhow::Result<GpuOptions> {
+        Ok(GpuOptions {
+            validation: ValidationOptions {
+                enabled: self.validation,
+                synchronization: self.validation,
+                best_practices: self.best_practices,
+            },
+            device_name: self.device.clone(),
+            // A test hook: pretend the device lacks these features.
+            pretend_missing: std::env::var("MEADOW_PRETEND_MISSING")
+                .map(|v| {
+                    v.split(',')
+                        .filter(|s| !s.is_empty())
+                        .map(String::from)
+                        .collect()
+                })
+                .unwrap_or_default(),
+            memory_budget: self.gpu_memory_mib.map(|m| m << 20),
+            storage_range: None,
+            window_extensions: Vec::new(),
+            // A test hook: fail the N-th allocation or submission.
+            faults: FaultPlan::parse(&std::env::var("MEADOW_INJECT_FAULT").unwrap_or_default())?,
+        })
+    }
+}
+
+/// A render stopped by a signal: the process exits 128 + its number (130
+/// for SIGINT, 143 for SIGTERM), as a shell reports a process killed by it.
+#[derive(Debug)]
+pub struct Interrupted(pub i32);
+
+impl std::fmt::Display for Interrupted {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "interrupted by {}", signal_name(self.0))
+    }
+}
+
+impl std::error::Error for Interrupted {}
+
+pub fn signal_name(signal: i32) -> &'static str {
+    match signal {
+        signal_hook::consts::SIGINT => "SIGINT (Ctrl-C)",
+        signal_hook::consts::SIGTERM => "SIGTERM",
+        _ => "a signal",
+    }
+}
+
+/// SIGINT and SIGTERM stored as their number when they arrive (0 until
+/// then): the handlers only store it (async-signal-safe); the long
+/// commands poll it between steps and stop cleanly.
+pub fn stop_signal() -> anyhow::Result<Arc<AtomicUsize>> {
+    let signal = Arc::new(AtomicUsize::new(0));
+    for sig in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
+        signal_hook::flag::register_usize(sig, signal.clone(), sig as usize)
+            .context("installing the SIGINT/SIGTERM handlers")?;
+    }
+    Ok(signal)
+}
+
+/// The scene and what `render` and `view` may change of it from the
+/// command line.
+#[derive(clap::Args)]
+pub struct SceneArgs {
+    /// A built-in scene (`meadow scenes` lists them) or a scene file (.toml).
+    #[arg(long, default_value = "table1")]
+    scene: String,
+    /// Total number of blades, shared among the scene's patches (200000,
+    /// 200k, 1.5m).
+    #[arg(long)]
+    blades: Option<String>,
+    /// Width in pixels of the image (render) or of the window at the start
+    /// (view); default: the scene's [render] width.
+    #[arg(long)]
+    width: Option<u32>,
+    /// Height in pixels, as --width (default: the scene's [render] height).
+    #[arg(long)]
+    height: Option<u32>,
+    /// MSAA samples asked for; the largest supported count up to it is used.
+    #[arg(long)]
+    msaa: Option<u32>,
+    /// Level of detail: tessellation level 20/10/3 by distance, or always 20.
+    #[arg(long, value_enum)]
+    lod: Option<OnOff>,
+    /// Culling: draw only the blades the view (and its shadows) can
+    /// show, listed by a compute pass each frame; off draws every blade
+    /// in both passes (default: the scene's [cull], on).
+    #[arg(long, value_enum)]
+    cull: Option<OnOff>,
+    /// Occlusion culling (with --cull on): leave out the blades hidden
+    /// behind the previous frame's depth (default: the scene's [cull]
+    /// occlusion, off: it pays only behind large occluders).
+    #[arg(long, value_enum)]
+    occlusion: Option<OnOff>,
+    /// What to show: the shaded grass, or a debug view.
+    #[arg(long, value_enum)]
+    view: Option<ViewMode>,
+    /// Random seed of the grass field (default: the scene's).
+    #[arg(long)]
+    seed: Option<u64>,
+    /// Whether the grass slows the wind: one-way (the paper's) or
+    /// two-way (canopy drag; default: the scene's wind.coupling).
+    #[arg(long, value_enum)]
+    coupling: Option<Coupling>,
+    /// Shadow map side in texels (default: the scene's, the paper's 8192;
+    /// smaller for quick previews; 0 turns shadows off).
+    #[arg(long, value_name = "TEXELS")]
+    shadow_map: Option<u32>,
+}
+
+impl SceneArgs {
+    /// The scene loaded, with the overrides applied (size, MSAA and view
+    /// are the caller's: they go to the request, not the scene).
+    pub fn load(&self) -> anyhow::Result<Scene> {
+        let mut scene = Scene::load(&self.scene)?;
+        if let Some(c) = self.coupling {
+            scene.wind.coupling = c;
+        }
+        if let Some(n) = self.shadow_map {
+            scene.set_shadow_map(n)?;
+        }
+        if let Some(text) = &self.blades {
+            scene.set_blade_count(blade_count(text)?)?;
+        }
+        if let Some(s) = self.seed {
+            scene.seed = s;
+        }
+        if let Some(lod) = self.lod {
+            scene.lod.enabled = lod == OnOff::On;
+        }
+        if let Some(cull) = self.cull {
+            scene.cull.enabled = cull == OnOff::On;
+        }
+        if let Some(occlusion) = self.occlusion {
+            if occlusion == OnOff::On && !scene.cull.enabled {
+                anyhow::bail!(
+                    "--occlusion on is part of culling, which is off; drop --cull off (or the scene's [cull] enabled = false)"
+                );
+            }
+            scene.cull.occlusion = occlusion == OnOff::On;
+        }
+        Ok(scene)
+    }
+}
+
+/// `--blades` as every command reads it: 1200, 50k, 1.5m. A plain
+/// number is passed on as it is, for the scene to refuse by range.
+pub fn blade_count(text: &str) -> anyhow::Result<usize> {
+    match text.trim().parse::<usize>() {
+        Ok(n) => Ok(n),
+        Err(_) => Ok(meadow::commands::bench_grass::parse_count(text)?),
+    }
+}

@@ -1,0 +1,121 @@
+//! `meadow trace`: its arguments, and what it prints of the
+//! library's work (src/commands/trace.rs).
+
+use std::path::PathBuf;
+use std::sync::atomic::Ordering;
+
+use meadow::scene::Scene;
+use meadow::sim::wind::Coupling;
+
+use super::{stop_signal, DeviceArgs, Interrupted};
+
+#[derive(clap::Args)]
+pub struct TraceArgs {
+    /// A built-in scene or a scene file (.toml).
+    #[arg(long, default_value = "table1")]
+    scene: String,
+    /// Simulated seconds.
+    #[arg(long, default_value_t = 10.0)]
+    seconds: f64,
+    /// A sample every N simulation steps (the scene's dt each).
+    #[arg(long, value_name = "N", default_value_t = 1)]
+    every: u32,
+    /// How many blades to trace, picked evenly through the field by the
+    /// seed, or "all".
+    #[arg(long, value_name = "K|all", default_value = "100")]
+    blades: String,
+    /// Also write the wind at each traced tip (wind_x, wind_y, wind_z).
+    #[arg(long)]
+    wind: bool,
+    /// DIR/space_time.svg starts at this simulated time (leave out the
+    /// grass leaning into a wind that is still filling the field).
+    #[arg(long, value_name = "SECONDS", default_value_t = 0.0)]
+    diagram_from: f64,
+    /// Random seed of the grass field (default: the scene's).
+    #[arg(long)]
+    seed: Option<u64>,
+    /// Whether the grass slows the wind: one-way (the paper's) or
+    /// two-way (canopy drag; default: the scene's wind.coupling).
+    #[arg(long, value_enum)]
+    coupling: Option<Coupling>,
+    #[arg(long, default_value = "out/trace")]
+    out: PathBuf,
+    #[command(flatten)]
+    device: DeviceArgs,
+}
+
+pub fn run(args: TraceArgs) -> anyhow::Result<()> {
+    let TraceArgs {
+        scene,
+        seconds,
+        every,
+        blades,
+        wind,
+        diagram_from,
+        seed,
+        coupling,
+        out,
+        device,
+    } = args;
+    use meadow::commands::trace::{trace_to_dir, BladePick, TraceRequest};
+    let mut scene = Scene::load(&scene)?;
+    if let Some(c) = coupling {
+        scene.wind.coupling = c;
+    }
+    if let Some(s) = seed {
+        scene.seed = s;
+    }
+    let request = TraceRequest {
+        scene,
+        seconds,
+        every,
+        blades: BladePick::parse(&blades)?,
+        wind,
+        diagram_from,
+        gpu: device.options()?,
+    };
+    let signal = stop_signal()?;
+    let bar = indicatif::ProgressBar::new(request.steps());
+    bar.set_style(
+        indicatif::ProgressStyle::with_template(
+            "{bar:30} {pos}/{len} steps  {elapsed} elapsed, {eta} left",
+        )
+        .expect("a valid progress template"),
+    );
+    let report = trace_to_dir(&request, &out, &mut |done, _| {
+        bar.set_position(done);
+        signal.load(Ordering::SeqCst) == 0
+    });
+    bar.finish_and_clear();
+    let report = report?;
+    println!(
+        "trace {} on {}: {} of {} blades, {} samples every {} steps of {:.4} s",
+        report.scene,
+        report.device,
+        report.blades_traced,
+        report.blades_total,
+        report.samples,
+        report.every,
+        report.dt
+    );
+    println!(
+        "wrote {} and {}",
+        out.join(&report.csv).display(),
+        out.join(meadow::commands::trace::REPORT_NAME).display()
+    );
+    let sig = signal.load(Ordering::SeqCst) as i32;
+    if report.interrupted {
+        eprintln!(
+            "meadow: interrupted after {} of {} samples' time; the files written are complete",
+            report.samples,
+            report.steps / report.every as u64 + 1
+        );
+        return Err(Interrupted(if sig != 0 {
+            sig
+        } else {
+            signal_hook::consts::SIGINT
+        })
+        .into());
+    }
+    Ok(())
+}
