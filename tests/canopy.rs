@@ -1,4 +1,4 @@
-//! Two-way coupling (src/sim/canopy.rs): the grass slows the wind. The GPU
+//! Two-way coupling (src/model/canopy.rs): the grass slows the wind. The GPU
 //! against the CPU reference, and the behaviour a canopy shows: slower air
 //! below the blades' height than above it, with the profile's attenuation
 //! fitted; one-way (the paper's) the profile stays flat.
@@ -7,11 +7,11 @@ mod common;
 
 use common::sim::SimRig;
 use common::{finish, strict_gpu};
+use meadow::model::canopy;
+use meadow::model::wind::WindField;
+use meadow::model::GrassField;
 use meadow::scene::file::parse;
 use meadow::scene::{field, Scene};
-use meadow::sim::canopy;
-use meadow::sim::wind::WindField;
-use meadow::sim::GrassField;
 
 /// A dense meadow `size` metres in a steady wind from the left.
 fn meadow(coupling: &str, size: [f32; 2], density: f32, cells: [u32; 3], gust: f32) -> Scene {

@@ -703,10 +703,10 @@ fn bench_grass_times_small_counts_and_refuses_bad_ones() {
         // state read and written, four control points written, at the copy
         // bandwidth measured in the same run.
         use std::mem::size_of;
-        let per_blade = size_of::<meadow::sim::grass::GrassBlade>()
+        let per_blade = size_of::<meadow::model::grass::GrassBlade>()
             + size_of::<u32>()
-            + 2 * size_of::<meadow::sim::grass::GrassState>()
-            + 4 * size_of::<meadow::sim::BladeVertex>();
+            + 2 * size_of::<meadow::model::grass::GrassState>()
+            + 4 * size_of::<meadow::model::BladeVertex>();
         assert_eq!(row["bytes_per_step"], (blades * per_blade) as u64, "{row}");
         if let Some(gb_per_s) = bench["copy_bandwidth"]["gb_per_s"].as_f64() {
             assert!(gb_per_s > 0.1 && gb_per_s < 100_000.0, "{gb_per_s} GB/s");

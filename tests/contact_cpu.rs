@@ -1,11 +1,11 @@
-//! Touch, the CPU reference (src/sim/contact.rs): a ball moving through a
+//! Touch, the CPU reference (src/model/contact.rs): a ball moving through a
 //! strip of meadow presses the blades it touches out of its way and they
 //! rise again; a ball laid on the meadow leaves no blade inside it.
 
 use glam::Vec3;
+use meadow::model::contact::{Collider, ColliderKind, ColliderState};
+use meadow::model::GrassField;
 use meadow::scene::{field, Scene};
-use meadow::sim::contact::{Collider, ColliderKind, ColliderState};
-use meadow::sim::GrassField;
 
 const RADIUS: f32 = 0.4;
 /// How far a point of a blade may lie inside a ball moving at 1.2 m/s
@@ -91,7 +91,7 @@ fn a_ball_through_a_strip_lowers_the_tips_it_touches_and_they_rise_again() {
             .zip(&before)
             .map(|(p, _)| p.touched != 0.0)
             .collect();
-        let now = grass.colliders[0].at(meadow::sim::contact::step_end_time(step as u64, dt));
+        let now = grass.colliders[0].at(meadow::model::contact::step_end_time(step as u64, dt));
         let (control, curve) = deepest_inside(&grass, &now);
         worst = (worst.0.max(control), worst.1.max(curve));
         lowest = grass

@@ -8,11 +8,11 @@ mod common;
 use common::{finish, strict_gpu, strict_gpu_with};
 use glam::{Mat4, Vec3, Vec4};
 use meadow::frame::{Frame, FrameRecorder};
+use meadow::model::BladeVertex;
 use meadow::render::thinning::Thinning;
 use meadow::render::visibility::{least_alignment, CullView};
 use meadow::render::{FrameUniforms, ViewMode};
 use meadow::scene::{field, Scene};
-use meadow::sim::BladeVertex;
 
 /// A decision the GPU may take the other way from the CPU: the box touches
 /// a plane to within float rounding (plane units are clip-space w, metres

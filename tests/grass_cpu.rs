@@ -1,10 +1,10 @@
-//! The grass dynamics CPU reference (src/sim/grass.rs) against the
+//! The grass dynamics CPU reference (src/model/grass.rs) against the
 //! behaviour docs/method.md section 6 asks for and against closed forms.
 
 use glam::Vec3;
+use meadow::model::grass::{self, pose, BEND_A, BEND_B, MAX_ANGLE, SWING, TWIST};
+use meadow::model::{Blade, BladeKind, BladePhysics, GrassBlade, GrassState};
 use meadow::scene::{field, GrassDynamics, Scene};
-use meadow::sim::grass::{self, pose, BEND_A, BEND_B, MAX_ANGLE, SWING, TWIST};
-use meadow::sim::{Blade, BladeKind, BladePhysics, GrassBlade, GrassState};
 
 const DT: f32 = 1.0 / 60.0;
 
@@ -249,7 +249,7 @@ fn twisting_changes_the_width_but_not_the_bending() {
         assert_eq!(pt.w, pu.w);
         // ... but a turned face, turned toward edge-on: less of it faces the wind.
         assert!(pt.w_local[2].angle_between(pu.w_local[2]) > 0.05);
-        let face = |p: &meadow::sim::grass::Pose| p.w_local[2].cross(p.e[2]).dot(wind).abs();
+        let face = |p: &meadow::model::grass::Pose| p.w_local[2].cross(p.e[2]).dot(wind).abs();
         assert!(
             face(&pt) < 0.9 * face(&pu),
             "{wind}: {} vs {}",
@@ -386,7 +386,7 @@ fn roots_stay_fixed_and_edges_keep_their_length_in_a_storm() {
     let scene = Scene::builtin("fig10-few-bunches").unwrap();
     let blades = field::generate(&scene.grass, scene.seed).unwrap();
     let dynamic = field::dynamic_blades(&blades, &scene.grass.dynamics, scene.seed).unwrap();
-    let mut grass = meadow::sim::GrassField::new(dynamic, DT).unwrap();
+    let mut grass = meadow::model::GrassField::new(dynamic, DT).unwrap();
     for i in 0..2000 {
         let t = i as f32 * DT;
         grass.step(|x| storm(x, t));

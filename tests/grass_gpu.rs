@@ -1,25 +1,25 @@
 //! The grass dynamics on GPU compute (glsl/grass/) against its CPU
-//! reference (src/sim/grass.rs), on the default device with validation on.
+//! reference (src/model/grass.rs), on the default device with validation on.
 
 mod common;
 
 use common::sim::{Figures, SimRig};
 use common::{finish, strict_gpu, strict_gpu_with, to_vec3};
 use glam::{UVec3, Vec3};
+use meadow::compute::wind_pass::WindInput;
+use meadow::compute::GrassPass;
 use meadow::frame::BladeBuffer;
 use meadow::gpu::{Access, Buffer, CommandPool, Gpu};
+use meadow::model::wind::{Gust, Inflow, WindField, WindGrid, WindSettings, WindSource};
+use meadow::model::GrassField;
+use meadow::model::{BladeVertex, GrassBlade, GrassState};
 use meadow::scene::{field, Scene};
-use meadow::sim::wind::{Gust, Inflow, WindField, WindGrid, WindSettings, WindSource};
-use meadow::sim::GrassField;
-use meadow::sim::{BladeVertex, GrassBlade, GrassState};
-use meadow::simulate::wind_pass::WindInput;
-use meadow::simulate::GrassPass;
 
 const DT: f32 = 1.0 / 60.0;
 
 /// The time at the end of step `step` (0-based), where the colliders stand.
 fn end_time(step: usize) -> f32 {
-    meadow::sim::contact::step_end_time(step as u64, DT)
+    meadow::model::contact::step_end_time(step as u64, DT)
 }
 
 fn few_bunches() -> (Scene, Vec<GrassBlade>) {
@@ -102,7 +102,7 @@ fn grass_pass(
     name: &str,
     blades: &[GrassBlade],
     wind: &WindInput,
-    colliders: &[meadow::sim::contact::Collider],
+    colliders: &[meadow::model::contact::Collider],
 ) -> (GrassPass, BladeBuffer) {
     let vertices = BladeBuffer::uninitialised(gpu, name, blades.len()).unwrap();
     let pass = GrassPass::new(
@@ -346,7 +346,7 @@ fn read_touch(
     vertices: &BladeBuffer,
 ) -> (
     Vec<GrassState>,
-    Vec<meadow::sim::contact::Press>,
+    Vec<meadow::model::contact::Press>,
     Vec<BladeVertex>,
 ) {
     let blades = pass.blade_count() as usize;
@@ -361,9 +361,9 @@ fn read_touch(
 }
 
 /// A ball 0.3 m across rolling through Fig. 10's middle bunch at 0.6 m/s.
-fn ball_through_the_middle_bunch() -> meadow::sim::contact::Collider {
-    meadow::sim::contact::Collider {
-        kind: meadow::sim::contact::ColliderKind::Sphere,
+fn ball_through_the_middle_bunch() -> meadow::model::contact::Collider {
+    meadow::model::contact::Collider {
+        kind: meadow::model::contact::ColliderKind::Sphere,
         radius: 0.15,
         path: vec![Vec3::new(-0.4, 0.15, -0.25), Vec3::new(0.5, 0.15, -0.25)],
         path_speed: 0.6,
@@ -373,7 +373,7 @@ fn ball_through_the_middle_bunch() -> meadow::sim::contact::Collider {
 }
 
 /// Touch on the GPU (glsl/grass/contact.glsl) against the CPU reference
-/// (src/sim/contact.rs): a ball rolls through Fig. 10's middle bunch and a
+/// (src/model/contact.rs): a ball rolls through Fig. 10's middle bunch and a
 /// capsule stands in the right one, in a gusting wind, 120 steps.
 #[test]
 fn gpu_and_cpu_agree_on_colliders_pressing_the_grass() {
@@ -384,7 +384,7 @@ fn gpu_and_cpu_agree_on_colliders_pressing_the_grass() {
 /// allowed 60,000 bytes):
 /// each batch lists its own blades near a collider or pressed, and its
 /// touching kernel reads that list (`TOUCHING_HEADER_WORDS` in
-/// src/simulate/grass_pass.rs).
+/// src/compute/grass_pass.rs).
 #[test]
 fn gpu_and_cpu_agree_on_colliders_pressing_the_grass_in_batches() {
     colliders_pressing_the_grass(Some(1_000), Some(60_000), 10);
@@ -394,7 +394,7 @@ fn gpu_and_cpu_agree_on_colliders_pressing_the_grass_in_batches() {
 /// than rounding (a branch of the contact, which point is deepest or
 /// whether one is just inside, flipped on one side), by millimetres.
 fn colliders_pressing_the_grass(count: Option<usize>, storage_range: Option<u32>, may_part: usize) {
-    use meadow::sim::contact::{Collider, ColliderKind};
+    use meadow::model::contact::{Collider, ColliderKind};
     let (scene, blades) = bunches_of(count);
     let grid = small_grid(&scene, [24, 8, 24]);
     let settings = turning_gusts(&scene, 2.0, 10.0);
@@ -521,7 +521,7 @@ fn colliders_pressing_the_grass(count: Option<usize>, storage_range: Option<u32>
 /// collider is gone, so the pressed blades rise as their states decay.
 #[test]
 fn colliders_changed_between_steps_reach_the_gpu_kernel() {
-    use meadow::sim::contact::Collider;
+    use meadow::model::contact::Collider;
     let (scene, blades) = few_bunches();
     let grid = small_grid(&scene, [24, 8, 24]);
     let settings = turning_gusts(&scene, 2.0, 10.0);
@@ -640,7 +640,7 @@ fn colliders_changed_between_steps_reach_the_gpu_kernel() {
 /// blades near a collider (the first step) or pressed (later ones).
 #[test]
 fn the_collider_bins_hold_every_blades_near_colliders() {
-    use meadow::sim::contact::reach;
+    use meadow::model::contact::reach;
     let mut scene = Scene::builtin("table1").unwrap();
     scene.set_blade_count(20_000).unwrap();
     let generated = field::generate(&scene.grass, scene.seed).unwrap();

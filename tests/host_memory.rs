@@ -98,7 +98,7 @@ fn two_hundred_frames_do_not_grow_host_memory_after_warm_up() {
     scene.wind.cells = [24, 10, 24];
     // A ball rolling round the bunches, so that the colliders' kernels
     // (binning, the touching blades' indirect step) run every step too.
-    scene.colliders.push(meadow::sim::contact::Collider {
+    scene.colliders.push(meadow::model::contact::Collider {
         radius: 0.15,
         path: vec![
             glam::Vec3::new(-0.5, 0.15, -0.25),

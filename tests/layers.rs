@@ -11,15 +11,15 @@ const ALLOWED: &[(&str, &[&str])] = &[
     ("gpu", &["error"]),
     ("shaders", &["gpu"]),
     ("interface", &[]),
-    ("sim", &["error", "interface"]),
-    ("scene", &["error", "sim"]),
+    ("model", &["error", "interface"]),
+    ("scene", &["error", "model"]),
     (
-        "simulate",
-        &["error", "gpu", "shaders", "interface", "sim", "scene"],
+        "compute",
+        &["error", "gpu", "shaders", "interface", "model", "scene"],
     ),
     (
         "render",
-        &["error", "gpu", "shaders", "interface", "sim", "scene"],
+        &["error", "gpu", "shaders", "interface", "model", "scene"],
     ),
     (
         "frame",
@@ -27,13 +27,13 @@ const ALLOWED: &[(&str, &[&str])] = &[
             "error",
             "gpu",
             "interface",
-            "sim",
+            "model",
             "scene",
-            "simulate",
+            "compute",
             "render",
         ],
     ),
-    ("report", &["error", "gpu", "sim", "scene", "frame"]),
+    ("report", &["error", "gpu", "model", "scene", "frame"]),
     (
         "commands",
         &[
@@ -41,9 +41,9 @@ const ALLOWED: &[(&str, &[&str])] = &[
             "gpu",
             "shaders",
             "interface",
-            "sim",
+            "model",
             "scene",
-            "simulate",
+            "compute",
             "render",
             "frame",
             "report",
@@ -165,7 +165,7 @@ fn only_the_vulkan_layer_writes_unsafe() {
 #[test]
 fn the_two_phases_do_not_know_each_other() {
     let allowed: BTreeMap<&str, &[&str]> = ALLOWED.iter().copied().collect();
-    assert!(!allowed["simulate"].contains(&"render"));
-    assert!(!allowed["render"].contains(&"simulate"));
+    assert!(!allowed["compute"].contains(&"render"));
+    assert!(!allowed["render"].contains(&"compute"));
     assert!(!allowed["gpu"].iter().any(|m| *m != "error"));
 }

@@ -1,10 +1,10 @@
-//! The multigrid pressure solve's CPU reference (src/sim/multigrid.rs):
+//! The multigrid pressure solve's CPU reference (src/model/multigrid.rs):
 //! its level hierarchy, its coarse operator and its convergence. The GPU
 //! kernels are held to it in tests/wind_gpu.rs.
 
 use glam::{UVec3, Vec3};
-use meadow::sim::multigrid::{Multigrid, Work, DEFAULT_V_CYCLES, MAX_COARSEST_CELLS};
-use meadow::sim::wind::{Obstacle, WindField, WindGrid, WindSettings};
+use meadow::model::multigrid::{Multigrid, Work, DEFAULT_V_CYCLES, MAX_COARSEST_CELLS};
+use meadow::model::wind::{Obstacle, WindField, WindGrid, WindSettings};
 
 fn multigrid(f: &WindField) -> Multigrid {
     f.multigrid.clone()

@@ -10,12 +10,12 @@ use common::{finish, strict_gpu};
 use glam::{Mat4, Vec4};
 use meadow::frame::{Frame, FrameRecorder};
 use meadow::gpu::Gpu;
+use meadow::model::BladeVertex;
 use meadow::render::depth_pyramid::levels;
 use meadow::render::thinning::Thinning;
 use meadow::render::visibility::Bounds;
 use meadow::render::{FrameUniforms, ViewMode};
 use meadow::scene::{field, CameraKey, Scene};
-use meadow::sim::BladeVertex;
 
 /// Fig. 13's meadow behind its three obstacles, at 320 x 180: the
 /// obstacles hide a few per cent of the blades in view.

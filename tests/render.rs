@@ -5,9 +5,9 @@ mod common;
 
 use common::{finish, mean_rgb, pixel, render, strict_gpu};
 use glam::Vec3;
+use meadow::model::{Blade, BladeKind};
 use meadow::render::ViewMode;
 use meadow::scene::{field, Meadow, Scene};
-use meadow::sim::{Blade, BladeKind};
 
 fn meadow_scene() -> Scene {
     Scene::builtin("table1").unwrap()
@@ -445,7 +445,7 @@ fn a_tall_blade_shadows_the_ground_on_the_side_away_from_the_light() {
 /// sun makes it, on the side away from the light.
 #[test]
 fn an_obstacle_is_drawn_where_it_stands_and_casts_its_shadow() {
-    use meadow::sim::wind::Obstacle;
+    use meadow::model::wind::Obstacle;
     let gpu = strict_gpu();
     let mut scene = seen_from_above_with_the_sun_at_45_degrees();
     // One blade far off, so the frame has grass to draw.

@@ -475,7 +475,7 @@ fn no_blade_is_rooted_inside_an_obstacle() {
     let scene = Scene::builtin("fig13-obstacles").unwrap();
     let obstacles = scene.wind.obstacles.clone();
     assert_eq!(obstacles.len(), 3);
-    let inside = |blades: &[meadow::sim::Blade]| {
+    let inside = |blades: &[meadow::model::Blade]| {
         blades
             .iter()
             .filter(|b| {

@@ -10,18 +10,18 @@ mod common;
 
 use ash::vk;
 use common::reflect::{self, Binding};
+use meadow::compute::grass_pass::GRASS_SET;
+use meadow::compute::wind_pass::{GpuWindSource, WIND_KERNELS, WIND_SET};
 use meadow::gpu::LayoutBinding;
 use meadow::interface::{StructLayout, LAYOUTS};
+use meadow::model::contact::GpuCollider;
+use meadow::model::{BladeVertex, GrassBlade, GrassState};
 use meadow::render::pipelines::{
     BLADE_ATTRIBUTES, BLADE_STAGES, FRAME_SET, GROUND_STAGES, OBSTACLE_SHADOW_STAGES,
     OBSTACLE_STAGES, SHADOW_SET, SHADOW_STAGES, SKY_STAGES,
 };
 use meadow::render::FrameUniforms;
 use meadow::shaders::{self, ShaderStage, Spirv};
-use meadow::sim::contact::GpuCollider;
-use meadow::sim::{BladeVertex, GrassBlade, GrassState};
-use meadow::simulate::grass_pass::GRASS_SET;
-use meadow::simulate::wind_pass::{GpuWindSource, WIND_KERNELS, WIND_SET};
 
 #[test]
 fn every_stage_naga_supports_parses_and_validates() {
@@ -124,7 +124,7 @@ fn descriptor_layouts_match_reflection() {
     check_pipeline(
         "grass collider binning",
         &[&shaders::GRASS_BIN_COLLIDERS_COMP],
-        meadow::simulate::collider_bins::BIN_SET,
+        meadow::compute::collider_bins::BIN_SET,
     );
     // The cull pass's three kernels share one set layout.
     check_pipeline(
@@ -236,7 +236,7 @@ fn blade_vertex_inputs_match_the_vertex_buffer_layout() {
     for a in BLADE_ATTRIBUTES {
         assert_eq!(a.format, vk::Format::R32G32B32A32_SFLOAT);
     }
-    assert_eq!(std::mem::size_of::<meadow::sim::BladeVertex>(), 32);
+    assert_eq!(std::mem::size_of::<meadow::model::BladeVertex>(), 32);
 }
 
 #[test]
@@ -495,8 +495,8 @@ fn grass_blade_state_vertex_and_push_constants_match_the_glsl_side() {
     // The kernel writes what the vertex stage reads.
     assert_blade_vertices(&module, 2);
 
-    // The pressed state and the colliders (src/sim/contact.rs).
-    use meadow::sim::contact::Press;
+    // The pressed state and the colliders (src/model/contact.rs).
+    use meadow::model::contact::Press;
     let (offsets, span, stride) = array_element_layout(&module, 6);
     assert_eq!((span, stride), (size(8), size(8)));
     assert_eq!(std::mem::size_of::<Press>(), 8);

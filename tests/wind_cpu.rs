@@ -5,8 +5,8 @@ mod common;
 
 use common::wind_scenes::{self, behaviour_grid, blowing_source};
 use glam::{UVec3, Vec3};
-use meadow::sim::contact::{Collider, ColliderKind};
-use meadow::sim::wind::{
+use meadow::model::contact::{Collider, ColliderKind};
+use meadow::model::wind::{
     FaceKind, Gust, Inflow, Obstacle, PressureSolver, WindField, WindGrid, WindSettings, WindSource,
 };
 

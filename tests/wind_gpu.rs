@@ -1,17 +1,17 @@
 //! The wind solver on GPU compute against its CPU reference
-//! (src/sim/wind.rs), on the default device with validation on.
+//! (src/model/wind.rs), on the default device with validation on.
 
 mod common;
 
 use common::wind_scenes::{self, behaviour_grid, blowing_source};
 use common::{finish, strict_gpu};
 use glam::{UVec3, Vec3};
+use meadow::compute::WindPass;
 use meadow::gpu::CommandPool;
-use meadow::sim::contact::{Collider, ColliderKind};
-use meadow::sim::wind::{
+use meadow::model::contact::{Collider, ColliderKind};
+use meadow::model::wind::{
     FaceKind, Gust, Inflow, Obstacle, PressureSolver, WindField, WindGrid, WindSettings, WindSource,
 };
-use meadow::simulate::WindPass;
 
 fn grid(cells: UVec3) -> WindGrid {
     WindGrid::new(
@@ -459,7 +459,7 @@ fn gpu_multigrid_leaves_under_1_percent_of_the_divergence_on_every_shipped_scene
         let grid = scene.wind_grid().unwrap();
         let settings = WindSettings {
             solver: PressureSolver::Multigrid,
-            v_cycles: meadow::sim::wind::DEFAULT_V_CYCLES,
+            v_cycles: meadow::model::wind::DEFAULT_V_CYCLES,
             ..scene.wind_settings()
         };
         let pass = WindPass::new(&gpu, &commands, grid, &settings, 0.0).unwrap();

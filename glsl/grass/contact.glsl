@@ -1,6 +1,6 @@
 // Touch (ours; docs/physics.md, "Colliders"): spheres and upright capsules
 // press the grass. The same model, function for function and in the same f32
-// arithmetic, as the CPU reference src/sim/contact.rs, whose header gives it.
+// arithmetic, as the CPU reference src/model/contact.rs, whose header gives it.
 // Compute only: the including kernel declares the colliders at the step's
 // end and defines COLLIDER_STATE(c), collider c of them.
 #ifndef MEADOW_GRASS_CONTACT_GLSL

@@ -1,7 +1,7 @@
 // Grass dynamics (paper section 4; docs/method.md section 4): swinging, bending
 // and twisting of one blade driven by the wind at its tip. The same model,
 // function for function and in the same f32 arithmetic, as the CPU
-// reference src/sim/grass.rs, whose header gives the reading it takes.
+// reference src/model/grass.rs, whose header gives the reading it takes.
 #ifndef MEADOW_GRASS_DYNAMICS_GLSL
 #define MEADOW_GRASS_DYNAMICS_GLSL
 
@@ -87,7 +87,7 @@ struct Pose {
 // about the rest E_w by its share of its group's angle and swings about the
 // ground normal by its share of the swing angle (eq. 12 for both), and its
 // width direction twists about the edge by its share of the twist.
-// `pressed` (src/sim/contact.rs) moves the rising edges' shares toward
+// `pressed` (src/model/contact.rs) moves the rising edges' shares toward
 // lying flat; 0 gives eq. 12's.
 Pose blade_pose(GrassBlade b, vec4 angle, float pressed) {
     Pose p;
@@ -239,7 +239,7 @@ bool blade_step(GrassBlade b, inout GrassState s, vec3 wind, float h, uint subst
         vec4 torque = torques(b, p, s, wind, give);
         GrassState before = s;
         for (int m = 0; m < 4; ++m) {
-            // Damping at the step's midpoint (`step` in src/sim/grass.rs).
+            // Damping at the step's midpoint (`step` in src/model/grass.rs).
             float undamped = torque[m] + b.damping[m] * s.velocity[m];
             float a = 0.5 * h * b.damping[m] / b.inertia[m];
             float omega = (s.velocity[m] * (1.0 - a) + undamped / b.inertia[m] * h) / (1.0 + a);

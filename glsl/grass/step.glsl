@@ -4,7 +4,7 @@
 // pressed. Each samples the wind at its blade's tip, advances swinging,
 // bending and twisting, and writes the four deformed control points and
 // width vectors straight into the vertex buffer the blade pipeline draws.
-// Mirrors `GrassField::step` in src/sim/grass.rs.
+// Mirrors `GrassField::step` in src/model/grass.rs.
 //
 // Why two: a SIMD device that runs every branch masked (lavapipe: 8 blades
 // in the lanes of one register) pays for the contact code in every blade
@@ -36,13 +36,13 @@ layout(set = 0, binding = 1, std430) buffer States { GrassState states[]; };
 // Written only; not declared writeonly because naga does not take it.
 layout(set = 0, binding = 2, std430) buffer Vertices { BladeVertex vertices[]; };
 layout(set = 0, binding = 3, std430) readonly buffer Wind { float wind_velocity[]; };
-// Blade-steps that ended at an angle cap (`CapCounts` in src/sim/grass.rs):
+// Blade-steps that ended at an angle cap (`CapCounts` in src/model/grass.rs):
 // [0] any motion, [1 + m] motion m (swing, bend A, bend B, twist).
 layout(set = 0, binding = 4, std430) buffer Caps { uint caps[]; };
 // The frontal area per wind cell in counts of pc.canopy_unit m^2 (two-way
-// coupling; `deposit` in src/sim/canopy.rs), which the wind cleared.
+// coupling; `deposit` in src/model/canopy.rs), which the wind cleared.
 layout(set = 0, binding = 5, std430) buffer Canopy { uint canopy[]; };
-// Each blade's pressed state (`Press` in src/sim/contact.rs); like the
+// Each blade's pressed state (`Press` in src/model/contact.rs); like the
 // colliders' states, bins and lists below, a placeholder the kernels never
 // touch when made without colliders.
 layout(set = 0, binding = 6, std430) buffer Presses { Press presses[]; };
@@ -54,7 +54,7 @@ layout(set = 0, binding = 8, std430) readonly buffer ColliderBins { uvec4 collid
 // blade's step is its own; the sums it adds are integers).
 layout(set = 0, binding = 9, std430) buffer Touching { uint touching[]; };
 // Slot id steps the blade whose control points go to vertex_slot[id]: in
-// place order with colliders (src/simulate/place_order.rs), else the
+// place order with colliders (src/compute/place_order.rs), else the
 // blade's own.
 layout(set = 0, binding = 10, std430) readonly buffer VertexSlots { uint vertex_slot[]; };
 
@@ -68,7 +68,7 @@ uint bin_of(vec3 root) {
 #define WIND_VELOCITY(i) wind_velocity[pc.wind_offset + (i)]
 #include "wind_sample.glsl"
 
-// Two-way coupling (`deposit` in src/sim/canopy.rs): each edge's plate,
+// Two-way coupling (`deposit` in src/model/canopy.rs): each edge's plate,
 // projected across the wind the blade felt, added to the cell its midpoint
 // lies in, in whole counts. Integer sums: the same in any order.
 void lay_frontal_area(GrassBlade b, Pose p, vec3 wind) {

@@ -1,4 +1,4 @@
-// What the multigrid kernels share (mirrors src/sim/multigrid.rs): the
+// What the multigrid kernels share (mirrors src/model/multigrid.rs): the
 // level table, the pressure and right-hand side of every level, the
 // 6-point stencil and the interpolation weights.
 #ifndef MEADOW_MULTIGRID_GLSL
@@ -130,7 +130,7 @@ vec2 coarse_span(uint c, uint ratio, uint fine_count) {
 // Fine cell f's (level l) interpolation along axis a: the coarse cells it
 // reads (its parent, then the parent's neighbour on f's side, or the
 // parent again where there is none) and their weights; `axis_weight` in
-// src/sim/multigrid.rs. Beyond the grid, an open side (its coarse face
+// src/model/multigrid.rs. Beyond the grid, an open side (its coarse face
 // conducts) interpolates towards zero at one parent width; a closed side
 // mirrors the parent.
 void mg_axis_pair(uint l, uvec3 f, uvec3 parent, uint a, out uvec2 cells, out vec2 weights) {

@@ -24,7 +24,7 @@ layout(set = 0, binding = 4, std430) buffer Divergence { float divergence[]; };
 
 // GpuWindSource: src/interface/defs.rs.
 layout(set = 0, binding = 5, std430) readonly buffer Sources { GpuWindSource sources[]; };
-// The grass's frontal area per cell in counts (src/sim/canopy.rs), laid by
+// The grass's frontal area per cell in counts (src/model/canopy.rs), laid by
 // the grass step with two-way coupling. Bindings 6-8 are the multigrid's.
 layout(set = 0, binding = 9, std430) readonly buffer Canopy { uint canopy[]; };
 
@@ -37,7 +37,7 @@ float gust_signal(float frequency, vec3 phases, float t, vec3 delay) {
          + 0.2 * sin(TAU * frequency * 4.73 * (t - delay.z) + phases.z);
 }
 
-// Strength factor over time (src/sim/wind.rs `Gust::factor`).
+// Strength factor over time (src/model/wind.rs `Gust::factor`).
 float gust_factor(float amplitude, float frequency, vec3 phases, float t) {
     if (amplitude == 0.0) {
         return 1.0;
@@ -45,7 +45,7 @@ float gust_factor(float amplitude, float frequency, vec3 phases, float t) {
     return max(1.0 + amplitude * gust_signal(frequency, phases, t, vec3(0.0)), 0.0);
 }
 
-// `INFLOW_GUST_LEAN` and its signs in src/sim/wind.rs.
+// `INFLOW_GUST_LEAN` and its signs in src/model/wind.rs.
 const float INFLOW_GUST_LEAN = 0.5;
 const vec3 INFLOW_GUST_LEAN_SIGN = vec3(1.0, -1.0, 1.0);
 

@@ -10,8 +10,8 @@ use anyhow::Context as _;
 use clap::ValueEnum;
 
 use meadow::gpu::{FaultPlan, GpuOptions, ValidationOptions};
+use meadow::model::wind::Coupling;
 use meadow::scene::{Scene, ViewMode};
-use meadow::sim::wind::Coupling;
 
 pub mod bench;
 pub mod bench_grass;

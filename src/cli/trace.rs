@@ -4,8 +4,8 @@
 use std::path::PathBuf;
 use std::sync::atomic::Ordering;
 
+use meadow::model::wind::Coupling;
 use meadow::scene::Scene;
-use meadow::sim::wind::Coupling;
 
 use super::{stop_signal, DeviceArgs, Interrupted};
 

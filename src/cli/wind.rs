@@ -3,8 +3,8 @@
 
 use std::path::PathBuf;
 
+use meadow::model::wind::Coupling;
 use meadow::scene::Scene;
-use meadow::sim::wind::Coupling;
 
 use super::DeviceArgs;
 

@@ -10,15 +10,15 @@
 //! the same run.
 
 use crate::commands::on_gpu;
+use crate::compute::{GrassPass, WindPass};
 use crate::error::{Error, Result};
 use crate::frame::timing::median_p95;
 use crate::frame::BladeBuffer;
 use crate::gpu::query::TimestampQueries;
 use crate::gpu::{Access, CommandPool, Gpu, GpuOptions, ValidationReport};
+use crate::model::canopy;
+use crate::model::contact::{Collider, ColliderKind, MAX_COLLIDERS};
 use crate::scene::{field, Scene, MAX_BLADES};
-use crate::sim::canopy;
-use crate::sim::contact::{Collider, ColliderKind, MAX_COLLIDERS};
-use crate::simulate::{GrassPass, WindPass};
 use glam::{Vec2, Vec3};
 
 /// The paper's grass-step times (ms) on a GTX 670, by blade count.
@@ -58,7 +58,7 @@ pub struct GrassBenchRow {
     /// both ran (the goal: at most 2 at 128 colliders).
     pub over_collider_free: Option<f64>,
     /// Blades the last step stepped with the contact (near a collider or
-    /// pressed; src/simulate/grass_pass.rs).
+    /// pressed; src/compute/grass_pass.rs).
     pub touching: u64,
 }
 
@@ -217,7 +217,7 @@ fn bench_count(
     let dynamic = field::dynamic_blades(&blades, &scene.grass.dynamics, scene.seed)?;
     gpu.check_fits(
         &format!("{count} blades"),
-        crate::simulate::grass_pass::device_bytes(count, !scene.colliders.is_empty()),
+        crate::compute::grass_pass::device_bytes(count, !scene.colliders.is_empty()),
     )?;
 
     let grid = scene.wind_grid()?;
@@ -248,7 +248,7 @@ fn bench_count(
     let timestamps = TimestampQueries::new(gpu, steps, "grass step timestamps")?;
 
     let rec = commands.begin()?;
-    let end_time = |step: u32| crate::sim::contact::step_end_time(step as u64, dt);
+    let end_time = |step: u32| crate::model::contact::step_end_time(step as u64, dt);
     for n in 0..warmup {
         grass.record_step(&rec, 0, end_time(n));
     }
@@ -271,7 +271,7 @@ fn bench_count(
     };
     let timing = median_p95(&times);
     let touching = grass.read_touching(gpu, &commands)?;
-    let bytes_per_step = crate::simulate::grass_pass::bytes_per_step(count);
+    let bytes_per_step = crate::compute::grass_pass::bytes_per_step(count);
     let floor_ms = copy.map(|c| bytes_per_step as f64 / (c.gb_per_s * 1e9) * 1e3);
     Ok(GrassBenchRow {
         bytes_per_step,

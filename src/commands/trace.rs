@@ -10,16 +10,16 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use crate::commands::{on_gpu, write_json};
+use crate::compute::Simulation;
 use crate::error::{Error, Result};
 use crate::frame::BladeBuffer;
 use crate::gpu::{CommandPool, Gpu, GpuOptions, ValidationReport};
+use crate::model::grass::{BEND_A, SWING, TWIST};
+use crate::model::wind::WindField;
+use crate::model::BladeVertex;
 use crate::report::files;
 use crate::report::space_time::{self, SpaceTime};
 use crate::scene::{field, Scene};
-use crate::sim::grass::{BEND_A, SWING, TWIST};
-use crate::sim::wind::WindField;
-use crate::sim::BladeVertex;
-use crate::simulate::Simulation;
 use glam::Vec3;
 
 /// Longest trace, simulated seconds.

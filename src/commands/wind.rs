@@ -7,17 +7,17 @@
 use std::path::Path;
 
 use crate::commands::{on_gpu, write_json};
+use crate::compute::{Simulation, WindPass};
 use crate::error::Result;
 use crate::frame::timing::median_p95;
 use crate::frame::BladeBuffer;
 use crate::gpu::query::TimestampQueries;
 use crate::gpu::{CommandPool, Gpu, GpuOptions, ValidationReport};
+use crate::model::wind::{Coupling, PressureSolver, WindField, WindGrid, WindSettings};
 use crate::report::files;
 pub use crate::report::wind::SolverTiming;
 use crate::report::wind_slices::{self, Outlines, Slice};
 use crate::scene::{field, Scene};
-use crate::sim::wind::{Coupling, PressureSolver, WindField, WindGrid, WindSettings};
-use crate::simulate::{Simulation, WindPass};
 
 /// Steps recorded into one submission (and timed with one query pool).
 const STEPS_PER_SUBMIT: u32 = 100;

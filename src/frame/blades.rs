@@ -7,7 +7,7 @@ use ash::vk;
 
 use crate::error::{try_collect, Error, Result};
 use crate::gpu::{Access, Buffer, CommandPool, Gpu, MemoryLocation};
-use crate::sim::{Blade, BladeVertex};
+use crate::model::{Blade, BladeVertex};
 
 const USAGE: vk::BufferUsageFlags = vk::BufferUsageFlags::from_raw(
     vk::BufferUsageFlags::VERTEX_BUFFER.as_raw()

@@ -11,16 +11,16 @@
 pub mod blades;
 pub mod timing;
 
+use crate::compute::Simulation;
 use crate::error::{Error, Result};
 use crate::gpu::query::{PipelineStatistics, Span, SpanTimer, StatisticsQuery};
 use crate::gpu::swapchain::Presented;
 use crate::gpu::{CommandPool, Gpu, OverlayDraw, OverlayRenderer, Recording, Swapchain};
+use crate::model::contact::Collider;
+use crate::model::{Blade, GrassBlade};
 use crate::render::cull::{BladeDraw, CullPass};
 use crate::render::{FrameUniforms, Renderer};
 use crate::scene::{Scene, ViewMode};
-use crate::sim::contact::Collider;
-use crate::sim::{Blade, GrassBlade};
-use crate::simulate::Simulation;
 
 pub use crate::render::cull::CullCounts;
 pub use blades::BladeBuffer;
@@ -227,7 +227,7 @@ impl FrameRecorder {
         &mut self,
         gpu: &Gpu,
         inflow_speed: Option<f32>,
-        sources: &[crate::sim::wind::WindSource],
+        sources: &[crate::model::wind::WindSource],
     ) -> Result<()> {
         match self.simulation.as_mut() {
             Some(s) => s
@@ -536,7 +536,7 @@ pub fn check_fits(gpu: &Gpu, scene: &Scene, width: u32, height: u32, msaa: u32) 
             "{} blades at {width}x{height} with {msaa}x MSAA",
             scene.blade_count()
         ),
-        crate::simulate::grass_pass::device_bytes(scene.blade_count(), !scene.colliders.is_empty())
+        crate::compute::grass_pass::device_bytes(scene.blade_count(), !scene.colliders.is_empty())
             + if scene.cull.enabled {
                 crate::render::cull::device_bytes(scene.blade_count())
             } else {

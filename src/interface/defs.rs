@@ -41,7 +41,7 @@ gpu_interface! {
     }
 
     /// One blade as the grass kernel reads it (glsl/common/grass_blade.glsl;
-    /// src/sim/grass.rs derives it). Everything derivable from the rest
+    /// src/model/grass.rs derives it). Everything derivable from the rest
     /// shape and the physics is computed once. Per-motion vec4s are in the
     /// order swing, bend A, bend B, twist.
     pub struct GrassBlade {
@@ -69,7 +69,7 @@ gpu_interface! {
     }
 
     /// A blade's pressed state as the grass step keeps it
-    /// (glsl/grass/contact.glsl; `Press::next` in src/sim/contact.rs): the
+    /// (glsl/grass/contact.glsl; `Press::next` in src/model/contact.rs): the
     /// pressed state its last step used (and its pose shows) and whether
     /// that step touched a collider.
     pub struct Press {
@@ -79,7 +79,7 @@ gpu_interface! {
     }
 
     /// One collider as the binning and wind kernels read it
-    /// (glsl/common/collider.glsl; `Collider` in src/sim/contact.rs).
+    /// (glsl/common/collider.glsl; `Collider` in src/model/contact.rs).
     pub struct GpuCollider {
         /// xyz: position (without a path); w: radius.
         pub position_radius: [f32; 4],
@@ -92,7 +92,7 @@ gpu_interface! {
     }
 
     /// A collider at one instant, as the binning kernel writes it for the
-    /// grass step (`ColliderState` in src/sim/contact.rs): the segment a..b
+    /// grass step (`ColliderState` in src/model/contact.rs): the segment a..b
     /// swept by the radius, and the velocity of its centre.
     pub struct GpuColliderState {
         /// xyz: a; w: radius.
@@ -104,7 +104,7 @@ gpu_interface! {
     }
 
     /// One wind source as the wind kernels read it
-    /// (glsl/wind/wind_kernel.glsl; `WindSource` in src/sim/wind.rs).
+    /// (glsl/wind/wind_kernel.glsl; `WindSource` in src/model/wind.rs).
     pub struct GpuWindSource {
         /// xyz: position at t = 0; w: radius (m).
         pub position_radius: [f32; 4],
@@ -122,7 +122,7 @@ gpu_interface! {
     }
 
     /// One multigrid level as the kernels read it (glsl/wind/multigrid.glsl;
-    /// src/sim/multigrid.rs).
+    /// src/model/multigrid.rs).
     pub struct MgLevel {
         /// xyz: cells; w: offset of this level in the coarse arrays.
         pub cells: [u32; 4],
@@ -212,7 +212,7 @@ gpu_interface! {
         pub end_time: f32,
         /// The pressed state's decay per step.
         pub press_decay: f32,
-        /// Colliders (src/sim/contact.rs), taken from the bins at each step.
+        /// Colliders (src/model/contact.rs), taken from the bins at each step.
         pub collider_count: u32,
         /// 1 where each blade has a pressed state (made with colliders).
         pub pressed_states: u32,

@@ -29,7 +29,7 @@ use crate::interface::{CullPush, CULL_GROUP as GROUP};
 use crate::render::depth_pyramid::Occluders;
 
 /// Bytes of one blade's control points, the flag kernel's per-blade part.
-const BLADE_BYTES: usize = 4 * std::mem::size_of::<crate::sim::BladeVertex>();
+const BLADE_BYTES: usize = 4 * std::mem::size_of::<crate::model::BladeVertex>();
 /// Bytes of one `VkDrawIndexedIndirectCommand`.
 const DRAW_BYTES: u64 = 20;
 /// Words of the draws buffer: the colour draw, the shadow draw, the

@@ -1,10 +1,10 @@
 //! The obstacles the wind meets (paper Fig. 13): boxes, spheres and upright
 //! cylinders, drawn as triangle meshes made once on the CPU, shaded in the
 //! colour pass and cast into the shadow map (glsl/obstacle/). The same
-//! shapes the wind solver voxelises (`sim::wind::Obstacle`), so what the
+//! shapes the wind solver voxelises (`model::wind::Obstacle`), so what the
 //! picture shows is what blocks the air.
 //!
-//! The colliders that press the grass (`sim::contact::Collider`) are drawn
+//! The colliders that press the grass (`model::contact::Collider`) are drawn
 //! the same way: each a mesh about its own reference point, placed each
 //! frame where it is at the frame's simulated time (and a rolling ball
 //! turned as it has rolled) by a model matrix in push constants.
@@ -16,8 +16,8 @@ use glam::{Mat4, Vec3};
 
 use crate::error::Result;
 use crate::gpu::{Access, Buffer, CommandPool, Gpu, Pipeline, Recording};
-use crate::sim::contact::{Collider, ColliderKind};
-use crate::sim::wind::Obstacle;
+use crate::model::contact::{Collider, ColliderKind};
+use crate::model::wind::Obstacle;
 
 /// One corner of an obstacle's triangle list (`obstacle.vert`'s inputs).
 #[repr(C)]

@@ -11,9 +11,9 @@ use crate::error::Result;
 use crate::gpu::{
     DescriptorKind, Gpu, GraphicsDesc, LayoutBinding, Pipeline, PipelineLayout, TargetFormats,
 };
+use crate::model::BladeVertex;
 use crate::render::obstacles::{ObstacleVertex, Placement};
 use crate::shaders::{self, Spirv};
-use crate::sim::BladeVertex;
 
 /// Set 0 of every render pipeline: the per-frame uniforms, the sun's
 /// shadow map, and the grass and soil textures (the last five read by the

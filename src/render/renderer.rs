@@ -10,6 +10,8 @@ use crate::gpu::{
     Access, Attachments, Bound, Buffer, CommandPool, DescriptorSet, Gpu, ImageTransition,
     Recording, TargetFormats,
 };
+use crate::model::contact::Collider;
+use crate::model::wind::Obstacle;
 use crate::render::cull::BladeDraw;
 use crate::render::depth_pyramid::{DepthPyramid, Occluders};
 use crate::render::frame_uniforms::FrameUniforms;
@@ -18,8 +20,6 @@ use crate::render::pipelines::{RenderPipelines, FRAME_SET};
 use crate::render::shadow::ShadowMap;
 use crate::render::targets::{choose_samples, RenderTargets};
 use crate::render::textures::SurfaceTextures;
-use crate::sim::contact::Collider;
-use crate::sim::wind::Obstacle;
 
 /// Everything one offscreen view of the grass needs on the GPU, besides
 /// the blades themselves.

@@ -5,9 +5,9 @@
 
 use glam::{Mat4, Vec3, Vec4};
 
+use crate::model::BladeVertex;
 use crate::render::depth_pyramid::Level;
 use crate::render::thinning::Thinning;
-use crate::sim::BladeVertex;
 
 /// Suns lower than this (the y of the unit vector toward them) cast
 /// shadows too long to bound: every blade casts.

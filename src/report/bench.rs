@@ -9,8 +9,8 @@ use crate::frame::timing::{Phase, Spread, TimingSummary};
 use crate::frame::CullCounts;
 use crate::gpu::query::PipelineStatistics;
 use crate::gpu::ValidationReport;
+use crate::model::wind::PressureSolver;
 use crate::report::wind::SolverTiming;
-use crate::sim::wind::PressureSolver;
 
 /// One row of the paper's Table 1 (GTX 670, 8x MSAA, 8192^2 shadow map).
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]

@@ -7,9 +7,9 @@ use crate::frame::timing::TimingSummary;
 use crate::frame::{Animation, CullCounts};
 use crate::gpu::query::PipelineStatistics;
 use crate::gpu::ValidationReport;
+use crate::model::grass::CapCounts;
+use crate::model::wind::Coupling;
 use crate::scene::{Camera, ViewMode};
-use crate::sim::grass::CapCounts;
-use crate::sim::wind::Coupling;
 
 /// What `report.json` holds.
 #[derive(Clone, Debug, serde::Serialize)]

@@ -1,6 +1,6 @@
 //! The pressure solvers side by side, as `wind` and `bench` report them.
 
-use crate::sim::wind::PressureSolver;
+use crate::model::wind::PressureSolver;
 
 /// One pressure solver timed on a scene's wind: `bench` and `wind` report
 /// both, side by side.

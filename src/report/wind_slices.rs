@@ -8,8 +8,8 @@ use glam::{Vec2, Vec3, Vec3Swizzles};
 use plotters::prelude::*;
 
 use crate::error::{Error, Result};
+use crate::model::wind::{Obstacle, WindField};
 use crate::scene::GrassPatch;
-use crate::sim::wind::{Obstacle, WindField};
 
 /// Which plane to cut.
 #[derive(Clone, Copy, Debug)]
@@ -301,7 +301,7 @@ pub fn plane_name(slice: Slice) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sim::wind::{WindGrid, WindSettings};
+    use crate::model::wind::{WindGrid, WindSettings};
     use glam::UVec3;
 
     #[test]

@@ -7,9 +7,9 @@ use std::ops::RangeInclusive;
 
 use super::{Camera, Cull, Grass, GrassDynamics, Light, Lod, RenderSettings, Scene, MAX_BLADES};
 use crate::error::Error;
-use crate::sim::contact::{Collider, ColliderKind, MAX_COLLIDERS};
-use crate::sim::wind::{Obstacle, WindSource, MAX_CELLS};
-use crate::sim::BladePhysics;
+use crate::model::contact::{Collider, ColliderKind, MAX_COLLIDERS};
+use crate::model::wind::{Obstacle, WindSource, MAX_CELLS};
+use crate::model::BladePhysics;
 
 /// The most frames one run may write.
 pub const MAX_FRAMES: u32 = 100_000;
@@ -423,7 +423,7 @@ pub fn wind(w: &super::WindConfig) -> Check {
     Ok(())
 }
 
-fn gust(g: &crate::sim::wind::Gust) -> Check {
+fn gust(g: &crate::model::wind::Gust) -> Check {
     within("amplitude", g.amplitude, 0.0..=10.0, "0..=10")?;
     within("frequency", g.frequency, 0.0..=100.0, "0..=100 Hz")?;
     Ok(())
@@ -546,13 +546,13 @@ fn path(points: &[glam::Vec3], speed: f32) -> Check {
     for (i, p) in points.iter().enumerate() {
         finite(&format!("path[{i}]"), &p.to_array())?;
     }
-    if points.len() > crate::sim::wind::MAX_PATH_POINTS {
+    if points.len() > crate::model::wind::MAX_PATH_POINTS {
         return Err(FieldError::new(
             "path",
             format!(
                 "{} points is not allowed, use at most {}",
                 points.len(),
-                crate::sim::wind::MAX_PATH_POINTS
+                crate::model::wind::MAX_PATH_POINTS
             ),
         ));
     }

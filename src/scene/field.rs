@@ -8,8 +8,8 @@ use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64Mcg;
 
 use crate::error::{try_with_capacity, Result};
+use crate::model::{Blade, BladeKind, BladePhysics, GrassBlade};
 use crate::scene::{BladeShape, Grass, GrassDynamics, GrassPatch};
-use crate::sim::{Blade, BladeKind, BladePhysics, GrassBlade};
 
 /// Generates every blade of every patch. The same grass and seed always
 /// give the same blades, on every machine.

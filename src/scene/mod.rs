@@ -11,12 +11,12 @@ use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
-use crate::sim::contact::Collider;
-use crate::sim::wind::{
+use crate::model::contact::Collider;
+use crate::model::wind::{
     Coupling, Gust, Inflow, Obstacle, PressureSolver, WindGrid, WindSettings, WindSource,
     DEFAULT_CANOPY_DRAG, DEFAULT_JACOBI_ITERATIONS, DEFAULT_V_CYCLES,
 };
-use crate::sim::BladePhysics;
+use crate::model::BladePhysics;
 
 /// The most blades one scene may hold: beyond this the blade buffer alone
 /// passes 1 GiB, and lavapipe would take hours per frame.
@@ -59,7 +59,7 @@ pub struct Scene {
     #[serde(default)]
     pub wind: WindConfig,
     /// Things that move through the meadow and press the grass
-    /// (`[[collider]]`; src/sim/contact.rs).
+    /// (`[[collider]]`; src/model/contact.rs).
     #[serde(default, rename = "collider", skip_serializing_if = "Vec::is_empty")]
     pub colliders: Vec<Collider>,
 }
@@ -583,7 +583,7 @@ impl Scene {
     /// The scene's grass field (`field::generate`) without the blades whose
     /// root lies inside an obstacle: nothing grows through a wall, a boulder
     /// or a post. The patches' counts are the counts before.
-    pub fn field(&self) -> Result<Vec<crate::sim::Blade>> {
+    pub fn field(&self) -> Result<Vec<crate::model::Blade>> {
         let mut blades = field::generate(&self.grass, self.seed)?;
         let obstacles = &self.wind.obstacles;
         if !obstacles.is_empty() {

@@ -4,9 +4,9 @@
 //! `cargo bench --bench grass_cpu`; results go in docs/perf.md.
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use meadow::model::wind::WindField;
+use meadow::model::GrassField;
 use meadow::scene::{field, Scene};
-use meadow::sim::wind::WindField;
-use meadow::sim::GrassField;
 
 fn grass_step(c: &mut Criterion) {
     const BLADES: usize = 10_000;

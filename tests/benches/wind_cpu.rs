@@ -5,7 +5,7 @@
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use glam::{UVec3, Vec3};
-use meadow::sim::wind::{
+use meadow::model::wind::{
     Gust, Inflow, PressureSolver, WindField, WindGrid, WindSettings, WindSource,
 };
 

@@ -13,9 +13,9 @@ pub mod wind_scenes;
 use meadow::commands::render::{Animation, RenderRequest};
 use meadow::frame::Frame;
 use meadow::gpu::{Gpu, GpuOptions, ValidationOptions};
+use meadow::model::Blade;
 use meadow::render::ViewMode;
 use meadow::scene::Scene;
-use meadow::sim::Blade;
 
 pub fn strict_gpu() -> Gpu {
     strict_gpu_with(None)

@@ -1,13 +1,13 @@
-//! The simulating phase alone (src/simulate/), wind then grass each step
+//! The simulating phase alone (src/compute/), wind then grass each step
 //! as a frame records it, for tests that read its state, and the
 //! invariants that state must keep at any step.
 
 use glam::Vec3;
+use meadow::compute::Simulation;
 use meadow::frame::BladeBuffer;
 use meadow::gpu::{CommandPool, Gpu};
+use meadow::model::{BladeVertex, GrassBlade, GrassState};
 use meadow::scene::{field, Scene};
-use meadow::sim::{BladeVertex, GrassBlade, GrassState};
-use meadow::simulate::Simulation;
 
 use super::to_vec3;
 
@@ -88,7 +88,7 @@ impl SimRig {
     }
 
     /// Blade-steps at an angle cap so far.
-    pub fn cap_counts(&self, gpu: &Gpu) -> meadow::sim::grass::CapCounts {
+    pub fn cap_counts(&self, gpu: &Gpu) -> meadow::model::grass::CapCounts {
         self.simulation.cap_counts(gpu, &self.commands).unwrap()
     }
 

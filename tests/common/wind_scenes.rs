@@ -3,7 +3,7 @@
 //! both are held to the same cases.
 
 use glam::{UVec3, Vec3};
-use meadow::sim::wind::{Gust, Inflow, Obstacle, WindGrid, WindSettings, WindSource};
+use meadow::model::wind::{Gust, Inflow, Obstacle, WindGrid, WindSettings, WindSource};
 
 /// 24 x 10 x 24 cells over 12 x 5 x 12 m.
 pub fn behaviour_grid() -> WindGrid {

@@ -3,7 +3,7 @@
 //! rolls it there. It is pushed as a hand would push it: it speeds up at
 //! `ACCELERATION` up to `MAX_SPEED`, slows down in time to stop on the
 //! point, and stops. It presses the grass, pushes the air and is drawn as
-//! any collider is (src/sim/contact.rs): each frame's stretch of its motion
+//! any collider is (src/model/contact.rs): each frame's stretch of its motion
 //! goes to the GPU as a collider whose path is that stretch, setting off at
 //! the frame's first simulated instant (`Collider::start`) and turned as the
 //! last stretch left it (`Collider::turned`), so the grass steps inside the
@@ -11,7 +11,7 @@
 
 use glam::{Quat, Vec2, Vec3, Vec3Swizzles};
 
-use crate::sim::contact::{Collider, ColliderKind};
+use crate::model::contact::{Collider, ColliderKind};
 
 /// The ball's radius (m): a football's size and a half.
 pub const BALL_RADIUS: f32 = 0.2;

@@ -10,9 +10,9 @@
 
 use glam::{Vec3, Vec4};
 
+use crate::model::wind::{turned_about_y, WindSource};
 use crate::render::frame_uniforms::view_projection;
 use crate::scene::Scene;
-use crate::sim::wind::{turned_about_y, WindSource};
 
 /// Metres a second the inflow changes by per arrow press.
 pub const SPEED_STEP: f32 = 0.5;

@@ -14,9 +14,9 @@ pub mod wind_pass;
 
 use crate::error::{Error, Result};
 use crate::gpu::{Buffer, CommandPool, Gpu, Recording};
+use crate::model::contact::Collider;
+use crate::model::{canopy, GrassBlade};
 use crate::scene::Scene;
-use crate::sim::contact::Collider;
-use crate::sim::{canopy, GrassBlade};
 
 pub use grass_pass::GrassPass;
 pub use wind_pass::WindPass;
@@ -89,7 +89,7 @@ impl Simulation {
     /// Records the grass half of the next step (paper section 4), which
     /// completes it.
     pub fn record_grass_step(&mut self, rec: &Recording) {
-        let end_time = crate::sim::contact::step_end_time(self.steps_done, self.dt);
+        let end_time = crate::model::contact::step_end_time(self.steps_done, self.dt);
         self.grass.record_step(rec, 0, end_time);
         self.steps_done += 1;
     }
@@ -116,7 +116,7 @@ impl Simulation {
         &self,
         gpu: &Gpu,
         commands: &CommandPool,
-    ) -> Result<crate::sim::grass::CapCounts> {
+    ) -> Result<crate::model::grass::CapCounts> {
         self.grass.read_caps(gpu, commands, self.steps_done)
     }
 

@@ -9,7 +9,7 @@
 
 use std::ops::Range;
 
-use crate::sim::grass::GrassBlade;
+use crate::model::grass::GrassBlade;
 
 /// The blade each slot steps, slot by slot: a permutation of each batch
 /// of `batches` (which cover the blades in order), sorted by the Morton

@@ -4,7 +4,7 @@
 //! nothing (the time and Jacobi parity travel as push constants).
 //!
 //! Obstacle voxelisation and the classification of every face (free, wall,
-//! inflow) happen once on the CPU through `sim::wind::WindField`, the same
+//! inflow) happen once on the CPU through `model::wind::WindField`, the same
 //! code the CPU reference steps with, and are uploaded.
 
 use std::sync::Arc;
@@ -17,14 +17,14 @@ use crate::gpu::{
     Access, Bound, Buffer, CommandPool, DescriptorSet, Gpu, LayoutBinding, MemoryLocation,
     Pipeline, PipelineLayout, Recording,
 };
+use crate::model::contact::{Collider, GpuCollider};
+use crate::model::multigrid::{self, Multigrid};
+use crate::model::wind::{FaceKind, PressureSolver, WindField, WindGrid, WindSettings, WindSource};
 use crate::shaders::{self, Spirv};
-use crate::sim::contact::{Collider, GpuCollider};
-use crate::sim::multigrid::{self, Multigrid};
-use crate::sim::wind::{FaceKind, PressureSolver, WindField, WindGrid, WindSettings, WindSource};
 
 use crate::interface::{MgLevel, WindGridParams, WindPush, WIND_GROUP};
 /// Waypoints a source's path may have on the GPU.
-pub use crate::sim::wind::MAX_PATH_POINTS;
+pub use crate::model::wind::MAX_PATH_POINTS;
 
 /// One wind source as the kernels read it (src/interface/defs.rs).
 pub use crate::interface::GpuWindSource;
@@ -140,7 +140,7 @@ struct WindBuffers {
     coarse: Buffer,
     levels: Buffer,
     /// The grass's frontal area per cell in fixed point, laid by the
-    /// grass step, read by the advection (src/sim/canopy.rs).
+    /// grass step, read by the advection (src/model/canopy.rs).
     canopy: Buffer,
     /// The colliders, which push the air (`WindField::add_forces`).
     colliders: Buffer,
@@ -261,7 +261,7 @@ pub struct WindPass {
     /// of each row along x, rounded up.
     level_color_cells: Vec<u32>,
     coarse_cells: u32,
-    /// m^2 per count of the canopy buffer (`sim::canopy::unit` of the
+    /// m^2 per count of the canopy buffer (`model::canopy::unit` of the
     /// grass coupled to this wind; 0 with no grass).
     canopy_unit: f32,
     /// Whether the inflow (if any) enters at x = min: fixed when the
@@ -288,7 +288,7 @@ fn u32_bytes(values: impl Iterator<Item = u32>) -> Vec<u8> {
 impl WindPass {
     /// The solver for `settings` on `grid`. `canopy_unit` is the m^2 per
     /// count of the frontal area the coupled grass lays
-    /// (`sim::canopy::unit` of its blades; 0 with no grass).
+    /// (`model::canopy::unit` of its blades; 0 with no grass).
     pub fn new(
         gpu: &Gpu,
         commands: &CommandPool,

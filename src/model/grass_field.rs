@@ -1,14 +1,14 @@
 //! A whole field of blades stepping together on the CPU, with the colliders
 //! moving through it: what the GPU grass kernel does, one invocation per
-//! blade (src/sim/grass.rs steps one blade, src/sim/contact.rs resolves its
+//! blade (src/model/grass.rs steps one blade, src/model/contact.rs resolves its
 //! contacts).
 
 use glam::Vec3;
 
 use crate::error::Result;
-use crate::sim::blade::BladeVertex;
-use crate::sim::contact;
-use crate::sim::grass::{
+use crate::model::blade::BladeVertex;
+use crate::model::contact;
+use crate::model::grass::{
     pressed_pose, substeps, vertices, CapCounts, GrassBlade, GrassState, Pose,
 };
 
@@ -21,7 +21,7 @@ pub struct GrassField {
     pub substeps: u32,
     pub dt: f32,
     pub caps: CapCounts,
-    /// What moves through the meadow (src/sim/contact.rs).
+    /// What moves through the meadow (src/model/contact.rs).
     pub colliders: Vec<contact::Collider>,
     /// Each blade's pressed state (`contact::Press`).
     pub pressed: Vec<contact::Press>,

@@ -21,8 +21,8 @@ use crate::gpu::{
     Pipeline, PipelineLayout, Recording,
 };
 use crate::interface::{BinPush, GpuColliderState, GRASS_GROUP};
-use crate::sim::contact::{reach, Collider, ColliderState, GpuCollider, MAX_COLLIDERS};
-use crate::sim::grass::GrassBlade;
+use crate::model::contact::{reach, Collider, ColliderState, GpuCollider, MAX_COLLIDERS};
+use crate::model::grass::GrassBlade;
 /// Cells along the grid's longer side at most: 64 x 64 cells of 16 bytes
 /// are 64 KiB, cleared each step.
 pub const MAX_CELLS_PER_SIDE: u32 = 64;

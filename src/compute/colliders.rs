@@ -10,7 +10,7 @@ use ash::vk;
 
 use crate::error::{Error, Result};
 use crate::gpu::{Access, Buffer, Gpu, Recording};
-use crate::sim::contact::{Collider, GpuCollider, MAX_COLLIDERS};
+use crate::model::contact::{Collider, GpuCollider, MAX_COLLIDERS};
 
 /// A buffer named `name` with room for `MAX_COLLIDERS` records, written
 /// by `record_write`.

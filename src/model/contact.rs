@@ -29,11 +29,11 @@
 
 use glam::{Quat, Vec3};
 
-use crate::sim::grass::{
+use crate::model::grass::{
     bend_share, pressed_pose, step_with, GrassBlade, GrassState, Pose, BEND_A, BEND_B, MAX_ANGLE,
     SWING,
 };
-use crate::sim::path::{along_path, MAX_PATH_POINTS};
+use crate::model::path::{along_path, MAX_PATH_POINTS};
 
 /// The most colliders a scene may have (src/interface/defs.rs: the
 /// collider bins hold a bit for each).
@@ -684,7 +684,7 @@ mod tests {
 
     #[test]
     fn the_pressed_state_decays_and_softens_the_restoring_force() {
-        use crate::sim::grass::{give, PRESS_SOFTENING};
+        use crate::model::grass::{give, PRESS_SOFTENING};
         assert_eq!(give(0.0), 1.0);
         assert!((give(1.0) - (1.0 - PRESS_SOFTENING)).abs() < 1e-7);
         let decay = press_decay(0.5);

@@ -20,7 +20,7 @@
 use glam::{Vec3, Vec4};
 
 use crate::error::{Error, Result};
-use crate::sim::blade::{Blade, BladeVertex, UP};
+use crate::model::blade::{Blade, BladeVertex, UP};
 
 /// The motions, in the order of every per-motion vec4 (here and in
 /// glsl/common/grass_blade.glsl).
@@ -358,7 +358,7 @@ pub fn pose(blade: &GrassBlade, angle: [f32; 4]) -> Pose {
 }
 
 /// How much a fully pressed blade's swing and bend restoring forces are
-/// weakened (1: none left; src/sim/contact.rs).
+/// weakened (1: none left; src/model/contact.rs).
 pub const PRESS_SOFTENING: f32 = 0.9;
 
 /// A root edge that lies within this of flat (rad) keeps eq. 12's shares
@@ -411,7 +411,7 @@ pub fn bend_share(blade: &GrassBlade, i: usize, theta: f32, pressed: f32) -> f32
     share + (flat_share(blade, i, theta, share) - share) * pressed
 }
 
-/// `pose` of a blade in the pressed state `pressed` (src/sim/contact.rs):
+/// `pose` of a blade in the pressed state `pressed` (src/model/contact.rs):
 /// its rising edges share the bending so that it lies down flat, a crushed
 /// stem giving way at the root (exactly `pose` when it is 0).
 pub fn pressed_pose(blade: &GrassBlade, angle: [f32; 4], pressed: f32) -> Pose {
@@ -563,7 +563,7 @@ pub fn step(blade: &GrassBlade, state: &mut GrassState, wind: Vec3, dt: f32, sub
     step_with(blade, state, wind, dt, substeps, 0.0, |_, _| false);
 }
 
-/// `step` for a blade in the pressed state `pressed` (src/sim/contact.rs):
+/// `step` for a blade in the pressed state `pressed` (src/model/contact.rs):
 /// its pressed pose, its swing and bend restoring forces scaled by `give`,
 /// and `after_substep` called with the state and its pose after each
 /// substep's ground contact (the colliders' contacts resolve there). Returns

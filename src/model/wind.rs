@@ -1,7 +1,7 @@
 //! CPU reference of the wind solver (paper section 3.2; docs/method.md section 3):
 //! inviscid, incompressible Navier-Stokes on a grid, one step =
 //! add source forces -> semi-Lagrangian advection -> divergence -> pressure
-//! (multigrid V-cycles by default, src/sim/multigrid.rs, or the paper's
+//! (multigrid V-cycles by default, src/model/multigrid.rs, or the paper's
 //! Jacobi iterations) -> subtract the pressure gradient.
 //!
 //! A staggered (MAC) grid: the x component lives on the cells' x faces, y on
@@ -358,7 +358,7 @@ impl Obstacle {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum PressureSolver {
-    /// V-cycles of geometric multigrid (src/sim/multigrid.rs), the
+    /// V-cycles of geometric multigrid (src/model/multigrid.rs), the
     /// default: it converges (6 cycles leave under 1% of the divergence on
     /// the shipped scenes; docs/physics.md).
     #[default]
@@ -377,7 +377,7 @@ impl PressureSolver {
     }
 }
 
-/// Whether the grass slows the air (src/sim/canopy.rs).
+/// Whether the grass slows the air (src/model/canopy.rs).
 #[derive(
     Clone,
     Copy,
@@ -502,7 +502,7 @@ pub struct WindField {
     /// What each velocity sample is: free, wall or inflow (fixed per scene).
     pub faces: [Vec<FaceKind>; 3],
     /// The grass's frontal area in each cell, in counts of `canopy_unit`
-    /// m^2, laid by the last grass step (src/sim/canopy.rs); all zero
+    /// m^2, laid by the last grass step (src/model/canopy.rs); all zero
     /// unless the coupling is two-way.
     pub canopy: Vec<u32>,
     /// Square metres per count of `canopy` (0 until grass is coupled).
@@ -702,7 +702,7 @@ impl WindField {
     /// dt along the velocity there and takes the value it finds; then the
     /// canopy drag with coefficient `canopy_drag` (0: none) slows it,
     /// implicitly, by the speed at the face before advection:
-    /// u' = u / (1 + dt C_d a |u|) (src/sim/canopy.rs).
+    /// u' = u / (1 + dt C_d a |u|) (src/model/canopy.rs).
     pub fn advect(&mut self, dt: f32, canopy_drag: f32) {
         let src = self.vel.clone();
         for axis in 0..3 {

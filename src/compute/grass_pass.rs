@@ -12,7 +12,7 @@
 //! lane (glsl/grass/step.glsl).
 //!
 //! With two-way coupling it also lays each blade's frontal area into the
-//! wind's canopy buffer (src/sim/canopy.rs), which the next wind step's
+//! wind's canopy buffer (src/model/canopy.rs), which the next wind step's
 //! advection reads as drag.
 //!
 //! The pass binds buffers it does not own (the vertex buffer, the wind
@@ -22,17 +22,17 @@ use ash::vk;
 
 use std::ops::Range;
 
+use crate::compute::collider_bins::{BinGrid, ColliderBins};
+use crate::compute::wind_pass::{grid_params, WindInput};
 use crate::error::{try_collect, Error, Result};
 use crate::gpu::{
     part, Access, Bound, Buffer, CommandPool, DescriptorSet, Gpu, LayoutBinding, Pipeline,
     PipelineLayout, Recording,
 };
 use crate::interface::{GrassPush, GRASS_GROUP};
-use crate::sim::contact::{press_decay, Collider, Press};
-use crate::sim::grass::{substeps, CapCounts, GrassBlade, GrassState};
-use crate::sim::BladeVertex;
-use crate::simulate::collider_bins::{BinGrid, ColliderBins};
-use crate::simulate::wind_pass::{grid_params, WindInput};
+use crate::model::contact::{press_decay, Collider, Press};
+use crate::model::grass::{substeps, CapCounts, GrassBlade, GrassState};
+use crate::model::BladeVertex;
 /// Bytes of the largest per-blade part the kernel binds (the rest shape
 /// and physics, the state, the four control points): what limits a batch.
 const BLADE_BYTES_BOUND: u64 = {
@@ -106,7 +106,7 @@ impl GrassPass {
     /// `vertices` must hold 4 `BladeVertex` per blade; `wind.velocity`
     /// holds velocity copies in the layout of glsl/common/wind_grid.glsl
     /// for `wind.grid`. The simulation step is `dt`; substeps follow from
-    /// the stiffest blade (`sim::grass::substeps`).
+    /// the stiffest blade (`model::grass::substeps`).
     pub fn new(
         gpu: &Gpu,
         commands: &CommandPool,
