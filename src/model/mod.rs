@@ -4,6 +4,7 @@
 
 pub mod blade;
 pub mod canopy;
+pub mod collider;
 pub mod contact;
 pub mod grass;
 pub mod grass_field;
