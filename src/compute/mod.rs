@@ -14,7 +14,7 @@ pub mod wind_pass;
 
 use crate::error::{Error, Result};
 use crate::gpu::{Buffer, CommandPool, Gpu, Recording};
-use crate::model::contact::Collider;
+use crate::model::collider::Collider;
 use crate::model::{canopy, GrassBlade};
 use crate::scene::Scene;
 

@@ -16,7 +16,7 @@ use crate::error::{Error, Result};
 use crate::gpu::query::{PipelineStatistics, Span, SpanTimer, StatisticsQuery};
 use crate::gpu::swapchain::Presented;
 use crate::gpu::{CommandPool, Gpu, OverlayDraw, OverlayRenderer, Recording, Swapchain};
-use crate::model::contact::Collider;
+use crate::model::collider::Collider;
 use crate::model::{Blade, GrassBlade};
 use crate::render::cull::{BladeDraw, CullPass};
 use crate::render::{FrameUniforms, Renderer};

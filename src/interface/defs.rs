@@ -79,7 +79,7 @@ gpu_interface! {
     }
 
     /// One collider as the binning and wind kernels read it
-    /// (glsl/common/collider.glsl; `Collider` in src/model/contact.rs).
+    /// (glsl/common/collider.glsl; `Collider` in src/model/collider.rs).
     pub struct GpuCollider {
         /// xyz: position (without a path); w: radius.
         pub position_radius: [f32; 4],
@@ -92,7 +92,7 @@ gpu_interface! {
     }
 
     /// A collider at one instant, as the binning kernel writes it for the
-    /// grass step (`ColliderState` in src/model/contact.rs): the segment a..b
+    /// grass step (`ColliderState` in src/model/collider.rs): the segment a..b
     /// swept by the radius, and the velocity of its centre.
     pub struct GpuColliderState {
         /// xyz: a; w: radius.

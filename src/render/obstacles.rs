@@ -4,7 +4,7 @@
 //! shapes the wind solver voxelises (`model::wind::Obstacle`), so what the
 //! picture shows is what blocks the air.
 //!
-//! The colliders that press the grass (`model::contact::Collider`) are drawn
+//! The colliders that press the grass (`model::collider::Collider`) are drawn
 //! the same way: each a mesh about its own reference point, placed each
 //! frame where it is at the frame's simulated time (and a rolling ball
 //! turned as it has rolled) by a model matrix in push constants.

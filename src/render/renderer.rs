@@ -10,7 +10,7 @@ use crate::gpu::{
     Access, Attachments, Bound, Buffer, CommandPool, DescriptorSet, Gpu, ImageTransition,
     Recording, TargetFormats,
 };
-use crate::model::contact::Collider;
+use crate::model::collider::Collider;
 use crate::model::wind::Obstacle;
 use crate::render::cull::BladeDraw;
 use crate::render::depth_pyramid::{DepthPyramid, Occluders};

@@ -11,7 +11,7 @@ use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
-use crate::model::contact::Collider;
+use crate::model::collider::Collider;
 use crate::model::wind::{
     Coupling, Gust, Inflow, Obstacle, PressureSolver, WindGrid, WindSettings, WindSource,
     DEFAULT_CANOPY_DRAG, DEFAULT_JACOBI_ITERATIONS, DEFAULT_V_CYCLES,
