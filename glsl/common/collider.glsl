@@ -1,7 +1,7 @@
 // Colliders (ours; docs/physics.md, "Colliders"): spheres and upright
 // capsules moving through the meadow, as the grass kernel (which they press)
 // and the wind's forces kernel (whose air they push) read them. Mirrors
-// `Collider` and `ColliderState` in src/model/contact.rs.
+// `Collider` and `ColliderState` in src/model/collider.rs.
 #ifndef MEADOW_COLLIDER_GLSL
 #define MEADOW_COLLIDER_GLSL
 
