@@ -15,7 +15,7 @@ use crate::error::{Error, Result};
 use crate::frame::timing::median_p95;
 use crate::frame::BladeBuffer;
 use crate::gpu::query::TimestampQueries;
-use crate::gpu::{Access, CommandPool, Gpu, GpuOptions, ValidationReport};
+use crate::gpu::{Access, BufferUse, CommandPool, Gpu, GpuOptions, ValidationReport};
 use crate::model::canopy;
 use crate::model::contact::{Collider, ColliderKind, MAX_COLLIDERS};
 use crate::scene::{field, Scene, MAX_BLADES};
@@ -327,14 +327,18 @@ fn copy_bandwidth(gpu: &Gpu) -> Result<Option<CopyBandwidth>> {
     let rec = commands.begin()?;
     // Written once first, so no page is touched for the first time while
     // timed.
+    rec.uses(&[
+        BufferUse::new(&src, Access::TRANSFER_WRITE),
+        BufferUse::new(&dst, Access::TRANSFER_WRITE),
+    ]);
     rec.fill_buffer(&src, 0);
     rec.fill_buffer(&dst, 0);
     timestamps.reset(&rec);
     for n in 0..COPIES {
-        rec.barrier(
-            Access::TRANSFER_WRITE,
-            Access::COPY_READ.and(Access::COPY_WRITE),
-        );
+        rec.uses(&[
+            BufferUse::new(&src, Access::COPY_READ),
+            BufferUse::new(&dst, Access::COPY_WRITE),
+        ]);
         timestamps.stamp(&rec, n, false);
         rec.copy_buffer(&src, &dst, COPY_BYTES);
         timestamps.stamp(&rec, n, true);

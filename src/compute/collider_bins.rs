@@ -17,8 +17,8 @@ use glam::{Vec2, Vec3};
 
 use crate::error::Result;
 use crate::gpu::{
-    Access, Bound, Buffer, CommandPool, DescriptorSet, Gpu, LayoutBinding, MemoryLocation,
-    Pipeline, PipelineLayout, Recording,
+    Access, Bound, Buffer, BufferUse, CommandPool, DescriptorSet, Gpu, LayoutBinding,
+    MemoryLocation, Pipeline, PipelineLayout, Recording,
 };
 use crate::interface::{BinPush, GpuColliderState, GRASS_GROUP};
 use crate::model::contact::{reach, Collider, ColliderState, GpuCollider, MAX_COLLIDERS};
@@ -191,18 +191,22 @@ impl ColliderBins {
         &self.bins
     }
 
-    /// Records the binning for a step ending at `end_time`: after the
-    /// last step's reads of the states and bins, and before the next
-    /// step, whose first barrier waits for compute writes. Nothing
-    /// without colliders.
+    /// Records the binning for a step ending at `end_time`, declaring what
+    /// it writes and reads; the grass kernels declare their reads
+    /// (`read_uses`), so the recording orders it after the last step's
+    /// and before the next step's. Nothing without colliders.
     pub fn record(&self, rec: &Recording, end_time: f32) {
         if self.records.is_empty() {
             return;
         }
-        // The write's barrier orders the fill after the last step too.
         super::colliders::record_write(&self.colliders, rec, &self.records);
+        rec.uses(&[BufferUse::new(&self.bins, Access::TRANSFER_WRITE)]);
         rec.fill_buffer(&self.bins, 0);
-        rec.barrier(Access::TRANSFER_WRITE, Access::COMPUTE_READ_WRITE);
+        rec.uses(&[
+            BufferUse::new(&self.colliders, Access::COMPUTE_READ),
+            BufferUse::new(&self.states, Access::COMPUTE_WRITE),
+            BufferUse::new(&self.bins, Access::COMPUTE_READ_WRITE),
+        ]);
         let g = &self.grid;
         let push = BinPush {
             corner: g.corner.to_array(),
@@ -219,6 +223,15 @@ impl ColliderBins {
         rec.bind_set(&self.pipeline, &self.set);
         rec.push_constants(&self.pipeline, &push);
         rec.dispatch(self.count().div_ceil(GRASS_GROUP));
+    }
+
+    /// What the grass kernels do to the binning's results: read the
+    /// colliders' states and the bins.
+    pub fn read_uses(&self) -> [BufferUse; 2] {
+        [
+            BufferUse::new(&self.states, Access::COMPUTE_READ),
+            BufferUse::new(&self.bins, Access::COMPUTE_READ),
+        ]
     }
 
     /// The bins the last recorded binning left (for tests).

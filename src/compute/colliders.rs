@@ -9,7 +9,7 @@
 use ash::vk;
 
 use crate::error::{Error, Result};
-use crate::gpu::{Access, Buffer, Gpu, Recording};
+use crate::gpu::{Access, Buffer, BufferUse, Gpu, Recording};
 use crate::model::contact::{Collider, GpuCollider, MAX_COLLIDERS};
 
 /// A buffer named `name` with room for `MAX_COLLIDERS` records, written
@@ -30,16 +30,15 @@ pub fn records(colliders: &[Collider]) -> Result<Vec<GpuCollider>> {
     Ok(colliders.iter().map(GpuCollider::from).collect())
 }
 
-/// Records `records` written over `buffer` (made by `buffer`), after
-/// every earlier compute read and write (so a transfer recorded next may
-/// rely on it too); the caller's next barrier makes transfer writes
-/// visible to compute. Nothing where there are none: the kernels
-/// then read none. At most 22.5 KiB, carried in the command buffer.
+/// Records `records` written over `buffer` (made by `buffer`), declared
+/// as a transfer write: the kernels that read them declare their reads.
+/// Nothing where there are none: the kernels then read none. At most
+/// 22.5 KiB, carried in the command buffer.
 pub fn record_write(buffer: &Buffer, rec: &Recording, records: &[GpuCollider]) {
     if records.is_empty() {
         return;
     }
-    rec.barrier(Access::COMPUTE_READ_WRITE, Access::TRANSFER_WRITE);
+    rec.uses(&[BufferUse::new(buffer, Access::TRANSFER_WRITE)]);
     rec.update_buffer(buffer, 0, bytemuck::cast_slice(records));
 }
 

@@ -26,8 +26,8 @@ use crate::compute::collider_bins::{BinGrid, ColliderBins};
 use crate::compute::wind_pass::{grid_params, WindInput};
 use crate::error::{try_collect, Error, Result};
 use crate::gpu::{
-    part, Access, Bound, Buffer, CommandPool, DescriptorSet, Gpu, LayoutBinding, Pipeline,
-    PipelineLayout, Recording,
+    part, Access, Bound, Buffer, BufferId, BufferUse, CommandPool, DescriptorSet, Gpu,
+    LayoutBinding, Pipeline, PipelineLayout, Recording,
 };
 use crate::interface::{GrassPush, GRASS_GROUP};
 use crate::model::contact::{press_decay, Collider, Press};
@@ -93,6 +93,12 @@ pub struct GrassPass {
     caps: Buffer,
     /// Bound in place of the wind's canopy with one-way coupling.
     _no_canopy: Buffer,
+    /// The buffers the kernels bind but others own: the wind velocity
+    /// they sample, the canopy they lay area into (the wind's, or
+    /// `_no_canopy`), the vertex buffer they write.
+    wind_velocity: BufferId,
+    canopy: BufferId,
+    vertices: BufferId,
     /// Each blade's pressed state (a placeholder without colliders).
     presses: Buffer,
     /// The colliders, evaluated and binned before each step.
@@ -343,6 +349,9 @@ impl GrassPass {
             order,
             states,
             caps,
+            wind_velocity: wind.velocity.into(),
+            canopy: canopy.into(),
+            vertices: vertices.into(),
             _no_canopy: no_canopy,
             presses,
             bins,
@@ -385,14 +394,33 @@ impl GrassPass {
         self.push.substeps
     }
 
+    /// What one dispatch of the grass kernels does to its buffers: the
+    /// recording derives the barriers between batches and kernels, and
+    /// against the wind step, the binning, the cull pass and the draws,
+    /// from these and theirs.
+    fn kernel_uses(&self) -> Vec<BufferUse> {
+        let (read, read_write) = (Access::COMPUTE_READ, Access::COMPUTE_READ_WRITE);
+        let mut uses = vec![
+            BufferUse::new(&self._blades, read),
+            BufferUse::new(&self._vertex_slots, read),
+            BufferUse::new(&self.states, read_write),
+            BufferUse::new(self.vertices, Access::COMPUTE_WRITE),
+            BufferUse::new(self.wind_velocity, read),
+            BufferUse::new(&self.caps, read_write),
+            BufferUse::new(self.canopy, read_write),
+            BufferUse::new(&self.presses, read_write),
+            BufferUse::new(&self.touching, read_write),
+        ];
+        uses.extend(self.bins.read_uses());
+        uses
+    }
+
     /// Records one simulation step, sampling the wind velocity copy that
     /// starts `wind_offset` floats into the wind buffer (0 for `WindPass`'s
     /// state): with colliders, their binning (`ColliderBins::record`), the
     /// lists emptied, step.comp, then step_touching.comp over each
-    /// batch's list. Waits for earlier compute (the wind step, the
-    /// previous grass step), uploads and the wind's clearing of the
-    /// canopy, and the previous draw's vertex reads; ends with the
-    /// vertices visible to the vertex input stage and to compute.
+    /// batch's list. Each dispatch declares what it touches
+    /// (`kernel_uses`); whoever reads the vertices next declares that.
     ///
     /// `end_time` is the simulated time at the step's end, where the
     /// colliders stand (`contact::step_end_time`).
@@ -404,54 +432,39 @@ impl GrassPass {
         self.bins.record(rec, end_time);
         if self.touching_pipeline.is_some() {
             // Empty lists, after the last step's dispatch and reads.
-            rec.barrier(
-                Access::COMPUTE_READ_WRITE.and(Access::DRAW_INDIRECT),
-                Access::TRANSFER_WRITE,
-            );
+            rec.uses(&[BufferUse::new(&self.touching, Access::TRANSFER_WRITE)]);
             for &offset in &self.touching_offsets {
                 rec.update_buffer(&self.touching, offset, &[0, 1, 1, 0]);
             }
         }
-        rec.barrier(
-            Access::COMPUTE_WRITE
-                .and(Access::VERTEX_INPUT)
-                .and(Access::COPY_WRITE)
-                .and(Access::TRANSFER_WRITE),
-            Access::COMPUTE_READ_WRITE,
-        );
+        let uses = self.kernel_uses();
         rec.bind_pipeline(&self.pipeline);
-        for (i, (set, blades)) in self.batches.iter().enumerate() {
-            if i > 0 {
-                // The batches share the cap counters and the canopy.
-                rec.barrier(Access::COMPUTE_WRITE, Access::COMPUTE_READ_WRITE);
-            }
+        for (set, blades) in &self.batches {
+            // The batches share the cap counters and the canopy.
+            rec.uses(&uses);
             push.blade_count = blades.len() as u32;
             rec.bind_set(&self.pipeline, set);
             rec.push_constants(&self.pipeline, &push);
             rec.dispatch(push.blade_count.div_ceil(GRASS_GROUP));
         }
         if let Some(touching_pipeline) = &self.touching_pipeline {
-            rec.barrier(
-                Access::COMPUTE_WRITE,
-                Access::DRAW_INDIRECT.and(Access::COMPUTE_READ_WRITE),
-            );
+            let mut touching_uses = uses.clone();
+            touching_uses.push(BufferUse::new(&self.touching, Access::DRAW_INDIRECT));
             rec.bind_pipeline(touching_pipeline);
-            for (i, ((set, blades), &offset)) in
-                self.batches.iter().zip(&self.touching_offsets).enumerate()
-            {
-                if i > 0 {
-                    rec.barrier(Access::COMPUTE_WRITE, Access::COMPUTE_READ_WRITE);
-                }
+            for ((set, blades), &offset) in self.batches.iter().zip(&self.touching_offsets) {
+                rec.uses(&touching_uses);
                 push.blade_count = blades.len() as u32;
                 rec.bind_set(touching_pipeline, set);
                 rec.push_constants(touching_pipeline, &push);
                 rec.dispatch_indirect(&self.touching, offset);
             }
         }
-        rec.barrier(
-            Access::COMPUTE_WRITE,
-            Access::VERTEX_INPUT.and(Access::COMPUTE_READ_WRITE),
-        );
+    }
+
+    /// What a reader of the blades' control points declares: `access` to
+    /// the vertex buffer this pass writes.
+    pub fn vertices_use(&self, access: Access) -> BufferUse {
+        BufferUse::new(self.vertices, access)
     }
 
     /// The blade-steps at an angle cap over the `steps` steps recorded so

@@ -14,8 +14,8 @@ use bytemuck::Zeroable;
 
 use crate::error::{Error, Result};
 use crate::gpu::{
-    Access, Bound, Buffer, CommandPool, DescriptorSet, Gpu, LayoutBinding, MemoryLocation,
-    Pipeline, PipelineLayout, Recording,
+    Access, Bound, Buffer, BufferUse, CommandPool, DescriptorSet, Gpu, LayoutBinding,
+    MemoryLocation, Pipeline, PipelineLayout, Recording,
 };
 use crate::model::contact::{Collider, GpuCollider};
 use crate::model::multigrid::{self, Multigrid};
@@ -201,7 +201,7 @@ impl WindBuffers {
         rec.fill_buffer(&buffers.pressure, 0);
         rec.fill_buffer(&buffers.coarse, 0);
         rec.fill_buffer(&buffers.canopy, 0);
-        rec.barrier(Access::TRANSFER_WRITE, Access::COMPUTE_READ_WRITE);
+        // The next recording's first use of each waits for these writes.
         rec.submit_and_wait("clearing the wind")?;
         Ok(buffers)
     }
@@ -489,9 +489,55 @@ impl WindPass {
         }
     }
 
-    /// Records one solver step at simulation time `time`. Ends with the
-    /// new velocity (copy A) written by compute; a reader must wait on
-    /// COMPUTE_SHADER writes.
+    /// What `kernel` reads and writes (glsl/wind/*.comp): the recording
+    /// derives the barriers between the kernels, and against the grass
+    /// step's reads of the velocity and writes of the canopy, from it.
+    fn kernel_uses(&self, kernel: usize) -> Vec<BufferUse> {
+        let b = &self.buffers;
+        let (read, read_write) = (Access::COMPUTE_READ, Access::COMPUTE_READ_WRITE);
+        let mut uses = vec![BufferUse::new(&b.faces, read)];
+        match kernel {
+            FORCES => uses.extend([
+                BufferUse::new(&b.velocity, read_write),
+                BufferUse::new(&b.sources, read),
+                BufferUse::new(&b.colliders, read),
+            ]),
+            ADVECT => uses.extend([
+                BufferUse::new(&b.velocity, read_write),
+                BufferUse::new(&b.canopy, read),
+            ]),
+            DIVERGENCE => uses.extend([
+                BufferUse::new(&b.velocity, read),
+                BufferUse::new(&b.solid, read),
+                BufferUse::new(&b.divergence, read_write),
+                BufferUse::new(&b.pressure, read_write),
+            ]),
+            JACOBI => uses.extend([
+                BufferUse::new(&b.solid, read),
+                BufferUse::new(&b.divergence, read),
+                BufferUse::new(&b.pressure, read_write),
+            ]),
+            PROJECT => uses.extend([
+                BufferUse::new(&b.velocity, read_write),
+                BufferUse::new(&b.pressure, read),
+            ]),
+            // The multigrid kernels (glsl/wind/multigrid.glsl): each level's
+            // pressure and right-hand side, the saved residual.
+            _ => uses.extend([
+                BufferUse::new(&b.solid, read),
+                BufferUse::new(&b.conductance, read),
+                BufferUse::new(&b.levels, read),
+                BufferUse::new(&b.pressure, read_write),
+                BufferUse::new(&b.coarse, read_write),
+                BufferUse::new(&b.divergence, read_write),
+            ]),
+        }
+        uses
+    }
+
+    /// Records one solver step at simulation time `time`: each kernel
+    /// declares what it touches (`kernel_uses`). Ends with the new velocity
+    /// (copy A) written by compute; a reader declares its use.
     pub fn record_step(&self, rec: &Recording, time: f32, dt: f32) {
         let multigrid = self.settings.solver == PressureSolver::Multigrid;
         let iterations = self.settings.jacobi_iterations;
@@ -505,6 +551,7 @@ impl WindPass {
                         read: u32,
                         [mg_level, mg_color, coarsest_sweeps]: [u32; 3]| {
             let pipeline = &self.kernels[kernel];
+            rec.uses(&self.kernel_uses(kernel));
             rec.bind_pipeline(pipeline);
             rec.push_constants(
                 pipeline,
@@ -518,25 +565,18 @@ impl WindPass {
             );
             rec.dispatch(groups);
         };
-        let between_kernels = || rec.barrier(Access::COMPUTE_WRITE, Access::COMPUTE_READ_WRITE);
-        // The colliders where they are now; then whatever read or wrote
-        // the wind before (the previous step, the grass sampling it)
-        // finishes first.
+        // The colliders where they are now.
         super::colliders::record_write(&self.buffers.colliders, rec, &self.collider_records);
-        rec.barrier(Access::ANY_WRITE, Access::COMPUTE_READ_WRITE);
         rec.bind_set(&self.kernels[FORCES], &self.set);
         dispatch(FORCES, face_groups, 0, [0; 3]);
-        between_kernels();
         dispatch(ADVECT, face_groups, 0, [0; 3]);
-        between_kernels();
         if self.coupled() {
             // The advection took this step's drag: clear the canopy for
             // the area the grass lays next.
-            rec.barrier(Access::COMPUTE_READ_WRITE, Access::TRANSFER_WRITE);
+            rec.uses(&[BufferUse::new(&self.buffers.canopy, Access::TRANSFER_WRITE)]);
             rec.fill_buffer(&self.buffers.canopy, 0);
         }
         dispatch(DIVERGENCE, cell_groups, 0, [0; 3]);
-        between_kernels();
         if multigrid {
             let groups = |l: usize| self.level_cells[l].div_ceil(WIND_GROUP);
             // One thread per cell of the colour being smoothed.
@@ -545,7 +585,6 @@ impl WindPass {
                 for _ in 0..sweeps {
                     for color in 0..2 {
                         dispatch(MG_SMOOTH, color_groups(l), 0, [l as u32, color, 0]);
-                        between_kernels();
                     }
                 }
             };
@@ -554,9 +593,7 @@ impl WindPass {
                 for l in 0..last {
                     smooth(l, multigrid::PRE_SMOOTH);
                     dispatch(MG_RESIDUAL, groups(l), 0, [l as u32, 0, 0]);
-                    between_kernels();
                     dispatch(MG_RESTRICT, groups(l + 1), 0, [l as u32, 0, 0]);
-                    between_kernels();
                 }
                 dispatch(
                     MG_COARSEST,
@@ -564,17 +601,14 @@ impl WindPass {
                     0,
                     [last as u32, 0, multigrid::COARSEST_SWEEPS],
                 );
-                between_kernels();
                 for l in (0..last).rev() {
                     dispatch(MG_PROLONG, groups(l), 0, [l as u32, 0, 0]);
-                    between_kernels();
                     smooth(l, multigrid::POST_SMOOTH);
                 }
             }
         } else {
             for i in 0..iterations {
                 dispatch(JACOBI, cell_groups, i % 2, [0; 3]);
-                between_kernels();
             }
         }
         dispatch(PROJECT, face_groups, 0, [0; 3]);

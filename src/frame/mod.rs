@@ -15,7 +15,9 @@ use crate::compute::Simulation;
 use crate::error::{Error, Result};
 use crate::gpu::query::{PipelineStatistics, Span, SpanTimer, StatisticsQuery};
 use crate::gpu::swapchain::Presented;
-use crate::gpu::{CommandPool, Gpu, OverlayDraw, OverlayRenderer, Recording, Swapchain};
+use crate::gpu::{
+    Access, BufferUse, CommandPool, Gpu, OverlayDraw, OverlayRenderer, Recording, Swapchain,
+};
 use crate::model::collider::Collider;
 use crate::model::{Blade, GrassBlade};
 use crate::render::cull::{BladeDraw, CullPass};
@@ -410,6 +412,13 @@ impl FrameRecorder {
             ),
             None => (BladeDraw::All(count), BladeDraw::All(count)),
         };
+        // Both passes' draws read the control points the grass step wrote,
+        // and the cull pass's lists and draws.
+        let mut drawn = vec![BufferUse::new(buffer, Access::VERTEX_INPUT)];
+        if let Some(cull) = cull.as_ref() {
+            drawn.extend(cull.drawn_uses());
+        }
+        rec.uses(&drawn);
         shadow_statistics.reset(&rec);
         t.span(&rec, Phase::Shadow, |rec| {
             shadow_statistics.begin(rec);

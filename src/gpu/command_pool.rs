@@ -71,6 +71,7 @@ impl CommandPool {
             device: &self.device,
             cmd: self.cmd,
             fence: self.fence.raw(),
+            tracker: Default::default(),
         })
     }
 }

@@ -23,6 +23,7 @@ pub mod recording;
 pub mod shader;
 pub mod surface;
 pub mod swapchain;
+pub mod sync;
 
 use std::sync::Arc;
 
@@ -42,6 +43,7 @@ pub use pipeline::{GraphicsDesc, Pipeline, TargetFormats};
 pub use recording::{Attachments, Recording};
 pub use surface::Surface;
 pub use swapchain::Swapchain;
+pub use sync::{BufferId, BufferUse};
 
 use crate::error::Result;
 

@@ -3,6 +3,8 @@
 //! recorded: each method is one Vulkan command on objects the Vulkan
 //! layer's types own.
 
+use std::cell::RefCell;
+
 use ash::vk;
 
 use crate::error::{Error, Result, VkResultExt};
@@ -10,6 +12,7 @@ use crate::gpu::barrier::{Access, ImageTransition};
 use crate::gpu::descriptors::DescriptorSet;
 use crate::gpu::device::Device;
 use crate::gpu::pipeline::Pipeline;
+use crate::gpu::sync::{BufferUse, Tracker};
 use crate::gpu::{Buffer, Image};
 
 /// How long one submission may run before we call the device hung (lavapipe
@@ -33,6 +36,8 @@ pub struct Recording<'a> {
     pub(super) cmd: vk::CommandBuffer,
     /// The pool's fence, which a submission signals and waits for.
     pub(super) fence: vk::Fence,
+    /// What the passes declared so far (`uses`).
+    pub(super) tracker: RefCell<Tracker>,
 }
 
 impl Recording<'_> {
@@ -117,6 +122,29 @@ impl Recording<'_> {
             self.device.raw.cmd_pipeline_barrier2(
                 self.cmd,
                 &vk::DependencyInfo::default().buffer_memory_barriers(&barrier),
+            )
+        };
+    }
+
+    /// Declares what the next commands do to `uses` and records the one
+    /// barrier that needs after what was declared before in this recording
+    /// (src/gpu/sync.rs); nothing where none is needed.
+    pub fn uses(&self, uses: &[BufferUse]) {
+        let raw: Vec<(vk::Buffer, Access)> = uses.iter().map(|u| (u.buffer.0, u.access)).collect();
+        let Some(d) = self.tracker.borrow_mut().declare(&raw) else {
+            return;
+        };
+        let barrier = [vk::MemoryBarrier2::default()
+            .src_stage_mask(d.src_stage)
+            .src_access_mask(d.src_access)
+            .dst_stage_mask(d.dst_stage)
+            .dst_access_mask(d.dst_access)];
+        // SAFETY: recording into a live command buffer, outside rendering
+        // (passes declare before they begin one).
+        unsafe {
+            self.device.raw.cmd_pipeline_barrier2(
+                self.cmd,
+                &vk::DependencyInfo::default().memory_barriers(&barrier),
             )
         };
     }

@@ -22,8 +22,8 @@ use ash::vk;
 
 use crate::error::{Error, Result};
 use crate::gpu::{
-    Access, Bound, Buffer, DescriptorKind, DescriptorSet, Gpu, LayoutBinding, MemoryLocation,
-    Pipeline, PipelineLayout, Recording,
+    Access, Bound, Buffer, BufferId, BufferUse, DescriptorKind, DescriptorSet, Gpu, LayoutBinding,
+    MemoryLocation, Pipeline, PipelineLayout, Recording,
 };
 use crate::interface::{CullPush, CULL_GROUP as GROUP};
 use crate::render::depth_pyramid::Occluders;
@@ -132,6 +132,10 @@ pub struct CullPass {
     color_list: Buffer,
     shadow_list: Buffer,
     push: CullPush,
+    /// The buffers the flag kernel reads but others own: the blades'
+    /// control points, the depth pyramid (or `_no_pyramid`).
+    vertices: BufferId,
+    pyramid: BufferId,
 }
 
 impl CullPass {
@@ -244,11 +248,14 @@ impl CullPass {
                 ]
             },
         )?;
+        let (vertices, pyramid) = (blades.into(), pyramid.into());
         Ok(Self {
             batches,
             flags_kernel,
             scan_kernel,
             compact_kernel,
+            vertices,
+            pyramid,
             _flags: flags,
             _groups: group_counts,
             _groups_occluded: groups_occluded,
@@ -284,14 +291,20 @@ impl CullPass {
             push.pyramid_levels = o.levels;
             push.pyramid_holds = 1;
         }
-        rec.barrier(
-            Access::COMPUTE_WRITE
-                .and(Access::COPY_WRITE)
-                .and(Access::INDEX_INPUT)
-                .and(Access::DRAW_INDIRECT),
+        let (read, write, read_write) = (
+            Access::COMPUTE_READ,
+            Access::COMPUTE_WRITE,
             Access::COMPUTE_READ_WRITE,
         );
-        // The batches write their own blades' flags and workgroups' counts.
+        // The batches write their own blades' flags and workgroups' counts:
+        // declared once for all of them.
+        rec.uses(&[
+            BufferUse::new(self.vertices, read),
+            BufferUse::new(self.pyramid, read),
+            BufferUse::new(&self._flags, write),
+            BufferUse::new(&self._groups, read_write),
+            BufferUse::new(&self._groups_occluded, read_write),
+        ]);
         rec.bind_pipeline(&self.flags_kernel);
         for (set, blades) in &self.batches {
             push.first_blade = blades.start;
@@ -300,22 +313,43 @@ impl CullPass {
             rec.dispatch((blades.len() as u32).div_ceil(GROUP));
         }
         let first_set = &self.batches[0].0;
-        for (kernel, dispatch) in [
-            (&self.scan_kernel, 1),
-            (&self.compact_kernel, self.push.flag_groups),
+        let scan_uses = [
+            BufferUse::new(&self._groups, read_write),
+            BufferUse::new(&self._groups_occluded, read),
+            BufferUse::new(&self.draws, read_write),
+        ];
+        let compact_uses = [
+            BufferUse::new(&self._flags, read),
+            BufferUse::new(&self._groups, read),
+            BufferUse::new(&self.color_list, write),
+            BufferUse::new(&self.shadow_list, write),
+        ];
+        for (kernel, dispatch, uses) in [
+            (&self.scan_kernel, 1, &scan_uses[..]),
+            (
+                &self.compact_kernel,
+                self.push.flag_groups,
+                &compact_uses[..],
+            ),
         ] {
-            rec.barrier(Access::COMPUTE_WRITE, Access::COMPUTE_READ_WRITE);
+            rec.uses(uses);
             rec.bind_pipeline(kernel);
             rec.bind_set(kernel, first_set);
             rec.push_constants(kernel, &push);
             rec.dispatch(dispatch);
         }
-        rec.barrier(
-            Access::COMPUTE_WRITE,
-            Access::INDEX_INPUT
-                .and(Access::DRAW_INDIRECT)
-                .and(Access::HOST_READ),
-        );
+    }
+
+    /// What drawing the lists does to this pass's results: the lists read
+    /// as indices, the draws as indirect parameters, and the counts by the
+    /// host after the frame (`counts`). The frame declares them before the
+    /// draws.
+    pub fn drawn_uses(&self) -> [BufferUse; 3] {
+        [
+            BufferUse::new(&self.color_list, Access::INDEX_INPUT),
+            BufferUse::new(&self.shadow_list, Access::INDEX_INPUT),
+            BufferUse::new(&self.draws, Access::DRAW_INDIRECT.and(Access::HOST_READ)),
+        ]
     }
 
     /// The colour pass's blades.

@@ -19,7 +19,7 @@ use glam::Mat4;
 
 use crate::error::{Error, Result};
 use crate::gpu::{
-    Access, Bound, Buffer, DescriptorKind, DescriptorSet, Gpu, Image, ImageTransition,
+    Access, Bound, Buffer, BufferUse, DescriptorKind, DescriptorSet, Gpu, Image, ImageTransition,
     LayoutBinding, MemoryLocation, Pipeline, PipelineLayout, Recording,
 };
 
@@ -179,16 +179,17 @@ impl DepthPyramid {
 
     /// Records the pyramid's build from `depth` (the colour pass's depth
     /// target, the one `new` was given): waits for the colour pass's depth
-    /// writes and for this frame's cull pass to finish reading the
-    /// previous pyramid; ends with the pyramid visible to the next frame's
-    /// cull pass. Leaves `depth` in the compute-sampled layout.
+    /// writes; each kernel declares its writes of the pyramid, so it runs
+    /// after this frame's cull pass has read the previous one (which the
+    /// next frame's cull pass declares reading). Leaves `depth` in the
+    /// compute-sampled layout.
     pub fn record_build(&self, rec: &Recording, depth: &Image) {
         rec.transition(&[ImageTransition::new(
             depth,
             Access::DEPTH_ATTACHMENT,
             Access::COMPUTE_SAMPLED,
         )]);
-        rec.barrier(Access::COMPUTE_READ, Access::COMPUTE_WRITE);
+        rec.uses(&[BufferUse::new(&self.buffer, Access::COMPUTE_WRITE)]);
         let base = self.levels[0];
         // The base kernel reads only the level it writes: the depth image's size.
         let push = PyramidPush {
@@ -203,12 +204,11 @@ impl DepthPyramid {
         rec.bind_set(&self.reduce_kernel, &self.set);
         for pair in self.levels.windows(2) {
             let [below, level] = [pair[0], pair[1]];
-            rec.barrier(Access::COMPUTE_WRITE, Access::COMPUTE_READ_WRITE);
+            rec.uses(&[BufferUse::new(&self.buffer, Access::COMPUTE_READ_WRITE)]);
             let push = PyramidPush { below, level };
             rec.push_constants(&self.reduce_kernel, &push);
             rec.dispatch_2d(level.width.div_ceil(TILE), level.height.div_ceil(TILE));
         }
-        rec.barrier(Access::COMPUTE_WRITE, Access::COMPUTE_READ);
     }
 }
 

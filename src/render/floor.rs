@@ -11,7 +11,7 @@ use ash::vk;
 use crate::error::{Error, Result};
 use crate::gpu::query::TimestampQueries;
 use crate::gpu::{
-    Access, Attachments, Bound, Buffer, CommandPool, DescriptorKind, DescriptorSet, Gpu,
+    Access, Attachments, Bound, Buffer, BufferUse, CommandPool, DescriptorKind, DescriptorSet, Gpu,
     GraphicsDesc, LayoutBinding, Pipeline, PipelineLayout, TargetFormats,
 };
 use crate::interface::FloorPush;
@@ -124,15 +124,10 @@ impl FloorPass {
             let rec = commands.begin()?;
             self.timestamps.reset(&rec);
             // The same transitions as a frame's (the resolve image too,
-            // unused here: the next frame transitions it again), and the
-            // grass kernel's last writes to the control points made
-            // visible to this vertex shader's storage reads.
+            // unused here: the next frame transitions it again), and this
+            // vertex shader's storage reads of the control points declared.
             rec.transition(&to_attachments(targets));
-            rec.buffer_barrier(
-                blade_vertices,
-                Access::COMPUTE_WRITE,
-                Access::VERTEX_SHADER_READ,
-            );
+            rec.uses(&[BufferUse::new(blade_vertices, Access::VERTEX_SHADER_READ)]);
             rec.begin_rendering(&Attachments {
                 color: Some((&targets.color, None)),
                 depth: &targets.depth,

@@ -7,8 +7,8 @@
 
 use crate::error::{Error, Result};
 use crate::gpu::{
-    Access, Attachments, Bound, Buffer, CommandPool, DescriptorSet, Gpu, ImageTransition,
-    Recording, TargetFormats,
+    Access, Attachments, Bound, Buffer, BufferUse, CommandPool, DescriptorSet, Gpu,
+    ImageTransition, Recording, TargetFormats,
 };
 use crate::model::collider::Collider;
 use crate::model::wind::Obstacle;
@@ -241,8 +241,9 @@ impl Renderer {
             Access::COLOR_ATTACHMENT_WRITE,
             Access::COPY_READ,
         )]);
+        rec.uses(&[BufferUse::new(&t.readback, Access::COPY_WRITE)]);
         rec.copy_image_to_buffer(final_image, &t.readback);
-        rec.buffer_barrier(&t.readback, Access::COPY_WRITE, Access::HOST_READ);
+        rec.uses(&[BufferUse::new(&t.readback, Access::HOST_READ)]);
     }
 
     /// Makes the final image ready to be blitted into a window (the
