@@ -69,6 +69,13 @@ pub fn run(args: BenchGrassArgs) -> anyhow::Result<()> {
     let json = serde_json::to_vec_pretty(&bench).expect("bench serialises");
     let path = out.join("grass_bench.json");
     meadow::report::files::write_atomic(&path, &json)?;
+    print_table(&bench, steps);
+    println!("wrote {}", path.display());
+    Ok(())
+}
+
+/// The rows as a table on stdout, with the device and the memory floor.
+fn print_table(bench: &meadow::commands::bench_grass::GrassBench, steps: u32) {
     println!(
         "grass step on {} [{}], scene {}, {} timed steps per count (medians)",
         bench.device, bench.device_type, bench.scene, steps
@@ -116,6 +123,4 @@ pub fn run(args: BenchGrassArgs) -> anyhow::Result<()> {
             100.0 * r.touching as f64 / r.blades as f64
         );
     }
-    println!("wrote {}", path.display());
-    Ok(())
 }
