@@ -80,11 +80,10 @@ pub struct GrassPass {
     /// or pressed (a placeholder without colliders).
     touching: Buffer,
     touching_offsets: Vec<u64>,
-    /// Held for the set: the kernel reads the rest shapes and physics,
-    /// in slot order.
-    _blades: Buffer,
-    /// Held for the set: each slot's blade's index in its batch.
-    _vertex_slots: Buffer,
+    /// The rest shapes and physics the kernel reads, in slot order.
+    blades: Buffer,
+    /// Each slot's blade's index in its batch.
+    vertex_slots: Buffer,
     /// The blade each slot steps (`place_order::by_place`): the states
     /// and pressed states lie in this order.
     order: Vec<u32>,
@@ -344,8 +343,8 @@ impl GrassPass {
             touching_pipeline,
             touching,
             touching_offsets,
-            _blades: blades_buffer,
-            _vertex_slots: vertex_slots,
+            blades: blades_buffer,
+            vertex_slots,
             order,
             states,
             caps,
@@ -401,8 +400,8 @@ impl GrassPass {
     fn kernel_uses(&self) -> Vec<BufferUse> {
         let (read, read_write) = (Access::COMPUTE_READ, Access::COMPUTE_READ_WRITE);
         let mut uses = vec![
-            BufferUse::new(&self._blades, read),
-            BufferUse::new(&self._vertex_slots, read),
+            BufferUse::new(&self.blades, read),
+            BufferUse::new(&self.vertex_slots, read),
             BufferUse::new(&self.states, read_write),
             BufferUse::new(self.vertices, Access::COMPUTE_WRITE),
             BufferUse::new(self.wind_velocity, read),

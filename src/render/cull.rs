@@ -121,9 +121,11 @@ pub struct CullPass {
     flags_kernel: Pipeline,
     scan_kernel: Pipeline,
     compact_kernel: Pipeline,
-    _flags: Buffer,
-    _groups: Buffer,
-    _groups_occluded: Buffer,
+    /// Each blade's flags, each workgroup's counts, and its count of
+    /// blades the pyramid hides: between the three kernels.
+    flags: Buffer,
+    groups: Buffer,
+    groups_occluded: Buffer,
     /// Bound in the pyramid's place when there is none.
     _no_pyramid: Option<Buffer>,
     /// The draws and the count tested; host-visible so each frame's
@@ -256,9 +258,9 @@ impl CullPass {
             compact_kernel,
             vertices,
             pyramid,
-            _flags: flags,
-            _groups: group_counts,
-            _groups_occluded: groups_occluded,
+            flags,
+            groups: group_counts,
+            groups_occluded,
             _no_pyramid: no_pyramid,
             draws,
             color_list,
@@ -301,9 +303,9 @@ impl CullPass {
         rec.uses(&[
             BufferUse::new(self.vertices, read),
             BufferUse::new(self.pyramid, read),
-            BufferUse::new(&self._flags, write),
-            BufferUse::new(&self._groups, read_write),
-            BufferUse::new(&self._groups_occluded, read_write),
+            BufferUse::new(&self.flags, write),
+            BufferUse::new(&self.groups, read_write),
+            BufferUse::new(&self.groups_occluded, read_write),
         ]);
         rec.bind_pipeline(&self.flags_kernel);
         for (set, blades) in &self.batches {
@@ -314,13 +316,13 @@ impl CullPass {
         }
         let first_set = &self.batches[0].0;
         let scan_uses = [
-            BufferUse::new(&self._groups, read_write),
-            BufferUse::new(&self._groups_occluded, read),
+            BufferUse::new(&self.groups, read_write),
+            BufferUse::new(&self.groups_occluded, read),
             BufferUse::new(&self.draws, read_write),
         ];
         let compact_uses = [
-            BufferUse::new(&self._flags, read),
-            BufferUse::new(&self._groups, read),
+            BufferUse::new(&self.flags, read),
+            BufferUse::new(&self.groups, read),
             BufferUse::new(&self.color_list, write),
             BufferUse::new(&self.shadow_list, write),
         ];
