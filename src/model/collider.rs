@@ -234,3 +234,160 @@ impl From<&Collider> for GpuCollider {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Quat;
+
+    fn ball(path: Vec<Vec3>, closed: bool) -> Collider {
+        Collider {
+            kind: ColliderKind::Sphere,
+            radius: 0.3,
+            height: 0.0,
+            position: Vec3::ZERO,
+            path,
+            path_speed: 2.0,
+            closed,
+            roll: false,
+            ..Default::default()
+        }
+    }
+
+    /// The turn of a rolling ball, against an integration of
+    /// dq/dt = (omega / 2) q with omega = (up x v) / radius, the rolling
+    /// condition, in 1 ms steps over two and a half laps of a closed path
+    /// (the whole laps taken as one rotation) and past the end of an open
+    /// one (it stops turning when it stops).
+    #[test]
+    fn a_rolling_ball_turns_as_rolling_without_slipping_says() {
+        let path = vec![
+            Vec3::new(0.0, 0.3, 0.0),
+            Vec3::new(3.0, 0.3, 0.0),
+            Vec3::new(3.0, 0.3, 2.0),
+            Vec3::new(1.0, 0.3, 3.0),
+        ];
+        for closed in [true, false] {
+            let mut b = ball(path.clone(), closed);
+            b.roll = true;
+            let (h, end) = (1e-3f32, if closed { 6.5 } else { 5.0 });
+            let mut q = Quat::IDENTITY;
+            let mut t = 0.0f32;
+            let mut worst = 0.0f32;
+            for step in 0..(end / h) as usize {
+                let (_, v, _) = b.motion_at(t + h / 2.0);
+                let omega = Vec3::Y.cross(v) / b.radius;
+                let len = omega.length() * h;
+                if len > 0.0 {
+                    q = (Quat::from_axis_angle(omega / omega.length(), len) * q).normalize();
+                }
+                t = (step + 1) as f32 * h;
+                let expected = b.orientation_at(t);
+                worst = worst.max(expected.angle_between(q));
+            }
+            // 6.5 s is 13 m, over two laps of 5.9 m.
+            assert!(
+                worst < 0.01,
+                "closed {closed}: {worst} rad from the integrated turn"
+            );
+        }
+        // Not rolling: never turned.
+        let still = ball(path, true);
+        assert_eq!(still.orientation_at(3.0), Quat::IDENTITY);
+    }
+
+    #[test]
+    fn an_open_path_is_travelled_once_and_a_closed_one_round() {
+        let square = vec![
+            Vec3::new(0.0, 0.3, 0.0),
+            Vec3::new(4.0, 0.3, 0.0),
+            Vec3::new(4.0, 0.3, 4.0),
+        ];
+        let open = ball(square.clone(), false);
+        // 8 m of path at 2 m/s: half way along the second leg at 3 s.
+        let (p, v, s) = open.motion_at(3.0);
+        assert!(p.distance(Vec3::new(4.0, 0.3, 2.0)) < 1e-5, "{p}");
+        assert!(v.distance(Vec3::new(0.0, 0.0, 2.0)) < 1e-5, "{v}");
+        assert!((s - 6.0).abs() < 1e-5);
+        let (p, v, _) = open.motion_at(10.0);
+        assert!(p.distance(square[2]) < 1e-5 && v == Vec3::ZERO, "{p} {v}");
+        // Closed: 4 + 4 + 4 sqrt 2 m round; at 6 s (12 m) 4 m down the way back.
+        let closed = ball(square.clone(), true);
+        let total = 8.0 + 32f32.sqrt();
+        let (p, v, _) = closed.motion_at(6.0);
+        let back = (square[0] - square[2]).normalize();
+        let expected = square[2] + back * (12.0 - 8.0);
+        assert!(p.distance(expected) < 1e-4, "{p} {expected}");
+        assert!(v.distance(back * 2.0) < 1e-5);
+        let (p, _, _) = closed.motion_at(total / 2.0 + 0.5);
+        assert!(p.distance(square[0] + Vec3::X) < 1e-4, "{p}");
+    }
+
+    /// `start` holds a collider at its first point until then, and a
+    /// ball set off again from where another stretch left it (`turned`, as
+    /// the viewer's steered ball) turns on from that turn: two stretches
+    /// chained give the turn of one path through both.
+    #[test]
+    fn a_collider_waits_for_its_start_and_carries_its_turn_on() {
+        let mut late = ball(
+            vec![Vec3::new(0.0, 0.3, 0.0), Vec3::new(4.0, 0.3, 0.0)],
+            false,
+        );
+        late.start = 1.5;
+        assert_eq!(
+            late.motion_at(1.0),
+            (Vec3::new(0.0, 0.3, 0.0), Vec3::ZERO, 0.0)
+        );
+        let (p, v, _) = late.motion_at(2.0);
+        assert!(
+            p.distance(Vec3::new(1.0, 0.3, 0.0)) < 1e-5 && v == Vec3::X * 2.0,
+            "{p} {v}"
+        );
+
+        let corner = [
+            Vec3::new(0.0, 0.3, 0.0),
+            Vec3::new(2.0, 0.3, 0.0),
+            Vec3::new(2.0, 0.3, 3.0),
+        ];
+        let mut whole = ball(corner.to_vec(), false);
+        whole.roll = true;
+        let mut first = ball(corner[..2].to_vec(), false);
+        first.roll = true;
+        let second = Collider {
+            path: corner[1..].to_vec(),
+            start: 1.0, // 2 m at 2 m/s
+            turned: first.orientation_at(1.0),
+            ..first.clone()
+        };
+        for t in [1.2f32, 2.0, 2.5, 4.0] {
+            let (a, b) = (whole.orientation_at(t), second.orientation_at(t));
+            assert!(a.angle_between(b) < 1e-4, "t {t}: {a} vs {b}");
+            assert!(whole.motion_at(t).0.distance(second.motion_at(t).0) < 1e-5);
+        }
+        // 2 m over a 0.3 m radius: 6.67 rad, 0.38 rad from where it began.
+        assert!(second.turned.angle_between(Quat::IDENTITY) > 0.3);
+    }
+
+    #[test]
+    fn a_capsule_distance_is_to_its_axis_and_a_sphere_to_its_centre() {
+        let walker = Collider {
+            kind: ColliderKind::Capsule,
+            radius: 0.25,
+            height: 1.8,
+            position: Vec3::new(1.0, 0.0, 0.0),
+            ..ball(Vec::new(), false)
+        }
+        .at(0.0);
+        let (d, n) = walker.distance(Vec3::new(2.0, 1.0, 0.0));
+        assert!((d - 0.75).abs() < 1e-6 && n.distance(Vec3::X) < 1e-6);
+        // Below the lower cap's centre: distance to that centre.
+        let (d, n) = walker.distance(Vec3::new(1.0, 0.0, 0.0));
+        assert!(d.abs() < 1e-6 && n.distance(-Vec3::Y) < 1e-6, "{d} {n}");
+        let (d, _) = walker.distance(Vec3::new(1.0, 1.8, 0.0));
+        assert!(d.abs() < 1e-6, "top {d}");
+        let sphere = ball(Vec::new(), false);
+        assert_eq!(sphere.lowest(), -0.3);
+        let (d, _) = sphere.at(0.0).distance(Vec3::new(0.0, 0.5, 0.0));
+        assert!((d - 0.2).abs() < 1e-6);
+    }
+}
