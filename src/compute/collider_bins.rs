@@ -123,7 +123,7 @@ impl ColliderBins {
         let states = Buffer::new(
             gpu,
             "grass collider states (step's end)",
-            (MAX_COLLIDERS * 3 * std::mem::size_of::<[f32; 4]>()) as u64,
+            (MAX_COLLIDERS * std::mem::size_of::<GpuColliderState>()) as u64,
             vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC,
             MemoryLocation::GpuOnly,
         )?;

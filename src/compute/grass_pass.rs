@@ -460,12 +460,6 @@ impl GrassPass {
         }
     }
 
-    /// What a reader of the blades' control points declares: `access` to
-    /// the vertex buffer this pass writes.
-    pub fn vertices_use(&self, access: Access) -> BufferUse {
-        BufferUse::new(self.vertices, access)
-    }
-
     /// The blade-steps at an angle cap over the `steps` steps recorded so
     /// far (the counters cover every step since the pass was made).
     pub fn read_caps(&self, gpu: &Gpu, commands: &CommandPool, steps: u64) -> Result<CapCounts> {

@@ -130,8 +130,7 @@ impl Recording<'_> {
     /// barrier that needs after what was declared before in this recording
     /// (src/gpu/sync.rs); nothing where none is needed.
     pub fn uses(&self, uses: &[BufferUse]) {
-        let raw: Vec<(vk::Buffer, Access)> = uses.iter().map(|u| (u.buffer.0, u.access)).collect();
-        let Some(d) = self.tracker.borrow_mut().declare(&raw) else {
+        let Some(d) = self.tracker.borrow_mut().declare(uses) else {
             return;
         };
         let barrier = [vk::MemoryBarrier2::default()

@@ -89,7 +89,7 @@ impl Dependency {
 /// Each declared buffer's history in one recording.
 #[derive(Default)]
 pub struct Tracker {
-    buffers: HashMap<vk::Buffer, BufferState>,
+    buffers: HashMap<BufferId, BufferState>,
 }
 
 /// Whether `flags` holds every bit of `part`.
@@ -100,10 +100,10 @@ fn covers<T: Copy + std::ops::BitAnd<Output = T> + PartialEq>(flags: T, part: T)
 impl Tracker {
     /// Declares that the next commands make `uses`; returns the barrier
     /// they need (None: none), and remembers them.
-    pub fn declare(&mut self, uses: &[(vk::Buffer, Access)]) -> Option<Dependency> {
+    pub fn declare(&mut self, uses: &[BufferUse]) -> Option<Dependency> {
         // One access per buffer: all that these commands do to it.
-        let mut merged: Vec<(vk::Buffer, Access)> = Vec::with_capacity(uses.len());
-        for &(buffer, access) in uses {
+        let mut merged: Vec<(BufferId, Access)> = Vec::with_capacity(uses.len());
+        for &BufferUse { buffer, access } in uses {
             match merged.iter_mut().find(|(b, _)| *b == buffer) {
                 Some((_, a)) => *a = a.and(access),
                 None => merged.push((buffer, access)),
@@ -174,14 +174,17 @@ impl Tracker {
 mod tests {
     use super::*;
 
-    fn buf(n: u64) -> vk::Buffer {
-        vk::Handle::from_raw(n)
+    fn u(n: u64, access: Access) -> BufferUse {
+        BufferUse {
+            buffer: BufferId(vk::Handle::from_raw(n)),
+            access,
+        }
     }
 
     #[test]
     fn a_first_use_waits_for_anything_before() {
         let mut t = Tracker::default();
-        let d = t.declare(&[(buf(1), Access::COMPUTE_READ)]).unwrap();
+        let d = t.declare(&[u(1, Access::COMPUTE_READ)]).unwrap();
         assert_eq!(d.src_stage, vk::PipelineStageFlags2::ALL_COMMANDS);
         assert_eq!(d.src_access, vk::AccessFlags2::MEMORY_WRITE);
         assert_eq!(d.dst_access, vk::AccessFlags2::SHADER_STORAGE_READ);
@@ -190,24 +193,24 @@ mod tests {
     #[test]
     fn a_read_after_a_write_waits_once() {
         let mut t = Tracker::default();
-        t.declare(&[(buf(1), Access::COMPUTE_WRITE)]);
-        let d = t.declare(&[(buf(1), Access::COMPUTE_READ)]).unwrap();
+        t.declare(&[u(1, Access::COMPUTE_WRITE)]);
+        let d = t.declare(&[u(1, Access::COMPUTE_READ)]).unwrap();
         assert_eq!(d.src_stage, vk::PipelineStageFlags2::COMPUTE_SHADER);
         assert_eq!(d.src_access, vk::AccessFlags2::SHADER_STORAGE_WRITE);
         assert_eq!(d.dst_stage, vk::PipelineStageFlags2::COMPUTE_SHADER);
         // A second compute reader: already visible.
-        assert_eq!(t.declare(&[(buf(1), Access::COMPUTE_READ)]), None);
+        assert_eq!(t.declare(&[u(1, Access::COMPUTE_READ)]), None);
         // The vertex input has not seen it yet.
-        let d = t.declare(&[(buf(1), Access::VERTEX_INPUT)]).unwrap();
+        let d = t.declare(&[u(1, Access::VERTEX_INPUT)]).unwrap();
         assert_eq!(d.dst_stage, vk::PipelineStageFlags2::VERTEX_ATTRIBUTE_INPUT);
     }
 
     #[test]
     fn a_write_after_reads_waits_for_the_readers() {
         let mut t = Tracker::default();
-        t.declare(&[(buf(1), Access::COMPUTE_WRITE)]);
-        t.declare(&[(buf(1), Access::VERTEX_INPUT)]);
-        let d = t.declare(&[(buf(1), Access::COMPUTE_WRITE)]).unwrap();
+        t.declare(&[u(1, Access::COMPUTE_WRITE)]);
+        t.declare(&[u(1, Access::VERTEX_INPUT)]);
+        let d = t.declare(&[u(1, Access::COMPUTE_WRITE)]).unwrap();
         assert!(covers(
             d.src_stage,
             vk::PipelineStageFlags2::VERTEX_ATTRIBUTE_INPUT
@@ -219,36 +222,30 @@ mod tests {
     #[test]
     fn a_barrier_for_one_buffer_makes_others_written_before_visible() {
         let mut t = Tracker::default();
-        t.declare(&[
-            (buf(1), Access::COMPUTE_WRITE),
-            (buf(2), Access::COMPUTE_WRITE),
-        ]);
-        assert!(t.declare(&[(buf(1), Access::COMPUTE_READ)]).is_some());
+        t.declare(&[u(1, Access::COMPUTE_WRITE), u(2, Access::COMPUTE_WRITE)]);
+        assert!(t.declare(&[u(1, Access::COMPUTE_READ)]).is_some());
         // The global barrier also made buffer 2's write visible to compute.
-        assert_eq!(t.declare(&[(buf(2), Access::COMPUTE_READ)]), None);
+        assert_eq!(t.declare(&[u(2, Access::COMPUTE_READ)]), None);
     }
 
     #[test]
     fn a_write_declared_with_a_read_is_not_made_visible_by_its_own_barrier() {
         let mut t = Tracker::default();
-        t.declare(&[(buf(1), Access::COMPUTE_WRITE)]);
+        t.declare(&[u(1, Access::COMPUTE_WRITE)]);
         // Reading 1 and writing 2 in the same commands: the barrier before
         // them cannot make 2's write visible.
         assert!(t
-            .declare(&[
-                (buf(1), Access::COMPUTE_READ),
-                (buf(2), Access::COMPUTE_WRITE)
-            ])
+            .declare(&[u(1, Access::COMPUTE_READ), u(2, Access::COMPUTE_WRITE)])
             .is_some());
-        assert!(t.declare(&[(buf(2), Access::COMPUTE_READ)]).is_some());
+        assert!(t.declare(&[u(2, Access::COMPUTE_READ)]).is_some());
     }
 
     #[test]
     fn a_buffer_read_by_another_stage_in_the_commands_that_write_it_is_not_visible_after() {
         let mut t = Tracker::default();
         let rw_and_indirect = [
-            (buf(1), Access::COMPUTE_READ_WRITE),
-            (buf(1), Access::DRAW_INDIRECT),
+            u(1, Access::COMPUTE_READ_WRITE),
+            u(1, Access::DRAW_INDIRECT),
         ];
         t.declare(&rw_and_indirect);
         // The same again: its indirect read waits for the last write.
@@ -263,8 +260,8 @@ mod tests {
     #[test]
     fn reads_of_unrelated_buffers_need_nothing_after_their_first() {
         let mut t = Tracker::default();
-        t.declare(&[(buf(1), Access::COMPUTE_READ)]);
-        assert_eq!(t.declare(&[(buf(1), Access::COMPUTE_READ)]), None);
-        assert!(t.declare(&[(buf(2), Access::COMPUTE_READ)]).is_some());
+        t.declare(&[u(1, Access::COMPUTE_READ)]);
+        assert_eq!(t.declare(&[u(1, Access::COMPUTE_READ)]), None);
+        assert!(t.declare(&[u(2, Access::COMPUTE_READ)]).is_some());
     }
 }
