@@ -1,12 +1,10 @@
-//! Barriers by name. An `Access` is what a stage does to a resource (and
-//! the image layout it does it in); a barrier goes from the accesses that
-//! must finish to those that wait. Only writes need making available, so
-//! the read flags of the earlier side are dropped: `from` may name a read
-//! (the previous frame sampled the shadow map) for an execution dependency.
+//! Accesses by name. An `Access` is what a stage does to a resource (and
+//! the image layout it does it in): passes declare theirs (src/gpu/sync.rs
+//! derives the barriers); the swapchain's own images, which no pass
+//! declares, go through `image_barrier`. Only writes need making
+//! available, so a barrier drops the read flags of its earlier side.
 
 use ash::vk;
-
-use crate::gpu::Image;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Access {
@@ -35,18 +33,6 @@ const FRAGMENT_TESTS: vk::PipelineStageFlags2 = vk::PipelineStageFlags2::from_ra
 );
 
 impl Access {
-    /// Nothing before: a fresh resource.
-    pub const NONE: Self = access(
-        vk::PipelineStageFlags2::NONE,
-        vk::AccessFlags2::NONE,
-        NO_LAYOUT,
-    );
-    /// Any earlier write by any command.
-    pub const ANY_WRITE: Self = access(
-        vk::PipelineStageFlags2::ALL_COMMANDS,
-        vk::AccessFlags2::MEMORY_WRITE,
-        NO_LAYOUT,
-    );
     /// Transfers writing (fills and copies).
     pub const TRANSFER_WRITE: Self = access(
         vk::PipelineStageFlags2::ALL_TRANSFER,
@@ -170,48 +156,9 @@ impl Access {
     }
 }
 
-/// An image going from one access to another. `discard` drops its contents
-/// (the old layout is UNDEFINED): for targets cleared or overwritten next.
-#[derive(Clone, Copy)]
-pub struct ImageTransition<'a> {
-    pub image: &'a Image,
-    pub from: Access,
-    pub to: Access,
-    pub discard: bool,
-}
-
-impl<'a> ImageTransition<'a> {
-    pub fn new(image: &'a Image, from: Access, to: Access) -> Self {
-        Self {
-            image,
-            from,
-            to,
-            discard: false,
-        }
-    }
-
-    /// As `new`, dropping the contents.
-    pub fn discarding(image: &'a Image, from: Access, to: Access) -> Self {
-        Self {
-            discard: true,
-            ..Self::new(image, from, to)
-        }
-    }
-
-    pub(super) fn vk(&self) -> vk::ImageMemoryBarrier2<'static> {
-        image_barrier(
-            self.image.raw,
-            self.image.subresource_range(),
-            self.from,
-            self.to,
-            self.discard,
-        )
-    }
-}
-
 /// The barrier taking `image` (`range` of it) from one access to another,
 /// its contents dropped with `discard`: for images meadow does not own as
-/// an `Image` (a swapchain's), and for `ImageTransition`.
+/// an `Image` (a swapchain's).
 pub(super) fn image_barrier(
     image: vk::Image,
     range: vk::ImageSubresourceRange,

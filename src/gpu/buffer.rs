@@ -11,6 +11,7 @@ use crate::gpu::barrier::Access;
 use crate::gpu::command_pool::CommandPool;
 use crate::gpu::device::Device;
 use crate::gpu::memory::MemoryLocation;
+use crate::gpu::sync::BufferUse;
 use crate::gpu::Gpu;
 
 pub struct Buffer {
@@ -100,21 +101,20 @@ impl Buffer {
             usage | vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::GpuOnly,
         )?;
-        dst.upload(gpu, commands, name, bytes, Access::NONE, then)?;
+        dst.upload(gpu, commands, name, bytes, then)?;
         Ok(dst)
     }
 
     /// Overwrites the start of a buffer made with TRANSFER_DST with
-    /// `bytes` through a staging copy, after `before` (the accesses that
-    /// last touched it) and visible to `then`. Blocks until the copy is
-    /// done: call between submissions.
+    /// `bytes` through a staging copy, after every earlier access and
+    /// visible to `then`. Blocks until the copy is done: call between
+    /// submissions.
     pub fn upload(
         &self,
         gpu: &Gpu,
         commands: &CommandPool,
         name: &str,
         bytes: &[u8],
-        before: Access,
         then: Access,
     ) -> Result<()> {
         if bytes.len() as u64 > self.size {
@@ -133,11 +133,13 @@ impl Buffer {
         )?;
         staging.write(0, bytes);
         let rec = commands.begin()?;
-        if before != Access::NONE {
-            rec.buffer_barrier(self, before, Access::COPY_WRITE);
-        }
+        // The first use in this recording waits for every earlier one.
+        rec.uses(&[
+            BufferUse::new(self, Access::COPY_WRITE),
+            BufferUse::new(&staging, Access::COPY_READ),
+        ]);
         rec.copy_buffer(&staging, self, bytes.len() as u64);
-        rec.buffer_barrier(self, Access::COPY_WRITE, then);
+        rec.uses(&[BufferUse::new(self, then)]);
         rec.submit_and_wait(&format!("uploading {name}"))?;
         Ok(())
     }
@@ -166,11 +168,14 @@ impl Buffer {
             MemoryLocation::GpuToCpu,
         )?;
         let rec = commands.begin()?;
-        rec.barrier(Access::ANY_WRITE, Access::COPY_READ);
+        rec.uses(&[
+            BufferUse::new(self, Access::COPY_READ),
+            BufferUse::new(&host, Access::COPY_WRITE),
+        ]);
         if bytes > 0 {
             rec.copy_buffer(self, &host, bytes);
         }
-        rec.barrier(Access::COPY_WRITE, Access::HOST_READ);
+        rec.uses(&[BufferUse::new(&host, Access::HOST_READ)]);
         rec.submit_and_wait("reading a buffer back")?;
         let mapped = host.mapped().expect("readback memory is host-visible");
         Ok(bytemuck::pod_collect_to_vec(&mapped[..bytes as usize]))

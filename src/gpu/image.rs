@@ -2,6 +2,7 @@
 //! mipmapped surface textures. The image, its memory and its view are
 //! released together in `Drop`.
 
+use std::cell::Cell;
 use std::sync::Arc;
 
 use ash::vk;
@@ -21,6 +22,9 @@ pub struct Image {
     pub samples: vk::SampleCountFlags,
     pub aspect: vk::ImageAspectFlags,
     pub mip_levels: u32,
+    /// The layout the last recording that declared a use of it left it
+    /// in (src/gpu/sync.rs starts the next from there).
+    pub(super) layout: Cell<vk::ImageLayout>,
     /// None only while `new` has not bound memory yet.
     allocation: Option<Allocation>,
 }
@@ -68,6 +72,7 @@ impl Image {
             samples: desc.samples,
             aspect: desc.aspect,
             mip_levels: desc.mip_levels,
+            layout: Cell::new(vk::ImageLayout::UNDEFINED),
             allocation: None,
         };
         // SAFETY: `raw` was just created on this device.

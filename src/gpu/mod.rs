@@ -27,7 +27,7 @@ pub mod sync;
 
 use std::sync::Arc;
 
-pub use barrier::{Access, ImageTransition};
+pub use barrier::Access;
 pub use batches::{part, sets_per_batch};
 pub use buffer::Buffer;
 pub use command_pool::CommandPool;
@@ -43,7 +43,7 @@ pub use pipeline::{GraphicsDesc, Pipeline, TargetFormats};
 pub use recording::{Attachments, Recording};
 pub use surface::Surface;
 pub use swapchain::Swapchain;
-pub use sync::{BufferId, BufferUse};
+pub use sync::{BufferId, BufferUse, ImageUse};
 
 use crate::error::Result;
 

@@ -8,11 +8,11 @@ use std::cell::RefCell;
 use ash::vk;
 
 use crate::error::{Error, Result, VkResultExt};
-use crate::gpu::barrier::{Access, ImageTransition};
+use crate::gpu::barrier::Access;
 use crate::gpu::descriptors::DescriptorSet;
 use crate::gpu::device::Device;
 use crate::gpu::pipeline::Pipeline;
-use crate::gpu::sync::{BufferUse, Tracker};
+use crate::gpu::sync::{BufferUse, ImageRequest, ImageUse, Tracker};
 use crate::gpu::{Buffer, Image};
 
 /// How long one submission may run before we call the device hung (lavapipe
@@ -90,72 +90,68 @@ impl Recording<'_> {
         Ok(())
     }
 
-    /// Earlier `from` accesses to any memory finish (and their writes are
-    /// visible) before later `to` accesses.
-    pub fn barrier(&self, from: Access, to: Access) {
-        let barrier = [vk::MemoryBarrier2::default()
-            .src_stage_mask(from.stage)
-            .src_access_mask(from.writes())
-            .dst_stage_mask(to.stage)
-            .dst_access_mask(to.access)];
-        // SAFETY: recording into a live command buffer.
-        unsafe {
-            self.device.raw.cmd_pipeline_barrier2(
-                self.cmd,
-                &vk::DependencyInfo::default().memory_barriers(&barrier),
-            )
-        };
-    }
-
-    /// As `barrier`, for one buffer.
-    pub fn buffer_barrier(&self, buffer: &Buffer, from: Access, to: Access) {
-        let barrier = [vk::BufferMemoryBarrier2::default()
-            .src_stage_mask(from.stage)
-            .src_access_mask(from.writes())
-            .dst_stage_mask(to.stage)
-            .dst_access_mask(to.access)
-            .buffer(buffer.raw)
-            .offset(0)
-            .size(vk::WHOLE_SIZE)];
-        // SAFETY: recording; the buffer is live.
-        unsafe {
-            self.device.raw.cmd_pipeline_barrier2(
-                self.cmd,
-                &vk::DependencyInfo::default().buffer_memory_barriers(&barrier),
-            )
-        };
-    }
-
     /// Declares what the next commands do to `uses` and records the one
     /// barrier that needs after what was declared before in this recording
     /// (src/gpu/sync.rs); nothing where none is needed.
     pub fn uses(&self, uses: &[BufferUse]) {
-        let Some(d) = self.tracker.borrow_mut().declare(uses) else {
-            return;
-        };
-        let barrier = [vk::MemoryBarrier2::default()
-            .src_stage_mask(d.src_stage)
-            .src_access_mask(d.src_access)
-            .dst_stage_mask(d.dst_stage)
-            .dst_access_mask(d.dst_access)];
-        // SAFETY: recording into a live command buffer, outside rendering
-        // (passes declare before they begin one).
-        unsafe {
-            self.device.raw.cmd_pipeline_barrier2(
-                self.cmd,
-                &vk::DependencyInfo::default().memory_barriers(&barrier),
-            )
-        };
+        self.declare(uses, &[]);
     }
 
-    /// Layout transitions (and the dependencies) of images.
-    pub fn transition(&self, transitions: &[ImageTransition]) {
-        let barriers: Vec<_> = transitions.iter().map(ImageTransition::vk).collect();
-        // SAFETY: recording; every image is live.
+    /// As `uses`, with images: their layout transitions are recorded in
+    /// the same barrier, and each image remembers the layout it is left in.
+    pub fn declare(&self, buffers: &[BufferUse], images: &[ImageUse]) {
+        let requests: Vec<ImageRequest> = images
+            .iter()
+            .map(|u| ImageRequest {
+                image: u.image.raw,
+                range: u.image.subresource_range(),
+                layout_before: u.image.layout.get(),
+                access: u.access,
+                discard: u.discard,
+            })
+            .collect();
+        let barriers = self.tracker.borrow_mut().declare_all(buffers, &requests);
+        for u in images {
+            u.image.layout.set(u.access.layout);
+        }
+        if barriers.is_empty() {
+            return;
+        }
+        let memory: Vec<vk::MemoryBarrier2> = barriers
+            .memory
+            .iter()
+            .map(|d| {
+                vk::MemoryBarrier2::default()
+                    .src_stage_mask(d.src_stage)
+                    .src_access_mask(d.src_access)
+                    .dst_stage_mask(d.dst_stage)
+                    .dst_access_mask(d.dst_access)
+            })
+            .collect();
+        let transitions: Vec<vk::ImageMemoryBarrier2> = barriers
+            .images
+            .iter()
+            .map(|t| {
+                let d = t.dependency;
+                vk::ImageMemoryBarrier2::default()
+                    .src_stage_mask(d.src_stage)
+                    .src_access_mask(d.src_access)
+                    .dst_stage_mask(d.dst_stage)
+                    .dst_access_mask(d.dst_access)
+                    .old_layout(t.old_layout)
+                    .new_layout(t.new_layout)
+                    .image(t.image)
+                    .subresource_range(t.range)
+            })
+            .collect();
+        // SAFETY: recording into a live command buffer, outside rendering
+        // (passes declare before they begin one); every image is live.
         unsafe {
             self.device.raw.cmd_pipeline_barrier2(
                 self.cmd,
-                &vk::DependencyInfo::default().image_memory_barriers(&barriers),
+                &vk::DependencyInfo::default()
+                    .memory_barriers(&memory)
+                    .image_memory_barriers(&transitions),
             )
         };
     }

@@ -13,6 +13,7 @@ use crate::gpu::barrier::{image_barrier, Access};
 use crate::gpu::device::Device;
 use crate::gpu::overlay::{OverlayDraw, OverlayRenderer};
 use crate::gpu::owned::Owned;
+use crate::gpu::sync::ImageUse;
 use crate::gpu::surface::Surface;
 use crate::gpu::{Gpu, Image, Recording};
 
@@ -191,8 +192,8 @@ impl Swapchain {
         }
     }
 
-    /// Ends `rec` with `frame` (in the COPY_READ layout) blitted into image
-    /// `index`, scaled to fit it, and the overlay drawn over it where one
+    /// Ends `rec` with `frame` (its use declared here: the frame's writes
+    /// finish first) blitted into image `index`, scaled to fit it, and the overlay drawn over it where one
     /// is given; submits it and presents the image.
     pub fn blit_and_present(
         &self,
@@ -202,6 +203,7 @@ impl Swapchain {
         overlay: Option<(&mut OverlayRenderer, &OverlayDraw)>,
         what: &str,
     ) -> Result<Presented> {
+        rec.declare(&[], &[ImageUse::new(frame, Access::COPY_READ)]);
         let image = self.images[index as usize];
         let range = vk::ImageSubresourceRange {
             aspect_mask: vk::ImageAspectFlags::COLOR,
@@ -262,7 +264,7 @@ impl Swapchain {
             )
         };
         // SAFETY: recording; both images are live and in the named layouts
-        // (the frame by the caller's transition, the target just above).
+        // (the frame by its declared use, the target just above).
         unsafe { device.cmd_blit_image2(rec.cmd, &blit) };
         let last = match overlay {
             Some((renderer, draw)) => {

@@ -19,7 +19,7 @@ use glam::Mat4;
 
 use crate::error::{Error, Result};
 use crate::gpu::{
-    Access, Bound, Buffer, BufferUse, DescriptorKind, DescriptorSet, Gpu, Image, ImageTransition,
+    Access, Bound, Buffer, BufferUse, DescriptorKind, DescriptorSet, Gpu, Image, ImageUse,
     LayoutBinding, MemoryLocation, Pipeline, PipelineLayout, Recording,
 };
 
@@ -184,12 +184,10 @@ impl DepthPyramid {
     /// next frame's cull pass declares reading). Leaves `depth` in the
     /// compute-sampled layout.
     pub fn record_build(&self, rec: &Recording, depth: &Image) {
-        rec.transition(&[ImageTransition::new(
-            depth,
-            Access::DEPTH_ATTACHMENT,
-            Access::COMPUTE_SAMPLED,
-        )]);
-        rec.uses(&[BufferUse::new(&self.buffer, Access::COMPUTE_WRITE)]);
+        rec.declare(
+            &[BufferUse::new(&self.buffer, Access::COMPUTE_WRITE)],
+            &[ImageUse::new(depth, Access::COMPUTE_SAMPLED)],
+        );
         let base = self.levels[0];
         // The base kernel reads only the level it writes: the depth image's size.
         let push = PyramidPush {

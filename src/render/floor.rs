@@ -16,7 +16,7 @@ use crate::gpu::{
 };
 use crate::interface::FloorPush;
 use crate::render::frame_uniforms::FrameUniforms;
-use crate::render::renderer::to_attachments;
+use crate::render::renderer::attachments;
 use crate::render::targets::RenderTargets;
 use crate::shaders::{self, Spirv};
 
@@ -123,11 +123,13 @@ impl FloorPass {
         for _ in 0..frames {
             let rec = commands.begin()?;
             self.timestamps.reset(&rec);
-            // The same transitions as a frame's (the resolve image too,
-            // unused here: the next frame transitions it again), and this
-            // vertex shader's storage reads of the control points declared.
-            rec.transition(&to_attachments(targets));
-            rec.uses(&[BufferUse::new(blade_vertices, Access::VERTEX_SHADER_READ)]);
+            // The same attachments as a frame's (the resolve image too,
+            // unused here), and this vertex shader's storage reads of the
+            // control points.
+            rec.declare(
+                &[BufferUse::new(blade_vertices, Access::VERTEX_SHADER_READ)],
+                &attachments(targets),
+            );
             rec.begin_rendering(&Attachments {
                 color: Some((&targets.color, None)),
                 depth: &targets.depth,

@@ -7,8 +7,8 @@
 
 use crate::error::{Error, Result};
 use crate::gpu::{
-    Access, Attachments, Bound, Buffer, BufferUse, CommandPool, DescriptorSet, Gpu,
-    ImageTransition, Recording, TargetFormats,
+    Access, Attachments, Bound, Buffer, BufferUse, CommandPool, DescriptorSet, Gpu, ImageUse,
+    Recording, TargetFormats,
 };
 use crate::model::collider::Collider;
 use crate::model::wind::Obstacle;
@@ -200,11 +200,14 @@ impl Renderer {
         );
     }
 
-    /// Opens the colour pass: the targets into attachment layouts (the
-    /// previous frame's writes and read-back done), cleared; sky, ground
-    /// and obstacles.
+    /// Opens the colour pass: the targets cleared (after the previous
+    /// frame's writes and read-back), the shadow map and the textures
+    /// sampled; sky, ground and obstacles.
     pub fn begin_color(&self, rec: &Recording) {
-        rec.transition(&to_attachments(&self.targets));
+        let mut images = attachments(&self.targets);
+        images.push(self.shadow.sampled());
+        images.extend(self._textures.sampled());
+        rec.declare(&[], &images);
         let t = &self.targets;
         rec.begin_rendering(&Attachments {
             color: Some((&t.color, t.resolve.as_ref())),
@@ -236,24 +239,21 @@ impl Renderer {
     pub fn record_readback(&self, rec: &Recording) {
         let t = &self.targets;
         let final_image = t.final_image();
-        rec.transition(&[ImageTransition::new(
-            final_image,
-            Access::COLOR_ATTACHMENT_WRITE,
-            Access::COPY_READ,
-        )]);
-        rec.uses(&[BufferUse::new(&t.readback, Access::COPY_WRITE)]);
+        rec.declare(
+            &[BufferUse::new(&t.readback, Access::COPY_WRITE)],
+            &[ImageUse::new(final_image, Access::COPY_READ)],
+        );
         rec.copy_image_to_buffer(final_image, &t.readback);
         rec.uses(&[BufferUse::new(&t.readback, Access::HOST_READ)]);
     }
 
     /// Makes the final image ready to be blitted into a window (the
-    /// viewer's way out instead of the read-back).
+    /// viewer's way out instead of the read-back): its copy read declared.
     pub fn record_present_source(&self, rec: &Recording) {
-        rec.transition(&[ImageTransition::new(
-            self.targets.final_image(),
-            Access::COLOR_ATTACHMENT_WRITE,
-            Access::COPY_READ,
-        )]);
+        rec.declare(
+            &[],
+            &[ImageUse::new(self.targets.final_image(), Access::COPY_READ)],
+        );
     }
 
     /// The frame read back by the last submitted `record_readback`: RGBA8,
@@ -267,30 +267,17 @@ impl Renderer {
     }
 }
 
-/// Layout transitions of `t`'s images into attachment layouts, contents
-/// discarded. The previous frame (or the bench's floor) wrote these images,
-/// copied from the final one and built a depth pyramid from the depth, so
-/// wait for those writes and reads first.
-pub fn to_attachments(t: &RenderTargets) -> Vec<ImageTransition<'_>> {
-    // At 1x the colour target is also the copy source of the last frame.
-    let color_before = match t.resolve {
-        None => Access::COLOR_ATTACHMENT_WRITE.and(Access::COPY_READ),
-        Some(_) => Access::COLOR_ATTACHMENT_WRITE,
-    };
-    let mut transitions = vec![
-        ImageTransition::discarding(&t.color, color_before, Access::COLOR_ATTACHMENT),
-        ImageTransition::discarding(
-            &t.depth,
-            Access::DEPTH_ATTACHMENT.and(Access::COMPUTE_SAMPLED),
-            Access::DEPTH_ATTACHMENT,
-        ),
+/// `t`'s images as the colour pass's attachments, their contents dropped
+/// (cleared, or resolved into); each first waits for whatever used it
+/// before (the previous frame's pass, read-back and depth pyramid, or the
+/// bench's floor).
+pub fn attachments(t: &RenderTargets) -> Vec<ImageUse<'_>> {
+    let mut uses = vec![
+        ImageUse::discarding(&t.color, Access::COLOR_ATTACHMENT),
+        ImageUse::discarding(&t.depth, Access::DEPTH_ATTACHMENT),
     ];
     if let Some(resolve) = &t.resolve {
-        transitions.push(ImageTransition::discarding(
-            resolve,
-            Access::COLOR_ATTACHMENT_WRITE.and(Access::COPY_READ),
-            Access::COLOR_ATTACHMENT_WRITE,
-        ));
+        uses.push(ImageUse::discarding(resolve, Access::COLOR_ATTACHMENT_WRITE));
     }
-    transitions
+    uses
 }

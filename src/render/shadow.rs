@@ -8,7 +8,7 @@ use ash::vk;
 
 use crate::error::Result;
 use crate::gpu::{
-    Access, Attachments, Bound, Buffer, DescriptorSet, Gpu, Image, ImageDesc, ImageTransition,
+    Access, Attachments, Bound, Buffer, DescriptorSet, Gpu, Image, ImageDesc, ImageUse,
     PipelineLayout, Recording, Sampler,
 };
 use crate::render::cull::BladeDraw;
@@ -115,14 +115,12 @@ impl ShadowMap {
         draw: BladeDraw,
         obstacles: &ObstacleMeshes,
     ) {
-        // The previous frame's colour pass sampled the map: its reads must
-        // finish before the clear (an execution dependency suffices for a
-        // read-before-write hazard).
-        rec.transition(&[ImageTransition::discarding(
-            &self.image,
-            Access::FRAGMENT_SAMPLED,
-            Access::DEPTH_ATTACHMENT,
-        )]);
+        // Cleared: the contents are not needed, the previous frame's
+        // sampling finishes first.
+        rec.declare(
+            &[],
+            &[ImageUse::discarding(&self.image, Access::DEPTH_ATTACHMENT)],
+        );
         rec.begin_rendering(&Attachments {
             color: None,
             depth: &self.image,
@@ -135,10 +133,10 @@ impl ShadowMap {
             obstacles.draw(rec, &pipelines.obstacles);
         }
         rec.end_rendering();
-        rec.transition(&[ImageTransition::new(
-            &self.image,
-            Access::DEPTH_ATTACHMENT,
-            Access::FRAGMENT_SAMPLED,
-        )]);
+    }
+
+    /// What the colour pass does to the map: the fragment stage samples it.
+    pub fn sampled(&self) -> ImageUse<'_> {
+        ImageUse::new(&self.image, Access::FRAGMENT_SAMPLED)
     }
 }

@@ -6,7 +6,7 @@ use ash::vk;
 
 use crate::error::Result;
 use crate::gpu::{
-    Access, Bound, Buffer, CommandPool, Gpu, Image, ImageDesc, ImageTransition, MemoryLocation,
+    Access, Bound, Buffer, BufferUse, CommandPool, Gpu, Image, ImageDesc, ImageUse, MemoryLocation,
     Sampler,
 };
 use crate::render::texture_maps::{self, mip_chain, mip_levels};
@@ -51,6 +51,14 @@ impl SurfaceTextures {
             ground,
             sampler,
         })
+    }
+
+    /// What the colour pass does to them: the fragment stage samples both.
+    pub fn sampled(&self) -> [ImageUse<'_>; 2] {
+        [
+            ImageUse::new(&self.grass, Access::FRAGMENT_SAMPLED),
+            ImageUse::new(&self.ground, Access::FRAGMENT_SAMPLED),
+        ]
     }
 
     /// Bindings 3, 4 and 5 of the frame set.
@@ -104,17 +112,13 @@ fn upload(gpu: &Gpu, commands: &CommandPool, name: &str, base: image::RgbaImage)
         })
         .collect();
     let rec = commands.begin()?;
-    rec.transition(&[ImageTransition::discarding(
-        &image,
-        Access::NONE,
-        Access::COPY_WRITE,
-    )]);
+    rec.declare(
+        &[BufferUse::new(&staging, Access::COPY_READ)],
+        &[ImageUse::discarding(&image, Access::COPY_WRITE)],
+    );
     rec.copy_buffer_to_image(&staging, &image, &levels);
-    rec.transition(&[ImageTransition::new(
-        &image,
-        Access::COPY_WRITE,
-        Access::FRAGMENT_SAMPLED,
-    )]);
+    // Left in the layout the colour pass samples it in.
+    rec.declare(&[], &[ImageUse::new(&image, Access::FRAGMENT_SAMPLED)]);
     rec.submit_and_wait(&format!("uploading the {name}"))?;
     Ok(image)
 }
