@@ -132,30 +132,54 @@ fn each_failing_in_turn(
     panic!("{}: {kind} never stopped failing", args[0]);
 }
 
-#[test]
-fn every_device_memory_allocation_failing_in_turn_is_one_clean_line() {
-    let out = temp_out("oom-each");
+/// Each device memory allocation of command `name` (of `commands`) failing
+/// in turn is one clean line. One test per command, so that the harness
+/// runs them side by side.
+fn every_allocation_of(name: &str) {
+    let out = temp_out(&format!("oom-each-{name}"));
     let out_s = out.to_str().unwrap().to_string();
-    for (name, args) in commands(&out_s) {
-        let args: Vec<&str> = args.iter().map(String::as_str).collect();
-        let failed = each_failing_in_turn(
-            "out-of-device-memory",
-            "allocation",
-            &args,
-            &out,
-            |what, e| {
-                assert!(
-                    e.contains("out of GPU memory while creating"),
-                    "{what}: {e}"
-                );
-            },
-        );
-        // Every render target, texture, wind and grass buffer and staging
-        // copy is one allocation; fewer would mean the hook is dead.
-        assert!(failed >= 10, "{name}: only {failed} allocations failed");
-        eprintln!("{name}: {failed} allocations, each failing cleanly in turn");
-    }
+    let (_, args) = commands(&out_s)
+        .into_iter()
+        .find(|(n, _)| *n == name)
+        .unwrap();
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let failed = each_failing_in_turn(
+        "out-of-device-memory",
+        "allocation",
+        &args,
+        &out,
+        |what, e| {
+            assert!(
+                e.contains("out of GPU memory while creating"),
+                "{what}: {e}"
+            );
+        },
+    );
+    // Every render target, texture, wind and grass buffer and staging
+    // copy is one allocation; fewer would mean the hook is dead.
+    assert!(failed >= 10, "{name}: only {failed} allocations failed");
+    eprintln!("{name}: {failed} allocations, each failing cleanly in turn");
     let _ = std::fs::remove_dir_all(&out);
+}
+
+#[test]
+fn every_device_memory_allocation_of_render_failing_in_turn_is_one_clean_line() {
+    every_allocation_of("render");
+}
+
+#[test]
+fn every_device_memory_allocation_of_wind_failing_in_turn_is_one_clean_line() {
+    every_allocation_of("wind");
+}
+
+#[test]
+fn every_device_memory_allocation_of_bench_failing_in_turn_is_one_clean_line() {
+    every_allocation_of("bench");
+}
+
+#[test]
+fn every_device_memory_allocation_of_bench_grass_failing_in_turn_is_one_clean_line() {
+    every_allocation_of("bench-grass");
 }
 
 #[test]

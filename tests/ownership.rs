@@ -46,3 +46,48 @@ fn nothing_is_reported_when_every_object_went_first() {
     drop(buffer);
     common::finish(gpu);
 }
+
+#[test]
+fn a_descriptor_set_keeps_the_buffer_it_binds_until_it_goes() {
+    use meadow::gpu::{Bound, DescriptorSet, LayoutBinding, PipelineLayout};
+    let gpu = strict_gpu();
+    let bindings = [LayoutBinding::compute_storage(0)];
+    let layout = PipelineLayout::new::<()>(
+        &gpu,
+        &bindings,
+        ash::vk::ShaderStageFlags::empty(),
+        "ownership test",
+    )
+    .unwrap();
+    let buffer = Buffer::new(
+        &gpu,
+        "buffer only a set binds",
+        256,
+        ash::vk::BufferUsageFlags::STORAGE_BUFFER,
+        MemoryLocation::GpuOnly,
+    )
+    .unwrap();
+    let set = DescriptorSet::new(
+        &gpu,
+        &layout,
+        &bindings,
+        &[Bound::Buffer(&buffer)],
+        "ownership test set",
+    )
+    .unwrap();
+    // Its owner lets go first: the set still holds it, so it is alive (and
+    // reported) at teardown; the set and the layout release it after.
+    drop(buffer);
+    let report = gpu.destroy();
+    assert!(
+        report
+            .messages
+            .iter()
+            .any(|m| m.id == "meadow-leaked-allocation"
+                && m.first_text.contains("buffer only a set binds")),
+        "{:#?}",
+        report.messages
+    );
+    drop(set);
+    drop(layout);
+}

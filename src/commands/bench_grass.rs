@@ -10,13 +10,12 @@
 //! the same run.
 
 use crate::commands::on_gpu;
-use crate::compute::{GrassPass, WindPass};
+use crate::compute::Simulation;
 use crate::error::{Error, Result};
 use crate::frame::timing::median_p95;
 use crate::frame::BladeBuffer;
 use crate::gpu::query::TimestampQueries;
 use crate::gpu::{Access, BufferUse, CommandPool, Gpu, GpuOptions, ValidationReport};
-use crate::model::canopy;
 use crate::model::contact::{Collider, ColliderKind, MAX_COLLIDERS};
 use crate::scene::{field, Scene, MAX_BLADES};
 use glam::{Vec2, Vec3};
@@ -60,6 +59,18 @@ pub struct GrassBenchRow {
     /// Blades the last step stepped with the contact (near a collider or
     /// pressed; src/compute/grass_pass.rs).
     pub touching: u64,
+}
+
+impl GrassBenchRow {
+    /// The memory floor at `copy`'s bandwidth, and the median step over it.
+    fn set_floor(&mut self, copy: Option<&CopyBandwidth>) {
+        self.floor_ms = copy.map(|c| self.bytes_per_step as f64 / (c.gb_per_s * 1e9) * 1e3);
+        self.over_floor = self
+            .floor_ms
+            .zip(self.step_ms_median)
+            .filter(|(f, _)| *f > 0.0)
+            .map(|(f, t)| t / f);
+    }
 }
 
 /// The device's copy bandwidth: one buffer copied into another with
@@ -119,12 +130,18 @@ pub fn bench_grass(
     scene.wind_grid()?;
     scene.grass.dynamics.validate()?;
     let ((rows, copy_bandwidth, info), validation) = on_gpu(options, |gpu| {
-        let copy = copy_bandwidth(gpu)?;
+        // Refused before the work; measured after it, so a run that fails
+        // on the way (out of memory, a lost device) has not waited for it.
+        gpu.check_fits("the bandwidth copy", 2 * COPY_BYTES)?;
         let mut rows = Vec::new();
         for &n in counts {
             for &c in colliders {
-                rows.push(bench_count(gpu, scene, n, c, steps, warmup, copy.as_ref())?);
+                rows.push(bench_count(gpu, scene, n, c, steps, warmup)?);
             }
+        }
+        let copy = copy_bandwidth(gpu)?;
+        for row in &mut rows {
+            row.set_floor(copy.as_ref());
         }
         compare_with_collider_free(&mut rows);
         Ok((rows, copy, gpu.info().clone()))
@@ -199,7 +216,6 @@ fn bench_count(
     colliders: usize,
     steps: u32,
     warmup: u32,
-    copy: Option<&CopyBandwidth>,
 ) -> Result<GrassBenchRow> {
     let mut scene = scene.clone();
     scene.set_blade_count(count)?;
@@ -220,32 +236,19 @@ fn bench_count(
         crate::compute::grass_pass::device_bytes(count, !scene.colliders.is_empty()),
     )?;
 
-    let grid = scene.wind_grid()?;
+    // Everything made first, through the simulation every command uses,
+    // then the work: a run that cannot have its memory fails before any.
     let dt = scene.wind.dt;
     let commands = CommandPool::new(gpu, "grass bench commands")?;
-    let wind = WindPass::new(
-        gpu,
-        &commands,
-        grid,
-        &scene.wind_settings(),
-        canopy::unit(&dynamic),
-    )?;
+    let vertices = BladeBuffer::uninitialised(gpu, "grass bench vertices", count)?;
+    let simulation = Simulation::new(gpu, &commands, &scene, &dynamic, vertices.buffer())?;
+    let timestamps = TimestampQueries::new(gpu, steps, "grass step timestamps")?;
+    let (wind, grass) = (simulation.wind(), simulation.grass());
     let rec = commands.begin()?;
     for i in 0..WIND_WARMUP_STEPS {
         wind.record_step(&rec, i as f32 * dt, dt);
     }
     rec.submit_and_wait("wind warm-up")?;
-    let vertices = BladeBuffer::uninitialised(gpu, "grass bench vertices", count)?;
-    let grass = GrassPass::new(
-        gpu,
-        &commands,
-        &dynamic,
-        vertices.buffer(),
-        &wind.grass_input(),
-        &scene.colliders,
-        dt,
-    )?;
-    let timestamps = TimestampQueries::new(gpu, steps, "grass step timestamps")?;
 
     let rec = commands.begin()?;
     let end_time = |step: u32| crate::model::contact::step_end_time(step as u64, dt);
@@ -271,15 +274,10 @@ fn bench_count(
     };
     let timing = median_p95(&times);
     let touching = grass.read_touching(gpu, &commands)?;
-    let bytes_per_step = crate::compute::grass_pass::bytes_per_step(count);
-    let floor_ms = copy.map(|c| bytes_per_step as f64 / (c.gb_per_s * 1e9) * 1e3);
     Ok(GrassBenchRow {
-        bytes_per_step,
-        floor_ms,
-        over_floor: floor_ms
-            .zip(timing)
-            .filter(|(f, _)| *f > 0.0)
-            .map(|(f, t)| t.0 / f),
+        bytes_per_step: crate::compute::grass_pass::bytes_per_step(count),
+        floor_ms: None,
+        over_floor: None,
         over_collider_free: None,
         touching,
         blades: count,
@@ -306,7 +304,6 @@ const COPIES: u32 = 7;
 /// device in the same run. None without timestamps.
 fn copy_bandwidth(gpu: &Gpu) -> Result<Option<CopyBandwidth>> {
     use ash::vk;
-    gpu.check_fits("the bandwidth copy", 2 * COPY_BYTES)?;
     let Some(timestamps) = TimestampQueries::new(gpu, COPIES, "bandwidth copy timestamps")? else {
         return Ok(None);
     };

@@ -102,7 +102,6 @@ pub const BIN_SET: &[LayoutBinding] = &[
 ];
 
 pub struct ColliderBins {
-    // Declared first, dropped first: the set points at the buffers.
     set: DescriptorSet,
     pipeline: Pipeline,
     /// The colliders, with room for `MAX_COLLIDERS`.

@@ -16,7 +16,7 @@
 //! advection reads as drag.
 //!
 //! The pass binds buffers it does not own (the vertex buffer, the wind
-//! velocity and canopy); their owners must outlive it.
+//! velocity and canopy): its sets keep them alive.
 
 use ash::vk;
 
@@ -67,9 +67,8 @@ pub const GRASS_SET: &[LayoutBinding] = &[
 const TOUCHING_HEADER_WORDS: u32 = 64;
 
 pub struct GrassPass {
-    // Declared first, dropped first: the sets point at the buffers. One
-    // set per batch of blades (`gpu::batches`): a million blades are more
-    // than lavapipe lets one binding reach.
+    // One set per batch of blades (`gpu::batches`): a million blades are
+    // more than lavapipe lets one binding reach.
     batches: Vec<(DescriptorSet, Range<u32>)>,
     /// Every blade, but those near a collider or pressed it lists.
     pipeline: Pipeline,
@@ -90,11 +89,10 @@ pub struct GrassPass {
     states: Buffer,
     /// Blade-steps at an angle cap: any motion, then each motion.
     caps: Buffer,
-    /// Bound in place of the wind's canopy with one-way coupling.
-    _no_canopy: Buffer,
     /// The buffers the kernels bind but others own: the wind velocity
-    /// they sample, the canopy they lay area into (the wind's, or
-    /// `_no_canopy`), the vertex buffer they write.
+    /// they sample, the canopy they lay area into (the wind's, or a
+    /// placeholder the sets hold with one-way coupling), the vertex buffer
+    /// they write.
     wind_velocity: BufferId,
     canopy: BufferId,
     vertices: BufferId,
@@ -351,7 +349,6 @@ impl GrassPass {
             wind_velocity: wind.velocity.into(),
             canopy: canopy.into(),
             vertices: vertices.into(),
-            _no_canopy: no_canopy,
             presses,
             bins,
             push,

@@ -22,8 +22,6 @@ pub use grass_pass::GrassPass;
 pub use wind_pass::WindPass;
 
 pub struct Simulation {
-    // Declared first, dropped first: the grass kernel's set names the
-    // wind's velocity buffer.
     grass: GrassPass,
     wind: WindPass,
     dt: f32,
@@ -32,7 +30,7 @@ pub struct Simulation {
 
 impl Simulation {
     /// Builds the wind solver for the scene and the grass dynamics writing
-    /// into `vertices` (the blade buffer, which must outlive this).
+    /// into `vertices` (the blade buffer; the grass pass's sets hold it).
     pub fn new(
         gpu: &Gpu,
         commands: &CommandPool,

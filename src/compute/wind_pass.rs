@@ -247,7 +247,6 @@ impl WindBuffers {
 pub struct WindPass {
     pub grid: WindGrid,
     settings: WindSettings,
-    // Declared first, dropped first: the set points at the buffers.
     set: DescriptorSet,
     /// The kernels in `WIND_KERNELS` order, sharing one layout.
     kernels: Vec<Pipeline>,

@@ -75,9 +75,6 @@ pub struct Frame {
 /// What a frame needs: the blades, the simulating phase (none for a still
 /// of blades at rest), the rendering phase, and the recording of both.
 pub struct FrameRecorder {
-    // Declared first, dropped first: the grass kernel's and the cull
-    // pass's sets name the blade buffer (and the latter the renderer's
-    // uniforms).
     simulation: Option<Simulation>,
     cull: Option<CullPass>,
     renderer: Renderer,

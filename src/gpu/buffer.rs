@@ -1,5 +1,7 @@
 //! Buffers: a `vk::Buffer` and the memory behind it, owned together and
-//! released together in `Drop`.
+//! released together when the last holder lets go: the `Buffer`, or a
+//! descriptor set that binds it (src/gpu/descriptors.rs), so a set never
+//! points at a released buffer whatever order their owners drop in.
 
 use std::sync::Arc;
 
@@ -15,9 +17,15 @@ use crate::gpu::sync::BufferUse;
 use crate::gpu::Gpu;
 
 pub struct Buffer {
-    device: Arc<Device>,
+    pub(super) core: Arc<BufferCore>,
     pub(super) raw: vk::Buffer,
     pub size: vk::DeviceSize,
+}
+
+/// The Vulkan buffer and its memory, released in `Drop`.
+pub(super) struct BufferCore {
+    device: Arc<Device>,
+    raw: vk::Buffer,
     /// None only while `new` has not bound memory yet.
     allocation: Option<Allocation>,
 }
@@ -45,10 +53,9 @@ impl Buffer {
             unsafe { device.raw.create_buffer(&info, None) }.vk_context("vkCreateBuffer", name)?;
         device.name(raw, name);
         // Owned from here on: a failure below drops it, which releases it.
-        let mut buffer = Self {
+        let mut core = BufferCore {
             device: device.clone(),
             raw,
-            size,
             allocation: None,
         };
         // SAFETY: `raw` was just created on this device.
@@ -58,20 +65,31 @@ impl Buffer {
         // allocation (kept with the object) owns it.
         let memory = unsafe { allocation.memory() };
         let offset = allocation.offset();
-        buffer.allocation = Some(allocation);
+        core.allocation = Some(allocation);
         // SAFETY: the allocation satisfies `requirements` and is bound once.
         unsafe { device.raw.bind_buffer_memory(raw, memory, offset) }
             .vk_context("vkBindBufferMemory", name)?;
-        Ok(buffer)
+        Ok(Self {
+            core: Arc::new(core),
+            raw,
+            size,
+        })
     }
 
     /// The mapped bytes of a host-visible buffer.
     pub fn mapped(&self) -> Option<&[u8]> {
-        self.allocation.as_ref()?.mapped_slice()
+        self.core.allocation.as_ref()?.mapped_slice()
     }
 
     pub fn mapped_mut(&mut self) -> Option<&mut [u8]> {
-        self.allocation.as_mut()?.mapped_slice_mut()
+        let allocation = self.core.allocation.as_ref()?;
+        let ptr = allocation.mapped_ptr()?;
+        // SAFETY: the mapping covers the allocation's size and lives as
+        // long as the core; `&mut self` is the only way to it: descriptor
+        // sets hold the core only to keep it alive, never map it.
+        Some(unsafe {
+            std::slice::from_raw_parts_mut(ptr.as_ptr().cast::<u8>(), allocation.size() as usize)
+        })
     }
 
     /// Copies `data` into a host-visible buffer at `offset`.
@@ -182,10 +200,11 @@ impl Buffer {
     }
 }
 
-impl Drop for Buffer {
+impl Drop for BufferCore {
     fn drop(&mut self) {
-        // SAFETY: made from this device in `new`, destroyed only here; every
-        // submission is waited for before it returns, so no GPU work uses it.
+        // SAFETY: made from this device in `new`, destroyed only here, when
+        // its last holder lets go; every submission is waited for before it
+        // returns, so no GPU work uses it.
         unsafe { self.device.raw.destroy_buffer(self.raw, None) };
         if let Some(allocation) = self.allocation.take() {
             self.device.memory.free(allocation);

@@ -8,7 +8,9 @@ use std::sync::Arc;
 use ash::vk;
 
 use crate::error::{Error, Result, VkResultExt};
+use crate::gpu::buffer::BufferCore;
 use crate::gpu::device::Device;
+use crate::gpu::image::ImageCore;
 use crate::gpu::owned::{Owned, Sampler};
 use crate::gpu::{Buffer, Gpu, Image};
 
@@ -121,8 +123,9 @@ impl PipelineLayout {
     }
 }
 
-/// What one binding of a set points at. The set does not own it: the
-/// owner keeps it alive as long as the set is used.
+/// What one binding of a set points at. The set keeps it alive (it holds
+/// the buffer's, image's or sampler's core), so the owners of a set and of
+/// what it binds may drop in any order.
 #[derive(Clone, Copy)]
 pub enum Bound<'a> {
     /// A whole buffer (uniform or storage).
@@ -142,10 +145,19 @@ pub enum Bound<'a> {
 }
 
 /// One descriptor set in a pool sized for exactly it; dropping it drops
-/// the pool, which frees the set.
+/// the pool, which frees the set, then lets go of what it binds.
 pub struct DescriptorSet {
     _pool: Owned<vk::DescriptorPool>,
     pub(super) raw: vk::DescriptorSet,
+    _held: Held,
+}
+
+/// What a set binds, kept alive by it (never read through it).
+#[derive(Default)]
+struct Held {
+    _buffers: Vec<Arc<BufferCore>>,
+    _images: Vec<Arc<ImageCore>>,
+    _samplers: Vec<Sampler>,
 }
 
 impl DescriptorSet {
@@ -245,7 +257,21 @@ impl DescriptorSet {
         // SAFETY: the set is new and not used by any command buffer; every
         // resource written is live.
         unsafe { device.raw.update_descriptor_sets(&writes, &[]) };
-        Ok(Self { _pool: pool, raw })
+        let mut held = Held::default();
+        for r in bound {
+            match r {
+                Bound::Buffer(buffer) | Bound::Part { buffer, .. } => {
+                    held._buffers.push(buffer.core.clone())
+                }
+                Bound::Image(image) => held._images.push(image.core.clone()),
+                Bound::Sampler(sampler) => held._samplers.push((*sampler).clone()),
+            }
+        }
+        Ok(Self {
+            _pool: pool,
+            raw,
+            _held: held,
+        })
     }
 }
 

@@ -14,7 +14,7 @@ use crate::gpu::memory::MemoryLocation;
 use crate::gpu::Gpu;
 
 pub struct Image {
-    device: Arc<Device>,
+    pub(super) core: Arc<ImageCore>,
     pub(super) raw: vk::Image,
     pub(super) view: vk::ImageView,
     pub format: vk::Format,
@@ -25,6 +25,14 @@ pub struct Image {
     /// The layout the last recording that declared a use of it left it
     /// in (src/gpu/sync.rs starts the next from there).
     pub(super) layout: Cell<vk::ImageLayout>,
+}
+
+/// The Vulkan image, its view and its memory, released in `Drop` when the
+/// last holder (the `Image`, or a descriptor set sampling it) lets go.
+pub(super) struct ImageCore {
+    device: Arc<Device>,
+    raw: vk::Image,
+    view: vk::ImageView,
     /// None only while `new` has not bound memory yet.
     allocation: Option<Allocation>,
 }
@@ -63,16 +71,10 @@ impl Image {
             .vk_context("vkCreateImage", desc.name)?;
         device.name(raw, desc.name);
         // Owned from here on: a failure below drops it, which releases it.
-        let mut image = Self {
+        let mut core = ImageCore {
             device: device.clone(),
             raw,
             view: vk::ImageView::null(),
-            format: desc.format,
-            extent: desc.extent,
-            samples: desc.samples,
-            aspect: desc.aspect,
-            mip_levels: desc.mip_levels,
-            layout: Cell::new(vk::ImageLayout::UNDEFINED),
             allocation: None,
         };
         // SAFETY: `raw` was just created on this device.
@@ -83,7 +85,7 @@ impl Image {
         // allocation (kept with the object) owns it.
         let memory = unsafe { allocation.memory() };
         let offset = allocation.offset();
-        image.allocation = Some(allocation);
+        core.allocation = Some(allocation);
         // SAFETY: a fresh image and an allocation that satisfies its
         // requirements, bound once.
         unsafe { device.raw.bind_image_memory(raw, memory, offset) }
@@ -92,30 +94,46 @@ impl Image {
             .image(raw)
             .view_type(vk::ImageViewType::TYPE_2D)
             .format(desc.format)
-            .subresource_range(image.subresource_range());
+            .subresource_range(range(desc.aspect, desc.mip_levels));
         // SAFETY: the image is live and bound; the info describes all of it.
-        image.view = unsafe { device.raw.create_image_view(&view_info, None) }
+        core.view = unsafe { device.raw.create_image_view(&view_info, None) }
             .vk_context("vkCreateImageView", desc.name)?;
-        device.name(image.view, &format!("{} view", desc.name));
-        Ok(image)
+        device.name(core.view, &format!("{} view", desc.name));
+        Ok(Self {
+            raw,
+            view: core.view,
+            core: Arc::new(core),
+            format: desc.format,
+            extent: desc.extent,
+            samples: desc.samples,
+            aspect: desc.aspect,
+            mip_levels: desc.mip_levels,
+            layout: Cell::new(vk::ImageLayout::UNDEFINED),
+        })
     }
 
     pub fn subresource_range(&self) -> vk::ImageSubresourceRange {
-        vk::ImageSubresourceRange {
-            aspect_mask: self.aspect,
-            base_mip_level: 0,
-            level_count: self.mip_levels,
-            base_array_layer: 0,
-            layer_count: 1,
-        }
+        range(self.aspect, self.mip_levels)
     }
 }
 
-impl Drop for Image {
+/// All of an image's levels (one layer).
+fn range(aspect: vk::ImageAspectFlags, mip_levels: u32) -> vk::ImageSubresourceRange {
+    vk::ImageSubresourceRange {
+        aspect_mask: aspect,
+        base_mip_level: 0,
+        level_count: mip_levels,
+        base_array_layer: 0,
+        layer_count: 1,
+    }
+}
+
+impl Drop for ImageCore {
     fn drop(&mut self) {
         // SAFETY: the view and the image were made from this device in
-        // `new` and are destroyed only here (a null view is a no-op); every
-        // submission is waited for before it returns, so no GPU work uses them.
+        // `new` and are destroyed only here, when the last holder lets go (a
+        // null view is a no-op); every submission is waited for before it
+        // returns, so no GPU work uses them.
         unsafe { self.device.raw.destroy_image_view(self.view, None) };
         // SAFETY: as above.
         unsafe { self.device.raw.destroy_image(self.raw, None) };

@@ -79,14 +79,21 @@ impl<H: DeviceChild> Drop for Owned<H> {
 }
 
 /// A sampler (filtering, addressing, comparison).
-pub type Sampler = Owned<vk::Sampler>;
+/// A sampler, shared with the descriptor sets that bind it (released when
+/// the last lets go).
+#[derive(Clone)]
+pub struct Sampler(pub(super) Arc<Owned<vk::Sampler>>);
 
-impl Owned<vk::Sampler> {
+impl Sampler {
     pub fn sampler(gpu: &Gpu, info: &vk::SamplerCreateInfo, name: &str) -> Result<Self> {
         let device = gpu.device();
         // SAFETY: a valid create info on a live device.
         let raw =
             unsafe { device.raw.create_sampler(info, None) }.vk_context("vkCreateSampler", name)?;
-        Ok(Self::new(device, raw, name))
+        Ok(Self(Arc::new(Owned::new(device, raw, name))))
+    }
+
+    pub(super) fn raw(&self) -> vk::Sampler {
+        self.0.raw()
     }
 }

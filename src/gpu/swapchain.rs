@@ -13,8 +13,8 @@ use crate::gpu::barrier::{image_barrier, Access};
 use crate::gpu::device::Device;
 use crate::gpu::overlay::{OverlayDraw, OverlayRenderer};
 use crate::gpu::owned::Owned;
-use crate::gpu::sync::ImageUse;
 use crate::gpu::surface::Surface;
+use crate::gpu::sync::ImageUse;
 use crate::gpu::{Gpu, Image, Recording};
 
 pub struct Swapchain {

@@ -24,7 +24,7 @@ use crate::gpu::barrier::Access;
 use crate::gpu::{Buffer, Image};
 
 /// A buffer's identity, for declaring its uses: a pass may keep the ids of
-/// buffers it binds but does not own (their owners outlive it).
+/// buffers it binds but does not own (its sets keep them alive).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct BufferId(pub(super) vk::Buffer);
 
@@ -248,11 +248,7 @@ impl Tracker {
     /// As `declare`, with images: those whose layout changes (or whose
     /// contents are dropped) get their own transition, the rest share the
     /// global barrier.
-    pub(super) fn declare_all(
-        &mut self,
-        uses: &[BufferUse],
-        images: &[ImageRequest],
-    ) -> Barriers {
+    pub(super) fn declare_all(&mut self, uses: &[BufferUse], images: &[ImageRequest]) -> Barriers {
         let buffers = merge(uses.iter().map(|u| (u.buffer, u.access)));
         let mut dep = Dependency::default();
         for &(buffer, access) in &buffers {
@@ -435,7 +431,12 @@ mod tests {
     #[test]
     fn an_image_changes_layout_once_and_waits_for_its_writer() {
         let mut t = Tracker::default();
-        let clear = img(7, vk::ImageLayout::UNDEFINED, Access::DEPTH_ATTACHMENT, true);
+        let clear = img(
+            7,
+            vk::ImageLayout::UNDEFINED,
+            Access::DEPTH_ATTACHMENT,
+            true,
+        );
         let b = t.declare_all(&[], &[clear]);
         assert_eq!(b.memory, None);
         assert_eq!(b.images.len(), 1);
@@ -447,7 +448,12 @@ mod tests {
             vk::PipelineStageFlags2::ALL_COMMANDS
         );
         // Sampled next: a transition waiting for the depth writes.
-        let sample = img(7, vk::ImageLayout::UNDEFINED, Access::FRAGMENT_SAMPLED, false);
+        let sample = img(
+            7,
+            vk::ImageLayout::UNDEFINED,
+            Access::FRAGMENT_SAMPLED,
+            false,
+        );
         let b = t.declare_all(&[], &[sample]);
         let [barrier] = b.images[..] else {
             panic!("one transition: {b:?}")
@@ -484,9 +490,28 @@ mod tests {
     #[test]
     fn a_read_in_another_stage_after_a_transition_chains_through_it() {
         let mut t = Tracker::default();
-        t.declare_all(&[], &[img(5, vk::ImageLayout::UNDEFINED, Access::COPY_WRITE, true)]);
-        t.declare_all(&[], &[img(5, vk::ImageLayout::UNDEFINED, Access::COMPUTE_SAMPLED, false)]);
-        let b = t.declare_all(&[], &[img(5, vk::ImageLayout::UNDEFINED, Access::FRAGMENT_SAMPLED, false)]);
+        t.declare_all(
+            &[],
+            &[img(5, vk::ImageLayout::UNDEFINED, Access::COPY_WRITE, true)],
+        );
+        t.declare_all(
+            &[],
+            &[img(
+                5,
+                vk::ImageLayout::UNDEFINED,
+                Access::COMPUTE_SAMPLED,
+                false,
+            )],
+        );
+        let b = t.declare_all(
+            &[],
+            &[img(
+                5,
+                vk::ImageLayout::UNDEFINED,
+                Access::FRAGMENT_SAMPLED,
+                false,
+            )],
+        );
         let dep = b.memory.expect("the fragment stage waits");
         assert!(covers(dep.src_stage, Access::COMPUTE_SAMPLED.stage));
     }

@@ -14,7 +14,7 @@
 //! lists keep blade order, so the frames are the same every run.
 //!
 //! The pass binds the blade buffer, the frame uniforms and the depth
-//! pyramid, which it does not own; their owners must outlive it.
+//! pyramid, which it does not own; its sets keep them alive.
 
 use std::ops::Range;
 
@@ -112,8 +112,7 @@ pub struct BladeList<'a> {
 }
 
 pub struct CullPass {
-    // Declared first, dropped first: the sets point at the buffers. The
-    // flag kernel reads the control points a batch of blades at a time
+    // The flag kernel reads the control points a batch of blades at a time
     // (`gpu::batches`: a million blades are more than lavapipe lets one
     // binding reach), one set per batch; the scan and the compaction,
     // which do not read them, use the first.

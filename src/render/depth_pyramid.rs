@@ -67,7 +67,6 @@ pub struct Occluders {
 }
 
 pub struct DepthPyramid {
-    // Declared first, dropped first: the set points at the buffer.
     set: DescriptorSet,
     base_kernel: Pipeline,
     reduce_kernel: Pipeline,

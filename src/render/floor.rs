@@ -46,7 +46,6 @@ pub struct FloorShape {
 }
 
 pub struct FloorPass {
-    // Declared first, dropped first: the set points at the uniforms.
     set: DescriptorSet,
     uniforms: Buffer,
     pipeline: Pipeline,

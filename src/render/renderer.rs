@@ -24,11 +24,10 @@ use crate::render::textures::SurfaceTextures;
 /// Everything one offscreen view of the grass needs on the GPU, besides
 /// the blades themselves.
 pub struct Renderer {
-    // Declared first, dropped first: the set points at what follows.
     frame_set: DescriptorSet,
     uniforms: Buffer,
-    /// Held for the frame set, which samples them.
-    _textures: SurfaceTextures,
+    /// Sampled through the frame set.
+    textures: SurfaceTextures,
     shadow: ShadowMap,
     obstacles: ObstacleMeshes,
     pipelines: RenderPipelines,
@@ -90,7 +89,7 @@ impl Renderer {
         Ok(Self {
             frame_set,
             uniforms,
-            _textures: textures,
+            textures,
             shadow,
             obstacles,
             pipelines,
@@ -206,7 +205,7 @@ impl Renderer {
     pub fn begin_color(&self, rec: &Recording) {
         let mut images = attachments(&self.targets);
         images.push(self.shadow.sampled());
-        images.extend(self._textures.sampled());
+        images.extend(self.textures.sampled());
         rec.declare(&[], &images);
         let t = &self.targets;
         rec.begin_rendering(&Attachments {
@@ -277,7 +276,10 @@ pub fn attachments(t: &RenderTargets) -> Vec<ImageUse<'_>> {
         ImageUse::discarding(&t.depth, Access::DEPTH_ATTACHMENT),
     ];
     if let Some(resolve) = &t.resolve {
-        uses.push(ImageUse::discarding(resolve, Access::COLOR_ATTACHMENT_WRITE));
+        uses.push(ImageUse::discarding(
+            resolve,
+            Access::COLOR_ATTACHMENT_WRITE,
+        ));
     }
     uses
 }
