@@ -85,7 +85,7 @@ impl<H: DeviceChild> Drop for Owned<H> {
 pub struct Sampler(pub(super) Arc<Owned<vk::Sampler>>);
 
 impl Sampler {
-    pub fn sampler(gpu: &Gpu, info: &vk::SamplerCreateInfo, name: &str) -> Result<Self> {
+    pub fn new(gpu: &Gpu, info: &vk::SamplerCreateInfo, name: &str) -> Result<Self> {
         let device = gpu.device();
         // SAFETY: a valid create info on a live device.
         let raw =

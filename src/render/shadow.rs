@@ -65,7 +65,7 @@ impl ShadowMap {
             .compare_enable(true)
             .compare_op(vk::CompareOp::LESS_OR_EQUAL)
             .max_lod(0.0);
-        let sampler = Sampler::sampler(gpu, &info, "shadow map sampler")?;
+        let sampler = Sampler::new(gpu, &info, "shadow map sampler")?;
         let uniforms = FrameUniforms::buffer(gpu, "shadow pass uniforms")?;
         let set = DescriptorSet::new(
             gpu,

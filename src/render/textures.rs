@@ -45,7 +45,7 @@ impl SurfaceTextures {
             .address_mode_w(vk::SamplerAddressMode::REPEAT)
             .min_lod(0.0)
             .max_lod(vk::LOD_CLAMP_NONE);
-        let sampler = Sampler::sampler(gpu, &info, "surface texture sampler")?;
+        let sampler = Sampler::new(gpu, &info, "surface texture sampler")?;
         Ok(Self {
             grass,
             ground,
