@@ -8,20 +8,20 @@
 pub mod ball;
 pub mod overlay;
 pub mod script;
+pub mod state;
 pub mod wind_controls;
 
-use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Arc;
 use std::time::Instant;
 
 use ash::vk;
-use glam::{Vec3, Vec3Swizzles};
+use glam::Vec3;
 use raw_window_handle::{HasDisplayHandle, HasWindowHandle};
 use winit::application::ApplicationHandler;
 use winit::dpi::PhysicalSize;
-use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
+use winit::event::{ElementState, KeyEvent, MouseButton, MouseScrollDelta, WindowEvent};
 use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
 use winit::keyboard::{Key, NamedKey};
 use winit::window::{Window, WindowId};
@@ -39,7 +39,7 @@ use crate::scene::{field, Scene, ViewMode};
 use ball::{Arrived, Ball};
 use overlay::{Overlay, Readout};
 use script::{Action, Script, FLYING_KEYS};
-use wind_controls::WindControls;
+use state::{ball_rectangle, ForWindow, Seen, ViewState};
 
 /// Simulated seconds one frame may catch up at most: beyond it, time in
 /// the window runs slower than the clock.
@@ -169,68 +169,19 @@ struct Live {
     swapchain: Option<Swapchain>,
     surface: Arc<Surface>,
     window: Window,
-    scene: Scene,
-    view: ViewMode,
-    camera: Camera,
-    /// The scene's camera path is followed until the user flies.
-    flying: bool,
-    paused: bool,
-    steps_asked: u64,
-    time_scale: f64,
-    held: HashMap<char, Option<Instant>>,
-    /// The pointer's last position in the window (pixels).
-    pointer: (f64, f64),
-    /// The left button is down: where it went down, and whether the
-    /// pointer has moved far enough since for a drag rather than a click.
-    pressed: Option<((f64, f64), bool)>,
-    wind: WindControls,
-    /// The wind keys or a gust changed the wind's drive since the last frame.
-    wind_changed: bool,
-    /// The ball B brings, while it is out.
-    ball: Option<Ball>,
-    /// Whether the simulation has room for the ball (the scene has fewer
-    /// than `MAX_COLLIDERS` colliders of its own).
-    ball_room: bool,
+    /// What the person at the window set up (src/commands/view/state.rs).
+    state: ViewState,
     /// The last frame's measurements, for the overlay.
     last_stats: FrameStats,
-    script: Vec<(f64, Action)>,
     first_frame: Option<Instant>,
     last_frame: Instant,
     /// Seconds between frames on the clock, smoothed over about ten.
     frame_seconds: f64,
     stale: bool,
-    screenshot_asked: bool,
     screenshots_dir: PathBuf,
     /// GPU time of one simulation step, last measured (None: not yet, or
     /// no timestamps).
     step_ms: Option<f64>,
-}
-
-/// A fly camera: where it is, where it looks (yaw about y, pitch), how fast.
-#[derive(Clone, Copy, Debug)]
-struct Camera {
-    eye: Vec3,
-    yaw: f32,
-    pitch: f32,
-    speed: f32,
-}
-
-impl Camera {
-    fn looking(eye: Vec3, target: Vec3) -> Self {
-        let d = (target - eye).normalize_or(Vec3::NEG_Z);
-        Self {
-            eye,
-            yaw: d.x.atan2(-d.z),
-            pitch: d.y.clamp(-1.0, 1.0).asin(),
-            speed: 2.0,
-        }
-    }
-
-    fn forward(&self) -> Vec3 {
-        let (sy, cy) = self.yaw.sin_cos();
-        let (sp, cp) = self.pitch.sin_cos();
-        Vec3::new(sy * cp, sp, -cy * cp)
-    }
 }
 
 impl Live {
@@ -281,34 +232,19 @@ impl Live {
             recorder.simulate(batch)?;
             steps -= batch;
         }
-        let (eye, target) = scene.camera.at(scene.render.start);
+        let script = request.script.clone().unwrap_or_default().actions;
         Ok(Self {
-            wind: WindControls::new(&scene),
+            state: ViewState::new(scene, request.view, script, ball_room),
             overlay: Overlay::default(),
             recorder,
             swapchain: None,
             surface,
             window,
-            camera: Camera::looking(eye, target),
-            flying: false,
-            view: request.view,
-            scene,
-            paused: false,
-            steps_asked: 0,
-            time_scale: 1.0,
-            held: HashMap::new(),
-            pointer: (0.0, 0.0),
-            pressed: None,
-            wind_changed: false,
-            ball: None,
-            ball_room,
             last_stats: FrameStats::default(),
-            script: request.script.clone().unwrap_or_default().actions,
             first_frame: None,
             last_frame: Instant::now(),
             frame_seconds: 0.0,
             stale: true,
-            screenshot_asked: false,
             screenshots_dir: request.screenshots.clone(),
             step_ms: None,
         })
@@ -325,228 +261,36 @@ impl Live {
             .map_or(1.0 / 60.0, |s| s.dt() as f64)
     }
 
-    /// The scene as this frame shows it: the fly camera once the user flew.
-    fn shown_scene(&self) -> Scene {
-        let mut scene = self.scene.clone();
-        if self.flying {
-            scene.camera.position = self.camera.eye.to_array();
-            scene.camera.target = (self.camera.eye + self.camera.forward()).to_array();
-            scene.camera.path.clear();
-        }
-        scene
-    }
-
-    fn take_over_camera(&mut self) {
-        if !self.flying {
-            let speed = self.camera.speed;
-            let (eye, target) = self.scene.camera.at(self.time() as f32);
-            self.camera = Camera::looking(eye, target);
-            self.camera.speed = speed;
-            self.flying = true;
+    /// The window as an action sees it now.
+    fn seen(&self) -> Seen {
+        let size = self.window.inner_size();
+        Seen {
+            size: (size.width, size.height),
+            time: self.time(),
         }
     }
 
-    /// Returns false when the viewer should stop.
+    /// Applies `action` (a key, the pointer, the script); returns false
+    /// when the viewer should stop.
     fn act(&mut self, action: Action, now: Instant) -> bool {
-        match action {
-            Action::Quit | Action::Close => return false,
-            Action::Pause => self.paused = !self.paused,
-            Action::Step => {
-                self.paused = true;
-                self.steps_asked += 1;
-            }
-            Action::Slower => self.time_scale = (self.time_scale / 2.0).max(1.0 / 64.0),
-            Action::Faster => self.time_scale = (self.time_scale * 2.0).min(8.0),
-            Action::ToggleLod => self.scene.lod.enabled = !self.scene.lod.enabled,
-            Action::CycleView => {
-                self.view = match self.view {
-                    ViewMode::Shaded => ViewMode::Lod,
-                    ViewMode::Lod => ViewMode::Motion,
-                    ViewMode::Motion => ViewMode::Shaded,
-                }
-            }
-            Action::Screenshot => self.screenshot_asked = true,
-            Action::Help => {
+        match self.state.act(action, now, self.seen()) {
+            ForWindow::Nothing => {}
+            ForWindow::Stop => return false,
+            ForWindow::ToggleKeys => {
                 self.overlay.keys_shown = !self.overlay.keys_shown;
                 if self.overlay.keys_shown {
-                    println!("{}", script::help());
+                    state::print_help();
                 }
             }
-            Action::ToggleOverlay => self.overlay.shown = !self.overlay.shown,
-            Action::WindSpeed(steps) => {
-                self.wind.strengthen(steps);
-                self.wind_changed = true;
-            }
-            Action::WindTurn(steps) => {
-                self.wind.turn(steps);
-                self.wind_changed = true;
-            }
-            Action::Click(x, y) => self.drop_gust(x, y),
-            Action::Ball => self.toggle_ball(),
-            Action::RollTo(x, y) => self.roll_ball(x, y),
-            Action::Hold(key, seconds) => {
-                self.take_over_camera();
-                let until = now + std::time::Duration::from_secs_f64(seconds);
-                self.held.insert(key, Some(until));
-            }
-            Action::Drag(dx, dy) => {
-                self.take_over_camera();
-                self.camera.yaw += dx * 0.2f32.to_radians();
-                self.camera.pitch = (self.camera.pitch - dy * 0.2f32.to_radians())
-                    .clamp(-89f32.to_radians(), 89f32.to_radians());
-            }
-            Action::Wheel(notches) => {
-                self.camera.speed = (self.camera.speed * 1.25f32.powf(notches)).clamp(0.05, 200.0)
-            }
-            Action::Resize(w, h) => {
+            ForWindow::ToggleOverlay => self.overlay.shown = !self.overlay.shown,
+            ForWindow::Resize(w, h) => {
                 let _ = self.window.request_inner_size(PhysicalSize::new(w, h));
             }
         }
         true
     }
 
-    /// A gust on the ground under pixel (x, y) of the window, blowing from
-    /// now along the wind's heading.
-    fn drop_gust(&mut self, x: f32, y: f32) {
-        let size = self.window.inner_size();
-        let time = self.time() as f32;
-        match wind_controls::ground_point(
-            &self.shown_scene(),
-            (size.width, size.height),
-            (x, y),
-            time,
-        ) {
-            Some(ground) => {
-                self.wind.drop_gust(ground, time);
-                self.wind_changed = true;
-                println!(
-                    "gust at ({:.2}, {:.2}) m from t {time:.2} s for {} s, along {:.0} degrees",
-                    ground.x,
-                    ground.z,
-                    wind_controls::GUST_SECONDS,
-                    self.wind.heading_deg
-                );
-            }
-            None => println!("no gust: the pointer is above the horizon"),
-        }
-    }
-
-    /// The ground point seen at pixel (x, y) of the window now.
-    fn ground_at(&self, (x, y): (f32, f32)) -> Option<Vec3> {
-        let size = self.window.inner_size();
-        wind_controls::ground_point(
-            &self.shown_scene(),
-            (size.width, size.height),
-            (x, y),
-            self.time() as f32,
-        )
-    }
-
-    /// B: the ball onto the ground where the window's middle looks, or away.
-    fn toggle_ball(&mut self) {
-        if self.ball.take().is_some() {
-            println!("ball taken away");
-            return;
-        }
-        let size = self.window.inner_size();
-        let middle = (size.width as f32 / 2.0, size.height as f32 / 2.0);
-        match self.ground_at(middle) {
-            Some(ground) => self.bring_ball(ground),
-            None => println!("no ball: the middle of the window looks above the horizon"),
-        }
-    }
-
-    fn bring_ball(&mut self, ground: Vec3) {
-        if !self.ball_room {
-            println!(
-                "no ball: the scene has {MAX_COLLIDERS} colliders, as many as a step simulates"
-            );
-            return;
-        }
-        match ball_rectangle(&self.scene) {
-            Ok((low, high)) => {
-                let ball = Ball::new(ground, low, high);
-                println!("ball at ({:.4}, {:.4}) m", ball.centre.x, ball.centre.z);
-                self.ball = Some(ball);
-            }
-            Err(e) => println!("no ball: {e}"),
-        }
-    }
-
-    /// A right click: the ball rolls to the ground under the pointer.
-    fn roll_ball(&mut self, x: f32, y: f32) {
-        let Some(ground) = self.ground_at((x, y)) else {
-            println!("the ball stays: the pointer is above the horizon");
-            return;
-        };
-        if self.ball.is_none() {
-            self.bring_ball(ground);
-        }
-        if let Some(ball) = self.ball.as_mut() {
-            let goal = ball.roll_to(ground);
-            println!(
-                "ball rolling to ({:.4}, {:.4}) m from t {:.4} s",
-                goal.x,
-                goal.z,
-                self.time()
-            );
-        }
-    }
-
-    /// What the overlay says about the ball.
-    fn ball_readout(&self) -> Option<String> {
-        let ball = self.ball.as_ref()?;
-        let at = format!("({:.1}, {:.1}) m", ball.centre.x, ball.centre.z);
-        Some(match ball.goal {
-            Some(goal) => format!(
-                "at {at}, {:.1} m/s to ({:.1}, {:.1}); right click: roll it, B: away",
-                ball.velocity.length(),
-                goal.x,
-                goal.z
-            ),
-            None => format!("at {at}; right click: roll it, B: away"),
-        })
-    }
-
-    /// What the overlay says about the wind.
-    fn wind_readout(&self) -> String {
-        let time = self.time() as f32;
-        let drive = match self.wind.inflow {
-            Some(speed) => format!("inflow {:.1} m/s", speed.abs()),
-            None => format!("sources x{:.2}", self.wind.strength_scale),
-        };
-        format!(
-            "{drive}, heading {:.0} deg, gusts blowing: {}",
-            self.wind.heading_deg,
-            self.wind.gusts_blowing(time)
-        )
-    }
-
-    /// Moves the camera by the keys held for `seconds`.
-    fn fly(&mut self, seconds: f32, now: Instant) {
-        self.held
-            .retain(|_, until| until.is_none_or(|until| until > now));
-        if self.held.is_empty() {
-            return;
-        }
-        let forward = self.camera.forward();
-        let right = forward.cross(Vec3::Y).normalize_or(Vec3::X);
-        let mut direction = Vec3::ZERO;
-        for key in self.held.keys() {
-            direction += match key {
-                'w' => forward,
-                's' => -forward,
-                'd' => right,
-                'a' => -right,
-                'e' => Vec3::Y,
-                'q' => Vec3::NEG_Y,
-                _ => Vec3::ZERO,
-            };
-        }
-        self.camera.eye += direction.normalize_or_zero() * self.camera.speed * seconds;
-    }
-
-    /// One frame: the script's due actions, the camera, the simulation's
+    /// One frame: the script's due action, the camera, the simulation's
     /// steps, and the frame shown. Returns false when the viewer should stop.
     fn frame(&mut self, gpu: &Gpu, report: &mut ViewReport) -> Result<bool> {
         let now = Instant::now();
@@ -557,86 +301,63 @@ impl Live {
         // device actions due together are not all applied before one
         // frame (a screenshot then shows what came before the next key). A
         // quit takes effect after its frame.
-        let mut go_on = true;
-        if self.script.first().is_some_and(|(t, _)| *t <= since_start) {
-            let (_, action) = self.script.remove(0);
-            go_on = self.act(action, now);
-        }
+        let go_on = match self.state.scripted(since_start) {
+            Some(action) => self.act(action, now),
+            None => true,
+        };
         let elapsed = now.duration_since(self.last_frame).as_secs_f64();
         self.update_fps(elapsed);
         // Time and flying follow the clock, but not across a long stall
         // (a window being dragged, a slow first frame).
         let wall = elapsed.min(0.25);
         self.last_frame = now;
-        self.fly(wall as f32, now);
+        self.state.fly(wall as f32, now);
 
-        if self.stale {
-            let size = self.window.inner_size();
-            let wanted = vk::Extent2D {
-                width: size.width,
-                height: size.height,
-            };
-            let old = self.swapchain.take();
-            self.swapchain = Swapchain::new(gpu, &self.surface, wanted, old)?;
-            self.stale = false;
-        }
-        // Minimised: nothing to show, and time waits.
-        let Some(swapchain) = self.swapchain.as_ref() else {
+        // Minimised or out of date: nothing to show, and time waits.
+        let Some(index) = self.acquire(gpu)? else {
             return Ok(go_on);
         };
-        let extent = (swapchain.extent.width, swapchain.extent.height);
-        self.recorder.resize(gpu, &self.scene, extent)?;
-        let Some(index) = swapchain.acquire()? else {
-            self.stale = true;
-            return Ok(go_on);
-        };
-
-        if std::mem::take(&mut self.wind_changed) {
-            let (inflow, sources) = self.wind.drive();
+        if std::mem::take(&mut self.state.wind_changed) {
+            let (inflow, sources) = self.state.wind.drive();
             self.recorder.set_wind_drive(gpu, inflow, &sources)?;
         }
-        let dt = self.dt();
-        let mut steps = std::mem::take(&mut self.steps_asked);
-        if !self.paused && self.first_frame.is_some() {
-            let target = self.time() + wall * self.time_scale;
-            let catch_up = (MAX_CATCH_UP_S / dt).ceil() as u64;
-            let affordable = match self.step_ms {
-                Some(ms) if ms > 0.0 => ((STEP_BUDGET_MS / ms) as u64).max(1),
-                _ => catch_up,
-            };
-            steps += self
-                .recorder
-                .steps_until(target)?
-                .min(catch_up)
-                .min(affordable);
-        }
+        let steps = self.steps_for(wall)?;
         update_colliders(
             gpu,
             &mut self.recorder,
-            &self.scene.colliders,
-            self.ball.as_mut(),
+            &self.state.scene.colliders,
+            self.state.ball.as_mut(),
             steps,
         )?;
-        let time = self.time() + steps as f64 * dt;
-        let scene = self.shown_scene();
-        let uniforms = FrameUniforms::new(&scene, extent.0, extent.1, self.view, time as f32);
+        let time = self.time() + steps as f64 * self.dt();
+        let scene = self.state.shown_scene();
+        let swapchain = self.swapchain.as_ref().expect("acquired from it");
+        let extent = swapchain.extent;
+        let uniforms = FrameUniforms::new(
+            &scene,
+            extent.width,
+            extent.height,
+            self.state.view,
+            time as f32,
+        );
+        let state = &self.state;
         let readout = Readout {
-            scene: &self.scene.name,
+            scene: &state.scene.name,
             fps: self.fps(),
             stats: &self.last_stats,
             blades: self.recorder.blades().count() as usize,
             time,
-            time_scale: self.time_scale,
-            paused: self.paused,
-            lod: self.scene.lod.enabled,
-            view: format!("{:?}", self.view).to_lowercase(),
-            wind: self.wind_readout(),
-            ball: self.ball_readout(),
+            time_scale: state.time_scale,
+            paused: state.paused,
+            lod: state.scene.lod.enabled,
+            view: format!("{:?}", state.view).to_lowercase(),
+            wind: state.wind_readout(self.time()),
+            ball: state.ball_readout(),
         };
         let scale = self.window.scale_factor() as f32;
-        let prepared =
-            self.overlay
-                .prepare(gpu, swapchain.format, swapchain.extent, scale, &readout)?;
+        let prepared = self
+            .overlay
+            .prepare(gpu, swapchain.format, extent, scale, &readout)?;
         let (presented, stats) = self.recorder.present(
             gpu,
             &uniforms,
@@ -650,14 +371,12 @@ impl Live {
         if let Some(t) = stats.timings.filter(|_| steps > 0) {
             self.step_ms = Some((t.get(Phase::Wind) + t.get(Phase::Grass)) / steps as f64);
         }
-        if self.first_frame.is_none() {
-            self.first_frame = Some(now);
-        }
+        self.first_frame.get_or_insert(now);
         report.frames += 1;
-
-        if std::mem::take(&mut self.screenshot_asked) {
+        if std::mem::take(&mut self.state.screenshot_asked) {
             let path = self.screenshot(gpu, &uniforms, report.screenshots.len())?;
             let ball = self
+                .state
                 .ball
                 .as_ref()
                 .map(|b| format!(", ball at ({:.4}, {:.4}) m", b.centre.x, b.centre.z))
@@ -676,12 +395,58 @@ impl Live {
         Ok(go_on)
     }
 
+    /// The swapchain made again where it is out of date, the recorder's
+    /// targets fitted to it, and an image acquired (None: minimised, or
+    /// out of date again).
+    fn acquire(&mut self, gpu: &Gpu) -> Result<Option<u32>> {
+        if self.stale {
+            let size = self.window.inner_size();
+            let wanted = vk::Extent2D {
+                width: size.width,
+                height: size.height,
+            };
+            let old = self.swapchain.take();
+            self.swapchain = Swapchain::new(gpu, &self.surface, wanted, old)?;
+            self.stale = false;
+        }
+        let Some(swapchain) = self.swapchain.as_ref() else {
+            return Ok(None);
+        };
+        let extent = (swapchain.extent.width, swapchain.extent.height);
+        self.recorder.resize(gpu, &self.state.scene, extent)?;
+        let index = swapchain.acquire()?;
+        self.stale |= index.is_none();
+        Ok(index)
+    }
+
+    /// The simulation steps this frame runs: those asked for one by one,
+    /// and (unpaused) those that bring simulated time `wall` seconds of the
+    /// clock further at the time scale, no more than a frame may catch up
+    /// or the step budget affords.
+    fn steps_for(&mut self, wall: f64) -> Result<u64> {
+        let mut steps = std::mem::take(&mut self.state.steps_asked);
+        if !self.state.paused && self.first_frame.is_some() {
+            let target = self.time() + wall * self.state.time_scale;
+            let catch_up = (MAX_CATCH_UP_S / self.dt()).ceil() as u64;
+            let affordable = match self.step_ms {
+                Some(ms) if ms > 0.0 => ((STEP_BUDGET_MS / ms) as u64).max(1),
+                _ => catch_up,
+            };
+            steps += self
+                .recorder
+                .steps_until(target)?
+                .min(catch_up)
+                .min(affordable);
+        }
+        Ok(steps)
+    }
+
     /// The frame `render` would write for the same time and camera.
     fn screenshot(&mut self, gpu: &Gpu, uniforms: &FrameUniforms, n: usize) -> Result<PathBuf> {
         let dir = &self.screenshots_dir;
         files::ensure_dir(dir)?;
         let mut frame = self.recorder.render(gpu, uniforms, 0)?;
-        legend::stamp(&mut frame, self.view, self.scene.lod.levels);
+        legend::stamp(&mut frame, self.state.view, self.state.scene.lod.levels);
         let path = dir.join(format!("view_{n:04}.png"));
         files::write_png(&path, &frame)?;
         Ok(path)
@@ -717,14 +482,51 @@ impl Live {
             .cull
             .map(|c| format!(", {} blades drawn", c.in_view))
             .unwrap_or_default();
-        let state = if self.paused { ", paused" } else { "" };
+        let state = if self.state.paused { ", paused" } else { "" };
         self.window.set_title(&format!(
             "meadow - {} - {:.1} FPS{gpu_ms}{drawn} - t {:.2} s x{}{state} (H: keys)",
-            self.scene.name,
+            self.state.scene.name,
             self.fps(),
             self.time(),
-            self.time_scale
+            self.state.time_scale
         ));
+    }
+}
+
+impl Live {
+    /// A key pressed or released: the flying keys are held while down,
+    /// the others act once when pressed.
+    fn key(&mut self, event: &KeyEvent) -> Option<Action> {
+        let name = match &event.logical_key {
+            Key::Named(NamedKey::Escape) => Some("esc".to_string()),
+            Key::Named(NamedKey::Space) => Some("space".to_string()),
+            Key::Named(NamedKey::ArrowUp) => Some("up".to_string()),
+            Key::Named(NamedKey::ArrowDown) => Some("down".to_string()),
+            Key::Named(NamedKey::ArrowLeft) => Some("left".to_string()),
+            Key::Named(NamedKey::ArrowRight) => Some("right".to_string()),
+            Key::Character(c) => Some(c.to_lowercase()),
+            _ => None,
+        };
+        let flying = name.as_deref().and_then(|n| {
+            n.chars()
+                .next()
+                .filter(|c| n.len() == 1 && FLYING_KEYS.contains(c))
+        });
+        match (flying, event.state) {
+            (Some(key), ElementState::Pressed) => {
+                self.state.take_over_camera(self.time());
+                self.state.held.insert(key, None);
+                None
+            }
+            (Some(key), ElementState::Released) => {
+                self.state.held.remove(&key);
+                None
+            }
+            (None, ElementState::Pressed) if !event.repeat => {
+                name.as_deref().and_then(Action::of_key)
+            }
+            _ => None,
+        }
     }
 }
 
@@ -761,65 +563,34 @@ impl ApplicationHandler for App<'_> {
                 }
                 None
             }
-            WindowEvent::KeyboardInput { event, .. } => {
-                let name = match &event.logical_key {
-                    Key::Named(NamedKey::Escape) => Some("esc".to_string()),
-                    Key::Named(NamedKey::Space) => Some("space".to_string()),
-                    Key::Named(NamedKey::ArrowUp) => Some("up".to_string()),
-                    Key::Named(NamedKey::ArrowDown) => Some("down".to_string()),
-                    Key::Named(NamedKey::ArrowLeft) => Some("left".to_string()),
-                    Key::Named(NamedKey::ArrowRight) => Some("right".to_string()),
-                    Key::Character(c) => Some(c.to_lowercase()),
-                    _ => None,
-                };
-                let flying = name.as_deref().and_then(|n| {
-                    n.chars()
-                        .next()
-                        .filter(|c| n.len() == 1 && FLYING_KEYS.contains(c))
-                });
-                match (flying, event.state) {
-                    (Some(key), ElementState::Pressed) => {
-                        live.take_over_camera();
-                        live.held.insert(key, None);
-                        None
-                    }
-                    (Some(key), ElementState::Released) => {
-                        live.held.remove(&key);
-                        None
-                    }
-                    (None, ElementState::Pressed) if !event.repeat => {
-                        name.as_deref().and_then(Action::of_key)
-                    }
-                    _ => None,
-                }
-            }
+            WindowEvent::KeyboardInput { event, .. } => live.key(&event),
             WindowEvent::MouseInput {
                 state: ElementState::Released,
                 button: MouseButton::Right,
                 ..
             } => {
-                let (x, y) = live.pointer;
+                let (x, y) = live.state.pointer;
                 Some(Action::RollTo(x as f32, y as f32))
             }
             WindowEvent::MouseInput {
                 state,
                 button: MouseButton::Left,
                 ..
-            } => match (state, live.pressed.take()) {
+            } => match (state, live.state.pressed.take()) {
                 (ElementState::Pressed, _) => {
-                    live.pressed = Some((live.pointer, false));
+                    live.state.pressed = Some((live.state.pointer, false));
                     None
                 }
                 // Released where it went down: a click, not a drag.
                 (ElementState::Released, Some((_, false))) => {
-                    let (x, y) = live.pointer;
+                    let (x, y) = live.state.pointer;
                     Some(Action::Click(x as f32, y as f32))
                 }
                 (ElementState::Released, _) => None,
             },
             WindowEvent::CursorMoved { position, .. } => {
-                let (x, y) = std::mem::replace(&mut live.pointer, (position.x, position.y));
-                match live.pressed.as_mut() {
+                let (x, y) = std::mem::replace(&mut live.state.pointer, (position.x, position.y));
+                match live.state.pressed.as_mut() {
                     Some((from, dragged)) => {
                         let moved = (position.x - from.0).hypot(position.y - from.1);
                         *dragged |= moved > CLICK_SLOP_PX;
@@ -889,14 +660,6 @@ fn update_colliders(
         recorder.set_colliders(gpu, &colliders)?;
     }
     Ok(())
-}
-
-/// The rectangle (x, z) of the ground the ball may roll on: the wind's
-/// domain, so that it pushes air wherever it goes.
-fn ball_rectangle(scene: &Scene) -> Result<(glam::Vec2, glam::Vec2)> {
-    let grid = scene.wind_grid()?;
-    let low = grid.origin.xz();
-    Ok((low, low + (grid.cells.as_vec3() * grid.cell).xz()))
 }
 
 /// Reads and parses `--script FILE`.

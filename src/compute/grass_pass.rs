@@ -119,141 +119,24 @@ impl GrassPass {
         colliders: &[Collider],
         dt: f32,
     ) -> Result<Self> {
-        let grid = &wind.grid;
-        let blade_count = u32::try_from(blades.len())
-            .ok()
-            .filter(|&n| n > 0 && n <= u32::MAX / 4)
-            .ok_or_else(|| {
-                Error::InvalidInput(format!("{} blades cannot be simulated", blades.len()))
-            })?;
-        let needed = blades.len() as u64 * 4 * std::mem::size_of::<BladeVertex>() as u64;
-        if vertices.size < needed {
-            return Err(Error::InvalidInput(format!(
-                "the vertex buffer holds {} bytes, {needed} needed for {} blades",
-                vertices.size,
-                blades.len()
-            )));
-        }
+        let blade_count = check_blades(blades, vertices)?;
         super::colliders::check_count(colliders)?;
-        let substeps = substeps(blades, dt)?;
-        let face_count: u64 = (0..3)
-            .map(|a| grid.face_dims(a).as_u64vec3().element_product())
-            .sum();
         let bin_grid = BinGrid::covering(blades);
-        // The wind's offset, the step's end time and the colliders' count
-        // are set at each step (`record_step`).
-        let push = GrassPush {
-            grid: grid_params(grid, face_count as u32),
+        let push = grass_push(
+            wind,
+            colliders,
+            &bin_grid,
             blade_count,
-            substeps,
-            lay_canopy: wind.canopy.is_some() as u32,
+            substeps(blades, dt)?,
             dt,
-            substep: dt / substeps as f32,
-            canopy_unit: wind.canopy.map_or(0.0, |(_, unit)| unit),
-            press_decay: press_decay(dt),
-            pressed_states: !colliders.is_empty() as u32,
-            bin_per_metre: bin_grid.per_metre,
-            bin_corner: bin_grid.corner.to_array(),
-            bin_columns: bin_grid.columns,
-            bin_rows: bin_grid.rows,
-            ..GrassPush::default()
-        };
-
+        );
         // Host memory first: failing here leaves nothing on the GPU to undo.
-        // The kernels step the blades in place order (`place_order`) and
-        // write each one's control points at its own index.
         let batch_len = crate::gpu::batches::storage_batch_len(gpu, BLADE_BYTES_BOUND)?;
         let ranges = crate::gpu::batches::batches(blade_count, batch_len)?;
-        // Without colliders every blade takes the same path: scene order
-        // keeps the control points' writes contiguous.
-        let order = if colliders.is_empty() {
-            try_collect(blades.len(), 0..blade_count, "the blades' order")?
-        } else {
-            super::place_order::by_place(blades, &ranges)
-        };
-        let placed = try_collect(
-            blades.len(),
-            order.iter().map(|&i| blades[i as usize]),
-            "the blades in place order",
-        )?;
-        let mut vertex_slots =
-            try_collect(blades.len(), order.iter().copied(), "the blades' order")?;
-        for range in &ranges {
-            for slot in &mut vertex_slots[range.start as usize..range.end as usize] {
-                *slot -= range.start;
-            }
-        }
-        let rest = try_collect(
-            blades.len(),
-            std::iter::repeat(GrassState::default()),
-            "the grass state",
-        )?;
-        let usage = vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC;
-        let blades_buffer = Buffer::with_data(
-            gpu,
-            commands,
-            "grass blades (rest shape, physics; slot order)",
-            bytemuck::cast_slice(&placed),
-            usage,
-            Access::COMPUTE_READ,
-        )?;
-        drop(placed);
-        let vertex_slots = Buffer::with_data(
-            gpu,
-            commands,
-            "grass vertex slots (each blade's index in its batch)",
-            bytemuck::cast_slice(&vertex_slots),
-            usage,
-            Access::COMPUTE_READ,
-        )?;
-        let states = Buffer::with_data(
-            gpu,
-            commands,
-            "grass state (angles, angular velocities)",
-            bytemuck::cast_slice(&rest),
-            usage,
-            Access::COMPUTE_READ_WRITE,
-        )?;
-        let caps = Buffer::with_data(
-            gpu,
-            commands,
-            "grass angle-cap counters",
-            bytemuck::cast_slice(&[0u32; CAP_COUNTERS]),
-            usage,
-            Access::COMPUTE_READ_WRITE,
-        )?;
-        // Bound when the coupling is one-way (a binding must name a live
-        // buffer); the kernel never touches it then.
-        let no_canopy = Buffer::with_data(
-            gpu,
-            commands,
-            "grass canopy placeholder (one-way coupling)",
-            &[0u8; 4],
-            usage,
-            Access::COMPUTE_READ_WRITE,
-        )?;
-        let canopy = wind.canopy.map_or(&no_canopy, |(buffer, _)| buffer);
-        // Made without colliders, the kernel touches neither: one entry
-        // each. Made with them, each blade keeps a pressed state even when
-        // `set_colliders` takes them all away, so that it decays.
-        let press_count = if colliders.is_empty() {
-            1
-        } else {
-            blades.len()
-        };
-        let rest_presses = try_collect(
-            press_count,
-            std::iter::repeat(Press::default()),
-            "the grass pressed state",
-        )?;
-        let presses = Buffer::with_data(
-            gpu,
-            commands,
-            "grass pressed state (colliders)",
-            bytemuck::cast_slice(&rest_presses),
-            usage,
-            Access::COMPUTE_READ_WRITE,
-        )?;
+        let placed = Placed::new(blades, &ranges, colliders)?;
+        let order = placed.order.clone();
+        let buffers = StepBuffers::new(gpu, commands, blades.len(), placed, colliders)?;
+        let canopy = wind.canopy.map_or(&buffers.no_canopy, |(buffer, _)| buffer);
         let bins = ColliderBins::new(gpu, bin_grid, colliders)?;
         let layout = PipelineLayout::new::<GrassPush>(
             gpu,
@@ -262,7 +145,6 @@ impl GrassPass {
             "grass",
         )?;
         let pipeline = Pipeline::compute(gpu, &layout, &crate::shaders::GRASS_STEP_COMP)?;
-        use std::mem::size_of;
         let has_colliders = !colliders.is_empty();
         let touching_pipeline = if has_colliders {
             Some(Pipeline::compute(
@@ -273,29 +155,8 @@ impl GrassPass {
         } else {
             None
         };
-        // Batch k's list starts TOUCHING_HEADER_WORDS * k words past its
-        // first blade: the lists before it take that many more words than
-        // their blades.
-        let list_start = |blades: &Range<u32>| {
-            4 * (blades.start as u64
-                + TOUCHING_HEADER_WORDS as u64 * (blades.start / batch_len) as u64)
-        };
-        let list_words = if has_colliders {
-            blade_count as u64
-                + TOUCHING_HEADER_WORDS as u64 * blade_count.div_ceil(batch_len) as u64
-        } else {
-            TOUCHING_HEADER_WORDS as u64
-        };
-        let touching = Buffer::new(
-            gpu,
-            "grass blades touching (near a collider or pressed)",
-            4 * list_words,
-            vk::BufferUsageFlags::STORAGE_BUFFER
-                | vk::BufferUsageFlags::INDIRECT_BUFFER
-                | vk::BufferUsageFlags::TRANSFER_DST
-                | vk::BufferUsageFlags::TRANSFER_SRC,
-            crate::gpu::MemoryLocation::GpuOnly,
-        )?;
+        let touching = touching_lists(gpu, has_colliders, blade_count, batch_len)?;
+        let b = &buffers;
         let batches = crate::gpu::sets_per_batch(
             gpu,
             &layout,
@@ -304,36 +165,37 @@ impl GrassPass {
             BLADE_BYTES_BOUND,
             "grass descriptor set",
             |blades| {
+                use std::mem::size_of;
                 vec![
-                    part(&blades_buffer, blades, size_of::<GrassBlade>()),
-                    part(&states, blades, size_of::<GrassState>()),
+                    part(&b.blades, blades, size_of::<GrassBlade>()),
+                    part(&b.states, blades, size_of::<GrassState>()),
                     part(vertices, blades, 4 * size_of::<BladeVertex>()),
                     Bound::Buffer(wind.velocity),
-                    Bound::Buffer(&caps),
+                    Bound::Buffer(&b.caps),
                     Bound::Buffer(canopy),
                     if has_colliders {
-                        part(&presses, blades, size_of::<Press>())
+                        part(&b.presses, blades, size_of::<Press>())
                     } else {
-                        Bound::Buffer(&presses)
+                        Bound::Buffer(&b.presses)
                     },
                     Bound::Buffer(bins.states()),
                     Bound::Buffer(bins.bins()),
                     if has_colliders {
                         Bound::Part {
                             buffer: &touching,
-                            offset: list_start(blades),
+                            offset: list_start(blades, batch_len),
                             size: 4 * (TOUCHING_HEADER_WORDS + blades.len() as u32) as u64,
                         }
                     } else {
                         Bound::Buffer(&touching)
                     },
-                    part(&vertex_slots, blades, size_of::<u32>()),
+                    part(&b.vertex_slots, blades, size_of::<u32>()),
                 ]
             },
         )?;
         let touching_offsets = batches
             .iter()
-            .map(|(_, blades)| list_start(blades))
+            .map(|(_, blades)| list_start(blades, batch_len))
             .collect();
         Ok(Self {
             batches,
@@ -341,15 +203,15 @@ impl GrassPass {
             touching_pipeline,
             touching,
             touching_offsets,
-            blades: blades_buffer,
-            vertex_slots,
-            order,
-            states,
-            caps,
             wind_velocity: wind.velocity.into(),
             canopy: canopy.into(),
             vertices: vertices.into(),
-            presses,
+            blades: buffers.blades,
+            vertex_slots: buffers.vertex_slots,
+            order,
+            states: buffers.states,
+            caps: buffers.caps,
+            presses: buffers.presses,
             bins,
             push,
             blade_count,
@@ -546,4 +408,204 @@ pub fn device_bytes(blades: usize, with_colliders: bool) -> u64 {
         per_blade += size_of::<Press>() + size_of::<u32>();
     }
     blades as u64 * per_blade as u64
+}
+
+/// The blade count, refused where the kernels cannot step it or
+/// `vertices` cannot hold 4 `BladeVertex` per blade.
+fn check_blades(blades: &[GrassBlade], vertices: &Buffer) -> Result<u32> {
+    let blade_count = u32::try_from(blades.len())
+        .ok()
+        .filter(|&n| n > 0 && n <= u32::MAX / 4)
+        .ok_or_else(|| {
+            Error::InvalidInput(format!("{} blades cannot be simulated", blades.len()))
+        })?;
+    let needed = blades.len() as u64 * 4 * std::mem::size_of::<BladeVertex>() as u64;
+    if vertices.size < needed {
+        return Err(Error::InvalidInput(format!(
+            "the vertex buffer holds {} bytes, {needed} needed for {} blades",
+            vertices.size,
+            blades.len()
+        )));
+    }
+    Ok(blade_count)
+}
+
+/// The step's push constants as far as they hold for every step: the
+/// wind's offset, the step's end time and the colliders' count are set at
+/// each (`GrassPass::record_step`).
+fn grass_push(
+    wind: &WindInput,
+    colliders: &[Collider],
+    bin_grid: &BinGrid,
+    blade_count: u32,
+    substeps: u32,
+    dt: f32,
+) -> GrassPush {
+    let grid = &wind.grid;
+    let face_count: u64 = (0..3)
+        .map(|a| grid.face_dims(a).as_u64vec3().element_product())
+        .sum();
+    GrassPush {
+        grid: grid_params(grid, face_count as u32),
+        blade_count,
+        substeps,
+        lay_canopy: wind.canopy.is_some() as u32,
+        dt,
+        substep: dt / substeps as f32,
+        canopy_unit: wind.canopy.map_or(0.0, |(_, unit)| unit),
+        press_decay: press_decay(dt),
+        pressed_states: !colliders.is_empty() as u32,
+        bin_per_metre: bin_grid.per_metre,
+        bin_corner: bin_grid.corner.to_array(),
+        bin_columns: bin_grid.columns,
+        bin_rows: bin_grid.rows,
+        ..GrassPush::default()
+    }
+}
+
+/// The blades in the order the kernels step them (`place_order`), each
+/// writing its control points at its own index: the order, the blades in
+/// it, and each slot's blade index within its batch.
+struct Placed {
+    order: Vec<u32>,
+    blades: Vec<GrassBlade>,
+    vertex_slots: Vec<u32>,
+}
+
+impl Placed {
+    fn new(blades: &[GrassBlade], ranges: &[Range<u32>], colliders: &[Collider]) -> Result<Self> {
+        let count = blades.len();
+        // Without colliders every blade takes the same path: scene order
+        // keeps the control points' writes contiguous.
+        let order = if colliders.is_empty() {
+            try_collect(count, 0..count as u32, "the blades' order")?
+        } else {
+            super::place_order::by_place(blades, ranges)
+        };
+        let placed = try_collect(
+            count,
+            order.iter().map(|&i| blades[i as usize]),
+            "the blades in place order",
+        )?;
+        let mut vertex_slots = try_collect(count, order.iter().copied(), "the blades' order")?;
+        for range in ranges {
+            for slot in &mut vertex_slots[range.start as usize..range.end as usize] {
+                *slot -= range.start;
+            }
+        }
+        Ok(Self {
+            order,
+            blades: placed,
+            vertex_slots,
+        })
+    }
+}
+
+/// The buffers the step owns, uploaded: the blades and their slots, the
+/// state at rest, the cap counters, the pressed states and the canopy's
+/// placeholder.
+struct StepBuffers {
+    blades: Buffer,
+    vertex_slots: Buffer,
+    states: Buffer,
+    caps: Buffer,
+    /// Bound when the coupling is one-way (a binding must name a live
+    /// buffer); the kernel never touches it then.
+    no_canopy: Buffer,
+    /// Made without colliders, the kernel touches none: one entry. Made
+    /// with them, each blade keeps a pressed state even when
+    /// `set_colliders` takes them all away, so that it decays.
+    presses: Buffer,
+}
+
+impl StepBuffers {
+    fn new(
+        gpu: &Gpu,
+        commands: &CommandPool,
+        count: usize,
+        placed: Placed,
+        colliders: &[Collider],
+    ) -> Result<Self> {
+        let rest = try_collect(
+            count,
+            std::iter::repeat(GrassState::default()),
+            "the grass state",
+        )?;
+        let press_count = if colliders.is_empty() { 1 } else { count };
+        let rest_presses = try_collect(
+            press_count,
+            std::iter::repeat(Press::default()),
+            "the grass pressed state",
+        )?;
+        let usage = vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC;
+        let upload = |name: &str, bytes: &[u8], then: Access| {
+            Buffer::with_data(gpu, commands, name, bytes, usage, then)
+        };
+        let blades = upload(
+            "grass blades (rest shape, physics; slot order)",
+            bytemuck::cast_slice(&placed.blades),
+            Access::COMPUTE_READ,
+        )?;
+        drop(placed.blades);
+        Ok(Self {
+            blades,
+            vertex_slots: upload(
+                "grass vertex slots (each blade's index in its batch)",
+                bytemuck::cast_slice(&placed.vertex_slots),
+                Access::COMPUTE_READ,
+            )?,
+            states: upload(
+                "grass state (angles, angular velocities)",
+                bytemuck::cast_slice(&rest),
+                Access::COMPUTE_READ_WRITE,
+            )?,
+            caps: upload(
+                "grass angle-cap counters",
+                bytemuck::cast_slice(&[0u32; CAP_COUNTERS]),
+                Access::COMPUTE_READ_WRITE,
+            )?,
+            no_canopy: upload(
+                "grass canopy placeholder (one-way coupling)",
+                &[0u8; 4],
+                Access::COMPUTE_READ_WRITE,
+            )?,
+            presses: upload(
+                "grass pressed state (colliders)",
+                bytemuck::cast_slice(&rest_presses),
+                Access::COMPUTE_READ_WRITE,
+            )?,
+        })
+    }
+}
+
+/// Where batch `blades`' list of touching blades starts (bytes): batch k's
+/// starts TOUCHING_HEADER_WORDS * k words past its first blade, the lists
+/// before it taking that many more words than their blades.
+fn list_start(blades: &Range<u32>, batch_len: u32) -> u64 {
+    4 * (blades.start as u64 + TOUCHING_HEADER_WORDS as u64 * (blades.start / batch_len) as u64)
+}
+
+/// The lists of blades near a collider or pressed, each batch's with its
+/// indirect dispatch and count (a placeholder without colliders).
+fn touching_lists(
+    gpu: &Gpu,
+    has_colliders: bool,
+    blade_count: u32,
+    batch_len: u32,
+) -> Result<Buffer> {
+    let list_words = if has_colliders {
+        blade_count as u64 + TOUCHING_HEADER_WORDS as u64 * blade_count.div_ceil(batch_len) as u64
+    } else {
+        TOUCHING_HEADER_WORDS as u64
+    };
+    Buffer::new(
+        gpu,
+        "grass blades touching (near a collider or pressed)",
+        4 * list_words,
+        vk::BufferUsageFlags::STORAGE_BUFFER
+            | vk::BufferUsageFlags::INDIRECT_BUFFER
+            | vk::BufferUsageFlags::TRANSFER_DST
+            | vk::BufferUsageFlags::TRANSFER_SRC,
+        crate::gpu::MemoryLocation::GpuOnly,
+    )
 }

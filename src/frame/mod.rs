@@ -21,6 +21,7 @@ use crate::gpu::{
 use crate::model::collider::Collider;
 use crate::model::{Blade, GrassBlade};
 use crate::render::cull::{BladeDraw, CullPass};
+use crate::render::depth_pyramid::Occluders;
 use crate::render::{FrameUniforms, Renderer};
 use crate::scene::{Scene, ViewMode};
 
@@ -354,28 +355,7 @@ impl FrameRecorder {
         steps: u64,
         end: impl FnOnce(Recording<'_>, &Renderer, &mut Timer<'_>) -> Result<T>,
     ) -> Result<(T, FrameStats)> {
-        if steps > 0 && self.simulation.is_none() {
-            return Err(Error::InvalidInput(
-                "a still of blades at rest cannot be simulated".into(),
-            ));
-        }
-        self.renderer.set_uniforms(uniforms);
-        let occluders = self
-            .renderer
-            .begin_frame(glam::Mat4::from_cols_array(&uniforms.view_proj));
-        // The colliders are drawn where the blades see them after the steps.
-        if let Some(s) = &self.simulation {
-            self.renderer.place_colliders(s.time_after(steps) as f32);
-        }
-        // Two spans per simulation step, seven for the frame's own phases.
-        if let Some(timer) = self.timer.as_mut() {
-            let pairs = u32::try_from(steps.saturating_mul(2).saturating_add(7)).map_err(|_| {
-                Error::InvalidInput(format!(
-                    "{steps} simulation steps in one frame are too many to time"
-                ))
-            })?;
-            timer.reserve(gpu, pairs)?;
-        }
+        let occluders = self.prepare(gpu, uniforms, steps)?;
         let Self {
             simulation,
             cull,
@@ -446,7 +426,45 @@ impl FrameRecorder {
         let ended = end(rec, renderer, &mut t);
         renderer.end_frame(ended.is_ok());
         let ended = ended?;
+        Ok((ended, self.read_stats()?))
+    }
 
+    /// Before a frame of `steps` is recorded: its uniforms set, the
+    /// colliders placed, the timer sized; what its cull pass tests blades
+    /// against.
+    fn prepare(
+        &mut self,
+        gpu: &Gpu,
+        uniforms: &FrameUniforms,
+        steps: u64,
+    ) -> Result<Option<Occluders>> {
+        if steps > 0 && self.simulation.is_none() {
+            return Err(Error::InvalidInput(
+                "a still of blades at rest cannot be simulated".into(),
+            ));
+        }
+        self.renderer.set_uniforms(uniforms);
+        let occluders = self
+            .renderer
+            .begin_frame(glam::Mat4::from_cols_array(&uniforms.view_proj));
+        // The colliders are drawn where the blades see them after the steps.
+        if let Some(s) = &self.simulation {
+            self.renderer.place_colliders(s.time_after(steps) as f32);
+        }
+        // Two spans per simulation step, seven for the frame's own phases.
+        if let Some(timer) = self.timer.as_mut() {
+            let pairs = u32::try_from(steps.saturating_mul(2).saturating_add(7)).map_err(|_| {
+                Error::InvalidInput(format!(
+                    "{steps} simulation steps in one frame are too many to time"
+                ))
+            })?;
+            timer.reserve(gpu, pairs)?;
+        }
+        Ok(occluders)
+    }
+
+    /// What the frame just submitted measured of itself.
+    fn read_stats(&self) -> Result<FrameStats> {
         let timings = match &self.timer {
             Some(t) => {
                 let mut times = FrameTimings::default();
@@ -467,7 +485,7 @@ impl FrameRecorder {
             timings,
             cull: self.cull.as_ref().map(CullPass::counts),
         };
-        Ok((ended, stats))
+        Ok(stats)
     }
 }
 

@@ -125,8 +125,6 @@ pub struct CullPass {
     flags: Buffer,
     groups: Buffer,
     groups_occluded: Buffer,
-    /// Bound in the pyramid's place when there is none.
-    _no_pyramid: Option<Buffer>,
     /// The draws and the count tested; host-visible so each frame's
     /// counts can be read after it.
     draws: Buffer,
@@ -134,7 +132,7 @@ pub struct CullPass {
     shadow_list: Buffer,
     push: CullPush,
     /// The buffers the flag kernel reads but others own: the blades'
-    /// control points, the depth pyramid (or `_no_pyramid`).
+    /// control points, the depth pyramid (or a placeholder the sets hold).
     vertices: BufferId,
     pyramid: BufferId,
 }
@@ -160,69 +158,8 @@ impl CullPass {
             )));
         }
         let groups = blade_count.div_ceil(GROUP);
-        let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
-        let flags = Buffer::new(
-            gpu,
-            "cull flags (one word per blade)",
-            4 * blade_count as u64,
-            storage,
-            MemoryLocation::GpuOnly,
-        )?;
-        let group_counts = Buffer::new(
-            gpu,
-            "cull workgroup counts and first slots",
-            16 * groups as u64,
-            storage,
-            MemoryLocation::GpuOnly,
-        )?;
-        let groups_occluded = Buffer::new(
-            gpu,
-            "cull workgroup counts of occluded blades",
-            4 * groups as u64,
-            storage,
-            MemoryLocation::GpuOnly,
-        )?;
-        let no_pyramid = match pyramid {
-            Some(_) => None,
-            None => Some(Buffer::new(
-                gpu,
-                "cull depth pyramid (unused: no occlusion culling)",
-                16,
-                storage,
-                MemoryLocation::GpuOnly,
-            )?),
-        };
-        let pyramid = pyramid.or(no_pyramid.as_ref()).expect("one of the two");
-        let draws = Buffer::new(
-            gpu,
-            "cull indirect draws (colour, shadow) and count",
-            4 * DRAW_WORDS as u64,
-            storage | vk::BufferUsageFlags::INDIRECT_BUFFER,
-            MemoryLocation::GpuToCpu,
-        )?;
-        let list = |name| {
-            Buffer::new(
-                gpu,
-                name,
-                16 * blade_count as u64,
-                storage | vk::BufferUsageFlags::INDEX_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC,
-                MemoryLocation::GpuOnly,
-            )
-        };
-        let color_list = list("cull colour-pass blade list (index buffer)")?;
-        // Without shadows the shadow list is never written or drawn; it
-        // still has to be bound.
-        let shadow_list = if shadows {
-            list("cull shadow-pass blade list (index buffer)")?
-        } else {
-            Buffer::new(
-                gpu,
-                "cull shadow-pass blade list (unused: no shadows)",
-                16,
-                storage | vk::BufferUsageFlags::INDEX_BUFFER,
-                MemoryLocation::GpuOnly,
-            )?
-        };
+        let b = CullBuffers::new(gpu, blade_count, groups, shadows, pyramid.is_none())?;
+        let pyramid = pyramid.or(b.no_pyramid.as_ref()).expect("one of the two");
         let layout =
             PipelineLayout::new::<CullPush>(gpu, CULL_SET, vk::ShaderStageFlags::COMPUTE, "cull")?;
         let flags_kernel = Pipeline::compute(gpu, &layout, &crate::shaders::CULL_FLAGS_COMP)?;
@@ -239,12 +176,12 @@ impl CullPass {
                 vec![
                     Bound::Buffer(frame_uniforms),
                     crate::gpu::part(blades, batch, BLADE_BYTES),
-                    Bound::Buffer(&flags),
-                    Bound::Buffer(&group_counts),
-                    Bound::Buffer(&draws),
-                    Bound::Buffer(&color_list),
-                    Bound::Buffer(&shadow_list),
-                    Bound::Buffer(&groups_occluded),
+                    Bound::Buffer(&b.flags),
+                    Bound::Buffer(&b.groups),
+                    Bound::Buffer(&b.draws),
+                    Bound::Buffer(&b.color_list),
+                    Bound::Buffer(&b.shadow_list),
+                    Bound::Buffer(&b.groups_occluded),
                     Bound::Buffer(pyramid),
                 ]
             },
@@ -257,13 +194,12 @@ impl CullPass {
             compact_kernel,
             vertices,
             pyramid,
-            flags,
-            groups: group_counts,
-            groups_occluded,
-            _no_pyramid: no_pyramid,
-            draws,
-            color_list,
-            shadow_list,
+            flags: b.flags,
+            groups: b.groups,
+            groups_occluded: b.groups_occluded,
+            draws: b.draws,
+            color_list: b.color_list,
+            shadow_list: b.shadow_list,
             push: CullPush {
                 blade_count,
                 flag_groups: groups,
@@ -429,4 +365,86 @@ fn read_list(
 /// lists of four indices, five counts per workgroup.
 pub fn device_bytes(blades: usize) -> u64 {
     blades as u64 * (4 + 16 + 16) + 20 * (blades as u64).div_ceil(GROUP as u64)
+}
+
+/// The cull pass's own buffers: each blade's flags, each workgroup's
+/// counts (and of occluded blades), the indirect draws, the two lists,
+/// and a placeholder bound for the pyramid without occlusion culling.
+struct CullBuffers {
+    flags: Buffer,
+    groups: Buffer,
+    groups_occluded: Buffer,
+    draws: Buffer,
+    color_list: Buffer,
+    shadow_list: Buffer,
+    no_pyramid: Option<Buffer>,
+}
+
+impl CullBuffers {
+    fn new(
+        gpu: &Gpu,
+        blade_count: u32,
+        groups: u32,
+        shadows: bool,
+        no_pyramid: bool,
+    ) -> Result<Self> {
+        let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+        let buffer = |name: &str, bytes: u64, usage: vk::BufferUsageFlags| {
+            Buffer::new(gpu, name, bytes, storage | usage, MemoryLocation::GpuOnly)
+        };
+        let none = vk::BufferUsageFlags::empty();
+        let lists = vk::BufferUsageFlags::INDEX_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC;
+        Ok(Self {
+            flags: buffer(
+                "cull flags (one word per blade)",
+                4 * blade_count as u64,
+                none,
+            )?,
+            groups: buffer(
+                "cull workgroup counts and first slots",
+                16 * groups as u64,
+                none,
+            )?,
+            groups_occluded: buffer(
+                "cull workgroup counts of occluded blades",
+                4 * groups as u64,
+                none,
+            )?,
+            no_pyramid: match no_pyramid {
+                true => Some(buffer(
+                    "cull depth pyramid (unused: no occlusion culling)",
+                    16,
+                    none,
+                )?),
+                false => None,
+            },
+            draws: Buffer::new(
+                gpu,
+                "cull indirect draws (colour, shadow) and count",
+                4 * DRAW_WORDS as u64,
+                storage | vk::BufferUsageFlags::INDIRECT_BUFFER,
+                MemoryLocation::GpuToCpu,
+            )?,
+            color_list: buffer(
+                "cull colour-pass blade list (index buffer)",
+                16 * blade_count as u64,
+                lists,
+            )?,
+            // Without shadows the shadow list is never written or drawn; it
+            // still has to be bound.
+            shadow_list: if shadows {
+                buffer(
+                    "cull shadow-pass blade list (index buffer)",
+                    16 * blade_count as u64,
+                    lists,
+                )?
+            } else {
+                buffer(
+                    "cull shadow-pass blade list (unused: no shadows)",
+                    16,
+                    vk::BufferUsageFlags::INDEX_BUFFER,
+                )?
+            },
+        })
+    }
 }
