@@ -3,14 +3,13 @@
 //! set of buffers, images and samplers with a pool of its own: what every
 //! pass binds, made one way.
 
+use std::any::Any;
 use std::sync::Arc;
 
 use ash::vk;
 
 use crate::error::{Error, Result, VkResultExt};
-use crate::gpu::buffer::BufferCore;
 use crate::gpu::device::Device;
-use crate::gpu::image::ImageCore;
 use crate::gpu::owned::{Owned, Sampler};
 use crate::gpu::{Buffer, Gpu, Image};
 
@@ -149,15 +148,9 @@ pub enum Bound<'a> {
 pub struct DescriptorSet {
     _pool: Owned<vk::DescriptorPool>,
     pub(super) raw: vk::DescriptorSet,
-    _held: Held,
-}
-
-/// What a set binds, kept alive by it (never read through it).
-#[derive(Default)]
-struct Held {
-    _buffers: Vec<Arc<BufferCore>>,
-    _images: Vec<Arc<ImageCore>>,
-    _samplers: Vec<Sampler>,
+    /// What it binds (buffers', images' and samplers' cores), kept alive
+    /// by it and never read through it.
+    _held: Vec<Arc<dyn Any>>,
 }
 
 impl DescriptorSet {
@@ -257,16 +250,16 @@ impl DescriptorSet {
         // SAFETY: the set is new and not used by any command buffer; every
         // resource written is live.
         unsafe { device.raw.update_descriptor_sets(&writes, &[]) };
-        let mut held = Held::default();
-        for r in bound {
-            match r {
-                Bound::Buffer(buffer) | Bound::Part { buffer, .. } => {
-                    held._buffers.push(buffer.core.clone())
+        let held = bound
+            .iter()
+            .map(|r| -> Arc<dyn Any> {
+                match r {
+                    Bound::Buffer(buffer) | Bound::Part { buffer, .. } => buffer.core.clone(),
+                    Bound::Image(image) => image.core.clone(),
+                    Bound::Sampler(sampler) => sampler.0.clone(),
                 }
-                Bound::Image(image) => held._images.push(image.core.clone()),
-                Bound::Sampler(sampler) => held._samplers.push((*sampler).clone()),
-            }
-        }
+            })
+            .collect();
         Ok(Self {
             _pool: pool,
             raw,
