@@ -120,16 +120,7 @@ pub struct CullPass {
     flags_kernel: Pipeline,
     scan_kernel: Pipeline,
     compact_kernel: Pipeline,
-    /// Each blade's flags, each workgroup's counts, and its count of
-    /// blades the pyramid hides: between the three kernels.
-    flags: Buffer,
-    groups: Buffer,
-    groups_occluded: Buffer,
-    /// The draws and the count tested; host-visible so each frame's
-    /// counts can be read after it.
-    draws: Buffer,
-    color_list: Buffer,
-    shadow_list: Buffer,
+    buffers: CullBuffers,
     push: CullPush,
     /// The buffers the flag kernel reads but others own: the blades'
     /// control points, the depth pyramid (or a placeholder the sets hold).
@@ -194,12 +185,7 @@ impl CullPass {
             compact_kernel,
             vertices,
             pyramid,
-            flags: b.flags,
-            groups: b.groups,
-            groups_occluded: b.groups_occluded,
-            draws: b.draws,
-            color_list: b.color_list,
-            shadow_list: b.shadow_list,
+            buffers: b,
             push: CullPush {
                 blade_count,
                 flag_groups: groups,
@@ -238,9 +224,9 @@ impl CullPass {
         rec.uses(&[
             BufferUse::new(self.vertices, read),
             BufferUse::new(self.pyramid, read),
-            BufferUse::new(&self.flags, write),
-            BufferUse::new(&self.groups, read_write),
-            BufferUse::new(&self.groups_occluded, read_write),
+            BufferUse::new(&self.buffers.flags, write),
+            BufferUse::new(&self.buffers.groups, read_write),
+            BufferUse::new(&self.buffers.groups_occluded, read_write),
         ]);
         rec.bind_pipeline(&self.flags_kernel);
         for (set, blades) in &self.batches {
@@ -251,15 +237,15 @@ impl CullPass {
         }
         let first_set = &self.batches[0].0;
         let scan_uses = [
-            BufferUse::new(&self.groups, read_write),
-            BufferUse::new(&self.groups_occluded, read),
-            BufferUse::new(&self.draws, read_write),
+            BufferUse::new(&self.buffers.groups, read_write),
+            BufferUse::new(&self.buffers.groups_occluded, read),
+            BufferUse::new(&self.buffers.draws, read_write),
         ];
         let compact_uses = [
-            BufferUse::new(&self.flags, read),
-            BufferUse::new(&self.groups, read),
-            BufferUse::new(&self.color_list, write),
-            BufferUse::new(&self.shadow_list, write),
+            BufferUse::new(&self.buffers.flags, read),
+            BufferUse::new(&self.buffers.groups, read),
+            BufferUse::new(&self.buffers.color_list, write),
+            BufferUse::new(&self.buffers.shadow_list, write),
         ];
         for (kernel, dispatch, uses) in [
             (&self.scan_kernel, 1, &scan_uses[..]),
@@ -283,17 +269,20 @@ impl CullPass {
     /// draws.
     pub fn drawn_uses(&self) -> [BufferUse; 3] {
         [
-            BufferUse::new(&self.color_list, Access::INDEX_INPUT),
-            BufferUse::new(&self.shadow_list, Access::INDEX_INPUT),
-            BufferUse::new(&self.draws, Access::DRAW_INDIRECT.and(Access::HOST_READ)),
+            BufferUse::new(&self.buffers.color_list, Access::INDEX_INPUT),
+            BufferUse::new(&self.buffers.shadow_list, Access::INDEX_INPUT),
+            BufferUse::new(
+                &self.buffers.draws,
+                Access::DRAW_INDIRECT.and(Access::HOST_READ),
+            ),
         ]
     }
 
     /// The colour pass's blades.
     pub fn color_list(&self) -> BladeList<'_> {
         BladeList {
-            indices: &self.color_list,
-            draws: &self.draws,
+            indices: &self.buffers.color_list,
+            draws: &self.buffers.draws,
             offset: 0,
         }
     }
@@ -301,8 +290,8 @@ impl CullPass {
     /// The shadow pass's blades.
     pub fn shadow_list(&self) -> BladeList<'_> {
         BladeList {
-            indices: &self.shadow_list,
-            draws: &self.draws,
+            indices: &self.buffers.shadow_list,
+            draws: &self.buffers.draws,
             offset: DRAW_BYTES,
         }
     }
@@ -311,6 +300,7 @@ impl CullPass {
     pub fn counts(&self) -> CullCounts {
         let words: &[u32] = bytemuck::cast_slice(
             &self
+                .buffers
                 .draws
                 .mapped()
                 .expect("the draws buffer is host-visible")[..4 * DRAW_WORDS],
@@ -333,7 +323,7 @@ impl CullPass {
         commands: &crate::gpu::CommandPool,
     ) -> Result<Vec<u32>> {
         let n = self.counts().in_view as usize;
-        read_list(gpu, commands, &self.color_list, n)
+        read_list(gpu, commands, &self.buffers.color_list, n)
     }
 
     /// The shadow list of the last frame, as `read_color_list`.
@@ -343,7 +333,7 @@ impl CullPass {
         commands: &crate::gpu::CommandPool,
     ) -> Result<Vec<u32>> {
         let n = self.counts().shadow_casters as usize;
-        read_list(gpu, commands, &self.shadow_list, n)
+        read_list(gpu, commands, &self.buffers.shadow_list, n)
     }
 }
 
@@ -368,8 +358,10 @@ pub fn device_bytes(blades: usize) -> u64 {
 }
 
 /// The cull pass's own buffers: each blade's flags, each workgroup's
-/// counts (and of occluded blades), the indirect draws, the two lists,
-/// and a placeholder bound for the pyramid without occlusion culling.
+/// counts (and of occluded blades): between the three kernels; the
+/// indirect draws and the count tested, host-visible so each frame's
+/// counts can be read after it; the two lists; and a placeholder bound
+/// for the pyramid without occlusion culling.
 struct CullBuffers {
     flags: Buffer,
     groups: Buffer,
