@@ -375,19 +375,7 @@ impl Live {
         report.frames += 1;
         if std::mem::take(&mut self.state.screenshot_asked) {
             let path = self.screenshot(gpu, &uniforms, report.screenshots.len())?;
-            let ball = self
-                .state
-                .ball
-                .as_ref()
-                .map(|b| format!(", ball at ({:.4}, {:.4}) m", b.centre.x, b.centre.z))
-                .unwrap_or_default();
-            println!(
-                "wrote {} (simulated time {:.4} s, camera at {:?} looking at {:?}{ball})",
-                path.display(),
-                time,
-                scene.camera.position,
-                scene.camera.target
-            );
+            self.say_screenshot(&path, time, &scene);
             report.screenshots.push(path);
         }
         self.show_title(&stats);
@@ -450,6 +438,23 @@ impl Live {
         let path = dir.join(format!("view_{n:04}.png"));
         files::write_png(&path, &frame)?;
         Ok(path)
+    }
+
+    /// Where a screenshot went and what it shows.
+    fn say_screenshot(&self, path: &Path, time: f64, scene: &Scene) {
+        let ball = self
+            .state
+            .ball
+            .as_ref()
+            .map(|b| format!(", ball at ({:.4}, {:.4}) m", b.centre.x, b.centre.z))
+            .unwrap_or_default();
+        println!(
+            "wrote {} (simulated time {:.4} s, camera at {:?} looking at {:?}{ball})",
+            path.display(),
+            time,
+            scene.camera.position,
+            scene.camera.target
+        );
     }
 
     /// Frames a second, smoothed over about ten frames.
