@@ -285,10 +285,9 @@ impl Tracker {
                     },
                     new_layout: access.layout,
                 });
-                // Later barriers chain through these commands' stages.
+                // Later barriers chain through these commands' stages;
+                // `used` below makes it visible to what they read.
                 state.hazard = Hazard::written(access.stage, vk::AccessFlags2::NONE);
-                state.hazard.visible_stage = access.stage;
-                state.hazard.visible_access = access.access;
                 state.layout = access.layout;
             } else {
                 state.hazard.need(access, &mut dep);
