@@ -153,60 +153,6 @@ fn blades_in_the_lee_of_a_wall_move_less_than_blades_beside_it() {
     );
 }
 
-/// The rotating wind is followed, in the grass: under Fig. 11's source,
-/// which turns at 0.5 rad/s about the vertical, the mean downwind lean of
-/// the blades within 2 m of the centre turns the same way, by at least half
-/// the source's turn between 2 s and 6 s.
-#[test]
-fn the_grass_follows_a_rotating_wind() {
-    let scene = Scene::builtin("fig11-meadow-rotating").unwrap();
-    let source = &scene.wind.sources[0];
-    let rate = source.rotation_speed;
-    let request = TraceRequest {
-        scene: scene.clone(),
-        seconds: 6.0,
-        every: 60,
-        blades: BladePick::Count(4000),
-        wind: false,
-        diagram_from: 0.0,
-        gpu: strict_options(),
-    };
-    let gpu = strict_gpu();
-    let run = trace(&gpu, &request, &mut |_, _| true).unwrap();
-    finish(gpu);
-    let n = run.blades.len();
-    // The direction of the mean horizontal tip displacement (as the
-    // source's: about +y, from +x towards -z), unwrapped over time.
-    let mut angles: Vec<f64> = Vec::new();
-    for s in 1..run.times.len() {
-        let (mut dx, mut dz) = (0.0f64, 0.0f64);
-        for b in 0..n {
-            let [x, z] = run.roots[b];
-            if x * x + z * z < 4.0 {
-                let (now, rest) = (run.tip(s, b), run.tip(0, b));
-                dx += (now[0] - rest[0]) as f64;
-                dz += (now[2] - rest[2]) as f64;
-            }
-        }
-        let mut a = (-dz).atan2(dx);
-        if let Some(&last) = angles.last() {
-            while a - last > std::f64::consts::PI {
-                a -= std::f64::consts::TAU;
-            }
-            while a - last < -std::f64::consts::PI {
-                a += std::f64::consts::TAU;
-            }
-        }
-        angles.push(a);
-    }
-    let at = |t: f64| angles[(t / (run.times[1] - run.times[0])).round() as usize - 1];
-    let turned = at(6.0) - at(2.0);
-    let source_turned = rate as f64 * 4.0;
-    eprintln!(
-        "lean direction (rad) at 1..6 s: {angles:.2?}; turned {turned:.2} rad from 2 s to 6 s, the source {source_turned:.2}"
-    );
-    assert!(
-        turned > 0.5 * source_turned,
-        "the grass does not follow the wind: turned {turned} rad, the source {source_turned}"
-    );
-}
+// The rotating wind followed, in the grass: measured on the run that
+// bounds the rotating meadow's angle caps (tests/soak.rs), one simulation
+// for both.
