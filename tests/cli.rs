@@ -5,7 +5,9 @@ mod common;
 
 use std::process::{Command, Output};
 
-use common::binary::{files_in, interrupted_render, meadow, read_json, spawn_meadow, temp_out};
+use common::binary::{
+    files_in, interrupted_render, meadow, read_json, spawn_meadow, spawn_meadow_to, temp_out,
+};
 
 fn assert_succeeded(result: &Output) {
     assert!(
@@ -57,7 +59,7 @@ fn zero_and_absurd_sizes_are_refused() {
     assert_refused(
         &["render", "--width", "0"],
         &[],
-        "--width 0 is not allowed, use 1..=16384",
+        "--width 0 is not allowed, use a whole number from 1 to 16384",
     );
     assert_refused(
         &["render", "--width", "100000"],
@@ -97,7 +99,7 @@ fn bad_animation_settings_are_refused() {
     assert_refused(
         &["render", "--every", "0"],
         &[],
-        "--every 0 is not allowed, use 1..=100000",
+        "--every 0 is not allowed, use a whole number from 1 to 100000",
     );
 }
 
@@ -174,7 +176,7 @@ fn wind_takes_solver_flags_and_says_when_the_projection_falls_short() {
     assert_refused(
         &["wind", "--jacobi-iterations", "20000"],
         &[],
-        "--jacobi-iterations 20000 is not allowed, use 0..=10000",
+        "--jacobi-iterations 20000 is not allowed, use a whole number from 0 to 10000",
     );
     let out = temp_out("wind-flags");
     let result = meadow(
@@ -284,7 +286,7 @@ fn wind_v_cycles_pick_multigrid_which_removes_the_divergence() {
     assert_refused(
         &["wind", "--v-cycles", "0"],
         &[],
-        "--v-cycles 0 is not allowed, use 1..=100",
+        "--v-cycles 0 is not allowed, use a whole number from 1 to 100",
     );
     assert_refused(
         &["wind", "--v-cycles", "3", "--jacobi-iterations", "30"],
@@ -377,12 +379,12 @@ fn flags_out_of_range_are_refused_by_their_own_name() {
     assert_refused(
         &["render", "--shadow-map", "20000"],
         &[],
-        "--shadow-map 20000 is not allowed, use 0..=16384",
+        "--shadow-map 20000 is not allowed, use a whole number from 0 to 16384",
     );
     assert_refused(
         &["bench", "--shadow-map", "20000"],
         &[],
-        "--shadow-map 20000 is not allowed, use 0..=16384",
+        "--shadow-map 20000 is not allowed, use a whole number from 0 to 16384",
     );
     // Fewer blades than patches would leave a patch empty.
     assert_refused(
@@ -865,19 +867,22 @@ fn an_output_directory_that_cannot_be_made_is_one_line_and_no_file() {
 #[test]
 fn sigterm_stops_a_trace_with_complete_files() {
     let out = temp_out("trace-sigterm");
-    let mut child = spawn_meadow(&[
-        "trace",
-        "--scene",
-        "fig10-few-bunches",
-        "--seconds",
-        "600",
-        "--every",
-        "30",
-        "--blades",
-        "20",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let mut child = spawn_meadow_to(
+        &[
+            "trace",
+            "--scene",
+            "fig10-few-bunches",
+            "--seconds",
+            "600",
+            "--every",
+            "30",
+            "--blades",
+            "20",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        std::process::Stdio::piped(),
+    );
     // 36,000 steps: far more than the seconds before the signal.
     std::thread::sleep(std::time::Duration::from_secs(6));
     assert!(child.try_wait().unwrap().is_none(), "meadow ended early");
@@ -911,5 +916,14 @@ fn sigterm_stops_a_trace_with_complete_files() {
         &["blades.csv", "trace.json"]
     };
     assert_eq!(files_in(&out), expected);
+    // The summary names every file written.
+    let stdout = String::from_utf8_lossy(&result.stdout);
+    let wrote = stdout
+        .lines()
+        .find(|l| l.starts_with("wrote "))
+        .unwrap_or_else(|| panic!("no summary of the files: {stdout}"));
+    for name in expected {
+        assert!(wrote.contains(name), "{wrote} leaves out {name}");
+    }
     let _ = std::fs::remove_dir_all(&out);
 }

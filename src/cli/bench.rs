@@ -5,7 +5,10 @@ use std::path::PathBuf;
 
 use meadow::scene::Scene;
 
-use super::{DeviceArgs, LodArg, OnOff};
+use meadow::commands::bench::MAX_BENCH_FRAMES;
+use meadow::scene::check::MAX_IMAGE_SIDE;
+
+use super::{numbers, DeviceArgs, LodArg, OnOff};
 
 #[derive(clap::Args)]
 pub struct BenchArgs {
@@ -16,30 +19,34 @@ pub struct BenchArgs {
     /// run when asked, after a check that they fit the GPU's memory.
     #[arg(long, default_value = "50k,100k,150k,200k")]
     blades: String,
+    /// Rows with level of detail on, off, or both.
     #[arg(long, value_enum, default_value = "both")]
     lod: LodArg,
     /// Timed frames per row (each one simulation step).
-    #[arg(long, default_value_t = 20)]
+    #[arg(long, default_value_t = 20, allow_negative_numbers = true, value_parser = numbers::whole::<u32>(1, MAX_BENCH_FRAMES as u64))]
     frames: u32,
     /// Untimed frames before them.
-    #[arg(long, default_value_t = 3)]
+    #[arg(long, default_value_t = 3, allow_negative_numbers = true, value_parser = numbers::whole::<u32>(0, MAX_BENCH_FRAMES as u64))]
     warmup: u32,
-    #[arg(long, default_value_t = 1280)]
+    /// Image width in pixels.
+    #[arg(long, default_value_t = 1280, allow_negative_numbers = true, value_parser = numbers::whole::<u32>(1, MAX_IMAGE_SIDE as u64))]
     width: u32,
-    #[arg(long, default_value_t = 720)]
+    /// Image height in pixels.
+    #[arg(long, default_value_t = 720, allow_negative_numbers = true, value_parser = numbers::whole::<u32>(1, MAX_IMAGE_SIDE as u64))]
     height: u32,
     /// MSAA samples asked for (the paper's 8; the largest supported up
     /// to this is used and reported).
-    #[arg(long, default_value_t = 8)]
+    #[arg(long, default_value_t = 8, allow_negative_numbers = true, value_parser = numbers::whole::<u32>(1, 64))]
     msaa: u32,
     /// Shadow map side in texels (default: the scene's, the paper's 8192;
     /// 0 turns shadows off).
-    #[arg(long, value_name = "TEXELS")]
+    #[arg(long, value_name = "TEXELS", allow_negative_numbers = true, value_parser = numbers::whole::<u32>(0, MAX_IMAGE_SIDE as u64))]
     shadow_map: Option<u32>,
     /// Occlusion culling in the rows with culling on (default: the
     /// scene's [cull] occlusion, off).
     #[arg(long, value_enum)]
     occlusion: Option<OnOff>,
+    /// Folder for bench.json, bench.md and bench.svg (made if missing).
     #[arg(long, default_value = "out/bench")]
     out: PathBuf,
     #[command(flatten)]

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use meadow::scene::Scene;
 
-use super::DeviceArgs;
+use super::{numbers, DeviceArgs};
 
 #[derive(clap::Args)]
 pub struct BenchGrassArgs {
@@ -21,11 +21,12 @@ pub struct BenchGrassArgs {
     #[arg(long, default_value = "0")]
     colliders: String,
     /// Timed steps per count (the median and p95 are reported).
-    #[arg(long, default_value_t = 30)]
+    #[arg(long, default_value_t = 30, allow_negative_numbers = true, value_parser = numbers::whole::<u32>(1, 10_000))]
     steps: u32,
     /// Untimed grass steps before timing.
-    #[arg(long, default_value_t = 5)]
+    #[arg(long, default_value_t = 5, allow_negative_numbers = true, value_parser = numbers::whole::<u32>(0, 10_000))]
     warmup: u32,
+    /// Folder for grass_bench.json (made if missing).
     #[arg(long, default_value = "out/bench-grass")]
     out: PathBuf,
     #[command(flatten)]

@@ -13,15 +13,22 @@ use meadow::gpu::{FaultPlan, GpuOptions, ValidationOptions};
 use meadow::model::wind::Coupling;
 use meadow::scene::{Scene, ViewMode};
 
+/// The largest image side any flag takes (the device may allow less).
+const MAX_SIDE: u64 = meadow::scene::check::MAX_IMAGE_SIDE as u64;
+
 pub mod bench;
 pub mod bench_grass;
 pub mod devices;
+pub mod numbers;
 pub mod render;
 pub mod reproduce;
 pub mod scenes;
 pub mod trace;
 pub mod view;
 pub mod wind;
+
+#[cfg(test)]
+mod tests;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum OnOff {
@@ -50,7 +57,7 @@ pub struct DeviceArgs {
     best_practices: bool,
     /// Refuse work that needs more GPU memory than this (default: half the
     /// device's largest memory heap).
-    #[arg(long, value_name = "MIB", value_parser = clap::value_parser!(u64).range(1..=16_777_216))]
+    #[arg(long, value_name = "MIB", allow_negative_numbers = true, value_parser = numbers::whole::<u64>(1, 16_777_216))]
     gpu_memory_mib: Option<u64>,
 }
 
@@ -123,17 +130,17 @@ pub struct SceneArgs {
     scene: String,
     /// Total number of blades, shared among the scene's patches (200000,
     /// 200k, 1.5m).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     blades: Option<String>,
     /// Width in pixels of the image (render) or of the window at the start
     /// (view); default: the scene's [render] width.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true, value_parser = numbers::whole::<u32>(1, MAX_SIDE))]
     width: Option<u32>,
     /// Height in pixels, as --width (default: the scene's [render] height).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true, value_parser = numbers::whole::<u32>(1, MAX_SIDE))]
     height: Option<u32>,
     /// MSAA samples asked for; the largest supported count up to it is used.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true, value_parser = numbers::whole::<u32>(1, 64))]
     msaa: Option<u32>,
     /// Level of detail: tessellation level 20/10/3 by distance, or always 20.
     #[arg(long, value_enum)]
@@ -152,7 +159,7 @@ pub struct SceneArgs {
     #[arg(long, value_enum)]
     view: Option<ViewMode>,
     /// Random seed of the grass field (default: the scene's).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true, value_parser = numbers::seed)]
     seed: Option<u64>,
     /// Whether the grass slows the wind: one-way (the paper's) or
     /// two-way (canopy drag; default: the scene's wind.coupling).
@@ -160,7 +167,7 @@ pub struct SceneArgs {
     coupling: Option<Coupling>,
     /// Shadow map side in texels (default: the scene's, the paper's 8192;
     /// smaller for quick previews; 0 turns shadows off).
-    #[arg(long, value_name = "TEXELS")]
+    #[arg(long, value_name = "TEXELS", allow_negative_numbers = true, value_parser = numbers::whole::<u32>(0, MAX_SIDE))]
     shadow_map: Option<u32>,
 }
 
@@ -197,6 +204,51 @@ impl SceneArgs {
         }
         Ok(scene)
     }
+}
+
+/// A command line clap refused, as one line: a value refused by its flag's
+/// parser as "--flag VALUE is not allowed, use ..." (the library's own
+/// refusals read the same), anything else as clap's first line with its
+/// tip, if it has one (e.g. "did you mean '--frames'?").
+pub fn parse_error_line(e: &clap::Error) -> String {
+    use clap::error::{ContextKind, ContextValue, ErrorKind};
+    let context = |kind| match e.get(kind) {
+        Some(ContextValue::String(s)) => Some(s.clone()),
+        _ => None,
+    };
+    let rendered = e.render().to_string();
+    let mut lines = rendered.lines().map(str::trim).filter(|l| !l.is_empty());
+    let first = lines.next().unwrap_or("the command line was refused");
+    let first = first.strip_prefix("error: ").unwrap_or(first);
+    if e.kind() == ErrorKind::ValueValidation {
+        if let (Some(arg), Some(value)) = (
+            context(ContextKind::InvalidArg),
+            context(ContextKind::InvalidValue),
+        ) {
+            // "--frames <FRAMES>" names the flag as "--frames".
+            let flag = arg.split(' ').next().unwrap_or(&arg);
+            if let Some(fix) = first.rsplit_once("': ").map(|(_, fix)| fix) {
+                return format!("{flag} {value} is not allowed, {fix}");
+            }
+        }
+    }
+    // The allowed values and clap's suggestion, if it has them.
+    let mut line = first.to_string();
+    for more in lines {
+        if let Some(tip) = more.strip_prefix("tip: ") {
+            line.push_str(&format!(" ({tip})"));
+        } else if more.starts_with("[possible values") {
+            line.push_str(&format!(" {more}"));
+        }
+    }
+    line
+}
+
+/// Prints a refused command line as one line; clap's exit status for a
+/// usage error.
+pub fn refuse(e: &clap::Error) -> std::process::ExitCode {
+    eprintln!("meadow: error: {}", parse_error_line(e));
+    std::process::ExitCode::from(2)
 }
 
 /// `--blades` as every command reads it: 1200, 50k, 1.5m. A plain

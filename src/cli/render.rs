@@ -6,6 +6,9 @@ use std::sync::atomic::Ordering;
 
 use meadow::commands::render::{render_to_dir_observed, RenderRequest};
 
+use meadow::scene::check::MAX_FRAMES;
+
+use super::numbers;
 use super::{signal_name, stop_signal, DeviceArgs, Interrupted, SceneArgs};
 
 #[derive(clap::Args)]
@@ -13,18 +16,18 @@ pub struct RenderArgs {
     #[command(flatten)]
     scene: SceneArgs,
     /// Frames to render; frame f shows simulated time START + f / FPS.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true, value_parser = numbers::whole::<u32>(1, MAX_FRAMES as u64))]
     frames: Option<u32>,
     /// Frames per second of simulated time (the simulation's own step
     /// is fixed by the scene).
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_negative_numbers = true, value_parser = numbers::decimal::<f32>)]
     fps: Option<f32>,
     /// Simulated seconds before the first frame (the grass starts at rest).
-    #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
+    #[arg(long, value_name = "SECONDS", allow_negative_numbers = true, value_parser = numbers::decimal::<f32>)]
     start: Option<f32>,
     /// Write only every K-th frame (0, K, 2K, ...); the simulation still
     /// runs through the others.
-    #[arg(long, value_name = "K", default_value_t = 1)]
+    #[arg(long, value_name = "K", default_value_t = 1, allow_negative_numbers = true, value_parser = numbers::whole::<u32>(1, MAX_FRAMES as u64))]
     every: u32,
     /// Do not write DIR/animation.gif (written when there are several frames).
     #[arg(long)]
@@ -33,6 +36,8 @@ pub struct RenderArgs {
     /// FILE.webm (VP9), 4:2:0, near-lossless, at FPS / K frames a second.
     #[arg(long, value_name = "FILE")]
     video: Option<PathBuf>,
+    /// Folder for the frames, animation.gif, report.json and scene.toml
+    /// (made if missing; an earlier render's outputs there are replaced).
     #[arg(long, default_value = "out")]
     out: PathBuf,
     #[command(flatten)]

@@ -7,6 +7,8 @@ use super::DeviceArgs;
 
 #[derive(clap::Args)]
 pub struct ReproduceArgs {
+    /// Folder for index.md, index.html and each figure's shots (made if
+    /// missing).
     #[arg(long, default_value = "out/reproduce")]
     out: PathBuf,
     /// Small images and short simulated times: a few minutes on lavapipe.

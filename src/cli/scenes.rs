@@ -2,6 +2,7 @@
 
 #[derive(clap::Args)]
 pub struct ScenesArgs {
+    /// Write the built-in scene NAME as TOML to stdout instead of the list.
     #[arg(long, value_name = "NAME")]
     print: Option<String>,
 }

@@ -7,6 +7,9 @@ use std::sync::atomic::Ordering;
 use meadow::model::wind::Coupling;
 use meadow::scene::Scene;
 
+use meadow::commands::trace::MAX_EVERY;
+
+use super::numbers;
 use super::{stop_signal, DeviceArgs, Interrupted};
 
 #[derive(clap::Args)]
@@ -15,10 +18,10 @@ pub struct TraceArgs {
     #[arg(long, default_value = "table1")]
     scene: String,
     /// Simulated seconds.
-    #[arg(long, default_value_t = 10.0)]
+    #[arg(long, default_value_t = 10.0, allow_negative_numbers = true, value_parser = numbers::seconds)]
     seconds: f64,
     /// A sample every N simulation steps (the scene's dt each).
-    #[arg(long, value_name = "N", default_value_t = 1)]
+    #[arg(long, value_name = "N", default_value_t = 1, allow_negative_numbers = true, value_parser = numbers::whole::<u32>(1, MAX_EVERY as u64))]
     every: u32,
     /// How many blades to trace, picked evenly through the field by the
     /// seed, or "all".
@@ -29,15 +32,17 @@ pub struct TraceArgs {
     wind: bool,
     /// DIR/space_time.svg starts at this simulated time (leave out the
     /// grass leaning into a wind that is still filling the field).
-    #[arg(long, value_name = "SECONDS", default_value_t = 0.0)]
+    #[arg(long, value_name = "SECONDS", default_value_t = 0.0, allow_negative_numbers = true, value_parser = numbers::seconds)]
     diagram_from: f64,
     /// Random seed of the grass field (default: the scene's).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true, value_parser = numbers::seed)]
     seed: Option<u64>,
     /// Whether the grass slows the wind: one-way (the paper's) or
     /// two-way (canopy drag; default: the scene's wind.coupling).
     #[arg(long, value_enum)]
     coupling: Option<Coupling>,
+    /// Folder for blades.csv, trace.json and space_time.svg (made if
+    /// missing).
     #[arg(long, default_value = "out/trace")]
     out: PathBuf,
     #[command(flatten)]
@@ -98,11 +103,15 @@ pub fn run(args: TraceArgs) -> anyhow::Result<()> {
         report.every,
         report.dt
     );
-    println!(
-        "wrote {} and {}",
-        out.join(&report.csv).display(),
-        out.join(meadow::commands::trace::REPORT_NAME).display()
-    );
+    let mut written = vec![
+        out.join(&report.csv),
+        out.join(meadow::commands::trace::REPORT_NAME),
+    ];
+    if let Some(diagram) = &report.space_time {
+        written.push(out.join(diagram));
+    }
+    let written: Vec<String> = written.iter().map(|p| p.display().to_string()).collect();
+    println!("wrote {}", written.join(", "));
     let sig = signal.load(Ordering::SeqCst) as i32;
     if report.interrupted {
         eprintln!(

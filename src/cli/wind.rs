@@ -6,7 +6,12 @@ use std::path::PathBuf;
 use meadow::model::wind::Coupling;
 use meadow::scene::Scene;
 
-use super::DeviceArgs;
+use meadow::scene::check::MAX_V_CYCLES;
+
+use super::{numbers, DeviceArgs};
+
+/// The most steps `wind` runs.
+const MAX_STEPS: u64 = 1_000_000;
 
 #[derive(clap::Args)]
 pub struct WindArgs {
@@ -14,15 +19,15 @@ pub struct WindArgs {
     #[arg(long, default_value = "fig10-few-bunches")]
     scene: String,
     /// Simulation steps to run.
-    #[arg(long, default_value_t = 120)]
+    #[arg(long, default_value_t = 120, allow_negative_numbers = true, value_parser = numbers::whole::<u32>(1, MAX_STEPS))]
     steps: u32,
     /// Solve the pressure by N Jacobi iterations, the paper's solver
     /// (default: the scene's solver and count).
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = numbers::whole::<u32>(0, 10_000))]
     jacobi_iterations: Option<u32>,
     /// Solve the pressure by N multigrid V-cycles (the default 7 leave under 1% of
     /// the divergence on the shipped scenes).
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = numbers::whole::<u32>(1, MAX_V_CYCLES as u64))]
     v_cycles: Option<u32>,
     /// Wind grid cells X,Y,Z, y up (default: the scene's, e.g. 60,20,60).
     #[arg(long, value_name = "X,Y,Z")]
@@ -31,6 +36,8 @@ pub struct WindArgs {
     /// two-way (canopy drag; default: the scene's wind.coupling).
     #[arg(long, value_enum)]
     coupling: Option<Coupling>,
+    /// Folder for wind_horizontal.svg, wind_vertical.svg and
+    /// wind_report.json (made if missing).
     #[arg(long, default_value = "out/wind")]
     out: PathBuf,
     #[command(flatten)]
@@ -48,9 +55,6 @@ pub fn run(args: WindArgs) -> anyhow::Result<()> {
         out,
         device,
     } = args;
-    if steps == 0 || steps > 1_000_000 {
-        anyhow::bail!("--steps {steps} is not allowed, use 1..=1000000");
-    }
     let mut scene = Scene::load(&scene)?;
     if let Some(c) = coupling {
         scene.wind.coupling = c;

@@ -22,10 +22,16 @@ pub const SMALL_SIZE: [&str; 4] = ["--width", "320", "--height", "180"];
 /// Starts `meadow args` in the background (stdout dropped, stderr kept),
 /// for tests that signal a running process.
 pub fn spawn_meadow(args: &[&str]) -> std::process::Child {
+    spawn_meadow_to(args, std::process::Stdio::null())
+}
+
+/// As `spawn_meadow`, its standard output going to `stdout`
+/// (`Stdio::piped()` for `wait_with_output` to read).
+pub fn spawn_meadow_to(args: &[&str], stdout: std::process::Stdio) -> std::process::Child {
     Command::new(env!("CARGO_BIN_EXE_meadow"))
         .args(args)
         .env("MEADOW_QUIET_VALIDATION", "1")
-        .stdout(std::process::Stdio::null())
+        .stdout(stdout)
         .stderr(std::process::Stdio::piped())
         .spawn()
         .expect("start meadow")
