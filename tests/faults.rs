@@ -292,6 +292,53 @@ fn a_disk_filling_up_while_frames_are_written_is_one_line_and_leaves_only_comple
     let _ = std::fs::remove_dir_all(&keep);
 }
 
+/// An `--out` folder that exists but cannot be written (here a read-only
+/// file system, which stops root too) is refused before any work: the one
+/// line names the folder, not the first frame it could not write, and the
+/// folder is left as it was.
+#[test]
+fn an_output_folder_that_cannot_be_written_is_refused_before_the_work() {
+    let keep = temp_out("read-only-out");
+    let mount = keep.join("mnt");
+    std::fs::create_dir_all(&mount).unwrap();
+    // Two simulated seconds before the first frame: work that a check at
+    // the first frame would come after.
+    let script = r#"
+        mount -t tmpfs -o size=64k meadow-ro "$MNT" || exit 90
+        mkdir "$MNT/out" && echo mine >"$MNT/out/notes.txt" || exit 91
+        mount -o remount,ro "$MNT" || exit 92
+        MEADOW_QUIET_VALIDATION=1 "$MEADOW" render --scene fig10-few-bunches \
+            --width 64 --height 48 --start 2 --validation \
+            --out "$MNT/out" 2>"$KEEP/stderr"
+        echo $? >"$KEEP/rc"
+        ls -A "$MNT/out" >"$KEEP/left"
+    "#;
+    let status = Command::new("unshare")
+        .args(["-rm", "sh", "-c", script])
+        .env("MNT", &mount)
+        .env("KEEP", &keep)
+        .env("MEADOW", env!("CARGO_BIN_EXE_meadow"))
+        .status()
+        .expect("unshare (util-linux) runs");
+    assert!(
+        status.success(),
+        "could not mount a tmpfs in a private namespace ({status}); the test needs unshare -rm"
+    );
+    let rc = std::fs::read_to_string(keep.join("rc")).unwrap();
+    let stderr = std::fs::read_to_string(keep.join("stderr")).unwrap();
+    assert_eq!(rc.trim(), "1", "{stderr}");
+    assert_eq!(stderr.trim_end().lines().count(), 1, "{stderr}");
+    assert!(
+        stderr.contains("output directory")
+            && stderr.contains("pass --out a directory you can write")
+            && stderr.contains("Read-only file system"),
+        "{stderr}"
+    );
+    let left = std::fs::read_to_string(keep.join("left")).unwrap();
+    assert_eq!(left.trim(), "notes.txt");
+    let _ = std::fs::remove_dir_all(&keep);
+}
+
 #[test]
 fn a_huge_blade_count_under_a_memory_limit_runs_out_of_device_memory_cleanly() {
     // Ten million blades, past the default budget check (--gpu-memory-mib

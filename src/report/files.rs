@@ -10,15 +10,27 @@ use std::path::{Path, PathBuf};
 use crate::error::{Error, Result};
 use crate::frame::Frame;
 
-/// Creates `dir` (and parents), with an error that names it.
+/// Creates `dir` (and parents) and checks that a file can be made in it,
+/// so that a folder the user cannot write (permissions, a read-only file
+/// system) is refused before any work, not at the first frame; the error
+/// names the folder.
 pub fn ensure_dir(dir: &Path) -> Result<()> {
-    std::fs::create_dir_all(dir).map_err(|e| Error::Io {
+    let refused = |e: std::io::Error| Error::Io {
         path: format!(
             "output directory {} (pass --out a directory you can write)",
             dir.display()
         ),
         source: e,
-    })
+    };
+    std::fs::create_dir_all(dir).map_err(refused)?;
+    // A hidden name of this process's own, made new and removed at once.
+    let probe = dir.join(format!(".meadow-write-check-{}", std::process::id()));
+    std::fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(&probe)
+        .map_err(refused)?;
+    std::fs::remove_file(&probe).map_err(refused)
 }
 
 /// Whether `name` is a file a render writes (a frame, the GIF, the report,
