@@ -292,3 +292,32 @@ fn bad_bench_arguments_are_refused_in_one_line() {
         assert!(stderr.contains(fragment), "{args:?}: {stderr}");
     }
 }
+
+/// bench-grass on a terminal (here a pseudo-terminal, util-linux's
+/// `script`) says what it is doing: each row as it starts and the
+/// bandwidth copy that ends the run (it printed nothing for minutes).
+#[test]
+fn bench_grass_shows_its_rows_on_a_terminal() {
+    let out = temp_out("bench-grass-terminal");
+    let command = format!(
+        "MEADOW_QUIET_VALIDATION=1 {} bench-grass --blades 1k --steps 1 --warmup 0 --out {}",
+        env!("CARGO_BIN_EXE_meadow"),
+        out.display()
+    );
+    let result = std::process::Command::new("script")
+        .args(["-qec", &command, "/dev/null"])
+        .output()
+        .expect("script (util-linux) runs");
+    let terminal = String::from_utf8_lossy(&result.stdout);
+    assert!(result.status.success(), "{terminal}");
+    for said in [
+        "timing the grass step at 1000 blades",
+        "measuring the copy bandwidth",
+    ] {
+        assert!(
+            terminal.contains(said),
+            "the terminal never showed {said:?}: {terminal}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&out);
+}

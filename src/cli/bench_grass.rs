@@ -59,6 +59,13 @@ pub fn run(args: BenchGrassArgs) -> anyhow::Result<()> {
         })
         .collect::<Result<Vec<_>, _>>()?;
     meadow::report::files::ensure_dir(&out)?;
+    // A bar on a terminal (indicatif draws nothing when stderr is not one):
+    // a row at 10M blades runs for minutes on lavapipe.
+    let bar = indicatif::ProgressBar::new(0);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len}  {msg}  {elapsed} elapsed")
+            .expect("a valid progress template"),
+    );
     let bench = meadow::commands::bench_grass::bench_grass(
         &scene,
         &counts,
@@ -66,7 +73,20 @@ pub fn run(args: BenchGrassArgs) -> anyhow::Result<()> {
         steps,
         warmup,
         &device.options()?,
-    )?;
+        &mut |p| {
+            bar.set_length(p.total as u64);
+            bar.set_position(p.done as u64);
+            bar.set_message(match p.row {
+                Some((blades, 0)) => format!("timing the grass step at {blades} blades"),
+                Some((blades, c)) => {
+                    format!("timing the grass step at {blades} blades, {c} colliders")
+                }
+                None => "measuring the copy bandwidth (the memory floor)".to_string(),
+            });
+        },
+    );
+    bar.finish_and_clear();
+    let bench = bench?;
     let json = serde_json::to_vec_pretty(&bench).expect("bench serialises");
     let path = out.join("grass_bench.json");
     meadow::report::files::write_atomic(&path, &json)?;

@@ -96,8 +96,20 @@ pub struct GrassBench {
     pub validation: ValidationReport,
 }
 
+/// Where a `bench_grass` run is, told before each row (and before the
+/// bandwidth copy that ends it, `row: None`), for a progress display.
+#[derive(Clone, Copy, Debug)]
+pub struct RowProgress {
+    /// Rows done, and the rows and copy in all.
+    pub done: usize,
+    pub total: usize,
+    /// The row about to run: blades and added colliders.
+    pub row: Option<(usize, usize)>,
+}
+
 /// Times `steps` grass steps (after `warmup`) of `scene` at each count,
 /// with each number of `colliders` (`&[0]`: the scene as it is).
+/// `on_row` hears of each row before it starts.
 pub fn bench_grass(
     scene: &Scene,
     counts: &[usize],
@@ -105,6 +117,7 @@ pub fn bench_grass(
     steps: u32,
     warmup: u32,
     options: &GpuOptions,
+    on_row: &mut dyn FnMut(RowProgress),
 ) -> Result<GrassBench> {
     if counts.is_empty() || counts.iter().any(|&n| n == 0 || n > MAX_BLADES) {
         return Err(Error::InvalidInput(format!(
@@ -134,11 +147,22 @@ pub fn bench_grass(
         // on the way (out of memory, a lost device) has not waited for it.
         gpu.check_fits("the bandwidth copy", 2 * COPY_BYTES)?;
         let mut rows = Vec::new();
+        let total = counts.len() * colliders.len() + 1;
         for &n in counts {
             for &c in colliders {
+                on_row(RowProgress {
+                    done: rows.len(),
+                    total,
+                    row: Some((n, c)),
+                });
                 rows.push(bench_count(gpu, scene, n, c, steps, warmup)?);
             }
         }
+        on_row(RowProgress {
+            done: rows.len(),
+            total,
+            row: None,
+        });
         let copy = copy_bandwidth(gpu)?;
         for row in &mut rows {
             row.set_floor(copy.as_ref());
