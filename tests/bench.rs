@@ -293,31 +293,46 @@ fn bad_bench_arguments_are_refused_in_one_line() {
     }
 }
 
-/// bench-grass on a terminal (here a pseudo-terminal, util-linux's
-/// `script`) says what it is doing: each row as it starts and the
-/// bandwidth copy that ends the run (it printed nothing for minutes).
+/// bench and bench-grass on a terminal (here a pseudo-terminal,
+/// util-linux's `script`) say what they are doing: each step as it starts
+/// (bench-grass printed nothing for minutes; bench for longer).
 #[test]
-fn bench_grass_shows_its_rows_on_a_terminal() {
-    let out = temp_out("bench-grass-terminal");
-    let command = format!(
-        "MEADOW_QUIET_VALIDATION=1 {} bench-grass --blades 1k --steps 1 --warmup 0 --out {}",
-        env!("CARGO_BIN_EXE_meadow"),
-        out.display()
-    );
-    let result = std::process::Command::new("script")
-        .args(["-qec", &command, "/dev/null"])
-        .output()
-        .expect("script (util-linux) runs");
-    let terminal = String::from_utf8_lossy(&result.stdout);
-    assert!(result.status.success(), "{terminal}");
-    for said in [
-        "timing the grass step at 1000 blades",
-        "measuring the copy bandwidth",
+fn bench_and_bench_grass_show_their_rows_on_a_terminal() {
+    let out = temp_out("bench-terminal");
+    let meadow = env!("CARGO_BIN_EXE_meadow");
+    for (args, steps) in [
+        (
+            "bench-grass --blades 1k --steps 1 --warmup 0",
+            &[
+                "timing the grass step at 1000 blades",
+                "measuring the copy bandwidth",
+            ][..],
+        ),
+        (
+            "bench --blades 1k --lod on --frames 1 --warmup 0 --width 64 --height 48",
+            &[
+                "timing the wind step with each pressure solver",
+                "timing frames at 1000 blades, LOD on, culling off",
+                "timing frames at 1000 blades, LOD on, culling on",
+            ][..],
+        ),
     ] {
-        assert!(
-            terminal.contains(said),
-            "the terminal never showed {said:?}: {terminal}"
+        let command = format!(
+            "MEADOW_QUIET_VALIDATION=1 {meadow} {args} --out {}",
+            out.display()
         );
+        let result = std::process::Command::new("script")
+            .args(["-qec", &command, "/dev/null"])
+            .output()
+            .expect("script (util-linux) runs");
+        let terminal = String::from_utf8_lossy(&result.stdout);
+        assert!(result.status.success(), "{args}: {terminal}");
+        for said in steps {
+            assert!(
+                terminal.contains(said),
+                "{args}: the terminal never showed {said:?}: {terminal}"
+            );
+        }
     }
     let _ = std::fs::remove_dir_all(&out);
 }

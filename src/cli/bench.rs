@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use meadow::scene::Scene;
 
-use meadow::commands::bench::MAX_BENCH_FRAMES;
+use meadow::commands::bench::{BenchStep, MAX_BENCH_FRAMES};
 use meadow::scene::check::MAX_IMAGE_SIDE;
 
 use super::{numbers, DeviceArgs, LodArg, OnOff};
@@ -94,7 +94,27 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         msaa,
         gpu: device.options()?,
     };
-    let bench = meadow::commands::bench::bench_to_dir(&request, &out)?;
+    // A bar on a terminal (indicatif draws nothing when stderr is not one).
+    let bar = indicatif::ProgressBar::new(0);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len}  {msg}  {elapsed} elapsed")
+            .expect("a valid progress template"),
+    );
+    let on = |b: bool| if b { "on" } else { "off" };
+    let bench = meadow::commands::bench::bench_to_dir(&request, &out, &mut |p| {
+        bar.set_length(p.total as u64);
+        bar.set_position(p.done as u64);
+        bar.set_message(match p.next {
+            BenchStep::Solvers => "timing the wind step with each pressure solver".to_string(),
+            BenchStep::Row { blades, lod, cull } => format!(
+                "timing frames at {blades} blades, LOD {}, culling {}",
+                on(lod),
+                on(cull)
+            ),
+        });
+    });
+    bar.finish_and_clear();
+    let bench = bench?;
     print!("{}", meadow::commands::bench::markdown(&bench));
     println!(
         "wrote {}, bench.md and bench.svg",

@@ -85,11 +85,44 @@ impl BenchRequest {
     }
 }
 
-/// Runs the bench and writes DIR/bench.json, bench.md and bench.svg.
-pub fn bench_to_dir(request: &BenchRequest, out: &Path) -> Result<Bench> {
+/// What a `bench` run is about to do, for a progress display.
+#[derive(Clone, Copy, Debug)]
+pub enum BenchStep {
+    /// The wind step alone with each pressure solver.
+    Solvers,
+    /// A row: blades, LOD, culling.
+    Row {
+        blades: usize,
+        lod: bool,
+        cull: bool,
+    },
+}
+
+/// Where a `bench` run is: steps done and in all, and the next one.
+#[derive(Clone, Copy, Debug)]
+pub struct BenchProgress {
+    pub done: usize,
+    pub total: usize,
+    pub next: BenchStep,
+}
+
+/// Runs the bench and writes DIR/bench.json, bench.md and bench.svg;
+/// `on_step` hears of each step (the solvers, then each row) before it
+/// starts.
+pub fn bench_to_dir(
+    request: &BenchRequest,
+    out: &Path,
+    on_step: &mut dyn FnMut(BenchProgress),
+) -> Result<Bench> {
     request.validate()?;
     files::ensure_dir(out)?;
+    let total = 1 + request.counts.len() * request.lod.settings().len() * 2;
     let ((rows, wind_solvers, msaa_used, info), validation) = on_gpu(&request.gpu, |gpu| {
+        on_step(BenchProgress {
+            done: 0,
+            total,
+            next: BenchStep::Solvers,
+        });
         let wind_solvers =
             crate::commands::wind::compare_solvers(gpu, &request.scene, request.frames)?;
         let mut rows = Vec::new();
@@ -97,6 +130,15 @@ pub fn bench_to_dir(request: &BenchRequest, out: &Path) -> Result<Bench> {
         for &count in &request.counts {
             for &lod in request.lod.settings() {
                 for cull in [false, true] {
+                    on_step(BenchProgress {
+                        done: 1 + rows.len(),
+                        total,
+                        next: BenchStep::Row {
+                            blades: count,
+                            lod,
+                            cull,
+                        },
+                    });
                     let (row, used) = bench_row(gpu, request, count, lod, cull)?;
                     msaa_used = used;
                     rows.push(row);
