@@ -564,62 +564,125 @@ fn a_render_can_be_redone_from_the_scene_it_leaves() {
     let _ = std::fs::remove_dir_all(&again);
 }
 
-/// A render into a folder an earlier render used replaces that run's files
-/// (frames, GIF, report, scene) and leaves anything else there alone; a
-/// refused run changes nothing.
+/// A render into a folder an earlier render used replaces exactly that
+/// run's files (frames, GIF, report, scene), as its manifest lists them,
+/// and leaves anything else there alone, whatever its name; a refused run
+/// changes nothing.
 #[test]
 fn a_reused_output_folder_never_mixes_two_runs() {
     let out = temp_out("reused");
     let out_s = out.to_str().unwrap();
-    let render = |frames: &str| {
-        meadow(
-            &[
-                "render",
-                "--scene",
-                "fig10-few-bunches",
-                "--shadow-map",
-                "0",
-                "--width",
-                "64",
-                "--height",
-                "36",
-                "--fps",
-                "10",
-                "--frames",
-                frames,
-                "--out",
-                out_s,
-            ],
-            &[],
-        )
+    let render = |frames: &str, more: &[&str]| {
+        let mut args = vec![
+            "render",
+            "--scene",
+            "fig10-few-bunches",
+            "--shadow-map",
+            "0",
+            "--width",
+            "64",
+            "--height",
+            "36",
+            "--fps",
+            "10",
+            "--frames",
+            frames,
+            "--out",
+            out_s,
+        ];
+        args.extend(more);
+        meadow(&args, &[])
     };
-    assert_succeeded(&render("6"));
+    assert_succeeded(&render("6", &[]));
+    // The user's own files, two of them with a frame's name.
     std::fs::write(out.join("notes.txt"), "mine").unwrap();
+    std::fs::write(out.join("frame_9999.png"), "mine").unwrap();
+    std::fs::write(out.join("frame_12345.png"), "mine").unwrap();
     let six = files_in(&out);
-    assert_eq!(six.len(), 6 + 4, "{six:?}");
+    assert_eq!(six.len(), 6 + 3 + 3, "{six:?}");
     // A refused run leaves everything as it was.
     let refused = meadow(&["render", "--msaa", "3", "--out", out_s], &[]);
     assert!(!refused.status.success());
     assert_eq!(files_in(&out), six);
-    assert_succeeded(&render("2"));
+    assert_succeeded(&render("2", &[]));
+    let theirs = ["frame_12345.png", "frame_9999.png", "notes.txt"];
+    let with_theirs = |ours: &[&str]| {
+        let mut all: Vec<String> = ours.iter().chain(&theirs).map(|s| s.to_string()).collect();
+        all.sort();
+        all
+    };
     assert_eq!(
         files_in(&out),
-        [
+        with_theirs(&[
             "animation.gif",
             "frame_0000.png",
             "frame_0001.png",
-            "notes.txt",
             "report.json",
             "scene.toml"
-        ]
+        ])
     );
-    assert_succeeded(&render("1"));
-    assert_eq!(
-        files_in(&out),
-        ["frame_0000.png", "notes.txt", "report.json", "scene.toml"]
+    assert_succeeded(&render("1", &[]));
+    let one = with_theirs(&["frame_0000.png", "report.json", "scene.toml"]);
+    assert_eq!(files_in(&out), one);
+    for name in theirs {
+        assert_eq!(std::fs::read_to_string(out.join(name)).unwrap(), "mine");
+    }
+
+    // An output changed since meadow wrote it: refused before the work,
+    // naming it and the fix; nothing removed.
+    std::fs::write(out.join("frame_0000.png"), "edited").unwrap();
+    let refused = render("1", &[]);
+    let stderr = String::from_utf8_lossy(&refused.stderr);
+    assert!(!refused.status.success());
+    assert!(
+        stderr.contains("frame_0000.png changed since meadow wrote it")
+            && stderr.contains("--overwrite"),
+        "{stderr}"
     );
+    assert_eq!(stderr.trim_end().lines().count(), 1, "{stderr}");
+    assert_eq!(files_in(&out), one);
+    // --overwrite replaces it on purpose; the user's files still stay.
+    assert_succeeded(&render("1", &["--overwrite"]));
+    assert_eq!(files_in(&out), one);
+    assert_ne!(
+        std::fs::read(out.join("frame_0000.png")).unwrap(),
+        b"edited"
+    );
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+/// A folder holding a file of the name a render would write, which no
+/// meadow run wrote there: refused before any work, the file untouched.
+#[test]
+fn a_file_meadow_did_not_write_is_never_written_over() {
+    let out = temp_out("foreign");
+    std::fs::create_dir_all(&out).unwrap();
+    std::fs::write(out.join("frame_0000.png"), "mine").unwrap();
+    let result = meadow(
+        &[
+            "render",
+            "--scene",
+            "fig10-few-bunches",
+            "--width",
+            "64",
+            "--height",
+            "36",
+            "--frames",
+            "1",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        &[],
+    );
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    assert!(!result.status.success());
+    assert!(
+        stderr.contains("frame_0000.png is not from an earlier meadow run"),
+        "{stderr}"
+    );
+    assert_eq!(files_in(&out), ["frame_0000.png"]);
     assert_eq!(
-        std::fs::read_to_string(out.join("notes.txt")).unwrap(),
+        std::fs::read_to_string(out.join("frame_0000.png")).unwrap(),
         "mine"
     );
     let _ = std::fs::remove_dir_all(&out);

@@ -49,6 +49,7 @@ fn the_frame_rate_does_not_change_the_simulation() {
     let request = |frames: u32, fps: f32| RenderRequest {
         gif: false,
         video: None,
+        overwrite: false,
         ..common::strict_request(scene.clone(), 160, 90, frames, fps)
     };
     let dir = std::env::temp_dir().join(format!("meadow-frame-rate-{}", std::process::id()));

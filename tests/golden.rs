@@ -207,6 +207,7 @@ fn render(
         every: 1,
         gif: false,
         video: None,
+        overwrite: false,
         gpu: GpuOptions {
             validation: ValidationOptions::strict(),
             device_name: std::env::var("MEADOW_TEST_DEVICE").ok(),

@@ -321,6 +321,7 @@ fn motion_view_is_blue_at_rest_and_warms_as_the_wind_bends_the_blades() {
         every: 1,
         gif: false,
         video: None,
+        overwrite: false,
         gpu: GpuOptions {
             validation: ValidationOptions::strict(),
             ..Default::default()

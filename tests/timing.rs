@@ -127,6 +127,7 @@ fn request(pretend_missing: Vec<String>) -> RenderRequest {
         every: 1,
         gif: false,
         video: None,
+        overwrite: false,
         gpu: GpuOptions {
             validation: ValidationOptions::strict(),
             pretend_missing,

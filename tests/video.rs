@@ -127,6 +127,32 @@ fn a_webm_is_vp9_at_the_rate_of_the_frames_written() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// A video written inside the output folder is one of the run's outputs:
+/// the next render there replaces it with the rest, so the folder never
+/// holds two runs.
+#[test]
+fn a_video_inside_the_output_folder_goes_with_its_run() {
+    let out = temp_out("video-inside");
+    let video = out.join("run.mp4");
+    render_video(&["--frames", "3"], &out, &video);
+    assert!(video.exists());
+    let mut full = vec!["render"];
+    full.extend(SMALL_SCENE);
+    full.extend(SMALL_SIZE);
+    full.extend(["--frames", "1", "--out", out.to_str().unwrap()]);
+    let result = meadow(&full, &[]);
+    assert!(
+        result.status.success(),
+        "{}",
+        String::from_utf8_lossy(&result.stderr)
+    );
+    assert_eq!(
+        files_in(&out),
+        ["frame_0000.png", "report.json", "scene.toml"]
+    );
+    let _ = std::fs::remove_dir_all(&out);
+}
+
 #[test]
 fn without_ffmpeg_the_video_is_refused_before_anything_renders() {
     let dir = temp_out("video-no-ffmpeg");

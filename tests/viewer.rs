@@ -215,6 +215,29 @@ fn a_scripted_session_pauses_steps_switches_views_resizes_and_quits() {
     let _ = std::fs::remove_dir_all(&out);
 }
 
+/// A screenshot never replaces a file: with `view_0000.png` already in
+/// the folder (an earlier session's, or the user's), P writes
+/// `view_0001.png` and leaves it alone.
+#[test]
+fn screenshots_continue_the_numbering_of_the_folder() {
+    let x = Xvfb::start();
+    let out = temp_out("viewer-numbering");
+    std::fs::create_dir_all(&out).unwrap();
+    std::fs::write(out.join("view_0000.png"), "mine").unwrap();
+    let mut child = view(&x, "0.3 key p\n0.6 key esc\n", &out);
+    wait_for_file(&out.join("view_0001.png"), &mut child);
+    let (_, stdout) = finished(child);
+    let shots = screenshot_times(&stdout);
+    assert_eq!(shots.len(), 1, "{stdout}");
+    assert!(shots[0].0.ends_with("view_0001.png"), "{stdout}");
+    image::open(out.join("view_0001.png")).expect("the screenshot decodes");
+    assert_eq!(
+        std::fs::read_to_string(out.join("view_0000.png")).unwrap(),
+        "mine"
+    );
+    let _ = std::fs::remove_dir_all(&out);
+}
+
 #[test]
 fn the_overlay_covers_its_corner_and_the_wind_keys_and_a_click_act() {
     let x = Xvfb::start();

@@ -40,6 +40,11 @@ pub struct RenderArgs {
     /// (made if missing; an earlier render's outputs there are replaced).
     #[arg(long, default_value = "out")]
     out: PathBuf,
+    /// Replace files in the --out folder that an earlier meadow run there
+    /// did not write, or that were changed since (without it such a run is
+    /// refused before any work; other files are never touched).
+    #[arg(long)]
+    overwrite: bool,
     #[command(flatten)]
     device: DeviceArgs,
 }
@@ -54,6 +59,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
         no_gif,
         video,
         out,
+        overwrite,
         device,
     } = args;
     let scene = args.load()?;
@@ -69,6 +75,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
     request.every = every;
     request.gif = !no_gif;
     request.video = video;
+    request.overwrite = overwrite;
     let (report, signal) = render_with_progress(&request, &out)?;
     for w in &report.warnings {
         eprintln!("meadow: warning: {w}");

@@ -13,6 +13,7 @@ use crate::frame::{CullCounts, FrameRecorder};
 use crate::gpu::query::PipelineStatistics;
 use crate::gpu::{Gpu, GpuOptions, ValidationReport};
 use crate::render::FrameUniforms;
+use crate::report::claim::{name_in_folder, OutputClaim};
 pub use crate::report::render::RenderReport;
 use crate::report::video::{self, VideoFormat, VideoWriter};
 use crate::report::{files, legend};
@@ -37,6 +38,9 @@ pub struct RenderRequest {
     /// Also a video of the frames written (.mp4: H.264, .webm: VP9), by
     /// ffmpeg, at the rate they are written.
     pub video: Option<PathBuf>,
+    /// Replace files in the output folder that an earlier meadow run did
+    /// not write, or that were changed since (`report::claim`).
+    pub overwrite: bool,
     pub gpu: GpuOptions,
 }
 
@@ -58,6 +62,7 @@ impl RenderRequest {
             every: 1,
             gif: true,
             video: None,
+            overwrite: false,
             gpu,
         }
     }
@@ -115,6 +120,28 @@ impl RenderRequest {
         self.scene.wind_grid()?;
         Ok(())
     }
+
+    /// The names of every file this request writes into `out_dir`: its
+    /// frames, the GIF, the report, the scene as rendered, and the video
+    /// when it lies in that folder.
+    pub fn outputs(&self, out_dir: &Path) -> Vec<String> {
+        let mut names: Vec<String> = self.frames_written().map(frame_name).collect();
+        if self.gif && names.len() > 1 {
+            names.push(GIF_NAME.into());
+        }
+        names.extend([REPORT_NAME.into(), SCENE_NAME.into()]);
+        names.extend(
+            self.video
+                .as_deref()
+                .and_then(|video| name_in_folder(out_dir, video)),
+        );
+        names
+    }
+}
+
+/// Frame f's file name.
+fn frame_name(f: u32) -> String {
+    format!("frame_{f:04}.png")
 }
 
 /// Renders the request's frame into `out_dir`. On success (and when only
@@ -151,15 +178,20 @@ pub fn render_to_dir_observed(
 ) -> Result<RenderReport> {
     request.validate()?;
     files::ensure_dir(out_dir)?;
+    // Before any work: the files this run writes may replace only an
+    // earlier run's (they go at the first frame).
+    let claim = OutputClaim::new(out_dir, &request.outputs(out_dir), request.overwrite)?;
     let started = Instant::now();
     let (mut report, validation) = on_gpu(&request.gpu, |gpu| {
-        render_with(gpu, request, out_dir, observer)
+        render_with(gpu, request, out_dir, &claim, observer)
     })?;
     report.validation = validation;
     report.wall_seconds = started.elapsed().as_secs_f64();
     let scene = crate::scene::file::to_toml(&request.scene_as_rendered());
     files::write_atomic(&out_dir.join(SCENE_NAME), scene.as_bytes())?;
-    write_json(&out_dir.join("report.json"), &report)?;
+    claim.wrote(SCENE_NAME)?;
+    write_json(&out_dir.join(REPORT_NAME), &report)?;
+    claim.wrote(REPORT_NAME)?;
     report.validation.check()?;
     Ok(report)
 }
@@ -168,6 +200,7 @@ fn render_with(
     gpu: &Gpu,
     request: &RenderRequest,
     out_dir: &Path,
+    claim: &OutputClaim,
     observer: &mut dyn FnMut(FrameProgress) -> bool,
 ) -> Result<RenderReport> {
     let scene = &request.scene;
@@ -183,7 +216,7 @@ fn render_with(
         &blades,
         Some(&dynamic),
     )?;
-    let done = animate(gpu, request, &mut recorder, out_dir, observer)?;
+    let done = animate(gpu, request, &mut recorder, out_dir, claim, observer)?;
     let simulation = recorder.simulation().expect("made with dynamics");
     let (sim_dt, substeps, sim_steps) = (
         simulation.dt(),
@@ -260,6 +293,7 @@ struct Animated {
 const GIF_NAME: &str = "animation.gif";
 /// The scene as rendered, beside the report.
 const SCENE_NAME: &str = "scene.toml";
+const REPORT_NAME: &str = "report.json";
 
 /// Simulates up to each written frame's time and renders it, in one
 /// submission per frame; writes each frame (and adds it to the GIF) as it
@@ -270,13 +304,14 @@ fn animate(
     request: &RenderRequest,
     recorder: &mut FrameRecorder,
     out_dir: &Path,
+    claim: &OutputClaim,
     observer: &mut dyn FnMut(FrameProgress) -> bool,
 ) -> Result<Animated> {
     let planned = request.frames_written().count() as u32;
-    // Before the first frame: what an earlier render left here goes, so
+    // Before the first frame: what an earlier render wrote here goes, so
     // the folder never mixes two runs. A run refused before this point
     // (bad input, no device, no memory) leaves the old outputs alone.
-    files::remove_earlier_render(out_dir)?;
+    claim.begin()?;
     let mut gif = if request.gif && planned > 1 {
         let seconds = 1.0 / request.written_fps();
         Some(files::GifWriter::create(&out_dir.join(GIF_NAME), seconds)?)
@@ -337,8 +372,9 @@ fn animate(
         legend::stamp(&mut frame, request.view, request.scene.lod.levels);
         done.wall_ms.push(started.elapsed().as_secs_f64() * 1e3);
         done.gpu_timings.push(frame.timings);
-        let name = format!("frame_{f:04}.png");
+        let name = frame_name(f);
         files::write_png(&out_dir.join(&name), &frame)?;
+        claim.wrote(&name)?;
         if let Some(gif) = gif.as_mut() {
             gif.add(&frame)?;
         }
@@ -363,10 +399,14 @@ fn animate(
     // removes its temporary file).
     if let Some(gif) = gif.filter(|_| !done.names.is_empty()) {
         gif.finish()?;
+        claim.wrote(GIF_NAME)?;
         done.gif = Some(GIF_NAME.to_string());
     }
     if let Some(writer) = video.filter(|_| !done.names.is_empty()) {
         writer.finish()?;
+        if let Some(name) = request.video.as_deref().and_then(|p| claim.name_in(p)) {
+            claim.wrote(&name)?;
+        }
         done.video = request.video.as_ref().map(|p| p.display().to_string());
     }
     Ok(done)

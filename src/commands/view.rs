@@ -429,13 +429,19 @@ impl Live {
         Ok(steps)
     }
 
-    /// The frame `render` would write for the same time and camera.
+    /// The frame `render` would write for the same time and camera, as
+    /// `view_NNNN.png`: the first number from `n` on that no file in the
+    /// folder has yet (a screenshot never replaces a file, an earlier
+    /// session's included: the numbering goes on).
     fn screenshot(&mut self, gpu: &Gpu, uniforms: &FrameUniforms, n: usize) -> Result<PathBuf> {
         let dir = &self.screenshots_dir;
         files::ensure_dir(dir)?;
         let mut frame = self.recorder.render(gpu, uniforms, 0)?;
         legend::stamp(&mut frame, self.state.view, self.state.scene.lod.levels);
-        let path = dir.join(format!("view_{n:04}.png"));
+        let path = (n..)
+            .map(|k| dir.join(format!("view_{k:04}.png")))
+            .find(|path| !path.exists())
+            .expect("a free number below usize::MAX");
         files::write_png(&path, &frame)?;
         Ok(path)
     }

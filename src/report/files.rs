@@ -33,41 +33,6 @@ pub fn ensure_dir(dir: &Path) -> Result<()> {
     std::fs::remove_file(&probe).map_err(refused)
 }
 
-/// Whether `name` is a file a render writes (a frame, the GIF, the report,
-/// the scene as rendered), or the temporary name of one.
-pub fn is_render_output(name: &str) -> bool {
-    let name = name
-        .strip_prefix('.')
-        .and_then(|n| n.strip_suffix(".partial"))
-        .unwrap_or(name);
-    let frame = name
-        .strip_prefix("frame_")
-        .and_then(|n| n.strip_suffix(".png"))
-        .is_some_and(|n| n.len() >= 4 && n.bytes().all(|b| b.is_ascii_digit()));
-    frame || ["animation.gif", "report.json", "scene.toml"].contains(&name)
-}
-
-/// Removes the files an earlier render left in `dir` (`is_render_output`)
-/// and nothing else, so a new render's outputs never mix with an older
-/// one's. Returns their names.
-pub fn remove_earlier_render(dir: &Path) -> Result<Vec<String>> {
-    let entries = match std::fs::read_dir(dir) {
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Vec::new()),
-        entries => entries.map_err(|e| Error::io(dir, e))?,
-    };
-    let mut removed = Vec::new();
-    for entry in entries {
-        let entry = entry.map_err(|e| Error::io(dir, e))?;
-        let name = entry.file_name().to_string_lossy().into_owned();
-        if is_render_output(&name) && entry.path().is_file() {
-            std::fs::remove_file(entry.path()).map_err(|e| Error::io(entry.path(), e))?;
-            removed.push(name);
-        }
-    }
-    removed.sort();
-    Ok(removed)
-}
-
 /// The temporary name `path` is written under until it is complete.
 pub(crate) fn temp_name(path: &Path) -> PathBuf {
     let name = path
@@ -202,34 +167,5 @@ impl Write for SharedFile {
 
     fn flush(&mut self) -> std::io::Result<()> {
         self.0.borrow_mut().flush()
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn render_outputs_are_known_by_name() {
-        for ours in [
-            "frame_0000.png",
-            "frame_12345.png",
-            "animation.gif",
-            "report.json",
-            "scene.toml",
-            ".frame_0003.png.partial",
-        ] {
-            assert!(is_render_output(ours), "{ours}");
-        }
-        for theirs in [
-            "frame_1.png",
-            "frame_abcd.png",
-            "notes.txt",
-            "my.toml",
-            "frame_0000.png.bak",
-            "report.json~",
-        ] {
-            assert!(!is_render_output(theirs), "{theirs}");
-        }
     }
 }

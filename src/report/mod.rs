@@ -3,6 +3,7 @@
 //! computes nothing: the commands hand it what they measured.
 
 pub mod bench;
+pub mod claim;
 pub mod files;
 pub mod legend;
 pub mod render;

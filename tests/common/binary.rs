@@ -95,8 +95,11 @@ pub fn files_in(dir: &Path) -> Vec<String> {
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Vec::new(),
         entries => entries.unwrap_or_else(|e| panic!("{}: {e}", dir.display())),
     };
+    // Not meadow's list of what a run wrote there (report::claim): it is
+    // checked where it matters, not in every listing.
     let mut names: Vec<String> = entries
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n != meadow::report::claim::MANIFEST_NAME)
         .collect();
     names.sort();
     names

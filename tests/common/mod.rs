@@ -79,6 +79,7 @@ pub fn strict_request(
         every: 1,
         gif: true,
         video: None,
+        overwrite: false,
         gpu: GpuOptions {
             validation: ValidationOptions::strict(),
             ..Default::default()
