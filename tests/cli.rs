@@ -651,41 +651,36 @@ fn a_reused_output_folder_never_mixes_two_runs() {
     let _ = std::fs::remove_dir_all(&out);
 }
 
-/// A folder holding a file of the name a render would write, which no
-/// meadow run wrote there: refused before any work, the file untouched.
+/// A folder holding a file of a name a command would write, which no
+/// meadow run wrote there: refused before any work, the file untouched,
+/// for every command that writes into --out.
 #[test]
 fn a_file_meadow_did_not_write_is_never_written_over() {
-    let out = temp_out("foreign");
-    std::fs::create_dir_all(&out).unwrap();
-    std::fs::write(out.join("frame_0000.png"), "mine").unwrap();
-    let result = meadow(
-        &[
-            "render",
-            "--scene",
-            "fig10-few-bunches",
-            "--width",
-            "64",
-            "--height",
-            "36",
-            "--frames",
-            "1",
-            "--out",
-            out.to_str().unwrap(),
-        ],
-        &[],
-    );
-    let stderr = String::from_utf8_lossy(&result.stderr);
-    assert!(!result.status.success());
-    assert!(
-        stderr.contains("frame_0000.png is not from an earlier meadow run"),
-        "{stderr}"
-    );
-    assert_eq!(files_in(&out), ["frame_0000.png"]);
-    assert_eq!(
-        std::fs::read_to_string(out.join("frame_0000.png")).unwrap(),
-        "mine"
-    );
-    let _ = std::fs::remove_dir_all(&out);
+    for (command, name) in [
+        ("render", "frame_0000.png"),
+        ("render", "report.json"),
+        ("wind", "wind_report.json"),
+        ("trace", "space_time.svg"),
+        ("bench", "bench.svg"),
+        ("bench-grass", "grass_bench.json"),
+        ("reproduce", "index.html"),
+    ] {
+        let out = temp_out(&format!("foreign-{command}"));
+        std::fs::create_dir_all(&out).unwrap();
+        std::fs::write(out.join(name), "mine").unwrap();
+        let result = meadow(&[command, "--out", out.to_str().unwrap()], &[]);
+        let stderr = String::from_utf8_lossy(&result.stderr);
+        assert!(!result.status.success(), "{command}");
+        assert!(
+            stderr.contains(&format!("{name} is not from an earlier meadow run"))
+                && stderr.contains("--overwrite"),
+            "{command}: {stderr}"
+        );
+        assert_eq!(stderr.trim_end().lines().count(), 1, "{command}: {stderr}");
+        assert_eq!(files_in(&out), [name], "{command}");
+        assert_eq!(std::fs::read_to_string(out.join(name)).unwrap(), "mine");
+        let _ = std::fs::remove_dir_all(&out);
+    }
 }
 
 #[test]
@@ -961,6 +956,18 @@ fn sigterm_stops_a_trace_with_complete_files() {
     assert_eq!(report["interrupted"], true);
     let samples = report["samples"].as_u64().unwrap();
     assert!((1..1201).contains(&samples), "{samples} samples");
+    // The figures are what was done, the plan beside them.
+    let steps = report["steps"].as_u64().unwrap();
+    assert_eq!(steps, 30 * (samples - 1), "{report}");
+    let seconds = report["seconds"].as_f64().unwrap();
+    let dt = report["dt"].as_f64().unwrap();
+    // dt is an f32 written to shortest digits: equal to about 1e-7.
+    assert!(
+        (seconds - steps as f64 * dt).abs() <= 1e-6 * seconds,
+        "{report}"
+    );
+    assert_eq!(report["seconds_planned"], 600.0);
+    assert_eq!(report["steps_planned"], 36_000);
     let csv = std::fs::read_to_string(out.join("blades.csv")).unwrap();
     let mut lines = csv.lines();
     assert_eq!(

@@ -8,7 +8,7 @@ use meadow::scene::Scene;
 use meadow::commands::bench::{BenchStep, MAX_BENCH_FRAMES};
 use meadow::scene::check::MAX_IMAGE_SIDE;
 
-use super::{numbers, DeviceArgs, LodArg, OnOff};
+use super::{numbers, DeviceArgs, LodArg, OnOff, OverwriteArg};
 
 #[derive(clap::Args)]
 pub struct BenchArgs {
@@ -50,6 +50,8 @@ pub struct BenchArgs {
     #[arg(long, default_value = "out/bench")]
     out: PathBuf,
     #[command(flatten)]
+    overwrite: OverwriteArg,
+    #[command(flatten)]
     device: DeviceArgs,
 }
 
@@ -66,6 +68,7 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         shadow_map,
         occlusion,
         out,
+        overwrite,
         device,
     } = args;
     let counts = blades
@@ -101,18 +104,19 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
             .expect("a valid progress template"),
     );
     let on = |b: bool| if b { "on" } else { "off" };
-    let bench = meadow::commands::bench::bench_to_dir(&request, &out, &mut |p| {
-        bar.set_length(p.total as u64);
-        bar.set_position(p.done as u64);
-        bar.set_message(match p.next {
-            BenchStep::Solvers => "timing the wind step with each pressure solver".to_string(),
-            BenchStep::Row { blades, lod, cull } => format!(
-                "timing frames at {blades} blades, LOD {}, culling {}",
-                on(lod),
-                on(cull)
-            ),
+    let bench =
+        meadow::commands::bench::bench_to_dir(&request, &out, overwrite.overwrite, &mut |p| {
+            bar.set_length(p.total as u64);
+            bar.set_position(p.done as u64);
+            bar.set_message(match p.next {
+                BenchStep::Solvers => "timing the wind step with each pressure solver".to_string(),
+                BenchStep::Row { blades, lod, cull } => format!(
+                    "timing frames at {blades} blades, LOD {}, culling {}",
+                    on(lod),
+                    on(cull)
+                ),
+            });
         });
-    });
     bar.finish_and_clear();
     let bench = bench?;
     print!("{}", meadow::commands::bench::markdown(&bench));

@@ -5,7 +5,10 @@ use std::path::PathBuf;
 
 use meadow::scene::Scene;
 
-use super::{numbers, DeviceArgs};
+use super::{numbers, DeviceArgs, OverwriteArg};
+
+/// What bench-grass writes into --out.
+const REPORT_NAME: &str = "grass_bench.json";
 
 #[derive(clap::Args)]
 pub struct BenchGrassArgs {
@@ -30,6 +33,8 @@ pub struct BenchGrassArgs {
     #[arg(long, default_value = "out/bench-grass")]
     out: PathBuf,
     #[command(flatten)]
+    overwrite: OverwriteArg,
+    #[command(flatten)]
     device: DeviceArgs,
 }
 
@@ -41,6 +46,7 @@ pub fn run(args: BenchGrassArgs) -> anyhow::Result<()> {
         steps,
         warmup,
         out,
+        overwrite,
         device,
     } = args;
     let scene = Scene::load(&scene)?;
@@ -59,6 +65,11 @@ pub fn run(args: BenchGrassArgs) -> anyhow::Result<()> {
         })
         .collect::<Result<Vec<_>, _>>()?;
     meadow::report::files::ensure_dir(&out)?;
+    let claim = meadow::report::claim::OutputClaim::new(
+        &out,
+        &[REPORT_NAME.to_string()],
+        overwrite.overwrite,
+    )?;
     // A bar on a terminal (indicatif draws nothing when stderr is not one):
     // a row at 10M blades runs for minutes on lavapipe.
     let bar = indicatif::ProgressBar::new(0);
@@ -87,11 +98,10 @@ pub fn run(args: BenchGrassArgs) -> anyhow::Result<()> {
     );
     bar.finish_and_clear();
     let bench = bench?;
-    let json = serde_json::to_vec_pretty(&bench).expect("bench serialises");
-    let path = out.join("grass_bench.json");
-    meadow::report::files::write_atomic(&path, &json)?;
+    claim.begin()?;
+    claim.write_json(REPORT_NAME, &bench)?;
     print_table(&bench, steps);
-    println!("wrote {}", path.display());
+    println!("wrote {}", out.join(REPORT_NAME).display());
     Ok(())
 }
 

@@ -30,6 +30,16 @@ pub mod wind;
 #[cfg(test)]
 mod tests;
 
+/// `--overwrite`, for every command that writes into an `--out` folder.
+#[derive(clap::Args)]
+pub struct OverwriteArg {
+    /// Replace files in the --out folder that an earlier meadow run there
+    /// did not write, or that were changed since (without it such a run is
+    /// refused before any work; other files are never touched).
+    #[arg(long)]
+    pub overwrite: bool,
+}
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum OnOff {
     On,

@@ -9,7 +9,7 @@ use meadow::commands::render::{render_to_dir_observed, RenderRequest};
 use meadow::scene::check::MAX_FRAMES;
 
 use super::numbers;
-use super::{signal_name, stop_signal, DeviceArgs, Interrupted, SceneArgs};
+use super::{signal_name, stop_signal, DeviceArgs, Interrupted, OverwriteArg, SceneArgs};
 
 #[derive(clap::Args)]
 pub struct RenderArgs {
@@ -40,11 +40,8 @@ pub struct RenderArgs {
     /// (made if missing; an earlier render's outputs there are replaced).
     #[arg(long, default_value = "out")]
     out: PathBuf,
-    /// Replace files in the --out folder that an earlier meadow run there
-    /// did not write, or that were changed since (without it such a run is
-    /// refused before any work; other files are never touched).
-    #[arg(long)]
-    overwrite: bool,
+    #[command(flatten)]
+    overwrite: OverwriteArg,
     #[command(flatten)]
     device: DeviceArgs,
 }
@@ -75,7 +72,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
     request.every = every;
     request.gif = !no_gif;
     request.video = video;
-    request.overwrite = overwrite;
+    request.overwrite = overwrite.overwrite;
     let (report, signal) = render_with_progress(&request, &out)?;
     for w in &report.warnings {
         eprintln!("meadow: warning: {w}");

@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 
-use super::DeviceArgs;
+use super::{DeviceArgs, OverwriteArg};
 
 #[derive(clap::Args)]
 pub struct ReproduceArgs {
@@ -11,6 +11,8 @@ pub struct ReproduceArgs {
     /// missing).
     #[arg(long, default_value = "out/reproduce")]
     out: PathBuf,
+    #[command(flatten)]
+    overwrite: OverwriteArg,
     /// Small images and short simulated times: a few minutes on lavapipe.
     #[arg(long)]
     quick: bool,
@@ -19,10 +21,19 @@ pub struct ReproduceArgs {
 }
 
 pub fn run(args: ReproduceArgs) -> anyhow::Result<()> {
-    let ReproduceArgs { out, quick, device } = args;
+    let ReproduceArgs {
+        out,
+        overwrite,
+        quick,
+        device,
+    } = args;
     let started = std::time::Instant::now();
-    let rendered =
-        meadow::commands::reproduce::reproduce(&out, quick, &device.options()?, &mut |p| {
+    let rendered = meadow::commands::reproduce::reproduce(
+        &out,
+        quick,
+        overwrite.overwrite,
+        &device.options()?,
+        &mut |p| {
             let left = p
                 .seconds_left()
                 .map_or(String::new(), |s| format!(", about {s:.0} s left"));
@@ -34,7 +45,8 @@ pub fn run(args: ReproduceArgs) -> anyhow::Result<()> {
                 p.shot,
                 p.elapsed_s
             );
-        })?;
+        },
+    )?;
     let frames: usize = rendered.iter().map(|r| r.report.frames.len()).sum();
     println!(
         "reproduced {} shots ({frames} frames) in {:.0} s; wrote {} and {}",

@@ -10,7 +10,7 @@ use meadow::scene::Scene;
 use meadow::commands::trace::MAX_EVERY;
 
 use super::numbers;
-use super::{stop_signal, DeviceArgs, Interrupted};
+use super::{stop_signal, DeviceArgs, Interrupted, OverwriteArg};
 
 #[derive(clap::Args)]
 pub struct TraceArgs {
@@ -46,6 +46,8 @@ pub struct TraceArgs {
     #[arg(long, default_value = "out/trace")]
     out: PathBuf,
     #[command(flatten)]
+    overwrite: OverwriteArg,
+    #[command(flatten)]
     device: DeviceArgs,
 }
 
@@ -60,6 +62,7 @@ pub fn run(args: TraceArgs) -> anyhow::Result<()> {
         seed,
         coupling,
         out,
+        overwrite,
         device,
     } = args;
     use meadow::commands::trace::{trace_to_dir, BladePick, TraceRequest};
@@ -87,7 +90,7 @@ pub fn run(args: TraceArgs) -> anyhow::Result<()> {
         )
         .expect("a valid progress template"),
     );
-    let report = trace_to_dir(&request, &out, &mut |done, _| {
+    let report = trace_to_dir(&request, &out, overwrite.overwrite, &mut |done, _| {
         bar.set_position(done);
         signal.load(Ordering::SeqCst) == 0
     });
@@ -117,7 +120,7 @@ pub fn run(args: TraceArgs) -> anyhow::Result<()> {
         eprintln!(
             "meadow: interrupted after {} of {} samples' time; the files written are complete",
             report.samples,
-            report.steps / report.every as u64 + 1
+            report.steps_planned / report.every as u64 + 1
         );
         return Err(Interrupted(if sig != 0 {
             sig

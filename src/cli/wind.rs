@@ -8,7 +8,7 @@ use meadow::scene::Scene;
 
 use meadow::scene::check::MAX_V_CYCLES;
 
-use super::{numbers, DeviceArgs};
+use super::{numbers, DeviceArgs, OverwriteArg};
 
 /// The most steps `wind` runs.
 const MAX_STEPS: u64 = 1_000_000;
@@ -41,6 +41,8 @@ pub struct WindArgs {
     #[arg(long, default_value = "out/wind")]
     out: PathBuf,
     #[command(flatten)]
+    overwrite: OverwriteArg,
+    #[command(flatten)]
     device: DeviceArgs,
 }
 
@@ -53,6 +55,7 @@ pub fn run(args: WindArgs) -> anyhow::Result<()> {
         cells,
         coupling,
         out,
+        overwrite,
         device,
     } = args;
     let mut scene = Scene::load(&scene)?;
@@ -73,7 +76,13 @@ pub fn run(args: WindArgs) -> anyhow::Result<()> {
     if let Some(cells) = cells {
         scene.set_wind_cells(&cells)?;
     }
-    let r = meadow::commands::wind::wind_to_dir(&scene, steps, &device.options()?, &out)?;
+    let r = meadow::commands::wind::wind_to_dir(
+        &scene,
+        steps,
+        &device.options()?,
+        &out,
+        overwrite.overwrite,
+    )?;
     for w in &r.warnings {
         eprintln!("meadow: warning: {w}");
     }

@@ -10,7 +10,7 @@
 use std::path::Path;
 use std::time::Instant;
 
-use crate::commands::{on_gpu, write_json};
+use crate::commands::on_gpu;
 use crate::error::{Error, Result};
 use crate::frame::timing::{FrameTimings, Phase, Spread, TimingSummary};
 use crate::frame::FrameRecorder;
@@ -21,6 +21,7 @@ use crate::render::{FrameUniforms, ViewMode};
 pub use crate::report::bench::{
     markdown, svg, Bench, BenchRow, FloorResult, PaperRow, PAPER_TABLE_1,
 };
+use crate::report::claim::OutputClaim;
 use crate::report::files;
 use crate::scene::{field, Scene, MAX_BLADES};
 
@@ -106,16 +107,23 @@ pub struct BenchProgress {
     pub next: BenchStep,
 }
 
-/// Runs the bench and writes DIR/bench.json, bench.md and bench.svg;
-/// `on_step` hears of each step (the solvers, then each row) before it
-/// starts.
+/// Runs the bench and writes DIR/bench.json, bench.md and bench.svg,
+/// replacing only an earlier run's (`overwrite`: any file of those names;
+/// `report::claim`); `on_step` hears of each step (the solvers, then each
+/// row) before it starts.
 pub fn bench_to_dir(
     request: &BenchRequest,
     out: &Path,
+    overwrite: bool,
     on_step: &mut dyn FnMut(BenchProgress),
 ) -> Result<Bench> {
     request.validate()?;
     files::ensure_dir(out)?;
+    let planned: Vec<String> = ["bench.json", "bench.md", "bench.svg"]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+    let claim = OutputClaim::new(out, &planned, overwrite)?;
     let total = 1 + request.counts.len() * request.lod.settings().len() * 2;
     let ((rows, wind_solvers, msaa_used, info), validation) = on_gpu(&request.gpu, |gpu| {
         on_step(BenchProgress {
@@ -167,9 +175,10 @@ pub fn bench_to_dir(
         paper_table_1: PAPER_TABLE_1.to_vec(),
         validation,
     };
-    write_json(&out.join("bench.json"), &bench)?;
-    files::write_atomic(&out.join("bench.md"), markdown(&bench).as_bytes())?;
-    files::write_atomic(&out.join("bench.svg"), svg(&bench)?.as_bytes())?;
+    claim.begin()?;
+    claim.write_json("bench.json", &bench)?;
+    claim.write("bench.md", markdown(&bench).as_bytes())?;
+    claim.write("bench.svg", svg(&bench)?.as_bytes())?;
     bench.validation.check()?;
     Ok(bench)
 }

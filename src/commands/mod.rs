@@ -15,11 +15,8 @@ pub mod trace;
 pub mod view;
 pub mod wind;
 
-use std::path::Path;
-
 use crate::error::Result;
 use crate::gpu::{Gpu, GpuOptions, ValidationReport};
-use crate::report::files;
 
 /// Opens the GPU, runs `work` on it, tears it down, and pairs the result
 /// with what validation reported over the GPU's life.
@@ -30,10 +27,4 @@ pub fn on_gpu<T>(
     let gpu = Gpu::new(options)?;
     let result = work(&gpu);
     gpu.finish(result)
-}
-
-/// Writes `report` as pretty JSON to `path` (whole or not at all).
-pub fn write_json<T: serde::Serialize>(path: &Path, report: &T) -> Result<()> {
-    let json = serde_json::to_vec_pretty(report).expect("reports serialise");
-    files::write_atomic(path, &json)
 }

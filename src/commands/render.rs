@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use crate::commands::{on_gpu, write_json};
+use crate::commands::on_gpu;
 use crate::error::{Error, Result};
 use crate::frame::timing::{FrameTimings, TimingSummary};
 pub use crate::frame::Animation;
@@ -188,10 +188,8 @@ pub fn render_to_dir_observed(
     report.validation = validation;
     report.wall_seconds = started.elapsed().as_secs_f64();
     let scene = crate::scene::file::to_toml(&request.scene_as_rendered());
-    files::write_atomic(&out_dir.join(SCENE_NAME), scene.as_bytes())?;
-    claim.wrote(SCENE_NAME)?;
-    write_json(&out_dir.join(REPORT_NAME), &report)?;
-    claim.wrote(REPORT_NAME)?;
+    claim.write(SCENE_NAME, scene.as_bytes())?;
+    claim.write_json(REPORT_NAME, &report)?;
     report.validation.check()?;
     Ok(report)
 }

@@ -3,6 +3,7 @@
 //! that show each figure beside what the paper's figure shows and the
 //! parameters used.
 
+use crate::report::claim::OutputClaim;
 use std::path::Path;
 
 use crate::commands::on_gpu;
@@ -222,12 +223,22 @@ impl ShotProgress<'_> {
 pub fn reproduce(
     out: &Path,
     quick: bool,
+    overwrite: bool,
     gpu: &GpuOptions,
     on_shot: &mut dyn FnMut(ShotProgress),
 ) -> Result<Vec<Rendered>> {
     let b = budget(quick);
     let figures = plan(quick)?;
     files::ensure_dir(out)?;
+    // Each shot's folder is its render's to claim; here the indexes, and
+    // the gust diagram beside the strip's shot.
+    let gusts = out.join(SPACE_TIME_DIR);
+    let index = OutputClaim::new(
+        out,
+        &[INDEX_MD.to_string(), INDEX_HTML.to_string()],
+        overwrite,
+    )?;
+    let diagram_claim = OutputClaim::new(&gusts, &[SPACE_TIME_NAME.to_string()], overwrite)?;
     // The shots, then the gust trace.
     let total = figures.iter().map(|f| f.shots.len()).sum::<usize>() + 1;
     let started = std::time::Instant::now();
@@ -248,6 +259,7 @@ pub fn reproduce(
             request.animation.frames = s.frames;
             request.animation.fps = s.fps;
             request.animation.start = s.start;
+            request.overwrite = overwrite;
             let report = render_to_dir(&request, &out.join(&s.dir))?;
             rendered.push(Rendered {
                 figure: index,
@@ -266,18 +278,23 @@ pub fn reproduce(
         elapsed_s: started.elapsed().as_secs_f64(),
     });
     let diagram = gust_diagram(&b, gpu)?;
-    files::write_atomic(&out.join(SPACE_TIME_FILE), diagram.as_bytes())?;
-    files::write_atomic(
-        &out.join("index.md"),
-        markdown(&figures, &rendered, quick).as_bytes(),
-    )?;
-    files::write_atomic(
-        &out.join("index.html"),
+    files::ensure_dir(&gusts)?;
+    diagram_claim.begin()?;
+    diagram_claim.write(SPACE_TIME_NAME, diagram.as_bytes())?;
+    index.begin()?;
+    index.write(INDEX_MD, markdown(&figures, &rendered, quick).as_bytes())?;
+    index.write(
+        INDEX_HTML,
         html(&figures, &rendered, out, quick)?.as_bytes(),
     )?;
     Ok(rendered)
 }
 
+const INDEX_MD: &str = "index.md";
+const INDEX_HTML: &str = "index.html";
+/// The gust strip's space-time diagram: SPACE_TIME_DIR/SPACE_TIME_NAME.
+const SPACE_TIME_DIR: &str = "gusts";
+const SPACE_TIME_NAME: &str = "space_time.svg";
 const SPACE_TIME_FILE: &str = "gusts/space_time.svg";
 
 /// Traces the gust strip and draws its space-time diagram (1 m bands).

@@ -9,7 +9,7 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use crate::commands::{on_gpu, write_json};
+use crate::commands::on_gpu;
 use crate::compute::Simulation;
 use crate::error::{Error, Result};
 use crate::frame::BladeBuffer;
@@ -17,6 +17,7 @@ use crate::gpu::{CommandPool, Gpu, GpuOptions, ValidationReport};
 use crate::model::grass::{BEND_A, SWING, TWIST};
 use crate::model::wind::WindField;
 use crate::model::BladeVertex;
+use crate::report::claim::OutputClaim;
 use crate::report::files;
 use crate::report::space_time::{self, SpaceTime};
 use crate::scene::{field, Scene};
@@ -148,6 +149,9 @@ pub struct Trace {
     pub wind: Vec<[f32; 3]>,
     /// Blades in the field.
     pub total_blades: usize,
+    /// Steps simulated: all asked for, or up to the last sample when
+    /// interrupted.
+    pub steps_done: u64,
     pub interrupted: bool,
 }
 
@@ -294,6 +298,7 @@ pub fn trace(
             &mut trace,
             done,
         )?;
+        trace.steps_done = done;
         if done >= steps {
             break;
         }
@@ -440,9 +445,14 @@ pub struct TraceReport {
     pub device: String,
     pub dt: f32,
     pub substeps: u32,
+    /// Simulated seconds and steps the samples cover: what was asked for,
+    /// or less when interrupted (then `seconds_planned` and
+    /// `steps_planned` say what was asked).
     pub seconds: f64,
     pub every: u32,
     pub steps: u64,
+    pub seconds_planned: f64,
+    pub steps_planned: u64,
     pub samples: usize,
     pub blades_traced: usize,
     pub blades_total: usize,
@@ -490,30 +500,35 @@ pub const CSV_NAME: &str = "blades.csv";
 pub const REPORT_NAME: &str = "trace.json";
 pub const SPACE_TIME_NAME: &str = "space_time.svg";
 
-/// Runs the trace and writes DIR/blades.csv and DIR/trace.json.
+/// Runs the trace and writes DIR/blades.csv, DIR/trace.json and (with two
+/// samples and blades or more) DIR/space_time.svg, replacing only an
+/// earlier run's (`overwrite`: any file of those names; `report::claim`).
 pub fn trace_to_dir(
     request: &TraceRequest,
     out: &Path,
+    overwrite: bool,
     observer: &mut dyn FnMut(u64, u64) -> bool,
 ) -> Result<TraceReport> {
     request.validate()?;
     files::ensure_dir(out)?;
+    let planned: Vec<String> = [CSV_NAME, REPORT_NAME, SPACE_TIME_NAME]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+    let claim = OutputClaim::new(out, &planned, overwrite)?;
     let ((trace, device), validation) = on_gpu(&request.gpu, |gpu| {
         Ok((trace(gpu, request, observer)?, gpu.info().name.clone()))
     })?;
-    files::write_atomic(&out.join(CSV_NAME), csv(&trace).as_bytes())?;
+    // The work is done: the last run's files go (its diagram too, which
+    // would pass for this one's).
+    claim.begin()?;
+    claim.write(CSV_NAME, csv(&trace).as_bytes())?;
     let title = format!("{}: tip displacement along x over time", request.scene.name);
     let diagram = (trace.blades.len() > 1 && trace.times.len() > 1)
         .then(|| space_time_svg(&trace, request.diagram_from, &title))
         .transpose()?;
-    let diagram_path = out.join(SPACE_TIME_NAME);
-    match &diagram {
-        Some(svg) => files::write_atomic(&diagram_path, svg.as_bytes())?,
-        // An earlier trace's diagram would pass for this one's.
-        None if diagram_path.exists() => {
-            std::fs::remove_file(&diagram_path).map_err(|e| Error::io(&diagram_path, e))?
-        }
-        None => {}
+    if let Some(svg) = &diagram {
+        claim.write(SPACE_TIME_NAME, svg.as_bytes())?;
     }
     let report = TraceReport {
         scene: request.scene.name.clone(),
@@ -521,9 +536,15 @@ pub fn trace_to_dir(
         device,
         dt: trace.dt,
         substeps: trace.substeps,
-        seconds: request.seconds,
+        seconds: if trace.interrupted {
+            trace.steps_done as f64 * trace.dt as f64
+        } else {
+            request.seconds
+        },
         every: request.every,
-        steps: request.steps(),
+        steps: trace.steps_done,
+        seconds_planned: request.seconds,
+        steps_planned: request.steps(),
         samples: trace.times.len(),
         blades_traced: trace.blades.len(),
         blades_total: trace.total_blades,
@@ -533,7 +554,7 @@ pub fn trace_to_dir(
         interrupted: trace.interrupted,
         validation,
     };
-    write_json(&out.join(REPORT_NAME), &report)?;
+    claim.write_json(REPORT_NAME, &report)?;
     report.validation.check()?;
     Ok(report)
 }

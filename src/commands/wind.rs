@@ -6,7 +6,7 @@
 
 use std::path::Path;
 
-use crate::commands::{on_gpu, write_json};
+use crate::commands::on_gpu;
 use crate::compute::{Simulation, WindPass};
 use crate::error::Result;
 use crate::frame::timing::median_p95;
@@ -14,6 +14,7 @@ use crate::frame::BladeBuffer;
 use crate::gpu::query::TimestampQueries;
 use crate::gpu::{CommandPool, Gpu, GpuOptions, ValidationReport};
 use crate::model::wind::{Coupling, PressureSolver, WindField, WindGrid, WindSettings};
+use crate::report::claim::OutputClaim;
 use crate::report::files;
 pub use crate::report::wind::SolverTiming;
 use crate::report::wind_slices::{self, Outlines, Slice};
@@ -53,18 +54,31 @@ pub struct WindReport {
     pub validation: ValidationReport,
 }
 
+/// The files `wind_to_dir` writes.
+pub const WIND_OUTPUTS: [&str; 3] = [
+    "wind_horizontal.svg",
+    "wind_vertical.svg",
+    "wind_report.json",
+];
+
+/// Runs the wind and writes its two slices and wind_report.json into
+/// `out_dir`, replacing only an earlier run's (`overwrite`: any file of
+/// those names; `report::claim`).
 pub fn wind_to_dir(
     scene: &Scene,
     steps: u32,
     gpu_options: &GpuOptions,
     out_dir: &Path,
+    overwrite: bool,
 ) -> Result<WindReport> {
     let grid = scene.wind_grid()?;
     let settings = scene.wind_settings();
     let warnings = settings.check(&grid)?;
     files::ensure_dir(out_dir)?;
+    let planned: Vec<String> = WIND_OUTPUTS.iter().map(|s| s.to_string()).collect();
+    let claim = OutputClaim::new(out_dir, &planned, overwrite)?;
     let (mut report, validation) = on_gpu(gpu_options, |gpu| {
-        run(gpu, scene, grid, &settings, steps, out_dir)
+        run(gpu, scene, grid, &settings, steps, &claim)
     })?;
     report.warnings = warnings;
     // The projection should remove most of the divergence advection made;
@@ -85,7 +99,7 @@ pub fn wind_to_dir(
         ));
     }
     report.validation = validation;
-    write_json(&out_dir.join("wind_report.json"), &report)?;
+    claim.write_json("wind_report.json", &report)?;
     report.validation.check()?;
     Ok(report)
 }
@@ -235,7 +249,7 @@ fn run(
     grid: WindGrid,
     settings: &WindSettings,
     steps: u32,
-    out_dir: &Path,
+    claim: &OutputClaim,
 ) -> Result<WindReport> {
     let dt = scene.wind.dt;
     let commands = CommandPool::new(gpu, "wind commands")?;
@@ -280,7 +294,11 @@ fn run(
             steps as f32 * dt
         );
         let svg = wind_slices::svg(&field, slice, max_speed, &outlines, &title)?;
-        files::write_atomic(&out_dir.join(name), svg.as_bytes())?;
+        if name == "wind_horizontal.svg" {
+            // The work is done: the last run's files go.
+            claim.begin()?;
+        }
+        claim.write(name, svg.as_bytes())?;
     }
     let timing = median_p95(&times);
     Ok(WindReport {

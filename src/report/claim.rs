@@ -150,6 +150,19 @@ impl OutputClaim {
             .map_err(|e| Error::io(&manifest, e))
     }
 
+    /// Writes `name` in the folder whole or not at all
+    /// (`files::write_atomic`) and records it.
+    pub fn write(&self, name: &str, bytes: &[u8]) -> Result<()> {
+        super::files::write_atomic(&self.dir.join(name), bytes)?;
+        self.wrote(name)
+    }
+
+    /// As `write`, `value` as pretty JSON.
+    pub fn write_json<T: serde::Serialize>(&self, name: &str, value: &T) -> Result<()> {
+        let json = serde_json::to_vec_pretty(value).expect("reports serialise");
+        self.write(name, &json)
+    }
+
     /// `path` as a name in the claimed folder, if it lies directly in it.
     pub fn name_in(&self, path: &Path) -> Option<String> {
         name_in_folder(&self.dir, path)
