@@ -392,6 +392,36 @@ fn malformed_scene_files_are_refused_with_line_column_field_and_range() {
             18,
             "collider[0].start: -1 is not allowed, use 0 ..= 1e6 s",
         ),
+        (
+            "a camera under the ground",
+            with("position = [0.0, 1.0, 3.0]", "position = [0.0, -1.0, 3.0]"),
+            5,
+            "camera.position: is 1 m under the ground (y < 0); raise it to y >= 0",
+        ),
+        (
+            "a light from below the horizon",
+            plus("[light]\ndirection = [0.0, -1.0, 0.0]"),
+            15,
+            "light.direction: [0.0, -1.0, 0.0] points below the horizon",
+        ),
+        (
+            "a collider placed twice",
+            plus("[[collider]]\nkind = \"sphere\"\nradius = 0.3\nposition = [1.0, 0.3, 0.0]\npath = [[0.0, 0.3, 0.0], [2.0, 0.3, 0.0]]\npath_speed = 1.0"),
+            17,
+            "collider[0].position: and path both place it",
+        ),
+        (
+            "a source switched off before time begins",
+            plus("[[wind.source]]\nposition = [0.0, 0.5, 0.0]\ndirection = [1.0, 0.0, 0.0]\nstrength = 5.0\nradius = 1.0\noff_after = -1.0"),
+            19,
+            "wind.source[0].off_after: -1 is not allowed, use a time of 0 s or more",
+        ),
+        (
+            "a collider faster than anything the grid could follow",
+            plus("[[collider]]\nkind = \"sphere\"\nradius = 0.3\npath = [[0.0, 0.3, 0.0], [2.0, 0.3, 0.0]]\npath_speed = 1e9"),
+            18,
+            "collider[0].path_speed: 1000000000 is not allowed, use 0 ..= 1000 m/s",
+        ),
     ];
     assert!(cases.len() >= 15);
     let mut wrong = Vec::new();

@@ -19,6 +19,9 @@ pub const MAX_FRAMES: u32 = 100_000;
 pub const MAX_IMAGE_SIDE: u32 = 16384;
 /// The most multigrid V-cycles a step may run (each costs about eight Jacobi iterations).
 pub const MAX_V_CYCLES: u32 = 100;
+/// The fastest a wind source or collider may travel its path (m/s): a
+/// thousand metres a second crosses the largest wind grid in a few steps.
+pub const MAX_PATH_SPEED: f32 = 1000.0;
 
 /// A scene value out of its range: where, and what is allowed.
 #[derive(Clone, Debug, PartialEq)]
@@ -189,6 +192,17 @@ pub fn camera(c: &Camera) -> Check {
         };
         finite(&at("position"), &position)?;
         finite(&at("target"), &target)?;
+        // The ground is the plane y = 0: from under it the meadow would be
+        // seen from below, floating in the sky.
+        if position[1] < 0.0 {
+            return Err(FieldError::new(
+                at("position"),
+                format!(
+                    "is {} m under the ground (y < 0); raise it to y >= 0",
+                    -position[1]
+                ),
+            ));
+        }
         if position == target {
             return Err(FieldError::new(
                 at("target"),
@@ -225,6 +239,15 @@ pub fn light(l: &Light) -> Check {
         return Err(FieldError::new(
             "direction",
             "is zero, give the direction toward the light",
+        ));
+    }
+    if l.direction[1] < 0.0 {
+        return Err(FieldError::new(
+            "direction",
+            format!(
+                "{:?} points below the horizon (y < 0): the light would shine up through the ground; give the direction toward the sun, y >= 0",
+                l.direction
+            ),
         ));
     }
     finite("color", &l.color)?;
@@ -450,7 +473,12 @@ fn source(s: &WindSource) -> Check {
     path(&s.path, s.path_speed)?;
     gust(&s.gust).map_err(|e| e.at("gust"))?;
     if let Some(off) = s.off_after {
-        finite("off_after", &[off])?;
+        if !(off.is_finite() && off >= 0.0) {
+            return Err(FieldError::new(
+                "off_after",
+                format!("{off} is not allowed, use a time of 0 s or more"),
+            ));
+        }
     }
     Ok(())
 }
@@ -516,6 +544,12 @@ fn collider(c: &Collider) -> Check {
         }
     }
     finite("position", &c.position.to_array())?;
+    if !c.path.is_empty() && c.position != glam::Vec3::ZERO {
+        return Err(FieldError::new(
+            "position",
+            "and path both place it; give position (it stands) or path (it moves), not both",
+        ));
+    }
     path(&c.path, c.path_speed)?;
     if !(c.start.is_finite() && (0.0..=1e6).contains(&c.start)) {
         return Err(FieldError::new(
@@ -556,10 +590,10 @@ fn path(points: &[glam::Vec3], speed: f32) -> Check {
             ),
         ));
     }
-    if !(speed.is_finite() && speed >= 0.0) {
+    if !(speed.is_finite() && (0.0..=MAX_PATH_SPEED).contains(&speed)) {
         return Err(FieldError::new(
             "path_speed",
-            format!("{speed} is not allowed, use a speed >= 0"),
+            format!("{speed} is not allowed, use 0 ..= {MAX_PATH_SPEED} m/s"),
         ));
     }
     if speed > 0.0 && points.len() < 2 {
