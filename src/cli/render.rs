@@ -74,7 +74,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
     request.video = video;
     request.overwrite = overwrite.overwrite;
     let (report, signal) = render_with_progress(&request, &out)?;
-    for w in &report.warnings {
+    for w in meadow::report::warnings::collapsed(&report.warnings) {
         eprintln!("meadow: warning: {w}");
     }
     print!("{}", meadow::report::render::summary(&report, &out));

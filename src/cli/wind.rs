@@ -83,7 +83,7 @@ pub fn run(args: WindArgs) -> anyhow::Result<()> {
         &out,
         overwrite.overwrite,
     )?;
-    for w in &r.warnings {
+    for w in meadow::report::warnings::collapsed(&r.warnings) {
         eprintln!("meadow: warning: {w}");
     }
     let solve = meadow::report::wind::describe(r.solver, r.jacobi_iterations, r.v_cycles);

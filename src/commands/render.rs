@@ -17,7 +17,7 @@ use crate::report::claim::{name_in_folder, OutputClaim};
 pub use crate::report::render::RenderReport;
 use crate::report::video::{self, VideoFormat, VideoWriter};
 use crate::report::{files, legend};
-use crate::scene::{field, Scene, ViewMode};
+use crate::scene::{field, Planted, Scene, ViewMode};
 
 pub use crate::scene::check::{MAX_FRAMES, MAX_IMAGE_SIDE};
 
@@ -204,7 +204,10 @@ fn render_with(
     let scene = &request.scene;
     let warnings = scene.wind_settings().check(&scene.wind_grid()?)?;
     crate::frame::check_fits(gpu, scene, request.width, request.height, request.msaa)?;
-    let blades = scene.field()?;
+    let Planted {
+        blades,
+        under_obstacles,
+    } = scene.planted()?;
     let dynamic = field::dynamic_blades(&blades, &scene.grass.dynamics, scene.seed)?;
     let mut recorder = FrameRecorder::new(
         gpu,
@@ -246,6 +249,7 @@ fn render_with(
         msaa_requested: request.msaa,
         msaa_used,
         blades: blades.len(),
+        blades_under_obstacles: under_obstacles,
         width: request.width,
         height: request.height,
         lod: scene.lod.enabled,

@@ -11,5 +11,6 @@ pub mod reproduce;
 pub mod space_time;
 pub mod timing;
 pub mod video;
+pub mod warnings;
 pub mod wind;
 pub mod wind_slices;

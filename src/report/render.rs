@@ -30,7 +30,10 @@ pub struct RenderReport {
     pub api_version: String,
     pub msaa_requested: u32,
     pub msaa_used: u32,
+    /// Blades drawn, and those the patches planted but the obstacles
+    /// left out (their roots inside one).
     pub blades: usize,
+    pub blades_under_obstacles: usize,
     pub width: u32,
     pub height: u32,
     pub lod: bool,
@@ -82,8 +85,12 @@ pub struct RenderReport {
 /// the grass draw's counters, validation, the per-phase timing table, the
 /// simulated time and the files written under `out`.
 pub fn summary(report: &RenderReport, out: &Path) -> String {
+    let under = match report.blades_under_obstacles {
+        0 => String::new(),
+        n => format!("; {n} more planted, left out under obstacles"),
+    };
     let mut text = format!(
-        "rendered {} ({} blades, {}x{}, MSAA {}x of {}x asked, LOD {}) on {} [{}] in {:.1} s\n",
+        "rendered {} ({} blades{under}, {}x{}, MSAA {}x of {}x asked, LOD {}) on {} [{}] in {:.1} s\n",
         report.scene,
         report.blades,
         report.width,

@@ -579,20 +579,55 @@ pub const BUILTIN: &[(&str, &str)] = &[
 /// or cylinder standing on the ground holds its footprint's roots.
 const ROOT_CLEARANCE: f32 = 0.01;
 
+/// The grass a scene grows: its blades, and how many of those its patches
+/// planted were left out under the obstacles.
+#[derive(Clone, Debug)]
+pub struct Planted {
+    pub blades: Vec<crate::model::Blade>,
+    pub under_obstacles: usize,
+}
+
 impl Scene {
     /// The scene's grass field (`field::generate`) without the blades whose
     /// root lies inside an obstacle: nothing grows through a wall, a boulder
     /// or a post. The patches' counts are the counts before.
     pub fn field(&self) -> Result<Vec<crate::model::Blade>> {
+        Ok(self.planted()?.blades)
+    }
+
+    /// As `field`, counting the blades left out under the obstacles; a
+    /// scene whose obstacles leave no blade is refused, naming them.
+    pub fn planted(&self) -> Result<Planted> {
         let mut blades = field::generate(&self.grass, self.seed)?;
         let obstacles = &self.wind.obstacles;
+        let planted = blades.len();
+        let mut covering = vec![false; obstacles.len()];
         if !obstacles.is_empty() {
             blades.retain(|b| {
                 let root = b.rest[0] + Vec3::Y * ROOT_CLEARANCE;
-                !obstacles.iter().any(|o| o.contains(root))
+                match obstacles.iter().position(|o| o.contains(root)) {
+                    Some(i) => {
+                        covering[i] = true;
+                        false
+                    }
+                    None => true,
+                }
             });
         }
-        Ok(blades)
+        if blades.is_empty() && planted > 0 {
+            let names: Vec<String> = (0..obstacles.len())
+                .filter(|&i| covering[i])
+                .map(|i| format!("wind.obstacle[{i}]"))
+                .collect();
+            return Err(Error::InvalidInput(format!(
+                "the obstacles cover the root of every one of the {planted} blades planted ({}); move or shrink them, or move the grass",
+                names.join(", ")
+            )));
+        }
+        Ok(Planted {
+            under_obstacles: planted - blades.len(),
+            blades,
+        })
     }
 
     /// A built-in scene by name.
@@ -773,6 +808,40 @@ impl Scene {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn blades_under_obstacles_are_counted() {
+        let scene = Scene::builtin("fig13-obstacles").unwrap();
+        let planted = scene.planted().unwrap();
+        assert!(planted.under_obstacles > 0);
+        assert_eq!(
+            planted.blades.len() + planted.under_obstacles,
+            scene.blade_count()
+        );
+        let mut open = scene.clone();
+        open.wind.obstacles.clear();
+        assert_eq!(open.planted().unwrap().under_obstacles, 0);
+    }
+
+    #[test]
+    fn obstacles_leaving_no_blade_are_refused_by_name() {
+        let mut scene = Scene::builtin("fig10-few-bunches").unwrap();
+        scene.wind.obstacles = vec![
+            crate::model::wind::Obstacle::Box {
+                min: Vec3::new(50.0, 0.0, 50.0),
+                max: Vec3::new(51.0, 1.0, 51.0),
+            },
+            crate::model::wind::Obstacle::Box {
+                min: Vec3::new(-100.0, 0.0, -100.0),
+                max: Vec3::new(100.0, 1.0, 100.0),
+            },
+        ];
+        let e = scene.planted().unwrap_err().to_string();
+        assert!(
+            e.contains("cover the root of every one") && e.contains("(wind.obstacle[1])"),
+            "{e}"
+        );
+    }
 
     #[test]
     fn blade_count_is_shared_exactly() {
