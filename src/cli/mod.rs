@@ -1,13 +1,15 @@
-//! The command line: each `meadow` command's arguments and what it prints
-//! (one file per command, beside the library's src/commands/), and what
-//! they share: the device and scene arguments, and stopping on a signal.
-//! main.rs parses and dispatches; the library does the work.
+//! The command line: the command tree (`Cli`), each `meadow` command's
+//! arguments and what it prints (one file per command, beside the
+//! library's src/commands/), and what they share: the device and scene
+//! arguments, numbers read in words (numbers.rs), one-line refusals, and
+//! stopping on a signal. main.rs parses and dispatches; the library does
+//! the work.
 
 use std::sync::atomic::AtomicUsize;
 use std::sync::Arc;
 
 use anyhow::Context as _;
-use clap::ValueEnum;
+use clap::{Parser, Subcommand, ValueEnum};
 
 use meadow::gpu::{FaultPlan, GpuOptions, ValidationOptions};
 use meadow::model::wind::Coupling;
@@ -29,6 +31,59 @@ pub mod wind;
 
 #[cfg(test)]
 mod tests;
+
+/// The command line: `meadow COMMAND [FLAGS]`.
+#[derive(Parser)]
+#[command(
+    name = "meadow",
+    version,
+    about = "Grass swaying in dynamic wind (Lee et al. 2016) on Vulkan"
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Subcommand)]
+pub enum Command {
+    /// Simulate and render a scene offscreen: DIR/frame_0000.png ... and
+    /// DIR/report.json.
+    Render(render::RenderArgs),
+    /// The meadow live in a window: both phases every frame, simulated
+    /// time following the clock. Keys: W A S D Q E fly, drag to look,
+    /// wheel speed; space pause, . step, [ ] time slower/faster, L LOD,
+    /// V views, P screenshot (DIR/view_NNNN.png), arrows steer the wind,
+    /// click drops a gust, B a ball (right click rolls it there), O
+    /// overlay, H keys, Esc quit.
+    View(view::ViewArgs),
+    /// Run the wind solver (with two-way coupling, the grass too); write
+    /// two slices of the field as SVG (wind_horizontal.svg,
+    /// wind_vertical.svg) and wind_report.json, print speeds, divergence
+    /// and GPU time per step.
+    Wind(wind::WindArgs),
+    /// The paper's Table 1 on this device: the table1 scene at each blade
+    /// count, with and without LOD, every frame phase timed on the GPU, plus
+    /// the vertex+fragment floor; writes DIR/bench.json, bench.md, bench.svg.
+    Bench(bench::BenchArgs),
+    /// Time the grass step alone on the GPU (timestamp queries) at several
+    /// blade counts, beside the paper's figures; writes DIR/grass_bench.json.
+    BenchGrass(bench_grass::BenchGrassArgs),
+    /// Render every figure scene of the paper (Fig. 10-13) and write
+    /// DIR/index.md and a self-contained DIR/index.html beside the paper's
+    /// descriptions and the parameters used.
+    Reproduce(reproduce::ReproduceArgs),
+    /// Simulate a scene (no rendering) and write the grass's motion as
+    /// data: DIR/blades.csv (time_s, blade, root, tip, swing, bend, twist
+    /// per traced blade per sample), DIR/trace.json (columns, units, scene,
+    /// seed, device, dt) and DIR/space_time.svg (the motion along x over
+    /// time: travelling gusts are diagonal stripes).
+    Trace(trace::TraceArgs),
+    /// List the Vulkan devices and whether each can run meadow.
+    Devices(devices::DevicesArgs),
+    /// List the built-in scenes; with --print NAME, write one as TOML to
+    /// stdout (a start for a scene of one's own).
+    Scenes(scenes::ScenesArgs),
+}
 
 /// `--overwrite`, for every command that writes into an `--out` folder.
 #[derive(clap::Args)]

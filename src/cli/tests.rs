@@ -1,9 +1,9 @@
-//! The command line as a whole (`crate::Cli`): every flag explained, every
+//! The command line as a whole (`Cli`): every flag explained, every
 //! number refused in words.
 
 use clap::{CommandFactory, Parser};
 
-use crate::Cli;
+use super::Cli;
 
 /// Every flag of every command, with its command's name.
 fn flags() -> Vec<(String, clap::Arg)> {
