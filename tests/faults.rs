@@ -243,6 +243,29 @@ fn a_lost_device_is_named_with_its_frame_and_the_frames_before_stay_valid() {
     let _ = std::fs::remove_dir_all(&out);
 }
 
+/// Runs the shell `script` in a private mount namespace (unshare, as root
+/// or through a user namespace), with $MNT an empty folder to mount on,
+/// $KEEP a folder outside the namespace to copy results to, and $MEADOW the
+/// binary; the script writes meadow's exit status to $KEEP/rc and its
+/// stderr to $KEEP/stderr, returned here, stderr checked to be one line.
+fn in_private_mount(script: &str, mount: &Path, keep: &Path) -> (String, String) {
+    let status = Command::new("unshare")
+        .args(["-rm", "sh", "-c", script])
+        .env("MNT", mount)
+        .env("KEEP", keep)
+        .env("MEADOW", env!("CARGO_BIN_EXE_meadow"))
+        .status()
+        .expect("unshare (util-linux) runs");
+    assert!(
+        status.success(),
+        "could not mount a tmpfs in a private namespace ({status}); the test needs unshare -rm"
+    );
+    let rc = std::fs::read_to_string(keep.join("rc")).unwrap();
+    let stderr = std::fs::read_to_string(keep.join("stderr")).unwrap();
+    assert_eq!(stderr.trim_end().lines().count(), 1, "{stderr}");
+    (rc.trim().to_string(), stderr)
+}
+
 #[test]
 fn a_disk_filling_up_while_frames_are_written_is_one_line_and_leaves_only_complete_frames() {
     // A private mount namespace (unshare, as root or through a user
@@ -260,21 +283,8 @@ fn a_disk_filling_up_while_frames_are_written_is_one_line_and_leaves_only_comple
         echo $? >"$KEEP/rc"
         cp -a "$MNT/out/." "$KEEP/out/"
     "#;
-    let status = Command::new("unshare")
-        .args(["-rm", "sh", "-c", script])
-        .env("MNT", &mount)
-        .env("KEEP", &keep)
-        .env("MEADOW", env!("CARGO_BIN_EXE_meadow"))
-        .status()
-        .expect("unshare (util-linux) runs");
-    assert!(
-        status.success(),
-        "could not mount a tmpfs in a private namespace ({status}); the test needs unshare -rm"
-    );
-    let rc = std::fs::read_to_string(keep.join("rc")).unwrap();
-    let stderr = std::fs::read_to_string(keep.join("stderr")).unwrap();
-    assert_eq!(rc.trim(), "1", "{stderr}");
-    assert_eq!(stderr.trim_end().lines().count(), 1, "{stderr}");
+    let (rc, stderr) = in_private_mount(script, &mount, &keep);
+    assert_eq!(rc, "1", "{stderr}");
     assert!(
         stderr.contains("No space left on device") && stderr.contains("free some space"),
         "{stderr}"
@@ -313,21 +323,8 @@ fn an_output_folder_that_cannot_be_written_is_refused_before_the_work() {
         echo $? >"$KEEP/rc"
         ls -A "$MNT/out" >"$KEEP/left"
     "#;
-    let status = Command::new("unshare")
-        .args(["-rm", "sh", "-c", script])
-        .env("MNT", &mount)
-        .env("KEEP", &keep)
-        .env("MEADOW", env!("CARGO_BIN_EXE_meadow"))
-        .status()
-        .expect("unshare (util-linux) runs");
-    assert!(
-        status.success(),
-        "could not mount a tmpfs in a private namespace ({status}); the test needs unshare -rm"
-    );
-    let rc = std::fs::read_to_string(keep.join("rc")).unwrap();
-    let stderr = std::fs::read_to_string(keep.join("stderr")).unwrap();
-    assert_eq!(rc.trim(), "1", "{stderr}");
-    assert_eq!(stderr.trim_end().lines().count(), 1, "{stderr}");
+    let (rc, stderr) = in_private_mount(script, &mount, &keep);
+    assert_eq!(rc, "1", "{stderr}");
     assert!(
         stderr.contains("output directory")
             && stderr.contains("pass --out a directory you can write")
