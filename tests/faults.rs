@@ -322,6 +322,10 @@ fn an_output_folder_that_cannot_be_written_is_refused_before_the_work() {
             --out "$MNT/out" 2>"$KEEP/stderr"
         echo $? >"$KEEP/rc"
         ls -A "$MNT/out" >"$KEEP/left"
+        MEADOW_QUIET_VALIDATION=1 "$MEADOW" render --scene fig10-few-bunches \
+            --width 64 --height 48 --start 2 --frames 2 \
+            --video "$MNT/out/run.mp4" --out "$KEEP/video-frames" 2>"$KEEP/video-stderr"
+        echo $? >"$KEEP/video-rc"
     "#;
     let (rc, stderr) = in_private_mount(script, &mount, &keep);
     assert_eq!(rc, "1", "{stderr}");
@@ -333,6 +337,16 @@ fn an_output_folder_that_cannot_be_written_is_refused_before_the_work() {
     );
     let left = std::fs::read_to_string(keep.join("left")).unwrap();
     assert_eq!(left.trim(), "notes.txt");
+    // A --video in a folder that cannot be written: the same, before the
+    // work (the frames' folder is writable).
+    let rc = std::fs::read_to_string(keep.join("video-rc")).unwrap();
+    let stderr = std::fs::read_to_string(keep.join("video-stderr")).unwrap();
+    assert_eq!(rc.trim(), "1", "{stderr}");
+    assert!(
+        stderr.contains("folder of --video") && stderr.contains("Read-only file system"),
+        "{stderr}"
+    );
+    assert!(files_in(&keep.join("video-frames")).is_empty(), "{stderr}");
     let _ = std::fs::remove_dir_all(&keep);
 }
 

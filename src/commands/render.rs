@@ -178,6 +178,9 @@ pub fn render_to_dir_observed(
 ) -> Result<RenderReport> {
     request.validate()?;
     files::ensure_dir(out_dir)?;
+    if let Some(video) = &request.video {
+        files::ensure_dir_of(video, "--video")?;
+    }
     // Before any work: the files this run writes may replace only an
     // earlier run's (they go at the first frame).
     let claim = OutputClaim::new(out_dir, &request.outputs(out_dir), request.overwrite)?;

@@ -15,11 +15,35 @@ use crate::frame::Frame;
 /// system) is refused before any work, not at the first frame; the error
 /// names the folder.
 pub fn ensure_dir(dir: &Path) -> Result<()> {
-    let refused = |e: std::io::Error| Error::Io {
-        path: format!(
+    writable(
+        dir,
+        &format!(
             "output directory {} (pass --out a directory you can write)",
             dir.display()
         ),
+    )
+}
+
+/// As `ensure_dir`, for the folder of a file named by a flag (`--video
+/// FILE`): refused naming the flag and the file.
+pub fn ensure_dir_of(file: &Path, flag: &str) -> Result<()> {
+    let dir = match file.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    writable(
+        dir,
+        &format!(
+            "folder of {flag} {} (give a path you can write)",
+            file.display()
+        ),
+    )
+}
+
+/// Makes `dir` and a file in it (removed at once); an error is `what`.
+fn writable(dir: &Path, what: &str) -> Result<()> {
+    let refused = |e: std::io::Error| Error::Io {
+        path: what.to_string(),
         source: e,
     };
     std::fs::create_dir_all(dir).map_err(refused)?;
