@@ -112,3 +112,60 @@ fn same_scene_and_seed_give_identical_blade_and_wind_state() {
     assert!(states_a != states_c, "a different seed gave the same state");
     common::finish(gpu);
 }
+
+/// Several pictures of one simulation (`render_pictures`, as `reproduce`
+/// draws a figure's shaded and motion views) are, byte for byte, the
+/// frames each view rendered alone gives: the simulation steps once per
+/// frame, not once per picture.
+#[test]
+fn pictures_of_one_simulation_are_the_frames_of_each_view_alone() {
+    use meadow::commands::render::{render_pictures, Picture};
+    use meadow::scene::ViewMode;
+    let mut scene = Scene::builtin("fig10-few-bunches").unwrap();
+    scene.light.shadow_map = 1024;
+    let mut request = common::strict_request(scene, 160, 90, 2, 2.0);
+    request.animation.start = 0.5;
+    let dir = std::env::temp_dir().join(format!("meadow-pictures-{}", std::process::id()));
+    let views = [ViewMode::Shaded, ViewMode::Motion];
+    let pictures: Vec<Picture> = views
+        .iter()
+        .map(|&view| Picture {
+            view,
+            dir: dir.join(format!("together-{view:?}")),
+        })
+        .collect();
+    let together = render_pictures(&request, &pictures, &mut |_| true).expect("two pictures");
+    assert_eq!(together.len(), 2);
+    for (view, report) in views.iter().zip(&together) {
+        assert_eq!(report.view, *view);
+        assert_eq!(
+            report.sim_steps, 60,
+            "one simulation to 1 s, not one per picture"
+        );
+        assert_eq!(report.validation.errors, 0);
+        let alone = dir.join(format!("alone-{view:?}"));
+        render_to_dir(
+            &RenderRequest {
+                view: *view,
+                ..request.clone()
+            },
+            &alone,
+        )
+        .expect("one view alone");
+        let together = dir.join(format!("together-{view:?}"));
+        for name in ["frame_0000.png", "frame_0001.png", "animation.gif"] {
+            let a = std::fs::read(together.join(name)).unwrap();
+            let b = std::fs::read(alone.join(name)).unwrap();
+            assert!(
+                a == b,
+                "{view:?} {name} differs from the view rendered alone"
+            );
+        }
+        assert!(together.join("report.json").is_file() && together.join("scene.toml").is_file());
+    }
+    // The views differ: the comparison above is of two pictures.
+    let shaded = std::fs::read(dir.join("together-Shaded/frame_0001.png")).unwrap();
+    let motion = std::fs::read(dir.join("together-Motion/frame_0001.png")).unwrap();
+    assert!(shaded != motion);
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -9,7 +9,7 @@ use crate::commands::on_gpu;
 use crate::error::{Error, Result};
 use crate::frame::timing::{FrameTimings, TimingSummary};
 pub use crate::frame::Animation;
-use crate::frame::{CullCounts, FrameRecorder};
+use crate::frame::{CullCounts, Frame, FrameRecorder};
 use crate::gpu::query::PipelineStatistics;
 use crate::gpu::{Gpu, GpuOptions, ValidationReport};
 use crate::render::FrameUniforms;
@@ -176,34 +176,78 @@ pub fn render_to_dir_observed(
     out_dir: &Path,
     observer: &mut dyn FnMut(FrameProgress) -> bool,
 ) -> Result<RenderReport> {
+    let picture = Picture {
+        view: request.view,
+        dir: out_dir.to_path_buf(),
+    };
+    let mut reports = render_pictures(request, &[picture], observer)?;
+    Ok(reports.remove(0))
+}
+
+/// One picture of each frame: how it is drawn and the folder it goes to.
+#[derive(Clone, Debug)]
+pub struct Picture {
+    pub view: ViewMode,
+    pub dir: PathBuf,
+}
+
+/// As `render_to_dir` for each picture: one simulation, each of its
+/// frames drawn once per picture (the request's own `view` is not used),
+/// each picture's frames, GIF, scene and report in its own folder as a
+/// render of that view alone writes them, byte for byte. A video is
+/// written of one picture only: with several, the request may ask none.
+pub fn render_pictures(
+    request: &RenderRequest,
+    pictures: &[Picture],
+    observer: &mut dyn FnMut(FrameProgress) -> bool,
+) -> Result<Vec<RenderReport>> {
+    if pictures.is_empty() || (pictures.len() > 1 && request.video.is_some()) {
+        return Err(Error::InvalidInput(format!(
+            "{} pictures of one render with {} video: one picture has a video, and a render at least one picture",
+            pictures.len(),
+            if request.video.is_some() { "a" } else { "no" }
+        )));
+    }
     request.validate()?;
-    files::ensure_dir(out_dir)?;
+    for picture in pictures {
+        files::ensure_dir(&picture.dir)?;
+    }
     if let Some(video) = &request.video {
         files::ensure_dir_of(video, "--video")?;
     }
     // Before any work: the files this run writes may replace only an
     // earlier run's (they go at the first frame).
-    let claim = OutputClaim::new(out_dir, &request.outputs(out_dir), request.overwrite)?;
+    let claims = pictures
+        .iter()
+        .map(|p| OutputClaim::new(&p.dir, &request.outputs(&p.dir), request.overwrite))
+        .collect::<Result<Vec<_>>>()?;
     let started = Instant::now();
-    let (mut report, validation) = on_gpu(&request.gpu, |gpu| {
-        render_with(gpu, request, out_dir, &claim, observer)
+    let (mut reports, validation) = on_gpu(&request.gpu, |gpu| {
+        render_with(gpu, request, pictures, &claims, observer)
     })?;
-    report.validation = validation;
-    report.wall_seconds = started.elapsed().as_secs_f64();
-    let scene = crate::scene::file::to_toml(&request.scene_as_rendered());
-    claim.write(SCENE_NAME, scene.as_bytes())?;
-    claim.write_json(REPORT_NAME, &report)?;
-    report.validation.check()?;
-    Ok(report)
+    let wall_seconds = started.elapsed().as_secs_f64();
+    for ((report, picture), claim) in reports.iter_mut().zip(pictures).zip(&claims) {
+        report.validation = validation.clone();
+        report.wall_seconds = wall_seconds;
+        let as_rendered = RenderRequest {
+            view: picture.view,
+            ..request.clone()
+        };
+        let scene = crate::scene::file::to_toml(&as_rendered.scene_as_rendered());
+        claim.write(SCENE_NAME, scene.as_bytes())?;
+        claim.write_json(REPORT_NAME, &*report)?;
+    }
+    validation.check()?;
+    Ok(reports)
 }
 
 fn render_with(
     gpu: &Gpu,
     request: &RenderRequest,
-    out_dir: &Path,
-    claim: &OutputClaim,
+    pictures: &[Picture],
+    claims: &[OutputClaim],
     observer: &mut dyn FnMut(FrameProgress) -> bool,
-) -> Result<RenderReport> {
+) -> Result<Vec<RenderReport>> {
     let scene = &request.scene;
     let warnings = scene.wind_settings().check(&scene.wind_grid()?)?;
     crate::frame::check_fits(gpu, scene, request.width, request.height, request.msaa)?;
@@ -220,7 +264,7 @@ fn render_with(
         &blades,
         Some(&dynamic),
     )?;
-    let done = animate(gpu, request, &mut recorder, out_dir, claim, observer)?;
+    let done = animate(gpu, request, &mut recorder, pictures, claims, observer)?;
     let simulation = recorder.simulation().expect("made with dynamics");
     let (sim_dt, substeps, sim_steps) = (
         simulation.dt(),
@@ -238,51 +282,57 @@ fn render_with(
     let msaa_used = recorder.samples();
 
     let info = gpu.info();
-    Ok(RenderReport {
-        command_line: std::env::args().collect(),
-        scene_file: SCENE_NAME.into(),
-        shadow_map: scene.light.shadow_map,
-        camera: scene.camera.clone(),
-        scene: scene.name.clone(),
-        seed: scene.seed,
-        device: info.name.clone(),
-        device_type: info.device_type.clone(),
-        driver: info.driver.clone(),
-        api_version: info.api_version.clone(),
-        msaa_requested: request.msaa,
-        msaa_used,
-        blades: blades.len(),
-        blades_under_obstacles: under_obstacles,
-        width: request.width,
-        height: request.height,
-        lod: scene.lod.enabled,
-        tess_levels: scene.lod.levels,
-        lod_distances: [scene.lod.close_distance, scene.lod.far_distance],
-        view: request.view,
-        animation: request.animation,
-        coupling: scene.wind.coupling,
-        sim_dt,
-        substeps,
-        sim_steps,
-        angle_caps,
-        cap_fraction: angle_caps.fraction(),
-        frames_planned: request.frames_written().count() as u32,
-        frames: done.names,
-        gif: done.gif,
-        video: done.video,
-        interrupted: done.interrupted,
-        warnings,
-        pipeline_statistics: done.statistics,
-        shadow_pipeline_statistics: done.shadow_statistics,
-        cull: scene.cull.enabled,
-        cull_counts: done.cull,
-        timing: TimingSummary::of(&done.gpu_timings, &done.wall_ms, &recorder.untimed_phases()),
-        wall_seconds: 0.0,
-        validation: ValidationReport::default(),
-    })
+    let untimed = recorder.untimed_phases();
+    Ok(pictures
+        .iter()
+        .zip(done)
+        .map(|(picture, done)| RenderReport {
+            command_line: std::env::args().collect(),
+            scene_file: SCENE_NAME.into(),
+            shadow_map: scene.light.shadow_map,
+            camera: scene.camera.clone(),
+            scene: scene.name.clone(),
+            seed: scene.seed,
+            device: info.name.clone(),
+            device_type: info.device_type.clone(),
+            driver: info.driver.clone(),
+            api_version: info.api_version.clone(),
+            msaa_requested: request.msaa,
+            msaa_used,
+            blades: blades.len(),
+            blades_under_obstacles: under_obstacles,
+            width: request.width,
+            height: request.height,
+            lod: scene.lod.enabled,
+            tess_levels: scene.lod.levels,
+            lod_distances: [scene.lod.close_distance, scene.lod.far_distance],
+            view: picture.view,
+            animation: request.animation,
+            coupling: scene.wind.coupling,
+            sim_dt,
+            substeps,
+            sim_steps,
+            angle_caps,
+            cap_fraction: angle_caps.fraction(),
+            frames_planned: request.frames_written().count() as u32,
+            frames: done.names,
+            gif: done.gif,
+            video: done.video,
+            interrupted: done.interrupted,
+            warnings: warnings.clone(),
+            pipeline_statistics: done.statistics,
+            shadow_pipeline_statistics: done.shadow_statistics,
+            cull: scene.cull.enabled,
+            cull_counts: done.cull,
+            timing: TimingSummary::of(&done.gpu_timings, &done.wall_ms, &untimed),
+            wall_seconds: 0.0,
+            validation: ValidationReport::default(),
+        })
+        .collect())
 }
 
 /// What the frame loop got done.
+#[derive(Default)]
 struct Animated {
     names: Vec<String>,
     gif: Option<String>,
@@ -300,50 +350,110 @@ const GIF_NAME: &str = "animation.gif";
 const SCENE_NAME: &str = "scene.toml";
 const REPORT_NAME: &str = "report.json";
 
-/// Simulates up to each written frame's time and renders it, in one
-/// submission per frame; writes each frame (and adds it to the GIF) as it
-/// is read back. A failure names the frame it happened at; the frames
-/// written before it stay complete.
+/// One picture's frames as the frame loop writes them.
+struct PictureWriter<'a> {
+    view: ViewMode,
+    dir: &'a Path,
+    claim: &'a OutputClaim,
+    gif: Option<files::GifWriter>,
+    video: Option<VideoWriter>,
+    done: Animated,
+}
+
+impl PictureWriter<'_> {
+    /// Writes frame `f` (and adds it to the GIF and the video).
+    fn write(&mut self, f: u32, frame: &Frame, wall_ms: f64) -> Result<()> {
+        self.done.wall_ms.push(wall_ms);
+        self.done.gpu_timings.push(frame.timings);
+        let name = frame_name(f);
+        files::write_png(&self.dir.join(&name), frame)?;
+        self.claim.wrote(&name)?;
+        if let Some(gif) = self.gif.as_mut() {
+            gif.add(frame)?;
+        }
+        if let Some(video) = self.video.as_mut() {
+            video.add(frame)?;
+        }
+        self.done.names.push(name);
+        self.done.statistics = frame.statistics;
+        self.done.shadow_statistics = frame.shadow_statistics;
+        self.done.cull = frame.cull;
+        Ok(())
+    }
+
+    /// Finishes the GIF and the video; a GIF or video of no frame is not
+    /// written (dropping the writer removes its temporary file).
+    fn finish(mut self, video_path: Option<&Path>) -> Result<Animated> {
+        if let Some(gif) = self.gif.filter(|_| !self.done.names.is_empty()) {
+            gif.finish()?;
+            self.claim.wrote(GIF_NAME)?;
+            self.done.gif = Some(GIF_NAME.to_string());
+        }
+        if let Some(writer) = self.video.filter(|_| !self.done.names.is_empty()) {
+            writer.finish()?;
+            if let Some(name) = video_path.and_then(|p| self.claim.name_in(p)) {
+                self.claim.wrote(&name)?;
+            }
+            self.done.video = video_path.map(|p| p.display().to_string());
+        }
+        Ok(self.done)
+    }
+}
+
+/// Simulates up to each written frame's time and renders it once per
+/// picture, in one submission per picture (the first also steps the
+/// simulation); writes each frame (and adds it to the GIF) as it is read
+/// back. A failure names the frame it happened at; the frames written
+/// before it stay complete.
 fn animate(
     gpu: &Gpu,
     request: &RenderRequest,
     recorder: &mut FrameRecorder,
-    out_dir: &Path,
-    claim: &OutputClaim,
+    pictures: &[Picture],
+    claims: &[OutputClaim],
     observer: &mut dyn FnMut(FrameProgress) -> bool,
-) -> Result<Animated> {
+) -> Result<Vec<Animated>> {
     let planned = request.frames_written().count() as u32;
-    // Before the first frame: what an earlier render wrote here goes, so
-    // the folder never mixes two runs. A run refused before this point
-    // (bad input, no device, no memory) leaves the old outputs alone.
-    claim.begin()?;
-    let mut gif = if request.gif && planned > 1 {
-        let seconds = 1.0 / request.written_fps();
-        Some(files::GifWriter::create(&out_dir.join(GIF_NAME), seconds)?)
-    } else {
-        None
-    };
-    let mut video = match &request.video {
-        Some(path) => Some(VideoWriter::create(
-            path,
-            request.width,
-            request.height,
-            request.written_fps(),
-        )?),
-        None => None,
-    };
-    let mut done = Animated {
-        names: Vec::new(),
-        gif: None,
-        video: None,
-        statistics: None,
-        shadow_statistics: None,
-        cull: None,
-        gpu_timings: Vec::new(),
-        wall_ms: Vec::new(),
-        interrupted: false,
-    };
-    'frames: for f in request.frames_written() {
+    let mut writers = Vec::with_capacity(pictures.len());
+    for (picture, claim) in pictures.iter().zip(claims) {
+        // Before the first frame: what an earlier render wrote here goes,
+        // so the folder never mixes two runs. A run refused before this
+        // point (bad input, no device, no memory) leaves the old outputs
+        // alone.
+        claim.begin()?;
+        let gif = if request.gif && planned > 1 {
+            let seconds = 1.0 / request.written_fps();
+            Some(files::GifWriter::create(
+                &picture.dir.join(GIF_NAME),
+                seconds,
+            )?)
+        } else {
+            None
+        };
+        // Only the first picture has the video (`render_pictures` allows
+        // one only with a single picture).
+        let video = match (&request.video, writers.is_empty()) {
+            (Some(path), true) => Some(VideoWriter::create(
+                path,
+                request.width,
+                request.height,
+                request.written_fps(),
+            )?),
+            _ => None,
+        };
+        writers.push(PictureWriter {
+            view: picture.view,
+            dir: &picture.dir,
+            claim,
+            gif,
+            video,
+            done: Animated::default(),
+        });
+    }
+    let mut interrupted = false;
+    'frames: for (before, f) in request.frames_written().enumerate() {
+        // Frames written before this one.
+        let written = before as u32;
         let at_frame = |e: Error| match e {
             Error::DeviceLost { during } => Error::DeviceLost {
                 during: format!("frame {f}, {during} (the frames before it are complete)"),
@@ -356,63 +466,49 @@ fn animate(
             recorder.simulate(STEP_BATCH).map_err(at_frame)?;
             steps -= STEP_BATCH;
             let progress = FrameProgress {
-                written: done.names.len() as u32,
+                written,
                 planned,
                 steps_left: steps,
             };
             if !observer(progress) {
-                done.interrupted = true;
+                interrupted = true;
                 break 'frames;
             }
         }
-        let uniforms = FrameUniforms::new(
-            &request.scene,
-            request.width,
-            request.height,
-            request.view,
-            time as f32,
-        );
-        let started = Instant::now();
-        let mut frame = recorder.render(gpu, &uniforms, steps).map_err(at_frame)?;
-        legend::stamp(&mut frame, request.view, request.scene.lod.levels);
-        done.wall_ms.push(started.elapsed().as_secs_f64() * 1e3);
-        done.gpu_timings.push(frame.timings);
-        let name = frame_name(f);
-        files::write_png(&out_dir.join(&name), &frame)?;
-        claim.wrote(&name)?;
-        if let Some(gif) = gif.as_mut() {
-            gif.add(&frame)?;
+        for writer in writers.iter_mut() {
+            let uniforms = FrameUniforms::new(
+                &request.scene,
+                request.width,
+                request.height,
+                writer.view,
+                time as f32,
+            );
+            let started = Instant::now();
+            // The steps go with the first picture; the others draw the
+            // same instant.
+            let mut frame = recorder
+                .render(gpu, &uniforms, std::mem::take(&mut steps))
+                .map_err(at_frame)?;
+            legend::stamp(&mut frame, writer.view, request.scene.lod.levels);
+            let wall_ms = started.elapsed().as_secs_f64() * 1e3;
+            writer.write(f, &frame, wall_ms)?;
         }
-        if let Some(video) = video.as_mut() {
-            video.add(&frame)?;
-        }
-        done.names.push(name);
-        done.statistics = frame.statistics;
-        done.shadow_statistics = frame.shadow_statistics;
-        done.cull = frame.cull;
         let progress = FrameProgress {
-            written: done.names.len() as u32,
+            written: written + 1,
             planned,
             steps_left: 0,
         };
         if !observer(progress) && progress.written < planned {
-            done.interrupted = true;
+            interrupted = true;
             break;
         }
     }
-    // A GIF or video of no frame is not written (dropping the writer
-    // removes its temporary file).
-    if let Some(gif) = gif.filter(|_| !done.names.is_empty()) {
-        gif.finish()?;
-        claim.wrote(GIF_NAME)?;
-        done.gif = Some(GIF_NAME.to_string());
-    }
-    if let Some(writer) = video.filter(|_| !done.names.is_empty()) {
-        writer.finish()?;
-        if let Some(name) = request.video.as_deref().and_then(|p| claim.name_in(p)) {
-            claim.wrote(&name)?;
-        }
-        done.video = request.video.as_ref().map(|p| p.display().to_string());
-    }
-    Ok(done)
+    writers
+        .into_iter()
+        .map(|w| {
+            let mut done = w.finish(request.video.as_deref())?;
+            done.interrupted = interrupted;
+            Ok(done)
+        })
+        .collect()
 }

@@ -7,7 +7,7 @@ use crate::report::claim::OutputClaim;
 use std::path::Path;
 
 use crate::commands::on_gpu;
-use crate::commands::render::{render_to_dir, RenderRequest};
+use crate::commands::render::{render_pictures, Picture, RenderReport, RenderRequest};
 use crate::commands::trace::{space_time_svg, trace, BladePick, TraceRequest};
 use crate::error::Result;
 use crate::gpu::GpuOptions;
@@ -244,11 +244,21 @@ pub fn reproduce(
     let started = std::time::Instant::now();
     let mut rendered = Vec::new();
     for (index, figure) in figures.iter().enumerate() {
-        for s in &figure.shots {
+        // Shots of one instant in other views are drawn from one
+        // simulation (fig. 13's shaded and motion views, the ball's): the
+        // same frames as rendering each alone, simulated once.
+        let mut reports: Vec<Option<RenderReport>> = vec![None; figure.shots.len()];
+        for (first, s) in figure.shots.iter().enumerate() {
+            if reports[first].is_some() {
+                continue;
+            }
+            let same: Vec<usize> = (first..figure.shots.len())
+                .filter(|&k| reports[k].is_none() && figure.shots[k].same_instant(s))
+                .collect();
             on_shot(ShotProgress {
                 figure: figure.title,
                 shot: &s.label,
-                done: rendered.len(),
+                done: rendered.len() + reports.iter().flatten().count(),
                 total,
                 elapsed_s: started.elapsed().as_secs_f64(),
             });
@@ -260,13 +270,25 @@ pub fn reproduce(
             request.animation.fps = s.fps;
             request.animation.start = s.start;
             request.overwrite = overwrite;
-            let report = render_to_dir(&request, &out.join(&s.dir))?;
+            let pictures: Vec<Picture> = same
+                .iter()
+                .map(|&k| Picture {
+                    view: figure.shots[k].view,
+                    dir: out.join(&figure.shots[k].dir),
+                })
+                .collect();
+            let done = render_pictures(&request, &pictures, &mut |_| true)?;
+            for (k, report) in same.into_iter().zip(done) {
+                reports[k] = Some(report);
+            }
+        }
+        for (s, report) in figure.shots.iter().zip(reports) {
             rendered.push(Rendered {
                 figure: index,
                 label: s.label.clone(),
                 dir: s.dir.clone(),
                 scene: s.scene.clone(),
-                report,
+                report: report.expect("every shot rendered"),
             });
         }
     }

@@ -24,6 +24,15 @@ pub struct Shot {
     pub start: f32,
 }
 
+impl Shot {
+    /// Whether `other` shows the same simulated frames, perhaps in another
+    /// view: the same scene, frames, rate and start.
+    pub fn same_instant(&self, other: &Shot) -> bool {
+        self.scene == other.scene
+            && (self.frames, self.fps, self.start) == (other.frames, other.fps, other.start)
+    }
+}
+
 pub struct Figure {
     pub title: &'static str,
     /// What the paper's figure shows (or, beyond the paper, what to see).
