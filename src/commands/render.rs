@@ -192,9 +192,11 @@ pub struct Picture {
 }
 
 /// As `render_to_dir` for each picture: one simulation, each of its
-/// frames drawn once per picture (the request's own `view` is not used),
-/// each picture's frames, GIF, scene and report in its own folder as a
-/// render of that view alone writes them, byte for byte. A video is
+/// frames drawn once per picture (the request's own `view` is not used).
+/// Each picture's frames, GIF and scene go to its own folder as a render
+/// of that view alone writes them, byte for byte, and so does its report
+/// but for the times: the first picture's frame times include the
+/// simulation's steps, and `wall_seconds` is the whole run's. A video is
 /// written of one picture only: with several, the request may ask none.
 pub fn render_pictures(
     request: &RenderRequest,
