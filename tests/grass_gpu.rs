@@ -141,6 +141,7 @@ fn turning_gusts(scene: &Scene, speed: f32, strength: f32) -> WindSettings {
         sources: vec![turning],
         inflow: Some(Inflow {
             speed,
+            heading: 0.0,
             gust: Gust {
                 amplitude: 0.8,
                 frequency: 0.6,

@@ -38,7 +38,7 @@ fn projection_removes_divergence_more_with_more_jacobi_iterations() {
     }
     // One more step's forces and advection, then project with 5, 20, 80.
     field.add_forces(&settings, 1.0 / 30.0);
-    field.advect(1.0 / 30.0, 0.0);
+    field.advect(1.0 / 30.0, 0.0, None);
     field.compute_divergence();
     let before = field.max_divergence();
     let mut residual = Vec::new();
@@ -146,6 +146,7 @@ fn strongest_gusting_rotating_wind_stays_finite() {
         sources: vec![a, b],
         inflow: Some(Inflow {
             speed: 10.0,
+            heading: 0.0,
             gust: Gust {
                 amplitude: 1.0,
                 frequency: 1.0,
@@ -269,6 +270,7 @@ fn a_collider_at_rest_blocks_the_wind_as_a_solid_does() {
     let inflow = || WindSettings {
         inflow: Some(Inflow {
             speed: 4.0,
+            heading: 0.0,
             gust: Gust::default(),
         }),
         ..Default::default()

@@ -46,6 +46,7 @@ fn two_sources_one_obstacle() -> WindSettings {
         sources: vec![rotating, moving],
         inflow: Some(Inflow {
             speed: 2.0,
+            heading: 0.0,
             gust: Gust {
                 amplitude: 0.3,
                 frequency: 0.5,
@@ -182,8 +183,94 @@ fn gpu_matches_the_cpu_reference(solver: PressureSolver) {
     finish(gpu);
 }
 
+/// Wind over terrain from an oblique heading: a hill and a ridge under a
+/// gusting inflow towards 200 degrees (entering by the +x and +z sides).
+/// The GPU follows the CPU reference, the cells under the ground hold no
+/// through-flow, the buried faces hold the ghost values of the air above
+/// (glsl/wind/under_ground.comp), and the terrain changes the field (a
+/// solver that ignored it fails the last check).
+#[test]
+fn gpu_matches_the_cpu_reference_over_terrain_from_any_heading() {
+    use meadow::model::terrain::{Hill, Ridge, Terrain};
+    let gpu = strict_gpu();
+    let grid = grid(UVec3::new(24, 12, 24));
+    let terrain = Terrain {
+        hills: vec![Hill {
+            center: [1.5, -2.0],
+            height: 1.6,
+            half_width: 2.0,
+        }],
+        ridges: vec![Ridge {
+            center: [-3.0, 0.0],
+            height: 0.8,
+            half_width: 1.0,
+            heading: 60.0,
+        }],
+        ..Terrain::default()
+    };
+    let settings = WindSettings {
+        inflow: Some(Inflow {
+            speed: 3.0,
+            heading: 200.0,
+            gust: Gust {
+                amplitude: 0.5,
+                frequency: 0.7,
+                seed: 2,
+            },
+        }),
+        terrain,
+        ..Default::default()
+    };
+    let dt = 1.0 / 60.0;
+    let gpu_vel = run_gpu(&gpu, grid, &settings, 100, dt);
+    let mut cpu = WindField::new(grid, &settings);
+    for _ in 0..100 {
+        cpu.step(&settings, dt);
+    }
+    let flat = WindSettings {
+        terrain: Terrain::default(),
+        ..settings.clone()
+    };
+    let mut over_flat = WindField::new(grid, &flat);
+    for _ in 0..100 {
+        over_flat.step(&flat, dt);
+    }
+    let err = relative_l2(&gpu_vel, &cpu.vel);
+    let terrain_effect = relative_l2(&over_flat.vel, &cpu.vel);
+    let count = |k: FaceKind| cpu.faces.iter().flatten().filter(|&&f| f == k).count();
+    eprintln!(
+        "over terrain, towards 200 degrees: relative L2 GPU vs CPU after 100 steps {err:.3e}; \
+         the terrain changes the field by {terrain_effect:.3e}; {} buried faces, {} inflow faces",
+        count(FaceKind::Buried),
+        count(FaceKind::Inflow)
+    );
+    assert!(count(FaceKind::Buried) > 100 && count(FaceKind::Inflow) > 100);
+    assert!(err < GPU_CPU_TOLERANCE, "relative L2 difference {err:.3e}");
+    assert!(terrain_effect > 0.05, "the terrain barely changed the wind");
+    for (component, kinds) in gpu_vel.iter().zip(&cpu.faces) {
+        for (v, kind) in component.iter().zip(kinds) {
+            if *kind == FaceKind::Wall {
+                assert_eq!(*v, 0.0);
+            }
+        }
+    }
+    // A buried face holds the value of the first free face above it.
+    let buried_ghosts = cpu.faces[0]
+        .iter()
+        .zip(&gpu_vel[0])
+        .filter(|(k, _)| **k == FaceKind::Buried)
+        .filter(|(_, v)| v.abs() > 0.1)
+        .count();
+    assert!(
+        buried_ghosts > 50,
+        "{buried_ghosts} buried faces carry the wind above"
+    );
+    finish(gpu);
+}
+
 /// The viewer's wind keys and gusts (`WindPass::set_drive`): halfway, the
-/// inflow strengthens and a gust source drops in; the GPU, changed
+/// inflow strengthens and turns from +x to 30 degrees (entering now by two
+/// sides: the faces reclassified) and a gust source drops in; the GPU, changed
 /// between submissions, follows the CPU reference stepping with the
 /// changed settings, and the change is large (a drive that did not reach
 /// the kernels fails both checks).
@@ -194,6 +281,7 @@ fn a_drive_changed_between_steps_reaches_the_gpu_kernels() {
     let before = two_sources_one_obstacle();
     let mut after = before.clone();
     after.inflow.as_mut().unwrap().speed = 3.5;
+    after.inflow.as_mut().unwrap().heading = 30.0;
     let mut gust = WindSource::fixed(Vec3::new(3.0, 0.5, 3.0), Vec3::NEG_Z, 30.0, 2.0);
     // Off between two steps (at a step's time, f32 rounding of the two
     // clocks would pick sides).
@@ -216,10 +304,11 @@ fn a_drive_changed_between_steps_reaches_the_gpu_kernels() {
     let mut same_colliders = WindField::new(grid, &before);
     for (half, settings) in [(0, &before), (1, &after)] {
         if half == 1 {
-            let speed = after.inflow.map(|i| i.speed);
-            pass.set_drive(&gpu, &commands, speed, &after.sources)
+            pass.set_drive(&gpu, &commands, after.inflow, &after.sources)
                 .unwrap();
             pass.set_colliders(&after.colliders).unwrap();
+            assert!(cpu.classify_faces(after.inflow.as_ref()));
+            same_colliders.classify_faces(after.inflow.as_ref());
         }
         let rec = commands.begin().unwrap();
         for n in 0..50 {
@@ -247,12 +336,14 @@ fn a_drive_changed_between_steps_reaches_the_gpu_kernels() {
         colliders_change > 1e3 * GPU_CPU_TOLERANCE,
         "the colliders' change is too small to see: {colliders_change:.3e}"
     );
-    // The inflow keeps its side: a speed of the other sign is refused.
+    // A heading that is not a number is refused, naming it.
+    let mut lost = after.inflow.unwrap();
+    lost.heading = f32::NAN;
     let refused = pass
-        .set_drive(&gpu, &commands, Some(-1.0), &after.sources)
+        .set_drive(&gpu, &commands, Some(lost), &after.sources)
         .unwrap_err()
         .to_string();
-    assert!(refused.contains("its side is fixed"), "{refused}");
+    assert!(refused.contains("towards NaN degrees"), "{refused}");
     drop(pass);
     drop(commands);
     finish(gpu);
@@ -274,6 +365,7 @@ fn gpu_wind_stays_finite_for_10000_steps_at_the_strongest_settings() {
     }
     settings.inflow = Some(Inflow {
         speed: 10.0,
+        heading: 0.0,
         gust: Gust {
             amplitude: 1.0,
             frequency: 1.0,

@@ -6,11 +6,7 @@
 #ifndef MEADOW_WIND_GRID_GLSL
 #define MEADOW_WIND_GRID_GLSL
 
-#define FACE_FREE   0u
-#define FACE_WALL   1u
-#define FACE_INFLOW 2u
-
-// WindGridParams: src/interface/defs.rs.
+// WindGridParams and the face kinds (FACE_FREE, ...): src/interface/defs.rs.
 #include "interface.glsl"
 
 uvec3 face_dims(WindGridParams g, uint axis) {

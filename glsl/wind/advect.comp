@@ -25,6 +25,20 @@ void main() {
     vec3 v = sample_wind(pc.grid, x);
     vec3 back = x - pc.dt * v;
     float u = sample_component(pc.grid, axis, back);
+    // Air traced back beyond an inflow's entry side across the other
+    // horizontal axis comes in with the inflow's velocity (`Inflow::entering`).
+    vec2 d = inflow_heading();
+    if (pc.inflow_speed != 0.0 && axis != 1u && (axis == 0u ? d.x : d.y) != 0.0) {
+        uint across = 2u - axis;
+        float component = (pc.inflow_speed >= 0.0 ? 1.0 : -1.0) * (across == 0u ? d.x : d.y);
+        vec3 lo = pc.grid.origin.xyz;
+        vec3 hi = lo + vec3(pc.grid.cells.xyz) * pc.grid.cell_size.xyz;
+        bool outside = component != 0.0
+            && (component > 0.0 ? back[across] < lo[across] : back[across] > hi[across]);
+        if (outside) {
+            u = inflow_velocity(axis, clamp(back, lo, hi), pc.time);
+        }
+    }
     if (pc.canopy_drag > 0.0) {
         // The frontal area per volume at the face: the two cells it parts
         // (the inside one at the grid's sides), `face_canopy_density`.

@@ -37,6 +37,9 @@ void main() {
         return;
     }
     uint kind = face_kind[id];
+    if (kind == FACE_BURIED) {
+        return; // holds the ghost value under_ground.comp gave it
+    }
     if (kind == FACE_WALL) {
         vel[id] = 0.0;
         return;
@@ -46,7 +49,7 @@ void main() {
     face_of(pc.grid, id, axis, f);
     vec3 x = face_position(pc.grid, axis, f);
     if (kind == FACE_INFLOW) {
-        vel[id] = inflow_velocity(x.y - pc.grid.origin.y, x.z, t);
+        vel[id] = inflow_velocity(axis, x, t);
         return;
     }
     float a = 0.0;

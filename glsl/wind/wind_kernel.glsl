@@ -49,19 +49,43 @@ float gust_factor(float amplitude, float frequency, vec3 phases, float t) {
 const float INFLOW_GUST_LEAN = 0.5;
 const vec3 INFLOW_GUST_LEAN_SIGN = vec3(1.0, -1.0, 1.0);
 
-// The inflow velocity at height y above the grid's floor, at z, at time t
-// (`Inflow::velocity_at`): u = U (1 + a g(t - lean z / |U|) cos(pi y / H)),
-// the same flux at every instant, gusts carried downwind by advection.
-float inflow_velocity(float y, float z, float t) {
+// The unit vector (x, z) the inflow's heading points along; exactly (1, 0)
+// at heading 0 (`Inflow::heading_vector`).
+vec2 inflow_heading() {
+    float h = pc.inflow_heading;
+    if (h == 0.0) {
+        return vec2(1.0, 0.0);
+    }
+    // A component under 1e-6 is the rounding of a heading along an axis.
+    vec2 d = vec2(cos(h), sin(h));
+    return mix(d, vec2(0.0), lessThan(abs(d), vec2(1e-6)));
+}
+
+// The inflow's velocity component `axis` (0: x, 2: z) at a point x of an
+// entry side, at time t (`Inflow::velocity_at`):
+// u = U d (1 + a g(t - delay) cos(pi y / H)), y above the grid's floor, the
+// delay a front's arrival from the most upwind corner plus its lean across
+// the wind; the same flux at every instant, gusts carried downwind by
+// advection.
+float inflow_velocity(uint axis, vec3 x, float t) {
     float speed = pc.inflow_speed;
     float amplitude = pc.gust_amplitude;
+    vec2 d = inflow_heading();
+    float component = axis == 0u ? d.x : d.y;
     if (amplitude == 0.0) {
-        return speed;
+        return speed * component;
     }
-    float height = float(pc.grid.cells.y) * pc.grid.cell_size.y;
-    float lean = INFLOW_GUST_LEAN * z / max(abs(speed), 1e-3);
-    float g = gust_signal(pc.gust_frequency, pc.gust_phases, t, INFLOW_GUST_LEAN_SIGN * lean);
-    return speed * (1.0 + amplitude * g * cos(0.5 * TAU * y / height));
+    float magnitude = max(abs(speed), 1e-3);
+    float lean = INFLOW_GUST_LEAN * (-d.y * x.x + d.x * x.z) / magnitude;
+    vec3 size = vec3(pc.grid.cells) * pc.grid.cell_size;
+    float x0 = d.x * speed < 0.0 ? pc.grid.origin.x + size.x : pc.grid.origin.x;
+    float z0 = d.y * speed < 0.0 ? pc.grid.origin.z + size.z : pc.grid.origin.z;
+    float sign_u = speed >= 0.0 ? 1.0 : -1.0;
+    float arrival = sign_u * ((x.x - x0) * d.x + (x.z - z0) * d.y) / magnitude;
+    float g = gust_signal(pc.gust_frequency, pc.gust_phases, t,
+                          INFLOW_GUST_LEAN_SIGN * lean + arrival);
+    float y = x.y - pc.grid.origin.y;
+    return speed * (1.0 + amplitude * g * cos(0.5 * TAU * y / size.y)) * component;
 }
 
 uint cell_count() {

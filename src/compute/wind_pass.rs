@@ -19,10 +19,14 @@ use crate::gpu::{
 };
 use crate::model::contact::{Collider, GpuCollider};
 use crate::model::multigrid::{self, Multigrid};
-use crate::model::wind::{FaceKind, PressureSolver, WindField, WindGrid, WindSettings, WindSource};
+use crate::model::wind::{
+    FaceKind, Inflow, PressureSolver, WindField, WindGrid, WindSettings, WindSource,
+};
 use crate::shaders::{self, Spirv};
 
-use crate::interface::{MgLevel, WindGridParams, WindPush, WIND_GROUP};
+use crate::interface::{
+    MgLevel, WindGridParams, WindPush, FACE_BURIED, FACE_FREE, FACE_INFLOW, FACE_WALL, WIND_GROUP,
+};
 /// Waypoints a source's path may have on the GPU.
 pub use crate::model::wind::MAX_PATH_POINTS;
 
@@ -76,7 +80,7 @@ pub const WIND_SET: &[LayoutBinding] = &[
 
 /// The kernels in the order a step runs them (Jacobi or the five multigrid
 /// kernels solve for the pressure).
-pub const WIND_KERNELS: [&Spirv; 10] = [
+pub const WIND_KERNELS: [&Spirv; 11] = [
     &shaders::WIND_FORCES_COMP,
     &shaders::WIND_ADVECT_COMP,
     &shaders::WIND_DIVERGENCE_COMP,
@@ -87,6 +91,7 @@ pub const WIND_KERNELS: [&Spirv; 10] = [
     &shaders::WIND_MG_COARSEST_COMP,
     &shaders::WIND_MG_PROLONG_COMP,
     &shaders::WIND_PROJECT_COMP,
+    &shaders::WIND_UNDER_GROUND_COMP,
 ];
 const FORCES: usize = 0;
 const ADVECT: usize = 1;
@@ -98,6 +103,7 @@ const MG_RESTRICT: usize = 6;
 const MG_COARSEST: usize = 7;
 const MG_PROLONG: usize = 8;
 const PROJECT: usize = 9;
+const UNDER_GROUND: usize = 10;
 
 /// The level table and every level's conductances, concatenated.
 fn multigrid_tables(mg: &Multigrid) -> (Vec<MgLevel>, Vec<f32>) {
@@ -148,9 +154,10 @@ struct WindBuffers {
 
 impl WindBuffers {
     /// The buffers, made and filled in binding order (`WIND_SET`); the
-    /// velocity and pressure cleared to zero: the air starts at rest, and
-    /// the first Jacobi solve starts from zero pressure (later ones from
-    /// the previous step's).
+    /// velocity as the CPU reference starts it (at rest, or at an oblique
+    /// inflow's or an inflow over terrain's mean velocity: `WindField::new`),
+    /// the pressure cleared to zero: the first Jacobi solve starts from
+    /// zero pressure (later ones from the previous step's).
     fn new(
         gpu: &Gpu,
         commands: &CommandPool,
@@ -167,16 +174,26 @@ impl WindBuffers {
         let uploaded = |name: &str, bytes: &[u8]| {
             Buffer::with_data(gpu, commands, name, bytes, storage, Access::COMPUTE_READ)
         };
-        let kinds = field.faces.iter().flatten().map(|k| match k {
-            FaceKind::Free => 0,
-            FaceKind::Wall => 1,
-            FaceKind::Inflow => 2,
-        });
-        let (table, conductance) = multigrid_tables(&field.multigrid);
         let coarse_cells = field.multigrid.coarse_cell_count().max(1) as u64;
+        let [faces, conductance, levels] = Self::classified(gpu, commands, field)?;
         let buffers = Self {
-            velocity: device_buffer("wind velocity (A, B)", 2 * face_count as u64)?,
-            faces: uploaded("wind face kinds", &u32_bytes(kinds))?,
+            velocity: if field.vel.iter().flatten().all(|&v| v == 0.0) {
+                device_buffer("wind velocity (A, B)", 2 * face_count as u64)?
+            } else {
+                // The air starting with an oblique inflow or over terrain
+                // (`WindField::new`): both copies.
+                let copy: Vec<f32> = field.vel.iter().flatten().copied().collect();
+                let both = [copy.as_slice(), copy.as_slice()].concat();
+                Buffer::with_data(
+                    gpu,
+                    commands,
+                    "wind velocity (A, B)",
+                    bytemuck::cast_slice(&both),
+                    rw,
+                    Access::COMPUTE_READ_WRITE,
+                )?
+            },
+            faces,
             solid: uploaded(
                 "wind solid cells",
                 &u32_bytes(field.solid.iter().map(|&s| s as u32)),
@@ -184,26 +201,55 @@ impl WindBuffers {
             pressure: device_buffer("wind pressure (ping, pong)", 2 * cell_count as u64)?,
             divergence: device_buffer("wind divergence", cell_count as u64)?,
             sources: Self::sources(gpu, commands, &settings.sources)?,
-            conductance: uploaded(
-                "wind multigrid conductances",
-                bytemuck::cast_slice(&conductance),
-            )?,
+            conductance,
             coarse: device_buffer(
                 "wind multigrid coarse levels (pressure, right-hand side)",
                 2 * coarse_cells,
             )?,
-            levels: uploaded("wind multigrid levels", bytemuck::cast_slice(&table))?,
+            levels,
             canopy: device_buffer("wind canopy frontal area (fixed point)", cell_count as u64)?,
             colliders: super::colliders::buffer(gpu, "wind colliders")?,
         };
         let rec = commands.begin()?;
-        rec.fill_buffer(&buffers.velocity, 0);
+        if field.vel.iter().flatten().all(|&v| v == 0.0) {
+            rec.fill_buffer(&buffers.velocity, 0);
+        }
         rec.fill_buffer(&buffers.pressure, 0);
         rec.fill_buffer(&buffers.coarse, 0);
         rec.fill_buffer(&buffers.canopy, 0);
         // The next recording's first use of each waits for these writes.
         rec.submit_and_wait("clearing the wind")?;
         Ok(buffers)
+    }
+
+    /// What the faces' classification decides, uploaded: the face kinds,
+    /// the multigrid's conductances and its level table.
+    fn classified(gpu: &Gpu, commands: &CommandPool, field: &WindField) -> Result<[Buffer; 3]> {
+        let uploaded = |name: &str, bytes: &[u8]| {
+            Buffer::with_data(
+                gpu,
+                commands,
+                name,
+                bytes,
+                vk::BufferUsageFlags::STORAGE_BUFFER,
+                Access::COMPUTE_READ,
+            )
+        };
+        let kinds = field.faces.iter().flatten().map(|k| match k {
+            FaceKind::Free => FACE_FREE,
+            FaceKind::Wall => FACE_WALL,
+            FaceKind::Inflow => FACE_INFLOW,
+            FaceKind::Buried => FACE_BURIED,
+        });
+        let (table, conductance) = multigrid_tables(&field.multigrid);
+        Ok([
+            uploaded("wind face kinds", &u32_bytes(kinds))?,
+            uploaded(
+                "wind multigrid conductances",
+                bytemuck::cast_slice(&conductance),
+            )?,
+            uploaded("wind multigrid levels", bytemuck::cast_slice(&table))?,
+        ])
     }
 
     /// The sources as the kernels read them, uploaded; at least one
@@ -263,9 +309,9 @@ pub struct WindPass {
     /// m^2 per count of the canopy buffer (`model::canopy::unit` of the
     /// grass coupled to this wind; 0 with no grass).
     canopy_unit: f32,
-    /// Whether the inflow (if any) enters at x = min: fixed when the
-    /// faces were classified.
-    inflow_enters_low: bool,
+    /// Whether any face lies between two cells under the ground (then
+    /// each step ends with glsl/wind/under_ground.comp).
+    buried: bool,
     /// The colliders as forces.comp reads them, written before each step.
     collider_records: Vec<GpuCollider>,
 }
@@ -355,7 +401,7 @@ impl WindPass {
                 .collect(),
             coarse_cells: field.multigrid.coarse_cell_count() as u32,
             canopy_unit,
-            inflow_enters_low: settings.inflow.is_none_or(|i| i.speed >= 0.0),
+            buried: field.faces.iter().flatten().any(|&k| k == FaceKind::Buried),
             collider_records: super::colliders::records(&settings.colliders)?,
         })
     }
@@ -367,38 +413,53 @@ impl WindPass {
     }
 
     /// Changes what drives the wind from the next step on (the viewer's
-    /// wind keys and dropped gusts): the inflow's speed and the sources.
-    /// The inflow keeps its side (the faces' kinds are fixed per scene),
-    /// so a speed of the other sign is refused. Uploads and waits: call
-    /// between submissions.
+    /// wind keys and dropped gusts): the inflow (its speed and heading)
+    /// and the sources. An inflow that enters or leaves by other sides
+    /// than before reclassifies the faces (`WindField::classify_faces`)
+    /// and uploads them with their multigrid tables; the air keeps its
+    /// velocity. Uploads and waits: call between submissions.
     pub fn set_drive(
         &mut self,
         gpu: &Gpu,
         commands: &CommandPool,
-        inflow_speed: Option<f32>,
+        inflow: Option<Inflow>,
         sources: &[WindSource],
     ) -> Result<()> {
-        if let Some(speed) = inflow_speed {
-            let Some(inflow) = self.settings.inflow.as_mut() else {
-                return Err(Error::InvalidInput(
-                    "this wind has no inflow whose speed could change".into(),
-                ));
-            };
-            // The side it enters at, as `WindField::classify` chose it.
-            let enters_low = self.inflow_enters_low;
-            if !speed.is_finite() || (enters_low && speed < 0.0) || (!enters_low && speed > 0.0) {
+        if let Some(i) = &inflow {
+            if !(i.speed.is_finite() && i.heading.is_finite()) {
                 return Err(Error::InvalidInput(format!(
-                    "an inflow of {} m/s cannot become {speed} m/s: its side is fixed, keep the sign",
-                    inflow.speed
+                    "an inflow of {} m/s towards {} degrees is not allowed, use finite numbers",
+                    i.speed, i.heading
                 )));
             }
-            inflow.speed = speed;
         }
+        let mut replaced = Vec::new();
+        let sides = |i: Option<&Inflow>| {
+            i.map(|i| [(0, 0), (0, 1), (2, 0), (2, 1)].map(|(a, e)| i.side(a, e)))
+        };
+        if sides(inflow.as_ref()) != sides(self.settings.inflow.as_ref()) {
+            let next = WindSettings {
+                inflow,
+                ..self.settings.clone()
+            };
+            let field = WindField::new(self.grid, &next);
+            let [faces, conductance, levels] = WindBuffers::classified(gpu, commands, &field)?;
+            replaced.push(std::mem::replace(&mut self.buffers.faces, faces));
+            replaced.push(std::mem::replace(
+                &mut self.buffers.conductance,
+                conductance,
+            ));
+            replaced.push(std::mem::replace(&mut self.buffers.levels, levels));
+        }
+        self.settings.inflow = inflow;
         if sources != self.settings.sources.as_slice() {
             let buffer = WindBuffers::sources(gpu, commands, sources)?;
-            let old = std::mem::replace(&mut self.buffers.sources, buffer);
+            replaced.push(std::mem::replace(&mut self.buffers.sources, buffer));
+            self.settings.sources = sources.to_vec();
+        }
+        if !replaced.is_empty() {
             // The new set replaces (and drops) the old one before the old
-            // buffer it named goes; no submission is in flight.
+            // buffers it named go; no submission is in flight.
             self.set = DescriptorSet::new(
                 gpu,
                 &self.layout,
@@ -406,8 +467,7 @@ impl WindPass {
                 &self.buffers.bound(),
                 "wind descriptor set",
             )?;
-            drop(old);
-            self.settings.sources = sources.to_vec();
+            drop(replaced);
         }
         Ok(())
     }
@@ -481,6 +541,7 @@ impl WindPass {
             inflow_speed: inflow.map_or(0.0, |i| i.speed),
             gust_amplitude: inflow.map_or(0.0, |i| i.gust.amplitude),
             gust_frequency: inflow.map_or(0.0, |i| i.gust.frequency),
+            inflow_heading: inflow.map_or(0.0, |i| i.heading.to_radians()),
             gust_phases: phases,
             collider_count: self.settings.colliders.len() as u32,
             coarse_cells: self.coarse_cells,
@@ -520,6 +581,7 @@ impl WindPass {
                 BufferUse::new(&b.velocity, read_write),
                 BufferUse::new(&b.pressure, read),
             ]),
+            UNDER_GROUND => uses.push(BufferUse::new(&b.velocity, read_write)),
             // The multigrid kernels (glsl/wind/multigrid.glsl): each level's
             // pressure and right-hand side, the saved residual.
             _ => uses.extend([
@@ -611,6 +673,9 @@ impl WindPass {
             }
         }
         dispatch(PROJECT, face_groups, 0, [0; 3]);
+        if self.buried {
+            dispatch(UNDER_GROUND, face_groups, 0, [0; 3]);
+        }
     }
 
     /// Copies the velocity (copy A: x, y, z components) back to the host:

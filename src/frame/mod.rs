@@ -226,13 +226,11 @@ impl FrameRecorder {
     pub fn set_wind_drive(
         &mut self,
         gpu: &Gpu,
-        inflow_speed: Option<f32>,
+        inflow: Option<crate::model::wind::Inflow>,
         sources: &[crate::model::wind::WindSource],
     ) -> Result<()> {
         match self.simulation.as_mut() {
-            Some(s) => s
-                .wind_mut()
-                .set_drive(gpu, &self.commands, inflow_speed, sources),
+            Some(s) => s.wind_mut().set_drive(gpu, &self.commands, inflow, sources),
             None => Err(Error::InvalidInput(
                 "blades at rest have no wind to change".into(),
             )),

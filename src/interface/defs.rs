@@ -27,6 +27,16 @@ gpu_interface! {
     pub const MAX_PATH_POINTS: usize = 8;
     /// Colliders a scene may have (the collider bins hold one bit each).
     pub const MAX_COLLIDERS: usize = 128;
+    /// The wind's face kinds (`model::wind::FaceKind`), as the face-kind
+    /// buffer holds them: a free face, moved by the solver.
+    pub const FACE_FREE: u32 = 0;
+    /// A wall: the face holds zero.
+    pub const FACE_WALL: u32 = 1;
+    /// On an inflow's entry side: the face holds the inflow's velocity.
+    pub const FACE_INFLOW: u32 = 2;
+    /// Between two cells under the ground: the free-slip ghost value of
+    /// the air above (glsl/wind/under_ground.comp).
+    pub const FACE_BURIED: u32 = 3;
 
     /// One control point of a blade as the render pipeline reads it: four
     /// per blade, one patch; the grass step writes them
@@ -175,7 +185,9 @@ gpu_interface! {
         pub gust_amplitude: f32,
         /// The inflow gusts' frequency (Hz).
         pub gust_frequency: f32,
-        pub _pad0: f32,
+        /// Where the inflow blows towards (radians; 0 along +x, pi/2
+        /// along +z).
+        pub inflow_heading: f32,
         /// The phases of the gusts' three sines.
         pub gust_phases: [f32; 3],
         /// Colliders pushing the air (the forces kernel).

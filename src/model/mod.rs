@@ -14,4 +14,5 @@ pub use grass::{BladePhysics, GrassBlade, GrassState};
 pub use grass_field::GrassField;
 pub mod multigrid;
 pub mod path;
+pub mod terrain;
 pub mod wind;

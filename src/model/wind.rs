@@ -9,12 +9,14 @@
 //! are then compact differences and the projection converges to a
 //! divergence-free field as the Jacobi count grows.
 //!
-//! Boundaries (ours, docs/method.md): the ground (y = 0) and solid cells are
-//! no-through (their faces hold zero); the top is free-slip (no flow through
-//! it, tangential flow free); the four sides are open: the pressure outside
-//! is zero, so wind leaves the domain. An inflow side holds its faces at the
-//! inflow velocity; with an inflow, the two sides along it are free-slip
-//! (a wind tunnel: what enters leaves through the far side).
+//! Boundaries (ours, docs/method.md): the grid's floor and solid cells (the
+//! obstacles', and those under the ground's height field) are no-through
+//! (their faces hold zero); the top is free-slip (no flow through it,
+//! tangential flow free); the four sides are open: the pressure outside
+//! is zero, so wind leaves the domain. An inflow's entry sides (one or two,
+//! from its heading) hold their faces at its velocity across them; a side
+//! along it is free-slip (a wind tunnel: what enters leaves through the
+//! far sides).
 //!
 //! The GPU compute shaders in glsl/wind/ follow this file kernel by kernel.
 
@@ -23,6 +25,7 @@ use glam::{UVec3, Vec3};
 use super::contact::{Collider, ColliderState};
 use super::multigrid::{Multigrid, Work};
 pub use super::path::{along_path, MAX_PATH_POINTS};
+use super::terrain::Terrain;
 use crate::error::{Error, Result};
 
 /// The grid: `cells` = (nx, ny, nz), x and z horizontal, y up.
@@ -175,11 +178,17 @@ pub const INFLOW_GUST_LEAN: f32 = 0.5;
 const INFLOW_GUST_LEAN_SIGN: [f32; 3] = [1.0, -1.0, 1.0];
 
 impl Inflow {
-    /// The inflow velocity along x at a point of the inflow side, at
-    /// height `y` above the grid's floor (grid `height` tall), at `z`, at
-    /// time t (docs/physics.md, travelling gusts):
+    /// The inflow's velocity component `axis` (0: x, 2: z) at a point `x`
+    /// of an entry side of `grid`, at time t (docs/physics.md, travelling
+    /// gusts):
     ///
-    /// u = U (1 + a g(t - lean z / |U|) cos(pi y / height)).
+    /// u = U d (1 + a g(t - delay) cos(pi y / height)),
+    ///
+    /// d the heading's unit vector, y the height above the grid's floor
+    /// and the delay the time a front takes to arrive: (x - x0) . d / |U|
+    /// from the most upwind corner x0, plus the lean of the fronts across
+    /// the wind, lean (x . d_perp) / |U| with d_perp = (-d_z, d_x)
+    /// (heading 0: lean z / |U|).
     ///
     /// A gust is faster air near the ground and slower air aloft: the
     /// cosine has zero mean over the height, so the flux through the side
@@ -187,14 +196,62 @@ impl Inflow {
     /// pass the gust through the whole field at once; advection carries it
     /// downwind at the wind's speed (the lowest vertical mode of the layer
     /// of air between the ground and the free-slip top travels unchanged).
-    pub fn velocity_at(&self, y: f32, height: f32, z: f32, t: f32) -> f32 {
+    pub fn velocity_at(&self, axis: usize, grid: &WindGrid, x: Vec3, t: f32) -> f32 {
+        let [c, s] = self.heading_vector();
+        let component = if axis == 0 { c } else { s };
         if self.gust.amplitude == 0.0 {
-            return self.speed;
+            return self.speed * component;
         }
-        let lean = INFLOW_GUST_LEAN * z / self.speed.abs().max(1e-3);
-        let delay = INFLOW_GUST_LEAN_SIGN.map(|s| s * lean);
-        let profile = (std::f32::consts::PI * y / height).cos();
-        self.speed * (1.0 + self.gust.amplitude * self.gust.signal(t, delay) * profile)
+        let speed = self.speed.abs().max(1e-3);
+        let lean = INFLOW_GUST_LEAN * (-s * x.x + c * x.z) / speed;
+        // The most upwind corner of the grid, along the velocity.
+        let size = grid.size();
+        let corner = |d: f32, lo: f32, extent: f32| {
+            if d * self.speed < 0.0 {
+                lo + extent
+            } else {
+                lo
+            }
+        };
+        let x0 = corner(c, grid.origin.x, size.x);
+        let z0 = corner(s, grid.origin.z, size.z);
+        let sign = if self.speed >= 0.0 { 1.0 } else { -1.0 };
+        let arrival = sign * ((x.x - x0) * c + (x.z - z0) * s) / speed;
+        let delay = INFLOW_GUST_LEAN_SIGN.map(|l| l * lean + arrival);
+        let height = size.y;
+        let profile = (std::f32::consts::PI * (x.y - grid.origin.y) / height).cos();
+        self.speed * (1.0 + self.gust.amplitude * self.gust.signal(t, delay) * profile) * component
+    }
+}
+
+impl Inflow {
+    /// The inflow's component `axis` that air traced back to `back`
+    /// carries in from outside, at time t: for a horizontal component
+    /// whose trace left the grid through an entry side across the other
+    /// horizontal axis (the inflow's tangential part along that side,
+    /// which no face of the side holds), the inflow's velocity at the
+    /// side; None otherwise, for a component the inflow has none of
+    /// (heading 0: z), so a wind from the left is unchanged bit for bit,
+    /// and for an inflow stilled to 0 m/s.
+    pub fn entering(&self, axis: usize, grid: &WindGrid, back: Vec3, t: f32) -> Option<f32> {
+        let [c, s] = self.heading_vector();
+        if self.speed == 0.0 || axis == 1 || (if axis == 0 { c } else { s }) == 0.0 {
+            return None;
+        }
+        let across = 2 - axis;
+        let (lo, hi) = (
+            grid.origin[across],
+            grid.origin[across] + grid.size()[across],
+        );
+        let outside = match (self.side(across, 0), self.side(across, 1)) {
+            (Side::Entry, _) => back[across] < lo,
+            (_, Side::Entry) => back[across] > hi,
+            _ => false,
+        };
+        outside.then(|| {
+            let at = back.clamp(grid.origin, grid.origin + grid.size());
+            self.velocity_at(axis, grid, at, t)
+        })
     }
 }
 
@@ -310,11 +367,70 @@ pub fn falloff(distance: f32, radius: f32) -> f32 {
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Inflow {
-    /// Velocity of the incoming air; its sign along x picks the side
-    /// (positive: enters at x = min). Only x is supported: paper Fig. 10.
+    /// Speed of the incoming air (m/s); negative blows against `heading`.
     pub speed: f32,
+    /// Where it blows towards, degrees: 0 along +x (paper Fig. 10: from
+    /// the left), 90 along +z. The sides it enters by and leaves by
+    /// follow from it (`Inflow::side`).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub heading: f32,
     #[serde(default)]
     pub gust: Gust,
+}
+
+fn is_zero(v: &f32) -> bool {
+    *v == 0.0
+}
+
+/// What a side of the domain is to an inflow.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Side {
+    /// The wind enters: its faces hold the inflow's velocity across them.
+    Entry,
+    /// The wind leaves: open, zero pressure outside.
+    Exit,
+    /// Along the wind: free-slip, as a wind tunnel's walls.
+    Along,
+}
+
+impl Inflow {
+    /// The unit vector (x, z) the heading points along; exactly (1, 0)
+    /// at heading 0, so that today's wind from the left is unchanged bit
+    /// for bit (glsl/wind/wind_kernel.glsl does the same).
+    pub fn heading_vector(&self) -> [f32; 2] {
+        if self.heading == 0.0 {
+            return [1.0, 0.0];
+        }
+        let (s, c) = self.heading.to_radians().sin_cos();
+        // A component under 1e-6 is the rounding of a heading along an
+        // axis (cos 90 degrees is -4e-8 in f32): zero.
+        let snap = |v: f32| if v.abs() < 1e-6 { 0.0 } else { v };
+        [snap(c), snap(s)]
+    }
+
+    /// Whether the inflow blows across both horizontal axes.
+    pub fn is_oblique(&self) -> bool {
+        let [c, s] = self.heading_vector();
+        c != 0.0 && s != 0.0
+    }
+
+    /// Side `end` (0: least, 1: greatest) across horizontal axis `axis`
+    /// (0: x, 2: z). Only the heading and the speed's sign decide, so a
+    /// speed set to zero keeps the sides; a side the heading has no
+    /// component across lies along the wind.
+    pub fn side(&self, axis: usize, end: u32) -> Side {
+        let [c, s] = self.heading_vector();
+        let sign = if self.speed >= 0.0 { 1.0 } else { -1.0 };
+        let component = sign * if axis == 0 { c } else { s };
+        let inward = if end == 0 { component } else { -component };
+        if component == 0.0 {
+            Side::Along
+        } else if inward > 0.0 {
+            Side::Entry
+        } else {
+            Side::Exit
+        }
+    }
 }
 
 /// An obstacle in world space (paper Fig. 13): an axis-aligned box, a
@@ -434,6 +550,9 @@ pub struct WindSettings {
     pub coupling: Coupling,
     /// C_d of the canopy drag when `coupling` is two-way.
     pub canopy_drag: f32,
+    /// The ground: cells whose centre lies under it are solid.
+    #[serde(skip)]
+    pub terrain: Terrain,
 }
 
 impl WindSettings {
@@ -459,6 +578,7 @@ impl Default for WindSettings {
             v_cycles: DEFAULT_V_CYCLES,
             coupling: Coupling::default(),
             canopy_drag: DEFAULT_CANOPY_DRAG,
+            terrain: Terrain::default(),
         }
     }
 }
@@ -499,7 +619,10 @@ pub struct WindField {
     pub pressure: Vec<f32>,
     pub divergence: Vec<f32>,
     pub solid: Vec<bool>,
-    /// What each velocity sample is: free, wall or inflow (fixed per scene).
+    /// The solid cells that lie under the ground (not an obstacle's).
+    pub ground: Vec<bool>,
+    /// What each velocity sample is: free, wall, inflow or buried (fixed
+    /// per scene, or per inflow heading).
     pub faces: [Vec<FaceKind>; 3],
     /// The grass's frontal area in each cell, in counts of `canopy_unit`
     /// m^2, laid by the last grass step (src/model/canopy.rs); all zero
@@ -514,13 +637,26 @@ pub struct WindField {
 }
 
 impl WindField {
-    /// Voxelises the obstacles and classifies every face, once.
+    /// Voxelises the obstacles and the ground and classifies every face,
+    /// once: a cell is solid where its centre lies inside an obstacle or
+    /// under the ground (a staircase whose treads lie at the ground's
+    /// height rounded to the nearest face; docs/method.md).
     pub fn new(grid: WindGrid, settings: &WindSettings) -> Self {
-        let solid = grid
+        let terrain = &settings.terrain;
+        let ground: Vec<bool> = grid
             .each_cell()
             .map(|(_, [i, j, k])| {
                 let c = grid.cell_center(i, j, k);
-                settings.obstacles.iter().any(|o| o.contains(c))
+                !terrain.is_flat() && c.y < terrain.height(c.x, c.z)
+            })
+            .collect();
+        let solid = grid
+            .each_cell()
+            .map(|(c, [i, j, k])| {
+                ground[c] || {
+                    let c = grid.cell_center(i, j, k);
+                    settings.obstacles.iter().any(|o| o.contains(c))
+                }
             })
             .collect();
         let mut field = Self {
@@ -533,24 +669,65 @@ impl WindField {
             canopy: vec![0; grid.cell_count()],
             canopy_unit: 0.0,
             solid,
+            ground,
             faces: [Vec::new(), Vec::new(), Vec::new()],
             multigrid: Multigrid { levels: Vec::new() },
             multigrid_work: Work::default(),
             grid,
             time: 0.0,
         };
-        for axis in 0..3 {
-            field.faces[axis] = grid
-                .each_face(axis)
-                .map(|(_, f)| field.classify(axis, f, settings.inflow.as_ref()))
-                .collect();
+        field.classify_faces(settings.inflow.as_ref());
+        if let Some(inflow) = settings
+            .inflow
+            .filter(|i| i.is_oblique() || !terrain.is_flat())
+        {
+            field.start_with(&inflow);
         }
-        let free = field
+        field
+    }
+
+    /// The air at the inflow's mean velocity on every free face (and the
+    /// ghost values under the ground), the first projection then turning
+    /// it around the terrain and obstacles. Started from rest instead, an
+    /// oblique inflow leaves the first projection's potential flow, which
+    /// leaves the open exit sides at right angles (zero pressure there),
+    /// for the inflow to flush out over several crossings of the grid;
+    /// over terrain the ground's staircase would start the air in
+    /// eddies. A wind along an axis over flat ground starts from rest, as
+    /// it always has (its first projection gives the uniform flow).
+    fn start_with(&mut self, inflow: &Inflow) {
+        let [c, s] = inflow.heading_vector();
+        for (axis, component) in [(0, c), (2, s)] {
+            for (v, kind) in self.vel[axis].iter_mut().zip(&self.faces[axis]) {
+                if matches!(kind, FaceKind::Free | FaceKind::Buried) {
+                    *v = inflow.speed * component;
+                }
+            }
+        }
+    }
+
+    /// Classifies every face for `inflow` (its entry, exit and along
+    /// sides) and builds the multigrid hierarchy of the free faces; a
+    /// wind whose inflow turns calls it again (the viewer's arrows).
+    /// Returns whether any face changed its kind.
+    pub fn classify_faces(&mut self, inflow: Option<&Inflow>) -> bool {
+        let faces = [0, 1, 2].map(|axis| {
+            self.grid
+                .each_face(axis)
+                .map(|(_, f)| self.classify(axis, f, inflow))
+                .collect::<Vec<_>>()
+        });
+        if faces == self.faces && !self.multigrid.levels.is_empty() {
+            return false;
+        }
+        self.faces = faces;
+        let free = self
             .faces
             .each_ref()
             .map(|kinds| kinds.iter().map(|&k| k == FaceKind::Free).collect());
-        field.multigrid = Multigrid::new(grid.cells, grid.cell, &free);
-        field
+        self.multigrid = Multigrid::new(self.grid.cells, self.grid.cell, &free);
+        self.multigrid_work = Work::default();
+        true
     }
 
     fn is_solid(&self, c: [i64; 3]) -> bool {
@@ -567,6 +744,14 @@ impl WindField {
         self.solid[self.grid.cell_index(c[0] as u32, c[1] as u32, c[2] as u32)]
     }
 
+    /// Whether cell `c` lies under the ground; a cell beyond the grid's
+    /// side across `axis` counts as the one inside.
+    fn is_ground(&self, mut c: [i64; 3], axis: usize) -> bool {
+        let n = self.grid.cells[axis] as i64;
+        c[axis] = c[axis].clamp(0, n - 1);
+        self.ground[self.grid.cell_index(c[0] as u32, c[1] as u32, c[2] as u32)]
+    }
+
     /// How a face behaves: its value is fixed (no-through walls, solids,
     /// inflow) or free (moved by advection, forces and projection).
     fn classify(&self, axis: usize, f: [u32; 3], inflow: Option<&Inflow>) -> FaceKind {
@@ -574,6 +759,9 @@ impl WindField {
         let lo = [f[0] as i64, f[1] as i64, f[2] as i64];
         let mut left = lo;
         left[axis] -= 1;
+        if self.is_ground(lo, axis) && self.is_ground(left, axis) && axis != 1 {
+            return FaceKind::Buried;
+        }
         if self.is_solid(lo) || self.is_solid(left) {
             return FaceKind::Wall;
         }
@@ -581,16 +769,16 @@ impl WindField {
             return FaceKind::Wall; // ground and top: nothing passes through
         }
         if let Some(inflow) = inflow {
-            let entry = if inflow.speed >= 0.0 { 0 } else { n.x };
-            if axis == 0 && f[0] == entry {
-                return FaceKind::Inflow;
-            }
-            // The sides along the inflow are free-slip, as a wind tunnel's:
-            // open, they let the incoming air leave sideways before it
-            // crosses the field (on a 7 m wide strip it died out within
-            // 20 m), where in a wide field it would go on.
-            if axis == 2 && (f[2] == 0 || f[2] == n.z) {
-                return FaceKind::Wall;
+            if axis != 1 && (f[axis] == 0 || f[axis] == n[axis]) {
+                // The sides along the inflow are free-slip, as a wind
+                // tunnel's: open, they let the incoming air leave sideways
+                // before it crosses the field (on a 7 m wide strip it died
+                // out within 20 m), where in a wide field it would go on.
+                return match inflow.side(axis, (f[axis] > 0) as u32) {
+                    Side::Entry => FaceKind::Inflow,
+                    Side::Along => FaceKind::Wall,
+                    Side::Exit => FaceKind::Free,
+                };
             }
         }
         FaceKind::Free
@@ -610,14 +798,37 @@ impl WindField {
         } else {
             0.0
         };
-        self.advect(dt, drag);
+        self.advect(dt, drag, settings.inflow.as_ref());
         self.compute_divergence();
         match settings.solver {
             PressureSolver::Jacobi => self.solve_pressure(settings.jacobi_iterations),
             PressureSolver::Multigrid => self.solve_pressure_multigrid(settings.v_cycles),
         }
         self.subtract_gradient();
+        self.free_slip_under_ground();
         self.time += dt;
+    }
+
+    /// Kernel 6, with terrain: each buried face (a horizontal component
+    /// between two cells under the ground) takes the value of the first
+    /// free face above it in its column. Only the samplers read these
+    /// ghost values (advection's trace and a blade tip's wind): without
+    /// them the zeros under the ground would be interpolated into the air
+    /// above the staircase, a numerical no-slip wall that thickens
+    /// downwind and lifts the flow over a hill (docs/physics.md, wind over
+    /// a ridge). No pressure, divergence or projection term reads them.
+    pub fn free_slip_under_ground(&mut self) {
+        for axis in [0, 2] {
+            for (idx, [i, j, k]) in self.grid.each_face(axis) {
+                if self.faces[axis][idx] != FaceKind::Buried {
+                    continue;
+                }
+                self.vel[axis][idx] = (j + 1..self.grid.cells.y)
+                    .map(|up| self.grid.face_index(axis, i, up, k))
+                    .find(|&above| self.faces[axis][above] == FaceKind::Free)
+                    .map_or(0.0, |above| self.vel[axis][above]);
+            }
+        }
     }
 
     /// Kernel 1: every free face gains dt * f of every source; inflow faces
@@ -645,12 +856,12 @@ impl WindField {
             for (idx, [i, j, k]) in self.grid.each_face(axis) {
                 match self.faces[axis][idx] {
                     FaceKind::Wall => self.vel[axis][idx] = 0.0,
+                    // Holds the ghost value `free_slip_under_ground` gave it.
+                    FaceKind::Buried => {}
                     FaceKind::Inflow => {
                         let inflow = inflow.expect("inflow faces exist only with an inflow");
                         let x = self.grid.face_position(axis, i, j, k);
-                        let height = self.grid.size().y;
-                        self.vel[axis][idx] =
-                            inflow.velocity_at(x.y - self.grid.origin.y, height, x.z, t);
+                        self.vel[axis][idx] = inflow.velocity_at(axis, &self.grid, x, t);
                     }
                     FaceKind::Free => {
                         let x = self.grid.face_position(axis, i, j, k);
@@ -703,7 +914,12 @@ impl WindField {
     /// canopy drag with coefficient `canopy_drag` (0: none) slows it,
     /// implicitly, by the speed at the face before advection:
     /// u' = u / (1 + dt C_d a |u|) (src/model/canopy.rs).
-    pub fn advect(&mut self, dt: f32, canopy_drag: f32) {
+    ///
+    /// Air traced back beyond an inflow's entry side comes from outside:
+    /// a horizontal component traced across the other horizontal axis's
+    /// entry side takes the inflow's (`Inflow::entering`); one traced
+    /// across its own axis's finds the entry faces in its lattice.
+    pub fn advect(&mut self, dt: f32, canopy_drag: f32, inflow: Option<&Inflow>) {
         let src = self.vel.clone();
         for axis in 0..3 {
             for (idx, [i, j, k]) in self.grid.each_face(axis) {
@@ -717,7 +933,9 @@ impl WindField {
                     self.sample_component(&src[2], 2, x),
                 );
                 let back = x - dt * v;
-                let mut u = self.sample_component(&src[axis], axis, back);
+                let entering = inflow.and_then(|i| i.entering(axis, &self.grid, back, self.time));
+                let mut u =
+                    entering.unwrap_or_else(|| self.sample_component(&src[axis], axis, back));
                 if canopy_drag > 0.0 {
                     let a = self.face_canopy_density(axis, [i, j, k]);
                     u /= 1.0 + dt * canopy_drag * a * v.length();
@@ -895,6 +1113,10 @@ pub enum FaceKind {
     Free,
     Wall,
     Inflow,
+    /// A horizontal component between two cells under the ground: fixed
+    /// for the solver, holding the free-slip ghost value of the air above
+    /// for the samplers (`WindField::free_slip_under_ground`).
+    Buried,
 }
 
 #[cfg(test)]

@@ -58,7 +58,7 @@ impl From<FieldError> for Error {
     }
 }
 
-type Check = std::result::Result<(), FieldError>;
+pub type Check = std::result::Result<(), FieldError>;
 
 /// `value` must lie in `range`.
 pub fn in_range<T: PartialOrd + Display>(name: &str, value: T, range: RangeInclusive<T>) -> Check {
@@ -90,7 +90,7 @@ pub fn positive(name: &str, value: f32, max: f32) -> Check {
 
 /// A number in `range` (NaN and the infinities are not), else an error
 /// that says what to use `instead`.
-fn within(name: &str, value: f32, range: RangeInclusive<f32>, instead: &str) -> Check {
+pub fn within(name: &str, value: f32, range: RangeInclusive<f32>, instead: &str) -> Check {
     if range.contains(&value) {
         Ok(())
     } else {
@@ -101,7 +101,7 @@ fn within(name: &str, value: f32, range: RangeInclusive<f32>, instead: &str) -> 
     }
 }
 
-fn finite(name: &str, values: &[f32]) -> Check {
+pub fn finite(name: &str, values: &[f32]) -> Check {
     if values.iter().all(|v| v.is_finite()) {
         Ok(())
     } else {
@@ -143,7 +143,7 @@ pub fn scene(s: &Scene) -> Check {
     light(&s.light).map_err(|e| e.at("light"))?;
     lod(&s.lod).map_err(|e| e.at("lod"))?;
     cull(&s.cull).map_err(|e| e.at("cull"))?;
-    positive("ground.half_extent", s.ground.half_extent, 10_000.0)?;
+    s.ground.check().map_err(|e| e.at("ground"))?;
     grass(&s.grass).map_err(|e| e.at("grass"))?;
     wind(&s.wind).map_err(|e| e.at("wind"))?;
     if s.colliders.len() > MAX_COLLIDERS {
@@ -432,6 +432,12 @@ pub fn wind(w: &super::WindConfig) -> Check {
     }
     if let Some(inflow) = &w.inflow {
         finite("inflow.speed", &[inflow.speed])?;
+        within(
+            "inflow.heading",
+            inflow.heading,
+            -360.0..=360.0,
+            "-360..=360 degrees (0 blows towards +x, 90 towards +z)",
+        )?;
         if inflow.speed.abs() > 100.0 {
             return Err(FieldError::new(
                 "inflow.speed",

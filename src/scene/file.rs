@@ -9,7 +9,7 @@ use toml::de::{DeTable, DeValue};
 use toml::Spanned;
 
 use super::check::{self, FieldError};
-use super::Scene;
+use super::{Scene, SceneFiles};
 use crate::error::{Error, Result};
 
 /// The largest scene file read (a scene is a few kilobytes).
@@ -36,12 +36,20 @@ pub fn load(path: &Path) -> Result<Scene> {
             e.utf8_error().valid_up_to()
         ))
     })?;
-    parse(&text, &path.display().to_string())
+    let dir = path.parent().unwrap_or(Path::new("."));
+    parse_in(&text, &path.display().to_string(), SceneFiles::Dir(dir))
 }
 
-/// Parses and checks scene text; `origin` names it in errors.
+/// Parses and checks scene text; `origin` names it in errors, and the
+/// files it names are read relative to the current folder.
 pub fn parse(text: &str, origin: &str) -> Result<Scene> {
-    let scene: Scene = match toml::from_str(text) {
+    parse_in(text, origin, SceneFiles::Dir(Path::new(".")))
+}
+
+/// Parses and checks scene text, reading the files it names (a height
+/// map) from `files`; `origin` names it in errors.
+pub fn parse_in(text: &str, origin: &str, files: SceneFiles<'_>) -> Result<Scene> {
+    let mut scene: Scene = match toml::from_str(text) {
         Ok(s) => s,
         Err(e) => {
             let span = e.span().unwrap_or(0..0);
@@ -83,6 +91,10 @@ pub fn parse(text: &str, origin: &str) -> Result<Scene> {
     };
     check_lengths(text, &scene).map_err(|e| located(text, origin, e))?;
     check::scene(&scene).map_err(|e| located(text, origin, e))?;
+    scene
+        .ground
+        .read_files(files)
+        .map_err(|e| located(text, origin, e.at("ground")))?;
     Ok(scene)
 }
 

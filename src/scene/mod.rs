@@ -6,6 +6,10 @@
 pub mod check;
 pub mod field;
 pub mod file;
+pub mod grey_png;
+mod ground;
+
+pub use ground::{Ground, SceneFiles};
 
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
@@ -250,21 +254,6 @@ impl Default for Cull {
             edge_on: 0.9,
             occlusion: false,
         }
-    }
-}
-
-/// The ground: the plane y = 0 out to the horizon.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct Ground {
-    /// How far from the grass's centre the ground is clear (m); beyond,
-    /// it fades into the sky's horizon colour (glsl/backdrop/ground.frag).
-    pub half_extent: f32,
-}
-
-impl Default for Ground {
-    fn default() -> Self {
-        Self { half_extent: 10.0 }
     }
 }
 
@@ -523,6 +512,7 @@ impl WindConfig {
         Self {
             inflow: Some(Inflow {
                 speed,
+                heading: 0.0,
                 gust: Gust {
                     amplitude: 0.5,
                     frequency: 0.3,
@@ -546,6 +536,7 @@ impl WindConfig {
             v_cycles: self.v_cycles,
             coupling: self.coupling,
             canopy_drag: self.canopy_drag,
+            terrain: Default::default(),
         }
     }
 }
@@ -645,7 +636,7 @@ impl Scene {
                 names.join(", ")
             )));
         };
-        file::parse(text, &format!("scenes/{name}.toml"))
+        file::parse_in(text, &format!("scenes/{name}.toml"), SceneFiles::Builtin)
     }
 
     /// `--scene`: a built-in name, or a path to a TOML file (anything
@@ -770,26 +761,43 @@ impl Scene {
         (lo, hi)
     }
 
-    /// Everything that drives the scene's wind: its `[wind]` and the
-    /// colliders, which push the air as they move.
+    /// Everything that drives the scene's wind: its `[wind]`, the
+    /// colliders, which push the air as they move, and the ground it
+    /// blows over.
     pub fn wind_settings(&self) -> WindSettings {
         WindSettings {
             colliders: self.colliders.clone(),
+            terrain: self.ground.terrain(),
             ..self.wind.settings()
         }
     }
 
-    /// The wind grid: the grass's bounding box plus the margin, ground to `height`.
+    /// The wind grid: the grass's bounding box plus the margin, from the
+    /// lowest ground under it to `height` above the highest (flat: 0 to
+    /// `height`). Refuses a grid that leaves less than one cell of air
+    /// over the highest ground.
     pub fn wind_grid(&self) -> Result<WindGrid> {
         let w = &self.wind;
         check::wind(w).map_err(|e| e.at("wind"))?;
         let (lo, hi) = self.grass_bounds();
-        let origin = Vec3::new(lo[0] - w.margin, 0.0, lo[1] - w.margin);
-        let size = Vec3::new(
-            hi[0] - lo[0] + 2.0 * w.margin,
-            w.height,
-            hi[1] - lo[1] + 2.0 * w.margin,
+        let (lo, hi) = (
+            [lo[0] - w.margin, lo[1] - w.margin],
+            [hi[0] + w.margin, hi[1] + w.margin],
         );
+        let span = [hi[0] - lo[0], hi[1] - lo[1]];
+        // A quarter of a wind cell between the heights looked at.
+        let step = (span[0] / w.cells[0] as f32).min(span[1] / w.cells[2] as f32) / 4.0;
+        let (low, high) = self.ground.terrain().range_over(lo, hi, step.max(1e-3));
+        let origin = Vec3::new(lo[0], low, lo[1]);
+        let size = Vec3::new(span[0], high - low + w.height, span[1]);
+        let cell_height = size.y / w.cells[1] as f32;
+        if w.height < cell_height {
+            return Err(Error::InvalidInput(format!(
+                "wind.height {} m leaves less than one wind cell ({cell_height:.2} m tall) of air over the ground's highest point ({high:.2} m, {:.2} m above its lowest); raise wind.height or wind.cells[1]",
+                w.height,
+                high - low
+            )));
+        }
         WindGrid::new(glam::UVec3::from(w.cells), origin, size)
     }
 

@@ -22,6 +22,7 @@ fn wind_step(c: &mut Criterion) {
         sources: vec![source],
         inflow: Some(Inflow {
             speed: 2.5,
+            heading: 0.0,
             gust: Gust {
                 amplitude: 0.5,
                 frequency: 0.3,

@@ -25,6 +25,7 @@ pub fn wall_in_the_wind() -> WindSettings {
     WindSettings {
         inflow: Some(Inflow {
             speed: 4.0,
+            heading: 0.0,
             gust: Gust::default(),
         }),
         obstacles: vec![Obstacle::Box {

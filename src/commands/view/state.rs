@@ -287,12 +287,16 @@ impl ViewState {
 
     /// What the overlay says about the wind at simulated `time`.
     pub fn wind_readout(&self, time: f64) -> String {
-        let drive = match self.wind.inflow {
-            Some(speed) => format!("inflow {:.1} m/s", speed.abs()),
+        let drive = match self.wind.inflow_now() {
+            Some(inflow) => format!(
+                "inflow {:.1} m/s towards {:.0} deg",
+                inflow.speed.abs(),
+                inflow.heading
+            ),
             None => format!("sources x{:.2}", self.wind.strength_scale),
         };
         format!(
-            "{drive}, heading {:.0} deg, gusts blowing: {}",
+            "{drive}, turned {:.0} deg, gusts blowing: {}",
             self.wind.heading_deg,
             self.wind.gusts_blowing(time as f32)
         )

@@ -4,13 +4,13 @@
 //! goes to the GPU solver through `FrameRecorder::set_wind_drive` and
 //! drives it from the next step on.
 //!
-//! The inflow enters through one x side of the domain (paper Fig. 10; its
-//! faces are classified once per scene), so the heading turns what can
-//! turn: the scene's own sources and the gusts. The inflow keeps its side.
+//! The heading turns the inflow itself (the sides it enters and leaves by
+//! follow it: `WindPass::set_drive` reclassifies the faces when they
+//! change), the scene's own sources and the gusts.
 
 use glam::{Vec3, Vec4};
 
-use crate::model::wind::{turned_about_y, WindSource};
+use crate::model::wind::{turned_about_y, Inflow, WindSource};
 use crate::render::frame_uniforms::view_projection;
 use crate::scene::Scene;
 
@@ -35,13 +35,15 @@ pub const MAX_GUSTS: usize = 16;
 pub struct WindControls {
     /// The scene's sources as the scene file has them.
     scene_sources: Vec<WindSource>,
-    /// The inflow's speed now (signed: its side), None without an inflow.
+    /// The scene's inflow, None without one.
+    scene_inflow: Option<Inflow>,
+    /// The inflow's speed now (its sign as the scene's), None without an inflow.
     pub inflow: Option<f32>,
     /// The scene's sources' strength times this (no inflow: the up and
     /// down arrows act on them).
     pub strength_scale: f32,
-    /// Degrees anticlockwise (seen from above) from the inflow's
-    /// direction (+x, or -x where the inflow enters at the far side).
+    /// Degrees anticlockwise (seen from above, +x towards -z) from the
+    /// scene's inflow direction (+x without an inflow).
     pub heading_deg: f32,
     gusts: Vec<WindSource>,
 }
@@ -50,6 +52,7 @@ impl WindControls {
     pub fn new(scene: &Scene) -> Self {
         Self {
             scene_sources: scene.wind.sources.clone(),
+            scene_inflow: scene.wind.inflow,
             inflow: scene.wind.inflow.map(|i| i.speed),
             strength_scale: 1.0,
             heading_deg: 0.0,
@@ -78,12 +81,26 @@ impl WindControls {
 
     /// The horizontal unit vector the heading points along.
     pub fn heading(&self) -> Vec3 {
-        let base = if self.inflow.is_some_and(|s| s < 0.0) {
-            Vec3::NEG_X
-        } else {
-            Vec3::X
+        let base = match &self.scene_inflow {
+            Some(i) => {
+                let [c, s] = i.heading_vector();
+                Vec3::new(c, 0.0, s) * if i.speed < 0.0 { -1.0 } else { 1.0 }
+            }
+            None => Vec3::X,
         };
         turned_about_y(base, self.heading_deg.to_radians())
+    }
+
+    /// The inflow now: the scene's, at the keys' speed, turned by the
+    /// heading (an inflow's heading grows from +x towards +z, the keys'
+    /// from +x towards -z).
+    pub fn inflow_now(&self) -> Option<Inflow> {
+        let (scene, speed) = (self.scene_inflow?, self.inflow?);
+        Some(Inflow {
+            speed,
+            heading: (scene.heading - self.heading_deg).rem_euclid(360.0),
+            ..scene
+        })
     }
 
     /// Drops a gust centred `GUST_HEIGHT` above `ground`, blowing along the
@@ -112,9 +129,9 @@ impl WindControls {
             .count()
     }
 
-    /// What drives the wind: the inflow's speed and every source, the
-    /// scene's turned by the heading and scaled, then the gusts.
-    pub fn drive(&self) -> (Option<f32>, Vec<WindSource>) {
+    /// What drives the wind: the inflow and every source, the scene's
+    /// turned by the heading and scaled, then the gusts.
+    pub fn drive(&self) -> (Option<Inflow>, Vec<WindSource>) {
         let angle = self.heading_deg.to_radians();
         let mut sources: Vec<WindSource> = self
             .scene_sources
@@ -127,7 +144,7 @@ impl WindControls {
             })
             .collect();
         sources.extend(self.gusts.iter().cloned());
-        (self.inflow, sources)
+        (self.inflow_now(), sources)
     }
 }
 
@@ -207,6 +224,11 @@ mod tests {
             "{}",
             c.heading()
         );
+        // The inflow turns with it: towards 270 degrees, which is -z.
+        let inflow = c.inflow_now().unwrap();
+        assert_eq!(inflow.heading, 270.0);
+        let [x, z] = inflow.heading_vector();
+        assert!(x.abs() < 1e-6 && (z + 1.0).abs() < 1e-6, "{x} {z}");
         c.drop_gust(Vec3::new(1.0, 0.0, 2.0), 3.0);
         let (_, sources) = c.drive();
         let gust = sources.last().unwrap();

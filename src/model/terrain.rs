@@ -1,0 +1,211 @@
+//! The ground's height field (ours; the paper's meadow is flat): h(x, z),
+//! the sum of a sampled height map and features a scene writes by hand,
+//! hills and ridges with the Witch-of-Agnesi profile H / (1 + (d/L)^2),
+//! the classic obstacle of flow-over-hills theory, whose linear potential
+//! flow has a closed form (docs/physics.md, wind over a ridge).
+//!
+//! Flat (no map, no feature) is h = 0 everywhere: every path that asks a
+//! flat terrain for a height gets exactly 0.0, so flat scenes are
+//! unchanged bit for bit.
+
+use std::sync::Arc;
+
+use glam::{Vec2, Vec3};
+
+/// A round hill: H / (1 + (r/L)^2), r the distance from `center` (x, z).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Hill {
+    pub center: [f32; 2],
+    /// H (m); negative digs a hollow.
+    pub height: f32,
+    /// L (m): the distance at which the height is H / 2.
+    pub half_width: f32,
+}
+
+/// A ridge: H / (1 + (d/L)^2), d the distance across its long axis,
+/// which passes through `center` along `heading` (degrees; 0 along +x,
+/// 90 along +z).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Ridge {
+    pub center: [f32; 2],
+    pub height: f32,
+    pub half_width: f32,
+    #[serde(default)]
+    pub heading: f32,
+}
+
+/// A height map: `columns` x `rows` samples in metres, row-major (x
+/// fastest), spread over `extent` (x, z metres) centred at `center`; sample
+/// (0, 0) at the minimum corner, the last at the maximum; bilinear between
+/// samples, and held at the edge's value beyond it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct HeightMap {
+    pub columns: u32,
+    pub rows: u32,
+    pub heights: Vec<f32>,
+    pub extent: [f32; 2],
+    pub center: [f32; 2],
+}
+
+impl HeightMap {
+    pub fn height(&self, x: f32, z: f32) -> f32 {
+        let (nx, nz) = (self.columns as f32, self.rows as f32);
+        // Sample coordinates: 0 at the minimum corner, n - 1 at the maximum.
+        let u = ((x - self.center[0]) / self.extent[0] + 0.5) * (nx - 1.0);
+        let v = ((z - self.center[1]) / self.extent[1] + 0.5) * (nz - 1.0);
+        let u = u.clamp(0.0, nx - 1.0);
+        let v = v.clamp(0.0, nz - 1.0);
+        let (i0, j0) = (u.floor() as u32, v.floor() as u32);
+        let (i1, j1) = ((i0 + 1).min(self.columns - 1), (j0 + 1).min(self.rows - 1));
+        let (fu, fv) = (u - i0 as f32, v - j0 as f32);
+        let at = |i: u32, j: u32| self.heights[(i + self.columns * j) as usize];
+        let a = at(i0, j0) * (1.0 - fu) + at(i1, j0) * fu;
+        let b = at(i0, j1) * (1.0 - fu) + at(i1, j1) * fu;
+        a * (1.0 - fv) + b * fv
+    }
+
+    pub fn range(&self) -> (f32, f32) {
+        self.heights
+            .iter()
+            .fold((f32::MAX, f32::MIN), |(lo, hi), &h| (lo.min(h), hi.max(h)))
+    }
+}
+
+/// The ground: h(x, z) in metres, y up.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Terrain {
+    pub map: Option<Arc<HeightMap>>,
+    pub hills: Vec<Hill>,
+    pub ridges: Vec<Ridge>,
+}
+
+/// H / (1 + (d/L)^2).
+fn agnesi(height: f32, half_width: f32, distance_squared: f32) -> f32 {
+    height / (1.0 + distance_squared / (half_width * half_width))
+}
+
+impl Terrain {
+    pub fn is_flat(&self) -> bool {
+        self.map.is_none() && self.hills.is_empty() && self.ridges.is_empty()
+    }
+
+    /// The ground's height at (x, z); exactly 0 where the terrain is flat.
+    pub fn height(&self, x: f32, z: f32) -> f32 {
+        if self.is_flat() {
+            return 0.0;
+        }
+        let p = Vec2::new(x, z);
+        let mut h = self.map.as_ref().map_or(0.0, |m| m.height(x, z));
+        for hill in &self.hills {
+            let r2 = p.distance_squared(Vec2::from(hill.center));
+            h += agnesi(hill.height, hill.half_width, r2);
+        }
+        for ridge in &self.ridges {
+            let (s, c) = ridge.heading.to_radians().sin_cos();
+            // Distance across the axis (c, s) through the centre.
+            let d = (p - Vec2::from(ridge.center)).perp_dot(Vec2::new(c, s));
+            h += agnesi(ridge.height, ridge.half_width, d * d);
+        }
+        h
+    }
+
+    /// The upward unit normal at (x, z), from central differences over
+    /// `step` metres; straight up where the terrain is flat.
+    pub fn normal(&self, x: f32, z: f32, step: f32) -> Vec3 {
+        if self.is_flat() {
+            return Vec3::Y;
+        }
+        let dx = (self.height(x + step, z) - self.height(x - step, z)) / (2.0 * step);
+        let dz = (self.height(x, z + step) - self.height(x, z - step)) / (2.0 * step);
+        Vec3::new(-dx, 1.0, -dz).normalize()
+    }
+
+    /// The lowest and highest ground over the rectangle `lo`..`hi` (x, z):
+    /// sampled on a lattice of at most `step` metres, with every feature's
+    /// crest or trough inside it; (0, 0) where the terrain is flat.
+    pub fn range_over(&self, lo: [f32; 2], hi: [f32; 2], step: f32) -> (f32, f32) {
+        if self.is_flat() {
+            return (0.0, 0.0);
+        }
+        let inside = |x: f32, z: f32| (lo[0]..=hi[0]).contains(&x) && (lo[1]..=hi[1]).contains(&z);
+        let n = |a: usize| (((hi[a] - lo[a]) / step).ceil() as usize).clamp(1, 4096);
+        let (nx, nz) = (n(0), n(1));
+        let mut points: Vec<(f32, f32)> = (0..=nz)
+            .flat_map(|j| {
+                (0..=nx).map(move |i| {
+                    (
+                        lo[0] + (hi[0] - lo[0]) * i as f32 / nx as f32,
+                        lo[1] + (hi[1] - lo[1]) * j as f32 / nz as f32,
+                    )
+                })
+            })
+            .collect();
+        points.extend(
+            self.hills
+                .iter()
+                .map(|h| (h.center[0], h.center[1]))
+                .filter(|&(x, z)| inside(x, z)),
+        );
+        points
+            .into_iter()
+            .map(|(x, z)| self.height(x, z))
+            .fold((f32::MAX, f32::MIN), |(a, b), h| (a.min(h), b.max(h)))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn features_follow_their_profiles() {
+        let t = Terrain {
+            hills: vec![Hill {
+                center: [2.0, -1.0],
+                height: 3.0,
+                half_width: 4.0,
+            }],
+            ..Terrain::default()
+        };
+        assert_eq!(t.height(2.0, -1.0), 3.0);
+        assert!((t.height(6.0, -1.0) - 1.5).abs() < 1e-6);
+        assert!((t.height(2.0, 7.0) - 0.6).abs() < 1e-6);
+        let r = Terrain {
+            ridges: vec![Ridge {
+                center: [0.0, 0.0],
+                height: 2.0,
+                half_width: 1.0,
+                heading: 90.0,
+            }],
+            ..Terrain::default()
+        };
+        // Along +z: the crest; 1 m across (along x): half.
+        assert!((r.height(0.0, 50.0) - 2.0).abs() < 1e-5);
+        assert!((r.height(1.0, -30.0) - 1.0).abs() < 1e-5);
+        assert!(r.normal(0.0, 3.0, 0.01).abs_diff_eq(Vec3::Y, 1e-3));
+        assert!(r.normal(1.0, 3.0, 0.01).x > 0.5);
+        assert_eq!(Terrain::default().height(3.0, 4.0), 0.0);
+    }
+
+    #[test]
+    fn a_height_map_is_bilinear_and_held_at_its_edges() {
+        let m = HeightMap {
+            columns: 2,
+            rows: 2,
+            heights: vec![0.0, 1.0, 2.0, 3.0],
+            extent: [4.0, 2.0],
+            center: [0.0, 0.0],
+        };
+        assert_eq!(m.height(-2.0, -1.0), 0.0);
+        assert_eq!(m.height(2.0, 1.0), 3.0);
+        assert_eq!(m.height(0.0, 0.0), 1.5);
+        assert_eq!(m.height(100.0, -100.0), 1.0);
+        let t = Terrain {
+            map: Some(Arc::new(m)),
+            ..Terrain::default()
+        };
+        assert_eq!(t.range_over([-2.0, -1.0], [2.0, 1.0], 0.5), (0.0, 3.0));
+    }
+}
