@@ -5,6 +5,8 @@ mod common;
 
 use std::process::{Command, Output};
 
+use image::ImageEncoder;
+
 use common::binary::{
     files_in, interrupted_render, meadow, read_json, spawn_meadow, spawn_meadow_to, temp_out,
 };
@@ -996,4 +998,200 @@ fn sigterm_stops_a_trace_with_complete_files() {
         assert!(wrote.contains(name), "{wrote} leaves out {name}");
     }
     let _ = std::fs::remove_dir_all(&out);
+}
+
+/// A scene over a ridge, written beside `extra` files in a fresh folder;
+/// `ground` is the [ground] table's body.
+fn terrain_scene(name: &str, ground: &str, inflow: &str) -> std::path::PathBuf {
+    let dir = temp_out(name);
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("scene.toml");
+    std::fs::write(
+        &path,
+        format!(
+            r#"name = "{name}"
+seed = 1
+[camera]
+position = [0.0, 3.0, 6.0]
+target = [0.0, 0.0, 0.0]
+fov_y = 45.0
+[[grass.meadow]]
+center = [0.0, 0.0]
+size = [4.0, 4.0]
+count = 200
+[ground]
+{ground}
+[wind]
+cells = [20, 12, 20]
+height = 2.0
+[wind.inflow]
+{inflow}
+"#
+        ),
+    )
+    .unwrap();
+    path
+}
+
+/// `meadow wind` writes the field for analysis: wind_field.npy, float32
+/// (nx, ny, nz, 3) at the cell centres, NaN exactly in the cells under the
+/// ground, on the grid wind_report.json's `grid` gives; the grid reaches
+/// from the lowest ground to wind.height above the highest.
+#[test]
+fn wind_writes_its_field_with_nan_under_the_ground() {
+    let ridge =
+        "[[ground.ridge]]\ncenter = [0.0, 0.0]\nheight = 1.0\nhalf_width = 1.0\nheading = 90.0";
+    let scene = terrain_scene("wind-field", ridge, "speed = 2.0\nheading = 30.0");
+    let out = temp_out("wind-field-out");
+    let result = meadow(
+        &[
+            "wind",
+            "--scene",
+            scene.to_str().unwrap(),
+            "--steps",
+            "5",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        &[],
+    );
+    assert_succeeded(&result);
+    let report = read_json(&out.join("wind_report.json"));
+    let grid = &report["grid"];
+    let f = |v: &serde_json::Value| v.as_f64().unwrap() as f32;
+    let origin: Vec<f32> = grid["origin"].as_array().unwrap().iter().map(f).collect();
+    let cell: Vec<f32> = grid["cell_size"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(f)
+        .collect();
+    let cells: Vec<usize> = grid["cells"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_u64().unwrap() as usize)
+        .collect();
+    assert_eq!(cells, [20, 12, 20]);
+    // The highest ground is the crest, 1 m: 2 m of air above it.
+    let top = origin[1] + cell[1] * 12.0;
+    assert!((top - 3.0).abs() < 1e-3, "grid top {top}");
+    let bytes = std::fs::read(out.join("wind_field.npy")).unwrap();
+    assert_eq!(&bytes[..8], b"\x93NUMPY\x01\x00");
+    let len = u16::from_le_bytes([bytes[8], bytes[9]]) as usize;
+    let header = std::str::from_utf8(&bytes[10..10 + len]).unwrap();
+    assert!(
+        header.contains("'descr': '<f4'") && header.contains("'shape': (20, 12, 20, 3)"),
+        "{header}"
+    );
+    let values: Vec<f32> = bytes[10 + len..]
+        .chunks_exact(4)
+        .map(|b| f32::from_le_bytes(b.try_into().unwrap()))
+        .collect();
+    assert_eq!(values.len(), 20 * 12 * 20 * 3);
+    let (mut under, mut moving) = (0, 0);
+    for i in 0..20 {
+        for j in 0..12 {
+            for k in 0..20 {
+                let at = 3 * (k + 20 * (j + 12 * i));
+                let centre = |a: usize, n: usize| origin[a] + (n as f32 + 0.5) * cell[a];
+                let ground = 1.0 / (1.0 + centre(0, i).powi(2));
+                let nan = values[at].is_nan();
+                assert_eq!(nan, centre(1, j) < ground, "cell ({i}, {j}, {k})");
+                assert_eq!(nan, values[at + 1].is_nan() && values[at + 2].is_nan());
+                under += nan as u32;
+                moving += (!nan && values[at] > 0.5) as u32;
+            }
+        }
+    }
+    assert!(
+        under > 100 && moving > 1000,
+        "{under} under the ground, {moving} moving"
+    );
+    let _ = std::fs::remove_dir_all(&out);
+    let _ = std::fs::remove_dir_all(scene.parent().unwrap());
+}
+
+/// Bad terrain and headings: one line naming the field and the fix, exit
+/// 1, nothing written.
+#[test]
+fn bad_terrain_and_headings_are_refused_in_one_line() {
+    let png = |name: &str, bytes: &[u8]| (name.to_string(), bytes.to_vec());
+    let grey = {
+        let mut b = Vec::new();
+        image::codecs::png::PngEncoder::new(&mut b)
+            .write_image(&[0u8; 16], 4, 4, image::ExtendedColorType::L8)
+            .unwrap();
+        b
+    };
+    let colour = {
+        let mut b = Vec::new();
+        image::codecs::png::PngEncoder::new(&mut b)
+            .write_image(&[0u8; 48], 4, 4, image::ExtendedColorType::Rgb8)
+            .unwrap();
+        b
+    };
+    let mut cut = grey.clone();
+    cut.truncate(grey.len() - 12);
+    let cases: Vec<(&str, &str, Option<(String, Vec<u8>)>, &str)> =
+        vec![
+        (
+            "height_map = \"missing.png\"\nextent = [8.0, 8.0]",
+            "speed = 2.0",
+            None,
+            "ground.height_map: ",
+        ),
+        (
+            "height_map = \"c.png\"\nextent = [8.0, 8.0]",
+            "speed = 2.0",
+            Some(png("c.png", &colour)),
+            "is Rgb8, not grey",
+        ),
+        (
+            "height_map = \"t.png\"\nextent = [8.0, 8.0]",
+            "speed = 2.0",
+            Some(png("t.png", &cut)),
+            "not a readable PNG",
+        ),
+        (
+            "height_map = \"g.png\"",
+            "speed = 2.0",
+            Some(png("g.png", &grey)),
+            "ground.extent: is missing",
+        ),
+        (
+            "[[ground.hill]]\ncenter = [0.0, 0.0]\nheight = 1.0\nhalf_width = 0.0",
+            "speed = 2.0",
+            None,
+            "ground.hill[0].half_width",
+        ),
+        (
+            "[[ground.ridge]]\ncenter = [0.0, 0.0]\nheight = 1.0\nhalf_width = 1.0\nheading = nan",
+            "speed = 2.0",
+            None,
+            "ground.ridge[0].heading: NaN is not allowed",
+        ),
+        ("", "speed = 2.0\nheading = inf", None, "wind.inflow.heading: inf is not allowed"),
+        (
+            // 50 m of hill under 2 m of air in 12 cells: no cell of air over it.
+            "[[ground.hill]]\ncenter = [0.0, 0.0]\nheight = 50.0\nhalf_width = 3.0",
+            "speed = 2.0",
+            None,
+            "leaves less than one wind cell",
+        ),
+    ];
+    for (n, (ground, inflow, file, fragment)) in cases.into_iter().enumerate() {
+        let scene = terrain_scene(&format!("bad-terrain-{n}"), ground, inflow);
+        if let Some((name, bytes)) = file {
+            std::fs::write(scene.parent().unwrap().join(name), bytes).unwrap();
+        }
+        for command in ["render", "wind"] {
+            assert_refused(
+                &[command, "--scene", scene.to_str().unwrap()],
+                &[],
+                fragment,
+            );
+        }
+        let _ = std::fs::remove_dir_all(scene.parent().unwrap());
+    }
 }

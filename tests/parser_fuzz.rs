@@ -69,3 +69,49 @@ fn every_shipped_scene_passes_the_same_check() {
         assert!(Scene::builtin(name).is_ok());
     }
 }
+
+/// A small grey PNG of the fuzz target's seeds with one edit: bytes
+/// overwritten, or the file cut short.
+fn edited_png() -> impl Strategy<Value = Vec<u8>> {
+    let seeds: [&[u8]; 2] = [
+        include_bytes!("fuzz/seeds/grey8.png"),
+        include_bytes!("fuzz/seeds/grey16.png"),
+    ];
+    (
+        proptest::sample::select(seeds.to_vec()),
+        any::<prop::sample::Index>(),
+        proptest::collection::vec(any::<u8>(), 0..6),
+        any::<bool>(),
+    )
+        .prop_map(|(seed, at, noise, cut)| {
+            let mut bytes = seed.to_vec();
+            let start = at.index(bytes.len());
+            if cut {
+                bytes.truncate(start);
+            } else {
+                for (i, b) in noise.into_iter().enumerate() {
+                    if let Some(slot) = bytes.get_mut(start + i) {
+                        *slot = b;
+                    }
+                }
+            }
+            bytes
+        })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 400, failure_persistence: None, ..ProptestConfig::default() })]
+
+    /// The height-map reader (src/scene/grey_png.rs) on edited and cut
+    /// PNGs: read within its limits, or refused in one line; never a panic.
+    #[test]
+    fn edited_height_maps_never_panic(bytes in edited_png()) {
+        match meadow::scene::grey_png::read_bytes(&bytes) {
+            Ok(grey) => {
+                prop_assert_eq!(grey.values.len(), (grey.width * grey.height) as usize);
+                prop_assert!(grey.values.iter().all(|v| (0.0..=1.0).contains(v)));
+            }
+            Err(why) => prop_assert!(!why.contains('\n'), "{}", why),
+        }
+    }
+}

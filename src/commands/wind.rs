@@ -6,6 +6,8 @@
 
 use std::path::Path;
 
+use glam::Vec3;
+
 use crate::commands::on_gpu;
 use crate::compute::{Simulation, WindPass};
 use crate::error::Result;
@@ -23,11 +25,22 @@ use crate::scene::{field, Scene};
 /// Steps recorded into one submission (and timed with one query pool).
 const STEPS_PER_SUBMIT: u32 = 100;
 
+/// Where the wind grid lies: the centre of cell (i, j, k) is
+/// origin + (i + 0.5, j + 0.5, k + 0.5) * cell_size (metres, y up).
+#[derive(Clone, Copy, Debug, serde::Serialize)]
+pub struct GridReport {
+    pub origin: [f32; 3],
+    pub cell_size: [f32; 3],
+    pub cells: [u32; 3],
+}
+
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct WindReport {
     pub scene: String,
     pub device: String,
     pub cells: [u32; 3],
+    /// The grid wind_field.npy is sampled on.
+    pub grid: GridReport,
     /// How the pressure was solved, and with how many iterations or cycles.
     pub solver: PressureSolver,
     pub jacobi_iterations: u32,
@@ -55,9 +68,10 @@ pub struct WindReport {
 }
 
 /// The files `wind_to_dir` writes.
-pub const WIND_OUTPUTS: [&str; 3] = [
+pub const WIND_OUTPUTS: [&str; 4] = [
     "wind_horizontal.svg",
     "wind_vertical.svg",
+    "wind_field.npy",
     "wind_report.json",
 ];
 
@@ -300,11 +314,17 @@ fn run(
         }
         claim.write(name, svg.as_bytes())?;
     }
+    claim.write("wind_field.npy", &field_npy(&field))?;
     let timing = median_p95(&times);
     Ok(WindReport {
         scene: scene.name.clone(),
         device: gpu.info().name.clone(),
         cells: grid.cells.to_array(),
+        grid: GridReport {
+            origin: grid.origin.to_array(),
+            cell_size: grid.cell.to_array(),
+            cells: grid.cells.to_array(),
+        },
         solver: settings.solver,
         jacobi_iterations: settings.jacobi_iterations,
         v_cycles: settings.v_cycles,
@@ -322,6 +342,27 @@ fn run(
         warnings: Vec::new(),
         validation: ValidationReport::default(),
     })
+}
+
+/// wind_field.npy: float32 of shape (nx, ny, nz, 3), the velocity at
+/// each cell's centre (m/s), NaN in the solid cells (obstacles, and the
+/// cells under the ground).
+fn field_npy(field: &WindField) -> Vec<u8> {
+    let n = field.grid.cells;
+    let mut values = Vec::with_capacity(3 * field.grid.cell_count());
+    for i in 0..n.x {
+        for j in 0..n.y {
+            for k in 0..n.z {
+                let v = if field.solid[field.grid.cell_index(i, j, k)] {
+                    Vec3::NAN
+                } else {
+                    field.cell_velocity(i, j, k)
+                };
+                values.extend(v.to_array());
+            }
+        }
+    }
+    crate::report::npy::f32_array(&[n.x as usize, n.y as usize, n.z as usize, 3], &values)
 }
 
 /// Largest speed at any cell centre.

@@ -900,6 +900,19 @@ impl WindField {
         c0 * (1.0 - f.z) + c1 * f.z
     }
 
+    /// The velocity at the centre of cell (i, j, k): each component the
+    /// mean of the cell's two faces across its axis.
+    pub fn cell_velocity(&self, i: u32, j: u32, k: u32) -> Vec3 {
+        let mean = |axis: usize| {
+            let mut hi = [i, j, k];
+            hi[axis] += 1;
+            let a = self.vel[axis][self.grid.face_index(axis, i, j, k)];
+            let b = self.vel[axis][self.grid.face_index(axis, hi[0], hi[1], hi[2])];
+            0.5 * (a + b)
+        };
+        Vec3::new(mean(0), mean(1), mean(2))
+    }
+
     /// Wind velocity at a world position (what a blade tip samples).
     pub fn sample(&self, x: Vec3) -> Vec3 {
         Vec3::new(

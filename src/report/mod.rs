@@ -6,6 +6,7 @@ pub mod bench;
 pub mod claim;
 pub mod files;
 pub mod legend;
+pub mod npy;
 pub mod render;
 pub mod reproduce;
 pub mod space_time;
