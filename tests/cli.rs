@@ -1133,7 +1133,9 @@ fn bad_terrain_and_headings_are_refused_in_one_line() {
     };
     let mut cut = grey.clone();
     cut.truncate(grey.len() - 12);
-    let cases: Vec<(&str, &str, Option<(String, Vec<u8>)>, &str)> =
+    // [ground] body, [wind.inflow] body, a file beside the scene, the refusal.
+    type Case<'a> = (&'a str, &'a str, Option<(String, Vec<u8>)>, &'a str);
+    let cases: Vec<Case> =
         vec![
         (
             "height_map = \"missing.png\"\nextent = [8.0, 8.0]",
