@@ -429,7 +429,11 @@ fn a_blade_pressed_down_stays_on_the_ground_and_rises_when_released() {
         grass::step(&blade, &mut s, press, DT, n);
         let p = pose(&blade, s.angle);
         lowest = lowest.min(p.points.iter().map(|p| p.y).fold(f32::INFINITY, f32::min));
-        assert!(!grass::below_ground(&p), "under the ground: {:?}", p.points);
+        assert!(
+            !grass::below_ground(&blade, &p),
+            "under the ground: {:?}",
+            p.points
+        );
     }
     let rest_tip = blade.rest_point(3);
     let pressed_tip = pose(&blade, s.angle).points[3];

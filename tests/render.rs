@@ -238,6 +238,8 @@ fn lod_view_colors_blades_by_level() {
         size: [8.0, 24.0],
         count: Some(20_000),
         density: None,
+        mask: None,
+        mask_map: None,
     }];
     let blades = field::generate(&scene.grass, 5).unwrap();
     let frame = render(&gpu, &scene, &blades, 320, 180, ViewMode::Lod);

@@ -83,6 +83,8 @@ fn builtins_survive_a_round_trip_through_toml() {
         size: [3.0, 4.0],
         count: None,
         density: Some(12.5),
+        mask: None,
+        mask_map: None,
     });
     scene.camera.path.push(meadow::scene::CameraKey {
         time: 1.5,

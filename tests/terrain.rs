@@ -2,7 +2,11 @@
 //! `WindField::new`) against the closed form of linear potential flow over
 //! a Witch-of-Agnesi ridge, and inflows from any heading.
 
-use glam::{UVec3, Vec3};
+mod common;
+
+use common::sim::SimRig;
+use common::{finish, strict_gpu};
+use glam::{UVec3, Vec3, Vec4};
 use meadow::model::terrain::{Ridge, Terrain};
 use meadow::model::wind::{Inflow, WindField, WindGrid, WindSettings};
 
@@ -266,4 +270,263 @@ fn the_grass_sways_along_the_inflow_from_any_heading() {
         1e3 * m0.length()
     );
     assert!(relative < 1e-3, "the turned wind differs by {relative:.2e}");
+}
+
+/// A meadow on a hill's flank in a strong gusting wind across the slope.
+fn hillside() -> meadow::scene::Scene {
+    meadow::scene::file::parse(
+        r#"
+name = "hillside"
+seed = 9
+[camera]
+position = [0.0, 4.0, 9.0]
+target = [0.0, 1.0, 0.0]
+fov_y = 45.0
+[[ground.hill]]
+center = [-2.0, 0.0]
+height = 2.0
+half_width = 2.5
+[[grass.meadow]]
+center = [0.0, 0.0]
+size = [5.0, 3.0]
+count = 500
+[wind]
+cells = [24, 16, 20]
+height = 2.5
+[wind.inflow]
+speed = 6.0
+heading = 160.0
+gust = { amplitude = 0.8, frequency = 0.6, seed = 4 }
+"#,
+        "hillside",
+    )
+    .unwrap()
+}
+
+/// The deepest any blade's control point or drawn curve gets under the
+/// ground (m, positive below it) over 150 steps of `scene`'s wind, from
+/// rest, with each blade's contact plane as `plane` makes it.
+fn deepest_under_ground(
+    scene: &meadow::scene::Scene,
+    plane: impl Fn(meadow::model::Blade) -> meadow::model::Blade,
+) -> (f32, f32) {
+    use meadow::model::{canopy, GrassField};
+    let terrain = scene.ground.terrain();
+    let rest: Vec<_> = scene.field().unwrap().into_iter().map(plane).collect();
+    let blades =
+        meadow::scene::field::dynamic_blades(&rest, &scene.grass.dynamics, scene.seed).unwrap();
+    let settings = scene.wind_settings();
+    let mut wind = WindField::new(scene.wind_grid().unwrap(), &settings);
+    let mut grass = GrassField::new(blades, scene.wind.dt).unwrap();
+    let depth = |grass: &GrassField| {
+        grass
+            .poses()
+            .flat_map(|pose| {
+                let points = pose.points;
+                (1..=8).map(move |n| meadow::model::blade::bezier(&points, n as f32 / 8.0))
+            })
+            .map(|p| terrain.height(p.x, p.z) - p.y)
+            .fold(f32::MIN, f32::max)
+    };
+    let at_rest = depth(&grass);
+    let mut moving = f32::MIN;
+    for _ in 0..150 {
+        canopy::coupled_step(&mut wind, &settings, &mut grass);
+        moving = moving.max(depth(&grass));
+    }
+    (at_rest, moving)
+}
+
+/// Blades rooted on a slope grow upright from the surface, and no part of
+/// one goes under the ground at rest or in motion, beyond what the
+/// ground's curvature within a blade's reach puts its contact plane off
+/// (docs/physics.md). With a horizontal plane through the root as its
+/// ground instead, the same blades bend into the slope.
+#[test]
+fn blades_on_a_slope_never_go_under_the_ground() {
+    let scene = hillside();
+    let terrain = scene.ground.terrain();
+    let planted = scene.field().unwrap();
+    for b in &planted {
+        let root = b.rest[0];
+        assert_eq!(root.y, terrain.height(root.x, root.z));
+        // Upright, as grass grows on a slope: its first edge rises straight
+        // from the root whatever the slope under it.
+        let first = (b.rest[1] - root).normalize();
+        assert!(first.y > 0.5, "{first}");
+    }
+    let steep = planted.iter().map(|b| b.ground.y).fold(1.0f32, f32::min);
+    let (at_rest, moving) = deepest_under_ground(&scene, |b| b);
+    let (_, horizontal) = deepest_under_ground(&scene, |b| meadow::model::Blade {
+        ground: Vec3::Y,
+        ..b
+    });
+    eprintln!(
+        "steepest ground under a root: {:.1} degrees; deepest under the ground at rest \
+         {:.2} mm, in the wind {:.2} mm; with a horizontal contact plane {:.1} mm",
+        steep.acos().to_degrees(),
+        1e3 * at_rest,
+        1e3 * moving,
+        1e3 * horizontal
+    );
+    assert!(
+        steep.acos().to_degrees() > 15.0,
+        "the slope is too gentle to mean anything"
+    );
+    assert!(at_rest <= 1e-4, "{at_rest}");
+    // The ground's curvature within a blade's reach: a plane at the root
+    // cannot follow a hollow (docs/physics.md measures 4.1 mm here).
+    assert!(
+        moving <= 0.005,
+        "a blade went {:.1} mm under the ground",
+        1e3 * moving
+    );
+    assert!(
+        horizontal > 0.02,
+        "the horizontal plane kept the blades up: {horizontal}"
+    );
+}
+
+/// The hillside on the GPU: the grass step's ground contact (its plane at
+/// each root, the swing stopped on a slope) and the wind over the hill
+/// follow the CPU reference, and the drawn blades stay out of the ground.
+#[test]
+fn gpu_grass_on_a_hillside_follows_the_cpu_reference() {
+    use meadow::model::{canopy, GrassField};
+    let scene = hillside();
+    let steps = 90;
+    let settings = scene.wind_settings();
+    let rest = scene.field().unwrap();
+    let blades =
+        meadow::scene::field::dynamic_blades(&rest, &scene.grass.dynamics, scene.seed).unwrap();
+    let mut wind = WindField::new(scene.wind_grid().unwrap(), &settings);
+    let mut grass = GrassField::new(blades, scene.wind.dt).unwrap();
+    for _ in 0..steps {
+        canopy::coupled_step(&mut wind, &settings, &mut grass);
+    }
+    let gpu = strict_gpu();
+    let mut rig = SimRig::new(&gpu, &scene);
+    rig.run(steps);
+    let vel = rig.velocity(&gpu);
+    let states = rig.states(&gpu);
+    let vertices = rig.vertices(&gpu);
+    drop(rig);
+    finish(gpu);
+    let (mut diff, mut norm) = (0.0f64, 0.0f64);
+    for (x, y) in vel.iter().flatten().zip(wind.vel.iter().flatten()) {
+        diff += ((x - y) as f64).powi(2);
+        norm += (*y as f64).powi(2);
+    }
+    let wind_l2 = (diff / norm).sqrt();
+    let mut angles: Vec<f32> = states
+        .iter()
+        .zip(&grass.states)
+        .map(|(g, c)| {
+            (0..4)
+                .map(|m| (g.angle[m] - c.angle[m]).abs())
+                .fold(0.0, f32::max)
+        })
+        .collect();
+    angles.sort_by(f32::total_cmp);
+    let median = angles[angles.len() / 2];
+    let terrain = scene.ground.terrain();
+    let deepest = vertices
+        .chunks_exact(4)
+        .flat_map(|blade| {
+            let points: [Vec3; 4] =
+                std::array::from_fn(|i| Vec4::from(blade[i].position).truncate());
+            (1..=8).map(move |n| meadow::model::blade::bezier(&points, n as f32 / 8.0))
+        })
+        .map(|p| terrain.height(p.x, p.z) - p.y)
+        .fold(f32::MIN, f32::max);
+    eprintln!(
+        "hillside after {steps} steps: wind relative L2 GPU vs CPU {wind_l2:.2e}; angles: \
+         median {median:.2e} rad, worst {:.2e}; deepest drawn point under the ground {:.2} mm",
+        angles[angles.len() - 1],
+        1e3 * deepest
+    );
+    assert!(wind_l2 < 1e-5, "{wind_l2}");
+    assert!(median < 1e-4, "{median}");
+    assert!(deepest <= 0.005, "{deepest}");
+}
+
+/// A meadow's mask scales its density: a black path down its middle is
+/// bare, the white either side keeps the density, a grey band half of it;
+/// the same blades each run. A missing mask is refused by its field.
+#[test]
+fn a_mask_leaves_a_bare_path_through_a_meadow() {
+    use image::ImageEncoder;
+    let dir = std::env::temp_dir().join(format!("meadow-mask-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    // 16 columns over x in [-4, 4]: white, grey (128) from x = -2, black
+    // from x = -0.5 to 0.5 (columns 7 and 8 and their bilinear reach).
+    let row: Vec<u8> = (0..16)
+        .map(|i| match i {
+            7 | 8 => 0,
+            4..=6 => 128,
+            _ => 255,
+        })
+        .collect();
+    let pixels: Vec<u8> = (0..8).flat_map(|_| row.clone()).collect();
+    let mut png = Vec::new();
+    image::codecs::png::PngEncoder::new(&mut png)
+        .write_image(&pixels, 16, 8, image::ExtendedColorType::L8)
+        .unwrap();
+    std::fs::write(dir.join("path.png"), png).unwrap();
+    let text = |mask: &str| {
+        format!(
+            r#"name = "masked"
+seed = 3
+[camera]
+position = [0.0, 4.0, 9.0]
+target = [0.0, 0.0, 0.0]
+fov_y = 45.0
+[[grass.meadow]]
+center = [0.0, 0.0]
+size = [8.0, 4.0]
+density = 400.0
+mask = "{mask}"
+"#
+        )
+    };
+    std::fs::write(dir.join("scene.toml"), text("path.png")).unwrap();
+    let scene = meadow::scene::Scene::load(dir.join("scene.toml").to_str().unwrap()).unwrap();
+    let planted = scene.planted().unwrap();
+    let again = scene.planted().unwrap();
+    assert_eq!(planted.blades, again.blades);
+    // Column c's centre lies at x = -4 + 8 c / 15.
+    let column = |x: f32| (x + 4.0) * 15.0 / 8.0;
+    let count = |lo: f32, hi: f32| {
+        planted
+            .blades
+            .iter()
+            .filter(|b| (lo..hi).contains(&column(b.rest[0].x)))
+            .count() as f32
+    };
+    let per_column = 400.0 * 4.0 * 8.0 / 15.0;
+    let (white, grey, bare) = (count(0.0, 3.0), count(4.0, 6.0), count(7.0, 8.0));
+    eprintln!(
+        "{} of {} blades left out; per column: white {:.0}, grey {:.0}, black {:.0} (unmasked {per_column:.0})",
+        planted.masked,
+        scene.blade_count(),
+        white / 3.0,
+        grey / 2.0,
+        bare
+    );
+    assert_eq!(bare, 0.0);
+    assert!((white / 3.0 / per_column - 1.0).abs() < 0.1, "{white}");
+    assert!(
+        (grey / 2.0 / (0.502 * per_column) - 1.0).abs() < 0.15,
+        "{grey}"
+    );
+    assert_eq!(planted.blades.len() + planted.masked, scene.blade_count());
+    std::fs::write(dir.join("scene.toml"), text("gone.png")).unwrap();
+    let e = meadow::scene::Scene::load(dir.join("scene.toml").to_str().unwrap())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("grass.meadow[0].mask: ") && e.contains("gone.png: cannot be read"),
+        "{e}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -205,14 +205,28 @@ vec3 guard_wind(vec3 v) {
     return speed > MAX_WIND_SPEED ? v * (MAX_WIND_SPEED / speed) : v;
 }
 
-// Whether a control point left the ground plane (y = 0) downward.
-bool below_ground(Pose p) {
-    return min(min(p.points[1].y, p.points[2].y), p.points[3].y) < 0.0;
+// The ground's upward unit normal at the root (`GrassBlade::ground_normal`).
+vec3 ground_normal(GrassBlade b) {
+    return vec3(b.rest[1].w, b.rest[2].w, b.rest[3].w);
+}
+
+// Whether a control point left the ground's plane at the root (its tangent
+// plane; y = 0 on flat ground) downward.
+bool below_ground(GrassBlade b, Pose p) {
+    vec3 root = b.rest[0].xyz;
+    vec3 n = ground_normal(b);
+    return min(min(dot(p.points[1] - root, n), dot(p.points[2] - root, n)),
+               dot(p.points[3] - root, n)) < 0.0;
 }
 
 // Ground contact (ours): a substep that would bend the blade into the
 // ground keeps its bending angles from before it and stops them.
-void ground_contact(inout GrassState s, GrassState before) {
+void ground_contact(GrassBlade b, inout GrassState s, GrassState before) {
+    if (ground_normal(b) != UP) {
+        // On a slope swinging carries a bent blade over higher ground too.
+        s.angle[SWING] = before.angle[SWING];
+        s.velocity[SWING] = 0.0;
+    }
     s.angle[BEND_A] = before.angle[BEND_A];
     s.velocity[BEND_A] = 0.0;
     s.angle[BEND_B] = before.angle[BEND_B];
@@ -253,8 +267,8 @@ bool blade_step(GrassBlade b, inout GrassState s, vec3 wind, float h, uint subst
             }
         }
         p = blade_pose(b, s.angle, pressed);
-        if (below_ground(p)) {
-            ground_contact(s, before);
+        if (below_ground(b, p)) {
+            ground_contact(b, s, before);
             p = blade_pose(b, s.angle, pressed);
         }
 #ifdef GRASS_TOUCHING

@@ -137,7 +137,7 @@ void write_blade(uint id, GrassBlade b, GrassState s, float pressed, vec3 felt) 
     uint at = vertex_slot[id];
     for (int i = 0; i < BLADE_CONTROL_POINTS; ++i) {
         int edge = max(i, 1) - 1;
-        vertices[4u * at + uint(i)] = BladeVertex(vec4(p.points[i], b.rest[i].w),
+        vertices[4u * at + uint(i)] = BladeVertex(vec4(p.points[i], b.rest[0].w),
                                              vec4(p.w_local[edge] * b.width.w, displacement));
     }
 }

@@ -256,6 +256,7 @@ fn render_with(
     let Planted {
         blades,
         under_obstacles,
+        ..
     } = scene.planted()?;
     let dynamic = field::dynamic_blades(&blades, &scene.grass.dynamics, scene.seed)?;
     let mut recorder = FrameRecorder::new(

@@ -41,6 +41,9 @@ pub struct Blade {
     pub kind: BladeKind,
     /// A per-blade random value in [0, 1), for colour variation.
     pub rand: f32,
+    /// The ground's upward unit normal at the root: the plane through the
+    /// root that ground contact keeps the blade above (UP on flat ground).
+    pub ground: Vec3,
 }
 
 impl Blade {
@@ -61,7 +64,19 @@ impl Blade {
             width_dir: UP.cross(facing).normalize(),
             kind,
             rand,
+            ground: UP,
         }
+    }
+
+    /// The same blade moved up by `height` (rooted on terrain, growing
+    /// upright as grass does on a slope) over ground of upward unit normal
+    /// `ground`.
+    pub fn raised(mut self, height: f32, ground: Vec3) -> Self {
+        for p in &mut self.rest {
+            p.y += height;
+        }
+        self.ground = ground;
+        self
     }
 
     /// The rest frame of each edge.

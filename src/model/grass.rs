@@ -180,7 +180,14 @@ impl GrassBlade {
 
         let f = |v: [f64; 4]| v.map(|x| x as f32);
         let mut out = Self {
-            rest: std::array::from_fn(|i| blade.rest[i].extend(blade.rand).to_array()),
+            rest: std::array::from_fn(|i| {
+                let w = if i == 0 {
+                    blade.rand
+                } else {
+                    blade.ground[i - 1]
+                };
+                blade.rest[i].extend(w).to_array()
+            }),
             width: blade.width_dir.extend(blade.half_width).to_array(),
             stiffness: [k[0] as f32, k[1] as f32, k[2] as f32, split as f32],
             drag: f(drag),
@@ -194,6 +201,11 @@ impl GrassBlade {
             (2.0 * zeta * (k_eff[i] as f64 * out.inertia[i] as f64).sqrt()) as f32
         });
         Ok(out)
+    }
+
+    /// The ground's upward unit normal at the root (`Blade::ground`).
+    pub fn ground_normal(&self) -> Vec3 {
+        Vec3::new(self.rest[1][3], self.rest[2][3], self.rest[3][3])
     }
 
     pub fn rest_point(&self, i: usize) -> Vec3 {
@@ -606,8 +618,8 @@ pub fn step_with(
             }
         }
         current = pressed_pose(blade, state.angle, pressed);
-        if below_ground(&current) {
-            ground_contact(state, &before);
+        if below_ground(blade, &current) {
+            ground_contact(blade, state, &before);
             current = pressed_pose(blade, state.angle, pressed);
         }
         touched |= after_substep(state, &mut current);
@@ -615,21 +627,34 @@ pub fn step_with(
     touched
 }
 
-/// Whether a control point left the ground plane (y = 0) downward. The
-/// drawn curve lies in its control points' convex hull, so it stays above
-/// the ground when they do.
-pub fn below_ground(pose: &Pose) -> bool {
-    pose.points[1..].iter().any(|p| p.y < 0.0)
+/// Whether a control point left the ground's plane at the root (its
+/// tangent plane; y = 0 on flat ground) downward. The drawn curve lies in
+/// its control points' convex hull, so it stays above the plane when they
+/// do; how far the ground's curvature within a blade's reach puts the plane
+/// from the ground is measured in docs/physics.md (terrain).
+pub fn below_ground(blade: &GrassBlade, pose: &Pose) -> bool {
+    let (root, ground) = (blade.rest_point(0), blade.ground_normal());
+    pose.points[1..]
+        .iter()
+        .any(|&p| (p - root).dot(ground) < 0.0)
 }
 
-/// Ground contact (ours; the paper has no ground): only bending lowers a
-/// point (swinging turns about the vertical, twisting turns only the
-/// width), so a substep that would bend a blade into the ground keeps its
-/// bending angles from `before` and stops them, an inelastic contact like
-/// the MAX_ANGLE guard. The blade lies on the ground while the wind holds
-/// it there and rises when the restoring force wins.
-pub fn ground_contact(state: &mut GrassState, before: &GrassState) {
-    for m in [BEND_A, BEND_B] {
+/// Ground contact (ours; the paper has no ground): on flat ground only
+/// bending lowers a point (swinging turns about the vertical, twisting
+/// turns only the width), so a substep that would bend a blade into the
+/// ground keeps its bending angles from `before` and stops them, an
+/// inelastic contact like the MAX_ANGLE guard. On a slope swinging a bent
+/// blade about the vertical carries its tip over higher or lower ground,
+/// so there the swing is kept and stopped too. The blade lies on the
+/// ground while the wind holds it there and rises when the restoring
+/// force wins.
+pub fn ground_contact(blade: &GrassBlade, state: &mut GrassState, before: &GrassState) {
+    let motions: &[usize] = if blade.ground_normal() == UP {
+        &[BEND_A, BEND_B]
+    } else {
+        &[SWING, BEND_A, BEND_B]
+    };
+    for &m in motions {
         state.angle[m] = before.angle[m];
         state.velocity[m] = 0.0;
     }
@@ -649,7 +674,7 @@ pub fn vertices(blade: &GrassBlade, pose: &Pose) -> [BladeVertex; 4] {
     std::array::from_fn(|i| {
         let edge = i.max(1) - 1;
         BladeVertex {
-            position: pose.points[i].extend(blade.rest[i][3]).to_array(),
+            position: pose.points[i].extend(blade.rest[0][3]).to_array(),
             width: (pose.w_local[edge] * blade.half_width())
                 .extend(displacement)
                 .to_array(),

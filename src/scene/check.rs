@@ -378,6 +378,12 @@ pub fn grass(g: &Grass) -> Check {
                 ))
             }
         }
+        if m.mask.as_deref().is_some_and(|name| name.trim().is_empty()) {
+            return Err(FieldError::new(
+                format!("{at}.mask"),
+                "is empty; name a grey PNG relative to the scene file",
+            ));
+        }
     }
     let total = g.blade_count();
     if total > MAX_BLADES {

@@ -92,9 +92,8 @@ pub fn parse_in(text: &str, origin: &str, files: SceneFiles<'_>) -> Result<Scene
     check_lengths(text, &scene).map_err(|e| located(text, origin, e))?;
     check::scene(&scene).map_err(|e| located(text, origin, e))?;
     scene
-        .ground
         .read_files(files)
-        .map_err(|e| located(text, origin, e.at("ground")))?;
+        .map_err(|e| located(text, origin, e))?;
     Ok(scene)
 }
 

@@ -96,7 +96,7 @@ impl Ground {
             self.map = None;
             return Ok(());
         };
-        let grey = read_named(name, files).map_err(|e| FieldError::new("height_map", e))?;
+        let grey = read_grey(name, files).map_err(|e| FieldError::new("height_map", e))?;
         let extent = self.extent.expect("checked: a height map has its extent");
         self.map = Some(Arc::new(HeightMap {
             columns: grey.width,
@@ -161,7 +161,10 @@ fn feature(center: [f32; 2], height: f32, half_width: f32) -> Check {
 
 /// The grey image `name` names: a file beside the scene, or a built-in
 /// scene's compiled-in image.
-fn read_named(name: &str, files: SceneFiles<'_>) -> std::result::Result<grey_png::Grey, String> {
+pub(super) fn read_grey(
+    name: &str,
+    files: SceneFiles<'_>,
+) -> std::result::Result<grey_png::Grey, String> {
     match files {
         SceneFiles::Dir(dir) => {
             let path: PathBuf = dir.join(name);

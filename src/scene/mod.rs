@@ -292,9 +292,33 @@ pub struct Meadow {
     pub count: Option<usize>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub density: Option<f32>,
+    /// A grey PNG over the meadow's rectangle (column 0 at its least x, row
+    /// 0 at its least z), relative to the scene file, scaling its density:
+    /// black leaves the ground bare, white keeps every blade.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mask: Option<String>,
+    /// The mask read (`Scene::read_files`), not part of the file.
+    #[serde(skip)]
+    pub mask_map: Option<std::sync::Arc<grey_png::Grey>>,
 }
 
 impl Meadow {
+    /// The mask's value (0..=1) at (x, z), bilinear; 1 without a mask.
+    pub fn mask_at(&self, x: f32, z: f32) -> f32 {
+        let Some(m) = &self.mask_map else {
+            return 1.0;
+        };
+        let (w, h) = (m.width as f32, m.height as f32);
+        let u = (((x - self.center[0]) / self.size[0] + 0.5) * (w - 1.0)).clamp(0.0, w - 1.0);
+        let v = (((z - self.center[1]) / self.size[1] + 0.5) * (h - 1.0)).clamp(0.0, h - 1.0);
+        let (i0, j0) = (u.floor() as u32, v.floor() as u32);
+        let (i1, j1) = ((i0 + 1).min(m.width - 1), (j0 + 1).min(m.height - 1));
+        let (fu, fv) = (u - i0 as f32, v - j0 as f32);
+        let at = |i: u32, j: u32| m.values[(i + m.width * j) as usize];
+        let a = at(i0, j0) * (1.0 - fu) + at(i1, j0) * fu;
+        let b = at(i0, j1) * (1.0 - fu) + at(i1, j1) * fu;
+        a * (1.0 - fv) + b * fv
+    }
     /// The blade count, from `count` or from `density` times the area.
     pub fn blades(&self) -> usize {
         match (self.count, self.density) {
@@ -566,6 +590,16 @@ pub const BUILTIN: &[(&str, &str)] = &[
     ("roll", include_str!("../../scenes/roll.toml")),
 ];
 
+/// A uniform draw in [0, 1) from a seed and an index (SplitMix64's
+/// finaliser): the same on every machine.
+fn unit_hash(seed: u64, index: u64) -> f32 {
+    let mut z = seed.wrapping_add(index.wrapping_mul(0x9E37_79B9_7F4A_7C15));
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^= z >> 31;
+    (z >> 40) as f32 / (1u64 << 24) as f32
+}
+
 /// How far above the ground a root is tested against the obstacles: a box
 /// or cylinder standing on the ground holds its footprint's roots.
 const ROOT_CLEARANCE: f32 = 0.01;
@@ -576,12 +610,15 @@ const ROOT_CLEARANCE: f32 = 0.01;
 pub struct Planted {
     pub blades: Vec<crate::model::Blade>,
     pub under_obstacles: usize,
+    /// Blades the meadows' masks left out.
+    pub masked: usize,
 }
 
 impl Scene {
-    /// The scene's grass field (`field::generate`) without the blades whose
-    /// root lies inside an obstacle: nothing grows through a wall, a boulder
-    /// or a post. The patches' counts are the counts before.
+    /// The scene's grass field (`field::generate`) rooted on the ground,
+    /// without the blades whose root lies inside an obstacle: nothing grows
+    /// through a wall, a boulder or a post. The patches' counts are the
+    /// counts before.
     pub fn field(&self) -> Result<Vec<crate::model::Blade>> {
         Ok(self.planted()?.blades)
     }
@@ -590,6 +627,24 @@ impl Scene {
     /// scene whose obstacles leave no blade is refused, naming them.
     pub fn planted(&self) -> Result<Planted> {
         let mut blades = field::generate(&self.grass, self.seed)?;
+        let masked = self.mask_out(&mut blades);
+        if blades.is_empty() {
+            return Err(Error::InvalidInput(format!(
+                "the meadows' masks leave none of the {masked} blades planted; make a mask lighter where grass should grow"
+            )));
+        }
+        let terrain = self.ground.terrain();
+        if !terrain.is_flat() {
+            // Rooted on the ground, growing upright as grass does on a
+            // slope; contact keeps them above the ground's plane at the
+            // root, its slope over a blade's reach.
+            for b in &mut blades {
+                let root = b.rest[0];
+                let reach = (b.rest[3] - root).length().max(0.05);
+                let normal = terrain.normal(root.x, root.z, 0.5 * reach);
+                *b = b.raised(terrain.height(root.x, root.z), normal);
+            }
+        }
         let obstacles = &self.wind.obstacles;
         let planted = blades.len();
         let mut covering = vec![false; obstacles.len()];
@@ -617,8 +672,61 @@ impl Scene {
         }
         Ok(Planted {
             under_obstacles: planted - blades.len(),
+            masked,
             blades,
         })
+    }
+
+    /// Leaves out of a masked meadow's blades (they follow the bunches'
+    /// in `blades`, each patch's in one run) those whose draw, a hash of
+    /// the seed and the blade's place, is not under the mask's value at
+    /// its root: the density scaled by the mask, the same on every run.
+    /// Returns how many it left out.
+    fn mask_out(&self, blades: &mut Vec<crate::model::Blade>) -> usize {
+        if self.grass.meadow.iter().all(|m| m.mask_map.is_none()) {
+            return 0;
+        }
+        let before = blades.len();
+        let mut owner = Vec::with_capacity(before);
+        owner.extend(
+            self.grass
+                .bunch
+                .iter()
+                .flat_map(|b| std::iter::repeat_n(None, b.count)),
+        );
+        owner.extend(
+            self.grass
+                .meadow
+                .iter()
+                .flat_map(|m| std::iter::repeat_n(Some(m), m.blades())),
+        );
+        let mut index = 0u64;
+        blades.retain(|b| {
+            let meadow = owner[index as usize];
+            index += 1;
+            meadow.is_none_or(|m| {
+                let draw = unit_hash(self.seed ^ 0x6D61_736B, index);
+                draw < m.mask_at(b.rest[0].x, b.rest[0].z)
+            })
+        });
+        before - blades.len()
+    }
+
+    /// Reads the files the scene names (the ground's height map, the
+    /// meadows' masks) from `files`, after `check::scene` passed.
+    pub fn read_files(&mut self, files: SceneFiles<'_>) -> check::Check {
+        self.ground.read_files(files).map_err(|e| e.at("ground"))?;
+        for (i, m) in self.grass.meadow.iter_mut().enumerate() {
+            m.mask_map = match &m.mask {
+                None => None,
+                Some(name) => Some(std::sync::Arc::new(
+                    ground::read_grey(name, files).map_err(|e| {
+                        check::FieldError::new(format!("grass.meadow[{i}].mask"), e)
+                    })?,
+                )),
+            };
+        }
+        Ok(())
     }
 
     /// A built-in scene by name.
@@ -909,6 +1017,8 @@ mod tests {
             size: [2.0, 3.0],
             count: None,
             density: Some(100.0),
+            mask: None,
+            mask_map: None,
         };
         assert_eq!(m.blades(), 600);
     }
