@@ -131,6 +131,7 @@ fn lists_are_the_cpu_references(storage_range: Option<u32>) {
         view_proj,
         eye,
         light,
+        floor: uniforms.terrain[0],
         shadows: true,
         thinning,
         edge_on: scene.cull.edge_on,
@@ -217,8 +218,24 @@ fn culling_changes_no_pixel() {
     // The default scene (the camera inside the field, a quarter of it
     // behind, the sun's shadows falling in from outside the view's sides)
     // and Fig. 13 seen from its own camera, each with the wind moving.
-    for name in ["table1", "fig13-obstacles"] {
-        let mut scene = Scene::builtin(name).unwrap();
+    // And table1 on a hillside: a ridge across the view and a hill beside
+    // it (the grass rooted on them, the terrain drawn and casting).
+    for name in ["table1", "fig13-obstacles", "table1 on hills"] {
+        let mut scene = Scene::builtin(name.split(' ').next().unwrap()).unwrap();
+        if name.ends_with("hills") {
+            use meadow::model::terrain::{Hill, Ridge};
+            scene.ground.ridges.push(Ridge {
+                center: [0.0, -2.0],
+                height: 0.6,
+                half_width: 1.5,
+                heading: 10.0,
+            });
+            scene.ground.hills.push(Hill {
+                center: [-3.0, -4.0],
+                height: 1.2,
+                half_width: 2.0,
+            });
+        }
         scene.set_shadow_map(2048).unwrap();
         let times = [0.0, 0.5];
         scene.cull.enabled = true;

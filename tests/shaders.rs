@@ -209,6 +209,7 @@ fn frame_uniforms_match_the_glsl_block() {
             "shadow_tess_level",
             offset_of!(FrameUniforms, shadow_tess_level),
         ),
+        ("terrain", offset_of!(FrameUniforms, terrain)),
     ];
     let glsl: Vec<(String, usize)> = members.into_iter().map(|(n, o)| (n, o as usize)).collect();
     let rust: Vec<(String, usize)> = rust.iter().map(|(n, o)| (n.to_string(), *o)).collect();

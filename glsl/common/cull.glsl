@@ -54,14 +54,16 @@ bool box_in_frustum(mat4 m, vec3 lo, vec3 hi) {
 }
 
 // The box grown by the blade's shadow: swept away from the sun `light`
-// (toward the light, y > 0) down to the ground y = 0. Whatever receives
-// the blade's shadow (ground, other blades, obstacles) lies in it.
+// (toward the light, y > 0) down to the lowest ground, frame.terrain.x (0 on
+// flat ground). Whatever receives the blade's shadow (ground, other blades,
+// obstacles) lies in it.
 void shadow_sweep(vec3 light, inout vec3 lo, inout vec3 hi) {
+    float floor_y = frame.terrain.x;
     vec2 run = light.xz / light.y;   // ground shift per metre of height
-    float y0 = max(lo.y, 0.0), y1 = max(hi.y, 0.0);
+    float y0 = max(lo.y, floor_y) - floor_y, y1 = max(hi.y, floor_y) - floor_y;
     vec2 shift_lo = min(run * y0, run * y1);
     vec2 shift_hi = max(run * y0, run * y1);
-    lo = vec3(min(lo.x, lo.x - shift_hi.x), min(lo.y, 0.0), min(lo.z, lo.z - shift_hi.y));
+    lo = vec3(min(lo.x, lo.x - shift_hi.x), min(lo.y, floor_y), min(lo.z, lo.z - shift_hi.y));
     hi = vec3(max(hi.x, hi.x - shift_lo.x), hi.y, max(hi.z, hi.z - shift_lo.y));
 }
 

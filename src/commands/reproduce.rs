@@ -80,6 +80,7 @@ pub fn plan(quick: bool) -> Result<Vec<Figure>> {
     let obstacles = Scene::builtin("fig13-obstacles")?;
     let strip = Scene::builtin("gust-strip")?;
     let roll = Scene::builtin("roll")?;
+    let hills = Scene::builtin("hills")?;
     let mut open = obstacles.clone();
     open.wind.obstacles.clear();
     open.name = "fig13-obstacles (obstacles removed)".into();
@@ -194,6 +195,15 @@ pub fn plan(quick: bool) -> Result<Vec<Figure>> {
                 shot("the ball half way", "roll/shaded", &roll, b.roll_start),
                 motion(shot("its trail", "roll/motion", &roll, b.roll_start)),
             ],
+            diagram: None,
+        },
+        Figure {
+            title: "Beyond the paper: a landscape",
+            paper: "The paper's meadows are flat. A meadow over a ridge and between hills \
+                    (the ground's height field, drawn and shading), a bare path left by its \
+                    density mask, the wind crossing the ridge at an angle: the solver sees the \
+                    ground as solid (docs/physics.md, \"Wind over a ridge\").",
+            shots: vec![shot("in the wind", "hills", &hills, b.sway)],
             diagram: None,
         },
     ])

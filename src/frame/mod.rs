@@ -175,6 +175,7 @@ impl FrameRecorder {
             scene.light.shadow_map,
             &scene.wind.obstacles,
             colliders,
+            crate::render::terrain::mesh(scene),
             scene.cull.enabled && scene.cull.occlusion,
         )
     }

@@ -7,6 +7,7 @@ use glam::{Mat4, Vec3};
 use crate::error::Result;
 use crate::gpu::{Buffer, Gpu, MemoryLocation};
 use crate::render::shadow_frustum::light_view_proj;
+use crate::render::terrain;
 use crate::render::thinning::Thinning;
 use crate::scene::Scene;
 
@@ -39,6 +40,10 @@ pub struct FrameUniforms {
     /// it there): the scene's shadow levels with LOD on, the colour
     /// pass's close level with it off.
     pub shadow_tess_level: [f32; 4],
+    /// x: the lowest ground the grass's shadows can fall on (m; 0 on flat
+    /// ground); y: half the side of the terrain mesh's square about the
+    /// grass's centre (0: flat, no mesh; src/render/terrain.rs).
+    pub terrain: [f32; 4],
 }
 
 /// The camera at simulated time `time`, in Vulkan clip space: y points
@@ -106,6 +111,16 @@ impl FrameUniforms {
             } else {
                 lod.levels
             }),
+            terrain: if scene.ground.terrain().is_flat() {
+                [0.0; 4]
+            } else {
+                [
+                    terrain::lowest(scene),
+                    terrain::half_side(scene.ground.half_extent),
+                    0.0,
+                    0.0,
+                ]
+            },
         }
     }
 }

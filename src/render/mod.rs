@@ -15,6 +15,7 @@ pub mod renderer;
 pub mod shadow;
 pub mod shadow_frustum;
 pub mod targets;
+pub mod terrain;
 pub mod texture_maps;
 pub mod textures;
 pub mod thinning;

@@ -235,13 +235,18 @@ pub struct ObstacleMeshes {
 }
 
 impl ObstacleMeshes {
+    /// The obstacles' and colliders' meshes, and `ground`'s triangles (the
+    /// terrain's, src/render/terrain.rs) drawn with them.
     pub fn new(
         gpu: &Gpu,
         commands: &CommandPool,
         obstacles: &[Obstacle],
         colliders: &[Collider],
+        ground: Vec<ObstacleVertex>,
     ) -> Result<Self> {
-        Self::build(gpu, commands, mesh(obstacles), colliders)
+        let mut fixed = mesh(obstacles);
+        fixed.extend(ground);
+        Self::build(gpu, commands, fixed, colliders)
     }
 
     fn build(

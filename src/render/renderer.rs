@@ -15,7 +15,7 @@ use crate::model::wind::Obstacle;
 use crate::render::cull::BladeDraw;
 use crate::render::depth_pyramid::{DepthPyramid, Occluders};
 use crate::render::frame_uniforms::FrameUniforms;
-use crate::render::obstacles::ObstacleMeshes;
+use crate::render::obstacles::{ObstacleMeshes, ObstacleVertex};
 use crate::render::pipelines::{RenderPipelines, FRAME_SET};
 use crate::render::shadow::ShadowMap;
 use crate::render::targets::{choose_samples, RenderTargets};
@@ -53,6 +53,7 @@ impl Renderer {
         shadow_map: u32,
         obstacles: &[Obstacle],
         colliders: &[Collider],
+        ground: Vec<ObstacleVertex>,
         occlusion: bool,
     ) -> Result<Self> {
         let targets = RenderTargets::new(gpu, width, height, choose_samples(gpu, msaa), occlusion)?;
@@ -69,7 +70,7 @@ impl Renderer {
         let shadow = ShadowMap::new(gpu, shadow_map, &pipelines.shadow_layout)?;
         let uniforms = FrameUniforms::buffer(gpu, "frame uniforms")?;
         let textures = SurfaceTextures::new(gpu, commands)?;
-        let obstacles = ObstacleMeshes::new(gpu, commands, obstacles, colliders)?;
+        let obstacles = ObstacleMeshes::new(gpu, commands, obstacles, colliders, ground)?;
         let [map, map_sampler] = shadow.bindings();
         let [grass, ground, surface_sampler] = textures.bindings();
         let frame_set = DescriptorSet::new(

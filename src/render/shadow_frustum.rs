@@ -20,14 +20,18 @@ use crate::render::visibility::frustum_planes;
 use crate::scene::Scene;
 
 /// The grass's box: its footprint grown by the tallest blade (which may
-/// lean that far), from the ground up to the tallest blade. Every shadow
+/// lean that far), from the lowest ground under it up to the tallest blade
+/// over the highest (flat ground: 0 to the tallest blade). Every shadow
 /// the map holds falls inside it.
 pub fn receiver_box(scene: &Scene) -> (Vec3, Vec3) {
     let (lo, hi) = scene.grass_bounds();
     let h = scene.grass.shape.height[1];
+    let (lo, hi) = ([lo[0] - h, lo[1] - h], [hi[0] + h, hi[1] + h]);
+    let step = ((hi[0] - lo[0]).max(hi[1] - lo[1]) / 256.0).max(0.01);
+    let (low, high) = scene.ground.terrain().range_over(lo, hi, step);
     (
-        Vec3::new(lo[0] - h, 0.0, lo[1] - h),
-        Vec3::new(hi[0] + h, h, hi[1] + h),
+        Vec3::new(lo[0], low, lo[1]),
+        Vec3::new(hi[0], high + h, hi[1]),
     )
 }
 

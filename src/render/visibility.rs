@@ -52,17 +52,18 @@ impl Bounds {
     }
 
     /// The box grown by its shadow: swept away from the sun (`light`
-    /// points toward it, y > 0) down to the ground y = 0. Whatever
-    /// receives the shadow (ground, blades, obstacles) lies inside.
-    pub fn shadow_sweep(self, light: Vec3) -> Self {
+    /// points toward it, y > 0) down to the lowest ground `floor` (0 on
+    /// flat ground). Whatever receives the shadow (ground, blades,
+    /// obstacles) lies inside.
+    pub fn shadow_sweep(self, light: Vec3, floor: f32) -> Self {
         let run = Vec3::new(light.x / light.y, 0.0, light.z / light.y);
-        let (y0, y1) = (self.lo.y.max(0.0), self.hi.y.max(0.0));
+        let (y0, y1) = (self.lo.y.max(floor) - floor, self.hi.y.max(floor) - floor);
         let shift_lo = (run * y0).min(run * y1);
         let shift_hi = (run * y0).max(run * y1);
         Bounds {
             lo: Vec3::new(
                 self.lo.x.min(self.lo.x - shift_hi.x),
-                self.lo.y.min(0.0),
+                self.lo.y.min(floor),
                 self.lo.z.min(self.lo.z - shift_hi.z),
             ),
             hi: Vec3::new(
@@ -161,6 +162,8 @@ pub struct CullView {
     pub eye: Vec3,
     /// Toward the sun, unit length.
     pub light: Vec3,
+    /// The lowest ground shadows fall on (frame.terrain.x; 0 on flat ground).
+    pub floor: f32,
     /// Whether the shadow pass draws (else no blade casts).
     pub shadows: bool,
     pub thinning: Thinning,
@@ -217,7 +220,7 @@ impl CullView {
                 seen.caster = true;
             } else {
                 let swept = bounds
-                    .shadow_sweep(self.light)
+                    .shadow_sweep(self.light, self.floor)
                     .frustum_margin(&self.view_proj);
                 seen.caster = swept >= 0.0;
                 margins.frustum = margins.frustum.min(swept.abs());
@@ -260,6 +263,7 @@ pub fn visibility(
         view_proj: *view_proj,
         eye: Vec3::ZERO,
         light,
+        floor: 0.0,
         shadows,
         thinning: Thinning::OFF,
         edge_on: 1.0,
@@ -349,7 +353,7 @@ mod tests {
     fn the_sweep_reaches_the_ground_where_the_tip_shadow_falls() {
         let b = Bounds::of_blade(&upright(Vec3::ZERO, 1.0));
         let light = Vec3::new(1.0, 1.0, -0.5).normalize();
-        let s = b.shadow_sweep(light);
+        let s = b.shadow_sweep(light, 0.0);
         // The tip (0, 1, 0) lands at (-1, 0, 0.5).
         assert!((s.lo.x - (-1.0 - 0.01)).abs() < 1e-6, "{s:?}");
         assert!((s.hi.z - 0.5).abs() < 1e-6, "{s:?}");
@@ -370,6 +374,7 @@ mod tests {
                 view_proj: camera(),
                 eye: Vec3::new(0.0, 2.0, 0.0),
                 light: sun,
+                floor: 0.0,
                 shadows: true,
                 thinning: Thinning::OFF,
                 edge_on: 0.9,

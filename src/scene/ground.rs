@@ -74,7 +74,10 @@ pub enum SceneFiles<'a> {
 }
 
 /// The images the built-in scenes name, compiled in.
-const BUILTIN_FILES: &[(&str, &[u8])] = &[];
+const BUILTIN_FILES: &[(&str, &[u8])] = &[(
+    "hills-path.png",
+    include_bytes!("../../scenes/hills-path.png"),
+)];
 
 /// The highest ground or deepest hollow a scene may have (m).
 pub const MAX_RELIEF: f32 = 1000.0;
@@ -160,7 +163,8 @@ fn feature(center: [f32; 2], height: f32, half_width: f32) -> Check {
 }
 
 /// The grey image `name` names: a file beside the scene, or a built-in
-/// scene's compiled-in image.
+/// scene's compiled-in image (also for a scene file that names one and
+/// has no file of that name beside it: a copy of a built-in scene).
 pub(super) fn read_grey(
     name: &str,
     files: SceneFiles<'_>,
@@ -168,6 +172,12 @@ pub(super) fn read_grey(
     match files {
         SceneFiles::Dir(dir) => {
             let path: PathBuf = dir.join(name);
+            // A copy of a built-in scene finds its images by name.
+            if !path.exists() {
+                if let Some((_, bytes)) = BUILTIN_FILES.iter().find(|(n, _)| *n == name) {
+                    return grey_png::read_bytes(bytes).map_err(|why| format!("{name}: {why}"));
+                }
+            }
             grey_png::read(&path).map_err(|why| format!("{}: {why}", path.display()))
         }
         SceneFiles::Builtin => {

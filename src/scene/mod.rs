@@ -588,6 +588,7 @@ pub const BUILTIN: &[(&str, &str)] = &[
     ("gust-strip", include_str!("../../scenes/gust-strip.toml")),
     ("prairie", include_str!("../../scenes/prairie.toml")),
     ("roll", include_str!("../../scenes/roll.toml")),
+    ("hills", include_str!("../../scenes/hills.toml")),
 ];
 
 /// A uniform draw in [0, 1) from a seed and an index (SplitMix64's
