@@ -171,15 +171,11 @@ fn wind_over_a_ridge_speeds_up_over_the_crest_as_potential_flow_does() {
 /// A round meadow (a tuft 2.5 m across, centred on the origin, on a square
 /// wind grid centred on it) in a gusting inflow towards `heading`.
 fn round_meadow(heading: f32) -> meadow::scene::Scene {
-    meadow::scene::file::parse(
+    scene(
+        "round meadow",
+        5,
         &format!(
             r#"
-name = "round meadow"
-seed = 5
-[camera]
-position = [0.0, 4.0, 8.0]
-target = [0.0, 0.0, 0.0]
-fov_y = 45.0
 [[grass.bunch]]
 center = [0.0, 0.0]
 radius = 2.5
@@ -194,9 +190,16 @@ heading = {heading}
 gust = {{ amplitude = 0.3, frequency = 0.5, seed = 1 }}
 "#
         ),
-        "round meadow",
     )
-    .unwrap()
+}
+
+/// A scene named `name` with `seed`, seen from a fixed camera, with `body` (its grass,
+/// ground and wind) after the header every scene file needs.
+fn scene(name: &str, seed: u64, body: &str) -> meadow::scene::Scene {
+    let text = format!(
+        "name = \"{name}\"\nseed = {seed}\n[camera]\nposition = [0.0, 4.0, 9.0]\ntarget = [0.0, 1.0, 0.0]\nfov_y = 45.0\n{body}"
+    );
+    meadow::scene::file::parse(&text, name).unwrap()
 }
 
 /// The meadow's wind and its blades' mean tip displacement (x, z) from
@@ -274,14 +277,10 @@ fn the_grass_sways_along_the_inflow_from_any_heading() {
 
 /// A meadow on a hill's flank in a strong gusting wind across the slope.
 fn hillside() -> meadow::scene::Scene {
-    meadow::scene::file::parse(
+    scene(
+        "hillside",
+        9,
         r#"
-name = "hillside"
-seed = 9
-[camera]
-position = [0.0, 4.0, 9.0]
-target = [0.0, 1.0, 0.0]
-fov_y = 45.0
 [[ground.hill]]
 center = [-2.0, 0.0]
 height = 2.0
@@ -298,9 +297,7 @@ speed = 6.0
 heading = 160.0
 gust = { amplitude = 0.8, frequency = 0.6, seed = 4 }
 "#,
-        "hillside",
     )
-    .unwrap()
 }
 
 /// The deepest any blade's control point or drawn curve gets under the

@@ -261,6 +261,7 @@ fn reproduce_quick_renders_every_figure_validation_clean_with_both_indexes() {
         "Fig. 13",
         "Beyond the paper: gusts that travel",
         "Beyond the paper: touch",
+        "Beyond the paper: a landscape",
     ] {
         assert!(
             md.contains(&format!("## {title}")),
@@ -278,8 +279,8 @@ fn reproduce_quick_renders_every_figure_validation_clean_with_both_indexes() {
         .skip(1)
         .map(|rest| &rest[..rest.find(')').unwrap()])
         .collect();
-    // 16 shots' frames and the gust strip's space-time diagram.
-    assert_eq!(links.len(), 17, "{links:?}");
+    // 17 shots' frames and the gust strip's space-time diagram.
+    assert_eq!(links.len(), 18, "{links:?}");
     let (svgs, pngs): (Vec<&str>, Vec<&str>) = links.iter().partition(|l| l.ends_with(".svg"));
     assert_eq!(svgs, ["gusts/space_time.svg"]);
     for link in &pngs {

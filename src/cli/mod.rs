@@ -58,8 +58,8 @@ pub enum Command {
     View(view::ViewArgs),
     /// Run the wind solver (with two-way coupling, the grass too); write
     /// two slices of the field as SVG (wind_horizontal.svg,
-    /// wind_vertical.svg) and wind_report.json, print speeds, divergence
-    /// and GPU time per step.
+    /// wind_vertical.svg), the field for analysis (wind_field.npy) and
+    /// wind_report.json, print speeds, divergence and GPU time per step.
     Wind(wind::WindArgs),
     /// The paper's Table 1 on this device: the table1 scene at each blade
     /// count, with and without LOD, every frame phase timed on the GPU, plus

@@ -36,8 +36,8 @@ pub struct WindArgs {
     /// two-way (canopy drag; default: the scene's wind.coupling).
     #[arg(long, value_enum)]
     coupling: Option<Coupling>,
-    /// Folder for wind_horizontal.svg, wind_vertical.svg and
-    /// wind_report.json (made if missing).
+    /// Folder for wind_horizontal.svg, wind_vertical.svg, wind_field.npy
+    /// and wind_report.json (made if missing).
     #[arg(long, default_value = "out/wind")]
     out: PathBuf,
     #[command(flatten)]
@@ -120,9 +120,10 @@ pub fn run(args: WindArgs) -> anyhow::Result<()> {
         );
     }
     println!(
-        "wrote {} and {}",
+        "wrote {}, {} and {}",
         out.join("wind_horizontal.svg").display(),
-        out.join("wind_vertical.svg").display()
+        out.join("wind_vertical.svg").display(),
+        out.join("wind_field.npy").display()
     );
     Ok(())
 }

@@ -51,19 +51,11 @@ pub struct HeightMap {
 
 impl HeightMap {
     pub fn height(&self, x: f32, z: f32) -> f32 {
-        let (nx, nz) = (self.columns as f32, self.rows as f32);
-        // Sample coordinates: 0 at the minimum corner, n - 1 at the maximum.
-        let u = ((x - self.center[0]) / self.extent[0] + 0.5) * (nx - 1.0);
-        let v = ((z - self.center[1]) / self.extent[1] + 0.5) * (nz - 1.0);
-        let u = u.clamp(0.0, nx - 1.0);
-        let v = v.clamp(0.0, nz - 1.0);
-        let (i0, j0) = (u.floor() as u32, v.floor() as u32);
-        let (i1, j1) = ((i0 + 1).min(self.columns - 1), (j0 + 1).min(self.rows - 1));
-        let (fu, fv) = (u - i0 as f32, v - j0 as f32);
-        let at = |i: u32, j: u32| self.heights[(i + self.columns * j) as usize];
-        let a = at(i0, j0) * (1.0 - fu) + at(i1, j0) * fu;
-        let b = at(i0, j1) * (1.0 - fu) + at(i1, j1) * fu;
-        a * (1.0 - fv) + b * fv
+        let (u, v) = (
+            (x - self.center[0]) / self.extent[0] + 0.5,
+            (z - self.center[1]) / self.extent[1] + 0.5,
+        );
+        bilinear(&self.heights, self.columns, self.rows, u, v)
     }
 
     pub fn range(&self) -> (f32, f32) {
@@ -71,6 +63,23 @@ impl HeightMap {
             .iter()
             .fold((f32::MAX, f32::MIN), |(lo, hi), &h| (lo.min(h), hi.max(h)))
     }
+}
+
+/// Bilinear sample of a `columns` x `rows` grid of `values` (row-major,
+/// x fastest) at (u, v), 0 at the first sample and 1 at the last along
+/// each axis, held at the edges' values beyond them: a height map, a
+/// meadow's density mask.
+pub fn bilinear(values: &[f32], columns: u32, rows: u32, u: f32, v: f32) -> f32 {
+    let (nx, nz) = (columns as f32, rows as f32);
+    let u = (u * (nx - 1.0)).clamp(0.0, nx - 1.0);
+    let v = (v * (nz - 1.0)).clamp(0.0, nz - 1.0);
+    let (i0, j0) = (u.floor() as u32, v.floor() as u32);
+    let (i1, j1) = ((i0 + 1).min(columns - 1), (j0 + 1).min(rows - 1));
+    let (fu, fv) = (u - i0 as f32, v - j0 as f32);
+    let at = |i: u32, j: u32| values[(i + columns * j) as usize];
+    let a = at(i0, j0) * (1.0 - fu) + at(i1, j0) * fu;
+    let b = at(i0, j1) * (1.0 - fu) + at(i1, j1) * fu;
+    a * (1.0 - fv) + b * fv
 }
 
 /// The ground: h(x, z) in metres, y up.

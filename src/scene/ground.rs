@@ -169,22 +169,21 @@ pub(super) fn read_grey(
     name: &str,
     files: SceneFiles<'_>,
 ) -> std::result::Result<grey_png::Grey, String> {
+    let builtin = || {
+        let Some((_, bytes)) = BUILTIN_FILES.iter().find(|(n, _)| *n == name) else {
+            return Err(format!("{name}: no built-in scene image has this name"));
+        };
+        grey_png::read_bytes(bytes).map_err(|why| format!("{name}: {why}"))
+    };
     match files {
         SceneFiles::Dir(dir) => {
             let path: PathBuf = dir.join(name);
             // A copy of a built-in scene finds its images by name.
-            if !path.exists() {
-                if let Some((_, bytes)) = BUILTIN_FILES.iter().find(|(n, _)| *n == name) {
-                    return grey_png::read_bytes(bytes).map_err(|why| format!("{name}: {why}"));
-                }
+            if !path.exists() && BUILTIN_FILES.iter().any(|(n, _)| *n == name) {
+                return builtin();
             }
             grey_png::read(&path).map_err(|why| format!("{}: {why}", path.display()))
         }
-        SceneFiles::Builtin => {
-            let Some((_, bytes)) = BUILTIN_FILES.iter().find(|(n, _)| *n == name) else {
-                return Err(format!("{name}: no built-in scene image has this name"));
-            };
-            grey_png::read_bytes(bytes).map_err(|why| format!("{name}: {why}"))
-        }
+        SceneFiles::Builtin => builtin(),
     }
 }

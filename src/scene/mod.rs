@@ -308,17 +308,13 @@ impl Meadow {
         let Some(m) = &self.mask_map else {
             return 1.0;
         };
-        let (w, h) = (m.width as f32, m.height as f32);
-        let u = (((x - self.center[0]) / self.size[0] + 0.5) * (w - 1.0)).clamp(0.0, w - 1.0);
-        let v = (((z - self.center[1]) / self.size[1] + 0.5) * (h - 1.0)).clamp(0.0, h - 1.0);
-        let (i0, j0) = (u.floor() as u32, v.floor() as u32);
-        let (i1, j1) = ((i0 + 1).min(m.width - 1), (j0 + 1).min(m.height - 1));
-        let (fu, fv) = (u - i0 as f32, v - j0 as f32);
-        let at = |i: u32, j: u32| m.values[(i + m.width * j) as usize];
-        let a = at(i0, j0) * (1.0 - fu) + at(i1, j0) * fu;
-        let b = at(i0, j1) * (1.0 - fu) + at(i1, j1) * fu;
-        a * (1.0 - fv) + b * fv
+        let (u, v) = (
+            (x - self.center[0]) / self.size[0] + 0.5,
+            (z - self.center[1]) / self.size[1] + 0.5,
+        );
+        crate::model::terrain::bilinear(&m.values, m.width, m.height, u, v)
     }
+
     /// The blade count, from `count` or from `density` times the area.
     pub fn blades(&self) -> usize {
         match (self.count, self.density) {
