@@ -202,17 +202,26 @@ fn scene(name: &str, seed: u64, body: &str) -> meadow::scene::Scene {
     meadow::scene::file::parse(&text, name).unwrap()
 }
 
+/// The scene's wind and `rest` blades on the CPU, at rest: what the
+/// coupled steps (`canopy::coupled_step`) advance.
+fn cpu_start(
+    scene: &meadow::scene::Scene,
+    rest: &[meadow::model::Blade],
+) -> (WindSettings, WindField, meadow::model::GrassField) {
+    let settings = scene.wind_settings();
+    let blades =
+        meadow::scene::field::dynamic_blades(rest, &scene.grass.dynamics, scene.seed).unwrap();
+    let wind = WindField::new(scene.wind_grid().unwrap(), &settings);
+    let grass = meadow::model::GrassField::new(blades, scene.wind.dt).unwrap();
+    (settings, wind, grass)
+}
+
 /// The meadow's wind and its blades' mean tip displacement (x, z) from
 /// rest after 1.5 s.
 fn sway(heading: f32) -> (WindField, glam::Vec2) {
-    use meadow::model::{canopy, GrassField};
+    use meadow::model::canopy;
     let scene = round_meadow(heading);
-    let settings = scene.wind_settings();
-    let rest = scene.field().unwrap();
-    let blades =
-        meadow::scene::field::dynamic_blades(&rest, &scene.grass.dynamics, scene.seed).unwrap();
-    let mut wind = WindField::new(scene.wind_grid().unwrap(), &settings);
-    let mut grass = GrassField::new(blades, scene.wind.dt).unwrap();
+    let (settings, mut wind, mut grass) = cpu_start(&scene, &scene.field().unwrap());
     for _ in 0..90 {
         canopy::coupled_step(&mut wind, &settings, &mut grass);
     }
@@ -310,11 +319,7 @@ fn deepest_under_ground(
     use meadow::model::{canopy, GrassField};
     let terrain = scene.ground.terrain();
     let rest: Vec<_> = scene.field().unwrap().into_iter().map(plane).collect();
-    let blades =
-        meadow::scene::field::dynamic_blades(&rest, &scene.grass.dynamics, scene.seed).unwrap();
-    let settings = scene.wind_settings();
-    let mut wind = WindField::new(scene.wind_grid().unwrap(), &settings);
-    let mut grass = GrassField::new(blades, scene.wind.dt).unwrap();
+    let (settings, mut wind, mut grass) = cpu_start(scene, &rest);
     let depth = |grass: &GrassField| {
         grass
             .poses()
@@ -389,15 +394,10 @@ fn blades_on_a_slope_never_go_under_the_ground() {
 /// follow the CPU reference, and the drawn blades stay out of the ground.
 #[test]
 fn gpu_grass_on_a_hillside_follows_the_cpu_reference() {
-    use meadow::model::{canopy, GrassField};
+    use meadow::model::canopy;
     let scene = hillside();
     let steps = 90;
-    let settings = scene.wind_settings();
-    let rest = scene.field().unwrap();
-    let blades =
-        meadow::scene::field::dynamic_blades(&rest, &scene.grass.dynamics, scene.seed).unwrap();
-    let mut wind = WindField::new(scene.wind_grid().unwrap(), &settings);
-    let mut grass = GrassField::new(blades, scene.wind.dt).unwrap();
+    let (settings, mut wind, mut grass) = cpu_start(&scene, &scene.field().unwrap());
     for _ in 0..steps {
         canopy::coupled_step(&mut wind, &settings, &mut grass);
     }
