@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{finish, mean_rgb, pixel, render, strict_gpu};
+use common::{finish, mean_rgb, pixel, project, render, strict_gpu};
 use glam::Vec3;
 use meadow::model::{Blade, BladeKind};
 use meadow::render::ViewMode;
@@ -361,17 +361,6 @@ fn motion_view_is_blue_at_rest_and_warms_as_the_wind_bends_the_blades() {
         "bent blades did not warm: {rest:?} -> {wind:?}"
     );
     let _ = std::fs::remove_dir_all(&dir);
-}
-
-/// Pixel (x, y) where a world point lands in a `w` x `h` frame of `scene`.
-fn project(scene: &Scene, p: Vec3, w: u32, h: u32) -> (f32, f32) {
-    let clip = meadow::render::frame_uniforms::view_projection(scene, w as f32 / h as f32, 0.0)
-        * p.extend(1.0);
-    let ndc = clip.truncate() / clip.w;
-    (
-        (ndc.x * 0.5 + 0.5) * w as f32,
-        (ndc.y * 0.5 + 0.5) * h as f32,
-    )
 }
 
 /// Fig. 10's scene seen from above, the sun low in the +x direction (45

@@ -527,3 +527,147 @@ mask = "{mask}"
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// At a low sun a ridge shades what lies behind it: the ground and the
+/// grass on its lee, as far as the closed form reaches (a point is in
+/// shadow where the ray from it toward the sun passes under the ridge's
+/// profile), and nothing on its sunny side. Seen from above, shadows on
+/// against off. Fails if the terrain is left out of the shadow map.
+#[test]
+fn a_ridge_at_a_low_sun_shades_the_ground_and_the_grass_behind_it() {
+    use common::{mean_rgb, pixel, project, render};
+    let (height, half_width) = (1.5f32, 1.0f32);
+    let sun_up = 14f32.to_radians();
+    let mut lit_scene = scene(
+        "ridge at sunset",
+        2,
+        &format!(
+            r#"
+[light]
+direction = [{}, {}, 0.0]
+shadow_map = 2048
+[[ground.ridge]]
+center = [0.0, 0.0]
+height = {height}
+half_width = {half_width}
+heading = 90.0
+[[grass.meadow]]
+center = [-3.5, 1.5]
+size = [1.0, 3.0]
+density = 60.0
+[[grass.meadow]]
+center = [3.5, 1.5]
+size = [1.0, 3.0]
+density = 60.0
+[[grass.meadow]]
+center = [0.0, -3.5]
+size = [0.2, 0.2]
+density = 60.0
+"#,
+            sun_up.cos(),
+            sun_up.sin()
+        ),
+    );
+    lit_scene.camera.position = [0.0, 13.0, 0.01];
+    lit_scene.camera.target = [0.0, 0.0, 0.0];
+    let ground = |x: f32| height / (1.0 + (x / half_width).powi(2));
+    // The closed form: in shadow where the ground toward the sun (+x)
+    // rises above the ray from the point.
+    let shadowed = |x: f32| {
+        (1..4000).any(|i| {
+            let t = i as f32 * 0.005;
+            ground(x + t) > ground(x) + t * sun_up.tan()
+        })
+    };
+    let blades = lit_scene.planted().unwrap().blades;
+    let mut dark_scene = lit_scene.clone();
+    dark_scene.light.shadow_map = 0;
+    let gpu = strict_gpu();
+    let (w, h) = (400, 400);
+    let with = render(
+        &gpu,
+        &lit_scene,
+        &blades,
+        w,
+        h,
+        meadow::render::ViewMode::Shaded,
+    );
+    let without = render(
+        &gpu,
+        &dark_scene,
+        &blades,
+        w,
+        h,
+        meadow::render::ViewMode::Shaded,
+    );
+    finish(gpu);
+    let brightness = |f: &meadow::frame::Frame, x: f32, z: f32| {
+        let (px, py) = project(&lit_scene, Vec3::new(x, ground(x), z), w, h);
+        pixel(f, px as u32, py as u32)
+            .iter()
+            .map(|&c| c as f32)
+            .sum::<f32>()
+    };
+    // The bare ground along z = -2, every 10 cm, away from the shadow's
+    // edge and where the slope still faces the sun: inside the grass's
+    // box (the map covers it; a tuft at z = -3.5 stretches it), where no
+    // grass stands between it and the sun.
+    let (mut in_shadow, mut in_sun) = (0, 0);
+    for i in -40..=40 {
+        let x = i as f32 * 0.1;
+        let edge = (-3..=3).any(|d| shadowed(x + d as f32 * 0.1) != shadowed(x));
+        let slope =
+            -2.0 * height * x / half_width.powi(2) / (1.0 + (x / half_width).powi(2)).powi(2);
+        let facing =
+            Vec3::new(-slope, 1.0, 0.0)
+                .normalize()
+                .dot(Vec3::new(sun_up.cos(), sun_up.sin(), 0.0));
+        if edge || facing < 0.15 {
+            continue;
+        }
+        let (on, off) = (brightness(&with, x, -2.0), brightness(&without, x, -2.0));
+        if shadowed(x) {
+            in_shadow += 1;
+            assert!(
+                on < 0.85 * off,
+                "ground at x = {x} not in the ridge's shadow: {off} -> {on}"
+            );
+        } else {
+            in_sun += 1;
+            assert!(
+                (on - off).abs() <= 6.0,
+                "ground at x = {x} in the sun darkened: {off} -> {on}"
+            );
+        }
+    }
+    eprintln!("{in_shadow} points of ground in the ridge's shadow, {in_sun} in the sun");
+    assert!(in_shadow >= 10 && in_sun >= 20);
+    // The grass behind it is in its shadow; the grass before it is not
+    // (but for its blades shading each other and the ground among them).
+    let patch = |f: &meadow::frame::Frame, x: f32| {
+        let (x0, y0) = project(&lit_scene, Vec3::new(x - 0.4, ground(x), 0.2), w, h);
+        let (x1, y1) = project(&lit_scene, Vec3::new(x + 0.4, ground(x), 2.8), w, h);
+        let rgb = mean_rgb(
+            f,
+            x0.min(x1) as u32,
+            y0.min(y1) as u32,
+            x0.max(x1) as u32,
+            y0.max(y1) as u32,
+        );
+        rgb.iter().sum::<f64>()
+    };
+    assert!(shadowed(-3.9) && !shadowed(3.1));
+    let (behind, before) = (
+        patch(&with, -3.5) / patch(&without, -3.5),
+        patch(&with, 3.5) / patch(&without, 3.5),
+    );
+    eprintln!("grass behind the ridge keeps {behind:.2} of its light, before it {before:.2}");
+    assert!(
+        before > 0.9,
+        "the grass before the ridge is shaded: {before}"
+    );
+    assert!(
+        behind < 0.85 * before,
+        "the grass behind the ridge is not shaded: {behind} (before it {before})"
+    );
+}

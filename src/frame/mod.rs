@@ -175,7 +175,7 @@ impl FrameRecorder {
             scene.light.shadow_map,
             &scene.wind.obstacles,
             colliders,
-            crate::render::terrain::mesh(scene),
+            crate::render::terrain::mesh(scene).as_ref(),
             scene.cull.enabled && scene.cull.occlusion,
         )
     }

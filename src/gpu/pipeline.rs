@@ -20,8 +20,8 @@ pub struct TargetFormats {
 }
 
 /// The fixed-function choices that differ between meadow's graphics
-/// pipelines. All are two-sided (blades are thin sheets seen from both
-/// sides) with dynamic viewport and scissor.
+/// pipelines, all with dynamic viewport and scissor. Faces wind
+/// counter-clockwise.
 pub struct GraphicsDesc<'a> {
     pub name: &'a str,
     pub stages: &'a [&'a Spirv],
@@ -33,6 +33,9 @@ pub struct GraphicsDesc<'a> {
     pub depth_test: bool,
     /// Constant and slope depth bias (shadow maps), or none.
     pub depth_bias: Option<(f32, f32)>,
+    /// The faces not drawn: NONE for two-sided (blades are thin sheets
+    /// seen from both sides).
+    pub cull: vk::CullModeFlags,
     pub targets: TargetFormats,
 }
 
@@ -102,7 +105,7 @@ impl Pipeline {
             .scissor_count(1);
         let raster = vk::PipelineRasterizationStateCreateInfo::default()
             .polygon_mode(vk::PolygonMode::FILL)
-            .cull_mode(vk::CullModeFlags::NONE)
+            .cull_mode(desc.cull)
             .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
             .line_width(1.0);
         let raster = match desc.depth_bias {

@@ -439,6 +439,18 @@ impl Recording<'_> {
         unsafe { self.device.raw.cmd_draw(self.cmd, vertices, 1, 0, 0) };
     }
 
+    /// Draws the bound index buffer's first `indices` indices, one instance.
+    pub fn draw_indexed(&self, indices: u32) {
+        // SAFETY: recording inside rendering with a graphics pipeline, its
+        // vertex and index buffers bound; the callers' counts lie inside
+        // the bound index buffer, whose indices lie inside the vertices.
+        unsafe {
+            self.device
+                .raw
+                .cmd_draw_indexed(self.cmd, indices, 1, 0, 0, 0)
+        };
+    }
+
     /// Draws the bound vertex buffer's vertices `range`, one instance.
     pub fn draw_range(&self, range: std::ops::Range<u32>) {
         // SAFETY: recording inside rendering with a graphics pipeline bound;

@@ -78,6 +78,7 @@ impl FloorPass {
                 patch_control_points: 0,
                 depth_test: true,
                 depth_bias: None,
+                cull: vk::CullModeFlags::NONE,
                 targets: formats,
             },
         )?;

@@ -235,18 +235,14 @@ pub struct ObstacleMeshes {
 }
 
 impl ObstacleMeshes {
-    /// The obstacles' and colliders' meshes, and `ground`'s triangles (the
-    /// terrain's, src/render/terrain.rs) drawn with them.
+    /// The obstacles' and colliders' meshes.
     pub fn new(
         gpu: &Gpu,
         commands: &CommandPool,
         obstacles: &[Obstacle],
         colliders: &[Collider],
-        ground: Vec<ObstacleVertex>,
     ) -> Result<Self> {
-        let mut fixed = mesh(obstacles);
-        fixed.extend(ground);
-        Self::build(gpu, commands, fixed, colliders)
+        Self::build(gpu, commands, mesh(obstacles), colliders)
     }
 
     fn build(

@@ -152,6 +152,12 @@ const OBSTACLE_BINDING: [vk::VertexInputBindingDescription; 1] =
 /// caster's depth back so a surface does not shadow itself (acne).
 const SHADOW_DEPTH_BIAS: (f32, f32) = (2.0, 2.5);
 
+/// The faces toward the sun, as the shadow pass rasterises them: its
+/// projection (src/render/shadow_frustum.rs) keeps the sun's view y up,
+/// where Vulkan's framebuffer runs down, so a face counter-clockwise
+/// seen from the sun lands clockwise: back-facing.
+const SUNLIT_FACES: vk::CullModeFlags = vk::CullModeFlags::BACK;
+
 pub struct RenderPipelines {
     pub frame_layout: Arc<PipelineLayout>,
     pub shadow_layout: Arc<PipelineLayout>,
@@ -168,6 +174,8 @@ pub struct RenderPipelines {
 pub struct ShadowPipelines {
     pub blades: Pipeline,
     pub obstacles: Pipeline,
+    /// The terrain's faces turned away from the sun.
+    pub terrain: Pipeline,
 }
 
 const BLADE_BINDING: [vk::VertexInputBindingDescription; 1] = [vk::VertexInputBindingDescription {
@@ -195,6 +203,7 @@ impl RenderPipelines {
             patch_control_points: 0,
             depth_test,
             depth_bias: None,
+            cull: vk::CullModeFlags::NONE,
             targets,
         };
         let blade = GraphicsDesc {
@@ -206,6 +215,7 @@ impl RenderPipelines {
             patch_control_points: 4,
             depth_test: true,
             depth_bias: None,
+            cull: vk::CullModeFlags::NONE,
             targets,
         };
         let obstacle = GraphicsDesc {
@@ -217,6 +227,7 @@ impl RenderPipelines {
             patch_control_points: 0,
             depth_test: true,
             depth_bias: None,
+            cull: vk::CullModeFlags::NONE,
             targets,
         };
         // The shadow map is single-sampled, depth only, its depth pushed back
@@ -242,9 +253,17 @@ impl RenderPipelines {
                     targets: shadow_targets,
                     ..obstacle
                 };
+                // The terrain's faces toward the sun are not drawn
+                // (src/render/terrain.rs says why).
+                let terrain = GraphicsDesc {
+                    name: "terrain shadow pipeline (vert, depth only, faces away from the sun)",
+                    cull: SUNLIT_FACES,
+                    ..obstacles
+                };
                 Ok(ShadowPipelines {
                     blades: Pipeline::graphics(gpu, &shadow_layout, &blades)?,
                     obstacles: Pipeline::graphics(gpu, &shadow_layout, &obstacles)?,
+                    terrain: Pipeline::graphics(gpu, &shadow_layout, &terrain)?,
                 })
             })
             .transpose()?;

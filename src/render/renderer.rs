@@ -15,10 +15,11 @@ use crate::model::wind::Obstacle;
 use crate::render::cull::BladeDraw;
 use crate::render::depth_pyramid::{DepthPyramid, Occluders};
 use crate::render::frame_uniforms::FrameUniforms;
-use crate::render::obstacles::{ObstacleMeshes, ObstacleVertex};
+use crate::render::obstacles::ObstacleMeshes;
 use crate::render::pipelines::{RenderPipelines, FRAME_SET};
 use crate::render::shadow::ShadowMap;
 use crate::render::targets::{choose_samples, RenderTargets};
+use crate::render::terrain::{Grid, TerrainMesh};
 use crate::render::textures::SurfaceTextures;
 
 /// Everything one offscreen view of the grass needs on the GPU, besides
@@ -30,6 +31,8 @@ pub struct Renderer {
     textures: SurfaceTextures,
     shadow: ShadowMap,
     obstacles: ObstacleMeshes,
+    /// None on flat ground.
+    terrain: Option<TerrainMesh>,
     pipelines: RenderPipelines,
     /// Built from the colour pass's depth each frame, with occlusion
     /// culling; its set samples the depth target, so it goes first.
@@ -40,7 +43,8 @@ pub struct Renderer {
 impl Renderer {
     /// Builds the targets and pipelines for a `width` x `height` image with
     /// up to `msaa` samples and a `shadow_map` x `shadow_map` shadow map (0:
-    /// no shadows), drawing `obstacles` and `colliders` among the grass;
+    /// no shadows), drawing `obstacles`, `colliders` and the terrain's
+    /// mesh `ground` (None: flat) among the grass;
     /// with `occlusion`, each frame's depth goes into a depth pyramid for
     /// the next frame's cull pass. `commands` uploads the surface textures
     /// and their meshes.
@@ -53,7 +57,7 @@ impl Renderer {
         shadow_map: u32,
         obstacles: &[Obstacle],
         colliders: &[Collider],
-        ground: Vec<ObstacleVertex>,
+        ground: Option<&Grid>,
         occlusion: bool,
     ) -> Result<Self> {
         let targets = RenderTargets::new(gpu, width, height, choose_samples(gpu, msaa), occlusion)?;
@@ -70,7 +74,10 @@ impl Renderer {
         let shadow = ShadowMap::new(gpu, shadow_map, &pipelines.shadow_layout)?;
         let uniforms = FrameUniforms::buffer(gpu, "frame uniforms")?;
         let textures = SurfaceTextures::new(gpu, commands)?;
-        let obstacles = ObstacleMeshes::new(gpu, commands, obstacles, colliders, ground)?;
+        let obstacles = ObstacleMeshes::new(gpu, commands, obstacles, colliders)?;
+        let terrain = ground
+            .map(|grid| TerrainMesh::new(gpu, commands, grid))
+            .transpose()?;
         let [map, map_sampler] = shadow.bindings();
         let [grass, ground, surface_sampler] = textures.bindings();
         let frame_set = DescriptorSet::new(
@@ -93,6 +100,7 @@ impl Renderer {
             textures,
             shadow,
             obstacles,
+            terrain,
             pipelines,
             pyramid,
             targets,
@@ -188,8 +196,8 @@ impl Renderer {
         self.pipelines.shadow.is_some() && self.shadow.size > 0
     }
 
-    /// The shadow pass: `draw` of `blades`, the obstacles and colliders
-    /// from the sun.
+    /// The shadow pass: `draw` of `blades`, the obstacles, colliders and
+    /// terrain from the sun.
     pub fn record_shadow(&self, rec: &Recording, blades: &Buffer, draw: BladeDraw) {
         self.shadow.record(
             rec,
@@ -197,12 +205,13 @@ impl Renderer {
             blades,
             draw,
             &self.obstacles,
+            self.terrain.as_ref(),
         );
     }
 
     /// Opens the colour pass: the targets cleared (after the previous
     /// frame's writes and read-back), the shadow map and the textures
-    /// sampled; sky, ground and obstacles.
+    /// sampled; sky, ground (the terrain over its square) and obstacles.
     pub fn begin_color(&self, rec: &Recording) {
         let mut images = attachments(&self.targets);
         images.push(self.shadow.sampled());
@@ -220,6 +229,9 @@ impl Renderer {
         rec.draw(3);
         rec.bind_pipeline(&p.ground);
         rec.draw(3);
+        if let Some(terrain) = &self.terrain {
+            terrain.draw(rec, &p.obstacle);
+        }
         self.obstacles.draw(rec, &p.obstacle);
     }
 

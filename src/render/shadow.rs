@@ -15,6 +15,7 @@ use crate::render::cull::BladeDraw;
 use crate::render::frame_uniforms::FrameUniforms;
 use crate::render::obstacles::ObstacleMeshes;
 use crate::render::pipelines::{ShadowPipelines, SHADOW_FORMAT, SHADOW_SET};
+use crate::render::terrain::TerrainMesh;
 
 /// Depth bias in the shader, on top of the pipeline's constant and slope
 /// bias: a blade is a thin sheet that is often both occluder and receiver.
@@ -114,6 +115,7 @@ impl ShadowMap {
         blades: &Buffer,
         draw: BladeDraw,
         obstacles: &ObstacleMeshes,
+        terrain: Option<&TerrainMesh>,
     ) {
         // Cleared: the contents are not needed, the previous frame's
         // sampling finishes first.
@@ -131,6 +133,9 @@ impl ShadowMap {
             rec.bind_pipeline(&pipelines.blades);
             draw.record(rec, blades);
             obstacles.draw(rec, &pipelines.obstacles);
+            if let Some(terrain) = terrain {
+                terrain.draw(rec, &pipelines.terrain);
+            }
         }
         rec.end_rendering();
     }

@@ -110,6 +110,17 @@ pub fn pixel(frame: &Frame, x: u32, y: u32) -> [u8; 3] {
     [frame.rgba[i], frame.rgba[i + 1], frame.rgba[i + 2]]
 }
 
+/// Pixel (x, y) where a world point lands in a `w` x `h` frame of `scene`.
+pub fn project(scene: &Scene, p: glam::Vec3, w: u32, h: u32) -> (f32, f32) {
+    let clip = meadow::render::frame_uniforms::view_projection(scene, w as f32 / h as f32, 0.0)
+        * p.extend(1.0);
+    let ndc = clip.truncate() / clip.w;
+    (
+        (ndc.x * 0.5 + 0.5) * w as f32,
+        (ndc.y * 0.5 + 0.5) * h as f32,
+    )
+}
+
 /// Mean of each channel over a rectangle.
 pub fn mean_rgb(frame: &Frame, x0: u32, y0: u32, x1: u32, y1: u32) -> [f64; 3] {
     let mut sum = [0.0; 3];
