@@ -336,3 +336,84 @@ fn bench_and_bench_grass_show_their_rows_on_a_terminal() {
     }
     let _ = std::fs::remove_dir_all(&out);
 }
+
+/// `--also-flat` runs each row again on the scene's ground made flat, the
+/// same blades: bench.json marks each row's ground and bench.md sets the
+/// two side by side; on a scene whose ground is flat it is refused in one
+/// line, before any work.
+#[test]
+fn also_flat_sets_the_terrain_beside_flat_ground() {
+    let out = temp_out("also-flat");
+    let out_s = out.to_str().unwrap();
+    let args = |scene: &'static str| {
+        vec![
+            "bench",
+            "--scene",
+            scene,
+            "--also-flat",
+            "--blades",
+            "800",
+            "--lod",
+            "on",
+            "--frames",
+            "1",
+            "--warmup",
+            "0",
+            "--width",
+            "96",
+            "--height",
+            "64",
+            "--shadow-map",
+            "256",
+            "--validation",
+            "--out",
+            out_s,
+        ]
+    };
+    let refused = meadow(&args("table1"), &[]);
+    let stderr = String::from_utf8_lossy(&refused.stderr);
+    assert!(!refused.status.success());
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    assert!(
+        stderr.contains("--also-flat") && stderr.contains("hills"),
+        "{stderr}"
+    );
+    assert!(!out.join("bench.json").exists());
+
+    let result = meadow(&args("hills"), &[]);
+    assert!(
+        result.status.success(),
+        "{}",
+        String::from_utf8_lossy(&result.stderr)
+    );
+    let b = read_json(&out.join("bench.json"));
+    let rows = b["rows"].as_array().unwrap();
+    let grounds: Vec<(bool, bool)> = rows
+        .iter()
+        .map(|r| {
+            (
+                r["cull"].as_bool().unwrap(),
+                r["terrain"].as_bool().unwrap(),
+            )
+        })
+        .collect();
+    assert_eq!(
+        grounds,
+        [(false, true), (false, false), (true, true), (true, false)]
+    );
+    for r in rows {
+        assert_eq!(r["blades"], 800);
+    }
+    let md = std::fs::read_to_string(out.join("bench.md")).unwrap();
+    let table = md
+        .split("## Terrain against flat ground in this run")
+        .nth(1)
+        .and_then(|rest| rest.split("\n## ").next())
+        .expect("bench.md has the terrain table");
+    let lines: Vec<&str> = table.lines().filter(|l| l.starts_with("| 800 |")).collect();
+    assert_eq!(lines.len(), 2, "{table}");
+    // Six phases, each flat, terrain and their ratio.
+    assert_eq!(lines[0].matches('|').count(), 3 + 18 + 1, "{}", lines[0]);
+    assert!(md.contains("| 800 (flat ground) |"));
+    let _ = std::fs::remove_dir_all(&out);
+}

@@ -46,6 +46,11 @@ pub struct BenchArgs {
     /// scene's [cull] occlusion, off).
     #[arg(long, value_enum)]
     occlusion: Option<OnOff>,
+    /// Also run each row with the scene's terrain made flat (the same
+    /// blades on flat ground): bench.md's terrain table sets them side by
+    /// side. Needs a scene with terrain (hills).
+    #[arg(long)]
+    also_flat: bool,
     /// Folder for bench.json, bench.md and bench.svg (made if missing).
     #[arg(long, default_value = "out/bench")]
     out: PathBuf,
@@ -67,6 +72,7 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         msaa,
         shadow_map,
         occlusion,
+        also_flat,
         out,
         overwrite,
         device,
@@ -95,6 +101,7 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         width,
         height,
         msaa,
+        also_flat,
         gpu: device.options()?,
     };
     // A bar on a terminal (indicatif draws nothing when stderr is not one).
@@ -110,10 +117,16 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
             bar.set_position(p.done as u64);
             bar.set_message(match p.next {
                 BenchStep::Solvers => "timing the wind step with each pressure solver".to_string(),
-                BenchStep::Row { blades, lod, cull } => format!(
-                    "timing frames at {blades} blades, LOD {}, culling {}",
+                BenchStep::Row {
+                    blades,
+                    lod,
+                    cull,
+                    terrain,
+                } => format!(
+                    "timing frames at {blades} blades, LOD {}, culling {}{}",
                     on(lod),
-                    on(cull)
+                    on(cull),
+                    if terrain { "" } else { ", flat ground" }
                 ),
             });
         });

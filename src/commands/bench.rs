@@ -53,6 +53,9 @@ pub struct BenchRequest {
     pub width: u32,
     pub height: u32,
     pub msaa: u32,
+    /// Each row run again on the scene's ground made flat (the same
+    /// blades): what the terrain costs.
+    pub also_flat: bool,
     pub gpu: GpuOptions,
 }
 
@@ -82,6 +85,12 @@ impl BenchRequest {
             .map_err(|e| Error::InvalidInput(format!("--{} {}", e.path, e.message)))?;
         self.scene.validate()?;
         self.scene.wind_grid()?;
+        if self.also_flat && self.scene.ground.terrain().is_flat() {
+            return Err(Error::InvalidInput(format!(
+                "--also-flat compares the scene's terrain with flat ground, but {}'s ground is flat; use a scene with [[ground.hill]], [[ground.ridge]] or a height_map (hills)",
+                self.scene.name
+            )));
+        }
         Ok(())
     }
 }
@@ -91,11 +100,12 @@ impl BenchRequest {
 pub enum BenchStep {
     /// The wind step alone with each pressure solver.
     Solvers,
-    /// A row: blades, LOD, culling.
+    /// A row: blades, LOD, culling, the scene's terrain or flat ground.
     Row {
         blades: usize,
         lod: bool,
         cull: bool,
+        terrain: bool,
     },
 }
 
@@ -124,7 +134,12 @@ pub fn bench_to_dir(
         .map(|s| s.to_string())
         .collect();
     let claim = OutputClaim::new(out, &planned, overwrite)?;
-    let total = 1 + request.counts.len() * request.lod.settings().len() * 2;
+    let grounds: &[bool] = if request.also_flat {
+        &[true, false]
+    } else {
+        &[true]
+    };
+    let total = 1 + request.counts.len() * request.lod.settings().len() * 2 * grounds.len();
     let ((rows, wind_solvers, msaa_used, info), validation) = on_gpu(&request.gpu, |gpu| {
         on_step(BenchProgress {
             done: 0,
@@ -138,18 +153,21 @@ pub fn bench_to_dir(
         for &count in &request.counts {
             for &lod in request.lod.settings() {
                 for cull in [false, true] {
-                    on_step(BenchProgress {
-                        done: 1 + rows.len(),
-                        total,
-                        next: BenchStep::Row {
-                            blades: count,
-                            lod,
-                            cull,
-                        },
-                    });
-                    let (row, used) = bench_row(gpu, request, count, lod, cull)?;
-                    msaa_used = used;
-                    rows.push(row);
+                    for &terrain in grounds {
+                        on_step(BenchProgress {
+                            done: 1 + rows.len(),
+                            total,
+                            next: BenchStep::Row {
+                                blades: count,
+                                lod,
+                                cull,
+                                terrain,
+                            },
+                        });
+                        let (row, used) = bench_row(gpu, request, count, lod, cull, terrain)?;
+                        msaa_used = used;
+                        rows.push(row);
+                    }
                 }
             }
         }
@@ -189,8 +207,12 @@ fn bench_row(
     count: usize,
     lod: bool,
     cull: bool,
+    terrain: bool,
 ) -> Result<(BenchRow, u32)> {
     let mut scene = request.scene.clone();
+    if !terrain {
+        scene.ground = scene.ground.flattened();
+    }
     scene.set_blade_count(count)?;
     scene.lod.enabled = lod;
     scene.cull.enabled = cull;
@@ -232,6 +254,7 @@ fn bench_row(
             blades: count,
             lod,
             cull,
+            terrain: !scene.ground.terrain().is_flat(),
             cull_counts,
             frames: request.frames,
             warmup: request.warmup,

@@ -82,6 +82,9 @@ pub struct BenchRow {
     /// Whether the cull pass ran, and of the last frame's blades how many
     /// each pass drew (null without culling: all of them).
     pub cull: bool,
+    /// Whether the ground had the scene's terrain (false: flat, as the
+    /// scene's, or made flat by `--also-flat`).
+    pub terrain: bool,
     pub cull_counts: Option<CullCounts>,
     pub frames: u32,
     pub warmup: u32,
@@ -179,7 +182,7 @@ pub fn markdown(b: &Bench) -> String {
         };
         md += &format!(
             "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
-            r.blades,
+            blades_cell(b, r),
             if r.lod { "on" } else { "off" },
             if r.cull { "on" } else { "off" },
             ms(g.and_then(|g| g.wind)),
@@ -199,6 +202,7 @@ pub fn markdown(b: &Bench) -> String {
         );
     }
     md += &culling_markdown(b);
+    md += &terrain_markdown(b);
     md += "\n## The wind's pressure solvers\n\n\
            The wind step alone, with each solver (the paper's is Jacobi), and the share of \
            the divergence its projection leaves on the last step:\n\n";
@@ -210,7 +214,7 @@ pub fn markdown(b: &Bench) -> String {
         let g = r.timing.gpu_ms;
         md += &format!(
             "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
-            r.blades,
+            blades_cell(b, r),
             if r.lod { "on" } else { "off" },
             if r.cull { "on" } else { "off" },
             ms(g.and_then(|g| g.cull).filter(|_| r.cull)),
@@ -245,6 +249,69 @@ pub fn markdown(b: &Bench) -> String {
     md
 }
 
+/// A row's blade count, marked where the run has rows on the scene's
+/// terrain and this one is on flat ground.
+fn blades_cell(b: &Bench, r: &BenchRow) -> String {
+    if !r.terrain && b.rows.iter().any(|r| r.terrain) {
+        format!("{} (flat ground)", r.blades)
+    } else {
+        r.blades.to_string()
+    }
+}
+
+/// The terrain table (with `--also-flat`): each row on the scene's terrain
+/// beside its twin on flat ground, the same blades, as ratios of the same
+/// run.
+fn terrain_markdown(b: &Bench) -> String {
+    let pairs: Vec<(&BenchRow, &BenchRow)> = b
+        .rows
+        .iter()
+        .filter(|r| r.terrain)
+        .filter_map(|t| {
+            b.rows
+                .iter()
+                .find(|f| !f.terrain && (f.blades, f.lod, f.cull) == (t.blades, t.lod, t.cull))
+                .map(|f| (t, f))
+        })
+        .collect();
+    if pairs.is_empty() {
+        return String::new();
+    }
+    let mut md = "\n## Terrain against flat ground in this run\n\n\
+         The same rows on the scene's ground made flat (the same blades, rooted at y = 0); \
+         GPU ms medians, flat / terrain / terrain over flat.\n\n\
+         | blades | LOD | culling | wind | | | grass | | | cull | | | shadow | | | colour | | | GPU frame | | |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n"
+        .to_string();
+    // Wind, grass, cull (where it ran), shadow, colour and the GPU frame,
+    // medians.
+    let medians = |r: &BenchRow| {
+        r.timing.gpu_ms.map_or([None; 6], |g| {
+            let cull = g.cull.filter(|_| r.cull);
+            [g.wind, g.grass, cull, g.shadow, g.color, g.frame].map(|s| s.map(|s| s.median))
+        })
+    };
+    for (t, f) in pairs {
+        let mut cells = Vec::new();
+        for (flat, terrain) in medians(f).into_iter().zip(medians(t)) {
+            cells.push(flat.map_or("n/a".into(), |v| format!("{v:.2}")));
+            cells.push(terrain.map_or("n/a".into(), |v| format!("{v:.2}")));
+            cells.push(match (flat, terrain) {
+                (Some(a), Some(b)) if a > 0.0 => format!("{:.2}x", b / a),
+                _ => "n/a".into(),
+            });
+        }
+        md += &format!(
+            "| {} | {} | {} | {} |\n",
+            t.blades,
+            if t.lod { "on" } else { "off" },
+            if t.cull { "on" } else { "off" },
+            cells.join(" | ")
+        );
+    }
+    md
+}
+
 /// The culling table: for each blade count and LOD, what the cull pass
 /// kept and the render and GPU frame without and with it, as ratios of
 /// the same run.
@@ -260,11 +327,9 @@ fn culling_markdown(b: &Bench) -> String {
         _ => "n/a".into(),
     };
     for on in b.rows.iter().filter(|r| r.cull) {
-        let Some(off) = b
-            .rows
-            .iter()
-            .find(|r| !r.cull && r.blades == on.blades && r.lod == on.lod)
-        else {
+        let Some(off) = b.rows.iter().find(|r| {
+            !r.cull && r.blades == on.blades && r.lod == on.lod && r.terrain == on.terrain
+        }) else {
             continue;
         };
         let share = |n: u32, of: u32| format!("{n} ({:.0}%)", 100.0 * n as f64 / of.max(1) as f64);
@@ -289,7 +354,7 @@ fn culling_markdown(b: &Bench) -> String {
         );
         md += &format!(
             "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
-            on.blades,
+            blades_cell(b, on),
             if on.lod { "on" } else { "off" },
             kept,
             facing,
@@ -321,13 +386,15 @@ pub fn svg(b: &Bench) -> Result<String> {
         (Phase::Color, RGBColor(0xff, 0x7f, 0x0e)),
         (Phase::Frame, RGBColor(0xd6, 0x27, 0x28)),
     ];
+    // The scene's own ground where the run also has it made flat.
+    let terrain = b.rows.iter().any(|r| r.terrain);
     for lod in [true, false] {
         // The default pipeline: culling on where the run has it.
         let culled = b.rows.iter().any(|r| r.cull);
         let rows: Vec<&BenchRow> = b
             .rows
             .iter()
-            .filter(|r| r.lod == lod && r.cull == culled)
+            .filter(|r| r.lod == lod && r.cull == culled && r.terrain == terrain)
             .collect();
         for (phase, color) in phases {
             let points: Vec<(f64, f64)> = rows

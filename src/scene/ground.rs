@@ -83,6 +83,14 @@ const BUILTIN_FILES: &[(&str, &[u8])] = &[(
 pub const MAX_RELIEF: f32 = 1000.0;
 
 impl Ground {
+    /// The same ground made flat: its clear radius kept, its terrain gone.
+    pub fn flattened(&self) -> Self {
+        Self {
+            half_extent: self.half_extent,
+            ..Self::default()
+        }
+    }
+
     /// The ground's height field, as read.
     pub fn terrain(&self) -> Terrain {
         Terrain {
