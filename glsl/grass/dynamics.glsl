@@ -205,18 +205,26 @@ vec3 guard_wind(vec3 v) {
     return speed > MAX_WIND_SPEED ? v * (MAX_WIND_SPEED / speed) : v;
 }
 
-// The ground's upward unit normal at the root (`GrassBlade::ground_normal`).
+// The ground's upward unit normal at the root (`GrassBlade::ground_normal`:
+// its x and z kept, its y positive).
 vec3 ground_normal(GrassBlade b) {
-    return vec3(b.rest[1].w, b.rest[2].w, b.rest[3].w);
+    float x = b.rest[1].w, z = b.rest[3].w;
+    return vec3(x, sqrt(max(1.0 - x * x - z * z, 0.0)), z);
 }
 
-// Whether a control point left the ground's plane at the root (its tangent
-// plane; y = 0 on flat ground) downward.
+// Whether a control point left the region over the ground at the root:
+// n . (P - P0) >= c |P - P0|^2, c = rest[2].w (`Blade::ground_curvature`;
+// the plane y = 0 on flat ground).
 bool below_ground(GrassBlade b, Pose p) {
     vec3 root = b.rest[0].xyz;
     vec3 n = ground_normal(b);
-    return min(min(dot(p.points[1] - root, n), dot(p.points[2] - root, n)),
-               dot(p.points[3] - root, n)) < 0.0;
+    float c = b.rest[2].w;
+    bool below = false;
+    for (int i = 1; i < 4; i++) {
+        vec3 d = p.points[i] - root;
+        below = below || dot(d, n) < c * dot(d, d);
+    }
+    return below;
 }
 
 // Ground contact (ours): a substep that would bend the blade into the

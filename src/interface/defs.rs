@@ -56,8 +56,9 @@ gpu_interface! {
     /// order swing, bend A, bend B, twist.
     pub struct GrassBlade {
         /// xyz: rest control point P_i; w: of P_0, the per-blade random
-        /// value (colour); of P_1, P_2, P_3, the x, y and z of the ground's
-        /// upward unit normal at the root (ground contact's plane).
+        /// value (colour); of P_1 and P_3, the x and z of the ground's
+        /// upward unit normal at the root (its y follows); of P_2, ground
+        /// contact's c (`Blade::ground_curvature`).
         pub rest: [[f32; 4]; 4],
         /// xyz: rest E_w (unit, horizontal); w: half width (m).
         pub width: [f32; 4],

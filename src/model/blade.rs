@@ -41,9 +41,16 @@ pub struct Blade {
     pub kind: BladeKind,
     /// A per-blade random value in [0, 1), for colour variation.
     pub rand: f32,
-    /// The ground's upward unit normal at the root: the plane through the
-    /// root that ground contact keeps the blade above (UP on flat ground).
+    /// The ground's upward unit normal at the root (UP on flat ground):
+    /// the axis the blade swings about, and with `ground_curvature` what
+    /// ground contact keeps the blade above.
     pub ground: Vec3,
+    /// c (1/m): ground contact keeps every control point P in the region
+    /// n . (P - P0) >= c |P - P0|^2 over the tangent plane at the root, a
+    /// paraboloid the ground within the blade's reach lies under (0 on
+    /// flat ground: the plane itself). The region is convex, so the curve,
+    /// inside its control points' hull, stays in it too.
+    pub ground_curvature: f32,
 }
 
 impl Blade {
@@ -65,18 +72,34 @@ impl Blade {
             kind,
             rand,
             ground: UP,
+            ground_curvature: 0.0,
         }
     }
 
     /// The same blade moved up by `height` (rooted on terrain, growing
     /// upright as grass does on a slope) over ground of upward unit normal
-    /// `ground`.
-    pub fn raised(mut self, height: f32, ground: Vec3) -> Self {
+    /// `ground` whose rise over its tangent plane within the blade's reach
+    /// is at most `curvature` times the distance squared (`ground_curvature`;
+    /// held to what the rest shape keeps, so a blade is never in contact
+    /// at rest).
+    pub fn raised(mut self, height: f32, ground: Vec3, curvature: f32) -> Self {
         for p in &mut self.rest {
             p.y += height;
         }
         self.ground = ground;
+        let root = self.rest[0];
+        let rest_room = self.rest[1..]
+            .iter()
+            .map(|&p| (p - root).dot(ground) / (p - root).length_squared().max(1e-12))
+            .fold(f32::MAX, f32::min);
+        self.ground_curvature = curvature.min(rest_room).max(0.0);
         self
+    }
+
+    /// The farthest any point of the blade can get from its root: its
+    /// edges' lengths end to end.
+    pub fn reach(&self) -> f32 {
+        self.rest.windows(2).map(|e| (e[1] - e[0]).length()).sum()
     }
 
     /// The rest frame of each edge.

@@ -181,11 +181,12 @@ impl GrassBlade {
         let f = |v: [f64; 4]| v.map(|x| x as f32);
         let mut out = Self {
             rest: std::array::from_fn(|i| {
-                let w = if i == 0 {
-                    blade.rand
-                } else {
-                    blade.ground[i - 1]
-                };
+                let w = [
+                    blade.rand,
+                    blade.ground.x,
+                    blade.ground_curvature,
+                    blade.ground.z,
+                ][i];
                 blade.rest[i].extend(w).to_array()
             }),
             width: blade.width_dir.extend(blade.half_width).to_array(),
@@ -203,9 +204,16 @@ impl GrassBlade {
         Ok(out)
     }
 
-    /// The ground's upward unit normal at the root (`Blade::ground`).
+    /// The ground's upward unit normal at the root (`Blade::ground`): its
+    /// x and z are kept, its y follows (upward: positive).
     pub fn ground_normal(&self) -> Vec3 {
-        Vec3::new(self.rest[1][3], self.rest[2][3], self.rest[3][3])
+        let (x, z) = (self.rest[1][3], self.rest[3][3]);
+        Vec3::new(x, (1.0 - x * x - z * z).max(0.0).sqrt(), z)
+    }
+
+    /// The contact paraboloid's c (`Blade::ground_curvature`).
+    pub fn ground_curvature(&self) -> f32 {
+        self.rest[2][3]
     }
 
     pub fn rest_point(&self, i: usize) -> Vec3 {
@@ -627,16 +635,17 @@ pub fn step_with(
     touched
 }
 
-/// Whether a control point left the ground's plane at the root (its
-/// tangent plane; y = 0 on flat ground) downward. The drawn curve lies in
-/// its control points' convex hull, so it stays above the plane when they
-/// do; how far the ground's curvature within a blade's reach puts the plane
-/// from the ground is measured in docs/physics.md (terrain).
+/// Whether a control point left the region over the ground at the root
+/// (`Blade::ground_curvature`: the paraboloid over the tangent plane that
+/// the ground within the blade's reach lies under; the plane y = 0 on flat
+/// ground). The region is convex and the drawn curve lies in its control
+/// points' hull, so it stays above the ground when they do.
 pub fn below_ground(blade: &GrassBlade, pose: &Pose) -> bool {
     let (root, ground) = (blade.rest_point(0), blade.ground_normal());
+    let c = blade.ground_curvature();
     pose.points[1..]
         .iter()
-        .any(|&p| (p - root).dot(ground) < 0.0)
+        .any(|&p| (p - root).dot(ground) < c * (p - root).length_squared())
 }
 
 /// Ground contact (ours; the paper has no ground): on flat ground only

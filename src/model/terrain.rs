@@ -131,6 +131,30 @@ impl Terrain {
         Vec3::new(-dx, 1.0, -dz).normalize()
     }
 
+    /// The least c for which the ground within `reach` of the point on it
+    /// over (x, z) lies under the paraboloid n . d = c |d|^2 over its
+    /// tangent plane there (d from that point, n the upward normal
+    /// `normal`): the largest n . d / |d|^2 over the ground's points on
+    /// rings from 2 cm out to `reach`; 0 where the ground curves only down.
+    pub fn rise_bound(&self, x: f32, z: f32, normal: Vec3, reach: f32) -> f32 {
+        if self.is_flat() {
+            return 0.0;
+        }
+        let root = Vec3::new(x, self.height(x, z), z);
+        let (rings, around) = (12, 24);
+        let mut c = 0f32;
+        for k in 0..rings {
+            let r = 0.02 + (reach - 0.02).max(0.0) * k as f32 / (rings - 1) as f32;
+            for a in 0..around {
+                let (s, co) = (a as f32 * std::f32::consts::TAU / around as f32).sin_cos();
+                let (px, pz) = (x + r * co, z + r * s);
+                let d = Vec3::new(px, self.height(px, pz), pz) - root;
+                c = c.max(normal.dot(d) / d.length_squared());
+            }
+        }
+        c
+    }
+
     /// The lowest and highest ground over the rectangle `lo`..`hi` (x, z):
     /// sampled on a lattice of at most `step` metres, with every feature's
     /// crest or trough inside it; (0, 0) where the terrain is flat.
