@@ -1197,3 +1197,67 @@ fn bad_terrain_and_headings_are_refused_in_one_line() {
         let _ = std::fs::remove_dir_all(scene.parent().unwrap());
     }
 }
+
+/// The scene a run saves beside its frames (scene.toml) names a user's
+/// height map by its absolute path, so rendering that scene again finds
+/// it: the same frame.
+#[test]
+fn a_saved_scene_finds_its_height_map_again() {
+    use image::ImageEncoder;
+    let heights: Vec<u8> = (0..64).map(|i| (i * 4) as u8).collect();
+    let mut png = Vec::new();
+    image::codecs::png::PngEncoder::new(&mut png)
+        .write_image(&heights, 8, 8, image::ExtendedColorType::L8)
+        .unwrap();
+    let scene = terrain_scene(
+        "saved-height-map",
+        "height_map = \"slope.png\"\nextent = [8.0, 8.0]\nvertical_scale = 0.5",
+        "speed = 2.0",
+    );
+    std::fs::write(scene.parent().unwrap().join("slope.png"), png).unwrap();
+    let (first, again) = (
+        temp_out("saved-height-map-1"),
+        temp_out("saved-height-map-2"),
+    );
+    let render = |scene: &std::path::Path, out: &std::path::Path| {
+        let result = meadow(
+            &[
+                "render",
+                "--scene",
+                scene.to_str().unwrap(),
+                "--frames",
+                "1",
+                "--width",
+                "96",
+                "--height",
+                "64",
+                "--shadow-map",
+                "256",
+                "--no-gif",
+                "--out",
+                out.to_str().unwrap(),
+            ],
+            &[],
+        );
+        assert!(
+            result.status.success(),
+            "{}",
+            String::from_utf8_lossy(&result.stderr)
+        );
+    };
+    render(&scene, &first);
+    let saved = std::fs::read_to_string(first.join("scene.toml")).unwrap();
+    let named = scene.parent().unwrap().join("slope.png");
+    assert!(
+        saved.contains(&format!("height_map = \"{}\"", named.display())),
+        "{saved}"
+    );
+    render(&first.join("scene.toml"), &again);
+    assert_eq!(
+        std::fs::read(first.join("frame_0000.png")).unwrap(),
+        std::fs::read(again.join("frame_0000.png")).unwrap()
+    );
+    for dir in [scene.parent().unwrap(), &first, &again] {
+        let _ = std::fs::remove_dir_all(dir);
+    }
+}

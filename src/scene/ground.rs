@@ -103,11 +103,12 @@ impl Ground {
     /// Reads the height map the ground names (refusing it by field, with
     /// the fix), after `check` passed.
     pub fn read_files(&mut self, files: SceneFiles<'_>) -> Check {
-        let Some(name) = &self.height_map else {
+        let Some(name) = &mut self.height_map else {
             self.map = None;
             return Ok(());
         };
         let grey = read_grey(name, files).map_err(|e| FieldError::new("height_map", e))?;
+        *name = found_at(name, files);
         let extent = self.extent.expect("checked: a height map has its extent");
         self.map = Some(Arc::new(HeightMap {
             columns: grey.width,
@@ -173,6 +174,20 @@ fn feature(center: [f32; 2], height: f32, half_width: f32) -> Check {
 /// The grey image `name` names: a file beside the scene, or a built-in
 /// scene's compiled-in image (also for a scene file that names one and
 /// has no file of that name beside it: a copy of a built-in scene).
+/// Where the file `name`, read from `files`, is for good: its absolute
+/// path when it was found beside a scene file by a relative name (so the
+/// scene saved beside a run, scene.toml, finds it from anywhere), else
+/// `name` as given (absolute already, or a built-in scene's image).
+pub(super) fn found_at(name: &str, files: SceneFiles<'_>) -> String {
+    match files {
+        SceneFiles::Dir(dir) if Path::new(name).is_relative() && dir.join(name).exists() => {
+            std::path::absolute(dir.join(name))
+                .map_or_else(|_| name.to_string(), |p| p.display().to_string())
+        }
+        _ => name.to_string(),
+    }
+}
+
 pub(super) fn read_grey(
     name: &str,
     files: SceneFiles<'_>,

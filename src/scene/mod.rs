@@ -718,13 +718,15 @@ impl Scene {
     pub fn read_files(&mut self, files: SceneFiles<'_>) -> check::Check {
         self.ground.read_files(files).map_err(|e| e.at("ground"))?;
         for (i, m) in self.grass.meadow.iter_mut().enumerate() {
-            m.mask_map = match &m.mask {
+            m.mask_map = match &mut m.mask {
                 None => None,
-                Some(name) => Some(std::sync::Arc::new(
-                    ground::read_grey(name, files).map_err(|e| {
+                Some(name) => {
+                    let grey = ground::read_grey(name, files).map_err(|e| {
                         check::FieldError::new(format!("grass.meadow[{i}].mask"), e)
-                    })?,
-                )),
+                    })?;
+                    *name = ground::found_at(name, files);
+                    Some(std::sync::Arc::new(grey))
+                }
             };
         }
         Ok(())
