@@ -18,7 +18,7 @@ use meadow::model::contact::GpuCollider;
 use meadow::model::{BladeVertex, GrassBlade, GrassState};
 use meadow::render::pipelines::{
     BLADE_ATTRIBUTES, BLADE_STAGES, FRAME_SET, GROUND_STAGES, OBSTACLE_SHADOW_STAGES,
-    OBSTACLE_STAGES, SHADOW_SET, SHADOW_STAGES, SKY_STAGES,
+    OBSTACLE_STAGES, SHADOW_SET, SHADOW_STAGES, SKY_STAGES, TERRAIN_SHADOW_STAGES, TERRAIN_STAGES,
 };
 use meadow::render::FrameUniforms;
 use meadow::shaders::{self, ShaderStage, Spirv};
@@ -104,6 +104,7 @@ fn descriptor_layouts_match_reflection() {
         .chain(SKY_STAGES)
         .chain(GROUND_STAGES)
         .chain(OBSTACLE_STAGES)
+        .chain(TERRAIN_STAGES)
         .copied()
         .collect();
     check_pipeline("colour pass", &color_pass, FRAME_SET);
@@ -111,6 +112,7 @@ fn descriptor_layouts_match_reflection() {
     // obstacles' vertex shader.
     check_pipeline("shadow", SHADOW_STAGES, SHADOW_SET);
     check_pipeline("obstacle shadow", OBSTACLE_SHADOW_STAGES, SHADOW_SET);
+    check_pipeline("terrain shadow", TERRAIN_SHADOW_STAGES, SHADOW_SET);
     // The five wind kernels share one set layout.
     check_pipeline("wind", &WIND_KERNELS, WIND_SET);
     check_pipeline(
@@ -162,6 +164,7 @@ fn descriptor_layouts_match_reflection() {
         .chain(SKY_STAGES)
         .chain(GROUND_STAGES)
         .chain(OBSTACLE_STAGES)
+        .chain(TERRAIN_STAGES)
     {
         if !reflect::scan_bindings(spirv).unwrap().is_empty() {
             declaring |= spirv.stage.vk();

@@ -5,9 +5,6 @@
 // shadow map says the sun is hidden (by the grass or another obstacle).
 #include "frame.glsl"
 #include "shadow.glsl"
-#include "sky.glsl"
-#include "surfaces.glsl"
-#include "soil.glsl"
 
 layout(location = 0) in vec3 v_world;
 layout(location = 1) in vec3 v_normal;
@@ -34,11 +31,6 @@ float value_noise3(vec3 p) {
 
 void main() {
     vec3 n = normalize(v_normal);
-    if (v_albedo.r < 0.0) {
-        // The terrain mesh (src/render/terrain.rs `SOIL`): the ground's soil.
-        out_color = vec4(soil_lit(v_world, max(dot(n, frame.light_dir.xyz), 0.0)), 1.0);
-        return;
-    }
     float grain = 0.6 * value_noise3(v_local * 7.0) + 0.4 * value_noise3(v_local * 23.0);
     vec3 albedo = v_albedo * mix(0.8, 1.15, grain);
     float lambert = max(dot(n, frame.light_dir.xyz), 0.0);

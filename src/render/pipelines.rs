@@ -13,6 +13,7 @@ use crate::gpu::{
 };
 use crate::model::BladeVertex;
 use crate::render::obstacles::{ObstacleVertex, Placement};
+use crate::render::terrain::TerrainVertex;
 use crate::shaders::{self, Spirv};
 
 /// Set 0 of every render pipeline: the per-frame uniforms, the sun's
@@ -98,6 +99,14 @@ pub const OBSTACLE_STAGES: &[&Spirv] = &[
 ];
 /// ... and into the shadow map, depth only.
 pub const OBSTACLE_SHADOW_STAGES: &[&Spirv] = &[&shaders::OBSTACLE_OBSTACLE_VERT];
+/// The terrain's mesh (src/render/terrain.rs): the soil, shaded and
+/// shadowed.
+pub const TERRAIN_STAGES: &[&Spirv] = &[
+    &shaders::TERRAIN_TERRAIN_VERT,
+    &shaders::TERRAIN_TERRAIN_FRAG,
+];
+/// ... and its faces away from the sun into the shadow map, depth only.
+pub const TERRAIN_SHADOW_STAGES: &[&Spirv] = &[&shaders::TERRAIN_TERRAIN_VERT];
 pub const GROUND_STAGES: &[&Spirv] = &[
     &shaders::BACKDROP_GROUND_VERT,
     &shaders::BACKDROP_GROUND_FRAG,
@@ -141,6 +150,29 @@ pub const OBSTACLE_ATTRIBUTES: [vk::VertexInputAttributeDescription; 3] = [
     },
 ];
 
+/// The terrain vertex buffer's layout: one `TerrainVertex` per corner.
+pub const TERRAIN_ATTRIBUTES: [vk::VertexInputAttributeDescription; 2] = [
+    vk::VertexInputAttributeDescription {
+        location: 0,
+        binding: 0,
+        format: vk::Format::R32G32B32_SFLOAT,
+        offset: std::mem::offset_of!(TerrainVertex, position) as u32,
+    },
+    vk::VertexInputAttributeDescription {
+        location: 1,
+        binding: 0,
+        format: vk::Format::R32G32B32_SFLOAT,
+        offset: std::mem::offset_of!(TerrainVertex, normal) as u32,
+    },
+];
+
+const TERRAIN_BINDING: [vk::VertexInputBindingDescription; 1] =
+    [vk::VertexInputBindingDescription {
+        binding: 0,
+        stride: std::mem::size_of::<TerrainVertex>() as u32,
+        input_rate: vk::VertexInputRate::VERTEX,
+    }];
+
 const OBSTACLE_BINDING: [vk::VertexInputBindingDescription; 1] =
     [vk::VertexInputBindingDescription {
         binding: 0,
@@ -165,6 +197,7 @@ pub struct RenderPipelines {
     pub sky: Pipeline,
     pub ground: Pipeline,
     pub obstacle: Pipeline,
+    pub terrain: Pipeline,
     /// Depth-only blades and obstacles into the shadow map (None when
     /// shadows are off).
     pub shadow: Option<ShadowPipelines>,
@@ -230,6 +263,13 @@ impl RenderPipelines {
             cull: vk::CullModeFlags::NONE,
             targets,
         };
+        let terrain = GraphicsDesc {
+            name: "terrain pipeline (vert/frag)",
+            stages: TERRAIN_STAGES,
+            vertex_bindings: &TERRAIN_BINDING,
+            vertex_attributes: &TERRAIN_ATTRIBUTES,
+            ..obstacle
+        };
         // The shadow map is single-sampled, depth only, its depth pushed back
         // so a caster does not shadow itself where it is the occluder.
         let shadow_targets = TargetFormats {
@@ -257,8 +297,11 @@ impl RenderPipelines {
                 // (src/render/terrain.rs says why).
                 let terrain = GraphicsDesc {
                     name: "terrain shadow pipeline (vert, depth only, faces away from the sun)",
+                    stages: TERRAIN_SHADOW_STAGES,
                     cull: SUNLIT_FACES,
-                    ..obstacles
+                    depth_bias: Some(SHADOW_DEPTH_BIAS),
+                    targets: shadow_targets,
+                    ..terrain
                 };
                 Ok(ShadowPipelines {
                     blades: Pipeline::graphics(gpu, &shadow_layout, &blades)?,
@@ -280,6 +323,7 @@ impl RenderPipelines {
                 &backdrop("ground pipeline", GROUND_STAGES, true),
             )?,
             obstacle: Pipeline::graphics(gpu, &frame_layout, &obstacle)?,
+            terrain: Pipeline::graphics(gpu, &frame_layout, &terrain)?,
             shadow,
             frame_layout,
             shadow_layout,

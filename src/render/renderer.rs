@@ -230,7 +230,7 @@ impl Renderer {
         rec.bind_pipeline(&p.ground);
         rec.draw(3);
         if let Some(terrain) = &self.terrain {
-            terrain.draw(rec, &p.obstacle);
+            terrain.draw(rec, &p.terrain);
         }
         self.obstacles.draw(rec, &p.obstacle);
     }

@@ -1,7 +1,7 @@
 //! The ground's height field drawn (src/model/terrain.rs): an indexed
-//! grid of triangles made once on the CPU, drawn with the obstacles'
-//! shading in the colour pass (soil-textured, lit, shadowed by the grass
-//! and the hills) and into the shadow map (a hill shades the grass behind
+//! grid of triangles made once on the CPU, drawn in the colour pass
+//! (glsl/terrain/: soil-textured, lit, shadowed by the grass and the
+//! hills) and into the shadow map (a hill shades the grass behind
 //! it at a low sun). It covers the square where the ground is clear and
 //! its haze thickens to the horizon's colour; beyond, the flat ground the
 //! backdrop draws reaches the horizon, hidden by that haze. Flat ground
@@ -21,17 +21,20 @@
 //! map, are not drawn twice.
 
 use ash::vk;
-use glam::Vec3;
 
 use crate::error::Result;
 use crate::gpu::{Access, Buffer, CommandPool, Gpu, Pipeline, Recording};
 use crate::model::terrain::Terrain;
-use crate::render::obstacles::{placement, ObstacleVertex};
 use crate::scene::Scene;
 
-/// The albedo a soil vertex carries: a red below zero tells
-/// glsl/obstacle/obstacle.frag to shade it as the ground (glsl/common/soil.glsl).
-pub const SOIL: Vec3 = Vec3::new(-1.0, 0.0, 0.0);
+/// One corner of the terrain's grid (`terrain.vert`'s inputs).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct TerrainVertex {
+    pub position: [f32; 3],
+    /// The ground's upward unit normal.
+    pub normal: [f32; 3],
+}
 
 /// How far the drawn ground may lie from the true one under the grass
 /// (m): the blades stand on the true surface.
@@ -55,7 +58,7 @@ pub fn half_side(clear: f32) -> f32 {
 /// The terrain's triangles, indexed.
 #[derive(Clone, Debug, Default)]
 pub struct Grid {
-    pub vertices: Vec<ObstacleVertex>,
+    pub vertices: Vec<TerrainVertex>,
     /// Three per triangle, counter-clockwise seen from above.
     pub indices: Vec<u32>,
 }
@@ -102,10 +105,9 @@ fn grid(terrain: &Terrain, edge: ([f32; 2], [f32; 2]), fine: ([f32; 2], [f32; 2]
         for (i, &x) in xs.iter().enumerate() {
             let outermost = i == 0 || k == 0 || i == nx - 1 || k == nz - 1;
             let smoothing = 0.5 * spacing(&xs, i).min(spacing(&zs, k));
-            vertices.push(ObstacleVertex {
+            vertices.push(TerrainVertex {
                 position: [x, if outermost { 0.0 } else { terrain.height(x, z) }, z],
                 normal: terrain.normal(x, z, smoothing).to_array(),
-                albedo: SOIL.to_array(),
             });
         }
     }
@@ -213,13 +215,12 @@ impl TerrainMesh {
         })
     }
 
-    /// Draws the terrain with `pipeline` (the obstacles' colour pipeline,
-    /// or the terrain shadow pipeline), its set already bound.
+    /// Draws the terrain with `pipeline` (the terrain pipeline, or the
+    /// terrain shadow pipeline), its set already bound.
     pub fn draw(&self, rec: &Recording, pipeline: &Pipeline) {
         rec.bind_pipeline(pipeline);
         rec.bind_vertex_buffer(&self.vertices);
         rec.bind_index_buffer(&self.indices);
-        rec.push_constants(pipeline, &placement(glam::Mat4::IDENTITY));
         rec.draw_indexed(self.count);
     }
 }
@@ -247,6 +248,7 @@ pub fn lowest(scene: &Scene) -> f32 {
 mod tests {
     use super::*;
     use crate::model::terrain::{Hill, Ridge};
+    use glam::Vec3;
 
     fn hills() -> Terrain {
         Terrain {
