@@ -378,7 +378,10 @@ pub fn grass(g: &Grass) -> Check {
                 ))
             }
         }
-        if m.mask.as_deref().is_some_and(|name| name.trim().is_empty()) {
+        if m.mask
+            .as_ref()
+            .is_some_and(|name| name.written.trim().is_empty())
+        {
             return Err(FieldError::new(
                 format!("{at}.mask"),
                 "is empty; name a grey PNG relative to the scene file",

@@ -22,7 +22,7 @@ pub struct Ground {
     /// column 0 at the map's least x, row 0 at its least z; black 0 m,
     /// white `vertical_scale` m.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub height_map: Option<String>,
+    pub height_map: Option<FileName>,
     /// The ground the height map covers (x, z metres); needed with one.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub extent: Option<[f32; 2]>,
@@ -107,8 +107,8 @@ impl Ground {
             self.map = None;
             return Ok(());
         };
-        let grey = read_grey(name, files).map_err(|e| FieldError::new("height_map", e))?;
-        *name = found_at(name, files);
+        let grey = read_grey(&name.written, files).map_err(|e| FieldError::new("height_map", e))?;
+        name.found_in(files);
         let extent = self.extent.expect("checked: a height map has its extent");
         self.map = Some(Arc::new(HeightMap {
             columns: grey.width,
@@ -128,7 +128,7 @@ impl Ground {
     pub fn check(&self) -> Check {
         check::positive("half_extent", self.half_extent, 10_000.0)?;
         match (&self.height_map, self.extent) {
-            (Some(name), _) if name.trim().is_empty() => {
+            (Some(name), _) if name.written.trim().is_empty() => {
                 return Err(FieldError::new(
                     "height_map",
                     "is empty; name a grey PNG relative to the scene file",
@@ -174,17 +174,52 @@ fn feature(center: [f32; 2], height: f32, half_width: f32) -> Check {
 /// The grey image `name` names: a file beside the scene, or a built-in
 /// scene's compiled-in image (also for a scene file that names one and
 /// has no file of that name beside it: a copy of a built-in scene).
-/// Where the file `name`, read from `files`, is for good: its absolute
-/// path when it was found beside a scene file by a relative name (so the
-/// scene saved beside a run, scene.toml, finds it from anywhere), else
-/// `name` as given (absolute already, or a built-in scene's image).
-pub(super) fn found_at(name: &str, files: SceneFiles<'_>) -> String {
-    match files {
-        SceneFiles::Dir(dir) if Path::new(name).is_relative() && dir.join(name).exists() => {
-            std::path::absolute(dir.join(name))
-                .map_or_else(|_| name.to_string(), |p| p.display().to_string())
+/// A file a scene names (a height map, a mask): the name as written, and
+/// where it was found when that was beside the scene file by a relative
+/// name. Scenes compare by the name as written; a scene is saved (the
+/// scene.toml beside a run) with where it was found, so the saved scene
+/// finds the file from anywhere.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(from = "String", into = "String")]
+pub struct FileName {
+    pub written: String,
+    pub found: Option<String>,
+}
+
+impl FileName {
+    /// Notes where the file was read from `files`: its absolute path when
+    /// found beside a scene file by a relative name (not a built-in
+    /// scene's image, which is found by its name anywhere).
+    pub(super) fn found_in(&mut self, files: SceneFiles<'_>) {
+        let name = Path::new(&self.written);
+        if let SceneFiles::Dir(dir) = files {
+            if name.is_relative() && dir.join(name).exists() {
+                self.found = std::path::absolute(dir.join(name))
+                    .ok()
+                    .map(|p| p.display().to_string());
+            }
         }
-        _ => name.to_string(),
+    }
+}
+
+impl PartialEq for FileName {
+    fn eq(&self, other: &Self) -> bool {
+        self.written == other.written
+    }
+}
+
+impl From<String> for FileName {
+    fn from(written: String) -> Self {
+        Self {
+            written,
+            found: None,
+        }
+    }
+}
+
+impl From<FileName> for String {
+    fn from(f: FileName) -> Self {
+        f.found.unwrap_or(f.written)
     }
 }
 

@@ -296,7 +296,7 @@ pub struct Meadow {
     /// 0 at its least z), relative to the scene file, scaling its density:
     /// black leaves the ground bare, white keeps every blade.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub mask: Option<String>,
+    pub mask: Option<ground::FileName>,
     /// The mask read (`Scene::read_files`), not part of the file.
     #[serde(skip)]
     pub mask_map: Option<std::sync::Arc<grey_png::Grey>>,
@@ -721,10 +721,10 @@ impl Scene {
             m.mask_map = match &mut m.mask {
                 None => None,
                 Some(name) => {
-                    let grey = ground::read_grey(name, files).map_err(|e| {
+                    let grey = ground::read_grey(&name.written, files).map_err(|e| {
                         check::FieldError::new(format!("grass.meadow[{i}].mask"), e)
                     })?;
-                    *name = ground::found_at(name, files);
+                    name.found_in(files);
                     Some(std::sync::Arc::new(grey))
                 }
             };
