@@ -24,9 +24,8 @@ use crate::scene::Scene;
 /// over the highest (flat ground: 0 to the tallest blade). Every shadow
 /// the map holds falls inside it.
 pub fn receiver_box(scene: &Scene) -> (Vec3, Vec3) {
-    let (lo, hi) = scene.grass_bounds();
+    let (lo, hi) = scene.grass_reach_bounds();
     let h = scene.grass.shape.height[1];
-    let (lo, hi) = ([lo[0] - h, lo[1] - h], [hi[0] + h, hi[1] + h]);
     let step = ((hi[0] - lo[0]).max(hi[1] - lo[1]) / 256.0).max(0.01);
     let (low, high) = scene.ground.terrain().range_over(lo, hi, step);
     (

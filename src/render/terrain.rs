@@ -77,14 +77,13 @@ pub fn mesh(scene: &Scene) -> Option<Grid> {
     );
     // The fine part: the grass's footprint and the reach of its tallest
     // blade (a point just beside it when there is none).
-    let (mut lo, mut hi) = scene.grass_bounds();
-    let reach = scene.grass.shape.height[1];
+    let (mut lo, mut hi) = scene.grass_reach_bounds();
     for a in 0..2 {
         if lo[a] > hi[a] {
             (lo[a], hi[a]) = (edge.0[a] + half, edge.0[a] + half);
         }
-        lo[a] = (lo[a] - reach).max(edge.0[a]);
-        hi[a] = (hi[a] + reach).min(edge.1[a]);
+        lo[a] = lo[a].max(edge.0[a]);
+        hi[a] = hi[a].min(edge.1[a]);
     }
     Some(grid(&terrain, edge, (lo, hi)))
 }
@@ -154,10 +153,8 @@ fn fine_step(terrain: &Terrain, (lo, hi): ([f32; 2], [f32; 2])) -> f32 {
 /// The grid lines along one axis: evenly `step` apart (or a little less)
 /// over `fine`, then each gap `GROWTH` times the last out to `edge`.
 fn axis(edge: (f32, f32), fine: (f32, f32), step: f32) -> Vec<f32> {
-    let (f0, f1) = (
-        fine.0.max(edge.0),
-        fine.1.min(edge.1).max(fine.0.max(edge.0)),
-    );
+    let f0 = fine.0.max(edge.0);
+    let f1 = fine.1.min(edge.1).max(f0);
     let cells = ((f1 - f0) / step).ceil().max(1.0) as usize;
     let mut lines: Vec<f32> = (0..=cells)
         .map(|i| f0 + (f1 - f0) * i as f32 / cells as f32)

@@ -858,6 +858,14 @@ impl Scene {
         Ok(())
     }
 
+    /// `grass_bounds` grown by the tallest blade: where any part of a
+    /// blade can reach, leaning as far as it can (x, z).
+    pub fn grass_reach_bounds(&self) -> ([f32; 2], [f32; 2]) {
+        let (lo, hi) = self.grass_bounds();
+        let h = self.grass.shape.height[1];
+        ([lo[0] - h, lo[1] - h], [hi[0] + h, hi[1] + h])
+    }
+
     /// Bounding box (x, z) of where the grass grows: (min, max).
     pub fn grass_bounds(&self) -> ([f32; 2], [f32; 2]) {
         let mut lo = [f32::MAX; 2];
