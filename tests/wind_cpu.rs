@@ -38,7 +38,7 @@ fn projection_removes_divergence_more_with_more_jacobi_iterations() {
     }
     // One more step's forces and advection, then project with 5, 20, 80.
     field.add_forces(&settings, 1.0 / 30.0);
-    field.advect(1.0 / 30.0, 0.0, None);
+    field.advect(1.0 / 30.0, 0.0, None, settings.advection);
     field.compute_divergence();
     let before = field.max_divergence();
     let mut residual = Vec::new();

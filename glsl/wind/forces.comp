@@ -2,6 +2,7 @@
 #extension GL_GOOGLE_include_directive : require
 // Kernel 1, add forces (paper section 3.2): every free face gains dt * f of
 // every wind source; inflow faces take the inflow velocity; walls hold zero.
+// Free and buried faces first lose the turbulence the last step added.
 // The colliders are moving obstacles (ours, `WindField::add_forces`): a free
 // face inside one takes its velocity.
 #include "wind_kernel.glsl"
@@ -38,7 +39,10 @@ void main() {
     }
     uint kind = face_kind[id];
     if (kind == FACE_BURIED) {
-        return; // holds the ghost value under_ground.comp gave it
+        // Holds the ghost value under_ground.comp gave it, without the
+        // last step's turbulence.
+        vel[id] -= turbulence_added[id];
+        return;
     }
     if (kind == FACE_WALL) {
         vel[id] = 0.0;
@@ -64,7 +68,8 @@ void main() {
                        : s.direction_strength.w * gust_factor(s.gust.x, s.gust.y, s.gust_phases.xyz, t);
         a += strength * dir[axis] * falloff(distance(x, source_position(s, t)), s.position_radius.w);
     }
-    float u = vel[id] + dt * a;
+    // The mean wind: the last step's turbulence taken off.
+    float u = vel[id] - turbulence_added[id] + dt * a;
     for (uint i = 0u; i < moving_count; ++i) {
         if (collider_distance(moving[i], x).x < 0.0) {
             u = moving[i].velocity[axis];

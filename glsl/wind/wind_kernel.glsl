@@ -13,8 +13,9 @@ layout(push_constant, std430) uniform Push {
     WindPush pc;
 };
 
-// Two copies of the velocity: A = [0, F) is the state between steps,
-// B = [F, 2F) the advected field. F = pc.grid.faces.
+// Three copies of the velocity: A = [0, F) is the state between steps,
+// B = [F, 2F) the advected field, C = [2F, 3F) MacCormack's predictor.
+// F = pc.grid.faces.
 layout(set = 0, binding = 0, std430) buffer Velocity { float vel[]; };
 layout(set = 0, binding = 1, std430) readonly buffer Faces { uint face_kind[]; };
 layout(set = 0, binding = 2, std430) readonly buffer Solid { uint solid[]; };
@@ -27,6 +28,10 @@ layout(set = 0, binding = 5, std430) readonly buffer Sources { GpuWindSource sou
 // The grass's frontal area per cell in counts (src/model/canopy.rs), laid by
 // the grass step with two-way coupling. Bindings 6-8 are the multigrid's.
 layout(set = 0, binding = 9, std430) readonly buffer Canopy { uint canopy[]; };
+// Binding 10: the colliders (forces.comp). What the last step's turbulence
+// added to each face (zero without turbulence), taken off again by the
+// next step's forces kernel (turbulence.comp). Binding 12: its modes.
+layout(set = 0, binding = 11, std430) buffer TurbulenceAdded { float turbulence_added[]; };
 
 const float TAU = 6.2831853071795864;
 

@@ -265,14 +265,14 @@ fn bench_count(
     let dt = scene.wind.dt;
     let commands = CommandPool::new(gpu, "grass bench commands")?;
     let vertices = BladeBuffer::uninitialised(gpu, "grass bench vertices", count)?;
-    let simulation = Simulation::new(gpu, &commands, &scene, &dynamic, vertices.buffer())?;
+    let mut simulation = Simulation::new(gpu, &commands, &scene, &dynamic, vertices.buffer())?;
     let timestamps = TimestampQueries::new(gpu, steps, "grass step timestamps")?;
-    let (wind, grass) = (simulation.wind(), simulation.grass());
     let rec = commands.begin()?;
     for i in 0..WIND_WARMUP_STEPS {
-        wind.record_step(&rec, i as f32 * dt, dt);
+        simulation.wind_mut().record_step(&rec, i as f32 * dt, dt);
     }
     rec.submit_and_wait("wind warm-up")?;
+    let grass = simulation.grass();
 
     let rec = commands.begin()?;
     let end_time = |step: u32| crate::model::contact::step_end_time(step as u64, dt);

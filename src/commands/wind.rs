@@ -159,7 +159,7 @@ impl Stepper {
     }
 
     /// Records the wind half of step `index`.
-    fn record_wind(&self, rec: &crate::gpu::Recording, index: u32, dt: f32) {
+    fn record_wind(&mut self, rec: &crate::gpu::Recording, index: u32, dt: f32) {
         match self {
             Stepper::Wind(pass) => pass.record_step(rec, index as f32 * dt, dt),
             Stepper::Coupled { simulation, .. } => simulation.record_wind_step(rec),

@@ -79,7 +79,7 @@ impl Simulation {
     }
 
     /// Records the wind half of the next step (paper section 3.2).
-    pub fn record_wind_step(&self, rec: &Recording) {
+    pub fn record_wind_step(&mut self, rec: &Recording) {
         self.wind
             .record_step(rec, self.time_after(0) as f32, self.dt);
     }

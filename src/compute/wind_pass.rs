@@ -19,13 +19,15 @@ use crate::gpu::{
 };
 use crate::model::contact::{Collider, GpuCollider};
 use crate::model::multigrid::{self, Multigrid};
+use crate::model::turbulence::{self, TurbulenceField};
 use crate::model::wind::{
-    FaceKind, Inflow, PressureSolver, WindField, WindGrid, WindSettings, WindSource,
+    Advection, FaceKind, Inflow, PressureSolver, WindField, WindGrid, WindSettings, WindSource,
 };
 use crate::shaders::{self, Spirv};
 
 use crate::interface::{
-    MgLevel, WindGridParams, WindPush, FACE_BURIED, FACE_FREE, FACE_INFLOW, FACE_WALL, WIND_GROUP,
+    MgLevel, TurbulenceMode, WindGridParams, WindPush, FACE_BURIED, FACE_FREE, FACE_INFLOW,
+    FACE_WALL, WIND_GROUP,
 };
 /// Waypoints a source's path may have on the GPU.
 pub use crate::model::wind::MAX_PATH_POINTS;
@@ -76,13 +78,17 @@ pub const WIND_SET: &[LayoutBinding] = &[
     LayoutBinding::compute_storage(8),  // multigrid level table
     LayoutBinding::compute_storage(9), // canopy: the grass's frontal area per cell (two-way coupling)
     LayoutBinding::compute_storage(10), // colliders: moving obstacles (forces kernel)
+    LayoutBinding::compute_storage(11), // what the last step's turbulence added to each face
+    LayoutBinding::compute_storage(12), // the turbulence's modes, written before each step
 ];
 
 /// The kernels in the order a step runs them (Jacobi or the five multigrid
 /// kernels solve for the pressure).
-pub const WIND_KERNELS: [&Spirv; 11] = [
+pub const WIND_KERNELS: [&Spirv; 14] = [
     &shaders::WIND_FORCES_COMP,
     &shaders::WIND_ADVECT_COMP,
+    &shaders::WIND_ADVECT_PREDICT_COMP,
+    &shaders::WIND_ADVECT_CORRECT_COMP,
     &shaders::WIND_DIVERGENCE_COMP,
     &shaders::WIND_JACOBI_COMP,
     &shaders::WIND_MG_SMOOTH_COMP,
@@ -92,18 +98,22 @@ pub const WIND_KERNELS: [&Spirv; 11] = [
     &shaders::WIND_MG_PROLONG_COMP,
     &shaders::WIND_PROJECT_COMP,
     &shaders::WIND_UNDER_GROUND_COMP,
+    &shaders::WIND_TURBULENCE_COMP,
 ];
 const FORCES: usize = 0;
 const ADVECT: usize = 1;
-const DIVERGENCE: usize = 2;
-const JACOBI: usize = 3;
-const MG_SMOOTH: usize = 4;
-const MG_RESIDUAL: usize = 5;
-const MG_RESTRICT: usize = 6;
-const MG_COARSEST: usize = 7;
-const MG_PROLONG: usize = 8;
-const PROJECT: usize = 9;
-const UNDER_GROUND: usize = 10;
+const ADVECT_PREDICT: usize = 2;
+const ADVECT_CORRECT: usize = 3;
+const DIVERGENCE: usize = 4;
+const JACOBI: usize = 5;
+const MG_SMOOTH: usize = 6;
+const MG_RESIDUAL: usize = 7;
+const MG_RESTRICT: usize = 8;
+const MG_COARSEST: usize = 9;
+const MG_PROLONG: usize = 10;
+const PROJECT: usize = 11;
+const UNDER_GROUND: usize = 12;
+const TURBULENCE: usize = 13;
 
 /// The level table and every level's conductances, concatenated.
 fn multigrid_tables(mg: &Multigrid) -> (Vec<MgLevel>, Vec<f32>) {
@@ -134,7 +144,8 @@ fn multigrid_tables(mg: &Multigrid) -> (Vec<MgLevel>, Vec<f32>) {
 
 /// The solver's buffers, made once.
 struct WindBuffers {
-    /// Velocity, two copies of every face: A (state) then B (advected).
+    /// Velocity, three copies of every face: A (state), B (advected), C
+    /// (MacCormack's predictor).
     velocity: Buffer,
     faces: Buffer,
     solid: Buffer,
@@ -150,6 +161,12 @@ struct WindBuffers {
     canopy: Buffer,
     /// The colliders, which push the air (`WindField::add_forces`).
     colliders: Buffer,
+    /// What the last step's turbulence added to each face
+    /// (`WindField::turbulence_added`): zero without turbulence.
+    turbulence_added: Buffer,
+    /// The turbulence's modes with their phases, written before each step
+    /// (room for `turbulence::MODES`).
+    modes: Buffer,
 }
 
 impl WindBuffers {
@@ -178,17 +195,17 @@ impl WindBuffers {
         let [faces, conductance, levels] = Self::classified(gpu, commands, field)?;
         let buffers = Self {
             velocity: if field.vel.iter().flatten().all(|&v| v == 0.0) {
-                device_buffer("wind velocity (A, B)", 2 * face_count as u64)?
+                device_buffer("wind velocity (A, B, C)", 3 * face_count as u64)?
             } else {
                 // The air starting with an oblique inflow or over terrain
-                // (`WindField::new`): both copies.
+                // (`WindField::new`): every copy.
                 let copy: Vec<f32> = field.vel.iter().flatten().copied().collect();
-                let both = [copy.as_slice(), copy.as_slice()].concat();
+                let all = [copy.as_slice(), copy.as_slice(), copy.as_slice()].concat();
                 Buffer::with_data(
                     gpu,
                     commands,
-                    "wind velocity (A, B)",
-                    bytemuck::cast_slice(&both),
+                    "wind velocity (A, B, C)",
+                    bytemuck::cast_slice(&all),
                     rw,
                     Access::COMPUTE_READ_WRITE,
                 )?
@@ -209,6 +226,14 @@ impl WindBuffers {
             levels,
             canopy: device_buffer("wind canopy frontal area (fixed point)", cell_count as u64)?,
             colliders: super::colliders::buffer(gpu, "wind colliders")?,
+            turbulence_added: device_buffer("wind turbulence added per face", face_count as u64)?,
+            modes: Buffer::new(
+                gpu,
+                "wind turbulence modes",
+                (turbulence::MODES * std::mem::size_of::<TurbulenceMode>()) as u64,
+                storage | vk::BufferUsageFlags::TRANSFER_DST,
+                MemoryLocation::GpuOnly,
+            )?,
         };
         let rec = commands.begin()?;
         if field.vel.iter().flatten().all(|&v| v == 0.0) {
@@ -217,6 +242,8 @@ impl WindBuffers {
         rec.fill_buffer(&buffers.pressure, 0);
         rec.fill_buffer(&buffers.coarse, 0);
         rec.fill_buffer(&buffers.canopy, 0);
+        rec.fill_buffer(&buffers.turbulence_added, 0);
+        rec.fill_buffer(&buffers.modes, 0);
         // The next recording's first use of each waits for these writes.
         rec.submit_and_wait("clearing the wind")?;
         Ok(buffers)
@@ -273,7 +300,7 @@ impl WindBuffers {
     }
 
     /// In the order of `WIND_SET`.
-    fn bound(&self) -> [Bound<'_>; 11] {
+    fn bound(&self) -> [Bound<'_>; 13] {
         [
             Bound::Buffer(&self.velocity),
             Bound::Buffer(&self.faces),
@@ -286,6 +313,8 @@ impl WindBuffers {
             Bound::Buffer(&self.levels),
             Bound::Buffer(&self.canopy),
             Bound::Buffer(&self.colliders),
+            Bound::Buffer(&self.turbulence_added),
+            Bound::Buffer(&self.modes),
         ]
     }
 }
@@ -314,6 +343,9 @@ pub struct WindPass {
     buried: bool,
     /// The colliders as forces.comp reads them, written before each step.
     collider_records: Vec<GpuCollider>,
+    /// The turbulence's modes and how far they have gone (None: no
+    /// turbulence), stepped as the CPU reference steps them.
+    turbulence: Option<TurbulenceField>,
 }
 
 /// The wind as the grass step sees it: the velocity it samples and, with
@@ -345,14 +377,14 @@ impl WindPass {
             .map(|a| grid.face_dims(a).as_u64vec3().element_product())
             .sum();
         let cell_count = grid.cell_count() as u64;
-        // Velocity x2, face kinds, pressure x2, divergence, solid cells,
-        // canopy: 4 bytes each.
+        // Velocity x3, face kinds, turbulence added, pressure x2,
+        // divergence, solid cells, canopy: 4 bytes each.
         gpu.check_fits(
             &format!(
                 "the {}x{}x{} wind grid",
                 grid.cells.x, grid.cells.y, grid.cells.z
             ),
-            4 * (3 * face_count + 5 * cell_count),
+            4 * (5 * face_count + 5 * cell_count),
         )?;
         let (face_count, cell_count) = match (u32::try_from(face_count), u32::try_from(cell_count))
         {
@@ -403,6 +435,7 @@ impl WindPass {
             canopy_unit,
             buried: field.faces.iter().flatten().any(|&k| k == FaceKind::Buried),
             collider_records: super::colliders::records(&settings.colliders)?,
+            turbulence: field.turbulence,
         })
     }
 
@@ -561,10 +594,16 @@ impl WindPass {
                 BufferUse::new(&b.velocity, read_write),
                 BufferUse::new(&b.sources, read),
                 BufferUse::new(&b.colliders, read),
+                BufferUse::new(&b.turbulence_added, read),
             ]),
-            ADVECT => uses.extend([
+            ADVECT | ADVECT_PREDICT | ADVECT_CORRECT => uses.extend([
                 BufferUse::new(&b.velocity, read_write),
                 BufferUse::new(&b.canopy, read),
+            ]),
+            TURBULENCE => uses.extend([
+                BufferUse::new(&b.velocity, read_write),
+                BufferUse::new(&b.turbulence_added, read_write),
+                BufferUse::new(&b.modes, read),
             ]),
             DIVERGENCE => uses.extend([
                 BufferUse::new(&b.velocity, read),
@@ -598,8 +637,10 @@ impl WindPass {
 
     /// Records one solver step at simulation time `time`: each kernel
     /// declares what it touches (`kernel_uses`). Ends with the new velocity
-    /// (copy A) written by compute; a reader declares its use.
-    pub fn record_step(&self, rec: &Recording, time: f32, dt: f32) {
+    /// (copy A) written by compute; a reader declares its use. Steps the
+    /// turbulence's modes on: record the steps in order.
+    pub fn record_step(&mut self, rec: &Recording, time: f32, dt: f32) {
+        let modes = self.turbulence_records(dt);
         let multigrid = self.settings.solver == PressureSolver::Multigrid;
         let iterations = self.settings.jacobi_iterations;
         let face_groups = self.face_count.div_ceil(WIND_GROUP);
@@ -630,7 +671,13 @@ impl WindPass {
         super::colliders::record_write(&self.buffers.colliders, rec, &self.collider_records);
         rec.bind_set(&self.kernels[FORCES], &self.set);
         dispatch(FORCES, face_groups, 0, [0; 3]);
-        dispatch(ADVECT, face_groups, 0, [0; 3]);
+        match self.settings.advection {
+            Advection::SemiLagrangian => dispatch(ADVECT, face_groups, 0, [0; 3]),
+            Advection::Maccormack => {
+                dispatch(ADVECT_PREDICT, face_groups, 0, [0; 3]);
+                dispatch(ADVECT_CORRECT, face_groups, 0, [0; 3]);
+            }
+        }
         if self.coupled() {
             // The advection took this step's drag: clear the canopy for
             // the area the grass lays next.
@@ -676,6 +723,22 @@ impl WindPass {
         if self.buried {
             dispatch(UNDER_GROUND, face_groups, 0, [0; 3]);
         }
+        if let Some(modes) = modes {
+            rec.uses(&[BufferUse::new(&self.buffers.modes, Access::TRANSFER_WRITE)]);
+            rec.update_buffer(&self.buffers.modes, 0, bytemuck::cast_slice(&modes));
+            dispatch(TURBULENCE, face_groups, 0, [0; 3]);
+        }
+    }
+
+    /// The turbulence's modes at the end of a step of `dt` from now, the
+    /// modes carried on by it (`WindField::add_turbulence`); None without
+    /// turbulence.
+    fn turbulence_records(&mut self, dt: f32) -> Option<Vec<TurbulenceMode>> {
+        let (field, settings) = (self.turbulence.as_mut()?, self.settings.turbulence?);
+        let inflow = self.settings.inflow.as_ref();
+        let sigma = settings.sigma(inflow);
+        field.advance(turbulence::convection(inflow), sigma, dt);
+        Some(field.records(sigma))
     }
 
     /// Copies the velocity (copy A: x, y, z components) back to the host:

@@ -134,6 +134,17 @@ gpu_interface! {
         pub path: [[f32; 4]; MAX_PATH_POINTS],
     }
 
+    /// One Fourier mode of the turbulence as glsl/wind/turbulence.comp
+    /// reads it (src/model/turbulence.rs), written before each step.
+    pub struct TurbulenceMode {
+        /// xyz: wavenumber k (rad/m); w: the mode's phase at the step's
+        /// end, taken at the grid's minimum corner (rad, in [0, 2 pi)).
+        pub wavenumber_phase: [f32; 4],
+        /// xyz: what the mode adds to a face of each axis at phase 0
+        /// (m/s); w: unused.
+        pub amplitude: [f32; 4],
+    }
+
     /// One multigrid level as the kernels read it (glsl/wind/multigrid.glsl;
     /// src/model/multigrid.rs).
     pub struct MgLevel {

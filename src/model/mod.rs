@@ -15,4 +15,5 @@ pub use grass_field::GrassField;
 pub mod multigrid;
 pub mod path;
 pub mod terrain;
+pub mod turbulence;
 pub mod wind;

@@ -1,8 +1,10 @@
 //! CPU reference of the wind solver (paper section 3.2; docs/method.md section 3):
 //! inviscid, incompressible Navier-Stokes on a grid, one step =
-//! add source forces -> semi-Lagrangian advection -> divergence -> pressure
-//! (multigrid V-cycles by default, src/model/multigrid.rs, or the paper's
-//! Jacobi iterations) -> subtract the pressure gradient.
+//! add source forces -> advection (MacCormack on the semi-Lagrangian step
+//! by default, or the paper's semi-Lagrangian step) -> divergence ->
+//! pressure (multigrid V-cycles by default, src/model/multigrid.rs, or the
+//! paper's Jacobi iterations) -> subtract the pressure gradient; with
+//! turbulence (src/model/turbulence.rs) its field is added on top.
 //!
 //! A staggered (MAC) grid: the x component lives on the cells' x faces, y on
 //! y faces, z on z faces, pressure at cell centres. Divergence and gradient
@@ -26,6 +28,8 @@ use super::contact::{Collider, ColliderState};
 use super::multigrid::{Multigrid, Work};
 pub use super::path::{along_path, MAX_PATH_POINTS};
 use super::terrain::Terrain;
+pub use super::turbulence::Turbulence;
+use super::turbulence::{self, TurbulenceField};
 use crate::error::{Error, Result};
 
 /// The grid: `cells` = (nx, ny, nz), x and z horizontal, y up.
@@ -493,6 +497,31 @@ impl PressureSolver {
     }
 }
 
+/// How the advection (kernel 2) carries the velocity.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Advection {
+    /// MacCormack's predictor and corrector on the semi-Lagrangian step
+    /// (Selle, Fedkiw, Kim, Liu and Rossignac 2008), clamped to the range
+    /// of the values the predictor interpolated: second order, bounded.
+    /// The default: a gust keeps its strength down a field
+    /// (docs/physics.md).
+    #[default]
+    Maccormack,
+    /// The paper's first-order semi-Lagrangian step (Stam 1999), which
+    /// wears a gust away within tens of metres.
+    SemiLagrangian,
+}
+
+impl Advection {
+    pub fn name(self) -> &'static str {
+        match self {
+            Advection::Maccormack => "maccormack",
+            Advection::SemiLagrangian => "semi-lagrangian",
+        }
+    }
+}
+
 /// Whether the grass slows the air (src/model/canopy.rs).
 #[derive(
     Clone,
@@ -550,6 +579,10 @@ pub struct WindSettings {
     pub coupling: Coupling,
     /// C_d of the canopy drag when `coupling` is two-way.
     pub canopy_drag: f32,
+    /// How the advection carries the velocity.
+    pub advection: Advection,
+    /// The fluctuating wind added to the solver's (none: the paper's).
+    pub turbulence: Option<Turbulence>,
     /// The ground: cells whose centre lies under it are solid.
     #[serde(skip)]
     pub terrain: Terrain,
@@ -578,6 +611,8 @@ impl Default for WindSettings {
             v_cycles: DEFAULT_V_CYCLES,
             coupling: Coupling::default(),
             canopy_drag: DEFAULT_CANOPY_DRAG,
+            advection: Advection::default(),
+            turbulence: None,
             terrain: Terrain::default(),
         }
     }
@@ -632,6 +667,11 @@ pub struct WindField {
     pub canopy_unit: f32,
     /// The multigrid hierarchy of this grid's faces, and its coarse levels' storage.
     pub multigrid: Multigrid,
+    /// The turbulence's modes (None: no turbulence).
+    pub turbulence: Option<TurbulenceField>,
+    /// What the last step added of the turbulence on each face, taken off
+    /// again before the next (zero without turbulence).
+    pub turbulence_added: [Vec<f32>; 3],
     multigrid_work: Work,
     pub time: f32,
 }
@@ -673,6 +713,11 @@ impl WindField {
             faces: [Vec::new(), Vec::new(), Vec::new()],
             multigrid: Multigrid { levels: Vec::new() },
             multigrid_work: Work::default(),
+            turbulence: settings.turbulence.map(|t| TurbulenceField::new(&t, &grid)),
+            turbulence_added: [0, 1, 2].map(|a| {
+                let d = grid.face_dims(a);
+                vec![0.0; (d.x * d.y * d.z) as usize]
+            }),
             grid,
             time: 0.0,
         };
@@ -790,15 +835,18 @@ impl WindField {
         settings.effective_canopy_drag() > 0.0 && self.canopy_unit > 0.0
     }
 
-    /// One full step of length `dt` (s).
+    /// One full step of length `dt` (s): the mean wind's (the
+    /// turbulence the last step added taken off first), then this step's
+    /// turbulence added.
     pub fn step(&mut self, settings: &WindSettings, dt: f32) {
+        self.take_off_turbulence();
         self.add_forces(settings, dt);
         let drag = if self.is_coupled(settings) {
             settings.effective_canopy_drag()
         } else {
             0.0
         };
-        self.advect(dt, drag, settings.inflow.as_ref());
+        self.advect(dt, drag, settings.inflow.as_ref(), settings.advection);
         self.compute_divergence();
         match settings.solver {
             PressureSolver::Jacobi => self.solve_pressure(settings.jacobi_iterations),
@@ -806,7 +854,46 @@ impl WindField {
         }
         self.subtract_gradient();
         self.free_slip_under_ground();
+        self.add_turbulence(settings, dt);
         self.time += dt;
+    }
+
+    /// The free and buried faces without what the last step's turbulence
+    /// added (in the GPU's forces kernel).
+    fn take_off_turbulence(&mut self) {
+        for axis in 0..3 {
+            for (idx, kind) in self.faces[axis].iter().enumerate() {
+                if matches!(kind, FaceKind::Free | FaceKind::Buried) {
+                    self.vel[axis][idx] -= self.turbulence_added[axis][idx];
+                }
+            }
+        }
+    }
+
+    /// Kernel 7, with turbulence (src/model/turbulence.rs): the modes
+    /// carried on by this step, every free and buried face gains the
+    /// field at the step's end, and keeps what it gained.
+    pub fn add_turbulence(&mut self, settings: &WindSettings, dt: f32) {
+        let (Some(field), Some(turbulence)) = (&mut self.turbulence, &settings.turbulence) else {
+            return;
+        };
+        let inflow = settings.inflow.as_ref();
+        let sigma = turbulence.sigma(inflow);
+        field.advance(turbulence::convection(inflow), sigma, dt);
+        let records = field.records(sigma);
+        for axis in 0..3 {
+            let mut offset = Vec3::splat(0.5);
+            offset[axis] = 0.0;
+            for (idx, [i, j, k]) in self.grid.each_face(axis) {
+                if !matches!(self.faces[axis][idx], FaceKind::Free | FaceKind::Buried) {
+                    continue;
+                }
+                let x = (UVec3::new(i, j, k).as_vec3() + offset) * self.grid.cell;
+                let u = turbulence::at(&records, axis, x);
+                self.vel[axis][idx] += u;
+                self.turbulence_added[axis][idx] = u;
+            }
+        }
     }
 
     /// Kernel 6, with terrain: each buried face (a horizontal component
@@ -882,6 +969,29 @@ impl WindField {
     /// Trilinear sample of component `axis` at world position `x`, clamped
     /// to the component's sample lattice.
     pub fn sample_component(&self, vel: &[f32], axis: usize, x: Vec3) -> f32 {
+        let (at, f) = self.stencil(axis, x);
+        let at = at.map(|i| vel[i]);
+        let c00 = at[0] * (1.0 - f.x) + at[1] * f.x;
+        let c10 = at[2] * (1.0 - f.x) + at[3] * f.x;
+        let c01 = at[4] * (1.0 - f.x) + at[5] * f.x;
+        let c11 = at[6] * (1.0 - f.x) + at[7] * f.x;
+        let c0 = c00 * (1.0 - f.y) + c10 * f.y;
+        let c1 = c01 * (1.0 - f.y) + c11 * f.y;
+        c0 * (1.0 - f.z) + c1 * f.z
+    }
+
+    /// The least and greatest of the eight samples `sample_component`
+    /// interpolates at `x`: the range MacCormack's corrector is clamped to.
+    pub fn sample_range(&self, vel: &[f32], axis: usize, x: Vec3) -> (f32, f32) {
+        let (at, _) = self.stencil(axis, x);
+        at.iter().fold((f32::MAX, f32::MIN), |(lo, hi), &i| {
+            (lo.min(vel[i]), hi.max(vel[i]))
+        })
+    }
+
+    /// The eight samples of component `axis` around `x` (x fastest, then
+    /// y, then z) and the fractions between them, clamped to the lattice.
+    fn stencil(&self, axis: usize, x: Vec3) -> ([usize; 8], Vec3) {
         let d = self.grid.face_dims(axis);
         let mut offset = Vec3::splat(0.5);
         offset[axis] = 0.0;
@@ -890,14 +1000,20 @@ impl WindField {
         let i0 = g.floor().as_uvec3().min(d - 1);
         let i1 = (i0 + 1).min(d - 1);
         let f = g - i0.as_vec3();
-        let at = |i: u32, j: u32, k: u32| vel[self.grid.face_index(axis, i, j, k)];
-        let c00 = at(i0.x, i0.y, i0.z) * (1.0 - f.x) + at(i1.x, i0.y, i0.z) * f.x;
-        let c10 = at(i0.x, i1.y, i0.z) * (1.0 - f.x) + at(i1.x, i1.y, i0.z) * f.x;
-        let c01 = at(i0.x, i0.y, i1.z) * (1.0 - f.x) + at(i1.x, i0.y, i1.z) * f.x;
-        let c11 = at(i0.x, i1.y, i1.z) * (1.0 - f.x) + at(i1.x, i1.y, i1.z) * f.x;
-        let c0 = c00 * (1.0 - f.y) + c10 * f.y;
-        let c1 = c01 * (1.0 - f.y) + c11 * f.y;
-        c0 * (1.0 - f.z) + c1 * f.z
+        let at = |i: u32, j: u32, k: u32| self.grid.face_index(axis, i, j, k);
+        (
+            [
+                at(i0.x, i0.y, i0.z),
+                at(i1.x, i0.y, i0.z),
+                at(i0.x, i1.y, i0.z),
+                at(i1.x, i1.y, i0.z),
+                at(i0.x, i0.y, i1.z),
+                at(i1.x, i0.y, i1.z),
+                at(i0.x, i1.y, i1.z),
+                at(i1.x, i1.y, i1.z),
+            ],
+            f,
+        )
     }
 
     /// The velocity at the centre of cell (i, j, k): each component the
@@ -922,18 +1038,35 @@ impl WindField {
         )
     }
 
-    /// Kernel 2: semi-Lagrangian advection. Each free face traces back by
-    /// dt along the velocity there and takes the value it finds; then the
-    /// canopy drag with coefficient `canopy_drag` (0: none) slows it,
-    /// implicitly, by the speed at the face before advection:
-    /// u' = u / (1 + dt C_d a |u|) (src/model/canopy.rs).
+    /// Kernel 2: advection. Each free face traces back by dt along the
+    /// velocity there and takes the value it finds (semi-Lagrangian, the
+    /// paper's); MacCormack's corrector (the default) then traces that
+    /// result forward again, adds half the difference from the value it
+    /// started with (the first-order step's error, so second order), and
+    /// clamps the sum to the range of the eight values the back trace
+    /// interpolated (no new extremes). Then the canopy drag with
+    /// coefficient `canopy_drag` (0: none) slows it, implicitly, by the
+    /// speed at the face before advection: u' = u / (1 + dt C_d a |u|)
+    /// (src/model/canopy.rs).
     ///
     /// Air traced back beyond an inflow's entry side comes from outside:
     /// a horizontal component traced across the other horizontal axis's
-    /// entry side takes the inflow's (`Inflow::entering`); one traced
-    /// across its own axis's finds the entry faces in its lattice.
-    pub fn advect(&mut self, dt: f32, canopy_drag: f32, inflow: Option<&Inflow>) {
+    /// entry side takes the inflow's (`Inflow::entering`), uncorrected;
+    /// one traced across its own axis's finds the entry faces in its
+    /// lattice.
+    pub fn advect(
+        &mut self,
+        dt: f32,
+        canopy_drag: f32,
+        inflow: Option<&Inflow>,
+        scheme: Advection,
+    ) {
         let src = self.vel.clone();
+        // The semi-Lagrangian step of every free face (the predictor),
+        // whether it came from outside, and the velocity it traced with.
+        let mut predicted = src.clone();
+        let mut traced: [Vec<Option<(Vec3, bool)>>; 3] =
+            [0, 1, 2].map(|a| vec![None; src[a].len()]);
         for axis in 0..3 {
             for (idx, [i, j, k]) in self.grid.each_face(axis) {
                 if self.faces[axis][idx] != FaceKind::Free {
@@ -947,8 +1080,24 @@ impl WindField {
                 );
                 let back = x - dt * v;
                 let entering = inflow.and_then(|i| i.entering(axis, &self.grid, back, self.time));
-                let mut u =
+                predicted[axis][idx] =
                     entering.unwrap_or_else(|| self.sample_component(&src[axis], axis, back));
+                traced[axis][idx] = Some((v, entering.is_some()));
+            }
+        }
+        for axis in 0..3 {
+            for (idx, [i, j, k]) in self.grid.each_face(axis) {
+                let Some((v, entered)) = traced[axis][idx] else {
+                    continue;
+                };
+                let mut u = predicted[axis][idx];
+                if scheme == Advection::Maccormack && !entered {
+                    let x = self.grid.face_position(axis, i, j, k);
+                    let again = self.sample_component(&predicted[axis], axis, x + dt * v);
+                    let (lo, hi) = self.sample_range(&src[axis], axis, x - dt * v);
+                    // max then min: a NaN stays a NaN rather than a panic.
+                    u = (u + 0.5 * (src[axis][idx] - again)).max(lo).min(hi);
+                }
                 if canopy_drag > 0.0 {
                     let a = self.face_canopy_density(axis, [i, j, k]);
                     u /= 1.0 + dt * canopy_drag * a * v.length();

@@ -458,7 +458,25 @@ pub fn wind(w: &super::WindConfig) -> Check {
     for (i, o) in w.obstacles.iter().enumerate() {
         obstacle(o).map_err(|e| e.at(&format!("obstacle[{i}]")))?;
     }
+    if let Some(t) = &w.turbulence {
+        turbulence(t, w.inflow.is_some()).map_err(|e| e.at("turbulence"))?;
+    }
     Ok(())
+}
+
+/// What can be checked without the grid (the length scale against the
+/// cells: `Scene::wind_grid`).
+fn turbulence(t: &crate::model::wind::Turbulence, inflow: bool) -> Check {
+    positive("intensity", t.intensity, 2.0)?;
+    positive("length_scale", t.length_scale, 100_000.0)?;
+    match t.speed {
+        Some(speed) => positive("speed", speed, 100.0),
+        None if inflow => Ok(()),
+        None => Err(FieldError::new(
+            "speed",
+            "is needed without an inflow: the intensity is sigma_u over this speed; give it in m/s (above 0 and at most 100)",
+        )),
+    }
 }
 
 fn gust(g: &crate::model::wind::Gust) -> Check {

@@ -17,8 +17,8 @@ use serde::{Deserialize, Serialize};
 use crate::error::{Error, Result};
 use crate::model::collider::Collider;
 use crate::model::wind::{
-    Coupling, Gust, Inflow, Obstacle, PressureSolver, WindGrid, WindSettings, WindSource,
-    DEFAULT_CANOPY_DRAG, DEFAULT_JACOBI_ITERATIONS, DEFAULT_V_CYCLES,
+    Advection, Coupling, Gust, Inflow, Obstacle, PressureSolver, Turbulence, WindGrid,
+    WindSettings, WindSource, DEFAULT_CANOPY_DRAG, DEFAULT_JACOBI_ITERATIONS, DEFAULT_V_CYCLES,
 };
 use crate::model::BladePhysics;
 
@@ -496,6 +496,13 @@ pub struct WindConfig {
     pub coupling: Coupling,
     /// C_d of the canopy drag with two-way coupling.
     pub canopy_drag: f32,
+    /// "maccormack" (default: second order, bounded) or "semi-lagrangian"
+    /// (the paper's first-order step).
+    pub advection: Advection,
+    /// `{ intensity, length_scale, seed }`: a fluctuating wind everywhere
+    /// (src/model/turbulence.rs); absent: none.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub turbulence: Option<Turbulence>,
     /// Simulation step (s); the frame rate never changes it.
     pub dt: f32,
     #[serde(rename = "source", skip_serializing_if = "Vec::is_empty")]
@@ -518,6 +525,8 @@ impl Default for WindConfig {
             v_cycles: DEFAULT_V_CYCLES,
             coupling: Coupling::default(),
             canopy_drag: DEFAULT_CANOPY_DRAG,
+            advection: Advection::default(),
+            turbulence: None,
             dt: 1.0 / 60.0,
             sources: Vec::new(),
             inflow: None,
@@ -556,6 +565,8 @@ impl WindConfig {
             v_cycles: self.v_cycles,
             coupling: self.coupling,
             canopy_drag: self.canopy_drag,
+            advection: self.advection,
+            turbulence: self.turbulence,
             terrain: Default::default(),
         }
     }
@@ -917,7 +928,17 @@ impl Scene {
                 high - low
             )));
         }
-        WindGrid::new(glam::UVec3::from(w.cells), origin, size)
+        let grid = WindGrid::new(glam::UVec3::from(w.cells), origin, size)?;
+        if let Some(t) = &w.turbulence {
+            let (cell, side) = (grid.cell.max_element(), size.max_element());
+            if !(cell..=side).contains(&t.length_scale) {
+                return Err(Error::InvalidInput(format!(
+                    "wind.turbulence.length_scale {} m is not allowed on this wind grid, use {cell:.2}..={side:.1} m: from its largest cell side (smaller eddies cannot be held) to its largest side",
+                    t.length_scale
+                )));
+            }
+        }
+        Ok(grid)
     }
 
     /// Centre of the grass (x, z), for the ground square.

@@ -1,0 +1,317 @@
+//! Turbulence everywhere (ours, beyond the paper): a fluctuating,
+//! divergence-free wind the solver's mean wind carries, statistically the
+//! same all over the grid and alive far from any inflow.
+//!
+//! A kinematic simulation (Kraichnan 1970; Fung, Hunt, Malik and Perkins,
+//! J. Fluid Mech. 236, 1992): a sum of random Fourier modes whose energies
+//! follow the von Karman spectrum of the set intensity and integral length
+//! scale, each moved with the inflow's mean velocity (Taylor's frozen
+//! turbulence) and changing at its own rate while it goes. Each mode is the
+//! discrete curl of a vector potential on the grid's staggered faces
+//! (its wavenumber replaced by the difference quotient's), so what the faces
+//! hold is divergence-free cell by cell, to rounding. The solver steps the
+//! mean wind alone: each step takes off what the last one added and adds
+//! the field at the step's end (`WindField::step`). docs/method.md says why
+//! this method and what it leaves out.
+
+use glam::{DVec3, Vec3};
+use rand::{Rng, SeedableRng};
+
+use super::wind::{Inflow, WindGrid};
+use crate::interface::TurbulenceMode;
+
+/// `wind.turbulence` of a scene.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Turbulence {
+    /// sigma_u / U: the standard deviation of each horizontal component
+    /// over the reference speed.
+    pub intensity: f32,
+    /// The integral length scale L (m) of the velocity along the wind.
+    pub length_scale: f32,
+    /// Draws the modes: the same seed, the same turbulence.
+    #[serde(default)]
+    pub seed: u32,
+    /// The reference speed U (m/s) the intensity is relative to: the
+    /// inflow's speed when absent; needed without an inflow.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub speed: Option<f32>,
+}
+
+/// Fourier modes in the field: enough for patches without visible
+/// repetition, few enough for a face to sum them every step.
+pub const MODES: usize = 64;
+
+/// lambda of the modes' own rate, omega = lambda sqrt(k^3 E(k)) (Fung et
+/// al. 1992 take 0.4-1): eddies change while they are carried, over about
+/// their turnover time.
+const UNSTEADINESS: f64 = 0.5;
+
+/// The von Karman spectrum's peak k_e times the integral length scale:
+/// L = sqrt(pi) Gamma(5/6) / Gamma(1/3) / k_e.
+const PEAK_TIMES_LENGTH: f64 = 0.746_834;
+
+/// The lowest wavenumber drawn, in units of k_e: below it the spectrum
+/// (rising as k^4) holds under 1e-4 of the energy.
+const LOWEST: f64 = 0.1;
+
+impl Turbulence {
+    /// U: the set speed, else the inflow's |speed|; None when neither.
+    pub fn reference_speed(&self, inflow: Option<&Inflow>) -> Option<f32> {
+        self.speed.or(inflow.map(|i| i.speed.abs()))
+    }
+
+    /// sigma_u = intensity U (m/s); 0 without a reference speed.
+    pub fn sigma(&self, inflow: Option<&Inflow>) -> f32 {
+        self.intensity * self.reference_speed(inflow).unwrap_or(0.0)
+    }
+}
+
+/// The patches' convection velocity: the inflow's mean velocity (m/s),
+/// zero without an inflow (the patches then change in place).
+pub fn convection(inflow: Option<&Inflow>) -> Vec3 {
+    inflow.map_or(Vec3::ZERO, |i| {
+        let [c, s] = i.heading_vector();
+        Vec3::new(i.speed * c, 0.0, i.speed * s)
+    })
+}
+
+/// One Fourier mode.
+#[derive(Clone, Copy, Debug)]
+struct Mode {
+    /// Wavenumber (rad/m).
+    k: DVec3,
+    /// What the mode adds to a face of each axis at phase 0 (m/s).
+    amplitude: Vec3,
+    /// Phase at t = 0 at the grid's corner (rad).
+    phase: f64,
+    /// Its own rate (rad/s).
+    omega: f64,
+}
+
+/// The modes of one scene's turbulence on one grid (for sigma = 1 m/s),
+/// and how far the mean wind has carried them and how far they have
+/// changed: integrals over the steps taken, so that a wind that changes
+/// speed or heading (the viewer's keys) moves the patches on without a
+/// jump.
+#[derive(Clone, Debug)]
+pub struct TurbulenceField {
+    modes: Vec<Mode>,
+    /// The integral of the convection velocity (m).
+    drift: DVec3,
+    /// The integral of sigma (m): each mode's own rate is sigma times its
+    /// rate at sigma = 1.
+    clock: f64,
+}
+
+impl TurbulenceField {
+    /// The modes of `turbulence` on `grid`, for a standard deviation of
+    /// 1 m/s (`records` scales them): wavenumbers log-spaced from 0.1 k_e to the Nyquist
+    /// wavenumber of the grid's coarsest axis (none aliases), directions
+    /// uniform on the sphere, each polarised at random across its
+    /// wavenumber (so divergence-free), energies E(k) dk of the von Karman
+    /// spectrum E ~ (k/k_e)^4 / (1 + (k/k_e)^2)^(17/6), scaled so that the
+    /// horizontal components' variance is 1 (the resolved modes carry it
+    /// all).
+    pub fn new(turbulence: &Turbulence, grid: &WindGrid) -> Self {
+        let mut rng = rand_pcg::Pcg32::seed_from_u64(0x7475_7262 ^ turbulence.seed as u64);
+        let h = grid.cell.as_dvec3();
+        let k_e = PEAK_TIMES_LENGTH / turbulence.length_scale as f64;
+        let k_lo = LOWEST * k_e;
+        let k_hi = (std::f64::consts::PI / h.max_element()).max(k_lo * 1.01);
+        let span = (k_hi / k_lo).ln();
+        let spectrum = |k: f64| {
+            let r = k / k_e;
+            r.powi(4) / (1.0 + r * r).powf(17.0 / 6.0)
+        };
+        let shells: Vec<(f64, f64)> = (0..MODES)
+            .map(|n| {
+                let k = k_lo * (span * (n as f64 + 0.5) / MODES as f64).exp();
+                (k, spectrum(k) * k * span / MODES as f64)
+            })
+            .collect();
+        let total: f64 = shells.iter().map(|&(_, e)| e).sum();
+        let mut modes: Vec<(DVec3, DVec3, f64, f64)> = shells
+            .iter()
+            .map(|&(k, energy)| {
+                let weight = energy / total;
+                let dir = unit_on_sphere(&mut rng);
+                let (e1, e2) = dir.any_orthonormal_pair();
+                let angle = rng.random::<f64>() * std::f64::consts::TAU;
+                let polarisation = e1 * angle.cos() + e2 * angle.sin();
+                let phase = rng.random::<f64>() * std::f64::consts::TAU;
+                // Each mode a cos(theta) holds |a|^2 / 2 of u_i u_i;
+                // 3 sigma^2 in all when isotropic (rescaled below).
+                let a = polarisation * (6.0 * weight).sqrt();
+                // E(k) of this shell as energy per wavenumber (m^3/s^2 per
+                // sigma^2), for its rate.
+                let density = 1.5 * weight / (k * span / MODES as f64);
+                (
+                    dir * k,
+                    a,
+                    phase,
+                    UNSTEADINESS * (k.powi(3) * density).sqrt(),
+                )
+            })
+            .collect();
+        // The horizontal components' variance, sum |a_x|^2/2 and |a_z|^2/2,
+        // made sigma^2 on average exactly: 64 random directions leave it a
+        // draw away from the isotropic mean.
+        let horizontal: f64 = modes
+            .iter()
+            .map(|(_, a, _, _)| 0.25 * (a.x * a.x + a.z * a.z))
+            .sum();
+        let scale = 1.0 / horizontal.sqrt();
+        for (_, a, _, omega) in &mut modes {
+            *a *= scale;
+            *omega *= scale; // rates scale with sigma: sqrt(k^3 E)
+        }
+        let modes = modes
+            .into_iter()
+            .map(|(k, a, phase, omega)| Mode {
+                k,
+                amplitude: face_amplitude(k, a, h),
+                phase,
+                omega,
+            })
+            .collect();
+        Self {
+            modes,
+            drift: DVec3::ZERO,
+            clock: 0.0,
+        }
+    }
+
+    /// One step of `dt` (s): the modes carried with `convection` (m/s)
+    /// and changed at the rate of `sigma` (m/s).
+    pub fn advance(&mut self, convection: Vec3, sigma: f32, dt: f32) {
+        self.drift += convection.as_dvec3() * dt as f64;
+        self.clock += sigma as f64 * dt as f64;
+    }
+
+    /// The modes as the GPU reads them now, for a standard deviation of
+    /// `sigma` (m/s): the phase theta_n = phi_n + omega_n int(sigma dt) -
+    /// k_n . int(U dt), in double precision, reduced to [0, 2 pi).
+    pub fn records(&self, sigma: f32) -> Vec<TurbulenceMode> {
+        self.modes
+            .iter()
+            .map(|m| {
+                let phase = (m.phase + m.omega * self.clock - m.k.dot(self.drift))
+                    .rem_euclid(std::f64::consts::TAU);
+                TurbulenceMode {
+                    wavenumber_phase: m.k.as_vec3().extend(phase as f32).to_array(),
+                    amplitude: (m.amplitude * sigma).extend(0.0).to_array(),
+                }
+            })
+            .collect()
+    }
+}
+
+/// Component `axis` of the field at `x` (m from the grid's minimum corner),
+/// as glsl/wind/turbulence.comp sums it: sum_n a_n[axis] cos(k_n . x + theta_n).
+pub fn at(records: &[TurbulenceMode], axis: usize, x: Vec3) -> f32 {
+    let mut u = 0.0;
+    for m in records {
+        let [kx, ky, kz, phase] = m.wavenumber_phase;
+        u += m.amplitude[axis] * (kx * x.x + ky * x.y + kz * x.z + phase).cos();
+    }
+    u
+}
+
+/// A point uniform on the unit sphere.
+fn unit_on_sphere(rng: &mut impl Rng) -> DVec3 {
+    let y = rng.random::<f64>() * 2.0 - 1.0;
+    let angle = rng.random::<f64>() * std::f64::consts::TAU;
+    let r = (1.0 - y * y).max(0.0).sqrt();
+    DVec3::new(r * angle.cos(), y, r * angle.sin())
+}
+
+/// The velocity amplitude `a` (across `k`) as the staggered faces hold it:
+/// the mode is the curl of the vector potential psi = k x a / |k|^2 sin
+/// (see below), and the faces take the curl's difference quotients, whose
+/// wavenumber along each axis is k~ = 2 sin(k h / 2) / h: the faces hold
+/// -k~ x (k x a) / |k|^2 cos(theta), which is `a` when k~ = k and whose
+/// discrete divergence, i k~ . (k~ x ...), is zero.
+fn face_amplitude(k: DVec3, a: DVec3, h: DVec3) -> Vec3 {
+    let modified = DVec3::new(
+        2.0 * (0.5 * k.x * h.x).sin() / h.x,
+        2.0 * (0.5 * k.y * h.y).sin() / h.y,
+        2.0 * (0.5 * k.z * h.z).sin() / h.z,
+    );
+    (-modified.cross(k.cross(a)) / k.length_squared()).as_vec3()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::UVec3;
+
+    fn grid() -> WindGrid {
+        WindGrid::new(
+            UVec3::new(40, 8, 40),
+            Vec3::new(-20.0, 0.0, -20.0),
+            Vec3::new(40.0, 4.0, 40.0),
+        )
+        .unwrap()
+    }
+
+    /// sigma 0.9 m/s, advanced by `seconds` in a 3 m/s wind along x.
+    fn records(seed: u32, seconds: f32) -> Vec<TurbulenceMode> {
+        let t = Turbulence {
+            intensity: 0.3,
+            length_scale: 4.0,
+            seed,
+            speed: Some(3.0),
+        };
+        let mut field = TurbulenceField::new(&t, &grid());
+        field.advance(Vec3::new(3.0, 0.0, 0.0), 0.9, seconds);
+        field.records(0.9)
+    }
+
+    /// The faces' field has no divergence in any cell: the sum over a
+    /// cell's faces of (out - in) / h, against the faces' own size.
+    #[test]
+    fn the_faces_field_is_divergence_free_cell_by_cell() {
+        let g = grid();
+        let modes = records(3, 1.7);
+        let face = |axis: usize, i: u32, j: u32, k: u32| {
+            at(&modes, axis, g.face_position(axis, i, j, k) - g.origin)
+        };
+        let (mut worst, mut scale) = (0.0f32, 0.0f32);
+        for (_, [i, j, k]) in g.each_cell() {
+            let mut div = 0.0;
+            for axis in 0..3 {
+                let mut hi = [i, j, k];
+                hi[axis] += 1;
+                let (a, b) = (face(axis, i, j, k), face(axis, hi[0], hi[1], hi[2]));
+                div += (b - a) / g.cell[axis];
+                scale = scale.max(a.abs() / g.cell[axis]);
+            }
+            worst = worst.max(div.abs());
+        }
+        // f32 sums of 64 terms: rounding, not truncation error (the
+        // continuous field's faces would leave about 10% of `scale`).
+        assert!(worst < 1e-4 * scale, "divergence {worst} against {scale}");
+    }
+
+    /// Its statistics over the grid: each horizontal component's standard
+    /// deviation near sigma, and the same seed the same field, another
+    /// seed another.
+    #[test]
+    fn the_field_has_the_set_intensity_and_follows_its_seed() {
+        let g = grid();
+        let modes = records(3, 0.0);
+        for axis in [0, 2] {
+            let values: Vec<f32> = g
+                .each_face(axis)
+                .map(|(_, [i, j, k])| at(&modes, axis, g.face_position(axis, i, j, k) - g.origin))
+                .collect();
+            let n = values.len() as f32;
+            let mean = values.iter().sum::<f32>() / n;
+            let sd = (values.iter().map(|v| (v - mean).powi(2)).sum::<f32>() / n).sqrt();
+            assert!((0.6..1.3).contains(&(sd / 0.9)), "axis {axis}: sd {sd}");
+        }
+        assert_eq!(records(3, 2.0), records(3, 2.0));
+        assert_ne!(records(3, 2.0), records(4, 2.0));
+    }
+}
