@@ -529,3 +529,81 @@ fn no_blade_is_rooted_inside_an_obstacle() {
     assert_eq!(inside(&with), 0);
     assert_eq!(with.len(), without.len() - inside(&without));
 }
+
+/// `wind.turbulence` refused in one line naming the field and what is
+/// allowed: each number out of its range or not finite, no reference speed
+/// without an inflow, and (on the wind grid) a length scale smaller than a
+/// cell or larger than the grid.
+#[test]
+fn bad_turbulence_is_refused_naming_the_field() {
+    let turbulent = |table: &str, inflow: bool| {
+        let inflow = if inflow {
+            "[wind.inflow]\nspeed = 3.0\n"
+        } else {
+            ""
+        };
+        plus(&format!("[wind]\nturbulence = {{ {table} }}\n{inflow}"))
+    };
+    for (table, inflow, expected) in [
+        (
+            "intensity = -0.3, length_scale = 1.0",
+            true,
+            "wind.turbulence.intensity: -0.3 is not allowed, use a number above 0 and at most 2",
+        ),
+        (
+            "intensity = nan, length_scale = 1.0",
+            true,
+            "wind.turbulence.intensity: NaN is not allowed",
+        ),
+        (
+            "intensity = 0.3, length_scale = 0.0",
+            true,
+            "wind.turbulence.length_scale: 0 is not allowed, use a number above 0",
+        ),
+        (
+            "intensity = 0.3, length_scale = inf",
+            true,
+            "wind.turbulence.length_scale: inf is not allowed",
+        ),
+        (
+            "intensity = 0.3, length_scale = 1.0",
+            false,
+            "wind.turbulence.speed: is needed without an inflow",
+        ),
+        (
+            "intensity = 0.3, length_scale = 1.0, speed = -2.0",
+            false,
+            "wind.turbulence.speed: -2 is not allowed",
+        ),
+    ] {
+        let err = file::parse(&turbulent(table, inflow), "bad.toml")
+            .err()
+            .unwrap_or_else(|| panic!("{table} was accepted"))
+            .to_string();
+        assert!(err.contains(expected), "{table}: {err}");
+        assert_eq!(err.lines().count(), 1, "{err}");
+    }
+    // The minimal scene's wind grid: 3.4 m across, cells 0.06 x 0.15 x 0.06 m.
+    for (length, expected) in [
+        ("0.1", "0.1 m is not allowed"),
+        ("5.0", "5 m is not allowed"),
+    ] {
+        let scene = file::parse(
+            &turbulent(&format!("intensity = 0.3, length_scale = {length}"), true),
+            "t.toml",
+        )
+        .unwrap();
+        let err = scene.wind_grid().err().unwrap().to_string();
+        assert!(
+            err.contains(&format!(
+                "wind.turbulence.length_scale {expected} on this wind grid, use 0.15..=3.4 m"
+            )),
+            "{err}"
+        );
+    }
+    let fine = file::parse(
+        &turbulent("intensity = 0.3, length_scale = 1.0", true),
+        "t.toml",
+    );
+    assert!(fine.unwrap().wind_grid().is_ok());
+}

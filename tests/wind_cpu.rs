@@ -5,7 +5,9 @@ mod common;
 
 use common::wind_scenes::{self, behaviour_grid, blowing_source};
 use glam::{UVec3, Vec3};
+use meadow::interface::TurbulenceMode;
 use meadow::model::contact::{Collider, ColliderKind};
+use meadow::model::turbulence::{self, Turbulence, TurbulenceField};
 use meadow::model::wind::{
     Advection, FaceKind, Gust, Inflow, Obstacle, PressureSolver, WindField, WindGrid, WindSettings,
     WindSource,
@@ -405,4 +407,77 @@ fn unclamped(before: &WindField, dt: f32) -> f32 {
         max = max.max(predicted.vel[0][idx] + 0.5 * (before.vel[0][idx] - again));
     }
     max
+}
+
+// The turbulence's field (src/model/turbulence.rs) on the faces.
+
+fn turbulence_grid() -> WindGrid {
+    WindGrid::new(
+        UVec3::new(40, 8, 40),
+        Vec3::new(-20.0, 0.0, -20.0),
+        Vec3::new(40.0, 4.0, 40.0),
+    )
+    .unwrap()
+}
+
+/// sigma 0.9 m/s, advanced by `seconds` in a 3 m/s wind along x.
+fn turbulence_records(seed: u32, seconds: f32) -> Vec<TurbulenceMode> {
+    let t = Turbulence {
+        intensity: 0.3,
+        length_scale: 4.0,
+        seed,
+        speed: Some(3.0),
+    };
+    let mut field = TurbulenceField::new(&t, turbulence_grid().cell);
+    field.advance(Vec3::new(3.0, 0.0, 0.0), 0.9, seconds);
+    field.records(0.9)
+}
+
+/// The faces' field has no divergence in any cell: the sum over a
+/// cell's faces of (out - in) / h, against the faces' own size.
+#[test]
+fn the_faces_field_is_divergence_free_cell_by_cell() {
+    let g = turbulence_grid();
+    let modes = turbulence_records(3, 1.7);
+    let face = |axis: usize, i: u32, j: u32, k: u32| {
+        turbulence::at(&modes, axis, g.face_position(axis, i, j, k) - g.origin)
+    };
+    let (mut worst, mut scale) = (0.0f32, 0.0f32);
+    for (_, [i, j, k]) in g.each_cell() {
+        let mut div = 0.0;
+        for axis in 0..3 {
+            let mut hi = [i, j, k];
+            hi[axis] += 1;
+            let (a, b) = (face(axis, i, j, k), face(axis, hi[0], hi[1], hi[2]));
+            div += (b - a) / g.cell[axis];
+            scale = scale.max(a.abs() / g.cell[axis]);
+        }
+        worst = worst.max(div.abs());
+    }
+    // f32 sums of 64 terms: rounding, not truncation error (the
+    // continuous field's faces would leave about 10% of `scale`).
+    assert!(worst < 1e-4 * scale, "divergence {worst} against {scale}");
+}
+
+/// Its statistics over the grid: each horizontal component's standard
+/// deviation near sigma, and the same seed the same field, another
+/// seed another.
+#[test]
+fn the_field_has_the_set_intensity_and_follows_its_seed() {
+    let g = turbulence_grid();
+    let modes = turbulence_records(3, 0.0);
+    for axis in [0, 2] {
+        let values: Vec<f32> = g
+            .each_face(axis)
+            .map(|(_, [i, j, k])| {
+                turbulence::at(&modes, axis, g.face_position(axis, i, j, k) - g.origin)
+            })
+            .collect();
+        let n = values.len() as f32;
+        let mean = values.iter().sum::<f32>() / n;
+        let sd = (values.iter().map(|v| (v - mean).powi(2)).sum::<f32>() / n).sqrt();
+        assert!((0.6..1.3).contains(&(sd / 0.9)), "axis {axis}: sd {sd}");
+    }
+    assert_eq!(turbulence_records(3, 2.0), turbulence_records(3, 2.0));
+    assert_ne!(turbulence_records(3, 2.0), turbulence_records(4, 2.0));
 }

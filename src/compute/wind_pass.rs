@@ -734,10 +734,9 @@ impl WindPass {
     /// modes carried on by it (`WindField::add_turbulence`); None without
     /// turbulence.
     fn turbulence_records(&mut self, dt: f32) -> Option<Vec<TurbulenceMode>> {
-        let (field, settings) = (self.turbulence.as_mut()?, self.settings.turbulence?);
-        let inflow = self.settings.inflow.as_ref();
-        let sigma = settings.sigma(inflow);
-        field.advance(turbulence::convection(inflow), sigma, dt);
+        let field = self.turbulence.as_mut()?;
+        let sigma = self.settings.turbulence_sigma();
+        field.advance(self.settings.turbulence_convection(), sigma, dt);
         Some(field.records(sigma))
     }
 

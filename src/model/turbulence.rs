@@ -17,7 +17,6 @@
 use glam::{DVec3, Vec3};
 use rand::{Rng, SeedableRng};
 
-use super::wind::{Inflow, WindGrid};
 use crate::interface::TurbulenceMode;
 
 /// `wind.turbulence` of a scene.
@@ -55,27 +54,6 @@ const PEAK_TIMES_LENGTH: f64 = 0.746_834;
 /// (rising as k^4) holds under 1e-4 of the energy.
 const LOWEST: f64 = 0.1;
 
-impl Turbulence {
-    /// U: the set speed, else the inflow's |speed|; None when neither.
-    pub fn reference_speed(&self, inflow: Option<&Inflow>) -> Option<f32> {
-        self.speed.or(inflow.map(|i| i.speed.abs()))
-    }
-
-    /// sigma_u = intensity U (m/s); 0 without a reference speed.
-    pub fn sigma(&self, inflow: Option<&Inflow>) -> f32 {
-        self.intensity * self.reference_speed(inflow).unwrap_or(0.0)
-    }
-}
-
-/// The patches' convection velocity: the inflow's mean velocity (m/s),
-/// zero without an inflow (the patches then change in place).
-pub fn convection(inflow: Option<&Inflow>) -> Vec3 {
-    inflow.map_or(Vec3::ZERO, |i| {
-        let [c, s] = i.heading_vector();
-        Vec3::new(i.speed * c, 0.0, i.speed * s)
-    })
-}
-
 /// One Fourier mode.
 #[derive(Clone, Copy, Debug)]
 struct Mode {
@@ -105,7 +83,7 @@ pub struct TurbulenceField {
 }
 
 impl TurbulenceField {
-    /// The modes of `turbulence` on `grid`, for a standard deviation of
+    /// The modes of `turbulence` on a grid of `cell`s (m), for a standard deviation of
     /// 1 m/s (`records` scales them): wavenumbers log-spaced from 0.1 k_e to the Nyquist
     /// wavenumber of the grid's coarsest axis (none aliases), directions
     /// uniform on the sphere, each polarised at random across its
@@ -113,9 +91,9 @@ impl TurbulenceField {
     /// spectrum E ~ (k/k_e)^4 / (1 + (k/k_e)^2)^(17/6), scaled so that the
     /// horizontal components' variance is 1 (the resolved modes carry it
     /// all).
-    pub fn new(turbulence: &Turbulence, grid: &WindGrid) -> Self {
+    pub fn new(turbulence: &Turbulence, cell: Vec3) -> Self {
         let mut rng = rand_pcg::Pcg32::seed_from_u64(0x7475_7262 ^ turbulence.seed as u64);
-        let h = grid.cell.as_dvec3();
+        let h = cell.as_dvec3();
         let k_e = PEAK_TIMES_LENGTH / turbulence.length_scale as f64;
         let k_lo = LOWEST * k_e;
         let k_hi = (std::f64::consts::PI / h.max_element()).max(k_lo * 1.01);
@@ -239,79 +217,4 @@ fn face_amplitude(k: DVec3, a: DVec3, h: DVec3) -> Vec3 {
         2.0 * (0.5 * k.z * h.z).sin() / h.z,
     );
     (-modified.cross(k.cross(a)) / k.length_squared()).as_vec3()
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use glam::UVec3;
-
-    fn grid() -> WindGrid {
-        WindGrid::new(
-            UVec3::new(40, 8, 40),
-            Vec3::new(-20.0, 0.0, -20.0),
-            Vec3::new(40.0, 4.0, 40.0),
-        )
-        .unwrap()
-    }
-
-    /// sigma 0.9 m/s, advanced by `seconds` in a 3 m/s wind along x.
-    fn records(seed: u32, seconds: f32) -> Vec<TurbulenceMode> {
-        let t = Turbulence {
-            intensity: 0.3,
-            length_scale: 4.0,
-            seed,
-            speed: Some(3.0),
-        };
-        let mut field = TurbulenceField::new(&t, &grid());
-        field.advance(Vec3::new(3.0, 0.0, 0.0), 0.9, seconds);
-        field.records(0.9)
-    }
-
-    /// The faces' field has no divergence in any cell: the sum over a
-    /// cell's faces of (out - in) / h, against the faces' own size.
-    #[test]
-    fn the_faces_field_is_divergence_free_cell_by_cell() {
-        let g = grid();
-        let modes = records(3, 1.7);
-        let face = |axis: usize, i: u32, j: u32, k: u32| {
-            at(&modes, axis, g.face_position(axis, i, j, k) - g.origin)
-        };
-        let (mut worst, mut scale) = (0.0f32, 0.0f32);
-        for (_, [i, j, k]) in g.each_cell() {
-            let mut div = 0.0;
-            for axis in 0..3 {
-                let mut hi = [i, j, k];
-                hi[axis] += 1;
-                let (a, b) = (face(axis, i, j, k), face(axis, hi[0], hi[1], hi[2]));
-                div += (b - a) / g.cell[axis];
-                scale = scale.max(a.abs() / g.cell[axis]);
-            }
-            worst = worst.max(div.abs());
-        }
-        // f32 sums of 64 terms: rounding, not truncation error (the
-        // continuous field's faces would leave about 10% of `scale`).
-        assert!(worst < 1e-4 * scale, "divergence {worst} against {scale}");
-    }
-
-    /// Its statistics over the grid: each horizontal component's standard
-    /// deviation near sigma, and the same seed the same field, another
-    /// seed another.
-    #[test]
-    fn the_field_has_the_set_intensity_and_follows_its_seed() {
-        let g = grid();
-        let modes = records(3, 0.0);
-        for axis in [0, 2] {
-            let values: Vec<f32> = g
-                .each_face(axis)
-                .map(|(_, [i, j, k])| at(&modes, axis, g.face_position(axis, i, j, k) - g.origin))
-                .collect();
-            let n = values.len() as f32;
-            let mean = values.iter().sum::<f32>() / n;
-            let sd = (values.iter().map(|v| (v - mean).powi(2)).sum::<f32>() / n).sqrt();
-            assert!((0.6..1.3).contains(&(sd / 0.9)), "axis {axis}: sd {sd}");
-        }
-        assert_eq!(records(3, 2.0), records(3, 2.0));
-        assert_ne!(records(3, 2.0), records(4, 2.0));
-    }
 }

@@ -596,6 +596,24 @@ impl WindSettings {
             Coupling::TwoWay => self.canopy_drag,
         }
     }
+
+    /// The turbulence's sigma_u = intensity U (m/s), U its `speed` or else
+    /// the inflow's |speed|; 0 without turbulence.
+    pub fn turbulence_sigma(&self) -> f32 {
+        self.turbulence.map_or(0.0, |t| {
+            let reference = t.speed.or(self.inflow.map(|i| i.speed.abs()));
+            t.intensity * reference.unwrap_or(0.0)
+        })
+    }
+
+    /// The turbulence's patches move with the inflow's mean velocity
+    /// (m/s); without an inflow they change in place.
+    pub fn turbulence_convection(&self) -> Vec3 {
+        self.inflow.map_or(Vec3::ZERO, |i| {
+            let [c, s] = i.heading_vector();
+            Vec3::new(i.speed * c, 0.0, i.speed * s)
+        })
+    }
 }
 
 impl Default for WindSettings {
@@ -713,7 +731,9 @@ impl WindField {
             faces: [Vec::new(), Vec::new(), Vec::new()],
             multigrid: Multigrid { levels: Vec::new() },
             multigrid_work: Work::default(),
-            turbulence: settings.turbulence.map(|t| TurbulenceField::new(&t, &grid)),
+            turbulence: settings
+                .turbulence
+                .map(|t| TurbulenceField::new(&t, grid.cell)),
             turbulence_added: [0, 1, 2].map(|a| {
                 let d = grid.face_dims(a);
                 vec![0.0; (d.x * d.y * d.z) as usize]
@@ -874,12 +894,11 @@ impl WindField {
     /// carried on by this step, every free and buried face gains the
     /// field at the step's end, and keeps what it gained.
     pub fn add_turbulence(&mut self, settings: &WindSettings, dt: f32) {
-        let (Some(field), Some(turbulence)) = (&mut self.turbulence, &settings.turbulence) else {
+        let (Some(field), Some(_)) = (&mut self.turbulence, &settings.turbulence) else {
             return;
         };
-        let inflow = settings.inflow.as_ref();
-        let sigma = turbulence.sigma(inflow);
-        field.advance(turbulence::convection(inflow), sigma, dt);
+        let sigma = settings.turbulence_sigma();
+        field.advance(settings.turbulence_convection(), sigma, dt);
         let records = field.records(sigma);
         for axis in 0..3 {
             let mut offset = Vec3::splat(0.5);
