@@ -7,7 +7,7 @@ use common::wind_scenes::{self, behaviour_grid, blowing_source};
 use glam::{UVec3, Vec3};
 use meadow::interface::TurbulenceMode;
 use meadow::model::contact::{Collider, ColliderKind};
-use meadow::model::turbulence::{self, Turbulence, TurbulenceField};
+use meadow::model::turbulence::{Turbulence, TurbulenceField};
 use meadow::model::wind::{
     Advection, FaceKind, Gust, Inflow, Obstacle, PressureSolver, WindField, WindGrid, WindSettings,
     WindSource,
@@ -421,26 +421,30 @@ fn turbulence_grid() -> WindGrid {
 }
 
 /// sigma 0.9 m/s, advanced by `seconds` in a 3 m/s wind along x.
-fn turbulence_records(seed: u32, seconds: f32) -> Vec<TurbulenceMode> {
+fn turbulence_records(seed: u32, seconds: f32) -> (TurbulenceField, Vec<TurbulenceMode>) {
     let t = Turbulence {
         intensity: 0.3,
         length_scale: 4.0,
         seed,
         speed: Some(3.0),
     };
-    let mut field = TurbulenceField::new(&t, turbulence_grid().cell);
+    let g = turbulence_grid();
+    // The ground, the top and the sides along a wind from +x are walls.
+    let mut field = TurbulenceField::new(&t, g.cells, g.cell, [false, true, true]);
     field.advance(Vec3::new(3.0, 0.0, 0.0), 0.9, seconds);
-    field.records(0.9)
+    let records = field.records(0.9);
+    (field, records)
 }
 
 /// The faces' field has no divergence in any cell: the sum over a
-/// cell's faces of (out - in) / h, against the faces' own size.
+/// cell's faces of (out - in) / h, against the faces' own size; and no
+/// flow through the walls (the ground, the top, the sides along the wind).
 #[test]
 fn the_faces_field_is_divergence_free_cell_by_cell() {
     let g = turbulence_grid();
-    let modes = turbulence_records(3, 1.7);
+    let (field, modes) = turbulence_records(3, 1.7);
     let face = |axis: usize, i: u32, j: u32, k: u32| {
-        turbulence::at(&modes, axis, g.face_position(axis, i, j, k) - g.origin)
+        field.at(&modes, axis, TurbulenceField::face_point(axis, [i, j, k]))
     };
     let (mut worst, mut scale) = (0.0f32, 0.0f32);
     for (_, [i, j, k]) in g.each_cell() {
@@ -457,6 +461,19 @@ fn the_faces_field_is_divergence_free_cell_by_cell() {
     // f32 sums of 64 terms: rounding, not truncation error (the
     // continuous field's faces would leave about 10% of `scale`).
     assert!(worst < 1e-4 * scale, "divergence {worst} against {scale}");
+    let n = g.cells;
+    let mut through_walls = 0.0f32;
+    for (axis, end) in [(1, 0), (1, n.y), (2, 0), (2, n.z)] {
+        for (_, f) in g.each_face(axis).filter(|(_, f)| f[axis] == end) {
+            through_walls = through_walls.max(face(axis, f[0], f[1], f[2]).abs());
+        }
+    }
+    let along = (0..n.x).map(|i| face(0, i, 3, 7).abs()).fold(0.0, f32::max);
+    eprintln!("through the walls at most {through_walls} m/s; along x up to {along} m/s");
+    assert!(
+        through_walls < 1e-4 * along,
+        "{through_walls} against {along}"
+    );
 }
 
 /// Its statistics over the grid: each horizontal component's standard
@@ -465,12 +482,12 @@ fn the_faces_field_is_divergence_free_cell_by_cell() {
 #[test]
 fn the_field_has_the_set_intensity_and_follows_its_seed() {
     let g = turbulence_grid();
-    let modes = turbulence_records(3, 0.0);
+    let (field, modes) = turbulence_records(3, 0.0);
     for axis in [0, 2] {
         let values: Vec<f32> = g
             .each_face(axis)
             .map(|(_, [i, j, k])| {
-                turbulence::at(&modes, axis, g.face_position(axis, i, j, k) - g.origin)
+                field.at(&modes, axis, TurbulenceField::face_point(axis, [i, j, k]))
             })
             .collect();
         let n = values.len() as f32;
@@ -478,6 +495,6 @@ fn the_field_has_the_set_intensity_and_follows_its_seed() {
         let sd = (values.iter().map(|v| (v - mean).powi(2)).sum::<f32>() / n).sqrt();
         assert!((0.6..1.3).contains(&(sd / 0.9)), "axis {axis}: sd {sd}");
     }
-    assert_eq!(turbulence_records(3, 2.0), turbulence_records(3, 2.0));
-    assert_ne!(turbulence_records(3, 2.0), turbulence_records(4, 2.0));
+    assert_eq!(turbulence_records(3, 2.0).1, turbulence_records(3, 2.0).1);
+    assert_ne!(turbulence_records(3, 2.0).1, turbulence_records(4, 2.0).1);
 }

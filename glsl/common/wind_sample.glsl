@@ -7,33 +7,45 @@
 #error "define WIND_VELOCITY(i) before including wind_sample.glsl"
 #endif
 
-// The lattice of component `axis` around world position x, clamped: the
-// lower and upper corners' sample coordinates and the fractions between.
-void component_lattice(WindGridParams g, uint axis, vec3 x, out uvec3 i0, out uvec3 i1,
-                       out vec3 f) {
-    uvec3 d = face_dims(g, axis);
+// The eight samples of component `axis` around a point, clamped to its
+// lattice: the lower and upper corners' sample coordinates, the fractions
+// between them, and where the component starts and its lattice's size.
+struct ComponentLattice {
+    uvec3 i0;
+    uvec3 i1;
+    vec3 f;
+    uint base;
+    uvec3 d;
+};
+
+ComponentLattice component_lattice(WindGridParams g, uint axis, vec3 x) {
+    ComponentLattice l;
+    l.d = face_dims(g, axis);
     vec3 offset = vec3(0.5);
     offset[axis] = 0.0;
-    vec3 p = clamp((x - g.origin.xyz) / g.cell_size.xyz - offset, vec3(0.0), vec3(d - 1u));
-    i0 = min(uvec3(floor(p)), d - 1u);
-    i1 = min(i0 + 1u, d - 1u);
-    f = p - vec3(i0);
+    vec3 p = clamp((x - g.origin.xyz) / g.cell_size.xyz - offset, vec3(0.0), vec3(l.d - 1u));
+    l.i0 = min(uvec3(floor(p)), l.d - 1u);
+    l.i1 = min(l.i0 + 1u, l.d - 1u);
+    l.f = p - vec3(l.i0);
+    l.base = component_offset(g, axis);
+    return l;
 }
 
-#define MEADOW_AT(i, j, k) WIND_VELOCITY(base + (i) + d.x * ((j) + d.y * (k)))
+// The sample at lattice point (i, j, k) of `l`.
+float lattice_sample(ComponentLattice l, uint i, uint j, uint k) {
+    return WIND_VELOCITY(l.base + i + l.d.x * (j + l.d.y * k));
+}
 
 // Trilinear sample of component `axis` at world position x, clamped to the
 // component's sample lattice (paper: the grass samples the wind at its tip).
 float sample_component(WindGridParams g, uint axis, vec3 x) {
-    uvec3 i0, i1;
-    vec3 f;
-    component_lattice(g, axis, x, i0, i1, f);
-    uvec3 d = face_dims(g, axis);
-    uint base = component_offset(g, axis);
-    float c00 = MEADOW_AT(i0.x, i0.y, i0.z) * (1.0 - f.x) + MEADOW_AT(i1.x, i0.y, i0.z) * f.x;
-    float c10 = MEADOW_AT(i0.x, i1.y, i0.z) * (1.0 - f.x) + MEADOW_AT(i1.x, i1.y, i0.z) * f.x;
-    float c01 = MEADOW_AT(i0.x, i0.y, i1.z) * (1.0 - f.x) + MEADOW_AT(i1.x, i0.y, i1.z) * f.x;
-    float c11 = MEADOW_AT(i0.x, i1.y, i1.z) * (1.0 - f.x) + MEADOW_AT(i1.x, i1.y, i1.z) * f.x;
+    ComponentLattice l = component_lattice(g, axis, x);
+    uvec3 i0 = l.i0, i1 = l.i1;
+    vec3 f = l.f;
+    float c00 = lattice_sample(l, i0.x, i0.y, i0.z) * (1.0 - f.x) + lattice_sample(l, i1.x, i0.y, i0.z) * f.x;
+    float c10 = lattice_sample(l, i0.x, i1.y, i0.z) * (1.0 - f.x) + lattice_sample(l, i1.x, i1.y, i0.z) * f.x;
+    float c01 = lattice_sample(l, i0.x, i0.y, i1.z) * (1.0 - f.x) + lattice_sample(l, i1.x, i0.y, i1.z) * f.x;
+    float c11 = lattice_sample(l, i0.x, i1.y, i1.z) * (1.0 - f.x) + lattice_sample(l, i1.x, i1.y, i1.z) * f.x;
     float c0 = c00 * (1.0 - f.y) + c10 * f.y;
     float c1 = c01 * (1.0 - f.y) + c11 * f.y;
     return c0 * (1.0 - f.z) + c1 * f.z;
@@ -42,23 +54,15 @@ float sample_component(WindGridParams g, uint axis, vec3 x) {
 // The least (x) and greatest (y) of the eight samples `sample_component`
 // interpolates at x (`WindField::sample_range`).
 vec2 sample_range(WindGridParams g, uint axis, vec3 x) {
-    uvec3 i0, i1;
-    vec3 f;
-    component_lattice(g, axis, x, i0, i1, f);
-    uvec3 d = face_dims(g, axis);
-    uint base = component_offset(g, axis);
-    float lo = MEADOW_AT(i0.x, i0.y, i0.z);
-    float hi = lo;
+    ComponentLattice l = component_lattice(g, axis, x);
+    vec2 range = vec2(lattice_sample(l, l.i0.x, l.i0.y, l.i0.z));
     for (uint n = 1u; n < 8u; ++n) {
-        uvec3 i = uvec3((n & 1u) != 0u ? i1.x : i0.x, (n & 2u) != 0u ? i1.y : i0.y,
-                        (n & 4u) != 0u ? i1.z : i0.z);
-        float v = MEADOW_AT(i.x, i.y, i.z);
-        lo = min(lo, v);
-        hi = max(hi, v);
+        uvec3 i = mix(l.i0, l.i1, bvec3((n & 1u) != 0u, (n & 2u) != 0u, (n & 4u) != 0u));
+        float v = lattice_sample(l, i.x, i.y, i.z);
+        range = vec2(min(range.x, v), max(range.y, v));
     }
-    return vec2(lo, hi);
+    return range;
 }
-#undef MEADOW_AT
 
 // The wind velocity at a world position.
 vec3 sample_wind(WindGridParams g, vec3 x) {

@@ -1,14 +1,16 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 // Kernel 7, with turbulence (`WindField::add_turbulence`,
-// src/model/turbulence.rs): every free and buried face gains the sum of the
-// Fourier modes at the step's end, and keeps what it gained in `added` for
-// the next step's forces kernel to take off. The modes are written before
-// each step with their phases then.
+// src/model/turbulence.rs): every free, buried and inflow face gains the
+// sum of the Fourier modes at the step's end, and keeps what it gained in
+// `turbulence_added` for the next step's forces kernel to take off (an
+// inflow face is set anew there). The modes are written before each step
+// with their phases then.
 #include "wind_kernel.glsl"
 
 // TurbulenceMode: src/interface/defs.rs.
 layout(set = 0, binding = 12, std430) readonly buffer Modes { TurbulenceMode modes[]; };
+
 
 void main() {
     uint id = gl_GlobalInvocationID.x;
@@ -16,20 +18,36 @@ void main() {
         return;
     }
     uint kind = face_kind[id];
-    if (kind != FACE_FREE && kind != FACE_BURIED) {
+    if (kind == FACE_WALL) {
         return;
     }
     uint axis;
     uvec3 f;
     face_of(pc.grid, id, axis, f);
-    // From the grid's corner, where the phases are taken.
-    vec3 offset = vec3(0.5);
-    offset[axis] = 0.0;
-    vec3 x = (vec3(f) + offset) * pc.grid.cell_size.xyz;
+    // The face's half-cell point (`TurbulenceField::face_point`): 2 f
+    // along its axis, 2 f + 1 across.
+    uvec3 q = 2u * f + 1u;
+    q[axis] -= 1u;
+    vec3 x = vec3(q) * 0.5 * pc.grid.cell_size.xyz;
     float u = 0.0;
     for (uint n = 0u; n < uint(modes.length()); ++n) {
         vec4 k = modes[n].wavenumber_phase;
-        u += modes[n].amplitude[axis] * cos(k.x * x.x + k.y * x.y + k.z * x.z + k.w);
+        uint mirrored = modes[n].mirrored;
+        // `model::turbulence::at`: the phase along the axes not mirrored,
+        // times per mirrored axis sin (the component across it) or cos.
+        float theta = k.w;
+        for (uint a = 0u; a < 3u; ++a) {
+            if ((mirrored & (1u << a)) == 0u) {
+                theta += k[a] * x[a];
+            }
+        }
+        float value = (mirrored & (1u << axis)) != 0u ? -sin(theta) : cos(theta);
+        for (uint a = 0u; a < 3u; ++a) {
+            if ((mirrored & (1u << a)) != 0u) {
+                value *= a == axis ? sin(k[a] * x[a]) : cos(k[a] * x[a]);
+            }
+        }
+        u += modes[n].amplitude[axis] * value;
     }
     vel[id] += u;
     turbulence_added[id] = u;

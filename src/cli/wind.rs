@@ -119,6 +119,15 @@ pub fn run(args: WindArgs) -> anyhow::Result<()> {
             100.0 * t.share_left()
         );
     }
+    if let Some(t) = &r.turbulence_cost {
+        match (t.step_ms_median_with, t.step_ms_median_without, t.ratio) {
+            (Some(with), Some(without), Some(ratio)) => println!(
+                "the step with turbulence and without over the same {} steps: median {with:.3} ms against {without:.3} ms ({ratio:.2}x)",
+                t.steps
+            ),
+            _ => println!("the step with turbulence and without: unavailable (no timestamps)"),
+        }
+    }
     println!(
         "wrote {}, {} and {}",
         out.join("wind_horizontal.svg").display(),

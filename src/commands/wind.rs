@@ -18,7 +18,7 @@ use crate::gpu::{CommandPool, Gpu, GpuOptions, ValidationReport};
 use crate::model::wind::{Coupling, PressureSolver, WindField, WindGrid, WindSettings};
 use crate::report::claim::OutputClaim;
 use crate::report::files;
-pub use crate::report::wind::SolverTiming;
+pub use crate::report::wind::{SolverTiming, TurbulenceTiming};
 use crate::report::wind_slices::{self, Outlines, Slice};
 use crate::scene::{field, Scene};
 
@@ -63,6 +63,10 @@ pub struct WindReport {
     pub step_ms_p95: Option<f64>,
     /// Both solvers over the same steps (multigrid, then Jacobi).
     pub solvers: Vec<SolverTiming>,
+    /// With `wind.turbulence`: the step with it and without it, over the
+    /// same steps.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub turbulence_cost: Option<TurbulenceTiming>,
     pub warnings: Vec<String>,
     pub validation: ValidationReport,
 }
@@ -257,6 +261,30 @@ pub fn compare_solvers(gpu: &Gpu, scene: &Scene, steps: u32) -> Result<Vec<Solve
     Ok(timings)
 }
 
+/// With turbulence, the scene's wind step timed without it over the same
+/// number of steps, beside `with` (the steps' GPU times with it, ms).
+fn turbulence_cost(
+    gpu: &Gpu,
+    scene: &Scene,
+    steps: u32,
+    with: &[f64],
+) -> Result<Option<TurbulenceTiming>> {
+    if scene.wind.turbulence.is_none() {
+        return Ok(None);
+    }
+    let mut calm = scene.clone();
+    calm.wind.turbulence = None;
+    let commands = CommandPool::new(gpu, "wind turbulence cost commands")?;
+    let without = run_steps(gpu, &commands, &calm, steps)?;
+    let (with, without) = (median_p95(with), median_p95(&without.times));
+    Ok(Some(TurbulenceTiming {
+        steps,
+        step_ms_median_with: with.map(|t| t.0),
+        step_ms_median_without: without.map(|t| t.0),
+        ratio: with.zip(without).map(|(w, wo)| w.0 / wo.0),
+    }))
+}
+
 fn run(
     gpu: &Gpu,
     scene: &Scene,
@@ -339,6 +367,7 @@ fn run(
         step_ms_median: timing.map(|t| t.0),
         step_ms_p95: timing.map(|t| t.1),
         solvers: compare_solvers(gpu, scene, steps)?,
+        turbulence_cost: turbulence_cost(gpu, scene, steps, &times)?,
         warnings: Vec::new(),
         validation: ValidationReport::default(),
     })

@@ -140,9 +140,11 @@ gpu_interface! {
         /// xyz: wavenumber k (rad/m); w: the mode's phase at the step's
         /// end, taken at the grid's minimum corner (rad, in [0, 2 pi)).
         pub wavenumber_phase: [f32; 4],
-        /// xyz: what the mode adds to a face of each axis at phase 0
-        /// (m/s); w: unused.
-        pub amplitude: [f32; 4],
+        /// What the mode adds to a face of each axis at phase 0 (m/s).
+        pub amplitude: [f32; 3],
+        /// Bit a: the mode is paired with its mirror images across the
+        /// grid's two sides across axis a (`model::turbulence::at`).
+        pub mirrored: u32,
     }
 
     /// One multigrid level as the kernels read it (glsl/wind/multigrid.glsl;

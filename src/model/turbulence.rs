@@ -14,7 +14,7 @@
 //! the field at the step's end (`WindField::step`). docs/method.md says why
 //! this method and what it leaves out.
 
-use glam::{DVec3, Vec3};
+use glam::{DVec3, UVec3, Vec3};
 use rand::{Rng, SeedableRng};
 
 use crate::interface::TurbulenceMode;
@@ -39,7 +39,7 @@ pub struct Turbulence {
 
 /// Fourier modes in the field: enough for patches without visible
 /// repetition, few enough for a face to sum them every step.
-pub const MODES: usize = 64;
+pub const MODES: usize = 48;
 
 /// lambda of the modes' own rate, omega = lambda sqrt(k^3 E(k)) (Fung et
 /// al. 1992 take 0.4-1): eddies change while they are carried, over about
@@ -57,7 +57,8 @@ const LOWEST: f64 = 0.1;
 /// One Fourier mode.
 #[derive(Clone, Copy, Debug)]
 struct Mode {
-    /// Wavenumber (rad/m).
+    /// Wavenumber (rad/m); along a mirrored axis a whole number of half
+    /// waves across the grid, 0 or more.
     k: DVec3,
     /// What the mode adds to a face of each axis at phase 0 (m/s).
     amplitude: Vec3,
@@ -75,6 +76,10 @@ struct Mode {
 #[derive(Clone, Debug)]
 pub struct TurbulenceField {
     modes: Vec<Mode>,
+    /// Bit a: the grid's two sides across axis a are walls, and each mode
+    /// is paired with its mirror images across them (`at`).
+    mirrored: u32,
+    cell: Vec3,
     /// The integral of the convection velocity (m).
     drift: DVec3,
     /// The integral of sigma (m): each mode's own rate is sigma times its
@@ -83,17 +88,23 @@ pub struct TurbulenceField {
 }
 
 impl TurbulenceField {
-    /// The modes of `turbulence` on a grid of `cell`s (m), for a standard deviation of
-    /// 1 m/s (`records` scales them): wavenumbers log-spaced from 0.1 k_e to the Nyquist
+    /// The modes of `turbulence` on a grid of `cells` cells of `cell`
+    /// metres whose sides across each axis with `walls` set hold no flow
+    /// through them, for a standard deviation of 1 m/s (`records` scales
+    /// them): wavenumbers log-spaced from 0.1 k_e to the Nyquist
     /// wavenumber of the grid's coarsest axis (none aliases), directions
     /// uniform on the sphere, each polarised at random across its
     /// wavenumber (so divergence-free), energies E(k) dk of the von Karman
-    /// spectrum E ~ (k/k_e)^4 / (1 + (k/k_e)^2)^(17/6), scaled so that the
-    /// horizontal components' variance is 1 (the resolved modes carry it
-    /// all).
-    pub fn new(turbulence: &Turbulence, cell: Vec3) -> Self {
+    /// spectrum E ~ (k/k_e)^4 / (1 + (k/k_e)^2)^(17/6). Across walls a
+    /// wavenumber is rounded to a whole number of half waves across the
+    /// grid and the mode paired with its mirror images (the normal
+    /// component then vanishes on both walls: the modes of a channel). The
+    /// whole is scaled so that the horizontal components' variance over the
+    /// grid's cells is 1 (the resolved modes carry it all).
+    pub fn new(turbulence: &Turbulence, cells: UVec3, cell: Vec3, walls: [bool; 3]) -> Self {
         let mut rng = rand_pcg::Pcg32::seed_from_u64(0x7475_7262 ^ turbulence.seed as u64);
         let h = cell.as_dvec3();
+        let size = cells.as_dvec3() * h;
         let k_e = PEAK_TIMES_LENGTH / turbulence.length_scale as f64;
         let k_lo = LOWEST * k_e;
         let k_hi = (std::f64::consts::PI / h.max_element()).max(k_lo * 1.01);
@@ -102,62 +113,116 @@ impl TurbulenceField {
             let r = k / k_e;
             r.powi(4) / (1.0 + r * r).powf(17.0 / 6.0)
         };
-        let shells: Vec<(f64, f64)> = (0..MODES)
+        let mirrored = (0..3).filter(|&a| walls[a]).map(|a| 1u32 << a).sum();
+        let modes: Vec<Mode> = (0..MODES)
             .map(|n| {
                 let k = k_lo * (span * (n as f64 + 0.5) / MODES as f64).exp();
-                (k, spectrum(k) * k * span / MODES as f64)
-            })
-            .collect();
-        let total: f64 = shells.iter().map(|&(_, e)| e).sum();
-        let mut modes: Vec<(DVec3, DVec3, f64, f64)> = shells
-            .iter()
-            .map(|&(k, energy)| {
-                let weight = energy / total;
-                let dir = unit_on_sphere(&mut rng);
-                let (e1, e2) = dir.any_orthonormal_pair();
+                let shell = span / MODES as f64 * k;
+                let weight = spectrum(k) * shell;
+                let mut wavenumber = unit_on_sphere(&mut rng) * k;
+                for a in (0..3).filter(|&a| walls[a]) {
+                    let half_wave = std::f64::consts::PI / size[a];
+                    wavenumber[a] = (wavenumber[a].abs() / half_wave).round() * half_wave;
+                }
+                let (e1, e2) = wavenumber
+                    .try_normalize()
+                    .unwrap_or(DVec3::X)
+                    .any_orthonormal_pair();
                 let angle = rng.random::<f64>() * std::f64::consts::TAU;
-                let polarisation = e1 * angle.cos() + e2 * angle.sin();
+                let a = (e1 * angle.cos() + e2 * angle.sin()) * weight.sqrt();
                 let phase = rng.random::<f64>() * std::f64::consts::TAU;
-                // Each mode a cos(theta) holds |a|^2 / 2 of u_i u_i;
-                // 3 sigma^2 in all when isotropic (rescaled below).
-                let a = polarisation * (6.0 * weight).sqrt();
-                // E(k) of this shell as energy per wavenumber (m^3/s^2 per
-                // sigma^2), for its rate.
-                let density = 1.5 * weight / (k * span / MODES as f64);
-                (
-                    dir * k,
-                    a,
+                // E(k) of this shell per wavenumber, for its rate (scaled
+                // with the amplitudes below).
+                let omega = UNSTEADINESS * (k.powi(3) * weight / shell).sqrt();
+                Mode {
+                    k: wavenumber,
+                    amplitude: face_amplitude(wavenumber, a, h),
                     phase,
-                    UNSTEADINESS * (k.powi(3) * density).sqrt(),
-                )
+                    omega,
+                }
             })
             .collect();
-        // The horizontal components' variance, sum |a_x|^2/2 and |a_z|^2/2,
-        // made sigma^2 on average exactly: 64 random directions leave it a
-        // draw away from the isotropic mean.
-        let horizontal: f64 = modes
-            .iter()
-            .map(|(_, a, _, _)| 0.25 * (a.x * a.x + a.z * a.z))
-            .sum();
-        let scale = 1.0 / horizontal.sqrt();
-        for (_, a, _, omega) in &mut modes {
-            *a *= scale;
-            *omega *= scale; // rates scale with sigma: sqrt(k^3 E)
-        }
-        let modes = modes
-            .into_iter()
-            .map(|(k, a, phase, omega)| Mode {
-                k,
-                amplitude: face_amplitude(k, a, h),
-                phase,
-                omega,
-            })
-            .collect();
-        Self {
+        let mut field = Self {
             modes,
+            mirrored,
+            cell,
             drift: DVec3::ZERO,
             clock: 0.0,
+        };
+        // The horizontal components' variance over (at most about 20,000
+        // of) the cells' centres, made 1: a few dozen random modes leave
+        // the field a draw away from any analytic mean.
+        let records = field.records(1.0);
+        let stride = ((cells.as_dvec3().element_product() / 20_000.0)
+            .cbrt()
+            .ceil() as u32)
+            .max(1);
+        let (mut sum, mut count) = (0.0f64, 0usize);
+        for i in (0..cells.x).step_by(stride as usize) {
+            for j in (0..cells.y).step_by(stride as usize) {
+                for k in (0..cells.z).step_by(stride as usize) {
+                    let q = UVec3::new(2 * i + 1, 2 * j + 1, 2 * k + 1);
+                    sum += (field.at(&records, 0, q) as f64).powi(2)
+                        + (field.at(&records, 2, q) as f64).powi(2);
+                    count += 2;
+                }
+            }
         }
+        let scale = (count as f64 / sum.max(f64::MIN_POSITIVE)).sqrt();
+        for m in &mut field.modes {
+            m.amplitude *= scale as f32;
+            // Rates go as sqrt(k^3 E), E as the amplitude squared.
+            m.omega *= scale;
+        }
+        field
+    }
+
+    /// The half-cell point of face `f` of component `axis`: 2 f along the
+    /// axis, 2 f + 1 across it.
+    pub fn face_point(axis: usize, f: [u32; 3]) -> UVec3 {
+        let mut q = UVec3::from(f) * 2 + 1;
+        q[axis] -= 1;
+        q
+    }
+
+    /// Component `axis` of the field `records` describe at half-cell point
+    /// `q` (at q h / 2 from the grid's minimum corner), as
+    /// glsl/wind/turbulence.comp sums it. A mode a cos(k . x + theta)
+    /// paired with its mirror images across the walls of the axes m in
+    /// `mirrored` is, for each component, cos(theta') (or -sin(theta') for
+    /// the component across a mirrored axis) times, per mirrored axis m,
+    /// sin(k_m x_m) for the component across it and cos(k_m x_m) for the
+    /// others, theta' the phase along the axes not mirrored: the normal
+    /// component is zero on both walls.
+    pub fn at(&self, records: &[TurbulenceMode], axis: usize, q: UVec3) -> f32 {
+        let x = q.as_vec3() * 0.5 * self.cell;
+        let mut u = 0.0;
+        for m in records {
+            let [kx, ky, kz, phase] = m.wavenumber_phase;
+            let k = [kx, ky, kz];
+            let mut theta = phase;
+            for a in 0..3 {
+                if m.mirrored & (1 << a) == 0 {
+                    theta += k[a] * x[a];
+                }
+            }
+            let mut f = if m.mirrored & (1 << axis) != 0 {
+                -theta.sin()
+            } else {
+                theta.cos()
+            };
+            for a in 0..3 {
+                if m.mirrored & (1 << a) != 0 {
+                    f *= if a == axis {
+                        (k[a] * x[a]).sin()
+                    } else {
+                        (k[a] * x[a]).cos()
+                    };
+                }
+            }
+            u += m.amplitude[axis] * f;
+        }
+        u
     }
 
     /// One step of `dt` (s): the modes carried with `convection` (m/s)
@@ -169,31 +234,26 @@ impl TurbulenceField {
 
     /// The modes as the GPU reads them now, for a standard deviation of
     /// `sigma` (m/s): the phase theta_n = phi_n + omega_n int(sigma dt) -
-    /// k_n . int(U dt), in double precision, reduced to [0, 2 pi).
+    /// k_n . int(U dt) (along the axes not mirrored), in double precision,
+    /// reduced to [0, 2 pi).
     pub fn records(&self, sigma: f32) -> Vec<TurbulenceMode> {
         self.modes
             .iter()
             .map(|m| {
-                let phase = (m.phase + m.omega * self.clock - m.k.dot(self.drift))
-                    .rem_euclid(std::f64::consts::TAU);
+                let carried: f64 = (0..3)
+                    .filter(|&a| self.mirrored & (1 << a) == 0)
+                    .map(|a| m.k[a] * self.drift[a])
+                    .sum();
+                let phase =
+                    (m.phase + m.omega * self.clock - carried).rem_euclid(std::f64::consts::TAU);
                 TurbulenceMode {
                     wavenumber_phase: m.k.as_vec3().extend(phase as f32).to_array(),
-                    amplitude: (m.amplitude * sigma).extend(0.0).to_array(),
+                    amplitude: (m.amplitude * sigma).to_array(),
+                    mirrored: self.mirrored,
                 }
             })
             .collect()
     }
-}
-
-/// Component `axis` of the field at `x` (m from the grid's minimum corner),
-/// as glsl/wind/turbulence.comp sums it: sum_n a_n[axis] cos(k_n . x + theta_n).
-pub fn at(records: &[TurbulenceMode], axis: usize, x: Vec3) -> f32 {
-    let mut u = 0.0;
-    for m in records {
-        let [kx, ky, kz, phase] = m.wavenumber_phase;
-        u += m.amplitude[axis] * (kx * x.x + ky * x.y + kz * x.z + phase).cos();
-    }
-    u
 }
 
 /// A point uniform on the unit sphere.

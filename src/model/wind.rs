@@ -1,7 +1,7 @@
 //! CPU reference of the wind solver (paper section 3.2; docs/method.md section 3):
 //! inviscid, incompressible Navier-Stokes on a grid, one step =
-//! add source forces -> advection (MacCormack on the semi-Lagrangian step
-//! by default, or the paper's semi-Lagrangian step) -> divergence ->
+//! add source forces -> advection (the paper's semi-Lagrangian step by
+//! default, or MacCormack's corrector on it) -> divergence ->
 //! pressure (multigrid V-cycles by default, src/model/multigrid.rs, or the
 //! paper's Jacobi iterations) -> subtract the pressure gradient; with
 //! turbulence (src/model/turbulence.rs) its field is added on top.
@@ -29,7 +29,7 @@ use super::multigrid::{Multigrid, Work};
 pub use super::path::{along_path, MAX_PATH_POINTS};
 use super::terrain::Terrain;
 pub use super::turbulence::Turbulence;
-use super::turbulence::{self, TurbulenceField};
+use super::turbulence::TurbulenceField;
 use crate::error::{Error, Result};
 
 /// The grid: `cells` = (nx, ny, nz), x and z horizontal, y up.
@@ -503,13 +503,14 @@ impl PressureSolver {
 pub enum Advection {
     /// MacCormack's predictor and corrector on the semi-Lagrangian step
     /// (Selle, Fedkiw, Kim, Liu and Rossignac 2008), clamped to the range
-    /// of the values the predictor interpolated: second order, bounded.
-    /// The default: a gust keeps its strength down a field
+    /// of the values the predictor interpolated: second order, bounded;
+    /// a gust keeps its strength down a field (docs/physics.md). Not yet
+    /// the default: behind fig13-obstacles' wall it leaves no calm lee
     /// (docs/physics.md).
-    #[default]
     Maccormack,
     /// The paper's first-order semi-Lagrangian step (Stam 1999), which
-    /// wears a gust away within tens of metres.
+    /// wears a gust away within tens of metres; the default.
+    #[default]
     SemiLagrangian,
 }
 
@@ -604,6 +605,14 @@ impl WindSettings {
             let reference = t.speed.or(self.inflow.map(|i| i.speed.abs()));
             t.intensity * reference.unwrap_or(0.0)
         })
+    }
+
+    /// Which axes' two sides hold no flow through them for the
+    /// turbulence: the ground and the top, and the sides along an inflow
+    /// (its modes are mirrored across them; src/model/turbulence.rs).
+    pub fn turbulence_walls(&self) -> [bool; 3] {
+        let along = |axis: usize| self.inflow.is_some_and(|i| i.side(axis, 0) == Side::Along);
+        [along(0), true, along(2)]
     }
 
     /// The turbulence's patches move with the inflow's mean velocity
@@ -731,9 +740,9 @@ impl WindField {
             faces: [Vec::new(), Vec::new(), Vec::new()],
             multigrid: Multigrid { levels: Vec::new() },
             multigrid_work: Work::default(),
-            turbulence: settings
-                .turbulence
-                .map(|t| TurbulenceField::new(&t, grid.cell)),
+            turbulence: settings.turbulence.map(|t| {
+                TurbulenceField::new(&t, grid.cells, grid.cell, settings.turbulence_walls())
+            }),
             turbulence_added: [0, 1, 2].map(|a| {
                 let d = grid.face_dims(a);
                 vec![0.0; (d.x * d.y * d.z) as usize]
@@ -891,8 +900,9 @@ impl WindField {
     }
 
     /// Kernel 7, with turbulence (src/model/turbulence.rs): the modes
-    /// carried on by this step, every free and buried face gains the
-    /// field at the step's end, and keeps what it gained.
+    /// carried on by this step, every free, buried and inflow face gains
+    /// the field at the step's end, and keeps what it gained (an inflow
+    /// face is set anew by the next step's forces).
     pub fn add_turbulence(&mut self, settings: &WindSettings, dt: f32) {
         let (Some(field), Some(_)) = (&mut self.turbulence, &settings.turbulence) else {
             return;
@@ -901,14 +911,11 @@ impl WindField {
         field.advance(settings.turbulence_convection(), sigma, dt);
         let records = field.records(sigma);
         for axis in 0..3 {
-            let mut offset = Vec3::splat(0.5);
-            offset[axis] = 0.0;
-            for (idx, [i, j, k]) in self.grid.each_face(axis) {
-                if !matches!(self.faces[axis][idx], FaceKind::Free | FaceKind::Buried) {
+            for (idx, f) in self.grid.each_face(axis) {
+                if self.faces[axis][idx] == FaceKind::Wall {
                     continue;
                 }
-                let x = (UVec3::new(i, j, k).as_vec3() + offset) * self.grid.cell;
-                let u = turbulence::at(&records, axis, x);
+                let u = field.at(&records, axis, TurbulenceField::face_point(axis, f));
                 self.vel[axis][idx] += u;
                 self.turbulence_added[axis][idx] = u;
             }
@@ -1059,9 +1066,10 @@ impl WindField {
 
     /// Kernel 2: advection. Each free face traces back by dt along the
     /// velocity there and takes the value it finds (semi-Lagrangian, the
-    /// paper's); MacCormack's corrector (the default) then traces that
-    /// result forward again, adds half the difference from the value it
-    /// started with (the first-order step's error, so second order), and
+    /// paper's); MacCormack's corrector (`wind.advection = "maccormack"`)
+    /// traces that result forward again, adds half the difference from
+    /// the value it started with (the first-order step's error, so second
+    /// order), and
     /// clamps the sum to the range of the eight values the back trace
     /// interpolated (no new extremes). Then the canopy drag with
     /// coefficient `canopy_drag` (0: none) slows it, implicitly, by the

@@ -19,6 +19,19 @@ pub struct SolverTiming {
     pub rms_divergence_after: f32,
 }
 
+/// The scene's wind step with its turbulence and without it, over the
+/// same steps in one run: what the turbulence costs.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct TurbulenceTiming {
+    pub steps: u32,
+    /// GPU time of one whole wind step, ms (median; None where the device
+    /// has no timestamps).
+    pub step_ms_median_with: Option<f64>,
+    pub step_ms_median_without: Option<f64>,
+    /// with / without.
+    pub ratio: Option<f64>,
+}
+
 /// "6 multigrid V-cycles" or "30 Jacobi iterations": what one step's
 /// projection runs.
 pub fn describe(solver: PressureSolver, jacobi_iterations: u32, v_cycles: u32) -> String {
