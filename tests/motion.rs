@@ -27,7 +27,9 @@ fn strict_options() -> GpuOptions {
 /// every band together: best lag 0, which fails.
 #[test]
 fn gusts_travel_down_a_strip_at_the_speed_of_the_wind() {
-    let scene = Scene::builtin("gust-strip").unwrap();
+    // The inflow's gusts alone: the scene's turbulence left out.
+    let mut scene = Scene::builtin("gust-strip").unwrap();
+    scene.wind.turbulence = None;
     let request = TraceRequest {
         scene,
         seconds: 20.0,
@@ -83,6 +85,81 @@ fn gusts_travel_down_a_strip_at_the_speed_of_the_wind() {
         lags[0] > 0 && lags.windows(2).all(|w| w[1] > w[0]),
         "the lag does not grow with distance: {lags:?}"
     );
+}
+
+/// Issue 39, turbulence alive all along a strip: gust-strip's 36 m in its
+/// turbulence alone (intensity 0.3, length scale 4 m; the inflow's gusts
+/// left out), 1,500 blades traced 16 s, the first 6 s left out (the grass
+/// leaning into the wind). The spread in time of each 3 m band's mean
+/// downwind tip displacement is at least 4% of that band's mean
+/// displacement (measured 6.4-9.7%; issue 39 asks 30%, which these blades
+/// do not give: docs/physics.md), and in the last three bands at least 70%
+/// of the first three's (measured 91%): the turbulence is as alive 30 m
+/// downwind as at the inflow. Without it (the same steady inflow) every
+/// band holds still, its spread under 1% of its mean, which fails the
+/// first bound.
+#[test]
+fn turbulence_moves_the_grass_all_along_a_strip() {
+    let gpu = strict_gpu();
+    let bands = |turbulent: bool| -> Vec<(f64, f64)> {
+        let mut scene = Scene::builtin("gust-strip").unwrap();
+        scene.wind.inflow.as_mut().unwrap().gust.amplitude = 0.0;
+        if !turbulent {
+            scene.wind.turbulence = None;
+        }
+        assert!(!turbulent || scene.wind.turbulence.is_some());
+        let request = TraceRequest {
+            scene,
+            seconds: 16.0,
+            every: 6,
+            blades: BladePick::Count(1500),
+            wind: false,
+            diagram_from: 0.0,
+            gpu: strict_options(),
+        };
+        let run = trace(&gpu, &request, &mut |_, _| true).unwrap();
+        let skip = (6.0 / (run.times[1] - run.times[0])).round() as usize;
+        run.band_displacement(-18.0, 3.0, 12)
+            .iter()
+            .map(|b| {
+                let b = &b[skip..];
+                let mean = b.iter().sum::<f64>() / b.len() as f64;
+                let spread =
+                    (b.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / b.len() as f64).sqrt();
+                (mean, spread)
+            })
+            .collect()
+    };
+    let (turbulent, steady) = (bands(true), bands(false));
+    finish(gpu);
+    let show = |bands: &[(f64, f64)]| {
+        bands
+            .iter()
+            .map(|(m, s)| format!("{:.1}+-{:.1}", 1e3 * m, 1e3 * s))
+            .collect::<Vec<_>>()
+            .join(" ")
+    };
+    eprintln!("turbulent, mm by 3 m band: {}", show(&turbulent));
+    eprintln!("steady, mm by 3 m band:    {}", show(&steady));
+    for (k, &(mean, spread)) in turbulent.iter().enumerate() {
+        assert!(
+            spread >= 0.04 * mean.abs(),
+            "band {k}: spread {spread} against mean {mean}"
+        );
+    }
+    let spread = |b: &[(f64, f64)]| b.iter().map(|&(_, s)| s).sum::<f64>() / b.len() as f64;
+    let (near, far) = (spread(&turbulent[..3]), spread(&turbulent[9..]));
+    eprintln!(
+        "spread in the last three bands over the first three: {:.2}",
+        far / near
+    );
+    assert!(far >= 0.7 * near, "{far} against {near}");
+    for (k, &(mean, spread)) in steady.iter().enumerate() {
+        assert!(
+            spread < 0.01 * mean.abs(),
+            "steady band {k}: {spread} against {mean}"
+        );
+    }
 }
 
 /// The lee is calmer, in the grass: on Fig. 13's meadow the blades just
