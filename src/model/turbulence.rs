@@ -114,9 +114,19 @@ impl TurbulenceField {
             r.powi(4) / (1.0 + r * r).powf(17.0 / 6.0)
         };
         let mirrored = (0..3).filter(|&a| walls[a]).map(|a| 1u32 << a).sum();
+        let wavenumber_at = |n: usize| k_lo * (span * (n as f64 + 0.5) / MODES as f64).exp();
+        // The spectrum's integral over the shells: E(k) = 1.5 spectrum(k)
+        // / it is the von Karman spectrum of sigma = 1 (its integral is the
+        // kinetic energy, 3/2 sigma^2).
+        let integral: f64 = (0..MODES)
+            .map(|n| {
+                let k = wavenumber_at(n);
+                spectrum(k) * span / MODES as f64 * k
+            })
+            .sum();
         let modes: Vec<Mode> = (0..MODES)
             .map(|n| {
-                let k = k_lo * (span * (n as f64 + 0.5) / MODES as f64).exp();
+                let k = wavenumber_at(n);
                 let shell = span / MODES as f64 * k;
                 let weight = spectrum(k) * shell;
                 let mut wavenumber = unit_on_sphere(&mut rng) * k;
@@ -131,9 +141,8 @@ impl TurbulenceField {
                 let angle = rng.random::<f64>() * std::f64::consts::TAU;
                 let a = (e1 * angle.cos() + e2 * angle.sin()) * weight.sqrt();
                 let phase = rng.random::<f64>() * std::f64::consts::TAU;
-                // E(k) of this shell per wavenumber, for its rate (scaled
-                // with the amplitudes below).
-                let omega = UNSTEADINESS * (k.powi(3) * weight / shell).sqrt();
+                // Its rate at sigma = 1 from E(k) per wavenumber.
+                let omega = UNSTEADINESS * (k.powi(3) * 1.5 * spectrum(k) / integral).sqrt();
                 Mode {
                     k: wavenumber,
                     amplitude: face_amplitude(wavenumber, a, h),
@@ -171,8 +180,6 @@ impl TurbulenceField {
         let scale = (count as f64 / sum.max(f64::MIN_POSITIVE)).sqrt();
         for m in &mut field.modes {
             m.amplitude *= scale as f32;
-            // Rates go as sqrt(k^3 E), E as the amplitude squared.
-            m.omega *= scale;
         }
         field
     }
