@@ -92,9 +92,9 @@ fn gusts_travel_down_a_strip_at_the_speed_of_the_wind() {
 /// left out), 1,500 blades traced 16 s, the first 6 s left out (the grass
 /// leaning into the wind). The spread in time of each 3 m band's mean
 /// downwind tip displacement is at least 4% of that band's mean
-/// displacement (measured 6.4-9.7%; issue 39 asks 30%, which these blades
-/// do not give: docs/physics.md), and in the last three bands at least 70%
-/// of the first three's (measured 91%): the turbulence is as alive 30 m
+/// displacement (measured 5.3-10.1%; issue 39 asks 30%, which these
+/// blades do not give: docs/physics.md), and in the last three bands at
+/// least 70% of the first three's (measured 112%): the turbulence is as alive 30 m
 /// downwind as at the inflow. Without it (the same steady inflow) every
 /// band holds still, its spread under 1% of its mean, which fails the
 /// first bound.
