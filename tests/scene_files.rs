@@ -568,7 +568,7 @@ fn bad_turbulence_is_refused_naming_the_field() {
         (
             "intensity = 0.3, length_scale = 1.0",
             false,
-            "wind.turbulence.speed: is needed without an inflow",
+            "wind.turbulence.speed: missing: without an inflow it is needed",
         ),
         (
             "intensity = 0.3, length_scale = 1.0, speed = -2.0",

@@ -474,7 +474,7 @@ fn turbulence(t: &crate::model::wind::Turbulence, inflow: bool) -> Check {
         None if inflow => Ok(()),
         None => Err(FieldError::new(
             "speed",
-            "is needed without an inflow: the intensity is sigma_u over this speed; give it in m/s (above 0 and at most 100)",
+            "missing: without an inflow it is needed, as the intensity is sigma_u over this speed; give it in m/s (above 0 and at most 100)",
         )),
     }
 }
