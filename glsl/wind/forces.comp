@@ -25,6 +25,12 @@ vec3 source_position(GpuWindSource s, float t) {
                       unused_velocity);
 }
 
+// What the last step's turbulence added to face `id`: without turbulence
+// the buffer holds one zero, and every face takes 0.
+float turbulence_taken(uint id) {
+    return id < uint(turbulence_added.length()) ? turbulence_added[id] : 0.0;
+}
+
 void main() {
     uint id = gl_GlobalInvocationID.x;
     float t = pc.time;
@@ -41,7 +47,7 @@ void main() {
     if (kind == FACE_BURIED) {
         // Holds the ghost value under_ground.comp gave it, without the
         // last step's turbulence.
-        vel[id] -= turbulence_added[id];
+        vel[id] -= turbulence_taken(id);
         return;
     }
     if (kind == FACE_WALL) {
@@ -69,7 +75,7 @@ void main() {
         a += strength * dir[axis] * falloff(distance(x, source_position(s, t)), s.position_radius.w);
     }
     // The mean wind: the last step's turbulence taken off.
-    float u = vel[id] - turbulence_added[id] + dt * a;
+    float u = vel[id] - turbulence_taken(id) + dt * a;
     for (uint i = 0u; i < moving_count; ++i) {
         if (collider_distance(moving[i], x).x < 0.0) {
             u = moving[i].velocity[axis];

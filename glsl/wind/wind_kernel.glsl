@@ -13,9 +13,9 @@ layout(push_constant, std430) uniform Push {
     WindPush pc;
 };
 
-// Three copies of the velocity: A = [0, F) is the state between steps,
-// B = [F, 2F) the advected field, C = [2F, 3F) MacCormack's predictor.
-// F = pc.grid.faces.
+// Copies of the velocity: A = [0, F) is the state between steps,
+// B = [F, 2F) the advected field, and with MacCormack's advection
+// C = [2F, 3F) its predictor. F = pc.grid.faces.
 layout(set = 0, binding = 0, std430) buffer Velocity { float vel[]; };
 layout(set = 0, binding = 1, std430) readonly buffer Faces { uint face_kind[]; };
 layout(set = 0, binding = 2, std430) readonly buffer Solid { uint solid[]; };

@@ -144,8 +144,8 @@ fn multigrid_tables(mg: &Multigrid) -> (Vec<MgLevel>, Vec<f32>) {
 
 /// The solver's buffers, made once.
 struct WindBuffers {
-    /// Velocity, three copies of every face: A (state), B (advected), C
-    /// (MacCormack's predictor).
+    /// Velocity, two or three copies of every face: A (state), B
+    /// (advected), and with MacCormack's advection C (its predictor).
     velocity: Buffer,
     faces: Buffer,
     solid: Buffer,
@@ -192,19 +192,20 @@ impl WindBuffers {
             Buffer::with_data(gpu, commands, name, bytes, storage, Access::COMPUTE_READ)
         };
         let coarse_cells = field.multigrid.coarse_cell_count().max(1) as u64;
+        let copies = velocity_copies(settings);
         let [faces, conductance, levels] = Self::classified(gpu, commands, field)?;
         let buffers = Self {
             velocity: if field.vel.iter().flatten().all(|&v| v == 0.0) {
-                device_buffer("wind velocity (A, B, C)", 3 * face_count as u64)?
+                device_buffer("wind velocity", copies * face_count as u64)?
             } else {
                 // The air starting with an oblique inflow or over terrain
                 // (`WindField::new`): every copy.
                 let copy: Vec<f32> = field.vel.iter().flatten().copied().collect();
-                let all = [copy.as_slice(), copy.as_slice(), copy.as_slice()].concat();
+                let all = copy.repeat(copies as usize);
                 Buffer::with_data(
                     gpu,
                     commands,
-                    "wind velocity (A, B, C)",
+                    "wind velocity",
                     bytemuck::cast_slice(&all),
                     rw,
                     Access::COMPUTE_READ_WRITE,
@@ -226,7 +227,15 @@ impl WindBuffers {
             levels,
             canopy: device_buffer("wind canopy frontal area (fixed point)", cell_count as u64)?,
             colliders: super::colliders::buffer(gpu, "wind colliders")?,
-            turbulence_added: device_buffer("wind turbulence added per face", face_count as u64)?,
+            // One zero without turbulence (forces.comp reads 0 past it).
+            turbulence_added: device_buffer(
+                "wind turbulence added per face",
+                if settings.turbulence.is_some() {
+                    face_count as u64
+                } else {
+                    1
+                },
+            )?,
             modes: Buffer::new(
                 gpu,
                 "wind turbulence modes",
@@ -377,14 +386,16 @@ impl WindPass {
             .map(|a| grid.face_dims(a).as_u64vec3().element_product())
             .sum();
         let cell_count = grid.cell_count() as u64;
-        // Velocity x3, face kinds, turbulence added, pressure x2,
-        // divergence, solid cells, canopy: 4 bytes each.
+        // Velocity x2 or x3, face kinds, with turbulence what it added,
+        // pressure x2, divergence, solid cells, canopy: 4 bytes each.
         gpu.check_fits(
             &format!(
                 "the {}x{}x{} wind grid",
                 grid.cells.x, grid.cells.y, grid.cells.z
             ),
-            4 * (5 * face_count + 5 * cell_count),
+            4 * ((velocity_copies(settings) + 1 + settings.turbulence.is_some() as u64)
+                * face_count
+                + 5 * cell_count),
         )?;
         let (face_count, cell_count) = match (u32::try_from(face_count), u32::try_from(cell_count))
         {
@@ -769,6 +780,16 @@ impl WindPass {
     /// in the layout of glsl/common/wind_grid.glsl. The grass samples it.
     pub fn velocity(&self) -> &Buffer {
         &self.buffers.velocity
+    }
+}
+
+/// Copies of the velocity the advection needs: A and B, and C for
+/// MacCormack's predictor (only then, so that the paper's advection keeps
+/// the binding within a small maxStorageBufferRange).
+fn velocity_copies(settings: &WindSettings) -> u64 {
+    match settings.advection {
+        Advection::SemiLagrangian => 2,
+        Advection::Maccormack => 3,
     }
 }
 
