@@ -633,39 +633,27 @@ fn gust_kept_over_36_m(gpu: &meadow::gpu::Gpu, advection: Advection) -> f64 {
         advection,
         ..scene.wind_settings()
     };
-    let dt = scene.wind.dt;
-    let commands = CommandPool::new(gpu, "gust test commands").unwrap();
-    let mut pass = WindPass::new(gpu, &commands, grid, &settings, 0.0).unwrap();
-    let mut field = WindField::new(grid, &settings);
     let near = Vec3::new(grid.origin.x + 2.0, 0.4, 0.0);
     let far = near + Vec3::new(36.0, 0.0, 0.0);
-    let (mut at_near, mut at_far) = (Vec::new(), Vec::new());
-    let (skip, steps) = ((14.0 / dt).round() as u32, (26.0 / dt).round() as u32);
-    let rec = commands.begin().unwrap();
-    for step in 0..skip {
-        pass.record_step(&rec, step as f32 * dt, dt);
-    }
-    rec.submit_and_wait("gust spin-up").unwrap();
-    // Sampled every third step: 20 samples a second against 1.4 Hz at most.
-    for step in (skip..steps).step_by(3) {
-        let rec = commands.begin().unwrap();
-        for s in step..step + 3 {
-            pass.record_step(&rec, s as f32 * dt, dt);
-        }
-        rec.submit_and_wait("gust steps").unwrap();
-        field.vel = pass.read_velocity(gpu, &commands).unwrap();
-        at_near.push(field.sample(near).x as f64);
-        at_far.push(field.sample(far).x as f64);
-    }
+    let series = downwind_wind(
+        gpu,
+        grid,
+        &settings,
+        scene.wind.dt,
+        14.0,
+        12.0,
+        &[near, far],
+    );
+    let (at_near, at_far) = (&series[0], &series[1]);
     let spread = |v: &[f64]| {
         let mean = v.iter().sum::<f64>() / v.len() as f64;
         (v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / v.len() as f64).sqrt()
     };
-    let kept = spread(&at_far) / spread(&at_near);
+    let kept = spread(at_far) / spread(at_near);
     eprintln!(
         "{advection:?}: spread of u at 0.4 m, 2 m in {:.3} m/s, 36 m further {:.3} m/s: {:.0}% kept",
-        spread(&at_near),
-        spread(&at_far),
+        spread(at_near),
+        spread(at_far),
         100.0 * kept
     );
     kept
@@ -719,24 +707,39 @@ fn field_wind(
         turbulence,
         ..Default::default()
     };
-    let dt: f32 = 1.0 / 60.0;
-    let commands = CommandPool::new(gpu, "field wind commands").unwrap();
-    let mut pass = WindPass::new(gpu, &commands, grid, &settings, 0.0).unwrap();
-    let mut field = WindField::new(grid, &settings);
-    let skip = (4.0 / dt).round() as u32;
+    downwind_wind(gpu, grid, &settings, 1.0 / 60.0, 4.0, seconds, points)
+}
+
+/// The downwind wind at `points` on the GPU, steps of `dt` from rest,
+/// sampled every third step for `seconds` after the first `skip_s`
+/// seconds (20 samples a second at 1/60 s, against 1.4 Hz at most):
+/// [point][sample].
+fn downwind_wind(
+    gpu: &meadow::gpu::Gpu,
+    grid: WindGrid,
+    settings: &WindSettings,
+    dt: f32,
+    skip_s: f32,
+    seconds: f32,
+    points: &[Vec3],
+) -> Vec<Vec<f64>> {
+    let commands = CommandPool::new(gpu, "downwind wind commands").unwrap();
+    let mut pass = WindPass::new(gpu, &commands, grid, settings, 0.0).unwrap();
+    let mut field = WindField::new(grid, settings);
+    let skip = (skip_s / dt).round() as u32;
     let steps = skip + (seconds / dt).round() as u32;
     let mut series = vec![Vec::new(); points.len()];
     let rec = commands.begin().unwrap();
     for step in 0..skip {
         pass.record_step(&rec, step as f32 * dt, dt);
     }
-    rec.submit_and_wait("field wind spin-up").unwrap();
+    rec.submit_and_wait("wind spin-up").unwrap();
     for step in (skip..steps).step_by(3) {
         let rec = commands.begin().unwrap();
         for s in step..step + 3 {
             pass.record_step(&rec, s as f32 * dt, dt);
         }
-        rec.submit_and_wait("field wind steps").unwrap();
+        rec.submit_and_wait("wind steps").unwrap();
         field.vel = pass.read_velocity(gpu, &commands).unwrap();
         for (s, p) in series.iter_mut().zip(points) {
             s.push(field.sample(*p).x as f64);
