@@ -412,6 +412,12 @@ impl Inflow {
         [snap(c), snap(s)]
     }
 
+    /// Its mean velocity (m/s): speed along the heading, none upwards.
+    pub fn mean_velocity(&self) -> Vec3 {
+        let [c, s] = self.heading_vector();
+        Vec3::new(self.speed * c, 0.0, self.speed * s)
+    }
+
     /// Whether the inflow blows across both horizontal axes.
     pub fn is_oblique(&self) -> bool {
         let [c, s] = self.heading_vector();
@@ -618,10 +624,7 @@ impl WindSettings {
     /// The turbulence's patches move with the inflow's mean velocity
     /// (m/s); without an inflow they change in place.
     pub fn turbulence_convection(&self) -> Vec3 {
-        self.inflow.map_or(Vec3::ZERO, |i| {
-            let [c, s] = i.heading_vector();
-            Vec3::new(i.speed * c, 0.0, i.speed * s)
-        })
+        self.inflow.map_or(Vec3::ZERO, |i| i.mean_velocity())
     }
 }
 
@@ -770,11 +773,11 @@ impl WindField {
     /// eddies. A wind along an axis over flat ground starts from rest, as
     /// it always has (its first projection gives the uniform flow).
     fn start_with(&mut self, inflow: &Inflow) {
-        let [c, s] = inflow.heading_vector();
-        for (axis, component) in [(0, c), (2, s)] {
+        let mean = inflow.mean_velocity();
+        for axis in [0, 2] {
             for (v, kind) in self.vel[axis].iter_mut().zip(&self.faces[axis]) {
                 if matches!(kind, FaceKind::Free | FaceKind::Buried) {
-                    *v = inflow.speed * component;
+                    *v = mean[axis];
                 }
             }
         }
