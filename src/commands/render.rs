@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use crate::commands::on_gpu;
+use crate::compute::StepPace;
 use crate::error::{Error, Result};
 use crate::frame::timing::{FrameTimings, TimingSummary};
 pub use crate::frame::Animation;
@@ -158,14 +159,9 @@ pub struct FrameProgress {
     pub planned: u32,
     /// Simulation steps still to run before the next frame (0 once a frame
     /// is written): a frame far ahead in simulated time is reached in
-    /// submissions of `STEP_BATCH` steps, reported after each.
+    /// submissions paced by `StepPace`, reported after each.
     pub steps_left: u64,
 }
-
-/// Simulation steps per submission while a frame far ahead is reached:
-/// small enough that a stop (Ctrl-C, SIGTERM) is seen within about a
-/// second on lavapipe at the default 200,000 blades.
-pub const STEP_BATCH: u64 = 8;
 
 /// As `render_to_dir`, calling `observer` after each frame written and
 /// after each batch of simulation steps before a frame; when it returns
@@ -454,6 +450,7 @@ fn animate(
         });
     }
     let mut interrupted = false;
+    let mut pace = StepPace::default();
     'frames: for (before, f) in request.frames_written().enumerate() {
         // Frames written before this one.
         let written = before as u32;
@@ -465,9 +462,15 @@ fn animate(
         };
         let time = request.animation.time_of(f);
         let mut steps = recorder.steps_until(time)?;
-        while steps > STEP_BATCH {
-            recorder.simulate(STEP_BATCH).map_err(at_frame)?;
-            steps -= STEP_BATCH;
+        // Steps toward a frame far ahead go in submissions paced to the
+        // machine, a stop asked after each; the last batch goes with the
+        // frame, timed as its own.
+        while steps > pace.next(steps) {
+            let batch = pace.next(steps);
+            let started = Instant::now();
+            recorder.simulate(batch).map_err(at_frame)?;
+            pace.ran(batch, started.elapsed());
+            steps -= batch;
             let progress = FrameProgress {
                 written,
                 planned,
@@ -488,10 +491,27 @@ fn animate(
             );
             let started = Instant::now();
             // The steps go with the first picture; the others draw the
-            // same instant.
-            let mut frame = recorder
-                .render(gpu, &uniforms, std::mem::take(&mut steps))
+            // same instant. Between the frame's submissions a stop is
+            // asked for too.
+            let mut keep_going = || {
+                observer(FrameProgress {
+                    written,
+                    planned,
+                    steps_left: 0,
+                })
+            };
+            let drawn = recorder
+                .render_unless_stopped(
+                    gpu,
+                    &uniforms,
+                    std::mem::take(&mut steps),
+                    Some(&mut keep_going),
+                )
                 .map_err(at_frame)?;
+            let Some(mut frame) = drawn else {
+                interrupted = true;
+                break 'frames;
+            };
             legend::stamp(&mut frame, writer.view, request.scene.lod.levels);
             let wall_ms = started.elapsed().as_secs_f64() * 1e3;
             writer.write(f, &frame, wall_ms)?;

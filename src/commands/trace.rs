@@ -8,9 +8,10 @@
 
 use std::fmt::Write as _;
 use std::path::Path;
+use std::time::Instant;
 
 use crate::commands::on_gpu;
-use crate::compute::Simulation;
+use crate::compute::{Simulation, StepPace};
 use crate::error::{Error, Result};
 use crate::frame::BladeBuffer;
 use crate::gpu::{CommandPool, Gpu, GpuOptions, ValidationReport};
@@ -251,8 +252,9 @@ pub fn best_lag(a: &[f64], b: &[f64], max_lag: usize) -> (usize, f64) {
 }
 
 /// Simulates `request`'s scene on `gpu`, sampling from t = 0. `observer`
-/// is asked after each sample whether to go on (false: stop there, the
-/// trace marked interrupted).
+/// is asked after each sample, and after each submission of steps between
+/// samples, whether to go on (false: stop, the trace ending at its last
+/// sample and marked interrupted).
 pub fn trace(
     gpu: &Gpu,
     request: &TraceRequest,
@@ -288,7 +290,8 @@ pub fn trace(
     };
     let steps = request.steps();
     let mut done = 0u64;
-    loop {
+    let mut pace = StepPace::default();
+    'samples: loop {
         sample(
             gpu,
             &commands,
@@ -306,11 +309,25 @@ pub fn trace(
             trace.interrupted = true;
             break;
         }
-        let batch = (request.every as u64).min(steps - done);
-        let rec = commands.begin()?;
-        simulation.record_steps(&rec, batch);
-        rec.submit_and_wait("simulating a trace")?;
-        done += batch;
+        // The steps to the next sample, in submissions paced to the
+        // machine, a stop asked after each (the trace then ends at the
+        // last sample).
+        let mut left = (request.every as u64).min(steps - done);
+        while left > 0 {
+            let batch = pace.next(left);
+            let started = Instant::now();
+            let rec = commands.begin()?;
+            simulation.record_steps(&rec, batch);
+            rec.submit_and_wait("simulating a trace")?;
+            pace.ran(batch, started.elapsed());
+            left -= batch;
+            if left > 0 && !observer(done, steps) {
+                trace.interrupted = true;
+                break 'samples;
+            }
+        }
+        done += request.every as u64;
+        done = done.min(steps);
     }
     drop(simulation);
     Ok(trace)

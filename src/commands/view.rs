@@ -27,6 +27,7 @@ use winit::keyboard::{Key, NamedKey};
 use winit::window::{Window, WindowId};
 
 use crate::commands::on_gpu;
+use crate::compute::StepPace;
 use crate::error::{Error, Result};
 use crate::frame::timing::Phase;
 use crate::frame::{FrameRecorder, FrameStats};
@@ -227,9 +228,12 @@ impl Live {
         recorder.set_colliders(gpu, &scene.colliders)?;
         // The scene's own start: the window opens on what `render` shows first.
         let mut steps = recorder.steps_until(scene.render.start as f64)?;
+        let mut pace = StepPace::default();
         while steps > 0 {
-            let batch = steps.min(crate::commands::render::STEP_BATCH);
+            let batch = pace.next(steps);
+            let started = Instant::now();
             recorder.simulate(batch)?;
+            pace.ran(batch, started.elapsed());
             steps -= batch;
         }
         let script = request.script.clone().unwrap_or_default().actions;

@@ -10,6 +10,7 @@ pub mod collider_bins;
 mod colliders;
 pub mod grass_pass;
 mod place_order;
+pub mod step_pace;
 pub mod wind_pass;
 
 use crate::error::{Error, Result};
@@ -19,6 +20,7 @@ use crate::model::{canopy, GrassBlade};
 use crate::scene::Scene;
 
 pub use grass_pass::GrassPass;
+pub use step_pace::StepPace;
 pub use wind_pass::WindPass;
 
 pub struct Simulation {

@@ -304,12 +304,28 @@ impl FrameRecorder {
     /// Records `steps` simulation steps and then the frame into one command
     /// buffer, submits it and reads the frame back.
     pub fn render(&mut self, gpu: &Gpu, uniforms: &FrameUniforms, steps: u64) -> Result<Frame> {
-        let ((), stats) = self.record(gpu, uniforms, steps, |rec, renderer, t| {
+        let drawn = self.render_unless_stopped(gpu, uniforms, steps, None)?;
+        drawn.ok_or_else(|| Error::InvalidInput("a frame without breaks cannot stop".into()))
+    }
+
+    /// As `render`, but with `keep_going` the frame goes to the GPU in
+    /// three submissions (its steps, the cull and shadow passes, the colour
+    /// pass and read-back) and `keep_going` is asked between them: a stop
+    /// waits for one of them, not the whole frame. On false the frame is
+    /// left undrawn (None); the steps already run stay run.
+    pub fn render_unless_stopped(
+        &mut self,
+        gpu: &Gpu,
+        uniforms: &FrameUniforms,
+        steps: u64,
+        keep_going: Option<&mut dyn FnMut() -> bool>,
+    ) -> Result<Option<Frame>> {
+        let drawn = self.record(gpu, uniforms, steps, keep_going, |rec, renderer, t| {
             t.span(&rec, Phase::Readback, |rec| renderer.record_readback(rec));
             t.end_frame(&rec);
             rec.submit_and_wait("rendering a frame")
         })?;
-        Ok(Frame {
+        Ok(drawn.map(|((), stats)| Frame {
             width: self.extent.0,
             height: self.extent.1,
             rgba: self.renderer.pixels(),
@@ -317,7 +333,7 @@ impl FrameRecorder {
             shadow_statistics: stats.shadow_statistics,
             timings: stats.timings,
             cull: stats.cull,
-        })
+        }))
     }
 
     /// As `render`, but the frame goes to image `index` of a window's
@@ -334,26 +350,30 @@ impl FrameRecorder {
         index: u32,
         overlay: Option<(&mut OverlayRenderer, &OverlayDraw)>,
     ) -> Result<(Presented, FrameStats)> {
-        self.record(gpu, uniforms, steps, |rec, renderer, t| {
+        let shown = self.record(gpu, uniforms, steps, None, |rec, renderer, t| {
             t.span(&rec, Phase::Readback, |rec| {
                 renderer.record_present_source(rec)
             });
             t.end_frame(&rec);
             let frame = renderer.targets().final_image();
             swapchain.blit_and_present(rec, frame, index, overlay, "showing a frame")
-        })
+        })?;
+        shown.ok_or_else(|| Error::InvalidInput("a frame without breaks cannot stop".into()))
     }
 
     /// Records the steps and the frame's passes, then hands the recording
     /// to `end` (which records the frame's way out, closes the frame span
-    /// and submits), and reads the frame's counters.
+    /// and submits), and reads the frame's counters. With `keep_going` the
+    /// steps and the shadow go to the GPU on their own first, each asking
+    /// it afterwards (None: it said stop, the frame is not drawn).
     fn record<T>(
         &mut self,
         gpu: &Gpu,
         uniforms: &FrameUniforms,
         steps: u64,
+        mut keep_going: Option<&mut dyn FnMut() -> bool>,
         end: impl FnOnce(Recording<'_>, &Renderer, &mut Timer<'_>) -> Result<T>,
-    ) -> Result<(T, FrameStats)> {
+    ) -> Result<Option<(T, FrameStats)>> {
         let occluders = self.prepare(gpu, uniforms, steps)?;
         let Self {
             simulation,
@@ -368,7 +388,7 @@ impl FrameRecorder {
             ..
         } = self;
         let (buffer, count) = (blades.buffer(), blades.count());
-        let rec = commands.begin()?;
+        let mut rec = commands.begin()?;
         let mut t = Timer(timer.as_mut(), None);
         t.reset(&rec);
         t.1 = t.begin(&rec, Phase::Frame);
@@ -376,6 +396,15 @@ impl FrameRecorder {
             for _ in 0..steps {
                 t.span(&rec, Phase::Wind, |rec| simulation.record_wind_step(rec));
                 t.span(&rec, Phase::Grass, |rec| simulation.record_grass_step(rec));
+            }
+        }
+        if steps > 0 {
+            match pause(commands, rec, &mut keep_going, "simulating a frame's steps")? {
+                Some(next) => rec = next,
+                None => {
+                    renderer.end_frame(false);
+                    return Ok(None);
+                }
             }
         }
         if let Some(cull) = cull.as_ref() {
@@ -401,6 +430,13 @@ impl FrameRecorder {
             renderer.record_shadow(rec, buffer, shadow_draw);
             shadow_statistics.end(rec);
         });
+        match pause(commands, rec, &mut keep_going, "drawing a frame's shadow")? {
+            Some(next) => rec = next,
+            None => {
+                renderer.end_frame(false);
+                return Ok(None);
+            }
+        }
         statistics.reset(&rec);
         let color = t.begin(&rec, Phase::Color);
         renderer.begin_color(&rec);
@@ -425,7 +461,7 @@ impl FrameRecorder {
         let ended = end(rec, renderer, &mut t);
         renderer.end_frame(ended.is_ok());
         let ended = ended?;
-        Ok((ended, self.read_stats()?))
+        Ok(Some((ended, self.read_stats()?)))
     }
 
     /// Before a frame of `steps` is recorded: its uniforms set, the
@@ -485,6 +521,27 @@ impl FrameRecorder {
             cull: self.cull.as_ref().map(CullPass::counts),
         };
         Ok(stats)
+    }
+}
+
+/// A break between a frame's submissions: what `rec` holds runs, then
+/// `keep_going` says whether the frame goes on, in a new recording (None:
+/// stop). Without `keep_going` the frame stays one submission. The timer's
+/// spans and queries live in its pool, across submissions of one queue.
+fn pause<'c>(
+    commands: &'c CommandPool,
+    rec: Recording<'c>,
+    keep_going: &mut Option<&mut dyn FnMut() -> bool>,
+    during: &str,
+) -> Result<Option<Recording<'c>>> {
+    let Some(go) = keep_going.as_mut() else {
+        return Ok(Some(rec));
+    };
+    rec.submit_and_wait(during)?;
+    if go() {
+        commands.begin().map(Some)
+    } else {
+        Ok(None)
     }
 }
 
