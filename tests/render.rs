@@ -136,6 +136,72 @@ fn the_ground_meets_the_sky_without_a_band() {
     }
 }
 
+/// The sky follows the sun: under the shipped scenes' afternoon sun the
+/// horizon is the day's pale blue all round; with the sun 3 degrees above
+/// the horizon it glows warm (red over blue) toward the sun, less so away
+/// from it, and the zenith is a deeper blue than the day's. The ground's
+/// haze fades into that same horizon: no band where the ground ends.
+#[test]
+fn a_low_sun_warms_the_horizon_toward_it_and_the_ground_fades_into_it() {
+    let gpu = strict_gpu();
+    let mut scene = Scene::builtin("fig10-few-bunches").unwrap();
+    scene.light.shadow_map = 0;
+    let blades = field::generate(&scene.grass, scene.seed).unwrap();
+    let (w, h) = (160, 90);
+    // Looking level along -z from 1.5 m: the horizon is the middle row.
+    scene.camera.position = [0.0, 1.5, 0.0];
+    scene.camera.target = [0.0, 1.5, -10.0];
+    let horizon_and_zenith = |scene: &Scene| {
+        let frame = render(&gpu, scene, &blades, w, h, ViewMode::Shaded);
+        // Just above the horizon (the sky), and the top row.
+        (
+            pixel(&frame, w / 2, h / 2 - 3),
+            pixel(&frame, w / 2, 0),
+            frame,
+        )
+    };
+    let warmth = |[r, _, b]: [u8; 3]| r as i32 - b as i32;
+    let (day, day_top, _) = horizon_and_zenith(&scene);
+    // The sun low ahead (toward -z), then low behind the camera.
+    let low = 3f32.to_radians();
+    scene.light.direction = [0.0, low.sin(), -low.cos()];
+    let (ahead, ahead_top, frame) = horizon_and_zenith(&scene);
+    scene.light.direction = [0.0, low.sin(), low.cos()];
+    let (behind, _, _) = horizon_and_zenith(&scene);
+    finish(gpu);
+    assert!(warmth(day) < -30, "the day's horizon is blue: {day:?}");
+    assert!(
+        warmth(ahead) > 60,
+        "toward a low sun the horizon glows: {ahead:?}"
+    );
+    assert!(
+        warmth(behind) < warmth(ahead) - 40,
+        "away from the sun less warm: {behind:?} against {ahead:?}"
+    );
+    let deeper = |[r, g, b]: [u8; 3]| r as u32 + g as u32 + b as u32;
+    assert!(
+        deeper(ahead_top) + 30 < deeper(day_top),
+        "a low sun's zenith is darker: {ahead_top:?} against {day_top:?}"
+    );
+    // Down the frame's left column (away from the bunches): soil into the
+    // warm horizon without a step, as in the day's frame.
+    let column: Vec<[u8; 3]> = (0..h).rev().map(|y| pixel(&frame, 4, y)).collect();
+    let step = column
+        .windows(2)
+        .map(|p| {
+            (0..3)
+                .map(|c| p[0][c].abs_diff(p[1][c]) as u32)
+                .max()
+                .unwrap()
+        })
+        .max()
+        .unwrap();
+    assert!(
+        step <= 30,
+        "a step of {step} levels between rows: {column:?}"
+    );
+}
+
 /// One straight blade rooted at `root`, leaning nowhere.
 fn single_blade(root: Vec3, facing: Vec3, half_width: f32) -> Blade {
     Blade::from_profile(

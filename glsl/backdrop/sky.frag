@@ -1,7 +1,6 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// Sky gradient by the elevation of the view ray: pale at the horizon, deeper
-// blue overhead.
+// Sky gradient by the elevation of the view ray and the sun's (sky.glsl).
 #include "frame.glsl"
 #include "sky.glsl"
 
@@ -11,5 +10,5 @@ layout(location = 0) out vec4 out_color;
 void main() {
     vec4 far_point = frame.inv_view_proj * vec4(v_ndc, 1.0, 1.0);
     vec3 dir = normalize(far_point.xyz / far_point.w - frame.camera_pos.xyz);
-    out_color = vec4(sky_color(dir), 1.0);
+    out_color = vec4(sky_color(dir, frame.light_dir.xyz), 1.0);
 }

@@ -3,7 +3,8 @@
 // texture, tiled, with a slow brightness variation so the tiling does not
 // show, lit by the sun (`lambert`: the cosine to it) and darkened where the
 // shadow map says the sun is hidden; beyond frame.ground.z metres from
-// the grass it fades into the sky's horizon colour, so the ground meets the
+// the grass it fades into the sky's horizon colour (in its direction from
+// the camera), so the ground meets the
 // sky without a band. Needs frame.glsl, shadow.glsl, sky.glsl and
 // surfaces.glsl included first.
 #ifndef MEADOW_SOIL_GLSL
@@ -27,7 +28,8 @@ vec3 soil_lit(vec3 world, float lambert) {
     float clear = frame.ground.z;
     float beyond = max(distance(world.xz, frame.ground.xy) - clear, 0.0);
     float haze = 1.0 - exp(-beyond / (0.25 * clear + 10.0));
-    return mix(lit, SKY_HORIZON, haze);
+    vec3 horizon = sky_horizon(world - frame.camera_pos.xyz, frame.light_dir.xyz);
+    return mix(lit, horizon, haze);
 }
 
 #endif
