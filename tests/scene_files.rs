@@ -401,6 +401,12 @@ fn malformed_scene_files_are_refused_with_line_column_field_and_range() {
             "camera.position: is 1 m under the ground (y < 0); raise it to y >= 0",
         ),
         (
+            "a camera beyond the view's reach of the grass",
+            with("position = [0.0, 1.0, 3.0]", "position = [0.0, 1.0, 1e7]"),
+            5,
+            "camera.position: is 9999999 m from the nearest grass and the view reaches 200 m",
+        ),
+        (
             "a light from below the horizon",
             plus("[light]\ndirection = [0.0, -1.0, 0.0]"),
             15,

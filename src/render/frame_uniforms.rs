@@ -51,7 +51,12 @@ pub struct FrameUniforms {
 pub fn view_projection(scene: &Scene, aspect: f32, time: f32) -> Mat4 {
     let (eye, target) = scene.camera.at(time);
     let view = Mat4::look_at_rh(eye, target, camera_up(target - eye));
-    let mut proj = Mat4::perspective_rh(scene.camera.fov_y.to_radians(), aspect, 0.05, 200.0);
+    let mut proj = Mat4::perspective_rh(
+        scene.camera.fov_y.to_radians(),
+        aspect,
+        0.05,
+        crate::scene::check::VIEW_DISTANCE,
+    );
     proj.y_axis.y = -proj.y_axis.y;
     proj * view
 }

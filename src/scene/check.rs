@@ -23,6 +23,10 @@ pub const MAX_V_CYCLES: u32 = 100;
 /// thousand metres a second crosses the largest wind grid in a few steps.
 pub const MAX_PATH_SPEED: f32 = 1000.0;
 
+/// How far the camera sees (m): the far plane of its projection. Grass
+/// beyond it is not drawn.
+pub const VIEW_DISTANCE: f32 = 200.0;
+
 /// A scene value out of its range: where, and what is allowed.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FieldError {
@@ -145,6 +149,7 @@ pub fn scene(s: &Scene) -> Check {
     cull(&s.cull).map_err(|e| e.at("cull"))?;
     s.ground.check().map_err(|e| e.at("ground"))?;
     grass(&s.grass).map_err(|e| e.at("grass"))?;
+    camera_reaches_grass(s).map_err(|e| e.at("camera"))?;
     wind(&s.wind).map_err(|e| e.at("wind"))?;
     if s.colliders.len() > MAX_COLLIDERS {
         return Err(FieldError::new(
@@ -157,6 +162,43 @@ pub fn scene(s: &Scene) -> Check {
     }
     for (i, c) in s.colliders.iter().enumerate() {
         collider(c).map_err(|e| e.at(&format!("collider[{i}]")))?;
+    }
+    Ok(())
+}
+
+/// Every camera position (and key of its path) within the view's reach
+/// of some grass: farther, the frame would hold no blade at all (a camera
+/// 1e7 m away rendered sky and haze and exited 0).
+fn camera_reaches_grass(s: &Scene) -> Check {
+    let (lo, hi) = s.grass_reach_bounds();
+    // The grass lies between the lowest ground under it and its tallest
+    // blade over the highest.
+    let step = ((hi[0] - lo[0]).max(hi[1] - lo[1]) / 64.0).max(0.1);
+    let (low, high) = s.ground.terrain().range_over(lo, hi, step);
+    let (low, high) = (low.min(0.0), high.max(0.0) + s.grass.shape.height[1]);
+    let c = &s.camera;
+    let points = std::iter::once(c.position).chain(c.path.iter().map(|k| k.position));
+    for (i, p) in points.enumerate() {
+        let gap = |x: f32, a: f32, b: f32| (a - x).max(x - b).max(0.0);
+        let (dx, dy, dz) = (
+            gap(p[0], lo[0], hi[0]),
+            gap(p[1], low, high),
+            gap(p[2], lo[1], hi[1]),
+        );
+        let distance = (dx * dx + dy * dy + dz * dz).sqrt();
+        if distance > VIEW_DISTANCE {
+            let field = match i {
+                0 => "position".to_string(),
+                k => format!("path[{}].position", k - 1),
+            };
+            return Err(FieldError::new(
+                field,
+                format!(
+                    "is {distance:.0} m from the nearest grass and the view reaches {VIEW_DISTANCE:.0} m; move it within {VIEW_DISTANCE:.0} m of the grass (from x {:.1}..{:.1}, z {:.1}..{:.1})",
+                    lo[0], hi[0], lo[1], hi[1]
+                ),
+            ));
+        }
     }
     Ok(())
 }
