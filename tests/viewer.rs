@@ -302,6 +302,71 @@ fn the_overlay_covers_its_corner_and_the_wind_keys_and_a_click_act() {
     let _ = std::fs::remove_dir_all(&out);
 }
 
+/// In a 320 x 180 window the overlay collapses to two lines and a narrow
+/// colour key, and the frame stays in sight; the keys' panel (H) is only
+/// printed there. The debug views say what their colours mean, on the
+/// terminal when the view changes, and a screenshot too small for its
+/// key says it left the key out. The full panel covered the whole
+/// window at this size and the keys went unsaid.
+#[test]
+fn a_small_window_keeps_the_frame_in_sight_and_the_keys_said() {
+    let x = Xvfb::start();
+    let out = temp_out("viewer-small");
+    let (width, height) = (320, 180);
+    let script = "\
+        0.3 key v\n\
+        0.5 key v\n\
+        0.8 key space\n\
+        1.2 key p\n\
+        6.0 key esc\n";
+    let mut child = view_sized(&x, script, &out, (width, height));
+    wait_for_file(&out.join("view_0000.png"), &mut child);
+    let shot = image::open(out.join("view_0000.png")).unwrap().to_rgb8();
+    let differs = |window: &image::RgbImage, x0: u32, y0: u32, x1: u32, y1: u32| {
+        let mut n = 0;
+        for y in y0..y1 {
+            for x in x0..x1 {
+                n += (shot.get_pixel(x, y) != window.get_pixel(x, y)) as u32;
+            }
+        }
+        n as f64 / ((x1 - x0) * (y1 - y0)) as f64
+    };
+    // Grab until the paused frame is up (as the overlay test does).
+    let grabbed = out.join("grabbed.png");
+    let mut window;
+    let mut tries = 0;
+    loop {
+        std::thread::sleep(std::time::Duration::from_millis(300));
+        grab_window(&x, (width, height), &grabbed);
+        window = image::open(&grabbed).unwrap().to_rgb8();
+        tries += 1;
+        if differs(&window, 100, 60, 220, 130) == 0.0 || tries == 10 {
+            break;
+        }
+    }
+    let (_, stdout) = finished(child);
+    let covered = differs(&window, 0, 0, width, height);
+    let middle = differs(&window, 100, 60, 220, 130);
+    let key = differs(&window, width - 50, height - 20, width - 10, height - 6);
+    assert!(
+        covered < 0.25,
+        "the overlay covers {covered:.2} of the window"
+    );
+    assert_eq!(middle, 0.0, "the overlay hides the middle of the frame");
+    assert!(
+        key > 0.3,
+        "no colour key in the bottom right corner: {key:.2}"
+    );
+    for said in [
+        "view lod: colour is the blade's tessellation, red 20 segments (close)",
+        "view motion: colour is the tip's bend from rest, blue at 0 rad to red at 0.6 rad",
+        "the motion view's key is left out of 320 x 180 frames",
+    ] {
+        assert!(stdout.contains(said), "{said:?} not said: {stdout}");
+    }
+    let _ = std::fs::remove_dir_all(&out);
+}
+
 #[test]
 fn closing_the_window_ends_the_viewer_cleanly() {
     let x = Xvfb::start();

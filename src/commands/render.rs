@@ -318,7 +318,16 @@ fn render_with(
             gif: done.gif,
             video: done.video,
             interrupted: done.interrupted,
-            warnings: warnings.clone(),
+            warnings: warnings
+                .iter()
+                .cloned()
+                .chain(legend::left_out(
+                    picture.view,
+                    scene.lod.levels,
+                    request.width,
+                    request.height,
+                ))
+                .collect(),
             pipeline_statistics: done.statistics,
             shadow_pipeline_statistics: done.shadow_statistics,
             cull: scene.cull.enabled,

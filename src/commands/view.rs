@@ -237,6 +237,9 @@ impl Live {
             steps -= batch;
         }
         let script = request.script.clone().unwrap_or_default().actions;
+        if request.view != ViewMode::Shaded {
+            state::announce_view(request.view, scene.lod.levels);
+        }
         Ok(Self {
             state: ViewState::new(scene, request.view, script, ball_room),
             overlay: Overlay::default(),
@@ -354,7 +357,8 @@ impl Live {
             time_scale: state.time_scale,
             paused: state.paused,
             lod: state.scene.lod.enabled,
-            view: format!("{:?}", state.view).to_lowercase(),
+            view: state.view,
+            lod_levels: state.scene.lod.levels,
             wind: state.wind_readout(self.time()),
             ball: state.ball_readout(),
         };
@@ -379,7 +383,7 @@ impl Live {
         report.frames += 1;
         if std::mem::take(&mut self.state.screenshot_asked) {
             let path = self.screenshot(gpu, &uniforms, report.screenshots.len())?;
-            self.say_screenshot(&path, time, &scene);
+            self.say_screenshot(&path, time, &scene, (extent.width, extent.height));
             report.screenshots.push(path);
         }
         self.show_title(&stats);
@@ -450,8 +454,9 @@ impl Live {
         Ok(path)
     }
 
-    /// Where a screenshot went and what it shows.
-    fn say_screenshot(&self, path: &Path, time: f64, scene: &Scene) {
+    /// Where a screenshot went and what it shows (and, in a frame too
+    /// small for it, the debug view's key in words).
+    fn say_screenshot(&self, path: &Path, time: f64, scene: &Scene, (width, height): (u32, u32)) {
         let ball = self
             .state
             .ball
@@ -465,6 +470,9 @@ impl Live {
             scene.camera.position,
             scene.camera.target
         );
+        if let Some(said) = legend::left_out(self.state.view, scene.lod.levels, width, height) {
+            println!("{said}");
+        }
     }
 
     /// Frames a second, smoothed over about ten frames.

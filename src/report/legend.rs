@@ -18,7 +18,7 @@ pub const MOTION_FULL_SCALE: f32 = 0.6;
 pub const LOD_COLORS: [[f32; 3]; 3] = [[0.85, 0.10, 0.08], [0.95, 0.75, 0.05], [0.10, 0.35, 0.90]];
 
 /// Linear RGB to the sRGB bytes the frame holds.
-fn srgb(c: [f32; 3]) -> [u8; 3] {
+pub fn srgb(c: [f32; 3]) -> [u8; 3] {
     c.map(|v| {
         let v = v.clamp(0.0, 1.0);
         let s = if v <= 0.003_130_8 {
@@ -84,14 +84,51 @@ fn size(view: ViewMode) -> Option<(i32, i32)> {
     }
 }
 
+/// The smallest frame (width, height) the key of `view` is stamped into:
+/// three keys wide and four high; in a smaller one (a preview) the key
+/// would hide much of the picture. None: the view has no key.
+pub fn smallest_frame(view: ViewMode) -> Option<(u32, u32)> {
+    size(view).map(|(w, h)| (3 * w as u32, 4 * h as u32))
+}
+
+/// What the key of `view` says, in words: for a frame too small to hold
+/// it, and for the viewer's terminal. None: the view has no key.
+pub fn words(view: ViewMode, levels: [u32; 3]) -> Option<String> {
+    match view {
+        ViewMode::Shaded => None,
+        ViewMode::Motion => Some(format!(
+            "colour is the tip's bend from rest, blue at 0 rad to red at {MOTION_FULL_SCALE} rad and more"
+        )),
+        ViewMode::Lod => Some(format!(
+            "colour is the blade's tessellation, red {} segments (close), yellow {}, blue {} (far)",
+            levels[0], levels[1], levels[2]
+        )),
+    }
+}
+
+/// Why a `width` x `height` frame of `view` goes without its key, with
+/// the key in words (None: it has its key, or the view has none).
+pub fn left_out(view: ViewMode, levels: [u32; 3], width: u32, height: u32) -> Option<String> {
+    let (w, h) = smallest_frame(view)?;
+    if width >= w && height >= h {
+        return None;
+    }
+    let name = format!("{view:?}").to_lowercase();
+    Some(format!(
+        "the {name} view's key is left out of {width} x {height} frames (it is stamped from {w} x {h} up): {}",
+        words(view, levels)?
+    ))
+}
+
 /// Stamps the key of `view` into the bottom-right corner of `frame`; the
-/// shaded view has none, and a frame under three keys wide or four high
-/// (a preview, where the key would hide much of it) is left alone.
+/// shaded view has none, and a frame smaller than `smallest_frame` (a
+/// preview, where the key would hide much of it) is left alone: `left_out`
+/// says so in words.
 pub fn stamp(frame: &mut Frame, view: ViewMode, levels: [u32; 3]) {
     let Some((w, h)) = size(view) else {
         return;
     };
-    if frame.width < 3 * w as u32 || frame.height < 4 * h as u32 {
+    if left_out(view, levels, frame.width, frame.height).is_some() {
         return;
     }
     let (x0, y0) = (frame.width as i32 - w - 4, frame.height as i32 - h - 4);
@@ -164,5 +201,24 @@ mod tests {
             stamp(&mut frame, view, [20, 10, 3]);
             assert!(frame.rgba.iter().all(|&v| v == 128), "{view:?} {w}x{h}");
         }
+        // A key left out is said in words; one stamped is not.
+        let said = left_out(ViewMode::Motion, [20, 10, 3], 320, 180).unwrap();
+        assert!(
+            said.starts_with("the motion view's key is left out of 320 x 180 frames (it is stamped from 432 x 176 up): colour is the tip's bend"),
+            "{said}"
+        );
+        let said = left_out(ViewMode::Lod, [20, 10, 3], 200, 500).unwrap();
+        assert!(
+            said.contains("red 20 segments (close), yellow 10, blue 3 (far)"),
+            "{said}"
+        );
+        assert_eq!(left_out(ViewMode::Motion, [20, 10, 3], 432, 176), None);
+        assert_eq!(left_out(ViewMode::Shaded, [20, 10, 3], 32, 18), None);
+        let mut frame = blank(432, 176);
+        stamp(&mut frame, ViewMode::Motion, [20, 10, 3]);
+        assert!(
+            frame.rgba.iter().any(|&v| v != 128),
+            "432 x 176 holds the key"
+        );
     }
 }

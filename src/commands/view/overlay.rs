@@ -1,6 +1,9 @@
 //! What the viewer's overlay says, laid out by egui: frame rate, each
-//! phase's GPU time, the blade counts, time and wind. It takes no input
-//! (the keys act on the viewer, not on it); `gpu::overlay` draws it.
+//! phase's GPU time, the blade counts, time and wind, and a debug view's
+//! colour key. In a small window (under `FULL_FROM` points) it collapses
+//! to two lines and a narrow key, so the frame stays in sight; the keys'
+//! panel is then printed only. It takes no input (the keys act on the
+//! viewer, not on it); `gpu::overlay` draws it.
 
 use std::time::Instant;
 
@@ -10,6 +13,8 @@ use crate::error::Result;
 use crate::frame::timing::Phase;
 use crate::frame::FrameStats;
 use crate::gpu::{Gpu, OverlayDraw, OverlayRenderer};
+use crate::report::legend;
+use crate::scene::ViewMode;
 
 use super::script::KEYS;
 
@@ -24,11 +29,17 @@ pub struct Readout<'a> {
     pub time_scale: f64,
     pub paused: bool,
     pub lod: bool,
-    pub view: String,
+    pub view: ViewMode,
+    /// The tessellation levels close to far, for the LOD view's key.
+    pub lod_levels: [u32; 3],
     pub wind: String,
     /// The viewer's ball, where there is one.
     pub ball: Option<String>,
 }
+
+/// The smallest window (width, height, in points) the full panel is laid
+/// out in: it is about 340 x 150 points, and a debug view's key 150 x 50.
+pub const FULL_FROM: (f32, f32) = (560.0, 320.0);
 
 pub struct Overlay {
     context: egui::Context,
@@ -91,14 +102,41 @@ impl Overlay {
             .or_default()
             .native_pixels_per_point = Some(scale);
         let keys_shown = self.keys_shown;
+        let points = egui::vec2(extent.width as f32, extent.height as f32) / scale;
+        let compact = points.x < FULL_FROM.0 || points.y < FULL_FROM.1;
         let output = self.context.run_ui(input, |ui| {
             let context = ui.ctx().clone();
+            let mut frame = egui::Frame::window(ui.style());
+            if compact {
+                // No drop shadow: in a small window it darkens much of
+                // the frame beyond the panel.
+                frame = frame.inner_margin(3.0).shadow(egui::Shadow::NONE);
+            }
             egui::Window::new("meadow")
-                .anchor(egui::Align2::LEFT_TOP, [8.0, 8.0])
+                .frame(frame)
+                .title_bar(!compact)
+                .anchor(egui::Align2::LEFT_TOP, [4.0, 4.0])
                 .resizable(false)
                 .collapsible(false)
-                .show(&context, |ui| panel(ui, readout));
-            if keys_shown {
+                .show(&context, |ui| {
+                    if compact {
+                        compact_panel(ui, readout)
+                    } else {
+                        panel(ui, readout)
+                    }
+                });
+            if readout.view != ViewMode::Shaded {
+                egui::Window::new("key")
+                    .frame(frame)
+                    .title_bar(false)
+                    .anchor(egui::Align2::RIGHT_BOTTOM, [-4.0, -4.0])
+                    .resizable(false)
+                    .collapsible(false)
+                    .show(&context, |ui| {
+                        view_key(ui, readout, if compact { 60.0 } else { 128.0 })
+                    });
+            }
+            if keys_shown && !compact {
                 egui::Window::new("keys")
                     .anchor(egui::Align2::RIGHT_TOP, [-8.0, 8.0])
                     .resizable(false)
@@ -198,11 +236,73 @@ fn panel(ui: &mut egui::Ui, r: &Readout) {
         r.time,
         r.time_scale,
         if r.lod { "on" } else { "off" },
-        r.view
+        view_name(r.view)
     ));
     ui.label(format!("wind: {}", r.wind));
     if let Some(ball) = &r.ball {
         ui.label(format!("ball: {ball}"));
     }
     ui.label("H: keys   O: hide this");
+}
+
+fn view_name(view: ViewMode) -> String {
+    format!("{view:?}").to_lowercase()
+}
+
+/// The panel in a small window: two short lines.
+fn compact_panel(ui: &mut egui::Ui, r: &Readout) {
+    let small = |text: String| egui::RichText::new(text).small();
+    let paused = if r.paused { ", paused" } else { "" };
+    ui.label(small(format!(
+        "{:.1} FPS  t {:.1} s{paused}  {}",
+        r.fps,
+        r.time,
+        view_name(r.view)
+    )));
+    ui.label(small("H: keys (printed)  O: hide".into()));
+}
+
+/// A debug view's colour key, as the frames `render` writes stamp it: the
+/// motion view's ramp `width` points long, the LOD view's three levels.
+fn view_key(ui: &mut egui::Ui, r: &Readout, width: f32) {
+    let colour = |c: [f32; 3]| {
+        let [r, g, b] = legend::srgb(c);
+        egui::Color32::from_rgb(r, g, b)
+    };
+    let small = |text: &str| egui::RichText::new(text).small();
+    match r.view {
+        ViewMode::Shaded => {}
+        ViewMode::Motion => {
+            ui.label(small("tip bend (rad)"));
+            let (rect, _) = ui.allocate_exact_size(egui::vec2(width, 8.0), egui::Sense::hover());
+            let slices = width as usize;
+            for i in 0..slices {
+                let t = i as f32 / (slices - 1) as f32;
+                let x = rect.left() + t * (width - 1.0);
+                let slice = egui::Rect::from_min_max(
+                    egui::pos2(x, rect.top()),
+                    egui::pos2(x + 1.0, rect.bottom()),
+                );
+                let angle = legend::MOTION_FULL_SCALE * t;
+                ui.painter()
+                    .rect_filled(slice, 0.0, colour(legend::motion_color(angle)));
+            }
+            ui.horizontal(|ui| {
+                ui.label(small("0"));
+                ui.add_space(width - 36.0);
+                ui.label(small(&format!("{}+", legend::MOTION_FULL_SCALE)));
+            });
+        }
+        ViewMode::Lod => {
+            ui.label(small("segments"));
+            ui.horizontal(|ui| {
+                for (c, level) in legend::LOD_COLORS.iter().zip(r.lod_levels) {
+                    let (rect, _) =
+                        ui.allocate_exact_size(egui::vec2(8.0, 8.0), egui::Sense::hover());
+                    ui.painter().rect_filled(rect, 0.0, colour(*c));
+                    ui.label(small(&level.to_string()));
+                }
+            });
+        }
+    }
 }

@@ -14,6 +14,7 @@ use super::script::{self, Action};
 use super::wind_controls::{self, WindControls};
 use crate::error::Result;
 use crate::model::contact::MAX_COLLIDERS;
+use crate::report::legend;
 use crate::scene::{Scene, ViewMode};
 
 /// A fly camera: where it is, where it looks (yaw about y, pitch), how fast.
@@ -162,7 +163,8 @@ impl ViewState {
                     ViewMode::Shaded => ViewMode::Lod,
                     ViewMode::Lod => ViewMode::Motion,
                     ViewMode::Motion => ViewMode::Shaded,
-                }
+                };
+                announce_view(self.view, self.scene.lod.levels);
             }
             Action::Screenshot => self.screenshot_asked = true,
             Action::Help => return ForWindow::ToggleKeys,
@@ -338,4 +340,15 @@ pub fn ball_rectangle(scene: &Scene) -> Result<(glam::Vec2, glam::Vec2)> {
 /// The keys' help, printed when H shows it in the overlay.
 pub fn print_help() {
     println!("{}", script::help());
+}
+
+/// Says on the terminal which view the window shows and, for a debug
+/// view, what its colours mean: the key is in the overlay too, but the
+/// overlay can be hidden or too small to hold it.
+pub fn announce_view(view: ViewMode, levels: [u32; 3]) {
+    let name = format!("{view:?}").to_lowercase();
+    match legend::words(view, levels) {
+        Some(words) => println!("view {name}: {words}"),
+        None => println!("view {name}"),
+    }
 }
