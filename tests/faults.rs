@@ -269,8 +269,10 @@ fn in_private_mount(script: &str, mount: &Path, keep: &Path) -> (String, String)
 #[test]
 fn a_disk_filling_up_while_frames_are_written_is_one_line_and_leaves_only_complete_frames() {
     // A private mount namespace (unshare, as root or through a user
-    // namespace) with a 300 KiB tmpfs: room for a few 320x180 frames. What
-    // meadow leaves there is copied out before the namespace goes.
+    // namespace) with a 300 KiB tmpfs: room for a few 320x180 frames
+    // (about 50 KiB each), and for the least 8 of them may take (28 KiB
+    // each), so the check before the work lets it start. What meadow
+    // leaves there is copied out before the namespace goes.
     let keep = temp_out("disk-full");
     std::fs::create_dir_all(keep.join("out")).unwrap();
     let mount = keep.join("mnt");
@@ -278,7 +280,7 @@ fn a_disk_filling_up_while_frames_are_written_is_one_line_and_leaves_only_comple
     let script = r#"
         mount -t tmpfs -o size=300k meadow-full "$MNT" || exit 90
         MEADOW_QUIET_VALIDATION=1 "$MEADOW" render --scene fig10-few-bunches \
-            --width 320 --height 180 --shadow-map 1024 --frames 12 --validation \
+            --width 320 --height 180 --shadow-map 1024 --frames 8 --validation \
             --out "$MNT/out" 2>"$KEEP/stderr"
         echo $? >"$KEEP/rc"
         cp -a "$MNT/out/." "$KEEP/out/"
@@ -297,8 +299,40 @@ fn a_disk_filling_up_while_frames_are_written_is_one_line_and_leaves_only_comple
     let expected: Vec<String> = (0..left.len())
         .map(|k| format!("frame_{k:04}.png"))
         .collect();
-    assert!(!left.is_empty() && left.len() < 12, "{left:?}");
+    assert!(!left.is_empty() && left.len() < 8, "{left:?}");
     assert_eq!(left, expected, "only whole frames, no GIF, no report");
+    let _ = std::fs::remove_dir_all(&keep);
+}
+
+/// A folder without room for the least the frames will take is refused
+/// before the work, in one line naming the folder, its free room and the
+/// need: 12 frames of 320 x 180 take at least 337.5 KiB (an eighth of
+/// their pixels' bytes each; they take about 50 KiB), and the 300 KiB
+/// tmpfs holds fewer. Two simulated seconds come before the first frame:
+/// without the check they ran, and the disk filled before the run's end
+/// (at the GIF, after twelve frames of this later, calmer instant).
+#[test]
+fn a_folder_without_room_for_the_frames_is_refused_before_the_work() {
+    let keep = temp_out("no-room");
+    std::fs::create_dir_all(keep.join("out")).unwrap();
+    let mount = keep.join("mnt");
+    std::fs::create_dir_all(&mount).unwrap();
+    let script = r#"
+        mount -t tmpfs -o size=300k meadow-small "$MNT" || exit 90
+        MEADOW_QUIET_VALIDATION=1 "$MEADOW" render --scene fig10-few-bunches \
+            --width 320 --height 180 --shadow-map 1024 --frames 12 --start 2 \
+            --validation --out "$MNT/out" 2>"$KEEP/stderr"
+        echo $? >"$KEEP/rc"
+        cp -a "$MNT/out/." "$KEEP/out/"
+    "#;
+    let (rc, stderr) = in_private_mount(script, &mount, &keep);
+    assert_eq!(rc, "1", "{stderr}");
+    assert!(
+        stderr.contains("/out has 300.0 KiB free and 12 PNG frames of 320 x 180 would take at least about 337.5 KiB; free some space or pass --out a folder on another disk"),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("simulated"), "{stderr}");
+    assert!(files_in(&keep.join("out")).is_empty());
     let _ = std::fs::remove_dir_all(&keep);
 }
 

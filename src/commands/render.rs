@@ -219,6 +219,17 @@ pub fn render_pictures(
         .iter()
         .map(|p| OutputClaim::new(&p.dir, &request.outputs(&p.dir), request.overwrite))
         .collect::<Result<Vec<_>>>()?;
+    // Room for the frames, each at least an eighth of its pixels' bytes.
+    let frames = request.frames_written().count() as u64;
+    for claim in &claims {
+        claim.ensure_room(
+            frames * files::least_png_bytes(request.width, request.height),
+            &format!(
+                "{frames} PNG frames of {} x {}",
+                request.width, request.height
+            ),
+        )?;
+    }
     let started = Instant::now();
     let (mut reports, validation) = on_gpu(&request.gpu, |gpu| {
         render_with(gpu, request, pictures, &claims, observer)

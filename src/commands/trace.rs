@@ -533,6 +533,17 @@ pub fn trace_to_dir(
         .map(|s| s.to_string())
         .collect();
     let claim = OutputClaim::new(out, &planned, overwrite)?;
+    // blades.csv: a row per traced blade and sample, at least 30 bytes
+    // (ten numbers and their commas).
+    let blades = match request.blades {
+        BladePick::All => request.scene.blade_count(),
+        BladePick::Count(n) => n.min(request.scene.blade_count()),
+    } as u64;
+    let samples = request.steps().div_ceil(request.every as u64) + 1;
+    claim.ensure_room(
+        samples * blades * 30,
+        &format!("{samples} samples of {blades} blades in {CSV_NAME}"),
+    )?;
     let ((trace, device), validation) = on_gpu(&request.gpu, |gpu| {
         Ok((trace(gpu, request, observer)?, gpu.info().name.clone()))
     })?;

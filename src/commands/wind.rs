@@ -95,6 +95,12 @@ pub fn wind_to_dir(
     files::ensure_dir(out_dir)?;
     let planned: Vec<String> = WIND_OUTPUTS.iter().map(|s| s.to_string()).collect();
     let claim = OutputClaim::new(out_dir, &planned, overwrite)?;
+    // wind_field.npy: three float32s per cell.
+    let cells = grid.cells.x as u64 * grid.cells.y as u64 * grid.cells.z as u64;
+    claim.ensure_room(
+        cells * 12,
+        &format!("the wind field of {cells} cells (wind_field.npy)"),
+    )?;
     let (mut report, validation) = on_gpu(gpu_options, |gpu| {
         run(gpu, scene, grid, &settings, steps, &claim)
     })?;

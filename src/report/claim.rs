@@ -12,6 +12,7 @@ use std::path::{Path, PathBuf};
 use std::time::UNIX_EPOCH;
 
 use crate::error::{Error, Result};
+use crate::report::files;
 
 /// The manifest's name in the output folder.
 pub const MANIFEST_NAME: &str = ".meadow-run";
@@ -113,6 +114,19 @@ impl OutputClaim {
             remove,
             planned: planned.to_vec(),
         })
+    }
+
+    /// Refuses, before the work, a folder without room for `bytes` more
+    /// (what the run writes, at least), counting the room the last run's
+    /// files leave when they go; `what` says what needs it.
+    pub fn ensure_room(&self, bytes: u64, what: &str) -> Result<()> {
+        let freed: u64 = self
+            .remove
+            .iter()
+            .filter_map(|name| std::fs::metadata(self.dir.join(name)).ok())
+            .map(|m| m.len())
+            .sum();
+        files::ensure_space(&self.dir, bytes.saturating_sub(freed), what)
     }
 
     /// Takes the folder, at the start of the work: the last run's files

@@ -57,6 +57,50 @@ fn writable(dir: &Path, what: &str) -> Result<()> {
     std::fs::remove_file(&probe).map_err(refused)
 }
 
+/// Refuses, before the work, a folder whose file system has less free
+/// room than `bytes` (what the run will write there, at least): `what`
+/// says what needs it and how the size was reckoned. Where the free room
+/// cannot be read (an unusual file system), the run goes on; a disk that
+/// fills up later is still one line naming the file.
+pub fn ensure_space(dir: &Path, bytes: u64, what: &str) -> Result<()> {
+    let Ok(free) = fs4::available_space(dir) else {
+        return Ok(());
+    };
+    if free >= bytes {
+        return Ok(());
+    }
+    Err(Error::InvalidInput(format!(
+        "{} has {} free and {what} would take at least about {}; free some space or pass --out a folder on another disk",
+        dir.display(),
+        human_bytes(free),
+        human_bytes(bytes)
+    )))
+}
+
+/// A byte count in the unit that reads best: B, KiB, MiB or GiB.
+pub fn human_bytes(bytes: u64) -> String {
+    const UNITS: [&str; 4] = ["B", "KiB", "MiB", "GiB"];
+    let mut value = bytes as f64;
+    let mut unit = 0;
+    while value >= 1024.0 && unit + 1 < UNITS.len() {
+        value /= 1024.0;
+        unit += 1;
+    }
+    if unit == 0 {
+        format!("{bytes} B")
+    } else {
+        format!("{value:.1} {}", UNITS[unit])
+    }
+}
+
+/// The least a PNG frame of `width` x `height` takes: an eighth of its
+/// RGBA bytes. meadow's frames (soil texture, grass, sky) compress 3.4x
+/// (640 x 360) to 4.6x (320 x 180); a frame compressing 8x would be
+/// nearly all sky.
+pub fn least_png_bytes(width: u32, height: u32) -> u64 {
+    width as u64 * height as u64 * 4 / 8
+}
+
 /// The temporary name `path` is written under until it is complete.
 pub(crate) fn temp_name(path: &Path) -> PathBuf {
     let name = path
