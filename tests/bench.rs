@@ -293,11 +293,12 @@ fn bad_bench_arguments_are_refused_in_one_line() {
     }
 }
 
-/// bench and bench-grass on a terminal (here a pseudo-terminal,
+/// bench, bench-grass and wind on a terminal (here a pseudo-terminal,
 /// util-linux's `script`) say what they are doing: each step as it starts
-/// (bench-grass printed nothing for minutes; bench for longer).
+/// (bench-grass printed nothing for minutes; bench for longer; wind for
+/// the minute its default run takes on lavapipe).
 #[test]
-fn bench_and_bench_grass_show_their_rows_on_a_terminal() {
+fn bench_bench_grass_and_wind_show_their_progress_on_a_terminal() {
     let out = temp_out("bench-terminal");
     let meadow = env!("CARGO_BIN_EXE_meadow");
     for (args, steps) in [
@@ -315,6 +316,10 @@ fn bench_and_bench_grass_show_their_rows_on_a_terminal() {
                 "timing frames at 1000 blades, LOD on, culling off",
                 "timing frames at 1000 blades, LOD on, culling on",
             ][..],
+        ),
+        (
+            "wind --steps 4 --cells 12,6,12",
+            &["/12 wind steps (the scene's, then each solver's)"][..],
         ),
     ] {
         let command = format!(

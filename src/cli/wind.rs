@@ -76,13 +76,25 @@ pub fn run(args: WindArgs) -> anyhow::Result<()> {
     if let Some(cells) = cells {
         scene.set_wind_cells(&cells)?;
     }
+    // The steps on a terminal as they run: a default run takes about a
+    // minute on lavapipe.
+    let bar = indicatif::ProgressBar::new(meadow::commands::wind::steps_run(&scene, steps));
+    bar.set_style(
+        indicatif::ProgressStyle::with_template(
+            "{bar:30} {pos}/{len} wind steps (the scene's, then each solver's)  {elapsed} elapsed, {eta} left",
+        )
+        .expect("a valid progress template"),
+    );
     let r = meadow::commands::wind::wind_to_dir(
         &scene,
         steps,
         &device.options()?,
         &out,
         overwrite.overwrite,
-    )?;
+        &mut |batch| bar.inc(batch as u64),
+    );
+    bar.finish_and_clear();
+    let r = r?;
     for w in meadow::report::warnings::collapsed(&r.warnings) {
         eprintln!("meadow: warning: {w}");
     }

@@ -146,8 +146,12 @@ pub fn bench_to_dir(
             total,
             next: BenchStep::Solvers,
         });
-        let wind_solvers =
-            crate::commands::wind::compare_solvers(gpu, &request.scene, request.frames)?;
+        let wind_solvers = crate::commands::wind::compare_solvers(
+            gpu,
+            &request.scene,
+            request.frames,
+            &mut |_| {},
+        )?;
         let mut rows = Vec::new();
         let mut msaa_used = 0;
         for &count in &request.counts {

@@ -71,6 +71,12 @@ pub struct WindReport {
     pub validation: ValidationReport,
 }
 
+/// The steps `wind_to_dir` runs for `steps` of the scene's.
+pub fn steps_run(scene: &Scene, steps: u32) -> u64 {
+    let runs = 3 + scene.wind.turbulence.is_some() as u64;
+    runs * steps as u64
+}
+
 /// The files `wind_to_dir` writes.
 pub const WIND_OUTPUTS: [&str; 4] = [
     "wind_horizontal.svg",
@@ -81,13 +87,16 @@ pub const WIND_OUTPUTS: [&str; 4] = [
 
 /// Runs the wind and writes its two slices and wind_report.json into
 /// `out_dir`, replacing only an earlier run's (`overwrite`: any file of
-/// those names; `report::claim`).
+/// those names; `report::claim`). `progress` hears of each submission's
+/// steps as they finish: `steps_run(scene, steps)` in all (the scene's,
+/// each solver's for the comparison, and without turbulence for its cost).
 pub fn wind_to_dir(
     scene: &Scene,
     steps: u32,
     gpu_options: &GpuOptions,
     out_dir: &Path,
     overwrite: bool,
+    progress: &mut dyn FnMut(u32),
 ) -> Result<WindReport> {
     let grid = scene.wind_grid()?;
     let settings = scene.wind_settings();
@@ -102,7 +111,7 @@ pub fn wind_to_dir(
         &format!("the wind field of {cells} cells (wind_field.npy)"),
     )?;
     let (mut report, validation) = on_gpu(gpu_options, |gpu| {
-        run(gpu, scene, grid, &settings, steps, &claim)
+        run(gpu, scene, grid, &settings, steps, &claim, progress)
     })?;
     report.warnings = warnings;
     // The projection should remove most of the divergence advection made;
@@ -191,7 +200,15 @@ impl Stepper {
     }
 }
 
-fn run_steps(gpu: &Gpu, commands: &CommandPool, scene: &Scene, steps: u32) -> Result<Stepped> {
+/// Runs `steps` steps of the scene's wind, telling `progress` of each
+/// submission's steps as they finish.
+fn run_steps(
+    gpu: &Gpu,
+    commands: &CommandPool,
+    scene: &Scene,
+    steps: u32,
+    progress: &mut dyn FnMut(u32),
+) -> Result<Stepped> {
     let dt = scene.wind.dt;
     let mut stepper = Stepper::new(gpu, commands, scene)?;
     let timestamps = TimestampQueries::new(gpu, STEPS_PER_SUBMIT, "wind step timestamps")?;
@@ -218,6 +235,7 @@ fn run_steps(gpu: &Gpu, commands: &CommandPool, scene: &Scene, steps: u32) -> Re
             times.extend(t.read_ms(batch)?);
         }
         done += batch;
+        progress(batch);
     }
     let mut field = WindField::new(scene.wind_grid()?, &scene.wind_settings());
     field.vel = stepper.wind().read_velocity(gpu, commands)?;
@@ -241,15 +259,20 @@ fn rms_over_fluid(values: &[f32], solid: &[bool]) -> f32 {
 }
 
 /// The scene's wind run `steps` steps with each solver (its V-cycles, its
-/// Jacobi iterations), multigrid first.
-pub fn compare_solvers(gpu: &Gpu, scene: &Scene, steps: u32) -> Result<Vec<SolverTiming>> {
+/// Jacobi iterations), multigrid first; `progress` hears of the steps.
+pub fn compare_solvers(
+    gpu: &Gpu,
+    scene: &Scene,
+    steps: u32,
+    progress: &mut dyn FnMut(u32),
+) -> Result<Vec<SolverTiming>> {
     let commands = CommandPool::new(gpu, "wind solver comparison commands")?;
     let mut timings = Vec::new();
     for solver in [PressureSolver::Multigrid, PressureSolver::Jacobi] {
         let mut scene = scene.clone();
         scene.wind.solver = solver;
         let settings = scene.wind_settings();
-        let run = run_steps(gpu, &commands, &scene, steps)?;
+        let run = run_steps(gpu, &commands, &scene, steps, progress)?;
         let timing = median_p95(&run.times);
         timings.push(SolverTiming {
             solver,
@@ -274,6 +297,7 @@ fn turbulence_cost(
     scene: &Scene,
     steps: u32,
     with: &[f64],
+    progress: &mut dyn FnMut(u32),
 ) -> Result<Option<TurbulenceTiming>> {
     if scene.wind.turbulence.is_none() {
         return Ok(None);
@@ -281,7 +305,7 @@ fn turbulence_cost(
     let mut calm = scene.clone();
     calm.wind.turbulence = None;
     let commands = CommandPool::new(gpu, "wind turbulence cost commands")?;
-    let without = run_steps(gpu, &commands, &calm, steps)?;
+    let without = run_steps(gpu, &commands, &calm, steps, progress)?;
     let (with, without) = (median_p95(with), median_p95(&without.times));
     Ok(Some(TurbulenceTiming {
         steps,
@@ -298,6 +322,7 @@ fn run(
     settings: &WindSettings,
     steps: u32,
     claim: &OutputClaim,
+    progress: &mut dyn FnMut(u32),
 ) -> Result<WindReport> {
     let dt = scene.wind.dt;
     let commands = CommandPool::new(gpu, "wind commands")?;
@@ -305,7 +330,7 @@ fn run(
         field,
         times,
         before,
-    } = run_steps(gpu, &commands, scene, steps)?;
+    } = run_steps(gpu, &commands, scene, steps, progress)?;
     let max_divergence_before = before.iter().fold(0.0f32, |m, d| m.max(d.abs()));
     let rms_divergence_before = rms_over_fluid(&before, &field.solid);
     let max_speed = max_speed(&field);
@@ -372,8 +397,8 @@ fn run(
         rms_divergence_after: field.rms_divergence(),
         step_ms_median: timing.map(|t| t.0),
         step_ms_p95: timing.map(|t| t.1),
-        solvers: compare_solvers(gpu, scene, steps)?,
-        turbulence_cost: turbulence_cost(gpu, scene, steps, &times)?,
+        solvers: compare_solvers(gpu, scene, steps, progress)?,
+        turbulence_cost: turbulence_cost(gpu, scene, steps, &times, progress)?,
         warnings: Vec::new(),
         validation: ValidationReport::default(),
     })
