@@ -239,7 +239,21 @@ fn a_lost_device_is_named_with_its_frame_and_the_frames_before_stay_valid() {
             lost_frames.push(k);
         }
     });
-    assert_eq!(lost_frames, [0, 1, 2, 3], "one loss per frame's submission");
+    // A frame goes to the GPU in several submissions (steps ahead of it,
+    // its own steps, its shadow, its colour): each loss names its frame,
+    // in order, and every frame is lost at some submission.
+    assert!(lost_frames.is_sorted(), "{lost_frames:?}");
+    let mut frames = lost_frames.clone();
+    frames.dedup();
+    assert_eq!(
+        frames,
+        [0, 1, 2, 3],
+        "a loss in each frame: {lost_frames:?}"
+    );
+    assert!(
+        lost_frames.len() > 4,
+        "each frame's submissions: {lost_frames:?}"
+    );
     let _ = std::fs::remove_dir_all(&out);
 }
 

@@ -117,9 +117,13 @@ fn two_hundred_frames_do_not_grow_host_memory_after_warm_up() {
     let dir = common::binary::temp_out("rss");
     let mut rss = Vec::new();
     let mut in_use = Vec::new();
-    let report = render_to_dir_observed(&request, &dir, &mut |_| {
-        rss.push(rss_bytes());
-        in_use.push(malloc_in_use());
+    // Once per frame written (the observer also hears of the breaks
+    // between a frame's submissions, where a stop may come).
+    let report = render_to_dir_observed(&request, &dir, &mut |progress| {
+        if progress.written as usize == rss.len() + 1 {
+            rss.push(rss_bytes());
+            in_use.push(malloc_in_use());
+        }
         true
     })
     .expect("render");

@@ -163,10 +163,12 @@ pub struct FrameProgress {
     pub steps_left: u64,
 }
 
-/// As `render_to_dir`, calling `observer` after each frame written and
-/// after each batch of simulation steps before a frame; when it returns
-/// false the render stops there (Ctrl-C, SIGTERM), finishes the GIF with
-/// the frames so far and reports itself interrupted.
+/// As `render_to_dir`, calling `observer` after each frame written, after
+/// each batch of simulation steps before a frame and between a frame's
+/// submissions (its steps, shadow and colour; `written` is then the
+/// frames before it); when it returns false the render stops there
+/// (Ctrl-C, SIGTERM), finishes the GIF with the frames so far and reports
+/// itself interrupted.
 pub fn render_to_dir_observed(
     request: &RenderRequest,
     out_dir: &Path,
