@@ -150,6 +150,12 @@ fn released_blade_oscillates_as_the_damped_closed_form() {
         let gamma = c / (2.0 * i);
         let omega_d = (k / i - gamma * gamma).sqrt();
         let period = std::f64::consts::TAU / omega_d;
+        // The model's own closed form, as `meadow trace` reports it.
+        let natural = blade.natural_frequency_hz(motion);
+        assert!(
+            (natural * period - 1.0).abs() < 1e-9,
+            "{name}: natural_frequency_hz {natural} against 1 / {period}"
+        );
         let theta0 = 0.02;
         let trace = free_swing(&blade, motion, theta0, dt, (4.0 * period) as f32);
 

@@ -106,6 +106,12 @@ pub fn run(args: TraceArgs) -> anyhow::Result<()> {
         report.every,
         report.dt
     );
+    if let (Some(spectrum), Some(natural)) = (&report.tip_spectrum, &report.bend_natural_hz) {
+        println!(
+            "tip motion (x) from {:.1} s peaks at {:.2} Hz; the traced blades' bending natural frequency {:.2} Hz (5-95%: {:.2}-{:.2}); the spectrum is in trace.json",
+            spectrum.from_s, spectrum.peak_hz, natural.median, natural.p5, natural.p95
+        );
+    }
     let mut written = vec![
         out.join(&report.csv),
         out.join(meadow::commands::trace::REPORT_NAME),

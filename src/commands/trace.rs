@@ -148,6 +148,9 @@ pub struct Trace {
     pub angles: Vec<[f32; 3]>,
     /// The wind at each traced tip at each sample (m/s), when asked for.
     pub wind: Vec<[f32; 3]>,
+    /// Each traced blade's bending natural frequency (Hz,
+    /// `GrassBlade::natural_frequency_hz`).
+    pub bend_hz: Vec<f64>,
     /// Blades in the field.
     pub total_blades: usize,
     /// Steps simulated: all asked for, or up to the last sample when
@@ -188,6 +191,120 @@ impl Trace {
             series.iter_mut().for_each(|v| *v /= c.max(1) as f64);
         }
         sum
+    }
+}
+
+/// A power spectrum: `power[i]` (m^2 / Hz) at `frequency_hz[i]`.
+#[derive(Clone, Debug, Default, serde::Serialize)]
+pub struct Spectrum {
+    /// The frequency the power is largest at (Hz).
+    pub peak_hz: f64,
+    /// Seconds of samples it was taken over, and from when.
+    pub seconds: f64,
+    pub from_s: f64,
+    pub frequency_hz: Vec<f64>,
+    pub power: Vec<f64>,
+}
+
+/// The one-sided periodogram of `series` sampled every `dt` seconds, its
+/// mean taken off and a Hann window applied (power scaled back by the
+/// window's mean square), from 1 / T up to the Nyquist frequency. A direct
+/// DFT: traces hold hundreds of samples, not millions.
+pub fn periodogram(series: &[f64], dt: f64) -> Vec<(f64, f64)> {
+    let n = series.len();
+    if n < 4 {
+        return Vec::new();
+    }
+    let mean = series.iter().sum::<f64>() / n as f64;
+    let window: Vec<f64> = (0..n)
+        .map(|j| 0.5 - 0.5 * (std::f64::consts::TAU * j as f64 / (n - 1) as f64).cos())
+        .collect();
+    let window_power = window.iter().map(|w| w * w).sum::<f64>();
+    (1..=n / 2)
+        .map(|k| {
+            let (mut re, mut im) = (0.0, 0.0);
+            for (j, (v, w)) in series.iter().zip(&window).enumerate() {
+                let phase = std::f64::consts::TAU * (k * j) as f64 / n as f64;
+                re += (v - mean) * w * phase.cos();
+                im -= (v - mean) * w * phase.sin();
+            }
+            // One-sided density: twice the two-sided one but at Nyquist.
+            let sides = if 2 * k == n { 1.0 } else { 2.0 };
+            let density = sides * (re * re + im * im) * dt / window_power;
+            (k as f64 / (n as f64 * dt), density)
+        })
+        .collect()
+}
+
+impl Trace {
+    /// The spectrum of the tips' downwind (x) motion from `from_s` on: each
+    /// traced blade's periodogram, averaged over the blades. None with
+    /// fewer than 8 samples after `from_s`.
+    pub fn tip_spectrum(&self, from_s: f64) -> Option<Spectrum> {
+        let skip = self.times.iter().take_while(|&&t| t < from_s).count();
+        let samples = self.times.len().saturating_sub(skip);
+        if samples < 8 || self.blades.is_empty() {
+            return None;
+        }
+        let dt = self.times[1] - self.times[0];
+        let n = self.blades.len();
+        let mut power: Vec<f64> = Vec::new();
+        let mut frequency_hz = Vec::new();
+        for b in 0..n {
+            let series: Vec<f64> = (skip..self.times.len())
+                .map(|s| self.tips[s * n + b][0] as f64)
+                .collect();
+            let spectrum = periodogram(&series, dt);
+            if power.is_empty() {
+                power = vec![0.0; spectrum.len()];
+                frequency_hz = spectrum.iter().map(|&(f, _)| f).collect();
+            }
+            for (total, (_, p)) in power.iter_mut().zip(spectrum) {
+                *total += p / n as f64;
+            }
+        }
+        let peak = power
+            .iter()
+            .enumerate()
+            .max_by(|a, b| a.1.total_cmp(b.1))
+            .map(|(i, _)| frequency_hz[i])?;
+        Some(Spectrum {
+            peak_hz: peak,
+            seconds: samples as f64 * dt,
+            from_s: self.times[skip],
+            frequency_hz,
+            power,
+        })
+    }
+
+    /// The traced blades' bending natural frequencies: median, 5th and
+    /// 95th percentiles (Hz). None without blades.
+    pub fn bend_natural_hz(&self) -> Option<Percentiles> {
+        Percentiles::of(&self.bend_hz)
+    }
+}
+
+/// Median and the 5th and 95th percentiles of a set of values.
+#[derive(Clone, Copy, Debug, serde::Serialize)]
+pub struct Percentiles {
+    pub median: f64,
+    pub p5: f64,
+    pub p95: f64,
+}
+
+impl Percentiles {
+    pub fn of(values: &[f64]) -> Option<Self> {
+        if values.is_empty() {
+            return None;
+        }
+        let mut sorted = values.to_vec();
+        sorted.sort_by(f64::total_cmp);
+        let at = |q: f64| sorted[((sorted.len() - 1) as f64 * q).round() as usize];
+        Some(Self {
+            median: at(0.5),
+            p5: at(0.05),
+            p95: at(0.95),
+        })
     }
 }
 
@@ -283,6 +400,10 @@ pub fn trace(
                 let p = rest[b as usize].rest[0];
                 [p.x, p.z]
             })
+            .collect(),
+        bend_hz: blades
+            .iter()
+            .map(|&b| dynamic[b as usize].natural_frequency_hz(BEND_A))
             .collect(),
         blades,
         total_blades: rest.len(),
@@ -479,6 +600,12 @@ pub struct TraceReport {
     /// deviations); travelling waves are diagonal stripes. None for a
     /// single blade or sample.
     pub space_time: Option<String>,
+    /// The spectrum of the tips' downwind (x) motion from `diagram_from`
+    /// on, averaged over the traced blades (None: too few samples).
+    pub tip_spectrum: Option<Spectrum>,
+    /// The traced blades' bending natural frequencies (Hz): where the tip
+    /// spectrum of a blade that locks in to the wind peaks.
+    pub bend_natural_hz: Option<Percentiles>,
     pub columns: Vec<Column>,
     /// Stopped early by a signal: the CSV holds the samples taken.
     pub interrupted: bool,
@@ -578,6 +705,8 @@ pub fn trace_to_dir(
         blades_total: trace.total_blades,
         csv: CSV_NAME.into(),
         space_time: diagram.map(|_| SPACE_TIME_NAME.into()),
+        tip_spectrum: trace.tip_spectrum(request.diagram_from),
+        bend_natural_hz: trace.bend_natural_hz(),
         columns: columns(request.wind),
         interrupted: trace.interrupted,
         validation,
@@ -590,6 +719,30 @@ pub fn trace_to_dir(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_periodogram_of_a_sine_peaks_at_its_frequency_with_its_power() {
+        // 0.9 Hz of amplitude 0.02 m sampled at 10 Hz for 40 s (a whole
+        // number of periods: the peak falls on a bin).
+        let (dt, f0, a) = (0.1, 0.9, 0.02);
+        let series: Vec<f64> = (0..400)
+            .map(|j| 0.3 + a * (std::f64::consts::TAU * f0 * j as f64 * dt).sin())
+            .collect();
+        let spectrum = periodogram(&series, dt);
+        assert_eq!(spectrum.len(), 200);
+        assert!((spectrum[0].0 - 0.025).abs() < 1e-12);
+        assert!((spectrum[199].0 - 5.0).abs() < 1e-12, "up to Nyquist");
+        let (peak, _) = spectrum
+            .iter()
+            .max_by(|x, y| x.1.total_cmp(&y.1))
+            .copied()
+            .unwrap();
+        assert!((peak - f0).abs() < 1e-9, "peak at {peak}");
+        // Parseval: the power integrates to the variance, a^2 / 2, within
+        // the Hann window's leakage at the edges.
+        let variance: f64 = spectrum.iter().map(|&(_, p)| p * 0.025).sum();
+        assert!((variance / (a * a / 2.0) - 1.0).abs() < 0.02, "{variance}");
+    }
 
     #[test]
     fn a_pick_takes_one_blade_from_each_equal_run_and_depends_on_the_seed() {

@@ -258,6 +258,24 @@ impl GrassBlade {
         ]
     }
 
+    /// The natural frequency of `motion` (Hz): I theta'' = -k_eff theta -
+    /// c theta' rings at sqrt(k_eff / I) sqrt(1 - zeta^2) / 2 pi, zeta =
+    /// c / 2 sqrt(k_eff I) (none when overdamped: 0). Small angles, still
+    /// air: the wind's own stiffness and the restoring force's fading at
+    /// large angles are left out.
+    pub fn natural_frequency_hz(&self, motion: usize) -> f64 {
+        let (k, i, c) = (
+            self.k_eff()[motion] as f64,
+            self.inertia[motion] as f64,
+            self.damping[motion] as f64,
+        );
+        if k <= 0.0 || i <= 0.0 {
+            return 0.0;
+        }
+        let zeta = c / (2.0 * (k * i).sqrt());
+        (k / i).sqrt() * (1.0 - zeta * zeta).max(0.0).sqrt() / std::f64::consts::TAU
+    }
+
     /// The fastest rate of any of its motions, sqrt(k_eff / I) + c / I (1/s).
     pub fn stiffest_rate(&self) -> f64 {
         let k = self.k_eff();
