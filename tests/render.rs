@@ -107,16 +107,7 @@ fn the_ground_meets_the_sky_without_a_band() {
     // Columns left and right of the three bunches.
     for x in [4, 12, w - 12, w - 5] {
         let column: Vec<[u8; 3]> = (0..h).rev().map(|y| pixel(&frame, x, y)).collect();
-        let step = column
-            .windows(2)
-            .map(|p| {
-                (0..3)
-                    .map(|c| p[0][c].abs_diff(p[1][c]) as u32)
-                    .max()
-                    .unwrap()
-            })
-            .max()
-            .unwrap();
+        let step = largest_step(&column);
         // Measured: at most 20 (the soil's own texture gives up to 14, the
         // haze into the horizon 20); the square's edge stepped from soil
         // (about 90, 76, 53) straight to sky (about 200, 218, 235).
@@ -186,7 +177,17 @@ fn a_low_sun_warms_the_horizon_toward_it_and_the_ground_fades_into_it() {
     // Down the frame's left column (away from the bunches): soil into the
     // warm horizon without a step, as in the day's frame.
     let column: Vec<[u8; 3]> = (0..h).rev().map(|y| pixel(&frame, 4, y)).collect();
-    let step = column
+    let step = largest_step(&column);
+    assert!(
+        step <= 30,
+        "a step of {step} levels between rows: {column:?}"
+    );
+}
+
+/// The largest change of any channel between neighbouring pixels of a
+/// column: a band where the ground ends shows as a big one.
+fn largest_step(column: &[[u8; 3]]) -> u32 {
+    column
         .windows(2)
         .map(|p| {
             (0..3)
@@ -195,11 +196,7 @@ fn a_low_sun_warms_the_horizon_toward_it_and_the_ground_fades_into_it() {
                 .unwrap()
         })
         .max()
-        .unwrap();
-    assert!(
-        step <= 30,
-        "a step of {step} levels between rows: {column:?}"
-    );
+        .unwrap()
 }
 
 /// One straight blade rooted at `root`, leaning nowhere.

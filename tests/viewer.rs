@@ -114,6 +114,47 @@ fn grab_window(x: &Xvfb, (width, height): (u32, u32), path: &Path) {
     assert!(grab.success());
 }
 
+/// The share of the pixels in the rectangle (x0, y0, x1, y1) where `a`
+/// and `b` differ.
+fn differing_share(
+    a: &image::RgbImage,
+    b: &image::RgbImage,
+    (x0, y0, x1, y1): (u32, u32, u32, u32),
+) -> f64 {
+    let mut n = 0;
+    for y in y0..y1 {
+        for x in x0..x1 {
+            n += (a.get_pixel(x, y) != b.get_pixel(x, y)) as u32;
+        }
+    }
+    n as f64 / ((x1 - x0) * (y1 - y0)) as f64
+}
+
+/// The window grabbed once it shows the paused frame `shot` (P's
+/// screenshot) in `settled`, a rectangle the overlay leaves alone. The
+/// window shows a presented frame once the X server has it: with the
+/// machine busy (other tests beside this one) that can lag the
+/// screenshot's file by more than a moment, so it grabs every 0.3 s
+/// until then, or 10 times (the scripts quit at 6 s).
+fn grab_paused_frame(
+    x: &Xvfb,
+    out: &Path,
+    shot: &image::RgbImage,
+    settled: (u32, u32, u32, u32),
+) -> image::RgbImage {
+    let grabbed = out.join("grabbed.png");
+    let mut tries = 0;
+    loop {
+        std::thread::sleep(std::time::Duration::from_millis(300));
+        grab_window(x, (shot.width(), shot.height()), &grabbed);
+        let window = image::open(&grabbed).unwrap().to_rgb8();
+        tries += 1;
+        if differing_share(shot, &window, settled) == 0.0 || tries == 10 {
+            return window;
+        }
+    }
+}
+
 /// The simulated times P printed, in order.
 fn screenshot_times(stdout: &str) -> Vec<(PathBuf, f64)> {
     stdout
@@ -257,30 +298,14 @@ fn the_overlay_covers_its_corner_and_the_wind_keys_and_a_click_act() {
     wait_for_file(&out.join("view_0000.png"), &mut child);
     let shot = image::open(out.join("view_0000.png")).unwrap().to_rgb8();
     let differs = |window: &image::RgbImage, x0: u32, y0: u32, x1: u32, y1: u32| {
-        let mut n = 0;
-        for y in y0..y1 {
-            for x in x0..x1 {
-                n += (shot.get_pixel(x, y) != window.get_pixel(x, y)) as u32;
-            }
-        }
-        n as f64 / ((x1 - x0) * (y1 - y0)) as f64
+        differing_share(&shot, window, (x0, y0, x1, y1))
     };
-    // The window shows a presented frame once the X server has it: with
-    // the machine busy (other tests beside this one) that can lag the
-    // screenshot's file by more than a moment, so grab until the paused
-    // frame is up (or 3 s have passed; the script quits at 6 s).
-    let grabbed = out.join("grabbed.png");
-    let mut window;
-    let mut tries = 0;
-    loop {
-        std::thread::sleep(std::time::Duration::from_millis(300));
-        grab_window(&x, (width, height), &grabbed);
-        window = image::open(&grabbed).unwrap().to_rgb8();
-        tries += 1;
-        if differs(&window, width / 2 + 60, height / 2 + 60, width, height) == 0.0 || tries == 10 {
-            break;
-        }
-    }
+    let window = grab_paused_frame(
+        &x,
+        &out,
+        &shot,
+        (width / 2 + 60, height / 2 + 60, width, height),
+    );
     let (_, stdout) = finished(child);
     // The click on the ground dropped a gust along the turned heading;
     // the one at the sky did not.
@@ -323,27 +348,9 @@ fn a_small_window_keeps_the_frame_in_sight_and_the_keys_said() {
     wait_for_file(&out.join("view_0000.png"), &mut child);
     let shot = image::open(out.join("view_0000.png")).unwrap().to_rgb8();
     let differs = |window: &image::RgbImage, x0: u32, y0: u32, x1: u32, y1: u32| {
-        let mut n = 0;
-        for y in y0..y1 {
-            for x in x0..x1 {
-                n += (shot.get_pixel(x, y) != window.get_pixel(x, y)) as u32;
-            }
-        }
-        n as f64 / ((x1 - x0) * (y1 - y0)) as f64
+        differing_share(&shot, window, (x0, y0, x1, y1))
     };
-    // Grab until the paused frame is up (as the overlay test does).
-    let grabbed = out.join("grabbed.png");
-    let mut window;
-    let mut tries = 0;
-    loop {
-        std::thread::sleep(std::time::Duration::from_millis(300));
-        grab_window(&x, (width, height), &grabbed);
-        window = image::open(&grabbed).unwrap().to_rgb8();
-        tries += 1;
-        if differs(&window, 100, 60, 220, 130) == 0.0 || tries == 10 {
-            break;
-        }
-    }
+    let window = grab_paused_frame(&x, &out, &shot, (100, 60, 220, 130));
     let (_, stdout) = finished(child);
     let covered = differs(&window, 0, 0, width, height);
     let middle = differs(&window, 100, 60, 220, 130);
