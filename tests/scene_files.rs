@@ -419,6 +419,12 @@ fn malformed_scene_files_are_refused_with_line_column_field_and_range() {
             "collider[0].position: and path both place it",
         ),
         (
+            "a collider placed nowhere",
+            plus("[[collider]]\nkind = \"sphere\"\nradius = 0.3"),
+            14,
+            "collider[0].position: is missing (or the origin), which puts it under the ground",
+        ),
+        (
             "a source switched off before time begins",
             plus("[[wind.source]]\nposition = [0.0, 0.5, 0.0]\ndirection = [1.0, 0.0, 0.0]\nstrength = 5.0\nradius = 1.0\noff_after = -1.0"),
             19,

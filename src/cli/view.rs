@@ -30,12 +30,16 @@ pub fn run(args: ViewArgs) -> anyhow::Result<()> {
         device,
     } = args;
     let scene = args.load()?;
+    let script = script.as_deref().map(read_script).transpose()?;
+    if let Some(note) = script.as_ref().and_then(|s| s.reordered.as_deref()) {
+        eprintln!("meadow: warning: {note}");
+    }
     let request = ViewRequest {
         width: args.width.unwrap_or(scene.render.width),
         height: args.height.unwrap_or(scene.render.height),
         msaa: args.msaa.unwrap_or(scene.render.msaa),
         view: args.view.unwrap_or(scene.render.view),
-        script: script.as_deref().map(read_script).transpose()?,
+        script,
         screenshots: out,
         gpu: device.options()?,
         scene,

@@ -633,6 +633,13 @@ fn collider(c: &Collider) -> Check {
         ));
     }
     let lowest = c.lowest();
+    if lowest < -1e-4 && c.path.is_empty() && c.position == glam::Vec3::ZERO {
+        return Err(FieldError::new(
+            "position",
+            "is missing (or the origin), which puts it under the ground; give position (it \
+             stands there) or path (it moves along it)",
+        ));
+    }
     if lowest < -1e-4 {
         return Err(FieldError::new(
             if c.path.is_empty() {

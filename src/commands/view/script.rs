@@ -121,6 +121,9 @@ pub fn help() -> String {
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Script {
     pub actions: Vec<(f64, Action)>,
+    /// The first line whose time comes before an earlier line's, said: the
+    /// actions run in time order, not the file's.
+    pub reordered: Option<String>,
 }
 
 /// The longest a script may run, seconds.
@@ -130,6 +133,8 @@ impl Script {
     /// Parses a script; an error names the file, the line and what to write.
     pub fn parse(name: &str, text: &str) -> Result<Self> {
         let mut actions = Vec::new();
+        let mut reordered = None;
+        let mut latest: Option<(usize, f64)> = None;
         for (i, line) in text.lines().enumerate() {
             let line = line.split('#').next().unwrap_or("").trim();
             if line.is_empty() {
@@ -195,10 +200,21 @@ impl Script {
                 _ => return Err(bad("unknown action or wrong number of words")),
             };
             actions.push((time, action));
+            match latest {
+                Some((line, before)) if time < before => {
+                    reordered.get_or_insert_with(|| {
+                        format!(
+                            "{name} line {}: {time} s comes before line {line}'s {before} s; the actions run in time order, not the file's",
+                            i + 1
+                        )
+                    });
+                }
+                _ => latest = Some((i + 1, time)),
+            }
         }
         // Stable: actions at the same time happen in the file's order.
         actions.sort_by(|a, b| a.0.total_cmp(&b.0));
-        Ok(Self { actions })
+        Ok(Self { actions, reordered })
     }
 }
 
@@ -213,6 +229,16 @@ mod tests {
                     1.8 key up\n1.8 key right\n1.9 click 10 20.5\n1.9 key o\n\
                     1.95 key b\n1.95 roll 30 40\n";
         let s = Script::parse("demo", text).unwrap();
+        assert_eq!(
+            s.reordered.as_deref(),
+            Some("demo line 3: 0.5 s comes before line 2's 2 s; the actions run in time order, not the file's")
+        );
+        assert_eq!(
+            Script::parse("in order", "0.5 key p\n1 key p\n1 key o\n")
+                .unwrap()
+                .reordered,
+            None
+        );
         assert_eq!(
             s.actions,
             vec![
