@@ -6,7 +6,7 @@
 mod common;
 
 use common::{finish, strict_gpu};
-use meadow::commands::trace::{best_lag, periodogram, trace, BladePick, TraceRequest};
+use meadow::commands::trace::{best_lag, trace, BladePick, TraceRequest};
 use meadow::gpu::{GpuOptions, ValidationOptions};
 use meadow::scene::Scene;
 
@@ -199,18 +199,11 @@ fn blades_ring_at_their_natural_frequency_in_turbulence() {
     let natural = run.bend_natural_hz().unwrap().median;
     let spectrum = run.tip_spectrum(6.0).unwrap();
     // The wind's own spectrum at the tips, the same way.
-    let skip = run.times.iter().take_while(|&&t| t < 6.0).count();
-    let dt = run.times[1] - run.times[0];
     let n = run.blades.len();
-    let mut wind = vec![0.0f64; spectrum.power.len()];
-    for b in 0..n {
-        let series: Vec<f64> = (skip..run.times.len())
-            .map(|s| run.wind[s * n + b][0] as f64)
-            .collect();
-        for (total, (_, p)) in wind.iter_mut().zip(periodogram(&series, dt)) {
-            *total += p / n as f64;
-        }
-    }
+    let wind = run
+        .mean_spectrum(6.0, |s, b| run.wind[s * n + b][0] as f64)
+        .unwrap()
+        .power;
     let strongest = wind.iter().cloned().fold(0.0, f64::max);
     let gains: Vec<(f64, f64)> = spectrum
         .frequency_hz

@@ -488,11 +488,7 @@ fn animate(
         // machine, a stop asked after each; the last batch goes with the
         // frame, timed as its own.
         while steps > pace.next(steps) {
-            let batch = pace.next(steps);
-            let started = Instant::now();
-            recorder.simulate(batch).map_err(at_frame)?;
-            pace.ran(batch, started.elapsed());
-            steps -= batch;
+            steps -= pace.run(steps, |batch| recorder.simulate(batch).map_err(at_frame))?;
             let progress = FrameProgress {
                 written,
                 planned,

@@ -8,7 +8,6 @@
 
 use std::fmt::Write as _;
 use std::path::Path;
-use std::time::Instant;
 
 use crate::commands::on_gpu;
 use crate::compute::{Simulation, StepPace};
@@ -53,11 +52,16 @@ impl BladePick {
     }
 
     /// The traced blades' indices among `total`, ascending.
-    pub fn indices(self, total: usize, seed: u64) -> Vec<u32> {
-        let count = match self {
+    /// How many blades of `total` it picks.
+    pub fn count(self, total: usize) -> usize {
+        match self {
             BladePick::All => total,
             BladePick::Count(n) => n.min(total),
-        };
+        }
+    }
+
+    pub fn indices(self, total: usize, seed: u64) -> Vec<u32> {
+        let count = self.count(total);
         if count == total {
             return (0..total as u32).collect();
         }
@@ -241,6 +245,17 @@ impl Trace {
     /// traced blade's periodogram, averaged over the blades. None with
     /// fewer than 8 samples after `from_s`.
     pub fn tip_spectrum(&self, from_s: f64) -> Option<Spectrum> {
+        let n = self.blades.len();
+        self.mean_spectrum(from_s, |s, b| self.tips[s * n + b][0] as f64)
+    }
+
+    /// As `tip_spectrum`, of `value(sample, blade)` (the wind at the tip,
+    /// say): each traced blade's periodogram from `from_s` on, averaged.
+    pub fn mean_spectrum(
+        &self,
+        from_s: f64,
+        value: impl Fn(usize, usize) -> f64,
+    ) -> Option<Spectrum> {
         let skip = self.times.iter().take_while(|&&t| t < from_s).count();
         let samples = self.times.len().saturating_sub(skip);
         if samples < 8 || self.blades.is_empty() {
@@ -251,9 +266,7 @@ impl Trace {
         let mut power: Vec<f64> = Vec::new();
         let mut frequency_hz = Vec::new();
         for b in 0..n {
-            let series: Vec<f64> = (skip..self.times.len())
-                .map(|s| self.tips[s * n + b][0] as f64)
-                .collect();
+            let series: Vec<f64> = (skip..self.times.len()).map(|s| value(s, b)).collect();
             let spectrum = periodogram(&series, dt);
             if power.is_empty() {
                 power = vec![0.0; spectrum.len()];
@@ -435,13 +448,11 @@ pub fn trace(
         // last sample).
         let mut left = (request.every as u64).min(steps - done);
         while left > 0 {
-            let batch = pace.next(left);
-            let started = Instant::now();
-            let rec = commands.begin()?;
-            simulation.record_steps(&rec, batch);
-            rec.submit_and_wait("simulating a trace")?;
-            pace.ran(batch, started.elapsed());
-            left -= batch;
+            left -= pace.run(left, |batch| {
+                let rec = commands.begin()?;
+                simulation.record_steps(&rec, batch);
+                rec.submit_and_wait("simulating a trace")
+            })?;
             if left > 0 && !observer(done, steps) {
                 trace.interrupted = true;
                 break 'samples;
@@ -662,10 +673,7 @@ pub fn trace_to_dir(
     let claim = OutputClaim::new(out, &planned, overwrite)?;
     // blades.csv: a row per traced blade and sample, at least 30 bytes
     // (ten numbers and their commas).
-    let blades = match request.blades {
-        BladePick::All => request.scene.blade_count(),
-        BladePick::Count(n) => n.min(request.scene.blade_count()),
-    } as u64;
+    let blades = request.blades.count(request.scene.blade_count()) as u64;
     let samples = request.steps().div_ceil(request.every as u64) + 1;
     claim.ensure_room(
         samples * blades * 30,

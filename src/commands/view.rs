@@ -230,11 +230,7 @@ impl Live {
         let mut steps = recorder.steps_until(scene.render.start as f64)?;
         let mut pace = StepPace::default();
         while steps > 0 {
-            let batch = pace.next(steps);
-            let started = Instant::now();
-            recorder.simulate(batch)?;
-            pace.ran(batch, started.elapsed());
-            steps -= batch;
+            steps -= pace.run(steps, |batch| recorder.simulate(batch))?;
         }
         let script = request.script.clone().unwrap_or_default().actions;
         if request.view != ViewMode::Shaded {

@@ -7,7 +7,7 @@
 //! count cannot do this: 8 steps of Table 1's wind took 0.3 s on an idle
 //! lavapipe and 3.2 s on a loaded one.
 
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 /// Wall time one submission of steps aims at.
 pub const SUBMISSION_TARGET: Duration = Duration::from_millis(250);
@@ -40,6 +40,21 @@ impl StepPace {
             self.seconds_per_step = Some(took.as_secs_f64() / steps as f64);
         }
     }
+
+    /// Runs the next batch of `left` steps through `submit` (which submits
+    /// and waits for them), timing it for the batch after; returns how
+    /// many steps it ran.
+    pub fn run<E>(
+        &mut self,
+        left: u64,
+        submit: impl FnOnce(u64) -> Result<(), E>,
+    ) -> Result<u64, E> {
+        let batch = self.next(left);
+        let started = Instant::now();
+        submit(batch)?;
+        self.ran(batch, started.elapsed());
+        Ok(batch)
+    }
 }
 
 #[cfg(test)]
@@ -63,5 +78,17 @@ mod tests {
         assert_eq!(pace.next(1000), MOST_STEPS);
         pace.ran(64, Duration::ZERO);
         assert_eq!(pace.next(1000), MOST_STEPS);
+        // `run` submits the next batch and times it for the one after.
+        let mut pace = StepPace::default();
+        let mut submitted = Vec::new();
+        let ran = pace.run(1000, |batch| {
+            submitted.push(batch);
+            std::thread::sleep(Duration::from_millis(50));
+            Ok::<(), ()>(())
+        });
+        assert_eq!((ran, submitted), (Ok(1), vec![1]));
+        // A step took at least 50 ms: at most 5 fit in 250 ms.
+        assert!(pace.next(1000) <= 5, "{}", pace.next(1000));
+        assert_eq!(pace.run(10, |_| Err("refused")), Err("refused"));
     }
 }
