@@ -55,11 +55,37 @@ fn collect(dir: &Path, out: &mut Vec<PathBuf>) {
     }
 }
 
+/// MEADOW_COMMIT: the commit this build is of (`meadow gpu-report` names
+/// it), "unknown" outside a git checkout. Rebuilt when HEAD or a branch
+/// moves; uncommitted changes are not seen (the report's reader is told to
+/// build from a committed tree).
+fn commit(root: &Path) {
+    let git = root.join(".git");
+    for watched in ["HEAD", "refs/heads", "packed-refs"] {
+        let path = git.join(watched);
+        if path.exists() {
+            println!("cargo:rerun-if-changed={}", path.display());
+        }
+    }
+    let sha = std::process::Command::new("git")
+        .args(["rev-parse", "HEAD"])
+        .current_dir(root)
+        .output()
+        .ok()
+        .filter(|o| o.status.success())
+        .and_then(|o| String::from_utf8(o.stdout).ok())
+        .map(|s| s.trim().to_string())
+        .filter(|s| !s.is_empty())
+        .unwrap_or_else(|| "unknown".to_string());
+    println!("cargo:rustc-env=MEADOW_COMMIT={sha}");
+}
+
 fn main() {
     let root = PathBuf::from(std::env::var("CARGO_MANIFEST_DIR").unwrap());
     let glsl = root.join("glsl");
     let out_dir = PathBuf::from(std::env::var("OUT_DIR").unwrap());
     println!("cargo:rerun-if-changed=glsl");
+    commit(&root);
     let generated_glsl = out_dir.join("glsl");
     write_interface(&generated_glsl, &out_dir);
 

@@ -46,6 +46,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Wind(args) => cli::wind::run(args),
         Command::Bench(args) => cli::bench::run(args),
         Command::BenchGrass(args) => cli::bench_grass::run(args),
+        Command::GpuReport(args) => cli::gpu_report::run(args),
         Command::Reproduce(args) => cli::reproduce::run(args),
         Command::Trace(args) => cli::trace::run(args),
         Command::Devices(args) => cli::devices::run(args),

@@ -209,12 +209,24 @@ fn render(
     time: f32,
     tag: &str,
 ) -> (image::RgbaImage, String, String) {
+    render_sampled(scene, view, time, tag, SIZE, 4)
+}
+
+/// As `render`, at `size` with `msaa` samples asked for.
+fn render_sampled(
+    scene: Scene,
+    view: ViewMode,
+    time: f32,
+    tag: &str,
+    size: (u32, u32),
+    msaa: u32,
+) -> (image::RgbaImage, String, String) {
     std::env::set_var("MEADOW_QUIET_VALIDATION", "1");
     let request = RenderRequest {
         scene,
-        width: SIZE.0,
-        height: SIZE.1,
-        msaa: 4,
+        width: size.0,
+        height: size.1,
+        msaa,
         view,
         animation: Animation {
             frames: 1,
@@ -639,5 +651,70 @@ fn measure_quarter_pixel_jitter() {
                 "FAILS"
             }
         );
+    }
+}
+
+/// Camera moved by (dx, dy) pixels (right, up) at the target's distance.
+fn jittered(mut scene: Scene, dx: f32, dy: f32) -> Scene {
+    let eye = Vec3::from(scene.camera.position);
+    let target = Vec3::from(scene.camera.target);
+    let distance = (target - eye).length();
+    let pixel = 2.0 * distance * (scene.camera.fov_y.to_radians() * 0.5).tan() / SIZE.1 as f32;
+    let forward = (target - eye).normalize();
+    let right = forward.cross(Vec3::Y).normalize();
+    let up = right.cross(forward);
+    let shift = (right * dx + up * dy) * pixel;
+    scene.camera.position = (eye + shift).into();
+    scene.camera.target = (target + shift).into();
+    scene
+}
+
+#[test]
+#[ignore]
+fn dump_calibration_frames() {
+    let root = PathBuf::from(std::env::var("CAL_DIR").unwrap_or("/tmp/cal".into()));
+    let only = std::env::var("GOLDEN_ONLY").ok();
+    for g in GOLDENS
+        .iter()
+        .filter(|g| only.as_ref().is_none_or(|n| n == g.name))
+    {
+        let dir = root.join(g.name);
+        std::fs::create_dir_all(&dir).unwrap();
+        let base = || Scene::builtin(g.scene).unwrap();
+        let mut variants: Vec<(String, Scene, (u32, u32), u32)> = vec![
+            ("msaa4".into(), base(), SIZE, 4),
+            ("msaa1".into(), base(), SIZE, 1),
+            ("ss2".into(), base(), (SIZE.0 * 2, SIZE.1 * 2), 4),
+        ];
+        for (dx, dy) in [
+            (0.25, 0.0),
+            (-0.25, 0.0),
+            (0.0, 0.25),
+            (0.0, -0.25),
+            (0.5, 0.0),
+            (0.0, 0.5),
+        ] {
+            variants.push((format!("j{dx}_{dy}"), jittered(base(), dx, dy), SIZE, 4));
+        }
+        let mut stiff = base();
+        stiff.grass.dynamics.tip_stiffness = stiff.grass.dynamics.tip_stiffness.map(|k| k * 1.05);
+        variants.push(("stiff5".into(), stiff, SIZE, 4));
+        let mut sun = base();
+        let d = Vec3::from(sun.light.direction).normalize();
+        let axis = d.cross(Vec3::Y).normalize();
+        sun.light.direction = (glam::Quat::from_axis_angle(axis, -1f32.to_radians()) * d).into();
+        variants.push(("sun1".into(), sun, SIZE, 4));
+        for (name, scene, size, msaa) in variants {
+            let (img, _, _) = render_sampled(
+                scene,
+                g.view,
+                g.time,
+                &format!("{}-{name}", g.name),
+                size,
+                msaa,
+            );
+            img.save(dir.join(format!("{name}.png"))).unwrap();
+            eprintln!("{} {name}", g.name);
+        }
     }
 }

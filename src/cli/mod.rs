@@ -21,6 +21,7 @@ const MAX_SIDE: u64 = meadow::scene::check::MAX_IMAGE_SIDE as u64;
 pub mod bench;
 pub mod bench_grass;
 pub mod devices;
+pub mod gpu_report;
 pub mod numbers;
 pub mod render;
 pub mod reproduce;
@@ -68,6 +69,13 @@ pub enum Command {
     /// Time the grass step alone on the GPU (timestamp queries) at several
     /// blade counts, beside the paper's figures; writes DIR/grass_bench.json.
     BenchGrass(bench_grass::BenchGrassArgs),
+    /// Every figure whose speed matters on this device, in one run: bench
+    /// (with and without culling and LOD), bench-grass (with its memory
+    /// floor, and with colliders), the wind step (both solvers, two-way
+    /// coupling), frames of prairie and roll, each command once under
+    /// validation; writes DIR/<device>.md and .json with the GPU targets
+    /// of docs/perf.md met or missed. scripts/gpu-report runs it.
+    GpuReport(gpu_report::GpuReportArgs),
     /// Render every figure scene of the paper (Fig. 10-13) and write
     /// DIR/index.md and a self-contained DIR/index.html beside the paper's
     /// descriptions and the parameters used.

@@ -8,6 +8,7 @@
 pub mod bench;
 pub mod bench_grass;
 pub mod devices;
+pub mod gpu_report;
 pub mod render;
 pub mod reproduce;
 pub mod scenes;
