@@ -1064,12 +1064,20 @@ fn sigterm_stops_a_trace_with_complete_files() {
         20 * samples,
         "one row per blade per sample"
     );
-    // The space-time diagram needs two samples or more.
-    let expected: &[&str] = if samples > 1 {
-        &["blades.csv", "space_time.svg", "trace.json"]
-    } else {
-        &["blades.csv", "trace.json"]
-    };
+    // The space-time diagram needs two samples or more, the plan view
+    // three seconds of them, the spectrum eight: each is written when the
+    // report names it.
+    assert_eq!(report["space_time"].is_string(), samples > 1, "{report}");
+    // (The last sample is at `seconds`.)
+    assert_eq!(report["plan_view"].is_string(), seconds >= 2.0, "{report}");
+    assert_eq!(report["spectrum"].is_string(), samples >= 8, "{report}");
+    let mut expected = vec!["blades.csv", "trace.json"];
+    for picture in ["space_time", "plan_view", "spectrum"] {
+        if let Some(name) = report[picture].as_str() {
+            expected.push(name);
+        }
+    }
+    expected.sort();
     assert_eq!(files_in(&out), expected);
     // The summary names every file written.
     let stdout = String::from_utf8_lossy(&result.stdout);

@@ -260,6 +260,7 @@ fn reproduce_quick_renders_every_figure_validation_clean_with_both_indexes() {
         "Fig. 12",
         "Fig. 13",
         "Beyond the paper: gusts that travel",
+        "Beyond the paper: turbulence everywhere",
         "Beyond the paper: touch",
         "Beyond the paper: a landscape",
     ] {
@@ -279,21 +280,40 @@ fn reproduce_quick_renders_every_figure_validation_clean_with_both_indexes() {
         .skip(1)
         .map(|rest| &rest[..rest.find(')').unwrap()])
         .collect();
-    // 17 shots' frames and the gust strip's space-time diagram.
-    assert_eq!(links.len(), 18, "{links:?}");
+    // 18 shots' frames, the gust strip's space-time diagram and the
+    // turbulent field's plan view and spectrum.
+    assert_eq!(links.len(), 21, "{links:?}");
     let (svgs, pngs): (Vec<&str>, Vec<&str>) = links.iter().partition(|l| l.ends_with(".svg"));
-    assert_eq!(svgs, ["gusts/space_time.svg"]);
+    assert_eq!(
+        svgs,
+        [
+            "gusts/space_time.svg",
+            "turbulence/plan_view.svg",
+            "turbulence/spectrum.svg"
+        ]
+    );
     for link in &pngs {
         image::open(out.join(link)).unwrap_or_else(|e| panic!("{link}: {e}"));
     }
-    let svg = std::fs::read_to_string(out.join(svgs[0])).unwrap();
-    roxmltree::Document::parse(&svg).expect("the space-time diagram is XML");
-    assert!(svg.contains("time (s)"), "the diagram's axes are labelled");
+    // Each diagram is XML with its axes labelled; the plan view has its
+    // three instants.
+    for (svg, axis) in svgs
+        .iter()
+        .zip(["time (s)", "x, along the wind (m)", "frequency (Hz)"])
+    {
+        let text = std::fs::read_to_string(out.join(svg)).unwrap();
+        roxmltree::Document::parse(&text).unwrap_or_else(|e| panic!("{svg}: {e}"));
+        assert!(text.contains(axis), "{svg}: the axes are labelled");
+    }
+    let plan = std::fs::read_to_string(out.join(svgs[1])).unwrap();
+    for t in ["t = 8.0 s", "t = 9.0 s", "t = 10.0 s"] {
+        assert!(plan.contains(t), "{t}");
+    }
     assert_eq!(
         html.matches("src=\"data:image/png;base64,").count(),
         pngs.len()
     );
-    assert_eq!(html.matches("src=\"data:image/svg+xml;base64,").count(), 1);
+    assert_eq!(html.matches("src=\"data:image/svg+xml;base64,").count(), 3);
     assert!(!html.contains(".png\""), "index.html links a file");
     assert!(md.contains("MSAA") && md.contains("multigrid V-cycles"));
     assert!(md.contains("angle caps"));
@@ -313,7 +333,7 @@ fn reproduce_quick_renders_every_figure_validation_clean_with_both_indexes() {
             }
         }
     }
-    assert_eq!(shots, 15, "one report per shot");
+    assert_eq!(shots, 16, "one report per shot");
     seen.assert_accepted();
     let _ = std::fs::remove_dir_all(&out);
 }

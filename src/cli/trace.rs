@@ -30,8 +30,9 @@ pub struct TraceArgs {
     /// Also write the wind at each traced tip (wind_x, wind_y, wind_z).
     #[arg(long)]
     wind: bool,
-    /// DIR/space_time.svg starts at this simulated time (leave out the
-    /// grass leaning into a wind that is still filling the field).
+    /// DIR/space_time.svg, plan_view.svg's statistics and the spectrum
+    /// start at this simulated time (leave out the grass leaning into a
+    /// wind that is still filling the field).
     #[arg(long, value_name = "SECONDS", default_value_t = 0.0, allow_negative_numbers = true, value_parser = numbers::seconds)]
     diagram_from: f64,
     /// Random seed of the grass field (default: the scene's).
@@ -41,8 +42,8 @@ pub struct TraceArgs {
     /// two-way (canopy drag; default: the scene's wind.coupling).
     #[arg(long, value_enum)]
     coupling: Option<Coupling>,
-    /// Folder for blades.csv, trace.json and space_time.svg (made if
-    /// missing).
+    /// Folder for blades.csv, trace.json, space_time.svg, plan_view.svg
+    /// and spectrum.svg (made if missing).
     #[arg(long, default_value = "out/trace")]
     out: PathBuf,
     #[command(flatten)]
@@ -108,7 +109,7 @@ pub fn run(args: TraceArgs) -> anyhow::Result<()> {
     );
     if let (Some(spectrum), Some(natural)) = (&report.tip_spectrum, &report.bend_natural_hz) {
         println!(
-            "tip motion (x) from {:.1} s peaks at {:.2} Hz; the traced blades' bending natural frequency {:.2} Hz (5-95%: {:.2}-{:.2}); the spectrum is in trace.json",
+            "tip motion (x) from {:.1} s peaks at {:.2} Hz; the traced blades' bending natural frequency {:.2} Hz (5-95%: {:.2}-{:.2}); the spectrum is in trace.json and spectrum.svg",
             spectrum.from_s, spectrum.peak_hz, natural.median, natural.p5, natural.p95
         );
     }
@@ -116,8 +117,11 @@ pub fn run(args: TraceArgs) -> anyhow::Result<()> {
         out.join(&report.csv),
         out.join(meadow::commands::trace::REPORT_NAME),
     ];
-    if let Some(diagram) = &report.space_time {
-        written.push(out.join(diagram));
+    for picture in [&report.space_time, &report.plan_view, &report.spectrum]
+        .into_iter()
+        .flatten()
+    {
+        written.push(out.join(picture));
     }
     let written: Vec<String> = written.iter().map(|p| p.display().to_string()).collect();
     println!("wrote {}", written.join(", "));

@@ -8,7 +8,10 @@ use std::path::Path;
 
 use crate::commands::on_gpu;
 use crate::commands::render::{render_pictures, Picture, RenderReport, RenderRequest};
-use crate::commands::trace::{space_time_svg, trace, BladePick, TraceRequest};
+use crate::commands::trace::{
+    plan_view_svg, space_time_svg, spectrum_svg, trace, BladePick, TraceRequest, PLAN_VIEW_NAME,
+    SPECTRUM_NAME,
+};
 use crate::error::Result;
 use crate::gpu::GpuOptions;
 use crate::report::files;
@@ -30,6 +33,10 @@ struct Budget {
     /// The rolling ball: the picture's time (the ball entered the meadow
     /// at 0.5 s; its trail lies behind it).
     roll_start: f32,
+    /// The turbulent field: simulated seconds traced (the plan view shows
+    /// its last three), and its blades per square metre.
+    field_seconds: f64,
+    field_density: f32,
 }
 
 fn budget(quick: bool) -> Budget {
@@ -43,6 +50,8 @@ fn budget(quick: bool) -> Budget {
             gust_skip: 4.0,
             gust_start: 6.0,
             roll_start: 3.0,
+            field_seconds: 10.0,
+            field_density: 1.5,
         }
     } else {
         Budget {
@@ -54,6 +63,8 @@ fn budget(quick: bool) -> Budget {
             gust_skip: 13.0,
             gust_start: 15.0,
             roll_start: 5.0,
+            field_seconds: 40.0,
+            field_density: 3.0,
         }
     }
 }
@@ -70,6 +81,31 @@ fn shot(label: &str, dir: &str, scene: &Scene, start: f32) -> Shot {
     }
 }
 
+/// gust-strip's wind over a 60 x 60 m field, its inflow's gusts left out:
+/// the turbulence alone, patches everywhere (issue 39's picture), seen
+/// from a corner.
+fn turbulent_field(density: f32) -> Result<Scene> {
+    let mut scene = Scene::builtin("gust-strip")?;
+    scene.name = "turbulent-field".into();
+    scene.caption =
+        "gust-strip's turbulence over a 60 x 60 m field, without the inflow's gusts".into();
+    for meadow in &mut scene.grass.meadow {
+        meadow.center = [0.0, 0.0];
+        meadow.size = [60.0, 60.0];
+        meadow.count = None;
+        meadow.density = Some(density);
+    }
+    scene.ground.half_extent = 60.0;
+    scene.wind.cells = [30, 8, 30];
+    if let Some(inflow) = &mut scene.wind.inflow {
+        inflow.gust.amplitude = 0.0;
+    }
+    scene.camera.position = [-40.0, 24.0, 40.0];
+    scene.camera.target = [0.0, 0.0, 0.0];
+    scene.validate()?;
+    Ok(scene)
+}
+
 /// The figures and their shots.
 pub fn plan(quick: bool) -> Result<Vec<Figure>> {
     let b = budget(quick);
@@ -81,6 +117,7 @@ pub fn plan(quick: bool) -> Result<Vec<Figure>> {
     let strip = Scene::builtin("gust-strip")?;
     let roll = Scene::builtin("roll")?;
     let hills = Scene::builtin("hills")?;
+    let field = turbulent_field(b.field_density)?;
     let mut open = obstacles.clone();
     open.wind.obstacles.clear();
     open.name = "fig13-obstacles (obstacles removed)".into();
@@ -106,7 +143,7 @@ pub fn plan(quick: bool) -> Result<Vec<Figure>> {
         Figure {
             title: "Fig. 10 (left): a few bunches",
             paper: "A few bunches of grass, static and swaying in wind from the left.",
-            diagram: None,
+            diagrams: Vec::new(),
             shots: vec![
                 shot("static", "fig10-few/static", &few, 0.0),
                 shot(&sway, "fig10-few/swaying", &few, b.sway),
@@ -115,7 +152,7 @@ pub fn plan(quick: bool) -> Result<Vec<Figure>> {
         Figure {
             title: "Fig. 10 (right): several bunches",
             paper: "Several bunches of grass, static and swaying in wind from the left.",
-            diagram: None,
+            diagrams: Vec::new(),
             shots: vec![
                 shot("static", "fig10-several/static", &several, 0.0),
                 shot(&sway, "fig10-several/swaying", &several, b.sway),
@@ -126,7 +163,7 @@ pub fn plan(quick: bool) -> Result<Vec<Figure>> {
             paper:
                 "A meadow swaying under a wind whose direction rotates, over a sequence of frames.",
             shots: vec![sequence],
-            diagram: None,
+            diagrams: Vec::new(),
         },
         Figure {
             title: "Fig. 12: level of detail",
@@ -141,7 +178,7 @@ pub fn plan(quick: bool) -> Result<Vec<Figure>> {
                 ),
                 lod_shaded,
             ],
-            diagram: None,
+            diagrams: Vec::new(),
         },
         Figure {
             title: "Fig. 13: obstacles",
@@ -162,7 +199,7 @@ pub fn plan(quick: bool) -> Result<Vec<Figure>> {
                     b.sway,
                 )),
             ],
-            diagram: None,
+            diagrams: Vec::new(),
         },
         Figure {
             title: "Beyond the paper: gusts that travel",
@@ -176,14 +213,48 @@ pub fn plan(quick: bool) -> Result<Vec<Figure>> {
                 &strip,
                 b.gust_start,
             )],
-            diagram: Some(Diagram {
+            diagrams: vec![Diagram {
                 file: SPACE_TIME_FILE.into(),
                 caption: format!(
                     "Space-time diagram of the strip's motion, {} s to {} s: each 1 m band's \
                      downwind tip displacement beyond its mean, in its own standard deviations",
                     b.gust_skip, b.gust_seconds
                 ),
-            }),
+            }],
+        },
+        Figure {
+            title: TURBULENCE_TITLE,
+            paper: "Turbulence everywhere: a fluctuating, divergence-free part of the wind \
+                    (intensity 0.3, length scale 4 m) carried by the mean wind and renewed \
+                    all over the field (docs/method.md). From above, the tips bent downwind \
+                    are patches a few metres across, not fronts, moving downwind from one \
+                    second to the next; the tips' spectrum is drawn beside the blades' \
+                    natural frequencies (docs/physics.md, \"Turbulence everywhere\").",
+            shots: vec![shot(
+                "a 60 x 60 m field in turbulence (motion view: blue at rest, red bent)",
+                "turbulence/field",
+                &field,
+                (FIELD_SKIP + 2.0) as f32,
+            )],
+            diagrams: vec![
+                Diagram {
+                    file: format!("{TURBULENCE_DIR}/{PLAN_VIEW_NAME}"),
+                    caption: format!(
+                        "The field from above at {:.0}, {:.0} and {:.0} s: each cell's downwind \
+                         tip displacement beyond its mean, in its own standard deviations",
+                        b.field_seconds - 2.0,
+                        b.field_seconds - 1.0,
+                        b.field_seconds
+                    ),
+                },
+                Diagram {
+                    file: format!("{TURBULENCE_DIR}/{SPECTRUM_NAME}"),
+                    caption: format!(
+                        "The tips' spectrum from {FIELD_SKIP} s on, beside the blades' natural \
+                         frequencies"
+                    ),
+                },
+            ],
         },
         Figure {
             title: "Beyond the paper: touch",
@@ -195,7 +266,7 @@ pub fn plan(quick: bool) -> Result<Vec<Figure>> {
                 shot("the ball half way", "roll/shaded", &roll, b.roll_start),
                 motion(shot("its trail", "roll/motion", &roll, b.roll_start)),
             ],
-            diagram: None,
+            diagrams: Vec::new(),
         },
         Figure {
             title: "Beyond the paper: a landscape",
@@ -204,7 +275,7 @@ pub fn plan(quick: bool) -> Result<Vec<Figure>> {
                     density mask, the wind crossing the ridge at an angle: the solver sees the \
                     ground as solid (docs/physics.md, \"Wind over a ridge\").",
             shots: vec![shot("in the wind", "hills", &hills, b.sway)],
-            diagram: None,
+            diagrams: Vec::new(),
         },
     ])
 }
@@ -249,8 +320,14 @@ pub fn reproduce(
         overwrite,
     )?;
     let diagram_claim = OutputClaim::new(&gusts, &[SPACE_TIME_NAME.to_string()], overwrite)?;
-    // The shots, then the gust trace.
-    let total = figures.iter().map(|f| f.shots.len()).sum::<usize>() + 1;
+    let turbulence = out.join(TURBULENCE_DIR);
+    let field_claim = OutputClaim::new(
+        &turbulence,
+        &[PLAN_VIEW_NAME.to_string(), SPECTRUM_NAME.to_string()],
+        overwrite,
+    )?;
+    // The shots, then the gust trace and the field's.
+    let total = figures.iter().map(|f| f.shots.len()).sum::<usize>() + 2;
     let started = std::time::Instant::now();
     let mut rendered = Vec::new();
     for (index, figure) in figures.iter().enumerate() {
@@ -313,6 +390,18 @@ pub fn reproduce(
     files::ensure_dir(&gusts)?;
     diagram_claim.begin()?;
     diagram_claim.write(SPACE_TIME_NAME, diagram.as_bytes())?;
+    on_shot(ShotProgress {
+        figure: TURBULENCE_TITLE,
+        shot: "plan view and spectrum (tracing the field)",
+        done: rendered.len() + 1,
+        total,
+        elapsed_s: started.elapsed().as_secs_f64(),
+    });
+    let (plan_view, spectrum) = field_diagrams(&b, gpu)?;
+    files::ensure_dir(&turbulence)?;
+    field_claim.begin()?;
+    field_claim.write(PLAN_VIEW_NAME, plan_view.as_bytes())?;
+    field_claim.write(SPECTRUM_NAME, spectrum.as_bytes())?;
     index.begin()?;
     index.write(INDEX_MD, markdown(&figures, &rendered, quick).as_bytes())?;
     index.write(
@@ -328,6 +417,51 @@ const INDEX_HTML: &str = "index.html";
 const SPACE_TIME_DIR: &str = "gusts";
 const SPACE_TIME_NAME: &str = "space_time.svg";
 const SPACE_TIME_FILE: &str = "gusts/space_time.svg";
+
+const TURBULENCE_TITLE: &str = "Beyond the paper: turbulence everywhere";
+/// The turbulent field's plan view and spectrum: TURBULENCE_DIR/...
+const TURBULENCE_DIR: &str = "turbulence";
+/// Seconds of the field's trace left out of its pictures' statistics (the
+/// turbulence filling the field).
+const FIELD_SKIP: f64 = 4.0;
+
+/// Traces every blade of the turbulent field and draws its plan view at
+/// the last three seconds and its tips' spectrum.
+fn field_diagrams(b: &Budget, gpu: &GpuOptions) -> Result<(String, String)> {
+    let request = TraceRequest {
+        scene: turbulent_field(b.field_density)?,
+        seconds: b.field_seconds,
+        every: 3,
+        blades: BladePick::All,
+        wind: false,
+        diagram_from: FIELD_SKIP,
+        gpu: gpu.clone(),
+    };
+    request.validate()?;
+    let (run, validation) = on_gpu(&request.gpu, |gpu| trace(gpu, &request, &mut |_, _| true))?;
+    validation.check()?;
+    let no_picture = |what: &str| {
+        crate::Error::InvalidInput(format!(
+            "the turbulent field's trace of {} s gives no {what}",
+            b.field_seconds
+        ))
+    };
+    let plan_view = plan_view_svg(
+        &run,
+        FIELD_SKIP,
+        "60 x 60 m in turbulence: tips bent downwind from above, a second apart",
+    )?
+    .ok_or_else(|| no_picture("plan view"))?;
+    let spectrum = run
+        .tip_spectrum(FIELD_SKIP)
+        .ok_or_else(|| no_picture("spectrum"))?;
+    let spectrum = spectrum_svg(
+        &spectrum,
+        run.bend_natural_hz().as_ref(),
+        "60 x 60 m in turbulence: the tips' spectrum",
+    )?;
+    Ok((plan_view, spectrum))
+}
 
 /// Traces the gust strip and draws its space-time diagram (1 m bands).
 fn gust_diagram(b: &Budget, gpu: &GpuOptions) -> Result<String> {

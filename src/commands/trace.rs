@@ -19,7 +19,9 @@ use crate::model::wind::WindField;
 use crate::model::BladeVertex;
 use crate::report::claim::OutputClaim;
 use crate::report::files;
+use crate::report::plan_view::{self, PlanView};
 use crate::report::space_time::{self, SpaceTime};
+use crate::report::spectrum::{self as report_spectrum, SpectrumChart};
 use crate::scene::{field, Scene};
 use glam::Vec3;
 
@@ -176,18 +178,45 @@ impl Trace {
     /// `band_width` metres along x from `x0`, per sample: `[band][sample]`.
     /// A band without blades is all zeros.
     pub fn band_displacement(&self, x0: f32, band_width: f32, bands: usize) -> Vec<Vec<f64>> {
-        let n = self.blades.len();
-        let mut sum = vec![vec![0.0f64; self.times.len()]; bands];
-        let mut count = vec![0usize; bands];
-        for (b, root) in self.roots.iter().enumerate() {
+        self.grouped_displacement(bands, |root| {
             let band = ((root[0] - x0) / band_width).floor();
-            if !(0.0..bands as f32).contains(&band) {
+            (0.0..bands as f32).contains(&band).then_some(band as usize)
+        })
+    }
+
+    /// As `band_displacement`, over square cells of `cell` metres from
+    /// (x0, z0), `nx` along x and `nz` along z: `[iz * nx + ix][sample]`.
+    pub fn cell_displacement(
+        &self,
+        corner: [f32; 2],
+        cell: f32,
+        nx: usize,
+        nz: usize,
+    ) -> Vec<Vec<f64>> {
+        self.grouped_displacement(nx * nz, |root| {
+            let ix = ((root[0] - corner[0]) / cell).floor();
+            let iz = ((root[1] - corner[1]) / cell).floor();
+            ((0.0..nx as f32).contains(&ix) && (0.0..nz as f32).contains(&iz))
+                .then_some(iz as usize * nx + ix as usize)
+        })
+    }
+
+    /// Cells (or bands) whose traced blades share no group are all zeros.
+    fn grouped_displacement(
+        &self,
+        groups: usize,
+        group_of: impl Fn([f32; 2]) -> Option<usize>,
+    ) -> Vec<Vec<f64>> {
+        let n = self.blades.len();
+        let mut sum = vec![vec![0.0f64; self.times.len()]; groups];
+        let mut count = vec![0usize; groups];
+        for (b, root) in self.roots.iter().enumerate() {
+            let Some(group) = group_of(*root) else {
                 continue;
-            }
-            let band = band as usize;
-            count[band] += 1;
+            };
+            count[group] += 1;
             let rest = self.tips[b][0];
-            for (s, total) in sum[band].iter_mut().enumerate() {
+            for (s, total) in sum[group].iter_mut().enumerate() {
                 *total += (self.tips[s * n + b][0] - rest) as f64;
             }
         }
@@ -346,6 +375,94 @@ pub fn space_time_svg(run: &Trace, from_s: f64, title: &str) -> Result<String> {
         x0: x0 as f64,
         band_width: 1.0,
         times: &run.times[skip..],
+    })
+}
+
+/// The grass from above at three instants a second apart, ending at the
+/// trace's last sample (report::plan_view): the traced field in square
+/// cells (2 m, or larger so that there are at most 40 along a side and
+/// about 20 traced blades in a cell on average), each
+/// cell's downwind tip displacement beyond its mean from `from_s` on, in
+/// its own standard deviations. None where the trace is shorter than the
+/// three instants after `from_s`.
+pub fn plan_view_svg(run: &Trace, from_s: f64, title: &str) -> Result<Option<String>> {
+    let Some(&end) = run.times.last() else {
+        return Ok(None);
+    };
+    let instants: Vec<f64> = (0..3).map(|k| end - (2 - k) as f64).collect();
+    if instants[0] < from_s || run.roots.is_empty() {
+        return Ok(None);
+    }
+    let fold = |i: usize| {
+        run.roots.iter().fold((f32::MAX, f32::MIN), |(lo, hi), r| {
+            (lo.min(r[i]), hi.max(r[i]))
+        })
+    };
+    let ((x0, x1), (z0, z1)) = (fold(0), fold(1));
+    let area = ((x1 - x0) * (z1 - z0)).max(1.0);
+    let per_m2 = run.roots.len() as f32 / area;
+    let cell = 2.0f32
+        .max((x1 - x0).max(z1 - z0) / 40.0)
+        .max((20.0 / per_m2).sqrt());
+    let (x0, z0) = ((x0 / cell).floor() * cell, (z0 / cell).floor() * cell);
+    let nx = ((x1 - x0) / cell).floor() as usize + 1;
+    let nz = ((z1 - z0) / cell).floor() as usize + 1;
+    let skip = run.times.iter().take_while(|&&t| t < from_s).count();
+    let cells: Vec<Vec<f64>> = run
+        .cell_displacement([x0, z0], cell, nx, nz)
+        .into_iter()
+        .map(|c| c[skip..].to_vec())
+        .collect();
+    // A cell without blades stays blank, not white.
+    let empty: Vec<bool> = {
+        let mut has = vec![false; nx * nz];
+        for r in &run.roots {
+            let (ix, iz) = (((r[0] - x0) / cell) as usize, ((r[1] - z0) / cell) as usize);
+            has[(iz.min(nz - 1)) * nx + ix.min(nx - 1)] = true;
+        }
+        has.into_iter().map(|h| !h).collect()
+    };
+    let z = space_time::standardised(&cells);
+    let times = &run.times[skip..];
+    let panels: Vec<(f64, Vec<f64>)> = instants
+        .iter()
+        .map(|&t| {
+            let s = times
+                .iter()
+                .position(|&u| u >= t - 1e-6)
+                .unwrap_or(times.len() - 1);
+            let values = z
+                .iter()
+                .zip(&empty)
+                .map(|(c, &e)| if e { f64::NAN } else { c[s] })
+                .collect();
+            (times[s], values)
+        })
+        .collect();
+    plan_view::svg(&PlanView {
+        title,
+        x0: x0 as f64,
+        z0: z0 as f64,
+        cell: cell as f64,
+        nx,
+        nz,
+        instants: &panels,
+    })
+    .map(Some)
+}
+
+/// The tips' spectrum beside the blades' natural frequencies
+/// (report::spectrum).
+pub fn spectrum_svg(
+    spectrum: &Spectrum,
+    natural: Option<&Percentiles>,
+    title: &str,
+) -> Result<String> {
+    report_spectrum::svg(&SpectrumChart {
+        title,
+        frequency_hz: &spectrum.frequency_hz,
+        power: &spectrum.power,
+        natural_hz: natural.map(|n| (n.median, n.p5, n.p95)),
     })
 }
 
@@ -611,6 +728,14 @@ pub struct TraceReport {
     /// deviations); travelling waves are diagonal stripes. None for a
     /// single blade or sample.
     pub space_time: Option<String>,
+    /// plan_view.svg: the traced field from above at three instants a
+    /// second apart, each cell's downwind tip displacement (the space-time
+    /// diagram's colours): patches moving downwind. None for a trace
+    /// shorter than three seconds past --diagram-from.
+    pub plan_view: Option<String>,
+    /// spectrum.svg: `tip_spectrum` drawn beside the blades' natural
+    /// frequencies. None without a spectrum.
+    pub spectrum: Option<String>,
     /// The spectrum of the tips' downwind (x) motion from `diagram_from`
     /// on, averaged over the traced blades (None: too few samples).
     pub tip_spectrum: Option<Spectrum>,
@@ -654,9 +779,13 @@ pub fn csv(trace: &Trace) -> String {
 pub const CSV_NAME: &str = "blades.csv";
 pub const REPORT_NAME: &str = "trace.json";
 pub const SPACE_TIME_NAME: &str = "space_time.svg";
+pub const PLAN_VIEW_NAME: &str = "plan_view.svg";
+pub const SPECTRUM_NAME: &str = "spectrum.svg";
 
 /// Runs the trace and writes DIR/blades.csv, DIR/trace.json and (with two
-/// samples and blades or more) DIR/space_time.svg, replacing only an
+/// samples and blades or more) DIR/space_time.svg, DIR/plan_view.svg (when
+/// the trace lasts three seconds past `diagram_from`) and DIR/spectrum.svg
+/// (when there is a spectrum), replacing only an
 /// earlier run's (`overwrite`: any file of those names; `report::claim`).
 pub fn trace_to_dir(
     request: &TraceRequest,
@@ -666,10 +795,16 @@ pub fn trace_to_dir(
 ) -> Result<TraceReport> {
     request.validate()?;
     files::ensure_dir(out)?;
-    let planned: Vec<String> = [CSV_NAME, REPORT_NAME, SPACE_TIME_NAME]
-        .iter()
-        .map(|s| s.to_string())
-        .collect();
+    let planned: Vec<String> = [
+        CSV_NAME,
+        REPORT_NAME,
+        SPACE_TIME_NAME,
+        PLAN_VIEW_NAME,
+        SPECTRUM_NAME,
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect();
     let claim = OutputClaim::new(out, &planned, overwrite)?;
     // blades.csv: a row per traced blade and sample, at least 30 bytes
     // (ten numbers and their commas).
@@ -693,6 +828,27 @@ pub fn trace_to_dir(
     if let Some(svg) = &diagram {
         claim.write(SPACE_TIME_NAME, svg.as_bytes())?;
     }
+    let title = format!(
+        "{}: tips bent downwind from above, a second apart",
+        request.scene.name
+    );
+    let plan_view = (trace.blades.len() > 1)
+        .then(|| plan_view_svg(&trace, request.diagram_from, &title))
+        .transpose()?
+        .flatten();
+    if let Some(svg) = &plan_view {
+        claim.write(PLAN_VIEW_NAME, svg.as_bytes())?;
+    }
+    let tip_spectrum = trace.tip_spectrum(request.diagram_from);
+    let bend_natural_hz = trace.bend_natural_hz();
+    let title = format!("{}: the tips' spectrum", request.scene.name);
+    let spectrum = tip_spectrum
+        .as_ref()
+        .map(|s| spectrum_svg(s, bend_natural_hz.as_ref(), &title))
+        .transpose()?;
+    if let Some(svg) = &spectrum {
+        claim.write(SPECTRUM_NAME, svg.as_bytes())?;
+    }
     let report = TraceReport {
         scene: request.scene.name.clone(),
         seed: request.scene.seed,
@@ -713,8 +869,10 @@ pub fn trace_to_dir(
         blades_total: trace.total_blades,
         csv: CSV_NAME.into(),
         space_time: diagram.map(|_| SPACE_TIME_NAME.into()),
-        tip_spectrum: trace.tip_spectrum(request.diagram_from),
-        bend_natural_hz: trace.bend_natural_hz(),
+        plan_view: plan_view.map(|_| PLAN_VIEW_NAME.into()),
+        spectrum: spectrum.map(|_| SPECTRUM_NAME.into()),
+        tip_spectrum,
+        bend_natural_hz,
         columns: columns(request.wind),
         interrupted: trace.interrupted,
         validation,

@@ -38,8 +38,8 @@ pub struct Figure {
     /// What the paper's figure shows (or, beyond the paper, what to see).
     pub paper: &'static str,
     pub shots: Vec<Shot>,
-    /// A measured diagram shown after the shots, if any.
-    pub diagram: Option<Diagram>,
+    /// Measured diagrams shown after the shots.
+    pub diagrams: Vec<Diagram>,
 }
 
 /// An SVG the command wrote under DIR, with what it shows.
@@ -145,7 +145,7 @@ pub fn markdown(figures: &[Figure], rendered: &[Rendered], quick: bool) -> Strin
             }
             let _ = writeln!(md, "\n\n{}\n", parameters(&r.report, scene));
         }
-        if let Some(d) = &figure.diagram {
+        for d in &figure.diagrams {
             let _ = writeln!(md, "![{}]({})\n\n{}\n", d.caption, d.file, d.caption);
         }
     }
@@ -209,7 +209,7 @@ pub fn html(figures: &[Figure], rendered: &[Rendered], out: &Path, quick: bool) 
                 escape(&parameters(&r.report, scene))
             );
         }
-        if let Some(d) = &figure.diagram {
+        for d in &figure.diagrams {
             let path = out.join(&d.file);
             let svg = std::fs::read(&path).map_err(|e| crate::Error::io(&path, e))?;
             let data = base64::engine::general_purpose::STANDARD.encode(svg);

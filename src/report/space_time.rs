@@ -36,7 +36,7 @@ pub fn standardised(values: &[Vec<f64>]) -> Vec<Vec<f64>> {
 }
 
 /// Blue (-2 sd and below) through white (0) to red (+2 sd and above).
-fn diverging(z: f64) -> RGBColor {
+pub(crate) fn diverging(z: f64) -> RGBColor {
     let t = (z / 2.0).clamp(-1.0, 1.0);
     let mix = |a: f64, b: f64, f: f64| (a + (b - a) * f).round() as u8;
     if t >= 0.0 {
