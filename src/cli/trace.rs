@@ -113,6 +113,16 @@ pub fn run(args: TraceArgs) -> anyhow::Result<()> {
             spectrum.from_s, spectrum.peak_hz, natural.median, natural.p5, natural.p95
         );
     }
+    if let Some(c) = &report.tip_correlation {
+        println!(
+            "tips' correlation ({:.1} m cells): integral length {:.1} m along the wind, {:.1} m across{}",
+            c.cell_m,
+            c.along_length_m,
+            c.across_length_m,
+            c.bands_20m_across
+                .map_or(String::new(), |r| format!("; bands 20 m apart across it correlate {r:.2}"))
+        );
+    }
     let mut written = vec![
         out.join(&report.csv),
         out.join(meadow::commands::trace::REPORT_NAME),

@@ -84,7 +84,7 @@ fn shot(label: &str, dir: &str, scene: &Scene, start: f32) -> Shot {
 /// gust-strip's wind over a 60 x 60 m field, its inflow's gusts left out:
 /// the turbulence alone, patches everywhere (issue 39's picture), seen
 /// from a corner.
-fn turbulent_field(density: f32) -> Result<Scene> {
+pub fn turbulent_field(density: f32) -> Result<Scene> {
     let mut scene = Scene::builtin("gust-strip")?;
     scene.name = "turbulent-field".into();
     scene.caption =

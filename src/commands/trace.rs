@@ -378,51 +378,79 @@ pub fn space_time_svg(run: &Trace, from_s: f64, title: &str) -> Result<String> {
     })
 }
 
+/// The traced blades' roots in square cells: where the plan view and the
+/// tips' correlation look.
+struct CellGrid {
+    corner: [f32; 2],
+    cell: f32,
+    nx: usize,
+    nz: usize,
+    /// Whether each cell (`iz * nx + ix`) holds a traced blade.
+    filled: Vec<bool>,
+}
+
+impl CellGrid {
+    /// Cells of 2 m, or larger so that there are at most 40 along a side
+    /// and about 20 traced blades in a cell on average. None without
+    /// blades.
+    fn of(run: &Trace) -> Option<Self> {
+        if run.roots.is_empty() {
+            return None;
+        }
+        let fold = |i: usize| {
+            run.roots.iter().fold((f32::MAX, f32::MIN), |(lo, hi), r| {
+                (lo.min(r[i]), hi.max(r[i]))
+            })
+        };
+        let ((x0, x1), (z0, z1)) = (fold(0), fold(1));
+        let area = ((x1 - x0) * (z1 - z0)).max(1.0);
+        let per_m2 = run.roots.len() as f32 / area;
+        let cell = 2.0f32
+            .max((x1 - x0).max(z1 - z0) / 40.0)
+            .max((20.0 / per_m2).sqrt());
+        let corner = [(x0 / cell).floor() * cell, (z0 / cell).floor() * cell];
+        let nx = ((x1 - corner[0]) / cell).floor() as usize + 1;
+        let nz = ((z1 - corner[1]) / cell).floor() as usize + 1;
+        let mut filled = vec![false; nx * nz];
+        for r in &run.roots {
+            let ix = (((r[0] - corner[0]) / cell) as usize).min(nx - 1);
+            let iz = (((r[1] - corner[1]) / cell) as usize).min(nz - 1);
+            filled[iz * nx + ix] = true;
+        }
+        Some(Self {
+            corner,
+            cell,
+            nx,
+            nz,
+            filled,
+        })
+    }
+
+    /// Each cell's mean downwind tip displacement from sample `skip` on:
+    /// `[iz * nx + ix][sample]`.
+    fn displacement(&self, run: &Trace, skip: usize) -> Vec<Vec<f64>> {
+        run.cell_displacement(self.corner, self.cell, self.nx, self.nz)
+            .into_iter()
+            .map(|c| c[skip..].to_vec())
+            .collect()
+    }
+}
+
 /// The grass from above at three instants a second apart, ending at the
 /// trace's last sample (report::plan_view): the traced field in square
-/// cells (2 m, or larger so that there are at most 40 along a side and
-/// about 20 traced blades in a cell on average), each
-/// cell's downwind tip displacement beyond its mean from `from_s` on, in
-/// its own standard deviations. None where the trace is shorter than the
-/// three instants after `from_s`.
+/// cells (`CellGrid`), each cell's downwind tip displacement beyond its
+/// mean from `from_s` on, in its own standard deviations. None where the
+/// trace is shorter than the three instants after `from_s`.
 pub fn plan_view_svg(run: &Trace, from_s: f64, title: &str) -> Result<Option<String>> {
     let Some(&end) = run.times.last() else {
         return Ok(None);
     };
     let instants: Vec<f64> = (0..3).map(|k| end - (2 - k) as f64).collect();
-    if instants[0] < from_s || run.roots.is_empty() {
+    let Some(grid) = CellGrid::of(run).filter(|_| instants[0] >= from_s) else {
         return Ok(None);
-    }
-    let fold = |i: usize| {
-        run.roots.iter().fold((f32::MAX, f32::MIN), |(lo, hi), r| {
-            (lo.min(r[i]), hi.max(r[i]))
-        })
     };
-    let ((x0, x1), (z0, z1)) = (fold(0), fold(1));
-    let area = ((x1 - x0) * (z1 - z0)).max(1.0);
-    let per_m2 = run.roots.len() as f32 / area;
-    let cell = 2.0f32
-        .max((x1 - x0).max(z1 - z0) / 40.0)
-        .max((20.0 / per_m2).sqrt());
-    let (x0, z0) = ((x0 / cell).floor() * cell, (z0 / cell).floor() * cell);
-    let nx = ((x1 - x0) / cell).floor() as usize + 1;
-    let nz = ((z1 - z0) / cell).floor() as usize + 1;
     let skip = run.times.iter().take_while(|&&t| t < from_s).count();
-    let cells: Vec<Vec<f64>> = run
-        .cell_displacement([x0, z0], cell, nx, nz)
-        .into_iter()
-        .map(|c| c[skip..].to_vec())
-        .collect();
-    // A cell without blades stays blank, not white.
-    let empty: Vec<bool> = {
-        let mut has = vec![false; nx * nz];
-        for r in &run.roots {
-            let (ix, iz) = (((r[0] - x0) / cell) as usize, ((r[1] - z0) / cell) as usize);
-            has[(iz.min(nz - 1)) * nx + ix.min(nx - 1)] = true;
-        }
-        has.into_iter().map(|h| !h).collect()
-    };
-    let z = space_time::standardised(&cells);
+    let z = space_time::standardised(&grid.displacement(run, skip));
     let times = &run.times[skip..];
     let panels: Vec<(f64, Vec<f64>)> = instants
         .iter()
@@ -431,24 +459,158 @@ pub fn plan_view_svg(run: &Trace, from_s: f64, title: &str) -> Result<Option<Str
                 .iter()
                 .position(|&u| u >= t - 1e-6)
                 .unwrap_or(times.len() - 1);
+            // A cell without blades stays blank, not white.
             let values = z
                 .iter()
-                .zip(&empty)
-                .map(|(c, &e)| if e { f64::NAN } else { c[s] })
+                .zip(&grid.filled)
+                .map(|(c, &f)| if f { c[s] } else { f64::NAN })
                 .collect();
             (times[s], values)
         })
         .collect();
     plan_view::svg(&PlanView {
         title,
-        x0: x0 as f64,
-        z0: z0 as f64,
-        cell: cell as f64,
-        nx,
-        nz,
+        x0: grid.corner[0] as f64,
+        z0: grid.corner[1] as f64,
+        cell: grid.cell as f64,
+        nx: grid.nx,
+        nz: grid.nz,
         instants: &panels,
     })
     .map(Some)
+}
+
+/// How far the tips' motion stays alike across the field: the mean
+/// correlation (lag 0) of the downwind tip displacement of two cells
+/// (`CellGrid`) at each separation along the wind (x: the trace measures
+/// the displacement along x) and across it (z), their integral lengths,
+/// and the correlation of two bands along the wind 20 m apart across it
+/// (the test of patches against fronts). Each series' straight-line
+/// trend over the window is taken off first: the mean wind still settling
+/// over the field bends every tip alike and slowly, which is not a gust.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct TipCorrelation {
+    pub cell_m: f64,
+    pub from_s: f64,
+    /// Separations (m), and the mean correlation at each.
+    pub separation_m: Vec<f64>,
+    pub along: Vec<f64>,
+    pub across: Vec<f64>,
+    /// The integral of the correlation from 0 (where it is 1) to its first
+    /// zero, or to the largest separation if it stays above zero (then a
+    /// lower bound): m.
+    pub along_length_m: f64,
+    pub across_length_m: f64,
+    /// Bands one cell wide along the whole field, their centres 20 m apart
+    /// across the wind: the mean correlation of their mean displacements.
+    /// None on a field narrower than 20 m plus a cell.
+    pub bands_20m_across: Option<f64>,
+}
+
+impl Trace {
+    /// The tips' correlation from `from_s` on (`TipCorrelation`); None
+    /// where the field is under two cells either way or there are fewer
+    /// than 8 samples.
+    pub fn tip_correlation(&self, from_s: f64) -> Option<TipCorrelation> {
+        let grid = CellGrid::of(self)?;
+        let skip = self.times.iter().take_while(|&&t| t < from_s).count();
+        if self.times.len() < skip + 8 || grid.nx < 3 || grid.nz < 3 {
+            return None;
+        }
+        let cells: Vec<Vec<f64>> = grid
+            .displacement(self, skip)
+            .into_iter()
+            .map(detrended)
+            .collect();
+        let at = |ix: usize, iz: usize| -> Option<&Vec<f64>> {
+            grid.filled[iz * grid.nx + ix].then(|| &cells[iz * grid.nx + ix])
+        };
+        let mean_correlation = |pairs: &mut dyn Iterator<Item = (&Vec<f64>, &Vec<f64>)>| {
+            let (sum, n) = pairs.fold((0.0, 0usize), |(sum, n), (a, b)| {
+                let r = lagged_correlation(a, b, 0);
+                if r.is_finite() {
+                    (sum + r, n + 1)
+                } else {
+                    (sum, n)
+                }
+            });
+            (n > 0).then(|| sum / n as f64)
+        };
+        let largest = grid.nx.min(grid.nz) / 2;
+        let (mut along, mut across) = (Vec::new(), Vec::new());
+        for k in 1..=largest {
+            let mut pairs_along = (0..grid.nz).flat_map(|iz| {
+                (0..grid.nx - k).filter_map(move |ix| Some((at(ix, iz)?, at(ix + k, iz)?)))
+            });
+            let mut pairs_across = (0..grid.nz - k).flat_map(|iz| {
+                (0..grid.nx).filter_map(move |ix| Some((at(ix, iz)?, at(ix, iz + k)?)))
+            });
+            along.push(mean_correlation(&mut pairs_along).unwrap_or(0.0));
+            across.push(mean_correlation(&mut pairs_across).unwrap_or(0.0));
+        }
+        let cell = grid.cell as f64;
+        // Bands along the wind: each row of cells averaged.
+        let rows: Vec<Vec<f64>> = (0..grid.nz)
+            .map(|iz| {
+                let row: Vec<&Vec<f64>> = (0..grid.nx).filter_map(|ix| at(ix, iz)).collect();
+                let n = row.len().max(1) as f64;
+                (0..cells[0].len())
+                    .map(|s| row.iter().map(|c| c[s]).sum::<f64>() / n)
+                    .collect()
+            })
+            .collect();
+        let gap = (20.0 / cell).round() as usize;
+        let mut band_pairs =
+            (0..grid.nz.saturating_sub(gap)).map(|iz| (&rows[iz], &rows[iz + gap]));
+        let bands_20m_across = (gap >= 1 && gap < grid.nz)
+            .then(|| mean_correlation(&mut band_pairs))
+            .flatten();
+        Some(TipCorrelation {
+            cell_m: cell,
+            from_s,
+            separation_m: (1..=largest).map(|k| k as f64 * cell).collect(),
+            along_length_m: integral_length(&along, cell),
+            across_length_m: integral_length(&across, cell),
+            along,
+            across,
+            bands_20m_across,
+        })
+    }
+}
+
+/// `series` less its least-squares straight line.
+fn detrended(series: Vec<f64>) -> Vec<f64> {
+    let n = series.len() as f64;
+    let t_mean = (n - 1.0) / 2.0;
+    let mean = series.iter().sum::<f64>() / n;
+    let (mut ty, mut tt) = (0.0, 0.0);
+    for (t, v) in series.iter().enumerate() {
+        let dt = t as f64 - t_mean;
+        ty += dt * (v - mean);
+        tt += dt * dt;
+    }
+    let slope = if tt > 0.0 { ty / tt } else { 0.0 };
+    series
+        .iter()
+        .enumerate()
+        .map(|(t, v)| v - mean - slope * (t as f64 - t_mean))
+        .collect()
+}
+
+/// The integral of a correlation given at separations `step`, 2 `step`,
+/// ... (1 at 0), by trapezoids up to its first zero.
+fn integral_length(correlation: &[f64], step: f64) -> f64 {
+    let mut length = 0.0;
+    let mut before = 1.0;
+    for &r in correlation {
+        if r <= 0.0 {
+            // The last piece, down to where the straight line crosses 0.
+            return length + step * before / (before - r) * before / 2.0;
+        }
+        length += step * (before + r) / 2.0;
+        before = r;
+    }
+    length
 }
 
 /// The tips' spectrum beside the blades' natural frequencies
@@ -742,6 +904,10 @@ pub struct TraceReport {
     /// The traced blades' bending natural frequencies (Hz): where the tip
     /// spectrum of a blade that locks in to the wind peaks.
     pub bend_natural_hz: Option<Percentiles>,
+    /// How far the tips' motion stays alike along and across the wind,
+    /// from `diagram_from` on (None on a field under three cells either
+    /// way).
+    pub tip_correlation: Option<TipCorrelation>,
     pub columns: Vec<Column>,
     /// Stopped early by a signal: the CSV holds the samples taken.
     pub interrupted: bool,
@@ -873,6 +1039,7 @@ pub fn trace_to_dir(
         spectrum: spectrum.map(|_| SPECTRUM_NAME.into()),
         tip_spectrum,
         bend_natural_hz,
+        tip_correlation: trace.tip_correlation(request.diagram_from),
         columns: columns(request.wind),
         interrupted: trace.interrupted,
         validation,
@@ -943,6 +1110,91 @@ mod tests {
         assert_eq!(lag, 10, "3 m at 3 m/s is 1 s, 10 samples");
         assert!(r > 0.999, "{r}");
         assert!(lagged_correlation(&wave(0.0), &wave(3.0), 0) < 0.9);
+    }
+
+    #[test]
+    fn the_integral_length_of_a_straight_fall_is_its_triangle() {
+        // 1 - r / 4 sampled every metre: the triangle under it, 2 m.
+        assert!((integral_length(&[0.75, 0.5, 0.25, 0.0, -0.2], 1.0) - 2.0).abs() < 1e-12);
+        // Crossing zero between samples: the line's own crossing.
+        assert!((integral_length(&[0.5, -0.5], 2.0) - (1.5 + 0.25)).abs() < 1e-12);
+        // Never reaching zero: what was sampled, a lower bound.
+        assert!((integral_length(&[0.8, 0.6], 1.0) - 1.6).abs() < 1e-12);
+    }
+
+    /// Blades on a 1 m grid over 40 x 40 m whose tips follow `x_of(root,
+    /// time)`, sampled at 10 Hz for 30 s.
+    fn synthetic(x_of: impl Fn([f32; 2], f64) -> f32) -> Trace {
+        let roots: Vec<[f32; 2]> = (0..40)
+            .flat_map(|iz| (0..40).map(move |ix| [ix as f32 + 0.5, iz as f32 + 0.5]))
+            .collect();
+        let times: Vec<f64> = (0..300).map(|s| s as f64 * 0.1).collect();
+        let tips = times
+            .iter()
+            .flat_map(|&t| roots.iter().map(move |&r| (r, t)))
+            .map(|(r, t)| [r[0] + x_of(r, t), 0.3, r[1]])
+            .collect();
+        Trace {
+            dt: 0.1,
+            substeps: 1,
+            blades: (0..roots.len() as u32).collect(),
+            angles: vec![[0.0; 3]; times.len() * roots.len()],
+            roots,
+            times,
+            tips,
+            wind: Vec::new(),
+            bend_hz: Vec::new(),
+            total_blades: 1600,
+            steps_done: 300,
+            interrupted: false,
+        }
+    }
+
+    #[test]
+    fn fronts_correlate_across_the_wind_and_noise_nowhere() {
+        // A front: a wave 40 m long running along x, the same at every z.
+        let front = synthetic(|r, t| {
+            0.01 * (std::f64::consts::TAU * (r[0] as f64 - 3.0 * t) / 40.0).sin() as f32
+        });
+        let c = front.tip_correlation(0.0).unwrap();
+        // About 1 blade a square metre: cells of about sqrt(20) m.
+        assert!((4.0..4.6).contains(&c.cell_m), "{}", c.cell_m);
+        // Along the wind, cos(2 pi r / 40): zero at 10 m, integral 40 / 2
+        // pi (the trapezoids over cells 4.4 m wide come within 8% of it).
+        let exact = 40.0 / std::f64::consts::TAU;
+        assert!((c.along_length_m / exact - 1.0).abs() < 0.08, "{c:?}");
+        // Across, the same motion everywhere: 1 at every separation.
+        assert!(c.across.iter().all(|&r| r > 0.999), "{c:?}");
+        assert!(c.bands_20m_across.unwrap() > 0.999);
+        // Noise: every blade on its own (a hash of its root and the time).
+        let noise = synthetic(|r, t| {
+            let h = (r[0] * 12.9898 + r[1] * 78.233 + t as f32 * 37.719).sin() * 43_758.547;
+            0.01 * (h - h.floor() - 0.5)
+        });
+        let c = noise.tip_correlation(0.0).unwrap();
+        assert!(
+            c.along.iter().chain(&c.across).all(|r| r.abs() < 0.2),
+            "{c:?}"
+        );
+        assert!(c.bands_20m_across.unwrap().abs() < 0.3, "{c:?}");
+        assert!(c.along_length_m < 0.7 * c.cell_m, "{c:?}");
+    }
+
+    #[test]
+    fn a_straight_line_detrends_to_nothing_and_a_wave_keeps_its_shape() {
+        let line: Vec<f64> = (0..50).map(|t| 3.0 + 0.2 * t as f64).collect();
+        assert!(detrended(line).iter().all(|v| v.abs() < 1e-9));
+        let wave: Vec<f64> = (0..100)
+            .map(|t| (std::f64::consts::TAU * t as f64 / 20.0).sin())
+            .collect();
+        let with_trend: Vec<f64> = wave
+            .iter()
+            .enumerate()
+            .map(|(t, v)| v + 0.05 * t as f64)
+            .collect();
+        let back = detrended(with_trend);
+        let r = lagged_correlation(&back, &wave, 0);
+        assert!(r > 0.98, "{r}");
     }
 
     #[test]
