@@ -292,26 +292,21 @@ pub fn gpu_report(
         p.bench_counts.clone(),
         &work("bench"),
     ));
+    let grass_step = |counts: &[usize], colliders: &[usize]| {
+        Outcome::of(bench_grass(
+            &table1,
+            counts,
+            colliders,
+            p.grass_steps,
+            p.grass_warmup,
+            &request.gpu,
+            &mut |_| {},
+        ))
+    };
     on_part("bench-grass: the grass step and its memory floor");
-    let grass = Outcome::of(bench_grass(
-        &table1,
-        &p.grass_counts,
-        &[0],
-        p.grass_steps,
-        p.grass_warmup,
-        &request.gpu,
-        &mut |_| {},
-    ));
+    let grass = grass_step(&p.grass_counts, &[0]);
     on_part("bench-grass: the grass step with colliders");
-    let colliders = Outcome::of(bench_grass(
-        &table1,
-        &p.collider_counts,
-        &p.colliders,
-        p.grass_steps,
-        p.grass_warmup,
-        &request.gpu,
-        &mut |_| {},
-    ));
+    let colliders = grass_step(&p.collider_counts, &p.colliders);
     on_part("wind: both pressure solvers");
     let wind = Outcome::of(run_wind(
         request,
@@ -781,24 +776,14 @@ fn markdown(r: &GpuReport, p: &Plan) -> String {
             );
             md += "| blades | LOD | culling | wind | grass | cull | shadow | colour | GPU frame ms | FPS (GPU) | FPS (wall) | triangles |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n";
             for row in &b.rows {
-                let g = row.timing.gpu_ms.as_ref();
-                let phase = |f: fn(
-                    &crate::frame::timing::PhaseSpreads,
-                ) -> Option<crate::frame::timing::Spread>| {
-                    ms(g.and_then(f).map(|s| s.median))
-                };
-                let frame = g.and_then(|g| g.frame).map(|s| s.median);
+                let frame = row.timing.gpu_ms.as_ref().and_then(|g| g.frame);
+                let frame = frame.map(|s| s.median);
                 md += &format!(
-                    "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
+                    "| {} | {} | {} | {} | {} | {} | {} |\n",
                     row.blades,
                     on_off(row.lod),
                     on_off(row.cull),
-                    phase(|g| g.wind),
-                    phase(|g| g.grass),
-                    phase(|g| g.cull),
-                    phase(|g| g.shadow),
-                    phase(|g| g.color),
-                    ms(frame),
+                    phase_medians(&row.timing),
                     frame.map_or("n/a".into(), |f| format!("{:.1}", 1000.0 / f)),
                     row.timing.fps.map_or("n/a".into(), |f| format!("{f:.1}")),
                     row.triangles.map_or("n/a".into(), |t| t.to_string())
@@ -836,26 +821,15 @@ fn markdown(r: &GpuReport, p: &Plan) -> String {
     for f in &r.frames {
         match f {
             Outcome::Ran(f) => {
-                let g = f.timing.gpu_ms.as_ref();
-                let phase = |f: fn(
-                    &crate::frame::timing::PhaseSpreads,
-                ) -> Option<crate::frame::timing::Spread>| {
-                    ms(g.and_then(f).map(|s| s.median))
-                };
                 md += &format!(
-                    "| {} | {} | {}x{} | {}x | {} | {} | {} | {} | {} | {} | {} | {} |\n",
+                    "| {} | {} | {}x{} | {}x | {} | {} | {} |\n",
                     f.scene,
                     f.blades,
                     f.width,
                     f.height,
                     f.msaa_used,
                     f.frames,
-                    phase(|g| g.wind),
-                    phase(|g| g.grass),
-                    phase(|g| g.cull),
-                    phase(|g| g.shadow),
-                    phase(|g| g.color),
-                    phase(|g| g.frame),
+                    phase_medians(&f.timing),
                     f.timing.fps.map_or("n/a".into(), |v| format!("{v:.1}"))
                 );
             }
@@ -872,6 +846,26 @@ fn markdown(r: &GpuReport, p: &Plan) -> String {
         }
     }
     md
+}
+
+/// "wind | grass | cull | shadow | colour | frame": each phase's median GPU
+/// ms, or n/a.
+fn phase_medians(timing: &TimingSummary) -> String {
+    let g = timing.gpu_ms.as_ref();
+    [
+        g.and_then(|g| g.wind),
+        g.and_then(|g| g.grass),
+        g.and_then(|g| g.cull),
+    ]
+    .into_iter()
+    .chain([
+        g.and_then(|g| g.shadow),
+        g.and_then(|g| g.color),
+        g.and_then(|g| g.frame),
+    ])
+    .map(|s| ms(s.map(|s| s.median)))
+    .collect::<Vec<_>>()
+    .join(" | ")
 }
 
 fn on_off(v: bool) -> &'static str {

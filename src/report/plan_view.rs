@@ -8,7 +8,7 @@
 use plotters::prelude::*;
 
 use crate::error::{Error, Result};
-use crate::report::space_time::diverging;
+use crate::report::space_time::{diverging, diverging_key};
 
 /// What to draw: the cells' standardised values at each instant,
 /// `instants[k] = (time, values)` with `values[iz * nx + ix]` the cell
@@ -70,26 +70,7 @@ pub fn svg(p: &PlanView) -> Result<String> {
                 });
             chart.draw_series(cells).map_err(|e| err(e.to_string()))?;
         }
-        let mut legend = ChartBuilder::on(&key)
-            .margin_top(40)
-            .margin_bottom(50)
-            .y_label_area_size(40)
-            .build_cartesian_2d(0.0..1.0, -2.0..2.0)
-            .map_err(|e| err(e.to_string()))?;
-        legend
-            .configure_mesh()
-            .disable_mesh()
-            .disable_x_axis()
-            .y_desc("bent downwind (sd of the cell)")
-            .axis_desc_style(("sans-serif", 12))
-            .draw()
-            .map_err(|e| err(e.to_string()))?;
-        legend
-            .draw_series((0..40).map(|i| {
-                let v = -2.0 + i as f64 * 0.1;
-                Rectangle::new([(0.0, v), (1.0, v + 0.1)], diverging(v).filled())
-            }))
-            .map_err(|e| err(e.to_string()))?;
+        diverging_key(&key, "bent downwind (sd of the cell)").map_err(err)?;
         root.present().map_err(|e| err(e.to_string()))?;
     }
     Ok(out)

@@ -46,6 +46,36 @@ pub(crate) fn diverging(z: f64) -> RGBColor {
     }
 }
 
+/// The colour key of `diverging` in `area`, -2 to +2 standard deviations,
+/// its axis labelled `label` (the space-time diagram's and the plan
+/// view's).
+pub(crate) fn diverging_key<DB: DrawingBackend>(
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    label: &str,
+) -> std::result::Result<(), String> {
+    let mut legend = ChartBuilder::on(area)
+        .margin_top(40)
+        .margin_bottom(50)
+        .y_label_area_size(40)
+        .build_cartesian_2d(0.0..1.0, -2.0..2.0)
+        .map_err(|e| e.to_string())?;
+    legend
+        .configure_mesh()
+        .disable_mesh()
+        .disable_x_axis()
+        .y_desc(label)
+        .axis_desc_style(("sans-serif", 14))
+        .draw()
+        .map_err(|e| e.to_string())?;
+    legend
+        .draw_series((0..40).map(|i| {
+            let v = -2.0 + i as f64 * 0.1;
+            Rectangle::new([(0.0, v), (1.0, v + 0.1)], diverging(v).filled())
+        }))
+        .map_err(|e| e.to_string())?;
+    Ok(())
+}
+
 /// The diagram as SVG, with axes in metres and seconds and a colour key.
 pub fn svg(d: &SpaceTime) -> Result<String> {
     let err = |e: String| Error::InvalidInput(format!("drawing the space-time diagram: {e}"));
@@ -90,26 +120,7 @@ pub fn svg(d: &SpaceTime) -> Result<String> {
         });
         chart.draw_series(cells).map_err(|e| err(e.to_string()))?;
         // The key: -2 to +2 standard deviations of the band's own motion.
-        let mut legend = ChartBuilder::on(&key)
-            .margin_top(40)
-            .margin_bottom(50)
-            .y_label_area_size(40)
-            .build_cartesian_2d(0.0..1.0, -2.0..2.0)
-            .map_err(|e| err(e.to_string()))?;
-        legend
-            .configure_mesh()
-            .disable_mesh()
-            .disable_x_axis()
-            .y_desc("bent downwind (sd of the band)")
-            .axis_desc_style(("sans-serif", 14))
-            .draw()
-            .map_err(|e| err(e.to_string()))?;
-        legend
-            .draw_series((0..40).map(|i| {
-                let v = -2.0 + i as f64 * 0.1;
-                Rectangle::new([(0.0, v), (1.0, v + 0.1)], diverging(v).filled())
-            }))
-            .map_err(|e| err(e.to_string()))?;
+        diverging_key(&key, "bent downwind (sd of the band)").map_err(err)?;
         root.present().map_err(|e| err(e.to_string()))?;
     }
     Ok(out)
