@@ -17,7 +17,7 @@ use crate::commands::bench_grass::{bench_grass, GrassBench};
 use crate::commands::on_gpu;
 use crate::commands::render::{render_to_dir, Animation, RenderRequest};
 use crate::commands::wind::{wind_to_dir, WindReport};
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::frame::timing::TimingSummary;
 use crate::gpu::{GpuOptions, ValidationOptions};
 use crate::model::wind::{Coupling, PressureSolver};
@@ -171,6 +171,15 @@ pub struct ValidatedRun {
 pub struct ValidationCount {
     pub errors: u64,
     pub warnings: u64,
+}
+
+impl ValidationCount {
+    fn of(report: &crate::gpu::ValidationReport) -> Self {
+        Self {
+            errors: report.errors,
+            warnings: report.warnings,
+        }
+    }
 }
 
 /// A GPU target of docs/perf.md against what this run measured.
@@ -329,16 +338,19 @@ pub fn gpu_report(
     for name in ["prairie", "roll"] {
         on_part(&format!("render: frames of {name}"));
         let blades = (name == "prairie").then_some(p.prairie_blades).flatten();
-        frames.push(Outcome::of(run_frames(
-            request,
-            name,
-            blades,
-            (p.width, p.height),
-            p.msaa,
-            p.scene_frames,
-            &work(&format!("frames-{name}")),
-            &request.gpu,
-        )));
+        frames.push(Outcome::of(
+            run_frames(
+                request,
+                name,
+                blades,
+                (p.width, p.height),
+                p.msaa,
+                p.scene_frames,
+                &work(&format!("frames-{name}")),
+                &request.gpu,
+            )
+            .map(|(frames, _)| frames),
+        ));
     }
 
     let validation = validated_runs(request, &p, &table1, on_part);
@@ -415,7 +427,7 @@ fn run_frames(
     frames: u32,
     dir: &Path,
     gpu: &GpuOptions,
-) -> Result<SceneFrames> {
+) -> Result<(SceneFrames, ValidationCount)> {
     let mut scene = Scene::builtin(name)?;
     if let Some(n) = blades {
         scene.set_blade_count(n)?;
@@ -438,7 +450,8 @@ fn run_frames(
         gpu: gpu.clone(),
     };
     let report = render_to_dir(&render, dir)?;
-    Ok(SceneFrames {
+    let validation = ValidationCount::of(&report.validation);
+    let frames = SceneFrames {
         scene: name.to_string(),
         blades: report.blades,
         width: report.width,
@@ -447,7 +460,8 @@ fn run_frames(
         frames: report.frames.len(),
         timing: report.timing,
         wall_seconds: report.wall_seconds,
-    })
+    };
+    Ok((frames, validation))
 }
 
 /// Each command once more, small, under strict validation.
@@ -460,10 +474,6 @@ fn validated_runs(
     let strict = GpuOptions {
         validation: ValidationOptions::strict(),
         ..request.gpu.clone()
-    };
-    let check = |e: &crate::gpu::ValidationReport| ValidationCount {
-        errors: e.errors,
-        warnings: e.warnings,
     };
     let dir = |part: &str| request.work.join("validated").join(part);
     let small = Plan {
@@ -495,7 +505,7 @@ fn validated_runs(
                 vec![p.check_blades],
                 &dir("bench"),
             )
-            .map(|b| check(&b.validation)),
+            .map(|b| ValidationCount::of(&b.validation)),
         ),
     );
     on_part("validated: bench-grass");
@@ -514,7 +524,7 @@ fn validated_runs(
                 &strict,
                 &mut |_| {},
             )
-            .map(|b| check(&b.validation)),
+            .map(|b| ValidationCount::of(&b.validation)),
         ),
     );
     for (coupling, name) in [(Coupling::OneWay, "one-way"), (Coupling::TwoWay, "two-way")] {
@@ -530,7 +540,7 @@ fn validated_runs(
                     &dir(&format!("wind-{name}")),
                     &strict,
                 )
-                .map(|w| check(&w.validation)),
+                .map(|w| ValidationCount::of(&w.validation)),
             ),
         );
     }
@@ -555,27 +565,11 @@ fn validated_runs(
                     &dir(&format!("render-{name}")),
                     &strict,
                 )
-                .and_then(|_| validation_of(&dir(&format!("render-{name}")))),
+                .map(|(_, validation)| validation),
             ),
         );
     }
     runs
-}
-
-/// The validation counts a render wrote into its report.json.
-fn validation_of(dir: &Path) -> Result<ValidationCount> {
-    let path = dir.join("report.json");
-    let text = std::fs::read_to_string(&path).map_err(|e| Error::io(&path, e))?;
-    let json: serde_json::Value = serde_json::from_str(&text)
-        .map_err(|e| Error::InvalidInput(format!("{}: {e}", path.display())))?;
-    let count = |key: &str| json["validation"][key].as_u64();
-    match (count("errors"), count("warnings")) {
-        (Some(errors), Some(warnings)) => Ok(ValidationCount { errors, warnings }),
-        _ => Err(Error::InvalidInput(format!(
-            "{} holds no validation counts",
-            path.display()
-        ))),
-    }
 }
 
 /// The targets of docs/perf.md (issue 41) against this run's figures; a

@@ -166,6 +166,12 @@ pub struct Trace {
 }
 
 impl Trace {
+    /// Samples taken before `from_s` seconds: where the statistics and
+    /// diagrams from `from_s` on begin.
+    pub fn samples_before(&self, from_s: f64) -> usize {
+        self.times.iter().take_while(|&&t| t < from_s).count()
+    }
+
     /// Blade b's tip at sample s.
     pub fn tip(&self, sample: usize, blade: usize) -> [f32; 3] {
         self.tips[sample * self.blades.len() + blade]
@@ -285,7 +291,7 @@ impl Trace {
         from_s: f64,
         value: impl Fn(usize, usize) -> f64,
     ) -> Option<Spectrum> {
-        let skip = self.times.iter().take_while(|&&t| t < from_s).count();
+        let skip = self.samples_before(from_s);
         let samples = self.times.len().saturating_sub(skip);
         if samples < 8 || self.blades.is_empty() {
             return None;
@@ -353,7 +359,7 @@ impl Percentiles {
 /// The space-time diagram of a trace (report::space_time): 1 m bands along
 /// x over the traced blades' roots, from `from_s` seconds on.
 pub fn space_time_svg(run: &Trace, from_s: f64, title: &str) -> Result<String> {
-    let skip = run.times.iter().take_while(|&&t| t < from_s).count();
+    let skip = run.samples_before(from_s);
     if skip >= run.times.len() {
         return Err(Error::InvalidInput(format!(
             "the trace ends before {from_s} s: nothing to draw"
@@ -449,7 +455,7 @@ pub fn plan_view_svg(run: &Trace, from_s: f64, title: &str) -> Result<Option<Str
     let Some(grid) = CellGrid::of(run).filter(|_| instants[0] >= from_s) else {
         return Ok(None);
     };
-    let skip = run.times.iter().take_while(|&&t| t < from_s).count();
+    let skip = run.samples_before(from_s);
     let z = space_time::standardised(&grid.displacement(run, skip));
     let times = &run.times[skip..];
     let panels: Vec<(f64, Vec<f64>)> = instants
@@ -513,7 +519,7 @@ impl Trace {
     /// than 8 samples.
     pub fn tip_correlation(&self, from_s: f64) -> Option<TipCorrelation> {
         let grid = CellGrid::of(self)?;
-        let skip = self.times.iter().take_while(|&&t| t < from_s).count();
+        let skip = self.samples_before(from_s);
         if self.times.len() < skip + 8 || grid.nx < 3 || grid.nz < 3 {
             return None;
         }
