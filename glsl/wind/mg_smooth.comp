@@ -12,7 +12,5 @@ void main() {
     if (!mg_cell_of_color(l, gl_GlobalInvocationID.x, pc.mg_color, c)) {
         return;
     }
-    uint index = mg_cell_index(l, c);
-    vec2 s = mg_stencil(l, c);
-    mg_set_p(l, index, s.x == 0.0 ? 0.0 : (mg_b(l, index) + s.y) / s.x);
+    mg_set_p(l, mg_cell_index(l, c), mg_smoothed(l, c));
 }

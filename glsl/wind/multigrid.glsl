@@ -56,6 +56,20 @@ float mg_b(uint l, uint index) {
     return coarse[pc.coarse_cells + levels[l].cells.w + index];
 }
 
+// Where the per-cell computations below read a level's pressure, its
+// right-hand side and the saved residual: the level buffers by default;
+// mg_tail.comp defines these before including this file to read its
+// workgroup's shared copy instead.
+#ifndef MG_P
+#define MG_P(l, index) mg_p(l, index)
+#endif
+#ifndef MG_B
+#define MG_B(l, index) mg_b(l, index)
+#endif
+#ifndef MG_SAVED_RESIDUAL
+#define MG_SAVED_RESIDUAL(index) mg_saved_residual(index)
+#endif
+
 // The 6-point stencil at cell c: x = sum of K, y = sum of K * p_nb.
 // Written out face by face: the face arrays are laid out like the cells
 // with one more along their axis, so both faces of an axis are one stride
@@ -72,28 +86,41 @@ vec2 mg_stencil(uint l, uvec3 c) {
     float k_lo = conductance[fx];
     float k_hi = conductance[fx + 1u];
     s.x += k_lo + k_hi;
-    s.y += c.x > 0u ? k_lo * mg_p(l, index - 1u) : 0.0;
-    s.y += c.x + 1u < n.x ? k_hi * mg_p(l, index + 1u) : 0.0;
+    s.y += c.x > 0u ? k_lo * MG_P(l, index - 1u) : 0.0;
+    s.y += c.x + 1u < n.x ? k_hi * MG_P(l, index + 1u) : 0.0;
 
     uint fy = offset.y + c.x + n.x * (c.y + (n.y + 1u) * c.z);
     k_lo = conductance[fy];
     k_hi = conductance[fy + n.x];
     s.x += k_lo + k_hi;
-    s.y += c.y > 0u ? k_lo * mg_p(l, index - n.x) : 0.0;
-    s.y += c.y + 1u < n.y ? k_hi * mg_p(l, index + n.x) : 0.0;
+    s.y += c.y > 0u ? k_lo * MG_P(l, index - n.x) : 0.0;
+    s.y += c.y + 1u < n.y ? k_hi * MG_P(l, index + n.x) : 0.0;
 
     uint fz = offset.z + index;
     k_lo = conductance[fz];
     k_hi = conductance[fz + plane];
     s.x += k_lo + k_hi;
-    s.y += c.z > 0u ? k_lo * mg_p(l, index - plane) : 0.0;
-    s.y += c.z + 1u < n.z ? k_hi * mg_p(l, index + plane) : 0.0;
+    s.y += c.z > 0u ? k_lo * MG_P(l, index - plane) : 0.0;
+    s.y += c.z + 1u < n.z ? k_hi * MG_P(l, index + plane) : 0.0;
     return s;
 }
 
 float mg_residual(uint l, uint index) {
     vec2 s = mg_stencil(l, mg_cell_of(l, index));
-    return mg_b(l, index) - (s.x * mg_p(l, index) - s.y);
+    return MG_B(l, index) - (s.x * MG_P(l, index) - s.y);
+}
+
+// The value that zeroes cell c's residual: a Gauss-Seidel update
+// (`Level::smooth`).
+float mg_smoothed(uint l, uvec3 c) {
+    vec2 s = mg_stencil(l, c);
+    return s.x == 0.0 ? 0.0 : (MG_B(l, mg_cell_index(l, c)) + s.y) / s.x;
+}
+
+// Cells of one colour on level l, counted as the smoother's threads are.
+uint mg_color_cell_count(uint l) {
+    uvec3 n = levels[l].cells.xyz;
+    return (n.x + 1u) / 2u * n.y * n.z;
 }
 
 // Level l's residual, written by mg_residual.comp before a restriction:
@@ -171,6 +198,54 @@ float mg_weight(uint l, uvec3 f, uvec3 c) {
         w *= c[a] == cells.x ? weights.x : (c[a] == cells.y ? weights.y : 0.0);
     }
     return w;
+}
+
+// Restriction from level l: coarse cell `index` of level l + 1 gathers the
+// fine residuals (saved before) weighted by the transpose of the
+// interpolation (`Level::gather`).
+float mg_restricted(uint l, uint index) {
+    uvec3 c = mg_cell_of(l + 1u, index);
+    uvec3 r = levels[l].ratio.xyz;
+    uvec3 nf = levels[l].cells.xyz;
+    uvec3 lo = uvec3(max(ivec3(c * r) - ivec3(r - 1u), ivec3(0)));
+    uvec3 hi = min(c * r + r + (r - 1u), nf) - 1u;
+    float sum = 0.0;
+    for (uint z = lo.z; z <= hi.z; ++z) {
+        for (uint y = lo.y; y <= hi.y; ++y) {
+            for (uint x = lo.x; x <= hi.x; ++x) {
+                uvec3 f = uvec3(x, y, z);
+                float w = mg_weight(l, f, c);
+                if (w != 0.0) {
+                    sum += w * MG_SAVED_RESIDUAL(mg_cell_index(l, f));
+                }
+            }
+        }
+    }
+    return sum;
+}
+
+// Prolongation to level l: the trilinear interpolation of level l + 1's
+// correction at fine cell `index`'s centre (`Level::interpolation`).
+float mg_prolonged(uint l, uint index) {
+    uvec3 f = mg_cell_of(l, index);
+    uvec3 parent = f / levels[l].ratio.xyz;
+    uvec2 cx, cy, cz;
+    vec2 wx, wy, wz;
+    mg_axis_pair(l, f, parent, 0u, cx, wx);
+    mg_axis_pair(l, f, parent, 1u, cy, wy);
+    mg_axis_pair(l, f, parent, 2u, cz, wz);
+    float sum = 0.0;
+    for (uint k = 0u; k < 2u; ++k) {
+        for (uint j = 0u; j < 2u; ++j) {
+            for (uint i = 0u; i < 2u; ++i) {
+                float w = wx[i] * wy[j] * wz[k];
+                if (w != 0.0) {
+                    sum += w * MG_P(l + 1u, mg_cell_index(l + 1u, uvec3(cx[i], cy[j], cz[k])));
+                }
+            }
+        }
+    }
+    return sum;
 }
 
 #endif

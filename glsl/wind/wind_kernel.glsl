@@ -6,7 +6,11 @@
 
 #include "wind_grid.glsl"
 
-layout(local_size_x = WIND_GROUP) in;
+// A kernel of another size (mg_tail.comp) defines WIND_KERNEL_GROUP first.
+#ifndef WIND_KERNEL_GROUP
+#define WIND_KERNEL_GROUP WIND_GROUP
+#endif
+layout(local_size_x = WIND_KERNEL_GROUP) in;
 
 // WindPush: src/interface/defs.rs.
 layout(push_constant, std430) uniform Push {

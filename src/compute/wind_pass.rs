@@ -27,7 +27,7 @@ use crate::shaders::{self, Spirv};
 
 use crate::interface::{
     MgLevel, TurbulenceMode, WindGridParams, WindPush, FACE_BURIED, FACE_FREE, FACE_INFLOW,
-    FACE_WALL, WIND_GROUP,
+    FACE_WALL, MG_MAX_LEVELS, WIND_GROUP,
 };
 /// Waypoints a source's path may have on the GPU.
 pub use crate::model::wind::MAX_PATH_POINTS;
@@ -94,7 +94,7 @@ pub const WIND_KERNELS: [&Spirv; 14] = [
     &shaders::WIND_MG_SMOOTH_COMP,
     &shaders::WIND_MG_RESIDUAL_COMP,
     &shaders::WIND_MG_RESTRICT_COMP,
-    &shaders::WIND_MG_COARSEST_COMP,
+    &shaders::WIND_MG_TAIL_COMP,
     &shaders::WIND_MG_PROLONG_COMP,
     &shaders::WIND_PROJECT_COMP,
     &shaders::WIND_UNDER_GROUND_COMP,
@@ -109,7 +109,7 @@ const JACOBI: usize = 5;
 const MG_SMOOTH: usize = 6;
 const MG_RESIDUAL: usize = 7;
 const MG_RESTRICT: usize = 8;
-const MG_COARSEST: usize = 9;
+const MG_TAIL: usize = 9;
 const MG_PROLONG: usize = 10;
 const PROJECT: usize = 11;
 const UNDER_GROUND: usize = 12;
@@ -344,6 +344,9 @@ pub struct WindPass {
     /// of each row along x, rounded up.
     level_color_cells: Vec<u32>,
     coarse_cells: u32,
+    /// The finest multigrid level the tail kernel runs (mg_tail.comp):
+    /// the finest whose tail fits the device's shared memory.
+    tail_level: u32,
     /// m^2 per count of the canopy buffer (`model::canopy::unit` of the
     /// grass coupled to this wind; 0 with no grass).
     canopy_unit: f32,
@@ -410,9 +413,38 @@ impl WindPass {
         let buffers = WindBuffers::new(gpu, commands, &field, settings, face_count, cell_count)?;
         let layout: Arc<PipelineLayout> =
             PipelineLayout::new::<WindPush>(gpu, WIND_SET, vk::ShaderStageFlags::COMPUTE, "wind")?;
+        // The tail kernel, specialised to this grid: its shared memory
+        // (what the tail needs, within every float the device offers a
+        // workgroup beside the kernel's level table) and the coarsest
+        // level's number.
+        let shared_floats = (gpu.limits().max_compute_shared_memory_size as usize / 4)
+            .saturating_sub(MG_MAX_LEVELS + 1);
+        let tail_level = field.multigrid.tail_level(shared_floats).ok_or_else(|| {
+            let coarsest = field.multigrid.levels.len() - 1;
+            Error::FeatureMissing {
+                device: gpu.info().name.clone(),
+                feature: format!(
+                    "{} floats of compute shared memory for the multigrid's coarsest level \
+                     (or set wind.solver = \"jacobi\")",
+                    field.multigrid.tail_footprint(coarsest) + MG_MAX_LEVELS + 1
+                ),
+            }
+        })?;
         let kernels = WIND_KERNELS
             .iter()
-            .map(|spirv| Pipeline::compute(gpu, &layout, spirv))
+            .enumerate()
+            .map(|(kernel, spirv)| match kernel {
+                MG_TAIL => Pipeline::compute_specialized(
+                    gpu,
+                    &layout,
+                    spirv,
+                    &[
+                        field.multigrid.tail_footprint(tail_level) as u32,
+                        (field.multigrid.levels.len() - 1) as u32,
+                    ],
+                ),
+                _ => Pipeline::compute(gpu, &layout, spirv),
+            })
             .collect::<Result<Vec<_>>>()?;
         let set = DescriptorSet::new(
             gpu,
@@ -443,11 +475,19 @@ impl WindPass {
                 .map(|l| l.cells.x.div_ceil(2) * l.cells.y * l.cells.z)
                 .collect(),
             coarse_cells: field.multigrid.coarse_cell_count() as u32,
+            tail_level: tail_level as u32,
             canopy_unit,
             buried: field.faces.iter().flatten().any(|&k| k == FaceKind::Buried),
             collider_records: super::colliders::records(&settings.colliders)?,
             turbulence: field.turbulence,
         })
+    }
+
+    /// The finest multigrid level whose part of each V-cycle runs in the
+    /// one-workgroup tail kernel (glsl/wind/mg_tail.comp); the levels
+    /// above it run kernel by kernel.
+    pub fn tail_level(&self) -> u32 {
+        self.tail_level
     }
 
     /// What drives the wind now: the scene's settings, as `set_drive`
@@ -707,20 +747,16 @@ impl WindPass {
                     }
                 }
             };
-            let last = self.level_cells.len() - 1;
+            // Levels from `tail` down run in one workgroup (mg_tail.comp).
+            let tail = self.tail_level as usize;
             for _ in 0..self.settings.v_cycles {
-                for l in 0..last {
+                for l in 0..tail {
                     smooth(l, multigrid::PRE_SMOOTH);
                     dispatch(MG_RESIDUAL, groups(l), 0, [l as u32, 0, 0]);
                     dispatch(MG_RESTRICT, groups(l + 1), 0, [l as u32, 0, 0]);
                 }
-                dispatch(
-                    MG_COARSEST,
-                    1,
-                    0,
-                    [last as u32, 0, multigrid::COARSEST_SWEEPS],
-                );
-                for l in (0..last).rev() {
+                dispatch(MG_TAIL, 1, 0, [tail as u32, 0, multigrid::COARSEST_SWEEPS]);
+                for l in (0..tail).rev() {
                     dispatch(MG_PROLONG, groups(l), 0, [l as u32, 0, 0]);
                     smooth(l, multigrid::POST_SMOOTH);
                 }

@@ -52,12 +52,38 @@ impl Pipeline {
 
     /// A compute pipeline running `spirv`'s `main`, named after its file.
     pub fn compute(gpu: &Gpu, layout: &Arc<PipelineLayout>, spirv: &Spirv) -> Result<Self> {
+        Self::compute_specialized(gpu, layout, spirv, &[])
+    }
+
+    /// As `compute`, with `constants[i]` for the shader's specialization
+    /// constant `constant_id = i` (each a 32-bit scalar).
+    pub fn compute_specialized(
+        gpu: &Gpu,
+        layout: &Arc<PipelineLayout>,
+        spirv: &Spirv,
+        constants: &[u32],
+    ) -> Result<Self> {
         let device = gpu.device();
         let module = shader::module(gpu, spirv)?;
-        let stage = vk::PipelineShaderStageCreateInfo::default()
+        let entries: Vec<vk::SpecializationMapEntry> = (0..constants.len() as u32)
+            .map(|id| {
+                vk::SpecializationMapEntry::default()
+                    .constant_id(id)
+                    .offset(4 * id)
+                    .size(4)
+            })
+            .collect();
+        let data: &[u8] = bytemuck::cast_slice(constants);
+        let specialization = vk::SpecializationInfo::default()
+            .map_entries(&entries)
+            .data(data);
+        let mut stage = vk::PipelineShaderStageCreateInfo::default()
             .stage(vk::ShaderStageFlags::COMPUTE)
             .module(module.raw())
             .name(c"main");
+        if !constants.is_empty() {
+            stage = stage.specialization_info(&specialization);
+        }
         let info = vk::ComputePipelineCreateInfo::default()
             .stage(stage)
             .layout(layout.raw());

@@ -12,6 +12,17 @@
 gpu_interface! {
     /// Invocations per workgroup of every wind kernel (glsl/wind/).
     pub const WIND_GROUP: u32 = 64;
+    /// Invocations of the one workgroup that runs a multigrid V-cycle's
+    /// coarse levels (glsl/wind/mg_tail.comp): what every Vulkan device
+    /// must offer.
+    pub const MG_TAIL_GROUP: u32 = 128;
+    /// Red-black Gauss-Seidel sweeps before restricting and after
+    /// prolonging (src/model/multigrid.rs).
+    pub const MG_PRE_SMOOTH: u32 = 2;
+    pub const MG_POST_SMOOTH: u32 = 2;
+    /// Levels a multigrid hierarchy can have: each halves at least one
+    /// axis, and a wind grid has fewer than 2^32 cells.
+    pub const MG_MAX_LEVELS: usize = 40;
     /// Invocations per workgroup of the grass step and collider-binning
     /// kernels (glsl/grass/).
     pub const GRASS_GROUP: u32 = 64;

@@ -23,20 +23,21 @@
 //! side interpolates towards zero outside, a closed one mirrors), and a
 //! coarse cell's right-hand side gathers its fine cells' residuals by the
 //! transpose of that interpolation. The coarsest level (at most
-//! `MAX_COARSEST_CELLS` cells) is smoothed `COARSEST_SWEEPS` times, which
-//! on the GPU is one workgroup.
+//! `MAX_COARSEST_CELLS` cells) is smoothed `COARSEST_SWEEPS` times. The GPU
+//! runs each V-cycle's coarse levels, from `tail_level` down and back up,
+//! in one workgroup, and the finer ones kernel by kernel.
 
 use glam::{UVec3, Vec3};
 
-/// Red-black Gauss-Seidel sweeps before restricting and after prolonging.
-pub const PRE_SMOOTH: u32 = 2;
-pub const POST_SMOOTH: u32 = 2;
+/// Red-black Gauss-Seidel sweeps before restricting and after prolonging
+/// (the GPU's tail kernel reads the same constants).
+pub const PRE_SMOOTH: u32 = crate::interface::MG_PRE_SMOOTH;
+pub const POST_SMOOTH: u32 = crate::interface::MG_POST_SMOOTH;
 /// Coarsening stops at this many cells (4 x 2 x 4 on the paper's grid).
 /// With the sides along an inflow closed, the pressure's slowest mode is a
 /// ramp from the inflow to the one open side, which Gauss-Seidel on the
 /// coarsest level barely moves on 8 x 3 x 8 cells (at 512 cells table1 kept
 /// 45% of its divergence); on 4 x 2 x 4 it converges in the sweeps below.
-/// One GPU workgroup's shared memory holds up to 512.
 pub const MAX_COARSEST_CELLS: u32 = 64;
 /// Sweeps on the coarsest level. (More made no step better and some worse:
 /// the coarse operator only approximates the fine one near obstacles.)
@@ -301,6 +302,22 @@ impl Multigrid {
     /// Cells of every level after the first: the coarse levels' storage.
     pub fn coarse_cell_count(&self) -> usize {
         self.levels[1..].iter().map(Level::cell_count).sum()
+    }
+
+    /// Floats a V-cycle's tail from level `first` down needs in one GPU
+    /// workgroup (glsl/wind/mg_tail.comp): every tail level's pressure and
+    /// right-hand side, and one residual the size of level `first`.
+    pub fn tail_footprint(&self, first: usize) -> usize {
+        let cells: usize = self.levels[first..].iter().map(Level::cell_count).sum();
+        2 * cells + self.levels[first].cell_count()
+    }
+
+    /// The finest level whose tail fits `capacity` floats: the GPU runs
+    /// the V-cycle from there down and back up in one workgroup, and each
+    /// finer level kernel by kernel. The coarsest level always fits (at
+    /// most `MAX_COARSEST_CELLS` cells); None if not even it does.
+    pub fn tail_level(&self, capacity: usize) -> Option<usize> {
+        (0..self.levels.len()).find(|&l| self.tail_footprint(l) <= capacity)
     }
 }
 

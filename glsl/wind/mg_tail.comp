@@ -1,0 +1,99 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// Multigrid, the V-cycle's tail in one workgroup: from level pc.mg_level
+// (its right-hand side restricted, its correction zero, or level 0's
+// pressure as it stands) down through every coarser level to the coarsest
+// (pc.coarsest_sweeps red-black sweeps) and back up to pc.mg_level, the
+// same kernels' arithmetic (`Multigrid::v_cycle`) on a copy of those
+// levels in shared memory, with a workgroup barrier where the kernels
+// would each need a dispatch. A GPU pays its dispatch-and-drain latency
+// per dependent dispatch, and the coarse levels are small: 45 of a V-cycle's
+// dispatches on table1's grid were for levels of at most a few thousand
+// cells. The host picks pc.mg_level as the finest level whose pressure,
+// right-hand side and residual (`Multigrid::tail_footprint`) fit
+// the device's shared memory.
+#define WIND_KERNEL_GROUP MG_TAIL_GROUP
+#include "wind_kernel.glsl"
+
+// Specialised at pipeline creation (src/compute/wind_pass.rs): the floats
+// the tail needs (within what the device's shared memory holds), and the
+// coarsest level's number.
+layout(constant_id = 0) const uint TAIL_CAPACITY = 4096u;
+layout(constant_id = 1) const uint MG_LAST_LEVEL = 0u;
+// Each tail level's pressure, then each one's right-hand side, then one
+// residual scratch the size of the tail's finest level (each level's
+// residual is restricted before the next is computed).
+shared float tail[TAIL_CAPACITY];
+// Where each level's pressure starts in `tail` (levels above the tail's
+// first unused); its right-hand side starts tail_cells later.
+shared uint tail_base[MG_MAX_LEVELS];
+shared uint tail_cells;
+
+#define MG_P(l, index) tail[tail_base[l] + (index)]
+#define MG_B(l, index) tail[tail_cells + tail_base[l] + (index)]
+#define MG_SAVED_RESIDUAL(index) tail[2u * tail_cells + (index)]
+#include "multigrid.glsl"
+
+// Both colours of one level, `sweeps` times, a barrier after each.
+void tail_smooth(uint l, uint sweeps) {
+    uint n = mg_color_cell_count(l);
+    for (uint sweep = 0u; sweep < sweeps; ++sweep) {
+        for (uint color = 0u; color < 2u; ++color) {
+            for (uint i = gl_LocalInvocationID.x; i < n; i += MG_TAIL_GROUP) {
+                uvec3 c;
+                if (mg_cell_of_color(l, i, color, c)) {
+                    MG_P(l, mg_cell_index(l, c)) = mg_smoothed(l, c);
+                }
+            }
+            barrier();
+        }
+    }
+}
+
+void main() {
+    uint first = pc.mg_level;
+    uint last = MG_LAST_LEVEL;
+    uint lane = gl_LocalInvocationID.x;
+    if (lane == 0u) {
+        uint at = 0u;
+        for (uint l = first; l <= last; ++l) {
+            tail_base[l] = at;
+            at += mg_cell_count(l);
+        }
+        tail_cells = at;
+    }
+    barrier();
+    uint n_first = mg_cell_count(first);
+    for (uint i = lane; i < n_first; i += MG_TAIL_GROUP) {
+        MG_P(first, i) = mg_p(first, i);
+        MG_B(first, i) = mg_b(first, i);
+    }
+    barrier();
+    for (uint l = first; l < last; ++l) {
+        tail_smooth(l, MG_PRE_SMOOTH);
+        uint n = mg_cell_count(l);
+        for (uint i = lane; i < n; i += MG_TAIL_GROUP) {
+            MG_SAVED_RESIDUAL(i) = mg_residual(l, i);
+        }
+        barrier();
+        uint n_coarse = mg_cell_count(l + 1u);
+        for (uint i = lane; i < n_coarse; i += MG_TAIL_GROUP) {
+            MG_B(l + 1u, i) = mg_restricted(l, i);
+            MG_P(l + 1u, i) = 0.0;
+        }
+        barrier();
+    }
+    tail_smooth(last, pc.coarsest_sweeps);
+    for (uint l = last; l > first; --l) {
+        uint fine = l - 1u;
+        uint n = mg_cell_count(fine);
+        for (uint i = lane; i < n; i += MG_TAIL_GROUP) {
+            MG_P(fine, i) += mg_prolonged(fine, i);
+        }
+        barrier();
+        tail_smooth(fine, MG_POST_SMOOTH);
+    }
+    for (uint i = lane; i < n_first; i += MG_TAIL_GROUP) {
+        mg_set_p(first, i, MG_P(first, i));
+    }
+}
