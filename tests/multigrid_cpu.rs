@@ -33,24 +33,28 @@ fn the_paper_grid_coarsens_to_one_workgroup() {
     assert!(mg.levels.last().unwrap().cell_count() as u32 <= MAX_COARSEST_CELLS);
 }
 
-/// The GPU runs a V-cycle from the finest level whose tail (pressure and
-/// right-hand side of it and every coarser level, and its residual) fits
-/// the device's shared memory down in one workgroup.
+/// The GPU runs a V-cycle from the finest level whose tail (pressure,
+/// right-hand side and face conductances of it and every coarser level,
+/// and its residual) fits the device's shared memory down in one
+/// workgroup.
 #[test]
 fn the_tail_starts_at_the_finest_level_that_fits() {
     let mg = multigrid(&field(UVec3::new(60, 20, 60)));
-    // 15x5x15 + 8x3x8 + 4x2x4 = 1349 cells, twice, and 1125 residuals.
-    assert_eq!(mg.tail_footprint(2), 2 * 1349 + 1125);
-    assert_eq!(mg.tail_footprint(4), 3 * 32);
-    // 16 KiB, what every Vulkan device offers a workgroup.
-    assert_eq!(mg.tail_level(4096), Some(2));
-    assert_eq!(mg.tail_level(3822), Some(3));
-    assert_eq!(mg.tail_level(3823), Some(2));
-    assert_eq!(mg.tail_level(96), Some(4));
-    assert_eq!(mg.tail_level(95), None);
+    // 15x5x15 + 8x3x8 + 4x2x4 = 1349 cells, twice, 1125 residuals and
+    // 3750 + 688 + 128 faces.
+    assert_eq!(mg.tail_footprint(2), 2 * 1349 + 1125 + 4566);
+    assert_eq!(mg.tail_footprint(4), 3 * 32 + 128);
+    assert_eq!(mg.tail_level(8389), Some(2));
+    assert_eq!(mg.tail_level(8388), Some(3));
+    // 16 KiB, what every Vulkan device offers a workgroup, less the
+    // kernel's level table.
+    assert_eq!(mg.tail_level(3574), Some(3));
+    assert_eq!(mg.tail_level(224), Some(4));
+    assert_eq!(mg.tail_level(223), None);
     // A small grid fits whole: the V-cycle is one dispatch.
-    let small = multigrid(&field(UVec3::new(12, 6, 12)));
-    assert_eq!(small.tail_level(4096), Some(0));
+    let small = multigrid(&field(UVec3::new(8, 4, 8)));
+    assert_eq!(small.tail_footprint(0), 2 * 288 + 256 + 1024);
+    assert_eq!(small.tail_level(3574), Some(0));
 }
 
 /// On a uniform grid the coarse operator is the 2h discretisation: an

@@ -155,11 +155,11 @@ fn gpu_jacobi_matches_the_cpu_reference_after_100_steps() {
 /// (glsl/wind/mg_tail.comp from level 0: the pressure and divergence read
 /// and written where the kernels keep them), on a grid small enough for
 /// every device's shared memory. (With the post-smoothing one sweep short
-/// in the tail it differs by 1.4e-3.)
+/// in the tail it differs by 6e-4.)
 #[test]
 fn gpu_multigrid_in_one_workgroup_matches_the_cpu_reference() {
     let gpu = strict_gpu();
-    let grid = grid(UVec3::new(12, 6, 12));
+    let grid = grid(UVec3::new(8, 4, 8));
     // One V-cycle a step: several would converge to the same pressure
     // whatever the cycle got wrong.
     let settings = WindSettings {
@@ -194,11 +194,12 @@ fn gpu_matches_the_cpu_reference(solver: PressureSolver, advection: Advection) {
     };
     let dt = 1.0 / 60.0;
     if solver == PressureSolver::Multigrid {
-        // Level 0 kernel by kernel, levels 1-3 (12x5x12 down to 3x2x3) in
-        // the tail kernel, on every device (they need 2,412 floats).
+        // Level 0 (24x10x24) kernel by kernel, and from level 1
+        // (12x5x12; 5,307 floats) or 2 (6x3x6; 831 floats) down to 3x2x3
+        // in the tail kernel, on every device.
         let commands = CommandPool::new(&gpu, "wind test commands").unwrap();
         let pass = WindPass::new(&gpu, &commands, grid, &settings, 0.0).unwrap();
-        assert_eq!(pass.tail_level(), 1);
+        assert!((1..=2).contains(&pass.tail_level()));
     }
     let gpu_vel = run_gpu(&gpu, grid, &settings, 100, dt);
     let cpu = cpu_after(grid, &settings, 100, dt);

@@ -22,13 +22,21 @@ layout(constant_id = 0) const uint TAIL_CAPACITY = 4096u;
 layout(constant_id = 1) const uint MG_LAST_LEVEL = 0u;
 // Each tail level's pressure, then each one's right-hand side, then one
 // residual scratch the size of the tail's finest level (each level's
-// residual is restricted before the next is computed).
+// residual is restricted before the next is computed), then the tail
+// levels' face conductances: everything a sweep reads is here, since one
+// workgroup has few warps to hide a memory access behind.
 shared float tail[TAIL_CAPACITY];
-// Where each level's pressure starts in `tail` (levels above the tail's
-// first unused); its right-hand side starts tail_cells later.
+// The level table, and where each tail level's pressure starts in `tail`
+// (its right-hand side starts tail_cells later).
+shared MgLevel tail_levels[MG_MAX_LEVELS];
 shared uint tail_base[MG_MAX_LEVELS];
 shared uint tail_cells;
+// Where the conductances start in `tail`, less the index of the tail's
+// first conductance in the conductance buffer.
+shared uint tail_k;
 
+#define MG_LEVELS tail_levels
+#define MG_CONDUCTANCE(index) tail[tail_k + (index)]
 #define MG_P(l, index) tail[tail_base[l] + (index)]
 #define MG_B(l, index) tail[tail_cells + tail_base[l] + (index)]
 #define MG_SAVED_RESIDUAL(index) tail[2u * tail_cells + (index)]
@@ -54,6 +62,14 @@ void main() {
     uint first = pc.mg_level;
     uint last = MG_LAST_LEVEL;
     uint lane = gl_LocalInvocationID.x;
+    for (uint l = lane; l <= last; l += MG_TAIL_GROUP) {
+        tail_levels[l] = levels[l];
+    }
+    barrier();
+    uint n_first = mg_cell_count(first);
+    // The tail levels' conductances: a suffix of the buffer (level by
+    // level, axis by axis).
+    uint k_first = tail_levels[first].conductance.x;
     if (lane == 0u) {
         uint at = 0u;
         for (uint l = first; l <= last; ++l) {
@@ -61,9 +77,14 @@ void main() {
             at += mg_cell_count(l);
         }
         tail_cells = at;
+        tail_k = 2u * at + n_first - k_first;
     }
     barrier();
-    uint n_first = mg_cell_count(first);
+    uvec3 n_last = tail_levels[last].cells.xyz;
+    uint k_end = tail_levels[last].conductance.z + n_last.x * n_last.y * (n_last.z + 1u);
+    for (uint i = k_first + lane; i < k_end; i += MG_TAIL_GROUP) {
+        MG_CONDUCTANCE(i) = conductance[i];
+    }
     for (uint i = lane; i < n_first; i += MG_TAIL_GROUP) {
         MG_P(first, i) = mg_p(first, i);
         MG_B(first, i) = mg_b(first, i);

@@ -13,53 +13,16 @@ layout(set = 0, binding = 6, std430) readonly buffer Conductance { float conduct
 layout(set = 0, binding = 7, std430) buffer Coarse { float coarse[]; };
 layout(set = 0, binding = 8, std430) readonly buffer Levels { MgLevel levels[]; };
 
-uint mg_cell_count(uint l) {
-    uvec3 n = levels[l].cells.xyz;
-    return n.x * n.y * n.z;
-}
-
-uvec3 mg_cell_of(uint l, uint index) {
-    uvec3 n = levels[l].cells.xyz;
-    return uvec3(index % n.x, (index / n.x) % n.y, index / (n.x * n.y));
-}
-
-uint mg_cell_index(uint l, uvec3 c) {
-    uvec3 n = levels[l].cells.xyz;
-    return c.x + n.x * (c.y + n.y * c.z);
-}
-
-float mg_conductance(uint l, uint axis, uvec3 f) {
-    uvec3 d = levels[l].cells.xyz;
-    d[axis] += 1u;
-    return conductance[levels[l].conductance[axis] + f.x + d.x * (f.y + d.y * f.z)];
-}
-
-// Level 0's pressure is the solver's (copy 0); its right-hand side is the
-// divergence integrated over the cell, negated.
-float mg_p(uint l, uint index) {
-    return l == 0u ? pressure[index] : coarse[levels[l].cells.w + index];
-}
-
-void mg_set_p(uint l, uint index, float value) {
-    if (l == 0u) {
-        pressure[index] = value;
-    } else {
-        coarse[levels[l].cells.w + index] = value;
-    }
-}
-
-float mg_b(uint l, uint index) {
-    if (l == 0u) {
-        vec3 h = pc.grid.cell_size.xyz;
-        return -divergence[index] * h.x * h.y * h.z;
-    }
-    return coarse[pc.coarse_cells + levels[l].cells.w + index];
-}
-
-// Where the per-cell computations below read a level's pressure, its
-// right-hand side and the saved residual: the level buffers by default;
-// mg_tail.comp defines these before including this file to read its
-// workgroup's shared copy instead.
+// Where the computations below read the level table, the face
+// conductances, a level's pressure and right-hand side and the saved
+// residual: the buffers by default; mg_tail.comp defines these before
+// including this file to read its workgroup's shared copies instead.
+#ifndef MG_LEVELS
+#define MG_LEVELS levels
+#endif
+#ifndef MG_CONDUCTANCE
+#define MG_CONDUCTANCE(index) conductance[index]
+#endif
 #ifndef MG_P
 #define MG_P(l, index) mg_p(l, index)
 #endif
@@ -70,35 +33,78 @@ float mg_b(uint l, uint index) {
 #define MG_SAVED_RESIDUAL(index) mg_saved_residual(index)
 #endif
 
+uint mg_cell_count(uint l) {
+    uvec3 n = MG_LEVELS[l].cells.xyz;
+    return n.x * n.y * n.z;
+}
+
+uvec3 mg_cell_of(uint l, uint index) {
+    uvec3 n = MG_LEVELS[l].cells.xyz;
+    return uvec3(index % n.x, (index / n.x) % n.y, index / (n.x * n.y));
+}
+
+uint mg_cell_index(uint l, uvec3 c) {
+    uvec3 n = MG_LEVELS[l].cells.xyz;
+    return c.x + n.x * (c.y + n.y * c.z);
+}
+
+float mg_conductance(uint l, uint axis, uvec3 f) {
+    uvec3 d = MG_LEVELS[l].cells.xyz;
+    d[axis] += 1u;
+    return MG_CONDUCTANCE(MG_LEVELS[l].conductance[axis] + f.x + d.x * (f.y + d.y * f.z));
+}
+
+// Level 0's pressure is the solver's (copy 0); its right-hand side is the
+// divergence integrated over the cell, negated.
+float mg_p(uint l, uint index) {
+    return l == 0u ? pressure[index] : coarse[MG_LEVELS[l].cells.w + index];
+}
+
+void mg_set_p(uint l, uint index, float value) {
+    if (l == 0u) {
+        pressure[index] = value;
+    } else {
+        coarse[MG_LEVELS[l].cells.w + index] = value;
+    }
+}
+
+float mg_b(uint l, uint index) {
+    if (l == 0u) {
+        vec3 h = pc.grid.cell_size.xyz;
+        return -divergence[index] * h.x * h.y * h.z;
+    }
+    return coarse[pc.coarse_cells + MG_LEVELS[l].cells.w + index];
+}
+
 // The 6-point stencil at cell c: x = sum of K, y = sum of K * p_nb.
 // Written out face by face: the face arrays are laid out like the cells
 // with one more along their axis, so both faces of an axis are one stride
 // apart. A wall's K is 0, so it adds nothing; beyond an open side of the
 // grid p_nb = 0.
 vec2 mg_stencil(uint l, uvec3 c) {
-    uvec3 n = levels[l].cells.xyz;
-    uvec3 offset = levels[l].conductance.xyz;
+    uvec3 n = MG_LEVELS[l].cells.xyz;
+    uvec3 offset = MG_LEVELS[l].conductance.xyz;
     uint index = mg_cell_index(l, c);
     uint plane = n.x * n.y;
     vec2 s = vec2(0.0);
 
     uint fx = offset.x + c.x + (n.x + 1u) * (c.y + n.y * c.z);
-    float k_lo = conductance[fx];
-    float k_hi = conductance[fx + 1u];
+    float k_lo = MG_CONDUCTANCE(fx);
+    float k_hi = MG_CONDUCTANCE(fx + 1u);
     s.x += k_lo + k_hi;
     s.y += c.x > 0u ? k_lo * MG_P(l, index - 1u) : 0.0;
     s.y += c.x + 1u < n.x ? k_hi * MG_P(l, index + 1u) : 0.0;
 
     uint fy = offset.y + c.x + n.x * (c.y + (n.y + 1u) * c.z);
-    k_lo = conductance[fy];
-    k_hi = conductance[fy + n.x];
+    k_lo = MG_CONDUCTANCE(fy);
+    k_hi = MG_CONDUCTANCE(fy + n.x);
     s.x += k_lo + k_hi;
     s.y += c.y > 0u ? k_lo * MG_P(l, index - n.x) : 0.0;
     s.y += c.y + 1u < n.y ? k_hi * MG_P(l, index + n.x) : 0.0;
 
     uint fz = offset.z + index;
-    k_lo = conductance[fz];
-    k_hi = conductance[fz + plane];
+    k_lo = MG_CONDUCTANCE(fz);
+    k_hi = MG_CONDUCTANCE(fz + plane);
     s.x += k_lo + k_hi;
     s.y += c.z > 0u ? k_lo * MG_P(l, index - plane) : 0.0;
     s.y += c.z + 1u < n.z ? k_hi * MG_P(l, index + plane) : 0.0;
@@ -119,7 +125,7 @@ float mg_smoothed(uint l, uvec3 c) {
 
 // Cells of one colour on level l, counted as the smoother's threads are.
 uint mg_color_cell_count(uint l) {
-    uvec3 n = levels[l].cells.xyz;
+    uvec3 n = MG_LEVELS[l].cells.xyz;
     return (n.x + 1u) / 2u * n.y * n.z;
 }
 
@@ -138,7 +144,7 @@ void mg_save_residual(uint index, float value) {
 // cell along x), or false past the end: the smoother's threads run only
 // the colour being updated.
 bool mg_cell_of_color(uint l, uint i, uint color, out uvec3 c) {
-    uvec3 n = levels[l].cells.xyz;
+    uvec3 n = MG_LEVELS[l].cells.xyz;
     uint half_x = (n.x + 1u) / 2u;
     uint row = i / half_x;
     c.y = row % n.y;
@@ -161,9 +167,9 @@ vec2 coarse_span(uint c, uint ratio, uint fine_count) {
 // conducts) interpolates towards zero at one parent width; a closed side
 // mirrors the parent.
 void mg_axis_pair(uint l, uvec3 f, uvec3 parent, uint a, out uvec2 cells, out vec2 weights) {
-    uint ratio = levels[l].ratio[a];
-    uint fine_count = levels[l].cells[a];
-    uint coarse_count = levels[l + 1u].cells[a];
+    uint ratio = MG_LEVELS[l].ratio[a];
+    uint fine_count = MG_LEVELS[l].cells[a];
+    uint coarse_count = MG_LEVELS[l + 1u].cells[a];
     float x = float(f[a]) + 0.5;
     vec2 span = coarse_span(parent[a], ratio, fine_count);
     cells = uvec2(parent[a]);
@@ -189,7 +195,7 @@ void mg_axis_pair(uint l, uvec3 f, uvec3 parent, uint a, out uvec2 cells, out ve
 // Weight of coarse cell c (level l + 1) in fine cell f's interpolation:
 // the product of the axes' weights.
 float mg_weight(uint l, uvec3 f, uvec3 c) {
-    uvec3 parent = f / levels[l].ratio.xyz;
+    uvec3 parent = f / MG_LEVELS[l].ratio.xyz;
     float w = 1.0;
     for (uint a = 0u; a < 3u; ++a) {
         uvec2 cells;
@@ -205,8 +211,8 @@ float mg_weight(uint l, uvec3 f, uvec3 c) {
 // interpolation (`Level::gather`).
 float mg_restricted(uint l, uint index) {
     uvec3 c = mg_cell_of(l + 1u, index);
-    uvec3 r = levels[l].ratio.xyz;
-    uvec3 nf = levels[l].cells.xyz;
+    uvec3 r = MG_LEVELS[l].ratio.xyz;
+    uvec3 nf = MG_LEVELS[l].cells.xyz;
     uvec3 lo = uvec3(max(ivec3(c * r) - ivec3(r - 1u), ivec3(0)));
     uvec3 hi = min(c * r + r + (r - 1u), nf) - 1u;
     float sum = 0.0;
@@ -228,7 +234,7 @@ float mg_restricted(uint l, uint index) {
 // correction at fine cell `index`'s centre (`Level::interpolation`).
 float mg_prolonged(uint l, uint index) {
     uvec3 f = mg_cell_of(l, index);
-    uvec3 parent = f / levels[l].ratio.xyz;
+    uvec3 parent = f / MG_LEVELS[l].ratio.xyz;
     uvec2 cx, cy, cz;
     vec2 wx, wy, wz;
     mg_axis_pair(l, f, parent, 0u, cx, wx);

@@ -417,8 +417,9 @@ impl WindPass {
         // (what the tail needs, within every float the device offers a
         // workgroup beside the kernel's level table) and the coarsest
         // level's number.
-        let shared_floats = (gpu.limits().max_compute_shared_memory_size as usize / 4)
-            .saturating_sub(MG_MAX_LEVELS + 1);
+        let table_floats = MG_MAX_LEVELS * (std::mem::size_of::<MgLevel>() / 4 + 1) + 2;
+        let shared_floats =
+            (gpu.limits().max_compute_shared_memory_size as usize / 4).saturating_sub(table_floats);
         let tail_level = field.multigrid.tail_level(shared_floats).ok_or_else(|| {
             let coarsest = field.multigrid.levels.len() - 1;
             Error::FeatureMissing {
@@ -426,7 +427,7 @@ impl WindPass {
                 feature: format!(
                     "{} floats of compute shared memory for the multigrid's coarsest level \
                      (or set wind.solver = \"jacobi\")",
-                    field.multigrid.tail_footprint(coarsest) + MG_MAX_LEVELS + 1
+                    field.multigrid.tail_footprint(coarsest) + table_floats
                 ),
             }
         })?;

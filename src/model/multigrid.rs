@@ -305,11 +305,14 @@ impl Multigrid {
     }
 
     /// Floats a V-cycle's tail from level `first` down needs in one GPU
-    /// workgroup (glsl/wind/mg_tail.comp): every tail level's pressure and
-    /// right-hand side, and one residual the size of level `first`.
+    /// workgroup (glsl/wind/mg_tail.comp): every tail level's pressure,
+    /// right-hand side and face conductances, and one residual the size
+    /// of level `first`.
     pub fn tail_footprint(&self, first: usize) -> usize {
-        let cells: usize = self.levels[first..].iter().map(Level::cell_count).sum();
-        2 * cells + self.levels[first].cell_count()
+        let tail = &self.levels[first..];
+        let cells: usize = tail.iter().map(Level::cell_count).sum();
+        let faces: usize = tail.iter().flat_map(|l| &l.conductance).map(Vec::len).sum();
+        2 * cells + self.levels[first].cell_count() + faces
     }
 
     /// The finest level whose tail fits `capacity` floats: the GPU runs
