@@ -42,9 +42,68 @@ shared uint tail_k;
 #define MG_SAVED_RESIDUAL(index) tail[2u * tail_cells + (index)]
 #include "multigrid.glsl"
 
+// One thread's cell of one colour on a level with at most one such cell
+// per thread, its stencil held in registers through every sweep: the
+// coarsest level's 40 sweeps are each a barrier apart, so the time a
+// sweep takes is the time one cell takes.
+struct TailCell {
+    bool present;
+    uint index;
+    float diagonal;
+    float b;
+    float k[6];
+    uint nb[6];
+};
+
+TailCell tail_cell(uint l, uint color) {
+    TailCell t;
+    uvec3 c;
+    t.present = gl_LocalInvocationID.x < mg_color_cell_count(l)
+        && mg_cell_of_color(l, gl_LocalInvocationID.x, color, c);
+    if (!t.present) {
+        return t;
+    }
+    bool inside[6];
+    mg_stencil_terms(l, c, t.k, t.nb, inside);
+    t.index = mg_cell_index(l, c);
+    t.diagonal = 0.0;
+    for (uint j = 0u; j < 6u; j += 2u) {
+        t.diagonal += t.k[j] + t.k[j + 1u];
+    }
+    for (uint j = 0u; j < 6u; ++j) {
+        // A neighbour beyond the grid adds nothing (`mg_stencil`).
+        t.k[j] = inside[j] ? t.k[j] : 0.0;
+        t.nb[j] = inside[j] ? t.nb[j] : t.index;
+    }
+    t.b = MG_B(l, t.index);
+    return t;
+}
+
+void tail_update(TailCell t, uint l) {
+    if (!t.present) {
+        return;
+    }
+    float neighbours = 0.0;
+    for (uint j = 0u; j < 6u; ++j) {
+        neighbours += t.k[j] * MG_P(l, t.nb[j]);
+    }
+    MG_P(l, t.index) = t.diagonal == 0.0 ? 0.0 : (t.b + neighbours) / t.diagonal;
+}
+
 // Both colours of one level, `sweeps` times, a barrier after each.
 void tail_smooth(uint l, uint sweeps) {
     uint n = mg_color_cell_count(l);
+    if (n <= MG_TAIL_GROUP) {
+        TailCell red = tail_cell(l, 0u);
+        TailCell black = tail_cell(l, 1u);
+        for (uint sweep = 0u; sweep < sweeps; ++sweep) {
+            tail_update(red, l);
+            barrier();
+            tail_update(black, l);
+            barrier();
+        }
+        return;
+    }
     for (uint sweep = 0u; sweep < sweeps; ++sweep) {
         for (uint color = 0u; color < 2u; ++color) {
             for (uint i = gl_LocalInvocationID.x; i < n; i += MG_TAIL_GROUP) {

@@ -76,38 +76,52 @@ float mg_b(uint l, uint index) {
     return coarse[pc.coarse_cells + MG_LEVELS[l].cells.w + index];
 }
 
-// The 6-point stencil at cell c: x = sum of K, y = sum of K * p_nb.
+// The 6-point stencil's terms at cell c, low then high face of x, y and
+// z: each face's conductance K and the neighbour's index, and whether
+// the neighbour is inside the grid (beyond an open side p_nb = 0).
 // Written out face by face: the face arrays are laid out like the cells
 // with one more along their axis, so both faces of an axis are one stride
-// apart. A wall's K is 0, so it adds nothing; beyond an open side of the
-// grid p_nb = 0.
-vec2 mg_stencil(uint l, uvec3 c) {
+// apart. A wall's K is 0, so it adds nothing.
+void mg_stencil_terms(uint l, uvec3 c, out float k[6], out uint nb[6], out bool inside[6]) {
     uvec3 n = MG_LEVELS[l].cells.xyz;
     uvec3 offset = MG_LEVELS[l].conductance.xyz;
     uint index = mg_cell_index(l, c);
     uint plane = n.x * n.y;
-    vec2 s = vec2(0.0);
-
     uint fx = offset.x + c.x + (n.x + 1u) * (c.y + n.y * c.z);
-    float k_lo = MG_CONDUCTANCE(fx);
-    float k_hi = MG_CONDUCTANCE(fx + 1u);
-    s.x += k_lo + k_hi;
-    s.y += c.x > 0u ? k_lo * MG_P(l, index - 1u) : 0.0;
-    s.y += c.x + 1u < n.x ? k_hi * MG_P(l, index + 1u) : 0.0;
-
     uint fy = offset.y + c.x + n.x * (c.y + (n.y + 1u) * c.z);
-    k_lo = MG_CONDUCTANCE(fy);
-    k_hi = MG_CONDUCTANCE(fy + n.x);
-    s.x += k_lo + k_hi;
-    s.y += c.y > 0u ? k_lo * MG_P(l, index - n.x) : 0.0;
-    s.y += c.y + 1u < n.y ? k_hi * MG_P(l, index + n.x) : 0.0;
-
     uint fz = offset.z + index;
-    k_lo = MG_CONDUCTANCE(fz);
-    k_hi = MG_CONDUCTANCE(fz + plane);
-    s.x += k_lo + k_hi;
-    s.y += c.z > 0u ? k_lo * MG_P(l, index - plane) : 0.0;
-    s.y += c.z + 1u < n.z ? k_hi * MG_P(l, index + plane) : 0.0;
+    k[0] = MG_CONDUCTANCE(fx);
+    k[1] = MG_CONDUCTANCE(fx + 1u);
+    k[2] = MG_CONDUCTANCE(fy);
+    k[3] = MG_CONDUCTANCE(fy + n.x);
+    k[4] = MG_CONDUCTANCE(fz);
+    k[5] = MG_CONDUCTANCE(fz + plane);
+    nb[0] = index - 1u;
+    nb[1] = index + 1u;
+    nb[2] = index - n.x;
+    nb[3] = index + n.x;
+    nb[4] = index - plane;
+    nb[5] = index + plane;
+    inside[0] = c.x > 0u;
+    inside[1] = c.x + 1u < n.x;
+    inside[2] = c.y > 0u;
+    inside[3] = c.y + 1u < n.y;
+    inside[4] = c.z > 0u;
+    inside[5] = c.z + 1u < n.z;
+}
+
+// The 6-point stencil at cell c: x = sum of K, y = sum of K * p_nb.
+vec2 mg_stencil(uint l, uvec3 c) {
+    float k[6];
+    uint nb[6];
+    bool inside[6];
+    mg_stencil_terms(l, c, k, nb, inside);
+    vec2 s = vec2(0.0);
+    for (uint axis = 0u; axis < 3u; ++axis) {
+        s.x += k[2u * axis] + k[2u * axis + 1u];
+        s.y += inside[2u * axis] ? k[2u * axis] * MG_P(l, nb[2u * axis]) : 0.0;
+        s.y += inside[2u * axis + 1u] ? k[2u * axis + 1u] * MG_P(l, nb[2u * axis + 1u]) : 0.0;
+    }
     return s;
 }
 
