@@ -3,6 +3,7 @@
 //! kernels are held to it in tests/wind_gpu.rs.
 
 use glam::{UVec3, Vec3};
+use meadow::interface::{MG_TAIL_FLOATS, MG_TAIL_FLOATS_LARGE};
 use meadow::model::multigrid::{Multigrid, Work, DEFAULT_V_CYCLES, MAX_COARSEST_CELLS};
 use meadow::model::wind::{Obstacle, WindField, WindGrid, WindSettings};
 
@@ -46,15 +47,16 @@ fn the_tail_starts_at_the_finest_level_that_fits() {
     assert_eq!(mg.tail_footprint(4), 3 * 32 + 128);
     assert_eq!(mg.tail_level(8389), Some(2));
     assert_eq!(mg.tail_level(8388), Some(3));
-    // 16 KiB, what every Vulkan device offers a workgroup, less the
-    // kernel's level table.
-    assert_eq!(mg.tail_level(3574), Some(3));
+    // The tail kernel's two shared arrays: in the 16 KiB every device
+    // offers, and in 48 KiB.
+    assert_eq!(mg.tail_level(MG_TAIL_FLOATS as usize), Some(3));
+    assert_eq!(mg.tail_level(MG_TAIL_FLOATS_LARGE as usize), Some(2));
     assert_eq!(mg.tail_level(224), Some(4));
     assert_eq!(mg.tail_level(223), None);
     // A small grid fits whole: the V-cycle is one dispatch.
     let small = multigrid(&field(UVec3::new(8, 4, 8)));
     assert_eq!(small.tail_footprint(0), 2 * 288 + 256 + 1024);
-    assert_eq!(small.tail_level(3574), Some(0));
+    assert_eq!(small.tail_level(MG_TAIL_FLOATS as usize), Some(0));
 }
 
 /// On a uniform grid the coarse operator is the 2h discretisation: an

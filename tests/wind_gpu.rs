@@ -152,7 +152,7 @@ fn gpu_jacobi_matches_the_cpu_reference_after_100_steps() {
 }
 
 /// The multigrid with its whole V-cycle in the one-workgroup tail kernel
-/// (glsl/wind/mg_tail.comp from level 0: the pressure and divergence read
+/// (glsl/wind/mg_tail.glsl from level 0: the pressure and divergence read
 /// and written where the kernels keep them), on a grid small enough for
 /// every device's shared memory. (With the post-smoothing one sweep short
 /// in the tail it differs by 6e-4.)

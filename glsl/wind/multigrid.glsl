@@ -15,7 +15,7 @@ layout(set = 0, binding = 8, std430) readonly buffer Levels { MgLevel levels[]; 
 
 // Where the computations below read the level table, the face
 // conductances, a level's pressure and right-hand side and the saved
-// residual: the buffers by default; mg_tail.comp defines these before
+// residual: the buffers by default; mg_tail.glsl defines these before
 // including this file to read its workgroup's shared copies instead.
 #ifndef MG_LEVELS
 #define MG_LEVELS levels

@@ -6,7 +6,7 @@
 
 #include "wind_grid.glsl"
 
-// A kernel of another size (mg_tail.comp) defines WIND_KERNEL_GROUP first.
+// A kernel of another size (mg_tail.glsl) defines WIND_KERNEL_GROUP first.
 #ifndef WIND_KERNEL_GROUP
 #define WIND_KERNEL_GROUP WIND_GROUP
 #endif

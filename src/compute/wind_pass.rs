@@ -27,7 +27,7 @@ use crate::shaders::{self, Spirv};
 
 use crate::interface::{
     MgLevel, TurbulenceMode, WindGridParams, WindPush, FACE_BURIED, FACE_FREE, FACE_INFLOW,
-    FACE_WALL, MG_MAX_LEVELS, WIND_GROUP,
+    FACE_WALL, MG_MAX_LEVELS, MG_TAIL_FLOATS, MG_TAIL_FLOATS_LARGE, WIND_GROUP,
 };
 /// Waypoints a source's path may have on the GPU.
 pub use crate::model::wind::MAX_PATH_POINTS;
@@ -114,6 +114,13 @@ const MG_PROLONG: usize = 10;
 const PROJECT: usize = 11;
 const UNDER_GROUND: usize = 12;
 const TURBULENCE: usize = 13;
+
+/// The tail kernel's level table in shared memory (glsl/wind/mg_tail.glsl:
+/// the levels, each one's offset, two counts): its shared array's two
+/// sizes leave room for it in 16 and 48 KiB.
+const TAIL_TABLE_BYTES: usize = MG_MAX_LEVELS * (std::mem::size_of::<MgLevel>() + 4) + 8;
+const _: () = assert!(TAIL_TABLE_BYTES + 4 * MG_TAIL_FLOATS as usize <= 16 * 1024);
+const _: () = assert!(TAIL_TABLE_BYTES + 4 * MG_TAIL_FLOATS_LARGE as usize <= 48 * 1024);
 
 /// The level table and every level's conductances, concatenated.
 fn multigrid_tables(mg: &Multigrid) -> (Vec<MgLevel>, Vec<f32>) {
@@ -344,8 +351,8 @@ pub struct WindPass {
     /// of each row along x, rounded up.
     level_color_cells: Vec<u32>,
     coarse_cells: u32,
-    /// The finest multigrid level the tail kernel runs (mg_tail.comp):
-    /// the finest whose tail fits the device's shared memory.
+    /// The finest multigrid level the tail kernel runs (mg_tail.glsl):
+    /// the finest whose tail fits its shared array.
     tail_level: u32,
     /// m^2 per count of the canopy buffer (`model::canopy::unit` of the
     /// grass coupled to this wind; 0 with no grass).
@@ -413,37 +420,35 @@ impl WindPass {
         let buffers = WindBuffers::new(gpu, commands, &field, settings, face_count, cell_count)?;
         let layout: Arc<PipelineLayout> =
             PipelineLayout::new::<WindPush>(gpu, WIND_SET, vk::ShaderStageFlags::COMPUTE, "wind")?;
-        // The tail kernel, specialised to this grid: its shared memory
-        // (what the tail needs, within every float the device offers a
-        // workgroup beside the kernel's level table) and the coarsest
-        // level's number.
-        let table_floats = MG_MAX_LEVELS * (std::mem::size_of::<MgLevel>() / 4 + 1) + 2;
-        let shared_floats =
-            (gpu.limits().max_compute_shared_memory_size as usize / 4).saturating_sub(table_floats);
-        let tail_level = field.multigrid.tail_level(shared_floats).ok_or_else(|| {
-            let coarsest = field.multigrid.levels.len() - 1;
-            Error::FeatureMissing {
-                device: gpu.info().name.clone(),
-                feature: format!(
-                    "{} floats of compute shared memory for the multigrid's coarsest level \
-                     (or set wind.solver = \"jacobi\")",
-                    field.multigrid.tail_footprint(coarsest) + table_floats
-                ),
-            }
-        })?;
+        // The tail kernel: the variant with the larger shared array where
+        // the device offers it, from the finest level that fits it, and
+        // specialised to this grid's coarsest level.
+        let large = gpu.limits().max_compute_shared_memory_size as usize >= 48 * 1024;
+        let (tail_spirv, tail_floats) = if large {
+            (&shaders::WIND_MG_TAIL_LARGE_COMP, MG_TAIL_FLOATS_LARGE)
+        } else {
+            (&shaders::WIND_MG_TAIL_COMP, MG_TAIL_FLOATS)
+        };
+        let last_level = field.multigrid.levels.len() - 1;
+        // The coarsest level (at most `MAX_COARSEST_CELLS` cells) always
+        // fits: this cannot fail on any grid `Multigrid::new` makes.
+        let tail_level = field
+            .multigrid
+            .tail_level(tail_floats as usize)
+            .ok_or_else(|| {
+                Error::InvalidInput(format!(
+                    "the multigrid's coarsest level needs {} floats, more than the tail \
+                     kernel's {tail_floats}; set wind.solver = \"jacobi\"",
+                    field.multigrid.tail_footprint(last_level)
+                ))
+            })?;
         let kernels = WIND_KERNELS
             .iter()
             .enumerate()
             .map(|(kernel, spirv)| match kernel {
-                MG_TAIL => Pipeline::compute_specialized(
-                    gpu,
-                    &layout,
-                    spirv,
-                    &[
-                        field.multigrid.tail_footprint(tail_level) as u32,
-                        (field.multigrid.levels.len() - 1) as u32,
-                    ],
-                ),
+                MG_TAIL => {
+                    Pipeline::compute_specialized(gpu, &layout, tail_spirv, &[last_level as u32])
+                }
                 _ => Pipeline::compute(gpu, &layout, spirv),
             })
             .collect::<Result<Vec<_>>>()?;
@@ -485,7 +490,7 @@ impl WindPass {
     }
 
     /// The finest multigrid level whose part of each V-cycle runs in the
-    /// one-workgroup tail kernel (glsl/wind/mg_tail.comp); the levels
+    /// one-workgroup tail kernel (glsl/wind/mg_tail.glsl); the levels
     /// above it run kernel by kernel.
     pub fn tail_level(&self) -> u32 {
         self.tail_level
@@ -748,7 +753,7 @@ impl WindPass {
                     }
                 }
             };
-            // Levels from `tail` down run in one workgroup (mg_tail.comp).
+            // Levels from `tail` down run in one workgroup (mg_tail.glsl).
             let tail = self.tail_level as usize;
             for _ in 0..self.settings.v_cycles {
                 for l in 0..tail {

@@ -13,7 +13,7 @@ gpu_interface! {
     /// Invocations per workgroup of every wind kernel (glsl/wind/).
     pub const WIND_GROUP: u32 = 64;
     /// Invocations of the one workgroup that runs a multigrid V-cycle's
-    /// coarse levels (glsl/wind/mg_tail.comp): what every Vulkan device
+    /// coarse levels (glsl/wind/mg_tail.glsl): what every Vulkan device
     /// must offer.
     pub const MG_TAIL_GROUP: u32 = 128;
     /// Red-black Gauss-Seidel sweeps before restricting and after
@@ -23,6 +23,12 @@ gpu_interface! {
     /// Levels a multigrid hierarchy can have: each halves at least one
     /// axis, and a wind grid has fewer than 2^32 cells.
     pub const MG_MAX_LEVELS: usize = 40;
+    /// Floats of the tail kernel's shared array (glsl/wind/mg_tail.glsl)
+    /// beside its level table (40 `MgLevel`s, 40 offsets and two counts:
+    /// 2,088 bytes): in 16 KiB, what every device offers a workgroup
+    /// (mg_tail.comp), and in 48 KiB (mg_tail_large.comp).
+    pub const MG_TAIL_FLOATS: u32 = 3574;
+    pub const MG_TAIL_FLOATS_LARGE: u32 = 11766;
     /// Invocations per workgroup of the grass step and collider-binning
     /// kernels (glsl/grass/).
     pub const GRASS_GROUP: u32 = 64;

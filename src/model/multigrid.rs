@@ -305,7 +305,7 @@ impl Multigrid {
     }
 
     /// Floats a V-cycle's tail from level `first` down needs in one GPU
-    /// workgroup (glsl/wind/mg_tail.comp): every tail level's pressure,
+    /// workgroup (glsl/wind/mg_tail.glsl): every tail level's pressure,
     /// right-hand side and face conductances, and one residual the size
     /// of level `first`.
     pub fn tail_footprint(&self, first: usize) -> usize {
