@@ -91,3 +91,44 @@ fn a_descriptor_set_keeps_the_buffer_it_binds_until_it_goes() {
     drop(set);
     drop(layout);
 }
+
+/// `Gpu::device_memory` (every report's `device_memory`): the bytes of the
+/// live allocations, and the most there were at once.
+#[test]
+fn device_memory_counts_the_live_allocations_and_keeps_the_peak() {
+    let gpu = strict_gpu();
+    let before = gpu.device_memory();
+    let mib = |n: u64| {
+        Buffer::new(
+            &gpu,
+            "device memory test buffer",
+            n << 20,
+            ash::vk::BufferUsageFlags::STORAGE_BUFFER,
+            MemoryLocation::GpuOnly,
+        )
+        .unwrap()
+    };
+    let a = mib(4);
+    let b = mib(2);
+    let both = gpu.device_memory();
+    // Each allocation at least its buffer's size (alignment may add).
+    assert!(
+        both.allocated_bytes >= before.allocated_bytes + (6 << 20),
+        "{both:?}"
+    );
+    assert!(
+        both.allocated_bytes < before.allocated_bytes + (7 << 20),
+        "{both:?}"
+    );
+    assert_eq!(both.peak_bytes, both.allocated_bytes.max(before.peak_bytes));
+    drop(a);
+    let one = gpu.device_memory();
+    assert!(
+        one.allocated_bytes + (4 << 20) <= both.allocated_bytes,
+        "{one:?}"
+    );
+    assert_eq!(one.peak_bytes, both.peak_bytes, "the peak stays");
+    drop(b);
+    assert_eq!(gpu.device_memory().allocated_bytes, before.allocated_bytes);
+    common::finish(gpu);
+}

@@ -575,3 +575,36 @@ fn a_binding_past_the_storage_range_is_one_clear_error() {
     );
     finish(gpu);
 }
+
+/// report.json's `device_memory`: ten times the blades take at least
+/// their records more (each blade's physics record and its four control
+/// points), and not absurdly more.
+#[test]
+fn report_json_counts_the_device_memory_the_blades_hold() {
+    use meadow::commands::render::render_to_dir;
+    use meadow::interface::{BladeVertex, GrassBlade};
+    let dir = std::env::temp_dir().join(format!("meadow-memory-{}", std::process::id()));
+    let peak = |blades: usize| {
+        let mut scene = Scene::builtin("table1").unwrap();
+        scene.set_blade_count(blades).unwrap();
+        let request = common::strict_request(scene, 160, 90, 1, 1.0);
+        let out = dir.join(blades.to_string());
+        let report = render_to_dir(&request, &out).expect("render");
+        let json: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap())
+                .unwrap();
+        let memory = &json["device_memory"];
+        let allocated = memory["allocated_bytes"].as_u64().expect("allocated_bytes");
+        let peak = memory["peak_bytes"].as_u64().expect("peak_bytes");
+        assert_eq!(peak, report.device_memory.peak_bytes);
+        assert!(0 < allocated && allocated <= peak, "{memory}");
+        peak
+    };
+    let (small, large) = (peak(2_000), peak(20_000));
+    let per_blade = (large - small) as f64 / 18_000.0;
+    let records = std::mem::size_of::<GrassBlade>() + 4 * std::mem::size_of::<BladeVertex>();
+    eprintln!("peak {small} B at 2,000 blades, {large} B at 20,000: {per_blade:.0} B a blade (records {records} B)");
+    assert!(per_blade >= records as f64, "{per_blade:.0} B a blade");
+    assert!(per_blade < 8192.0, "{per_blade:.0} B a blade");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -47,12 +47,14 @@ pub fn run(args: ViewArgs) -> anyhow::Result<()> {
     };
     let report = meadow::commands::view::view(&request)?;
     println!(
-        "showed {} frames in {:.1} s ({:.1} FPS; {:.1} s to start and stop), {:.2} s simulated; validation: {} errors",
+        "showed {} frames in {:.1} s ({:.1} FPS; {:.1} s to start and stop), {:.2} s simulated; GPU memory {:.1} MiB (peak {:.1}); validation: {} errors",
         report.frames,
         report.wall_seconds,
         report.fps(),
         report.start_seconds,
         report.simulated_seconds,
+        report.device_memory.allocated_bytes as f64 / (1 << 20) as f64,
+        report.device_memory.peak_bytes as f64 / (1 << 20) as f64,
         report.validation.errors
     );
     if let Some(sig) = report.stopped_by {

@@ -140,49 +140,57 @@ pub fn bench_to_dir(
         &[true]
     };
     let total = 1 + request.counts.len() * request.lod.settings().len() * 2 * grounds.len();
-    let ((rows, wind_solvers, msaa_used, info), validation) = on_gpu(&request.gpu, |gpu| {
-        on_step(BenchProgress {
-            done: 0,
-            total,
-            next: BenchStep::Solvers,
-        });
-        let wind_solvers = crate::commands::wind::compare_solvers(
-            gpu,
-            &request.scene,
-            request.frames,
-            &mut |_| {},
-        )?;
-        let mut rows = Vec::new();
-        let mut msaa_used = 0;
-        for &count in &request.counts {
-            for &lod in request.lod.settings() {
-                for cull in [false, true] {
-                    for &terrain in grounds {
-                        on_step(BenchProgress {
-                            done: 1 + rows.len(),
-                            total,
-                            next: BenchStep::Row {
-                                blades: count,
-                                lod,
-                                cull,
-                                terrain,
-                            },
-                        });
-                        let (row, used) = bench_row(gpu, request, count, lod, cull, terrain)?;
-                        msaa_used = used;
-                        rows.push(row);
+    let ((rows, wind_solvers, msaa_used, info, device_memory), validation) =
+        on_gpu(&request.gpu, |gpu| {
+            on_step(BenchProgress {
+                done: 0,
+                total,
+                next: BenchStep::Solvers,
+            });
+            let wind_solvers = crate::commands::wind::compare_solvers(
+                gpu,
+                &request.scene,
+                request.frames,
+                &mut |_| {},
+            )?;
+            let mut rows = Vec::new();
+            let mut msaa_used = 0;
+            for &count in &request.counts {
+                for &lod in request.lod.settings() {
+                    for cull in [false, true] {
+                        for &terrain in grounds {
+                            on_step(BenchProgress {
+                                done: 1 + rows.len(),
+                                total,
+                                next: BenchStep::Row {
+                                    blades: count,
+                                    lod,
+                                    cull,
+                                    terrain,
+                                },
+                            });
+                            let (row, used) = bench_row(gpu, request, count, lod, cull, terrain)?;
+                            msaa_used = used;
+                            rows.push(row);
+                        }
                     }
                 }
             }
-        }
-        Ok((rows, wind_solvers, msaa_used, gpu.info().clone()))
-    })?;
+            Ok((
+                rows,
+                wind_solvers,
+                msaa_used,
+                gpu.info().clone(),
+                gpu.device_memory(),
+            ))
+        })?;
     let grid = request.scene.wind_grid()?;
     let bench = Bench {
         scene: request.scene.name.clone(),
         device: info.name,
         device_type: info.device_type,
         driver: info.driver,
+        device_memory,
         width: request.width,
         height: request.height,
         msaa_requested: request.msaa,

@@ -15,7 +15,7 @@ use crate::error::{Error, Result};
 use crate::frame::timing::median_p95;
 use crate::frame::BladeBuffer;
 use crate::gpu::query::TimestampQueries;
-use crate::gpu::{Access, BufferUse, CommandPool, Gpu, GpuOptions, ValidationReport};
+use crate::gpu::{Access, BufferUse, CommandPool, DeviceMemory, Gpu, GpuOptions, ValidationReport};
 use crate::model::contact::{Collider, ColliderKind, MAX_COLLIDERS};
 use crate::scene::{field, Scene, MAX_BLADES};
 use glam::{Vec2, Vec3};
@@ -90,6 +90,10 @@ pub struct GrassBench {
     pub scene: String,
     pub device: String,
     pub device_type: String,
+    /// The device memory the rows' allocations held at the end and at
+    /// most (the largest row's; the bandwidth copy after them is not
+    /// counted).
+    pub device_memory: DeviceMemory,
     pub rows: Vec<GrassBenchRow>,
     /// None where the device has no timestamps.
     pub copy_bandwidth: Option<CopyBandwidth>,
@@ -142,7 +146,7 @@ pub fn bench_grass(
     }
     scene.wind_grid()?;
     scene.grass.dynamics.validate()?;
-    let ((rows, copy_bandwidth, info), validation) = on_gpu(options, |gpu| {
+    let ((rows, copy_bandwidth, info, device_memory), validation) = on_gpu(options, |gpu| {
         // Refused before the work; measured after it, so a run that fails
         // on the way (out of memory, a lost device) has not waited for it.
         gpu.check_fits("the bandwidth copy", 2 * COPY_BYTES)?;
@@ -163,17 +167,19 @@ pub fn bench_grass(
             total,
             row: None,
         });
+        let device_memory = gpu.device_memory();
         let copy = copy_bandwidth(gpu)?;
         for row in &mut rows {
             row.set_floor(copy.as_ref());
         }
         compare_with_collider_free(&mut rows);
-        Ok((rows, copy, gpu.info().clone()))
+        Ok((rows, copy, gpu.info().clone(), device_memory))
     })?;
     let bench = GrassBench {
         scene: scene.name.clone(),
         device: info.name,
         device_type: info.device_type,
+        device_memory,
         rows,
         copy_bandwidth,
         validation,

@@ -294,6 +294,7 @@ fn render_with(
     let msaa_used = recorder.samples();
 
     let info = gpu.info();
+    let device_memory = gpu.device_memory();
     let untimed = recorder.untimed_phases();
     Ok(pictures
         .iter()
@@ -309,6 +310,7 @@ fn render_with(
             device_type: info.device_type.clone(),
             driver: info.driver.clone(),
             api_version: info.api_version.clone(),
+            device_memory,
             msaa_requested: request.msaa,
             msaa_used,
             blades: blades.len(),

@@ -13,7 +13,7 @@ use crate::commands::on_gpu;
 use crate::compute::{Simulation, StepPace};
 use crate::error::{Error, Result};
 use crate::frame::BladeBuffer;
-use crate::gpu::{CommandPool, Gpu, GpuOptions, ValidationReport};
+use crate::gpu::{CommandPool, DeviceMemory, Gpu, GpuOptions, ValidationReport};
 use crate::model::grass::{BEND_A, SWING, TWIST};
 use crate::model::wind::WindField;
 use crate::model::BladeVertex;
@@ -877,6 +877,9 @@ pub struct TraceReport {
     pub scene: String,
     pub seed: u64,
     pub device: String,
+    /// The device memory the run's allocations held at the end and at
+    /// most.
+    pub device_memory: DeviceMemory,
     pub dt: f32,
     pub substeps: u32,
     /// Simulated seconds and steps the samples cover: what was asked for,
@@ -986,8 +989,12 @@ pub fn trace_to_dir(
         samples * blades * 30,
         &format!("{samples} samples of {blades} blades in {CSV_NAME}"),
     )?;
-    let ((trace, device), validation) = on_gpu(&request.gpu, |gpu| {
-        Ok((trace(gpu, request, observer)?, gpu.info().name.clone()))
+    let ((trace, device, device_memory), validation) = on_gpu(&request.gpu, |gpu| {
+        Ok((
+            trace(gpu, request, observer)?,
+            gpu.info().name.clone(),
+            gpu.device_memory(),
+        ))
     })?;
     // The work is done: the last run's files go (its diagram too, which
     // would pass for this one's).
@@ -1025,6 +1032,7 @@ pub fn trace_to_dir(
         scene: request.scene.name.clone(),
         seed: request.scene.seed,
         device,
+        device_memory,
         dt: trace.dt,
         substeps: trace.substeps,
         seconds: if trace.interrupted {

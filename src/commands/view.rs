@@ -32,7 +32,7 @@ use crate::error::{Error, Result};
 use crate::frame::timing::Phase;
 use crate::frame::{FrameRecorder, FrameStats};
 use crate::gpu::swapchain::Presented;
-use crate::gpu::{surface, Gpu, GpuOptions, Surface, Swapchain, ValidationReport};
+use crate::gpu::{surface, DeviceMemory, Gpu, GpuOptions, Surface, Swapchain, ValidationReport};
 use crate::model::contact::{Collider, MAX_COLLIDERS};
 use crate::render::FrameUniforms;
 use crate::report::{files, legend};
@@ -85,6 +85,10 @@ pub struct ViewReport {
     /// the field, the pipelines, the scene's own start, the teardown.
     pub start_seconds: f64,
     pub screenshots: Vec<PathBuf>,
+    /// The device memory the session's allocations held before the
+    /// window's objects went, and at most (the swapchain's images, the
+    /// driver's, not counted).
+    pub device_memory: DeviceMemory,
     pub validation: ValidationReport,
 }
 
@@ -126,6 +130,7 @@ pub fn view(request: &ViewRequest) -> Result<ViewReport> {
         let ran = event_loop.run_app(&mut app);
         // The window's GPU objects go before the GPU is torn down.
         let simulated = app.live.as_ref().map_or(0.0, Live::time);
+        app.report.device_memory = gpu.device_memory();
         let shown = app.live.as_ref().and_then(|l| {
             l.first_frame
                 .map(|first| l.last_frame.duration_since(first).as_secs_f64())

@@ -14,7 +14,7 @@ use crate::error::Result;
 use crate::frame::timing::median_p95;
 use crate::frame::BladeBuffer;
 use crate::gpu::query::TimestampQueries;
-use crate::gpu::{CommandPool, Gpu, GpuOptions, ValidationReport};
+use crate::gpu::{CommandPool, DeviceMemory, Gpu, GpuOptions, ValidationReport};
 use crate::model::wind::{Coupling, PressureSolver, WindField, WindGrid, WindSettings};
 use crate::report::claim::OutputClaim;
 use crate::report::files;
@@ -38,6 +38,9 @@ pub struct GridReport {
 pub struct WindReport {
     pub scene: String,
     pub device: String,
+    /// The device memory the run's allocations held at the end and at
+    /// most.
+    pub device_memory: DeviceMemory,
     pub cells: [u32; 3],
     /// The grid wind_field.npy is sampled on.
     pub grid: GridReport,
@@ -378,6 +381,7 @@ fn run(
     Ok(WindReport {
         scene: scene.name.clone(),
         device: gpu.info().name.clone(),
+        device_memory: gpu.device_memory(),
         cells: grid.cells.to_array(),
         grid: GridReport {
             origin: grid.origin.to_array(),

@@ -12,8 +12,23 @@ pub use gpu_allocator::MemoryLocation;
 
 use crate::error::{Error, Result};
 
+/// The device memory a run's allocations hold: now, and the most at once
+/// since the device was opened (bytes of the allocations themselves, not
+/// of the blocks the allocator reserves around them; the swapchain's
+/// images, which the driver owns, are not counted).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+pub struct DeviceMemory {
+    pub allocated_bytes: u64,
+    pub peak_bytes: u64,
+}
+
+struct Allocations {
+    allocator: Option<Allocator>,
+    usage: DeviceMemory,
+}
+
 pub struct Memory {
-    allocator: Mutex<Option<Allocator>>,
+    allocations: Mutex<Allocations>,
 }
 
 impl Memory {
@@ -34,7 +49,10 @@ impl Memory {
         })
         .map_err(|e| Error::alloc("the GPU memory allocator", e))?;
         Ok(Self {
-            allocator: Mutex::new(Some(allocator)),
+            allocations: Mutex::new(Allocations {
+                allocator: Some(allocator),
+                usage: DeviceMemory::default(),
+            }),
         })
     }
 
@@ -45,9 +63,13 @@ impl Memory {
         location: MemoryLocation,
         linear: bool,
     ) -> Result<Allocation> {
-        let mut guard = self.allocator.lock().unwrap();
-        let allocator = guard.as_mut().expect("allocator used after destroy");
-        allocator
+        let mut guard = self.allocations.lock().unwrap();
+        let allocations = &mut *guard;
+        let allocator = allocations
+            .allocator
+            .as_mut()
+            .expect("allocator used after destroy");
+        let allocation = allocator
             .allocate(&AllocationCreateDesc {
                 name,
                 requirements,
@@ -55,21 +77,36 @@ impl Memory {
                 linear,
                 allocation_scheme: AllocationScheme::GpuAllocatorManaged,
             })
-            .map_err(|e| Error::alloc(name, e))
+            .map_err(|e| Error::alloc(name, e))?;
+        let usage = &mut allocations.usage;
+        usage.allocated_bytes += allocation.size();
+        usage.peak_bytes = usage.peak_bytes.max(usage.allocated_bytes);
+        Ok(allocation)
     }
 
     pub fn free(&self, allocation: Allocation) {
-        let mut guard = self.allocator.lock().unwrap();
-        if let Some(allocator) = guard.as_mut() {
+        let mut guard = self.allocations.lock().unwrap();
+        let allocations = &mut *guard;
+        if let Some(allocator) = allocations.allocator.as_mut() {
+            let size = allocation.size();
             // A failed free only means the allocation was not ours; nothing to undo.
-            let _ = allocator.free(allocation);
+            if allocator.free(allocation).is_ok() {
+                let usage = &mut allocations.usage;
+                usage.allocated_bytes = usage.allocated_bytes.saturating_sub(size);
+            }
         }
+    }
+
+    /// The allocations' bytes now and at most so far.
+    pub fn usage(&self) -> DeviceMemory {
+        self.allocations.lock().unwrap().usage
     }
 
     /// Names of the allocations still alive (a leak, at teardown).
     pub fn live_allocations(&self) -> Vec<String> {
-        let guard = self.allocator.lock().unwrap();
+        let guard = self.allocations.lock().unwrap();
         guard
+            .allocator
             .as_ref()
             .map(|a| {
                 a.generate_report()
@@ -84,6 +121,6 @@ impl Memory {
     /// Drops the allocator (freeing its memory blocks). Must run before the
     /// device is destroyed.
     pub fn destroy(&self) {
-        self.allocator.lock().unwrap().take();
+        self.allocations.lock().unwrap().allocator.take();
     }
 }

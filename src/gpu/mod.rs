@@ -36,7 +36,7 @@ pub use device::{Device, DeviceInfo};
 pub use fault::FaultPlan;
 pub use image::{Image, ImageDesc};
 pub use instance::{Instance, ValidationOptions, ValidationReport};
-pub use memory::MemoryLocation;
+pub use memory::{DeviceMemory, MemoryLocation};
 pub use overlay::{OverlayDraw, OverlayRenderer};
 pub use owned::Sampler;
 pub use pipeline::{GraphicsDesc, Pipeline, TargetFormats};
@@ -172,6 +172,12 @@ impl Gpu {
             )));
         }
         Ok(())
+    }
+
+    /// The device memory the run's allocations hold now and at most so
+    /// far (report.json's and every report's `device_memory`).
+    pub fn device_memory(&self) -> DeviceMemory {
+        self.device.memory.usage()
     }
 
     pub fn wait_idle(&self) {

@@ -8,7 +8,7 @@ use crate::error::{Error, Result};
 use crate::frame::timing::{Phase, Spread, TimingSummary};
 use crate::frame::CullCounts;
 use crate::gpu::query::PipelineStatistics;
-use crate::gpu::ValidationReport;
+use crate::gpu::{DeviceMemory, ValidationReport};
 use crate::model::wind::PressureSolver;
 use crate::report::wind::SolverTiming;
 
@@ -110,6 +110,9 @@ pub struct Bench {
     pub device: String,
     pub device_type: String,
     pub driver: String,
+    /// The device memory the run's allocations held at its end and at
+    /// most (the largest row's).
+    pub device_memory: DeviceMemory,
     pub width: u32,
     pub height: u32,
     pub msaa_requested: u32,

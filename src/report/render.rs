@@ -6,7 +6,7 @@ use std::path::Path;
 use crate::frame::timing::TimingSummary;
 use crate::frame::{Animation, CullCounts};
 use crate::gpu::query::PipelineStatistics;
-use crate::gpu::ValidationReport;
+use crate::gpu::{DeviceMemory, ValidationReport};
 use crate::model::grass::CapCounts;
 use crate::model::wind::Coupling;
 use crate::scene::{Camera, ViewMode};
@@ -28,6 +28,9 @@ pub struct RenderReport {
     pub device_type: String,
     pub driver: String,
     pub api_version: String,
+    /// The device memory the run's allocations held at the end and at
+    /// most (`gpu::DeviceMemory`).
+    pub device_memory: DeviceMemory,
     pub msaa_requested: u32,
     pub msaa_used: u32,
     /// Blades drawn, and those the patches planted but the obstacles
@@ -119,6 +122,11 @@ pub fn summary(report: &RenderReport, out: &Path) -> String {
             s.geometry_shader_primitives
         );
     }
+    text += &format!(
+        "GPU memory: {:.1} MiB allocated at the end, {:.1} MiB at most\n",
+        mib(report.device_memory.allocated_bytes),
+        mib(report.device_memory.peak_bytes)
+    );
     match &report.cull_counts {
         Some(c) => {
             text += &format!(
@@ -170,4 +178,8 @@ pub fn summary(report: &RenderReport, out: &Path) -> String {
         text += &format!("wrote {video}\n");
     }
     text
+}
+
+fn mib(bytes: u64) -> f64 {
+    bytes as f64 / (1u64 << 20) as f64
 }
