@@ -14,6 +14,7 @@ pub use grass::{BladePhysics, GrassBlade, GrassState};
 pub use grass_field::GrassField;
 pub mod multigrid;
 pub mod path;
+pub mod quasi_static;
 pub mod terrain;
 pub mod turbulence;
 pub mod wind;

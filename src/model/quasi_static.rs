@@ -1,0 +1,165 @@
+//! The quasi-static pose (ours; issue 40's far field): the angles at which
+//! a blade's torques balance in a steady wind, the state the paper's
+//! dynamics (src/model/grass.rs) settle into when the wind holds still,
+//! found without stepping them and without keeping any state. Beyond the
+//! radius where blades are simulated, a blade shows this pose for the wind
+//! sampled there.
+//!
+//! The balance is `grass::torques` = 0 at zero angular velocity: four
+//! equations in the four angles (three on a blade with one bending group,
+//! whose second bending angle stays 0). A strong wind has more than one
+//! balance (a blade swung to either side; the unstable one between), so
+//! plain Newton from rest can land on the wrong one. Pseudo-transient
+//! continuation follows the way the blade gives instead: each step solves
+//! (c K - J) d = T, J the Jacobian of the torques by central differences,
+//! K the diagonal of -J at rest in still air (each motion's restoring
+//! stiffness), and c, large
+//! at first (a small, overdamped step down the torque), shrinks as the
+//! torque does (switched evolution relaxation) until the step is Newton's.
+//! Each step turns an angle by at most `MAX_TURN`.
+
+use glam::Vec3;
+
+use crate::model::grass::{self, GrassBlade, GrassState, BEND_B, MAX_ANGLE};
+
+/// Iterations at most (table1's blades in 1-4 m/s balance in at most 56).
+pub const MAX_ITERATIONS: usize = 100;
+/// The pseudo-time term's first (and largest) weight, in units of the
+/// still-air stiffness.
+const START_RELAXATION: f64 = 10.0;
+/// The largest change of an angle in one iteration (rad).
+const MAX_TURN: f64 = 0.25;
+/// Central-difference step of the Jacobian (rad).
+const DIFFERENCE: f32 = 1e-3;
+/// Done when no angle changes by more than this (rad).
+const TOLERANCE: f64 = 1e-6;
+
+/// The angles (swing, bend A, bend B, twist) at which `blade`'s torques
+/// balance in the steady `wind` (m/s, at its tip), and the iterations
+/// taken. Angles stay within `MAX_ANGLE`, as the dynamics' guard keeps them.
+pub fn quasi_static_angles(blade: &GrassBlade, wind: Vec3) -> ([f32; 4], usize) {
+    let wind = grass::guard_wind(wind);
+    let motions: Vec<usize> = (0..4)
+        .filter(|&m| m != BEND_B || blade.split() < 3)
+        .collect();
+    let torque_in = |angle: [f32; 4], wind: Vec3| {
+        let state = GrassState {
+            angle,
+            velocity: [0.0; 4],
+        };
+        grass::torques(blade, &grass::pose(blade, angle), &state, wind)
+    };
+    let torque = |angle: [f32; 4]| torque_in(angle, wind);
+    let n = motions.len();
+    // The Jacobian d torque_i / d angle_j over the motions in use.
+    let jacobian_in = |angle: [f32; 4], wind: Vec3| {
+        let mut j = vec![vec![0.0f64; n]; n];
+        for (col, &m) in motions.iter().enumerate() {
+            let (mut plus, mut minus) = (angle, angle);
+            plus[m] += DIFFERENCE;
+            minus[m] -= DIFFERENCE;
+            let (tp, tm) = (torque_in(plus, wind), torque_in(minus, wind));
+            for (row, &i) in motions.iter().enumerate() {
+                j[row][col] = (tp[i] - tm[i]) as f64 / (2.0 * DIFFERENCE as f64);
+            }
+        }
+        j
+    };
+    let norm = |t: [f32; 4]| {
+        motions
+            .iter()
+            .map(|&m| (t[m] as f64).powi(2))
+            .sum::<f64>()
+            .sqrt()
+    };
+    let mut angle = [0.0f32; 4];
+    // Each motion's restoring stiffness at rest in still air (-J's
+    // diagonal there), the scale of the pseudo-time term. The wind can
+    // make a motion unstable at rest (its torque growing with the angle),
+    // so the term starts well above what the wind adds.
+    let still = jacobian_in(angle, Vec3::ZERO);
+    let stiffness: Vec<f64> = (0..n).map(|i| (-still[i][i]).max(1e-12)).collect();
+    let mut relax = START_RELAXATION;
+    let mut last_norm = norm(torque(angle));
+    for iteration in 1..=MAX_ITERATIONS {
+        let t = torque(angle);
+        let now = norm(t);
+        relax = (relax * now / last_norm.max(f64::MIN_POSITIVE)).min(START_RELAXATION);
+        last_norm = now;
+        let mut system = jacobian_in(angle, wind);
+        for (i, row) in system.iter_mut().enumerate() {
+            for value in row.iter_mut() {
+                *value = -*value;
+            }
+            row[i] += relax * stiffness[i];
+        }
+        let rhs: Vec<f64> = motions.iter().map(|&i| t[i] as f64).collect();
+        let Some(delta) = solve(system, rhs) else {
+            return (angle, iteration);
+        };
+        let largest = delta.iter().fold(0.0f64, |m, d| m.max(d.abs()));
+        let scale = if largest > MAX_TURN {
+            MAX_TURN / largest
+        } else {
+            1.0
+        };
+        for (&m, d) in motions.iter().zip(&delta) {
+            angle[m] = (angle[m] + (d * scale) as f32).clamp(-MAX_ANGLE, MAX_ANGLE);
+        }
+        if largest < TOLERANCE && relax < 1e-3 {
+            return (angle, iteration);
+        }
+    }
+    (angle, MAX_ITERATIONS)
+}
+
+/// `a x = b` by Gaussian elimination with partial pivoting; None when `a`
+/// is singular (a blade the wind cannot move in some motion).
+fn solve(mut a: Vec<Vec<f64>>, mut b: Vec<f64>) -> Option<Vec<f64>> {
+    let n = b.len();
+    for col in 0..n {
+        let pivot = (col..n).max_by(|&r, &s| a[r][col].abs().total_cmp(&a[s][col].abs()))?;
+        if a[pivot][col].abs() < 1e-18 {
+            return None;
+        }
+        a.swap(col, pivot);
+        b.swap(col, pivot);
+        let (upper, lower) = a.split_at_mut(col + 1);
+        let pivot_row = &upper[col];
+        for (offset, row) in lower.iter_mut().enumerate() {
+            let f = row[col] / pivot_row[col];
+            for (value, p) in row[col..].iter_mut().zip(&pivot_row[col..]) {
+                *value -= f * p;
+            }
+            b[col + 1 + offset] -= f * b[col];
+        }
+    }
+    let mut x = vec![0.0; n];
+    for row in (0..n).rev() {
+        let sum: f64 = (row + 1..n).map(|k| a[row][k] * x[k]).sum();
+        x[row] = (b[row] - sum) / a[row][row];
+    }
+    Some(x)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::solve;
+
+    #[test]
+    fn solves_a_small_system_and_refuses_a_singular_one() {
+        let x = solve(
+            vec![
+                vec![0.0, 2.0, 1.0],
+                vec![1.0, 1.0, 0.0],
+                vec![3.0, 0.0, 1.0],
+            ],
+            vec![5.0, 3.0, 6.0],
+        )
+        .unwrap();
+        for (got, want) in x.iter().zip([1.4, 1.6, 1.8]) {
+            assert!((got - want).abs() < 1e-12, "{x:?}");
+        }
+        assert!(solve(vec![vec![1.0, 2.0], vec![2.0, 4.0]], vec![1.0, 2.0]).is_none());
+    }
+}
