@@ -11,7 +11,7 @@ mod common;
 use ash::vk;
 use common::reflect::{self, Binding};
 use meadow::compute::grass_pass::GRASS_SET;
-use meadow::compute::wind_pass::{GpuWindSource, WIND_KERNELS, WIND_SET};
+use meadow::compute::wind_pass::{GpuWindSource, WIND_KERNELS, WIND_KERNEL_VARIANTS, WIND_SET};
 use meadow::gpu::LayoutBinding;
 use meadow::interface::{StructLayout, LAYOUTS};
 use meadow::model::contact::GpuCollider;
@@ -114,7 +114,12 @@ fn descriptor_layouts_match_reflection() {
     check_pipeline("obstacle shadow", OBSTACLE_SHADOW_STAGES, SHADOW_SET);
     check_pipeline("terrain shadow", TERRAIN_SHADOW_STAGES, SHADOW_SET);
     // The five wind kernels share one set layout.
-    check_pipeline("wind", &WIND_KERNELS, WIND_SET);
+    let wind: Vec<&Spirv> = WIND_KERNELS
+        .iter()
+        .chain(&WIND_KERNEL_VARIANTS)
+        .copied()
+        .collect();
+    check_pipeline("wind", &wind, WIND_SET);
     check_pipeline(
         "grass",
         &[
@@ -360,6 +365,7 @@ fn every_push_constant_block_is_its_interface_struct() {
         }
     };
     expect(&WIND_KERNELS, "WindPush");
+    expect(&WIND_KERNEL_VARIANTS, "WindPush");
     expect(
         &[
             &shaders::GRASS_STEP_COMP,

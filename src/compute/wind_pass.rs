@@ -106,6 +106,9 @@ const ADVECT_PREDICT: usize = 2;
 const ADVECT_CORRECT: usize = 3;
 const DIVERGENCE: usize = 4;
 const JACOBI: usize = 5;
+/// Kernels that stand in for one of `WIND_KERNELS` on some devices, on the
+/// same layout and push constants: the tail with its 48 KiB shared array.
+pub const WIND_KERNEL_VARIANTS: [&Spirv; 1] = [&shaders::WIND_MG_TAIL_LARGE_COMP];
 const MG_SMOOTH: usize = 6;
 const MG_RESIDUAL: usize = 7;
 const MG_RESTRICT: usize = 8;
@@ -425,9 +428,9 @@ impl WindPass {
         // specialised to this grid's coarsest level.
         let large = gpu.limits().max_compute_shared_memory_size as usize >= 48 * 1024;
         let (tail_spirv, tail_floats) = if large {
-            (&shaders::WIND_MG_TAIL_LARGE_COMP, MG_TAIL_FLOATS_LARGE)
+            (WIND_KERNEL_VARIANTS[0], MG_TAIL_FLOATS_LARGE)
         } else {
-            (&shaders::WIND_MG_TAIL_COMP, MG_TAIL_FLOATS)
+            (WIND_KERNELS[MG_TAIL], MG_TAIL_FLOATS)
         };
         let last_level = field.multigrid.levels.len() - 1;
         // The coarsest level (at most `MAX_COARSEST_CELLS` cells) always
