@@ -144,7 +144,7 @@ fn malformed_scene_files_are_refused_with_line_column_field_and_range() {
             "no grass patch",
             MINIMAL.replace("[[grass.bunch]]\ncenter = [0.0, 0.0]\nradius = 0.2\ncount = 10\n", "[grass]\n"),
             9,
-            "grass: the scene has no grass; add a [[grass.bunch]] or a [[grass.meadow]]",
+            "grass: the scene has no grass; add a [[grass.bunch]], a [[grass.meadow]] or a [grass.cover]",
         ),
         (
             "zero count",
@@ -618,4 +618,51 @@ fn bad_turbulence_is_refused_naming_the_field() {
         "t.toml",
     );
     assert!(fine.unwrap().wind_grid().is_ok());
+}
+
+#[test]
+fn bad_cover_is_refused_naming_the_field_the_limit_and_the_memory() {
+    let covered = |table: &str| plus(&format!("[grass.cover]\n{table}"));
+    for (table, expected) in [
+        (
+            "density = -3.0\nview_distance = 50.0",
+            "grass.cover.density: -3 is not allowed, use a number above 0",
+        ),
+        (
+            "density = 40.0\nview_distance = nan",
+            "grass.cover.view_distance: NaN is not allowed, use a number above 0 and at most 200",
+        ),
+        (
+            "density = 40.0\nview_distance = 500.0",
+            "grass.cover.view_distance: 500 is not allowed, use a number above 0 and at most 200",
+        ),
+        (
+            "density = 40.0\nview_distance = 50.0\nsimulate_radius = 60.0",
+            "grass.cover.simulate_radius: 60 is not allowed, use a distance in 0..=50 m (the view distance)",
+        ),
+        (
+            "density = 40.0\nview_distance = 50.0\nsimulate_radius = -1.0",
+            "grass.cover.simulate_radius: -1 is not allowed",
+        ),
+        (
+            "density = 1000.0\nview_distance = 200.0",
+            "grass.cover.view_distance: 200 m at 1000 blades a square metre makes 101 x 101 tiles of 16000 blades, 163216000 blades (20.9 GB of control points), over the 9999990 allowed; lower view_distance or density",
+        ),
+    ] {
+        let err = file::parse(&covered(table), "bad.toml")
+            .err()
+            .unwrap_or_else(|| panic!("{table} was accepted"))
+            .to_string();
+        assert!(err.contains(expected), "{table}: {err}");
+        assert_eq!(err.lines().count(), 1, "{err}");
+    }
+    // A cover alone is grass enough; its radius defaults to 30 m.
+    let alone = MINIMAL.replace(
+        "[[grass.bunch]]\ncenter = [0.0, 0.0]\nradius = 0.2\ncount = 10\n",
+        "",
+    ) + "[grass.cover]\ndensity = 40.0\nview_distance = 60.0\nseed = 3\n";
+    let scene = file::parse(&alone, "cover.toml").unwrap_or_else(|e| panic!("{e}"));
+    let cover = scene.grass.cover.unwrap();
+    assert_eq!(cover.simulate_radius, 30.0);
+    assert_eq!(cover.seed, Some(3));
 }

@@ -133,6 +133,11 @@ fn descriptor_layouts_match_reflection() {
         &[&shaders::GRASS_BIN_COLLIDERS_COMP],
         meadow::compute::collider_bins::BIN_SET,
     );
+    check_pipeline(
+        "cover tiles",
+        &[&shaders::COVER_TILES_COMP],
+        meadow::compute::cover_tiles::COVER_SET,
+    );
     // The cull pass's three kernels share one set layout.
     check_pipeline(
         "cull",
@@ -374,6 +379,7 @@ fn every_push_constant_block_is_its_interface_struct() {
         "GrassPush",
     );
     expect(&[&shaders::GRASS_BIN_COLLIDERS_COMP], "BinPush");
+    expect(&[&shaders::COVER_TILES_COMP], "CoverPush");
     expect(
         &[
             &shaders::CULL_FLAGS_COMP,
@@ -467,6 +473,12 @@ fn assert_blade_vertices(module: &naga::Module, binding: u32) {
 fn the_cull_pass_reads_the_vertices_the_grass_step_writes() {
     let (module, _) = reflect::naga_module(&shaders::CULL_FLAGS_COMP).unwrap();
     assert_blade_vertices(&module, 1);
+}
+
+#[test]
+fn the_cover_writes_the_vertices_the_draw_reads() {
+    let (module, _) = reflect::naga_module(&shaders::COVER_TILES_COMP).unwrap();
+    assert_blade_vertices(&module, 0);
 }
 
 #[test]

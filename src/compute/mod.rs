@@ -8,6 +8,7 @@
 
 pub mod collider_bins;
 mod colliders;
+pub mod cover_tiles;
 pub mod grass_pass;
 mod place_order;
 pub mod step_pace;
@@ -19,6 +20,7 @@ use crate::model::collider::Collider;
 use crate::model::{canopy, GrassBlade};
 use crate::scene::Scene;
 
+pub use cover_tiles::CoverTilePass;
 pub use grass_pass::GrassPass;
 pub use step_pace::StepPace;
 pub use wind_pass::WindPass;

@@ -32,6 +32,9 @@ gpu_interface! {
     /// Invocations per workgroup of the grass step and collider-binning
     /// kernels (glsl/grass/).
     pub const GRASS_GROUP: u32 = 64;
+    /// Invocations per workgroup of the cover's tile kernel
+    /// (glsl/cover/tiles.comp): one blade each.
+    pub const COVER_GROUP: u32 = 64;
     /// Blades per workgroup of the cull pass's flag and compaction kernels:
     /// one blade per invocation (glsl/cull/).
     pub const CULL_GROUP: u32 = 256;
@@ -336,6 +339,38 @@ gpu_interface! {
         pub below: PyramidLevel,
         /// The level written.
         pub level: PyramidLevel,
+    }
+
+    /// Push constants of the cover's tile kernel (glsl/cover/tiles.comp;
+    /// src/scene/cover.rs makes the same blades on the CPU).
+    pub struct CoverPush {
+        /// Tile coordinates of the blade buffer's first tile.
+        pub origin: [i32; 2],
+        /// Tiles along each side of the square.
+        pub side: u32,
+        /// Blades in each tile.
+        pub per_tile: u32,
+        /// The buffer's blade the binding starts at (its batch), the
+        /// binding's blade this dispatch starts at, and how many it makes.
+        pub first: u32,
+        pub start: u32,
+        pub count: u32,
+        /// The cover's seed, folded to 32 bits (`cover::seed32`).
+        pub seed: u32,
+        /// The kind weights summed: upright, upright + curved, all three
+        /// (`cover::kind_thresholds`).
+        pub kinds: [f32; 3],
+        /// A tile's side (m).
+        pub tile_m: f32,
+        /// The blade shape's height and full width ranges (m).
+        pub height: [f32; 2],
+        pub width: [f32; 2],
+        /// The buffer's blade the cover's first blade is (after the
+        /// scene's patches).
+        pub base: u32,
+        pub _pad0: u32,
+        pub _pad1: u32,
+        pub _pad2: u32,
     }
 
     /// Push constants of the bench's floor (glsl/bench/floor.vert).

@@ -5,7 +5,9 @@
 use std::fmt::Display;
 use std::ops::RangeInclusive;
 
-use super::{Camera, Cull, Grass, GrassDynamics, Light, Lod, RenderSettings, Scene, MAX_BLADES};
+use super::{
+    Camera, Cover, Cull, Grass, GrassDynamics, Light, Lod, RenderSettings, Scene, MAX_BLADES,
+};
 use crate::error::Error;
 use crate::model::contact::{Collider, ColliderKind, MAX_COLLIDERS};
 use crate::model::wind::{Obstacle, WindSource, MAX_CELLS};
@@ -170,6 +172,10 @@ pub fn scene(s: &Scene) -> Check {
 /// of some grass: farther, the frame would hold no blade at all (a camera
 /// 1e7 m away rendered sky and haze and exited 0).
 fn camera_reaches_grass(s: &Scene) -> Check {
+    // A cover grows around the camera wherever it goes.
+    if s.grass.cover.is_some() {
+        return Ok(());
+    }
     let (lo, hi) = s.grass_reach_bounds();
     // The grass lies between the lowest ground under it and its tallest
     // blade over the highest.
@@ -354,10 +360,10 @@ pub fn cull(c: &Cull) -> Check {
 }
 
 pub fn grass(g: &Grass) -> Check {
-    if g.bunch.is_empty() && g.meadow.is_empty() {
+    if g.bunch.is_empty() && g.meadow.is_empty() && g.cover.is_none() {
         return Err(FieldError::new(
             "",
-            "the scene has no grass; add a [[grass.bunch]] or a [[grass.meadow]]",
+            "the scene has no grass; add a [[grass.bunch]], a [[grass.meadow]] or a [grass.cover]",
         ));
     }
     let shape = &g.shape;
@@ -437,6 +443,40 @@ pub fn grass(g: &Grass) -> Check {
             format!("{total} blades in all is not allowed, use at most {MAX_BLADES}"),
         ));
     }
+    if let Some(c) = &g.cover {
+        cover(c, MAX_BLADES - total).map_err(|e| e.at("cover"))?;
+    }
+    Ok(())
+}
+
+/// The cover's values, and the blades it makes around the camera within
+/// the `room` the patches leave of `MAX_BLADES`.
+pub fn cover(c: &Cover, room: usize) -> Check {
+    positive("density", c.density, 10_000.0)?;
+    positive("view_distance", c.view_distance, VIEW_DISTANCE)?;
+    within(
+        "simulate_radius",
+        c.simulate_radius,
+        0.0..=c.view_distance,
+        &format!(
+            "a distance in 0..={} m (the view distance)",
+            c.view_distance
+        ),
+    )?;
+    let blades = super::cover::most_blades(c);
+    if blades > room as u64 {
+        let side = 2 * super::cover::tiles_reached(c.view_distance) + 1;
+        return Err(FieldError::new(
+            "view_distance",
+            format!(
+                "{} m at {} blades a square metre makes {side} x {side} tiles of {} blades, {blades} blades ({:.1} GB of control points), over the {room} allowed; lower view_distance or density",
+                c.view_distance,
+                c.density,
+                super::cover::per_tile(c.density),
+                blades as f64 * 128.0 / 1e9
+            ),
+        ));
+    }
     Ok(())
 }
 
@@ -474,6 +514,8 @@ pub fn wind(w: &super::WindConfig) -> Check {
     }
     positive("height", w.height, 1000.0)?;
     within("margin", w.margin, 0.0..=1000.0, "0..=1000 m")?;
+    positive("window[0]", w.window[0], 10_000.0)?;
+    positive("window[1]", w.window[1], 10_000.0)?;
     in_range("jacobi_iterations", w.jacobi_iterations, 0..=10_000)?;
     in_range("v_cycles", w.v_cycles, 1..=MAX_V_CYCLES)?;
     within("canopy_drag", w.canopy_drag, 0.0..=10.0, "0..=10")?;

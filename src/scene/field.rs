@@ -102,8 +102,22 @@ fn blade(rng: &mut Pcg64Mcg, shape: &BladeShape, root: Vec2, facing_angle: f32) 
     let h = rng.random_range(shape.height[0]..=shape.height[1]);
     let width = rng.random_range(shape.width[0]..=shape.width[1]);
     let c: f32 = rng.random(); // curvature within the kind
-                               // Profiles as (along the facing direction, up), scaled by the height.
-    let profile = match kind {
+    let profile = profile(kind, c).map(|[x, y]| [x * h, y * h]);
+    let facing = Vec3::new(facing_angle.cos(), 0.0, facing_angle.sin());
+    Blade::from_profile(
+        Vec3::new(root.x, 0.0, root.y),
+        facing,
+        profile,
+        0.5 * width,
+        kind,
+        rng.random(),
+    )
+}
+
+/// A blade's profile as (along the facing direction, up) pairs for a unit
+/// height, by kind and the curvature `c` in [0, 1) within the kind.
+pub fn profile(kind: BladeKind, c: f32) -> [[f32; 2]; 4] {
+    match kind {
         BladeKind::Upright => [
             [0.0, 0.0],
             [0.0, 0.34],
@@ -124,16 +138,6 @@ fn blade(rng: &mut Pcg64Mcg, shape: &BladeShape, root: Vec2, facing_angle: f32) 
             [0.62 + 0.15 * c, 0.5 - 0.15 * c],
         ],
     }
-    .map(|[x, y]| [x * h, y * h]);
-    let facing = Vec3::new(facing_angle.cos(), 0.0, facing_angle.sin());
-    Blade::from_profile(
-        Vec3::new(root.x, 0.0, root.y),
-        facing,
-        profile,
-        0.5 * width,
-        kind,
-        rng.random(),
-    )
 }
 
 #[cfg(test)]

@@ -4,6 +4,7 @@
 //! compiled in, so a user can copy one and edit it.
 
 pub mod check;
+pub mod cover;
 pub mod field;
 pub mod file;
 pub mod grey_png;
@@ -270,6 +271,38 @@ pub struct Grass {
     pub bunch: Vec<Bunch>,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub meadow: Vec<Meadow>,
+    /// Grass everywhere around the camera, made on the GPU tile by tile
+    /// (`[grass.cover]`; src/model/cover.rs).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cover: Option<Cover>,
+}
+
+/// Grass without edges: `density` blades a square metre in square tiles
+/// out to `view_distance` around the camera, each tile's blades drawn
+/// from `seed` and the tile's coordinates alone, so a tile that comes
+/// back holds the same blades (src/model/cover.rs).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Cover {
+    /// Blades per square metre.
+    pub density: f32,
+    /// How far from the camera tiles are made (m).
+    pub view_distance: f32,
+    /// The cover's own seed (absent: the scene's).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub seed: Option<u64>,
+    /// Within this distance of the camera (m) the blades carry the
+    /// paper's dynamics; beyond it, a quasi-static pose.
+    #[serde(default = "Cover::default_simulate_radius")]
+    pub simulate_radius: f32,
+}
+
+impl Cover {
+    pub const DEFAULT_SIMULATE_RADIUS: f32 = 30.0;
+
+    fn default_simulate_radius() -> f32 {
+        Self::DEFAULT_SIMULATE_RADIUS
+    }
 }
 
 /// A tuft of `count` blades within `radius` of `center` (world x, z).
@@ -483,6 +516,10 @@ pub struct WindConfig {
     pub height: f32,
     /// Horizontal margin around the grass (m).
     pub margin: f32,
+    /// With `[grass.cover]`: the grid's horizontal extent [x, z] (m),
+    /// centred under the camera, instead of the grass's box.
+    #[serde(skip_serializing_if = "WindConfig::is_default_window")]
+    pub window: [f32; 2],
     /// How the projection solves for the pressure: "multigrid" (default,
     /// converges) or "jacobi" (the paper's).
     pub solver: PressureSolver,
@@ -520,6 +557,7 @@ impl Default for WindConfig {
             cells: [60, 20, 60],
             height: 3.0,
             margin: 1.5,
+            window: DEFAULT_WIND_WINDOW,
             solver: PressureSolver::default(),
             jacobi_iterations: DEFAULT_JACOBI_ITERATIONS,
             v_cycles: DEFAULT_V_CYCLES,
@@ -535,7 +573,14 @@ impl Default for WindConfig {
     }
 }
 
+/// `wind.window`'s default (m): a 40 x 40 m square under the camera.
+pub const DEFAULT_WIND_WINDOW: [f32; 2] = [40.0, 40.0];
+
 impl WindConfig {
+    fn is_default_window(window: &[f32; 2]) -> bool {
+        *window == DEFAULT_WIND_WINDOW
+    }
+
     /// Wind from the left (paper Fig. 10): a gusting inflow along +x.
     pub fn from_the_left(speed: f32) -> Self {
         Self {
@@ -638,14 +683,21 @@ impl Scene {
     /// As `field`, counting the blades left out under the obstacles; a
     /// scene whose obstacles leave no blade is refused, naming them.
     pub fn planted(&self) -> Result<Planted> {
+        let terrain = self.ground.terrain();
+        if self.grass.cover.is_some() && !terrain.is_flat() {
+            return Err(Error::InvalidInput(
+                "grass.cover grows on flat ground only for now: the tile kernel roots its blades at height 0; remove [ground]'s hills or height map, or use a [[grass.meadow]]".into(),
+            ));
+        }
         let mut blades = field::generate(&self.grass, self.seed)?;
         let masked = self.mask_out(&mut blades);
-        if blades.is_empty() {
+        // A cover alone plants nothing here: its blades are made around
+        // the camera on the GPU.
+        if blades.is_empty() && !(self.grass.cover.is_some() && self.grass.blade_count() == 0) {
             return Err(Error::InvalidInput(format!(
                 "the meadows' masks leave none of the {masked} blades planted; make a mask lighter where grass should grow"
             )));
         }
-        let terrain = self.ground.terrain();
         if !terrain.is_flat() {
             // Rooted on the ground, growing upright as grass does on a
             // slope; contact keeps them over the ground within their reach
@@ -877,18 +929,34 @@ impl Scene {
         ([lo[0] - h, lo[1] - h], [hi[0] + h, hi[1] + h])
     }
 
-    /// Bounding box (x, z) of where the grass grows: (min, max).
+    /// Bounding box (x, z) of where the grass grows: (min, max). A cover
+    /// grows within its view distance of every camera position the scene
+    /// gives (its position and its path's keys).
     pub fn grass_bounds(&self) -> ([f32; 2], [f32; 2]) {
         let mut lo = [f32::MAX; 2];
         let mut hi = [f32::MIN; 2];
-        for p in self.grass.patches() {
-            let (c, half) = (p.center(), p.half_extent());
+        let mut grow = |c: [f32; 2], half: [f32; 2]| {
             for a in 0..2 {
                 lo[a] = lo[a].min(c[a] - half[a]);
                 hi[a] = hi[a].max(c[a] + half[a]);
             }
+        };
+        for p in self.grass.patches() {
+            grow(p.center(), p.half_extent());
+        }
+        if let Some(cover) = &self.grass.cover {
+            let d = cover.view_distance;
+            for p in self.camera_positions() {
+                grow([p.x, p.z], [d, d]);
+            }
         }
         (lo, hi)
+    }
+
+    /// The camera's position and its path's keys' positions.
+    pub fn camera_positions(&self) -> impl Iterator<Item = Vec3> + '_ {
+        let c = &self.camera;
+        std::iter::once(Vec3::from(c.position)).chain(c.path.iter().map(|k| Vec3::from(k.position)))
     }
 
     /// Everything that drives the scene's wind: its `[wind]`, the
@@ -909,11 +977,24 @@ impl Scene {
     pub fn wind_grid(&self) -> Result<WindGrid> {
         let w = &self.wind;
         check::wind(w).map_err(|e| e.at("wind"))?;
-        let (lo, hi) = self.grass_bounds();
-        let (lo, hi) = (
-            [lo[0] - w.margin, lo[1] - w.margin],
-            [hi[0] + w.margin, hi[1] + w.margin],
-        );
+        let (lo, hi) = match &self.grass.cover {
+            // The window under the camera where the scene starts.
+            Some(_) => {
+                let (eye, _) = self.camera.at(0.0);
+                let half = [0.5 * w.window[0], 0.5 * w.window[1]];
+                (
+                    [eye.x - half[0], eye.z - half[1]],
+                    [eye.x + half[0], eye.z + half[1]],
+                )
+            }
+            None => {
+                let (lo, hi) = self.grass_bounds();
+                (
+                    [lo[0] - w.margin, lo[1] - w.margin],
+                    [hi[0] + w.margin, hi[1] + w.margin],
+                )
+            }
+        };
         let span = [hi[0] - lo[0], hi[1] - lo[1]];
         // A quarter of a wind cell between the heights looked at.
         let step = (span[0] / w.cells[0] as f32).min(span[1] / w.cells[2] as f32) / 4.0;

@@ -1,0 +1,104 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// The cover's tiles (ours; `[grass.cover]`, src/scene/cover.rs): one
+// invocation per blade makes its four control points at rest from the
+// cover's seed, its tile's coordinates and its index in the tile alone,
+// bit for bit as `cover::blade` does on the CPU. Hence integer hashing,
+// draws of 24 bits, and additions and multiplications that are never
+// fused (`precise`); the facing's sine and cosine are the same Taylor
+// polynomials, their coefficients given by their bits.
+
+#include "blade_vertex.glsl"
+
+layout(local_size_x = COVER_GROUP) in;
+
+// CoverPush: src/interface/defs.rs.
+layout(push_constant, std430) uniform Push {
+    CoverPush pc;
+};
+
+// The blade buffer from blade `pc.first` on (a batch of it); the cover's
+// blades start at blade `pc.base`, after the scene's patches. Written only; not declared
+// writeonly because naga does not take it.
+layout(set = 0, binding = 0, std430) buffer Vertices { BladeVertex vertices[]; };
+
+// Wellons' lowbias32 (`cover::hash`).
+uint hash(uint x) {
+    x ^= x >> 16;
+    x *= 0x7feb352du;
+    x ^= x >> 15;
+    x *= 0x846ca68bu;
+    x ^= x >> 16;
+    return x;
+}
+
+uint draw_bits(uint key, uint k) {
+    return hash(key ^ (k * 0x9e3779b9u)) >> 8;
+}
+
+// Exact: 24 bits over 2^24.
+float draw(uint key, uint k) {
+    return float(draw_bits(key, k)) * (1.0 / 16777216.0);
+}
+
+// `cover::facing`: (cos, sin) across a quarter turn about the quadrant's axis.
+vec2 facing(float u, uint quadrant) {
+    precise float x = (u - 0.5) * uintBitsToFloat(0x3FC90FDBu); // pi/2
+    precise float x2 = x * x;
+    precise float s = x * (1.0 + x2 * (uintBitsToFloat(0xBE2AAAABu)
+        + x2 * (uintBitsToFloat(0x3C088889u) + x2 * (uintBitsToFloat(0xB9500D01u)
+        + x2 * uintBitsToFloat(0x3638EF1Du)))));
+    precise float c = 1.0 + x2 * (-0.5 + x2 * (uintBitsToFloat(0x3D2AAAABu)
+        + x2 * (uintBitsToFloat(0xBAB60B61u) + x2 * uintBitsToFloat(0x37D00D01u))));
+    switch (quadrant & 3u) {
+    case 0u: return vec2(c, s);
+    case 1u: return vec2(-s, c);
+    case 2u: return vec2(-c, -s);
+    default: return vec2(s, -c);
+    }
+}
+
+// `field::profile`: (along the facing, up) for a unit height.
+vec2[4] profile(uint kind, float c) {
+    precise vec2 p[4];
+    if (kind == 0u) {
+        p = vec2[4](vec2(0.0, 0.0), vec2(0.0, 0.34),
+                    vec2(0.04 + 0.06 * c, 0.67), vec2(0.08 + 0.14 * c, 0.99));
+    } else if (kind == 1u) {
+        p = vec2[4](vec2(0.0, 0.0), vec2(0.02, 0.36),
+                    vec2(0.12 + 0.12 * c, 0.68), vec2(0.34 + 0.26 * c, 0.86 - 0.1 * c));
+    } else {
+        p = vec2[4](vec2(0.0, 0.0), vec2(0.06, 0.5),
+                    vec2(0.3 + 0.1 * c, 0.84), vec2(0.62 + 0.15 * c, 0.5 - 0.15 * c));
+    }
+    return p;
+}
+
+void main() {
+    if (gl_GlobalInvocationID.x >= pc.count) {
+        return;
+    }
+    // The binding's blade, and which of the cover's it is.
+    uint local = pc.start + gl_GlobalInvocationID.x;
+    uint blade = pc.first + local - pc.base;
+    uint slot = blade / pc.per_tile;
+    uint index = blade - slot * pc.per_tile;
+    ivec2 tile = pc.origin + ivec2(int(slot % pc.side), int(slot / pc.side));
+    uint key = hash(pc.seed ^ hash(uint(tile.x) ^ hash(uint(tile.y) ^ hash(index))));
+
+    precise vec2 root = (vec2(tile) + vec2(draw(key, 0u), draw(key, 1u))) * pc.tile_m;
+    vec2 f = facing(draw(key, 2u), draw_bits(key, 3u));
+    precise float pick = draw(key, 4u) * pc.kinds.z;
+    uint kind = pick < pc.kinds.x ? 0u : (pick < pc.kinds.y ? 1u : 2u);
+    precise float h = pc.height.x + (pc.height.y - pc.height.x) * draw(key, 5u);
+    precise float width = pc.width.x + (pc.width.y - pc.width.x) * draw(key, 6u);
+    vec2 unit[4] = profile(kind, draw(key, 7u));
+    float rand = draw(key, 8u);
+    precise vec3 half_width = vec3(f.y, 0.0, -f.x) * (0.5 * width);
+    for (int i = 0; i < 4; ++i) {
+        // root + facing x + up y, as `Blade`'s rest points are summed.
+        precise vec3 p = vec3(root.x, 0.0, root.y) + vec3(f.x, 0.0, f.y) * (unit[i].x * h)
+            + vec3(0.0, 1.0, 0.0) * (unit[i].y * h);
+        vertices[4u * local + uint(i)] = BladeVertex(vec4(p, rand), vec4(half_width, 0.0));
+    }
+}

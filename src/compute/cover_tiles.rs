@@ -1,0 +1,166 @@
+//! The cover's tile pass (glsl/cover/tiles.comp; `[grass.cover]`): makes
+//! the blades of the tiles around the camera in the blade buffer, from the
+//! cover's seed and each tile's coordinates, as `scene::cover` does on the
+//! CPU. Nothing is kept between frames: the pass makes every tile each
+//! time it is recorded, so a tile that comes back holds the same blades.
+
+use std::ops::Range;
+
+use ash::vk;
+
+use crate::error::{Error, Result};
+use crate::gpu::batches::{part, sets_per_batch};
+use crate::gpu::{
+    Access, Buffer, BufferUse, DescriptorSet, Gpu, LayoutBinding, Pipeline, PipelineLayout,
+    Recording,
+};
+use crate::interface::{CoverPush, COVER_GROUP};
+use crate::model::BladeVertex;
+use crate::scene::cover::{self, CoverTiles};
+use crate::scene::{BladeShape, Cover};
+
+/// Set 0 of the tile kernel.
+pub const COVER_SET: &[LayoutBinding] = &[
+    LayoutBinding::compute_storage(0), // blade control points (a batch)
+];
+
+/// One blade's control points in the blade buffer.
+const BLADE_BYTES: usize = 4 * std::mem::size_of::<BladeVertex>();
+
+pub struct CoverTilePass {
+    pipeline: Pipeline,
+    /// One set per batch of the blade buffer, with its blades.
+    sets: Vec<(DescriptorSet, Range<u32>)>,
+    /// The buffer's blade the cover starts at, and how many blades it
+    /// holds for it: `cover::most_blades`.
+    base: u32,
+    capacity: u32,
+    seed: u32,
+    kinds: [f32; 3],
+    height: [f32; 2],
+    width: [f32; 2],
+    /// Workgroups one dispatch may have (maxComputeWorkGroupCount[0]).
+    max_groups: u32,
+}
+
+impl CoverTilePass {
+    /// The pass writing `cover`'s blades into `vertices` from its blade
+    /// `base` on (after the scene's patches' blades), which must hold
+    /// `cover::most_blades(cover)` blades there; `seed` is the cover's
+    /// (its own or the scene's).
+    pub fn new(
+        gpu: &Gpu,
+        cover: &Cover,
+        seed: u64,
+        shape: &BladeShape,
+        vertices: &Buffer,
+        base: u32,
+    ) -> Result<Self> {
+        let most = cover::most_blades(cover);
+        let too_many = || {
+            Error::InvalidInput(format!(
+                "grass.cover: {most} blades around the camera after {base} of the patches' are more than one buffer indexes; lower density or view_distance"
+            ))
+        };
+        let capacity = u32::try_from(most).map_err(|_| too_many())?;
+        let end = base.checked_add(capacity).ok_or_else(too_many)?;
+        if vertices.size < end as u64 * BLADE_BYTES as u64 {
+            return Err(Error::InvalidInput(format!(
+                "the blade buffer holds {} bytes, the patches' {base} and the cover's {most} blades need {}",
+                vertices.size,
+                end as u64 * BLADE_BYTES as u64
+            )));
+        }
+        let layout = PipelineLayout::new::<CoverPush>(
+            gpu,
+            COVER_SET,
+            vk::ShaderStageFlags::COMPUTE,
+            "cover tiles",
+        )?;
+        let pipeline = Pipeline::compute(gpu, &layout, &crate::shaders::COVER_TILES_COMP)?;
+        // Batches over the whole buffer, so that each binding starts at an
+        // offset every device's alignment divides; the kernel writes only
+        // the cover's part of those holding some of it.
+        let sets = sets_per_batch(
+            gpu,
+            &layout,
+            COVER_SET,
+            end,
+            BLADE_BYTES as u64,
+            "cover tiles set",
+            |blades| vec![part(vertices, blades, BLADE_BYTES)],
+        )?
+        .into_iter()
+        .filter(|(_, blades)| blades.end > base)
+        .collect();
+        Ok(Self {
+            pipeline,
+            sets,
+            base,
+            capacity,
+            seed: cover::seed32(seed),
+            kinds: cover::kind_thresholds(shape),
+            height: shape.height,
+            width: shape.width,
+            max_groups: gpu.limits().max_compute_work_group_count[0].max(1),
+        })
+    }
+
+    /// The blades the buffer holds for this cover.
+    pub fn capacity(&self) -> u32 {
+        self.capacity
+    }
+
+    /// The buffer's blade the cover's first blade is.
+    pub fn base(&self) -> u32 {
+        self.base
+    }
+
+    /// Records the making of `tiles`' blades (`CoverTiles::around` the
+    /// camera), declaring the blade buffer's write.
+    pub fn record(&self, rec: &Recording, vertices: &Buffer, tiles: &CoverTiles) -> Result<()> {
+        let blades = tiles.blade_count();
+        if blades > self.capacity as u64 {
+            return Err(Error::InvalidInput(format!(
+                "{blades} cover blades do not fit the {} the blade buffer holds",
+                self.capacity
+            )));
+        }
+        let end = self.base + blades as u32;
+        rec.uses(&[BufferUse::new(vertices, Access::COMPUTE_WRITE)]);
+        rec.bind_pipeline(&self.pipeline);
+        let per_dispatch = self.max_groups.saturating_mul(COVER_GROUP);
+        for (set, range) in &self.sets {
+            let (from, to) = (range.start.max(self.base), range.end.min(end));
+            if from >= to {
+                continue;
+            }
+            rec.bind_set(&self.pipeline, set);
+            let mut start = from - range.start;
+            while range.start + start < to {
+                let count = (to - range.start - start).min(per_dispatch);
+                let push = CoverPush {
+                    origin: tiles.origin,
+                    side: tiles.side,
+                    per_tile: tiles.per_tile,
+                    first: range.start,
+                    start,
+                    count,
+                    seed: self.seed,
+                    kinds: self.kinds,
+                    tile_m: cover::TILE_M,
+                    height: self.height,
+                    width: self.width,
+                    base: self.base,
+                    _pad0: 0,
+                    _pad1: 0,
+                    _pad2: 0,
+                };
+                rec.push_constants(&self.pipeline, &push);
+                rec.dispatch(count.div_ceil(COVER_GROUP));
+                start += count;
+            }
+        }
+        Ok(())
+    }
+}

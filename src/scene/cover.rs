@@ -1,0 +1,335 @@
+//! Grass everywhere (`[grass.cover]`): square tiles of `TILE_M` metres
+//! around the camera, each holding the same number of blades, each blade
+//! drawn from the cover's seed, its tile's coordinates and its index in
+//! the tile alone. Nothing is kept: a tile that comes back holds the same
+//! blades, and the GPU makes them (glsl/cover/tiles.comp) bit for bit as
+//! this reference does.
+//!
+//! Bit for bit because both sides use only what IEEE 754 rounds the same
+//! everywhere: integer hashing, conversion of 24-bit integers, and single
+//! additions and multiplications, none fused (the shader's `precise`).
+//! The facing's sine and cosine are polynomials on an eighth of a turn
+//! with the quadrant picked by two bits, not the platform's sin and cos.
+
+use glam::{Vec2, Vec3};
+
+use super::{BladeShape, Cover};
+use crate::model::{Blade, BladeKind, BladeVertex};
+
+/// A tile's side (m).
+pub const TILE_M: f32 = 4.0;
+
+/// The tiles made around one camera position: `side` x `side` of them
+/// from tile `origin` (tile coordinates: the tile at (i, j) covers
+/// x in [i, i + 1) TILE_M and z in [j, j + 1) TILE_M), `per_tile` blades
+/// each, in the blade buffer tile after tile, row by row.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct CoverTiles {
+    pub origin: [i32; 2],
+    pub side: u32,
+    pub per_tile: u32,
+}
+
+impl CoverTiles {
+    /// The tiles whose squares reach within the view distance of `camera`
+    /// (x, z), squared off: the camera's tile and `ceil(view_distance /
+    /// TILE_M)` more on every side.
+    pub fn around(cover: &Cover, camera: Vec2) -> Self {
+        let reach = tiles_reached(cover.view_distance);
+        let tile = (camera / TILE_M).floor();
+        Self {
+            origin: [tile.x as i32 - reach as i32, tile.y as i32 - reach as i32],
+            side: 2 * reach + 1,
+            per_tile: per_tile(cover.density),
+        }
+    }
+
+    pub fn tile_count(&self) -> u64 {
+        self.side as u64 * self.side as u64
+    }
+
+    pub fn blade_count(&self) -> u64 {
+        self.tile_count() * self.per_tile as u64
+    }
+
+    /// The tile coordinates of the blade buffer's `slot`th tile.
+    pub fn tile(&self, slot: u32) -> [i32; 2] {
+        [
+            self.origin[0] + (slot % self.side) as i32,
+            self.origin[1] + (slot / self.side) as i32,
+        ]
+    }
+}
+
+/// Tiles beyond the camera's own on each side for a view distance.
+pub fn tiles_reached(view_distance: f32) -> u32 {
+    (view_distance / TILE_M).ceil().max(0.0) as u32
+}
+
+/// Blades in a tile at `density` blades a square metre (at least one).
+pub fn per_tile(density: f32) -> u32 {
+    (density as f64 * (TILE_M * TILE_M) as f64).round().max(1.0) as u32
+}
+
+/// The blades `CoverTiles::around` makes at most for a cover, wherever the
+/// camera is: what the blade buffer must hold.
+pub fn most_blades(cover: &Cover) -> u64 {
+    let side = 2 * tiles_reached(cover.view_distance) as u64 + 1;
+    side * side * per_tile(cover.density) as u64
+}
+
+/// The cover's seed as the kernel takes it: the 64-bit seed folded to 32.
+pub fn seed32(seed: u64) -> u32 {
+    (seed ^ (seed >> 32)) as u32
+}
+
+/// The blade shape's kind weights as the two cumulative thresholds a draw
+/// in [0, total) is compared against, and the total.
+pub fn kind_thresholds(shape: &BladeShape) -> [f32; 3] {
+    let upright_or_curved = shape.upright + shape.curved;
+    [
+        shape.upright,
+        upright_or_curved,
+        upright_or_curved + shape.drooping,
+    ]
+}
+
+/// A 32-bit integer hash with good avalanche (Wellons' lowbias32), the
+/// same in glsl/cover/tiles.comp.
+pub fn hash(mut x: u32) -> u32 {
+    x ^= x >> 16;
+    x = x.wrapping_mul(0x7feb_352d);
+    x ^= x >> 15;
+    x = x.wrapping_mul(0x846c_a68b);
+    x ^= x >> 16;
+    x
+}
+
+/// The key all of a blade's draws come from.
+pub fn blade_key(seed: u32, tile: [i32; 2], index: u32) -> u32 {
+    hash(seed ^ hash(tile[0] as u32 ^ hash(tile[1] as u32 ^ hash(index))))
+}
+
+/// The blade's `k`th draw: 24 bits.
+pub fn draw_bits(key: u32, k: u32) -> u32 {
+    hash(key ^ k.wrapping_mul(0x9e37_79b9)) >> 8
+}
+
+/// The blade's `k`th draw in [0, 1): exact, 24 bits over 2^24.
+pub fn draw(key: u32, k: u32) -> f32 {
+    draw_bits(key, k) as f32 * (1.0 / 16_777_216.0)
+}
+
+/// The draws, by number.
+const DRAW_X: u32 = 0;
+const DRAW_Z: u32 = 1;
+const DRAW_FACING: u32 = 2;
+const DRAW_QUADRANT: u32 = 3;
+const DRAW_KIND: u32 = 4;
+const DRAW_HEIGHT: u32 = 5;
+const DRAW_WIDTH: u32 = 6;
+const DRAW_CURVATURE: u32 = 7;
+const DRAW_RAND: u32 = 8;
+
+/// The facing polynomials' coefficients, by their bits: the shader holds
+/// the same bits (`uintBitsToFloat`), so no compiler's reading of a
+/// decimal literal can make the two sides differ.
+const SIN_3: f32 = f32::from_bits(0xBE2A_AAAB); // -1/6
+const SIN_5: f32 = f32::from_bits(0x3C08_8889); // 1/120
+const SIN_7: f32 = f32::from_bits(0xB950_0D01); // -1/5040
+const SIN_9: f32 = f32::from_bits(0x3638_EF1D); // 1/362880
+const COS_2: f32 = -0.5;
+const COS_4: f32 = f32::from_bits(0x3D2A_AAAB); // 1/24
+const COS_6: f32 = f32::from_bits(0xBAB6_0B61); // -1/720
+const COS_8: f32 = f32::from_bits(0x37D0_0D01); // 1/40320
+
+/// (cos, sin) of an angle drawn uniformly over the circle: `u` in [0, 1)
+/// across a quarter turn centred on the quadrant's axis, `quadrant` in
+/// 0..4. Taylor polynomials to x^9 on [-pi/4, pi/4] (error below 3e-8):
+/// additions and multiplications only.
+pub fn facing(u: f32, quadrant: u32) -> Vec2 {
+    let x = (u - 0.5) * std::f32::consts::FRAC_PI_2;
+    let x2 = x * x;
+    let s = x * (1.0 + x2 * (SIN_3 + x2 * (SIN_5 + x2 * (SIN_7 + x2 * SIN_9))));
+    let c = 1.0 + x2 * (COS_2 + x2 * (COS_4 + x2 * (COS_6 + x2 * COS_8)));
+    match quadrant & 3 {
+        0 => Vec2::new(c, s),
+        1 => Vec2::new(-s, c),
+        2 => Vec2::new(-c, -s),
+        _ => Vec2::new(s, -c),
+    }
+}
+
+/// The `index`th blade of `tile`: the field generator's shapes
+/// (`field::profile`), rooted uniformly in the tile, on flat ground.
+pub fn blade(seed: u32, shape: &BladeShape, tile: [i32; 2], index: u32) -> Blade {
+    let key = blade_key(seed, tile, index);
+    let root = Vec2::new(
+        (tile[0] as f32 + draw(key, DRAW_X)) * TILE_M,
+        (tile[1] as f32 + draw(key, DRAW_Z)) * TILE_M,
+    );
+    let f = facing(draw(key, DRAW_FACING), draw_bits(key, DRAW_QUADRANT));
+    let [upright, upright_or_curved, total] = kind_thresholds(shape);
+    let pick = draw(key, DRAW_KIND) * total;
+    let kind = if pick < upright {
+        BladeKind::Upright
+    } else if pick < upright_or_curved {
+        BladeKind::Curved
+    } else {
+        BladeKind::Drooping
+    };
+    let between = |[lo, hi]: [f32; 2], u: f32| lo + (hi - lo) * u;
+    let h = between(shape.height, draw(key, DRAW_HEIGHT));
+    let width = between(shape.width, draw(key, DRAW_WIDTH));
+    let profile =
+        super::field::profile(kind, draw(key, DRAW_CURVATURE)).map(|[x, y]| [x * h, y * h]);
+    let root = Vec3::new(root.x, 0.0, root.y);
+    let facing = Vec3::new(f.x, 0.0, f.y);
+    Blade {
+        rest: profile.map(|[x, y]| root + facing * x + Vec3::Y * y),
+        half_width: 0.5 * width,
+        // UP x facing, unit to the polynomials' rounding: not normalised,
+        // which would take a square root.
+        width_dir: Vec3::new(f.y, 0.0, -f.x),
+        kind,
+        rand: draw(key, DRAW_RAND),
+        ground: Vec3::Y,
+        ground_curvature: 0.0,
+    }
+}
+
+/// The control points of every blade of `tiles`, in the blade buffer's
+/// order: what the tile kernel writes.
+pub fn vertices(seed: u32, shape: &BladeShape, tiles: &CoverTiles) -> Vec<BladeVertex> {
+    let mut out = Vec::with_capacity(tiles.blade_count() as usize * 4);
+    for slot in 0..tiles.tile_count() as u32 {
+        let tile = tiles.tile(slot);
+        for index in 0..tiles.per_tile {
+            out.extend(blade(seed, shape, tile, index).vertices());
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn cover(density: f32, view_distance: f32) -> Cover {
+        Cover {
+            density,
+            view_distance,
+            seed: None,
+            simulate_radius: Cover::DEFAULT_SIMULATE_RADIUS,
+        }
+    }
+
+    #[test]
+    fn the_coefficients_are_the_taylor_series() {
+        assert_eq!(SIN_3, -1.0 / 6.0);
+        assert_eq!(SIN_5, 1.0 / 120.0);
+        assert_eq!(SIN_7, -1.0 / 5040.0);
+        assert_eq!(SIN_9, 1.0 / 362_880.0);
+        assert_eq!(COS_4, 1.0 / 24.0);
+        assert_eq!(COS_6, -1.0 / 720.0);
+        assert_eq!(COS_8, 1.0 / 40320.0);
+    }
+
+    #[test]
+    fn the_facing_is_a_unit_vector_uniform_over_the_circle() {
+        let mut per_octant = [0u32; 8];
+        for i in 0..4000u32 {
+            let f = facing(draw(hash(i), 0), draw_bits(hash(i), 1));
+            assert!((f.length() - 1.0).abs() < 1e-6, "|{f}| = {}", f.length());
+            let angle = f.y.atan2(f.x).rem_euclid(std::f32::consts::TAU);
+            per_octant[(angle / std::f32::consts::FRAC_PI_4) as usize % 8] += 1;
+        }
+        // 500 expected in each; a binomial's spread is about 21.
+        for n in per_octant {
+            assert!((430..=570).contains(&n), "octants {per_octant:?}");
+        }
+        // Against the platform's sin and cos at the quarter turn's edges.
+        for (u, q) in [(0.0, 0), (0.999_999, 1), (0.25, 2), (0.75, 3)] {
+            let a =
+                (u - 0.5) * std::f32::consts::FRAC_PI_2 + q as f32 * std::f32::consts::FRAC_PI_2;
+            let f = facing(u, q);
+            assert!(
+                (f.x - a.cos()).abs() < 3e-7 && (f.y - a.sin()).abs() < 3e-7,
+                "{u} {q}: {f}"
+            );
+        }
+    }
+
+    #[test]
+    fn tiles_cover_the_view_distance_around_the_camera() {
+        let c = cover(40.0, 30.0);
+        let tiles = CoverTiles::around(&c, Vec2::new(-1.0, 9.0));
+        assert_eq!(tiles.per_tile, 640);
+        assert_eq!(tiles.side, 2 * 8 + 1);
+        assert_eq!(tiles.origin, [-1 - 8, 2 - 8]);
+        assert_eq!(tiles.blade_count(), most_blades(&c));
+        // Every point within the view distance lies in one of the tiles.
+        for k in 0..64 {
+            let a = k as f32 * std::f32::consts::TAU / 64.0;
+            let p = Vec2::new(-1.0, 9.0) + 30.0 * Vec2::new(a.cos(), a.sin());
+            let t = (p / TILE_M).floor();
+            let (i, j) = (t.x as i32 - tiles.origin[0], t.y as i32 - tiles.origin[1]);
+            assert!((0..17).contains(&i) && (0..17).contains(&j), "{p} outside");
+        }
+        assert_eq!(per_tile(0.01), 1);
+    }
+
+    #[test]
+    fn a_tile_holds_the_same_blades_from_any_camera_and_its_own_blades_only() {
+        let shape = BladeShape::default();
+        let c = cover(2.0, 8.0);
+        let a = CoverTiles::around(&c, Vec2::new(0.5, 0.5));
+        let b = CoverTiles::around(&c, Vec2::new(9.0, -3.0));
+        let (va, vb) = (vertices(7, &shape, &a), vertices(7, &shape, &b));
+        let per = 4 * a.per_tile as usize;
+        let mut shared = 0;
+        for slot_a in 0..a.tile_count() as u32 {
+            let tile = a.tile(slot_a);
+            let Some(slot_b) = (0..b.tile_count() as u32).find(|&s| b.tile(s) == tile) else {
+                continue;
+            };
+            shared += 1;
+            let (sa, sb) = (slot_a as usize * per, slot_b as usize * per);
+            assert_eq!(va[sa..sa + per], vb[sb..sb + per], "tile {tile:?}");
+            // Every root lies in its own tile.
+            for v in va[sa..sa + per].chunks(4) {
+                let root = Vec2::new(v[0].position[0], v[0].position[2]) / TILE_M;
+                assert_eq!(root.floor(), Vec2::new(tile[0] as f32, tile[1] as f32));
+            }
+        }
+        assert!(shared >= 9, "{shared} tiles shared");
+        // Another seed, other blades.
+        assert_ne!(vertices(8, &shape, &a), va);
+    }
+
+    #[test]
+    fn the_cover_has_the_fields_kinds_heights_and_widths() {
+        let shape = BladeShape::default();
+        let blades: Vec<Blade> = (0..3000)
+            .map(|i| blade(3, &shape, [i % 7, -(i / 7)], i as u32))
+            .collect();
+        let share = |kind| blades.iter().filter(|b| b.kind == kind).count() as f32 / 3000.0;
+        for (kind, weight) in [
+            (BladeKind::Upright, shape.upright),
+            (BladeKind::Curved, shape.curved),
+            (BladeKind::Drooping, shape.drooping),
+        ] {
+            assert!(
+                (share(kind) - weight).abs() < 0.04,
+                "{kind:?}: {}",
+                share(kind)
+            );
+        }
+        for b in &blades {
+            let w = 2.0 * b.half_width;
+            assert!(w >= shape.width[0] && w <= shape.width[1]);
+            assert_eq!(b.rest[0].y, 0.0);
+            assert!((b.width_dir.length() - 1.0).abs() < 1e-6);
+        }
+    }
+}
