@@ -19,7 +19,7 @@ fn cover() -> Cover {
         density: 2.0,
         view_distance: 8.0,
         seed: Some(11),
-        simulate_radius: 4.0,
+        simulate_radius: Some(4.0),
     }
 }
 
@@ -137,4 +137,102 @@ fn the_gpu_makes_the_tiles_bit_for_bit_as_the_cpu_and_a_tile_that_comes_back_is_
     }
     // Tiles -2..=2 and -1..=3 across, -2..=2 and -3..=1 along: 4 x 4 shared.
     assert_eq!(shared, 16, "tiles shared between the two cameras");
+}
+
+/// A scene of a cover beside a small meadow, the camera flying 30 m
+/// along x in 3 s.
+fn covered_scene(with_meadow: bool) -> meadow::scene::Scene {
+    let meadow_table = if with_meadow {
+        "[[grass.meadow]]\ncenter = [0.0, -3.0]\nsize = [2.0, 2.0]\ncount = 300\n"
+    } else {
+        ""
+    };
+    let text = format!(
+        r#"name = "covered"
+seed = 5
+
+[camera]
+position = [0.0, 1.5, 4.0]
+target = [0.0, 0.3, -4.0]
+fov_y = 50.0
+
+[[camera.path]]
+time = 0.0
+position = [0.0, 1.5, 4.0]
+target = [0.0, 0.3, -4.0]
+
+[[camera.path]]
+time = 3.0
+position = [30.0, 1.5, 4.0]
+target = [30.0, 0.3, -4.0]
+
+[light]
+shadow_map = 512
+
+{meadow_table}
+[grass.cover]
+density = 3.0
+view_distance = 10.0
+"#
+    );
+    meadow::scene::file::parse(&text, "covered.toml").unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// The frame makes the cover around the camera where it stands at each
+/// frame's time, bit for bit as the CPU reference, after the meadow's
+/// blades, which stay as they were uploaded; and it draws them.
+#[test]
+fn each_frame_makes_the_cover_around_the_camera_after_the_patches_blades() {
+    use meadow::frame::FrameRecorder;
+    use meadow::render::{FrameUniforms, ViewMode};
+    for with_meadow in [true, false] {
+        let scene = covered_scene(with_meadow);
+        let cover = scene.grass.cover.clone().unwrap();
+        let blades = scene.field().unwrap();
+        assert_eq!(blades.len(), if with_meadow { 300 } else { 0 });
+        let gpu = strict_gpu_with(None);
+        let (w, h) = (160, 90);
+        let mut recorder = FrameRecorder::new(&gpu, &scene, (w, h), 1, &blades, None).unwrap();
+        let mut made = Vec::new();
+        for time in [0.0, 1.5, 3.0] {
+            let uniforms = FrameUniforms::new(&scene, w, h, ViewMode::Shaded, time);
+            let frame = recorder.render(&gpu, &uniforms, 0).unwrap();
+            let all: Vec<BladeVertex> = recorder
+                .blades()
+                .buffer()
+                .read_back(
+                    &gpu,
+                    recorder.commands(),
+                    recorder.blades().count() as usize * 4,
+                )
+                .unwrap();
+            let drawn = frame.cull.map(|c| c.in_view).unwrap_or(0);
+            made.push((time, all, drawn, recorder.cover_blades()));
+        }
+        drop(recorder);
+        finish(gpu);
+
+        let patches: Vec<BladeVertex> = blades.iter().flat_map(|b| b.vertices()).collect();
+        let seed = cover::seed32(scene.seed);
+        let mut origins = Vec::new();
+        for (time, all, drawn, generated) in &made {
+            let (eye, _) = scene.camera.at(*time);
+            let tiles = CoverTiles::around(&cover, Vec2::new(eye.x, eye.z));
+            origins.push(tiles.origin);
+            assert_eq!(*generated, tiles.blade_count());
+            let (before, covered) = all.split_at(patches.len());
+            assert_eq!(bits(before), bits(&patches), "the patches' blades changed");
+            let cpu = cover::vertices(seed, &scene.grass.shape, &tiles);
+            assert_eq!(
+                bits(covered),
+                bits(&cpu),
+                "at {time} s the cover differs from the CPU's"
+            );
+            assert!(*drawn > 100, "at {time} s only {drawn} blades were drawn");
+        }
+        // The camera moved 15 m between frames, from x 0 to 15 to 30: the
+        // tiles followed it, from the camera's tile 0 to 3 to 7.
+        assert_eq!(origins[1][0] - origins[0][0], 3);
+        assert_eq!(origins[2][0] - origins[1][0], 4);
+    }
 }

@@ -663,6 +663,10 @@ fn bad_cover_is_refused_naming_the_field_the_limit_and_the_memory() {
     ) + "[grass.cover]\ndensity = 40.0\nview_distance = 60.0\nseed = 3\n";
     let scene = file::parse(&alone, "cover.toml").unwrap_or_else(|e| panic!("{e}"));
     let cover = scene.grass.cover.unwrap();
-    assert_eq!(cover.simulate_radius, 30.0);
+    assert_eq!(cover.simulate_radius(), 30.0);
     assert_eq!(cover.seed, Some(3));
+    // Within a shorter view distance, the default is the view distance.
+    let near = alone.replace("view_distance = 60.0", "view_distance = 12.0");
+    let scene = file::parse(&near, "cover.toml").unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(scene.grass.cover.unwrap().simulate_radius(), 12.0);
 }

@@ -278,7 +278,11 @@ fn bench_count(
         simulation.wind_mut().record_step(&rec, i as f32 * dt, dt);
     }
     rec.submit_and_wait("wind warm-up")?;
-    let grass = simulation.grass();
+    let grass = simulation.grass().ok_or_else(|| {
+        Error::InvalidInput(
+            "bench-grass steps the patches' blades and this scene's only grass is a [grass.cover]; add a [[grass.meadow]] or pick another scene".into(),
+        )
+    })?;
 
     let rec = commands.begin()?;
     let end_time = |step: u32| crate::model::contact::step_end_time(step as u64, dt);

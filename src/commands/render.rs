@@ -15,7 +15,7 @@ use crate::gpu::query::PipelineStatistics;
 use crate::gpu::{Gpu, GpuOptions, ValidationReport};
 use crate::render::FrameUniforms;
 use crate::report::claim::{name_in_folder, OutputClaim};
-pub use crate::report::render::RenderReport;
+pub use crate::report::render::{BladeCounts, RenderReport};
 use crate::report::video::{self, VideoFormat, VideoWriter};
 use crate::report::{files, legend};
 use crate::scene::{field, Planted, Scene, ViewMode};
@@ -292,6 +292,12 @@ fn render_with(
             other => other,
         })?;
     let msaa_used = recorder.samples();
+    let generated = recorder.cover_blades();
+    let simulated = if simulation.grass().is_some() {
+        blades.len() as u64
+    } else {
+        0
+    };
 
     let info = gpu.info();
     let device_memory = gpu.device_memory();
@@ -314,6 +320,20 @@ fn render_with(
             msaa_requested: request.msaa,
             msaa_used,
             blades: blades.len(),
+            blade_counts: {
+                let all = simulated + generated;
+                let (in_view, drawn) = match &done.cull {
+                    Some(c) => ((c.in_view + c.occluded) as u64, c.in_view as u64),
+                    None => (all, all),
+                };
+                BladeCounts {
+                    generated,
+                    simulated,
+                    at_rest: generated,
+                    in_view,
+                    drawn,
+                }
+            },
             blades_under_obstacles: under_obstacles,
             width: request.width,
             height: request.height,

@@ -764,7 +764,14 @@ fn sample(
         vertices
             .buffer()
             .read_back(gpu, commands, 4 * trace.total_blades)?;
-    let states = simulation.grass().read_states(gpu, commands)?;
+    let states = simulation
+        .grass()
+        .ok_or_else(|| {
+            Error::InvalidInput(
+                "trace follows the patches' blades and this scene's only grass is a [grass.cover]; add a [[grass.meadow]] or pick another scene".into(),
+            )
+        })?
+        .read_states(gpu, commands)?;
     trace.times.push(step as f64 * trace.dt as f64);
     for &b in &trace.blades {
         let tip = all[4 * b as usize + 3].position;

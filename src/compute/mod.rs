@@ -26,7 +26,9 @@ pub use step_pace::StepPace;
 pub use wind_pass::WindPass;
 
 pub struct Simulation {
-    grass: GrassPass,
+    /// None where the scene's only grass is a cover (no patch blades to
+    /// step): the wind runs alone.
+    grass: Option<GrassPass>,
     wind: WindPass,
     dt: f32,
     steps_done: u64,
@@ -46,15 +48,19 @@ impl Simulation {
         let settings = scene.wind_settings();
         let dt = scene.wind.dt;
         let wind = WindPass::new(gpu, commands, grid, &settings, canopy::unit(blades))?;
-        let grass = GrassPass::new(
-            gpu,
-            commands,
-            blades,
-            vertices,
-            &wind.grass_input(),
-            &scene.colliders,
-            dt,
-        )?;
+        let grass = (!blades.is_empty())
+            .then(|| {
+                GrassPass::new(
+                    gpu,
+                    commands,
+                    blades,
+                    vertices,
+                    &wind.grass_input(),
+                    &scene.colliders,
+                    dt,
+                )
+            })
+            .transpose()?;
         Ok(Self {
             grass,
             wind,
@@ -92,7 +98,9 @@ impl Simulation {
     /// completes it.
     pub fn record_grass_step(&mut self, rec: &Recording) {
         let end_time = crate::model::contact::step_end_time(self.steps_done, self.dt);
-        self.grass.record_step(rec, 0, end_time);
+        if let Some(grass) = &self.grass {
+            grass.record_step(rec, 0, end_time);
+        }
         self.steps_done += 1;
     }
 
@@ -109,7 +117,9 @@ impl Simulation {
     /// the command buffer, no upload. A simulation made without colliders
     /// refuses any, and changes neither pass.
     pub fn set_colliders(&mut self, colliders: &[Collider]) -> Result<()> {
-        self.grass.set_colliders(colliders)?;
+        if let Some(grass) = &mut self.grass {
+            grass.set_colliders(colliders)?;
+        }
         self.wind.set_colliders(colliders)
     }
 
@@ -119,15 +129,19 @@ impl Simulation {
         gpu: &Gpu,
         commands: &CommandPool,
     ) -> Result<crate::model::grass::CapCounts> {
-        self.grass.read_caps(gpu, commands, self.steps_done)
+        match &self.grass {
+            Some(grass) => grass.read_caps(gpu, commands, self.steps_done),
+            None => Ok(Default::default()),
+        }
     }
 
     pub fn steps_done(&self) -> u64 {
         self.steps_done
     }
 
+    /// The grass step's substeps (0 without patch blades).
     pub fn substeps(&self) -> u32 {
-        self.grass.substeps()
+        self.grass.as_ref().map_or(0, GrassPass::substeps)
     }
 
     pub fn dt(&self) -> f32 {
@@ -142,7 +156,8 @@ impl Simulation {
         &mut self.wind
     }
 
-    pub fn grass(&self) -> &GrassPass {
-        &self.grass
+    /// The patches' grass pass; None where the only grass is a cover.
+    pub fn grass(&self) -> Option<&GrassPass> {
+        self.grass.as_ref()
     }
 }

@@ -40,6 +40,42 @@ impl BladeBuffer {
         Ok(Self { buffer, count })
     }
 
+    /// The blades' rest shape, uploaded once, and after them room for
+    /// `room` more that a pass writes each frame (the cover's tiles).
+    pub fn with_room(
+        gpu: &Gpu,
+        commands: &CommandPool,
+        blades: &[Blade],
+        room: u32,
+    ) -> Result<Self> {
+        if room == 0 {
+            return Self::new(gpu, commands, blades);
+        }
+        let count = drawable(blades.len() + room as usize)?;
+        let buffer = Buffer::new(
+            gpu,
+            "blade control points (vertex buffer; the cover's after the patches')",
+            count as u64 * 4 * std::mem::size_of::<BladeVertex>() as u64,
+            USAGE | vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuOnly,
+        )?;
+        if !blades.is_empty() {
+            let vertices: Vec<BladeVertex> = try_collect(
+                4 * blades.len(),
+                blades.iter().flat_map(Blade::vertices),
+                "the blades' control points",
+            )?;
+            buffer.upload(
+                gpu,
+                commands,
+                "blade control points (vertex buffer)",
+                bytemuck::cast_slice(&vertices),
+                Access::VERTEX_INPUT,
+            )?;
+        }
+        Ok(Self { buffer, count })
+    }
+
     /// Room for `blades` blades, contents undefined until the grass
     /// dynamics writes them (for timing the grass step alone, and tests).
     pub fn uninitialised(gpu: &Gpu, name: &str, blades: usize) -> Result<Self> {

@@ -11,7 +11,7 @@
 pub mod blades;
 pub mod timing;
 
-use crate::compute::Simulation;
+use crate::compute::{CoverTilePass, Simulation};
 use crate::error::{Error, Result};
 use crate::gpu::query::{PipelineStatistics, Span, SpanTimer, StatisticsQuery};
 use crate::gpu::swapchain::Presented;
@@ -23,7 +23,8 @@ use crate::model::{Blade, GrassBlade};
 use crate::render::cull::{BladeDraw, CullPass};
 use crate::render::depth_pyramid::Occluders;
 use crate::render::{FrameUniforms, Renderer};
-use crate::scene::{Scene, ViewMode};
+use crate::scene::cover::CoverTiles;
+use crate::scene::{Cover, Scene, ViewMode};
 
 pub use crate::render::cull::CullCounts;
 pub use blades::BladeBuffer;
@@ -77,6 +78,12 @@ pub struct Frame {
 /// of blades at rest), the rendering phase, and the recording of both.
 pub struct FrameRecorder {
     simulation: Option<Simulation>,
+    /// With `[grass.cover]`: the pass making its tiles around the camera
+    /// each frame, after the patches' blades, and the cover.
+    cover: Option<(CoverTilePass, Cover)>,
+    /// Where the camera stands this frame (x, z): what the cover's tiles
+    /// surround.
+    camera_xz: glam::Vec2,
     cull: Option<CullPass>,
     renderer: Renderer,
     blades: BladeBuffer,
@@ -114,13 +121,41 @@ impl FrameRecorder {
         let statistics = StatisticsQuery::new(gpu, "grass pipeline statistics")?;
         let shadow_statistics = StatisticsQuery::new(gpu, "shadow pass pipeline statistics")?;
         let timer = SpanTimer::new(gpu, 16, "frame phase timestamps")?;
-        let blade_buffer = BladeBuffer::new(gpu, &commands, blades)?;
+        let room = match &scene.grass.cover {
+            Some(c) => u32::try_from(crate::scene::cover::most_blades(c)).map_err(|_| {
+                Error::InvalidInput(
+                    "grass.cover makes more blades than one buffer indexes; lower density or view_distance".into(),
+                )
+            })?,
+            None => 0,
+        };
+        let blade_buffer = BladeBuffer::with_room(gpu, &commands, blades, room)?;
+        let cover = scene
+            .grass
+            .cover
+            .as_ref()
+            .map(|c| {
+                let base = blades.len() as u32;
+                let seed = c.seed.unwrap_or(scene.seed);
+                CoverTilePass::new(
+                    gpu,
+                    c,
+                    seed,
+                    &scene.grass.shape,
+                    blade_buffer.buffer(),
+                    base,
+                )
+                .map(|pass| (pass, c.clone()))
+            })
+            .transpose()?;
         let simulation = dynamics
             .map(|d| Simulation::new(gpu, &commands, scene, d, blade_buffer.buffer()))
             .transpose()?;
         let cull = Self::cull_pass(gpu, scene, &renderer, &blade_buffer)?;
         Ok(Self {
             simulation,
+            cover,
+            camera_xz: glam::Vec2::ZERO,
             cull,
             renderer,
             blades: blade_buffer,
@@ -265,6 +300,14 @@ impl FrameRecorder {
         &self.renderer
     }
 
+    /// The cover's blades each frame makes around the camera (0 without
+    /// `[grass.cover]`): its whole square of tiles.
+    pub fn cover_blades(&self) -> u64 {
+        self.cover.as_ref().map_or(0, |(_, c)| {
+            CoverTiles::around(c, self.camera_xz).blade_count()
+        })
+    }
+
     /// The cull pass (None with culling off).
     pub fn cull(&self) -> Option<&CullPass> {
         self.cull.as_ref()
@@ -377,6 +420,8 @@ impl FrameRecorder {
         let occluders = self.prepare(gpu, uniforms, steps)?;
         let Self {
             simulation,
+            cover,
+            camera_xz,
             cull,
             renderer,
             blades,
@@ -406,6 +451,14 @@ impl FrameRecorder {
                     return Ok(None);
                 }
             }
+        }
+        if let Some((pass, cover)) = cover.as_ref() {
+            let tiles = CoverTiles::around(cover, *camera_xz);
+            let mut made = Ok(());
+            t.span(&rec, Phase::Cover, |rec| {
+                made = pass.record(rec, buffer, &tiles);
+            });
+            made?;
         }
         if let Some(cull) = cull.as_ref() {
             t.span(&rec, Phase::Cull, |rec| cull.record(rec, occluders));
@@ -479,6 +532,7 @@ impl FrameRecorder {
             ));
         }
         self.renderer.set_uniforms(uniforms);
+        self.camera_xz = glam::Vec2::new(uniforms.camera_pos[0], uniforms.camera_pos[2]);
         let occluders = self
             .renderer
             .begin_frame(glam::Mat4::from_cols_array(&uniforms.view_proj));
@@ -486,9 +540,9 @@ impl FrameRecorder {
         if let Some(s) = &self.simulation {
             self.renderer.place_colliders(s.time_after(steps) as f32);
         }
-        // Two spans per simulation step, seven for the frame's own phases.
+        // Two spans per simulation step, eight for the frame's own phases.
         if let Some(timer) = self.timer.as_mut() {
-            let pairs = u32::try_from(steps.saturating_mul(2).saturating_add(7)).map_err(|_| {
+            let pairs = u32::try_from(steps.saturating_mul(2).saturating_add(8)).map_err(|_| {
                 Error::InvalidInput(format!(
                     "{steps} simulation steps in one frame are too many to time"
                 ))
@@ -611,14 +665,31 @@ pub fn render_blades(
 /// wind grid checks its own.
 pub fn check_fits(gpu: &Gpu, scene: &Scene, width: u32, height: u32, msaa: u32) -> Result<()> {
     let pixels = width as u64 * height as u64;
-    gpu.check_fits(
-        &format!(
+    // The cover's blades: their control points, and the cull pass's lists.
+    let cover = scene
+        .grass
+        .cover
+        .as_ref()
+        .map_or(0, crate::scene::cover::most_blades);
+    let what = match &scene.grass.cover {
+        Some(c) => format!(
+            "{} blades and grass.cover's {cover} (density {} a square metre, view_distance {} m) at {width}x{height} with {msaa}x MSAA",
+            scene.blade_count(),
+            c.density,
+            c.view_distance
+        ),
+        None => format!(
             "{} blades at {width}x{height} with {msaa}x MSAA",
             scene.blade_count()
         ),
+    };
+    let drawn = scene.blade_count().saturating_add(cover as usize);
+    gpu.check_fits(
+        &what,
         crate::compute::grass_pass::device_bytes(scene.blade_count(), !scene.colliders.is_empty())
+            + cover * 4 * std::mem::size_of::<crate::model::BladeVertex>() as u64
             + if scene.cull.enabled {
-                crate::render::cull::device_bytes(scene.blade_count())
+                crate::render::cull::device_bytes(drawn)
             } else {
                 0
             }

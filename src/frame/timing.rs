@@ -12,6 +12,8 @@ pub enum Phase {
     Wind,
     /// Grass dynamics steps (swing, bend, twist).
     Grass,
+    /// The cover's tiles made around the camera (`[grass.cover]`).
+    Cover,
     /// The cull pass: which blades the shadow and colour passes draw.
     Cull,
     /// The depth-only pass from the sun into the shadow map.
@@ -28,9 +30,10 @@ pub enum Phase {
 }
 
 impl Phase {
-    pub const ALL: [Phase; 8] = [
+    pub const ALL: [Phase; 9] = [
         Phase::Wind,
         Phase::Grass,
+        Phase::Cover,
         Phase::Cull,
         Phase::Shadow,
         Phase::Color,
@@ -43,6 +46,7 @@ impl Phase {
         match self {
             Phase::Wind => "wind",
             Phase::Grass => "grass",
+            Phase::Cover => "cover",
             Phase::Cull => "cull",
             Phase::Shadow => "shadow",
             Phase::Color => "colour",
@@ -58,6 +62,7 @@ impl Phase {
 pub struct PerPhase<T> {
     pub wind: T,
     pub grass: T,
+    pub cover: T,
     pub cull: T,
     pub shadow: T,
     #[serde(rename = "colour")]
@@ -73,6 +78,7 @@ impl<T> PerPhase<T> {
         Self {
             wind: f(Phase::Wind),
             grass: f(Phase::Grass),
+            cover: f(Phase::Cover),
             cull: f(Phase::Cull),
             shadow: f(Phase::Shadow),
             color: f(Phase::Color),
@@ -86,6 +92,7 @@ impl<T> PerPhase<T> {
         match phase {
             Phase::Wind => &mut self.wind,
             Phase::Grass => &mut self.grass,
+            Phase::Cover => &mut self.cover,
             Phase::Cull => &mut self.cull,
             Phase::Shadow => &mut self.shadow,
             Phase::Color => &mut self.color,
@@ -101,6 +108,7 @@ impl<T: Copy> PerPhase<T> {
         match phase {
             Phase::Wind => self.wind,
             Phase::Grass => self.grass,
+            Phase::Cover => self.cover,
             Phase::Cull => self.cull,
             Phase::Shadow => self.shadow,
             Phase::Color => self.color,

@@ -37,6 +37,8 @@ pub struct RenderReport {
     /// left out (their roots inside one).
     pub blades: usize,
     pub blades_under_obstacles: usize,
+    /// The last frame's blades by what happened to them.
+    pub blade_counts: BladeCounts,
     pub width: u32,
     pub height: u32,
     pub lod: bool,
@@ -82,6 +84,19 @@ pub struct RenderReport {
     /// Wall-clock seconds of the whole job (GPU start-up to teardown).
     pub wall_seconds: f64,
     pub validation: ValidationReport,
+}
+
+/// One frame's blades by what happened to them: made by the cover's tile
+/// pass, stepped by the paper's dynamics (the patches'), drawn in their
+/// rest shape (the cover's, which no dynamics moves yet), in view (with
+/// culling; else every blade) and drawn by the colour pass.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+pub struct BladeCounts {
+    pub generated: u64,
+    pub simulated: u64,
+    pub at_rest: u64,
+    pub in_view: u64,
+    pub drawn: u64,
 }
 
 /// What `meadow render` prints when it is done: the device and settings,
@@ -135,6 +150,13 @@ pub fn summary(report: &RenderReport, out: &Path) -> String {
         )
         }
         None => text += "culling: off (every blade drawn in both passes)\n",
+    }
+    let b = &report.blade_counts;
+    if b.generated > 0 {
+        text += &format!(
+            "cover: {} blades made around the camera each frame, drawn at rest; {} simulated\n",
+            b.generated, b.simulated
+        );
     }
     if report.validation.enabled {
         text += &format!(

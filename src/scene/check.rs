@@ -456,7 +456,7 @@ pub fn cover(c: &Cover, room: usize) -> Check {
     positive("view_distance", c.view_distance, VIEW_DISTANCE)?;
     within(
         "simulate_radius",
-        c.simulate_radius,
+        c.simulate_radius(),
         0.0..=c.view_distance,
         &format!(
             "a distance in 0..={} m (the view distance)",

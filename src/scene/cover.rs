@@ -220,7 +220,7 @@ mod tests {
             density,
             view_distance,
             seed: None,
-            simulate_radius: Cover::DEFAULT_SIMULATE_RADIUS,
+            simulate_radius: None,
         }
     }
 

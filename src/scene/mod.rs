@@ -292,16 +292,19 @@ pub struct Cover {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub seed: Option<u64>,
     /// Within this distance of the camera (m) the blades carry the
-    /// paper's dynamics; beyond it, a quasi-static pose.
-    #[serde(default = "Cover::default_simulate_radius")]
-    pub simulate_radius: f32,
+    /// paper's dynamics; beyond it, a quasi-static pose (absent: 30 m, or
+    /// the view distance where that is shorter).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub simulate_radius: Option<f32>,
 }
 
 impl Cover {
     pub const DEFAULT_SIMULATE_RADIUS: f32 = 30.0;
 
-    fn default_simulate_radius() -> f32 {
-        Self::DEFAULT_SIMULATE_RADIUS
+    /// The radius given, or the default within the view distance.
+    pub fn simulate_radius(&self) -> f32 {
+        self.simulate_radius
+            .unwrap_or(Self::DEFAULT_SIMULATE_RADIUS.min(self.view_distance))
     }
 }
 

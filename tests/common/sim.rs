@@ -83,6 +83,7 @@ impl SimRig {
     pub fn states(&self, gpu: &Gpu) -> Vec<GrassState> {
         self.simulation
             .grass()
+            .expect("a scene with patch blades")
             .read_states(gpu, &self.commands)
             .unwrap()
     }
