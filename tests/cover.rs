@@ -12,7 +12,7 @@ use meadow::compute::CoverTilePass;
 use meadow::gpu::{Access, Buffer, CommandPool, Gpu};
 use meadow::model::BladeVertex;
 use meadow::scene::cover::{self, CoverTiles};
-use meadow::scene::{BladeShape, Cover};
+use meadow::scene::{BladeShape, Cover, Grass};
 
 fn cover() -> Cover {
     Cover {
@@ -50,7 +50,21 @@ fn made_on_the_gpu(
         Access::COMPUTE_WRITE,
     )
     .unwrap();
-    let pass = CoverTilePass::new(gpu, cover, cover.seed.unwrap(), shape, &buffer, base).unwrap();
+    let grass = Grass {
+        shape: shape.clone(),
+        ..Grass::default()
+    };
+    let pass = CoverTilePass::new(
+        gpu,
+        &commands,
+        cover,
+        cover.seed.unwrap(),
+        &grass,
+        &buffer,
+        base,
+        None,
+    )
+    .unwrap();
     let made = cameras
         .iter()
         .map(|&camera| {
@@ -235,4 +249,120 @@ fn each_frame_makes_the_cover_around_the_camera_after_the_patches_blades() {
         assert_eq!(origins[1][0] - origins[0][0], 3);
         assert_eq!(origins[2][0] - origins[1][0], 4);
     }
+}
+
+/// In a steady wind the tile kernel poses each blade where its torques
+/// balance, as the CPU reference does (`cover::posed_vertices`, the
+/// quasi-static solve of src/model/quasi_static.rs), to the two solves'
+/// rounding: the GPU's in f32, the CPU's small system in f64.
+#[test]
+fn in_a_steady_wind_the_gpu_poses_the_cover_where_its_torques_balance_as_the_cpu() {
+    use glam::{UVec3, Vec3};
+    use meadow::compute::cover_tiles::CoverWind;
+    use meadow::model::wind::{WindField, WindGrid, WindSettings};
+
+    let cover = Cover {
+        density: 1.0,
+        view_distance: 4.0,
+        seed: Some(3),
+        simulate_radius: Some(0.0),
+    };
+    let grass = Grass::default();
+    // 3 x 3 tiles of 16 blades around the origin, in a wind that varies
+    // from face to face: 1.5-4.5 m/s along x, 0.2-1 m/s along z.
+    let grid = WindGrid::new(
+        UVec3::new(8, 4, 8),
+        Vec3::new(-8.0, 0.0, -8.0),
+        Vec3::new(16.0, 2.0, 16.0),
+    )
+    .unwrap();
+    let mut field = WindField::new(grid, &WindSettings::default());
+    for (i, v) in field.vel[0].iter_mut().enumerate() {
+        *v = 1.5 + (i % 11) as f32 * 0.3;
+    }
+    for (i, v) in field.vel[2].iter_mut().enumerate() {
+        *v = 1.0 - (i % 5) as f32 * 0.2;
+    }
+    let recorded: Vec<f32> = field.vel.iter().flatten().copied().collect();
+    let tiles = CoverTiles::around(&cover, Vec2::ZERO);
+    let blades = tiles.blade_count() as usize;
+
+    let gpu = strict_gpu_with(None);
+    let commands = CommandPool::new(&gpu, "cover pose commands").unwrap();
+    let velocity = Buffer::with_data(
+        &gpu,
+        &commands,
+        "steady wind",
+        bytemuck::cast_slice(&recorded),
+        vk::BufferUsageFlags::STORAGE_BUFFER,
+        Access::COMPUTE_READ,
+    )
+    .unwrap();
+    let vertices = Buffer::new(
+        &gpu,
+        "posed cover",
+        (blades * 4 * std::mem::size_of::<BladeVertex>()) as u64,
+        vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC,
+        meadow::gpu::MemoryLocation::GpuOnly,
+    )
+    .unwrap();
+    let pass = CoverTilePass::new(
+        &gpu,
+        &commands,
+        &cover,
+        3,
+        &grass,
+        &vertices,
+        0,
+        Some(CoverWind {
+            velocity: &velocity,
+            grid,
+        }),
+    )
+    .unwrap();
+    let rec = commands.begin().unwrap();
+    pass.record(&rec, &vertices, &tiles).unwrap();
+    rec.submit_and_wait("posing the cover").unwrap();
+    let posed: Vec<BladeVertex> = vertices.read_back(&gpu, &commands, blades * 4).unwrap();
+    drop((pass, vertices, velocity, commands));
+    finish(gpu);
+
+    let seed = cover::seed32(3);
+    let cpu = cover::posed_vertices(seed, &grass.shape, &grass.dynamics, &tiles, |x| {
+        field.sample(x)
+    })
+    .unwrap();
+    let rest = cover::vertices(seed, &grass.shape, &tiles);
+    let (mut differs, mut moved) = (0.0f32, 0.0f32);
+    for ((g, c), r) in posed.iter().zip(&cpu).zip(&rest) {
+        let at = |v: &BladeVertex| Vec3::from_slice(&v.position[..3]);
+        differs = differs.max(at(g).distance(at(c)));
+        moved = moved.max(at(c).distance(at(r)));
+        assert_eq!(g.position[3], c.position[3], "the colour draw");
+    }
+    eprintln!("posed cover: GPU and CPU within {differs:e} m; tips moved up to {moved} m");
+    assert!(moved > 0.1, "the wind barely posed the blades: {moved} m");
+    assert!(differs < 1e-4, "GPU and CPU poses differ by {differs} m");
+}
+
+/// What a cover cannot do yet is refused in one line naming it: `--blades`
+/// on a scene whose only grass is a cover, a cover on hills.
+#[test]
+fn a_cover_refuses_blades_and_hills_in_one_line() {
+    let mut steppe = meadow::scene::Scene::builtin("steppe").unwrap();
+    let err = steppe.set_blade_count(1000).unwrap_err().to_string();
+    assert!(err.contains("only grass is a [grass.cover]"), "{err}");
+    assert_eq!(err.lines().count(), 1);
+    let hills = meadow::scene::Scene::builtin("hills").unwrap();
+    let mut text = meadow::scene::file::to_toml(&hills);
+    text += "\n[grass.cover]\ndensity = 2.0\nview_distance = 20.0\n";
+    let covered =
+        meadow::scene::file::parse(&text, "hills-covered.toml").unwrap_or_else(|e| panic!("{e}"));
+    assert!(!covered.ground.terrain().is_flat());
+    let err = covered.planted().unwrap_err().to_string();
+    assert!(
+        err.contains("grass.cover grows on flat ground only"),
+        "{err}"
+    );
+    assert_eq!(err.lines().count(), 1);
 }

@@ -8,7 +8,9 @@
 // fused (`precise`); the facing's sine and cosine are the same Taylor
 // polynomials, their coefficients given by their bits.
 
+#include "wind_grid.glsl"
 #include "blade_vertex.glsl"
+#include "../grass/quasi_static.glsl"
 
 layout(local_size_x = COVER_GROUP) in;
 
@@ -21,6 +23,12 @@ layout(push_constant, std430) uniform Push {
 // blades start at blade `pc.base`, after the scene's patches. Written only; not declared
 // writeonly because naga does not take it.
 layout(set = 0, binding = 0, std430) buffer Vertices { BladeVertex vertices[]; };
+// CoverParams: src/interface/defs.rs.
+layout(set = 0, binding = 1, std430) readonly buffer Params { CoverParams params; };
+// The wind the blades are posed in (a placeholder with `params.pose` 0).
+layout(set = 0, binding = 2, std430) readonly buffer Wind { float wind_velocity[]; };
+#define WIND_VELOCITY(i) wind_velocity[i]
+#include "wind_sample.glsl"
 
 // Wellons' lowbias32 (`cover::hash`).
 uint hash(uint x) {
@@ -74,6 +82,43 @@ vec2[4] profile(uint kind, float c) {
     return p;
 }
 
+// The blade as the dynamics read it (`GrassBlade::new`): stiffness
+// k_i = k_tip r^((2 - i) / 2), the bending groups split where the slope's
+// sign turns, the drag S sigma per motion; its inertia and damping play no
+// part at rest.
+GrassBlade cover_grass_blade(vec3 p[4], vec3 width_dir, float half_width, float rand,
+                             float k_tip, float ratio, float sigma) {
+    GrassBlade b;
+    b.rest[0] = vec4(p[0], rand);
+    b.rest[1] = vec4(p[1], 0.0);
+    b.rest[2] = vec4(p[2], 0.0);
+    b.rest[3] = vec4(p[3], 0.0);
+    b.width = vec4(width_dir, half_width);
+    bool rising = p[1].y >= p[0].y;
+    int split = 3;
+    for (int i = 2; i >= 1; --i) {
+        if ((p[i + 1].y >= p[i].y) != rising) {
+            split = i;
+        }
+    }
+    b.stiffness = vec4(k_tip * ratio, k_tip * sqrt(ratio), k_tip, float(split));
+    float len[3];
+    for (int i = 0; i < 3; ++i) {
+        len[i] = distance(p[i], p[i + 1]);
+    }
+    float a = 0.0;
+    for (int i = 0; i < split; ++i) {
+        a += len[i];
+    }
+    float all = len[0] + len[1] + len[2];
+    float area = 2.0 * half_width;
+    b.drag = vec4(sigma * all * area, sigma * a * area,
+                  split < 3 ? sigma * (all - a) * area : 0.0, sigma * all * area);
+    b.inertia = vec4(1.0);
+    b.damping = vec4(0.0);
+    return b;
+}
+
 void main() {
     if (gl_GlobalInvocationID.x >= pc.count) {
         return;
@@ -94,11 +139,34 @@ void main() {
     precise float width = pc.width.x + (pc.width.y - pc.width.x) * draw(key, 6u);
     vec2 unit[4] = profile(kind, draw(key, 7u));
     float rand = draw(key, 8u);
-    precise vec3 half_width = vec3(f.y, 0.0, -f.x) * (0.5 * width);
+    precise float hw = 0.5 * width;
+    precise vec3 half_width = vec3(f.y, 0.0, -f.x) * hw;
+    vec3 rest[4];
     for (int i = 0; i < 4; ++i) {
         // root + facing x + up y, as `Blade`'s rest points are summed.
         precise vec3 p = vec3(root.x, 0.0, root.y) + vec3(f.x, 0.0, f.y) * (unit[i].x * h)
             + vec3(0.0, 1.0, 0.0) * (unit[i].y * h);
-        vertices[4u * local + uint(i)] = BladeVertex(vec4(p, rand), vec4(half_width, 0.0));
+        rest[i] = p;
+    }
+    if (params.pose == 0u) {
+        for (int i = 0; i < 4; ++i) {
+            vertices[4u * local + uint(i)] = BladeVertex(vec4(rest[i], rand), vec4(half_width, 0.0));
+        }
+        return;
+    }
+    // The quasi-static pose in the wind at the rest tip (`cover::posed_vertices`),
+    // written as the grass step writes a blade (`write_blade` in step.glsl).
+    float between_tip = params.tip_stiffness.x + (params.tip_stiffness.y - params.tip_stiffness.x) * draw(key, 9u);
+    float ratio = params.stiffness_ratio.x + (params.stiffness_ratio.y - params.stiffness_ratio.x) * draw(key, 10u);
+    float sigma = params.sigma.x + (params.sigma.y - params.sigma.x) * draw(key, 11u);
+    GrassBlade b = cover_grass_blade(rest, vec3(f.y, 0.0, -f.x), hw, rand, between_tip, ratio, sigma);
+    vec4 angle = quasi_static_angles(b, sample_wind(params.grid, rest[3]));
+    Pose p = blade_pose(b, angle, 0.0);
+    vec3 rest_tip = normalize_or(rest[3] - rest[2], UP);
+    float displacement = atan(length(cross(rest_tip, p.e[2])), dot(rest_tip, p.e[2]));
+    for (int i = 0; i < BLADE_CONTROL_POINTS; ++i) {
+        int edge = max(i, 1) - 1;
+        vertices[4u * local + uint(i)] = BladeVertex(vec4(p.points[i], rand),
+                                                     vec4(p.w_local[edge] * hw, displacement));
     }
 }

@@ -326,10 +326,12 @@ fn render_with(
                     Some(c) => ((c.in_view + c.occluded) as u64, c.in_view as u64),
                     None => (all, all),
                 };
+                // A render always runs the wind: the cover is posed in it.
                 BladeCounts {
                     generated,
                     simulated,
-                    at_rest: generated,
+                    quasi_static: generated,
+                    at_rest: 0,
                     in_view,
                     drawn,
                 }

@@ -11,24 +11,41 @@ use ash::vk;
 use crate::error::{Error, Result};
 use crate::gpu::batches::{part, sets_per_batch};
 use crate::gpu::{
-    Access, Buffer, BufferUse, DescriptorSet, Gpu, LayoutBinding, Pipeline, PipelineLayout,
-    Recording,
+    Access, Buffer, BufferId, BufferUse, DescriptorSet, Gpu, LayoutBinding, Pipeline,
+    PipelineLayout, Recording,
 };
-use crate::interface::{CoverPush, COVER_GROUP};
+use crate::gpu::{Bound, CommandPool, MemoryLocation};
+use crate::interface::{CoverParams, CoverPush, COVER_GROUP};
+use crate::model::wind::WindGrid;
 use crate::model::BladeVertex;
 use crate::scene::cover::{self, CoverTiles};
-use crate::scene::{BladeShape, Cover};
+use crate::scene::{Cover, Grass};
 
 /// Set 0 of the tile kernel.
 pub const COVER_SET: &[LayoutBinding] = &[
     LayoutBinding::compute_storage(0), // blade control points (a batch)
+    LayoutBinding::compute_storage(1), // CoverParams
+    LayoutBinding::compute_storage(2), // the wind velocity (or a placeholder)
 ];
+
+/// The wind the cover's blades are posed in: the solver's velocity (one
+/// copy of every face) and its grid.
+pub struct CoverWind<'a> {
+    pub velocity: &'a Buffer,
+    pub grid: WindGrid,
+}
 
 /// One blade's control points in the blade buffer.
 const BLADE_BYTES: usize = 4 * std::mem::size_of::<BladeVertex>();
 
 pub struct CoverTilePass {
     pipeline: Pipeline,
+    params: Buffer,
+    /// The wind's velocity where the blades are posed (the sets keep it
+    /// alive; declared read each frame); else a placeholder bound in its
+    /// place.
+    wind: Option<BufferId>,
+    _placeholder: Option<Buffer>,
     /// One set per batch of the blade buffer, with its blades.
     sets: Vec<(DescriptorSet, Range<u32>)>,
     /// The buffer's blade the cover starts at, and how many blades it
@@ -47,14 +64,19 @@ impl CoverTilePass {
     /// The pass writing `cover`'s blades into `vertices` from its blade
     /// `base` on (after the scene's patches' blades), which must hold
     /// `cover::most_blades(cover)` blades there; `seed` is the cover's
-    /// (its own or the scene's).
+    /// (its own or the scene's), `grass` the scene's shapes and physics.
+    /// With `wind` the blades take their quasi-static pose in it; without,
+    /// they stand at rest.
+    #[allow(clippy::too_many_arguments)]
     pub fn new(
         gpu: &Gpu,
+        commands: &CommandPool,
         cover: &Cover,
         seed: u64,
-        shape: &BladeShape,
+        grass: &Grass,
         vertices: &Buffer,
         base: u32,
+        wind: Option<CoverWind<'_>>,
     ) -> Result<Self> {
         let most = cover::most_blades(cover);
         let too_many = || {
@@ -71,6 +93,46 @@ impl CoverTilePass {
                 end as u64 * BLADE_BYTES as u64
             )));
         }
+        let d = &grass.dynamics;
+        let record = CoverParams {
+            grid: match &wind {
+                Some(w) => {
+                    let faces: u64 = (0..3)
+                        .map(|a| w.grid.face_dims(a).as_u64vec3().element_product())
+                        .sum();
+                    super::wind_pass::grid_params(&w.grid, faces as u32)
+                }
+                None => bytemuck::Zeroable::zeroed(),
+            },
+            tip_stiffness: d.tip_stiffness,
+            stiffness_ratio: d.stiffness_ratio,
+            sigma: d.sigma,
+            pose: wind.is_some() as u32,
+            _pad0: 0,
+        };
+        let params = Buffer::with_data(
+            gpu,
+            commands,
+            "cover tile parameters",
+            bytemuck::bytes_of(&record),
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+            Access::COMPUTE_READ,
+        )?;
+        let placeholder = match wind {
+            Some(_) => None,
+            None => Some(Buffer::new(
+                gpu,
+                "cover wind placeholder (no wind: blades at rest)",
+                16,
+                vk::BufferUsageFlags::STORAGE_BUFFER,
+                MemoryLocation::GpuOnly,
+            )?),
+        };
+        let wind_buffer: &Buffer = match (&wind, &placeholder) {
+            (Some(w), _) => w.velocity,
+            (None, Some(p)) => p,
+            (None, None) => unreachable!("a placeholder is made without wind"),
+        };
         let layout = PipelineLayout::new::<CoverPush>(
             gpu,
             COVER_SET,
@@ -88,20 +150,30 @@ impl CoverTilePass {
             end,
             BLADE_BYTES as u64,
             "cover tiles set",
-            |blades| vec![part(vertices, blades, BLADE_BYTES)],
+            |blades| {
+                vec![
+                    part(vertices, blades, BLADE_BYTES),
+                    Bound::Buffer(&params),
+                    Bound::Buffer(wind_buffer),
+                ]
+            },
         )?
         .into_iter()
         .filter(|(_, blades)| blades.end > base)
         .collect();
+        let wind = wind.map(|w| BufferId::from(w.velocity));
         Ok(Self {
             pipeline,
+            params,
+            wind,
+            _placeholder: placeholder,
             sets,
             base,
             capacity,
             seed: cover::seed32(seed),
-            kinds: cover::kind_thresholds(shape),
-            height: shape.height,
-            width: shape.width,
+            kinds: cover::kind_thresholds(&grass.shape),
+            height: grass.shape.height,
+            width: grass.shape.width,
             max_groups: gpu.limits().max_compute_work_group_count[0].max(1),
         })
     }
@@ -127,7 +199,14 @@ impl CoverTilePass {
             )));
         }
         let end = self.base + blades as u32;
-        rec.uses(&[BufferUse::new(vertices, Access::COMPUTE_WRITE)]);
+        let mut uses = vec![
+            BufferUse::new(vertices, Access::COMPUTE_WRITE),
+            BufferUse::new(&self.params, Access::COMPUTE_READ),
+        ];
+        if let Some(wind) = self.wind {
+            uses.push(BufferUse::new(wind, Access::COMPUTE_READ));
+        }
+        rec.uses(&uses);
         rec.bind_pipeline(&self.pipeline);
         let per_dispatch = self.max_groups.saturating_mul(COVER_GROUP);
         for (set, range) in &self.sets {

@@ -11,6 +11,7 @@
 pub mod blades;
 pub mod timing;
 
+use crate::compute::cover_tiles::CoverWind;
 use crate::compute::{CoverTilePass, Simulation};
 use crate::error::{Error, Result};
 use crate::gpu::query::{PipelineStatistics, Span, SpanTimer, StatisticsQuery};
@@ -130,26 +131,32 @@ impl FrameRecorder {
             None => 0,
         };
         let blade_buffer = BladeBuffer::with_room(gpu, &commands, blades, room)?;
+        let simulation = dynamics
+            .map(|d| Simulation::new(gpu, &commands, scene, d, blade_buffer.buffer()))
+            .transpose()?;
+        // Posed in the simulation's wind; at rest in a still.
         let cover = scene
             .grass
             .cover
             .as_ref()
             .map(|c| {
-                let base = blades.len() as u32;
-                let seed = c.seed.unwrap_or(scene.seed);
+                let input = simulation.as_ref().map(|s| s.wind().grass_input());
+                let wind = input.as_ref().map(|i| CoverWind {
+                    velocity: i.velocity,
+                    grid: i.grid,
+                });
                 CoverTilePass::new(
                     gpu,
+                    &commands,
                     c,
-                    seed,
-                    &scene.grass.shape,
+                    c.seed.unwrap_or(scene.seed),
+                    &scene.grass,
                     blade_buffer.buffer(),
-                    base,
+                    blades.len() as u32,
+                    wind,
                 )
                 .map(|pass| (pass, c.clone()))
             })
-            .transpose()?;
-        let simulation = dynamics
-            .map(|d| Simulation::new(gpu, &commands, scene, d, blade_buffer.buffer()))
             .transpose()?;
         let cull = Self::cull_pass(gpu, scene, &renderer, &blade_buffer)?;
         Ok(Self {

@@ -373,6 +373,23 @@ gpu_interface! {
         pub _pad2: u32,
     }
 
+    /// What the cover's tile kernel reads besides its push constants
+    /// (glsl/cover/tiles.comp), written when the pass is made: the wind
+    /// grid it samples and the blades' physics ranges, for their
+    /// quasi-static pose.
+    pub struct CoverParams {
+        pub grid: WindGridParams,
+        /// [min, max] of k_tip, k_root / k_tip and sigma
+        /// (`[grass.dynamics]`).
+        pub tip_stiffness: [f32; 2],
+        pub stiffness_ratio: [f32; 2],
+        pub sigma: [f32; 2],
+        /// 1: the blades take their quasi-static pose in the wind; 0: they
+        /// stand at rest (no wind to pose them in).
+        pub pose: u32,
+        pub _pad0: u32,
+    }
+
     /// Push constants of the bench's floor (glsl/bench/floor.vert).
     pub struct FloorPush {
         /// Quads along each blade.

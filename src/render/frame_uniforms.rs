@@ -92,7 +92,12 @@ impl FrameUniforms {
             .try_normalize()
             .unwrap_or(Vec3::Y);
         let lod = &scene.lod;
-        let ground = scene.grass_center();
+        // The clear ground lies around the grass; a cover's grass lies
+        // around the camera.
+        let ground = match scene.grass.cover {
+            Some(_) => eye,
+            None => scene.grass_center(),
+        };
         Self {
             view_proj: view_proj.to_cols_array(),
             inv_view_proj: view_proj.inverse().to_cols_array(),

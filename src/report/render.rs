@@ -87,13 +87,15 @@ pub struct RenderReport {
 }
 
 /// One frame's blades by what happened to them: made by the cover's tile
-/// pass, stepped by the paper's dynamics (the patches'), drawn in their
-/// rest shape (the cover's, which no dynamics moves yet), in view (with
-/// culling; else every blade) and drawn by the colour pass.
+/// pass, stepped by the paper's dynamics (the patches'), posed
+/// quasi-statically in the wind (the cover's, where a wind runs) or left
+/// in their rest shape (the cover's in a still), in view (with culling;
+/// else every blade) and drawn by the colour pass.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
 pub struct BladeCounts {
     pub generated: u64,
     pub simulated: u64,
+    pub quasi_static: u64,
     pub at_rest: u64,
     pub in_view: u64,
     pub drawn: u64,
@@ -154,8 +156,8 @@ pub fn summary(report: &RenderReport, out: &Path) -> String {
     let b = &report.blade_counts;
     if b.generated > 0 {
         text += &format!(
-            "cover: {} blades made around the camera each frame, drawn at rest; {} simulated\n",
-            b.generated, b.simulated
+            "cover: {} blades made around the camera each frame, {} posed quasi-statically in the wind, {} at rest; {} simulated\n",
+            b.generated, b.quasi_static, b.at_rest, b.simulated
         );
     }
     if report.validation.enabled {

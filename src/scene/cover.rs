@@ -13,8 +13,11 @@
 
 use glam::{Vec2, Vec3};
 
-use super::{BladeShape, Cover};
-use crate::model::{Blade, BladeKind, BladeVertex};
+use super::{BladeShape, Cover, GrassDynamics};
+use crate::error::Result;
+use crate::model::grass::{self, GrassBlade};
+use crate::model::quasi_static::quasi_static_angles;
+use crate::model::{Blade, BladeKind, BladePhysics, BladeVertex};
 
 /// A tile's side (m).
 pub const TILE_M: f32 = 4.0;
@@ -196,6 +199,52 @@ pub fn blade(seed: u32, shape: &BladeShape, tile: [i32; 2], index: u32) -> Blade
         ground: Vec3::Y,
         ground_curvature: 0.0,
     }
+}
+
+/// The physics draws: k_tip, k_root / k_tip and sigma (what the
+/// quasi-static pose needs), then edge mass and damping ratio.
+const DRAW_TIP_STIFFNESS: u32 = 9;
+const DRAW_STIFFNESS_RATIO: u32 = 10;
+const DRAW_SIGMA: u32 = 11;
+const DRAW_EDGE_MASS: u32 = 12;
+const DRAW_DAMPING_RATIO: u32 = 13;
+
+/// The `index`th blade of `tile`'s physical parameters, from the scene's
+/// ranges (`[grass.dynamics]`), drawn as the shape is.
+pub fn physics(seed: u32, dynamics: &GrassDynamics, tile: [i32; 2], index: u32) -> BladePhysics {
+    let key = blade_key(seed, tile, index);
+    let between = |[lo, hi]: [f32; 2], k: u32| lo + (hi - lo) * draw(key, k);
+    BladePhysics {
+        edge_mass: between(dynamics.edge_mass, DRAW_EDGE_MASS),
+        sigma: between(dynamics.sigma, DRAW_SIGMA),
+        tip_stiffness: between(dynamics.tip_stiffness, DRAW_TIP_STIFFNESS),
+        stiffness_ratio: between(dynamics.stiffness_ratio, DRAW_STIFFNESS_RATIO),
+        damping_ratio: between(dynamics.damping_ratio, DRAW_DAMPING_RATIO),
+    }
+}
+
+/// The control points of every blade of `tiles` in its quasi-static pose
+/// (src/model/quasi_static.rs) for the wind `wind_at` gives at its rest
+/// tip, in the blade buffer's order: what the tile kernel writes with a
+/// wind to pose them in (to the solve's tolerance, not bit for bit).
+pub fn posed_vertices(
+    seed: u32,
+    shape: &BladeShape,
+    dynamics: &GrassDynamics,
+    tiles: &CoverTiles,
+    wind_at: impl Fn(Vec3) -> Vec3,
+) -> Result<Vec<BladeVertex>> {
+    let mut out = Vec::with_capacity(tiles.blade_count() as usize * 4);
+    for slot in 0..tiles.tile_count() as u32 {
+        let tile = tiles.tile(slot);
+        for index in 0..tiles.per_tile {
+            let rest = blade(seed, shape, tile, index);
+            let b = GrassBlade::new(&rest, &physics(seed, dynamics, tile, index))?;
+            let (angles, _) = quasi_static_angles(&b, wind_at(rest.rest[3]));
+            out.extend(grass::vertices(&b, &grass::pose(&b, angles)));
+        }
+    }
+    Ok(out)
 }
 
 /// The control points of every blade of `tiles`, in the blade buffer's

@@ -259,7 +259,7 @@ impl Default for Cull {
 }
 
 /// The grass: where it grows and what blades it has.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Grass {
     #[serde(default)]
@@ -642,6 +642,7 @@ pub const BUILTIN: &[(&str, &str)] = &[
     ("table1", include_str!("../../scenes/table1.toml")),
     ("gust-strip", include_str!("../../scenes/gust-strip.toml")),
     ("prairie", include_str!("../../scenes/prairie.toml")),
+    ("steppe", include_str!("../../scenes/steppe.toml")),
     ("roll", include_str!("../../scenes/roll.toml")),
     ("hills", include_str!("../../scenes/hills.toml")),
 ];
@@ -847,6 +848,11 @@ impl Scene {
         }
         let old = self.blade_count().max(1);
         let patches = self.grass.patches();
+        if patches.is_empty() {
+            return Err(Error::InvalidInput(format!(
+                "--blades {total}: this scene's only grass is a [grass.cover], whose blades follow its density and view_distance; change those in the scene file"
+            )));
+        }
         if total < patches.len() {
             return Err(Error::InvalidInput(format!(
                 "--blades {total} is fewer than the scene's {} patches of grass (bunches and meadows), each of which needs a blade; use at least {}",

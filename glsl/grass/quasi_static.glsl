@@ -1,0 +1,130 @@
+// The quasi-static pose (ours; `quasi_static_angles` in
+// src/model/quasi_static.rs, whose header gives the method): the angles at
+// which a blade's torques balance at rest in a steady wind, found by
+// pseudo-transient continuation, (c K - J) d = T, J by central differences,
+// K the still-air stiffness at rest, c from 10 down as the torque falls.
+// The same steps in f32 (the CPU solves its small system in f64), so the
+// two agree to the solve's tolerance, not bit for bit.
+#ifndef MEADOW_QUASI_STATIC_GLSL
+#define MEADOW_QUASI_STATIC_GLSL
+
+#include "dynamics.glsl"
+
+const int QS_MAX_ITERATIONS = 100;     // `quasi_static::MAX_ITERATIONS`
+const float QS_START_RELAXATION = 10.0;
+const float QS_MAX_TURN = 0.25;        // rad
+const float QS_DIFFERENCE = 1e-3;      // rad
+const float QS_TOLERANCE = 1e-6;       // rad
+
+vec4 qs_torque(GrassBlade b, vec4 angle, vec3 wind) {
+    GrassState s = GrassState(angle, vec4(0.0));
+    return torques(b, blade_pose(b, angle, 0.0), s, wind, 1.0);
+}
+
+// 1 for each motion the blade has (the second bending group's only with
+// two groups).
+vec4 qs_motions(GrassBlade b) {
+    return vec4(1.0, 1.0, split_edge(b) < 3 ? 1.0 : 0.0, 1.0);
+}
+
+// d torque / d angle, column m the motion m varied (a motion the blade
+// does not have: a zero column).
+mat4 qs_jacobian(GrassBlade b, vec4 angle, vec3 wind, vec4 used) {
+    mat4 j = mat4(0.0);
+    for (int m = 0; m < 4; ++m) {
+        if (used[m] != 0.0) {
+            vec4 plus = angle;
+            vec4 minus = angle;
+            plus[m] += QS_DIFFERENCE;
+            minus[m] -= QS_DIFFERENCE;
+            j[m] = (qs_torque(b, plus, wind) - qs_torque(b, minus, wind)) / (2.0 * QS_DIFFERENCE);
+        }
+    }
+    return j;
+}
+
+// a x = r (a column-major) by Gaussian elimination with partial pivoting;
+// false when a is singular.
+bool qs_solve(mat4 a, vec4 r, out vec4 x) {
+    float m[4][5];
+    for (int row = 0; row < 4; ++row) {
+        for (int col = 0; col < 4; ++col) {
+            m[row][col] = a[col][row];
+        }
+        m[row][4] = r[row];
+    }
+    for (int col = 0; col < 4; ++col) {
+        int pivot = col;
+        for (int row = col + 1; row < 4; ++row) {
+            if (abs(m[row][col]) > abs(m[pivot][col])) {
+                pivot = row;
+            }
+        }
+        if (abs(m[pivot][col]) < 1e-30) {
+            x = vec4(0.0);
+            return false;
+        }
+        for (int k = 0; k < 5; ++k) {
+            float t = m[col][k];
+            m[col][k] = m[pivot][k];
+            m[pivot][k] = t;
+        }
+        for (int row = col + 1; row < 4; ++row) {
+            float f = m[row][col] / m[col][col];
+            for (int k = col; k < 5; ++k) {
+                m[row][k] -= f * m[col][k];
+            }
+        }
+    }
+    for (int row = 3; row >= 0; --row) {
+        float sum = m[row][4];
+        for (int k = row + 1; k < 4; ++k) {
+            sum -= m[row][k] * x[k];
+        }
+        x[row] = sum / m[row][row];
+    }
+    return true;
+}
+
+float qs_norm(vec4 t, vec4 used) {
+    return length(t * used);
+}
+
+// The balance's angles (swing, bend A, bend B, twist) for `wind` at the tip.
+vec4 quasi_static_angles(GrassBlade b, vec3 wind) {
+    wind = guard_wind(wind);
+    vec4 used = qs_motions(b);
+    vec4 angle = vec4(0.0);
+    mat4 still = qs_jacobian(b, angle, vec3(0.0), used);
+    vec4 stiffness = vec4(1.0);
+    for (int m = 0; m < 4; ++m) {
+        stiffness[m] = max(-still[m][m], 1e-12);
+    }
+    float relax = QS_START_RELAXATION;
+    float last_norm = qs_norm(qs_torque(b, angle, wind), used);
+    for (int iteration = 0; iteration < QS_MAX_ITERATIONS; ++iteration) {
+        vec4 t = qs_torque(b, angle, wind) * used;
+        float now = qs_norm(t, used);
+        relax = min(relax * now / max(last_norm, 1e-37), QS_START_RELAXATION);
+        last_norm = now;
+        mat4 system = -qs_jacobian(b, angle, wind, used);
+        for (int m = 0; m < 4; ++m) {
+            // A motion the blade lacks: d = 0.
+            system[m][m] = used[m] != 0.0 ? system[m][m] + relax * stiffness[m] : 1.0;
+        }
+        vec4 delta;
+        if (!qs_solve(system, t, delta)) {
+            break;
+        }
+        delta *= used;
+        float largest = max(max(abs(delta.x), abs(delta.y)), max(abs(delta.z), abs(delta.w)));
+        float scale = largest > QS_MAX_TURN ? QS_MAX_TURN / largest : 1.0;
+        angle = clamp(angle + delta * scale, vec4(-MAX_ANGLE), vec4(MAX_ANGLE));
+        if (largest < QS_TOLERANCE && relax < 1e-3) {
+            break;
+        }
+    }
+    return angle;
+}
+
+#endif
