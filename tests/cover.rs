@@ -8,8 +8,11 @@ mod common;
 use ash::vk;
 use common::{finish, strict_gpu_with};
 use glam::Vec2;
+use glam::{UVec3, Vec3};
+use meadow::compute::cover_tiles::{CoverSetup, CoverWind};
 use meadow::compute::CoverTilePass;
 use meadow::gpu::{Access, Buffer, CommandPool, Gpu};
+use meadow::model::wind::{WindField, WindGrid, WindSettings};
 use meadow::model::BladeVertex;
 use meadow::scene::cover::{self, CoverTiles};
 use meadow::scene::{BladeShape, Cover, Grass};
@@ -54,15 +57,20 @@ fn made_on_the_gpu(
         shape: shape.clone(),
         ..Grass::default()
     };
+    let frame = unused_frame_uniforms(gpu);
     let pass = CoverTilePass::new(
         gpu,
         &commands,
-        cover,
-        cover.seed.unwrap(),
-        &grass,
-        &buffer,
-        base,
-        None,
+        CoverSetup {
+            cover,
+            seed: cover.seed.unwrap(),
+            grass: &grass,
+            vertices: &buffer,
+            base,
+            wind: None,
+            frame: &frame,
+            pose_drawn_only: false,
+        },
     )
     .unwrap();
     let made = cameras
@@ -80,8 +88,27 @@ fn made_on_the_gpu(
             (cover.to_vec(), kept)
         })
         .collect();
-    drop((pass, buffer, commands));
+    drop((pass, buffer, frame, commands));
     made
+}
+
+/// The frame uniforms a tile pass binds, as a renderer holds them.
+fn frame_uniforms(gpu: &Gpu, uniforms: &meadow::render::FrameUniforms) -> Buffer {
+    let mut buffer = Buffer::new(
+        gpu,
+        "cover test frame uniforms",
+        std::mem::size_of::<meadow::render::FrameUniforms>() as u64,
+        vk::BufferUsageFlags::UNIFORM_BUFFER,
+        meadow::gpu::MemoryLocation::CpuToGpu,
+    )
+    .unwrap();
+    buffer.write(0, std::slice::from_ref(uniforms));
+    buffer
+}
+
+/// Frame uniforms for a pass that poses every blade (or none): never read.
+fn unused_frame_uniforms(gpu: &Gpu) -> Buffer {
+    frame_uniforms(gpu, &bytemuck::Zeroable::zeroed())
 }
 
 fn bits(v: &[BladeVertex]) -> &[u32] {
@@ -257,10 +284,6 @@ fn each_frame_makes_the_cover_around_the_camera_after_the_patches_blades() {
 /// rounding: the GPU's in f32, the CPU's small system in f64.
 #[test]
 fn in_a_steady_wind_the_gpu_poses_the_cover_where_its_torques_balance_as_the_cpu() {
-    use glam::{UVec3, Vec3};
-    use meadow::compute::cover_tiles::CoverWind;
-    use meadow::model::wind::{WindField, WindGrid, WindSettings};
-
     let cover = Cover {
         density: 1.0,
         view_distance: 4.0,
@@ -268,63 +291,12 @@ fn in_a_steady_wind_the_gpu_poses_the_cover_where_its_torques_balance_as_the_cpu
         simulate_radius: Some(0.0),
     };
     let grass = Grass::default();
-    // 3 x 3 tiles of 16 blades around the origin, in a wind that varies
-    // from face to face: 1.5-4.5 m/s along x, 0.2-1 m/s along z.
-    let grid = WindGrid::new(
-        UVec3::new(8, 4, 8),
-        Vec3::new(-8.0, 0.0, -8.0),
-        Vec3::new(16.0, 2.0, 16.0),
-    )
-    .unwrap();
-    let mut field = WindField::new(grid, &WindSettings::default());
-    for (i, v) in field.vel[0].iter_mut().enumerate() {
-        *v = 1.5 + (i % 11) as f32 * 0.3;
-    }
-    for (i, v) in field.vel[2].iter_mut().enumerate() {
-        *v = 1.0 - (i % 5) as f32 * 0.2;
-    }
-    let recorded: Vec<f32> = field.vel.iter().flatten().copied().collect();
+    let (grid, field, recorded) = steady_wind(Vec3::new(-8.0, 0.0, -8.0), 16.0);
+    // 3 x 3 tiles of 16 blades around the origin.
     let tiles = CoverTiles::around(&cover, Vec2::ZERO);
-    let blades = tiles.blade_count() as usize;
 
     let gpu = strict_gpu_with(None);
-    let commands = CommandPool::new(&gpu, "cover pose commands").unwrap();
-    let velocity = Buffer::with_data(
-        &gpu,
-        &commands,
-        "steady wind",
-        bytemuck::cast_slice(&recorded),
-        vk::BufferUsageFlags::STORAGE_BUFFER,
-        Access::COMPUTE_READ,
-    )
-    .unwrap();
-    let vertices = Buffer::new(
-        &gpu,
-        "posed cover",
-        (blades * 4 * std::mem::size_of::<BladeVertex>()) as u64,
-        vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC,
-        meadow::gpu::MemoryLocation::GpuOnly,
-    )
-    .unwrap();
-    let pass = CoverTilePass::new(
-        &gpu,
-        &commands,
-        &cover,
-        3,
-        &grass,
-        &vertices,
-        0,
-        Some(CoverWind {
-            velocity: &velocity,
-            grid,
-        }),
-    )
-    .unwrap();
-    let rec = commands.begin().unwrap();
-    pass.record(&rec, &vertices, &tiles).unwrap();
-    rec.submit_and_wait("posing the cover").unwrap();
-    let posed: Vec<BladeVertex> = vertices.read_back(&gpu, &commands, blades * 4).unwrap();
-    drop((pass, vertices, velocity, commands));
+    let posed = posed_on_the_gpu(&gpu, &cover, &grass, &recorded, grid, &tiles, None);
     finish(gpu);
 
     let seed = cover::seed32(3);
@@ -365,4 +337,157 @@ fn a_cover_refuses_blades_and_hills_in_one_line() {
         "{err}"
     );
     assert_eq!(err.lines().count(), 1);
+}
+
+/// A steady wind on a square grid `side` metres across from `corner`,
+/// varying from face to face: 1.5-4.5 m/s along x, 0.2-1 m/s along z. The
+/// grid, the CPU field and the velocity as the GPU holds it.
+fn steady_wind(corner: Vec3, side: f32) -> (WindGrid, WindField, Vec<f32>) {
+    let grid = WindGrid::new(UVec3::new(8, 4, 8), corner, Vec3::new(side, 2.0, side)).unwrap();
+    let mut field = WindField::new(grid, &WindSettings::default());
+    for (i, v) in field.vel[0].iter_mut().enumerate() {
+        *v = 1.5 + (i % 11) as f32 * 0.3;
+    }
+    for (i, v) in field.vel[2].iter_mut().enumerate() {
+        *v = 1.0 - (i % 5) as f32 * 0.2;
+    }
+    let recorded = field.vel.iter().flatten().copied().collect();
+    (grid, field, recorded)
+}
+
+/// `tiles` made and posed on the GPU in the recorded wind: every blade, or
+/// with `seen` (the frame's uniforms) only those the frame may draw.
+fn posed_on_the_gpu(
+    gpu: &Gpu,
+    cover: &Cover,
+    grass: &Grass,
+    recorded: &[f32],
+    grid: WindGrid,
+    tiles: &CoverTiles,
+    seen: Option<&meadow::render::FrameUniforms>,
+) -> Vec<BladeVertex> {
+    let blades = tiles.blade_count() as usize;
+    let commands = CommandPool::new(gpu, "cover pose commands").unwrap();
+    let velocity = Buffer::with_data(
+        gpu,
+        &commands,
+        "steady wind",
+        bytemuck::cast_slice(recorded),
+        vk::BufferUsageFlags::STORAGE_BUFFER,
+        Access::COMPUTE_READ,
+    )
+    .unwrap();
+    let vertices = Buffer::new(
+        gpu,
+        "posed cover",
+        (blades * 4 * std::mem::size_of::<BladeVertex>()) as u64,
+        vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC,
+        meadow::gpu::MemoryLocation::GpuOnly,
+    )
+    .unwrap();
+    let frame = match seen {
+        Some(u) => frame_uniforms(gpu, u),
+        None => unused_frame_uniforms(gpu),
+    };
+    let pass = CoverTilePass::new(
+        gpu,
+        &commands,
+        CoverSetup {
+            cover,
+            seed: cover.seed.unwrap(),
+            grass,
+            vertices: &vertices,
+            base: 0,
+            wind: Some(CoverWind {
+                velocity: &velocity,
+                grid,
+            }),
+            frame: &frame,
+            pose_drawn_only: seen.is_some(),
+        },
+    )
+    .unwrap();
+    let rec = commands.begin().unwrap();
+    pass.record(&rec, &vertices, tiles).unwrap();
+    rec.submit_and_wait("posing the cover").unwrap();
+    let posed = vertices.read_back(gpu, &commands, blades * 4).unwrap();
+    drop((pass, vertices, velocity, frame, commands));
+    posed
+}
+
+/// Posing only what the frame may draw changes nothing the frame draws:
+/// every blade the kernel leaves at rest is, posed, in neither the colour
+/// nor the shadow pass's list (the cull pass's CPU reference,
+/// `CullView::test`), and every other blade is posed as with every blade
+/// posed. Most of a cover lies outside a camera's view.
+#[test]
+fn posing_only_what_the_frame_may_draw_changes_nothing_drawn() {
+    use meadow::render::visibility::CullView;
+    use meadow::render::{FrameUniforms, ViewMode};
+    let mut scene = covered_scene(false);
+    // A low sun behind the camera: blades behind it cast into the view.
+    scene.light.direction = [0.0, 0.2, 1.0];
+    let cover = Cover {
+        density: 2.0,
+        view_distance: 20.0,
+        seed: Some(9),
+        simulate_radius: None,
+    };
+    let grass = scene.grass.clone();
+    let (grid, _, recorded) = steady_wind(Vec3::new(-24.0, 0.0, -24.0), 48.0);
+    let (eye, _) = scene.camera.at(0.0);
+    let tiles = CoverTiles::around(&cover, Vec2::new(eye.x, eye.z));
+    let uniforms = FrameUniforms::new(&scene, 320, 180, ViewMode::Shaded, 0.0);
+
+    let gpu = strict_gpu_with(None);
+    let every = posed_on_the_gpu(&gpu, &cover, &grass, &recorded, grid, &tiles, None);
+    let drawn_only = posed_on_the_gpu(
+        &gpu,
+        &cover,
+        &grass,
+        &recorded,
+        grid,
+        &tiles,
+        Some(&uniforms),
+    );
+    finish(gpu);
+
+    let view = CullView {
+        view_proj: glam::Mat4::from_cols_array(&uniforms.view_proj),
+        eye,
+        light: Vec3::from_slice(&uniforms.light_dir[..3]),
+        floor: 0.0,
+        shadows: true,
+        thinning: meadow::render::thinning::Thinning::of(&scene),
+        edge_on: scene.cull.edge_on,
+    };
+    let rest = cover::vertices(cover::seed32(9), &grass.shape, &tiles);
+    let (mut posed, mut left) = (0, 0);
+    for ((a, b), r) in every
+        .chunks(4)
+        .zip(drawn_only.chunks(4))
+        .zip(rest.chunks(4))
+    {
+        if bits(a) == bits(b) {
+            posed += 1;
+            continue;
+        }
+        assert_eq!(bits(b), bits(r), "a blade neither posed nor at rest");
+        let (seen, margins) = view.test(a.try_into().unwrap());
+        assert!(
+            !seen.in_view && !seen.caster,
+            "a blade left at rest would be drawn posed (margins {margins:?})"
+        );
+        left += 1;
+    }
+    eprintln!(
+        "{posed} blades posed, {left} left at rest, of {}",
+        posed + left
+    );
+    assert!(posed >= 50, "only {posed} blades posed");
+    assert!(
+        left >= posed,
+        "only {left} of {} left at rest",
+        posed + left
+    );
 }

@@ -478,7 +478,7 @@ fn the_cull_pass_reads_the_vertices_the_grass_step_writes() {
 #[test]
 fn the_cover_writes_the_vertices_the_draw_reads() {
     let (module, _) = reflect::naga_module(&shaders::COVER_TILES_COMP).unwrap();
-    assert_blade_vertices(&module, 0);
+    assert_blade_vertices(&module, 1);
 }
 
 #[test]

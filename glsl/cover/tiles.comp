@@ -10,6 +10,7 @@
 
 #include "wind_grid.glsl"
 #include "blade_vertex.glsl"
+#include "cull.glsl"
 #include "../grass/quasi_static.glsl"
 
 layout(local_size_x = COVER_GROUP) in;
@@ -22,11 +23,12 @@ layout(push_constant, std430) uniform Push {
 // The blade buffer from blade `pc.first` on (a batch of it); the cover's
 // blades start at blade `pc.base`, after the scene's patches. Written only; not declared
 // writeonly because naga does not take it.
-layout(set = 0, binding = 0, std430) buffer Vertices { BladeVertex vertices[]; };
+// (Binding 0: the frame uniforms, frame.glsl, which the cull pass's tests read.)
+layout(set = 0, binding = 1, std430) buffer Vertices { BladeVertex vertices[]; };
 // CoverParams: src/interface/defs.rs.
-layout(set = 0, binding = 1, std430) readonly buffer Params { CoverParams params; };
+layout(set = 0, binding = 2, std430) readonly buffer Params { CoverParams params; };
 // The wind the blades are posed in (a placeholder with `params.pose` 0).
-layout(set = 0, binding = 2, std430) readonly buffer Wind { float wind_velocity[]; };
+layout(set = 0, binding = 3, std430) readonly buffer Wind { float wind_velocity[]; };
 #define WIND_VELOCITY(i) wind_velocity[i]
 #include "wind_sample.glsl"
 
@@ -119,6 +121,24 @@ GrassBlade cover_grass_blade(vec3 p[4], vec3 width_dir, float half_width, float 
     return b;
 }
 
+// Whether the frame may draw the blade rooted at `root`, whatever its pose:
+// the cull pass's tests (`cull_flags`) on the box its reach allows around
+// the root, grown by its widest width: kept by the distance thinning, and
+// in view or casting a shadow into it. Branch-free, as `cull_flags` is.
+bool may_be_drawn(vec3 root, float rand, float reach, float half_width) {
+    float width_scale = thinning_scale(vec4(root, rand));
+    uint kept = uint(width_scale > 0.0);
+    vec3 grow = vec3(reach + half_width * max(width_scale, 1.0));
+    vec3 lo = root - grow, hi = root + grow;
+    uint in_view = uint(box_in_frustum(frame.view_proj, lo, hi));
+    vec3 light = frame.light_dir.xyz;
+    uint low_sun = uint(light.y < LOWEST_SWEPT_SUN);
+    light.y = max(light.y, LOWEST_SWEPT_SUN);
+    shadow_sweep(light, lo, hi);
+    uint caster = low_sun | uint(box_in_frustum(frame.view_proj, lo, hi));
+    return (kept & (in_view | caster)) != 0u;
+}
+
 void main() {
     if (gl_GlobalInvocationID.x >= pc.count) {
         return;
@@ -148,7 +168,9 @@ void main() {
             + vec3(0.0, 1.0, 0.0) * (unit[i].y * h);
         rest[i] = p;
     }
-    if (params.pose == 0u) {
+    float reach = distance(rest[0], rest[1]) + distance(rest[1], rest[2]) + distance(rest[2], rest[3]);
+    if (params.pose == 0u
+        || (params.pose_drawn_only != 0u && !may_be_drawn(rest[0], rand, reach, hw))) {
         for (int i = 0; i < 4; ++i) {
             vertices[4u * local + uint(i)] = BladeVertex(vec4(rest[i], rand), vec4(half_width, 0.0));
         }

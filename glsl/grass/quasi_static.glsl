@@ -2,7 +2,9 @@
 // src/model/quasi_static.rs, whose header gives the method): the angles at
 // which a blade's torques balance at rest in a steady wind, found by
 // pseudo-transient continuation, (c K - J) d = T, J by central differences,
-// K the still-air stiffness at rest, c from 10 down as the torque falls.
+// K the still-air stiffness at rest, c from 10 down as the torque falls,
+// by at least 0.6 an iteration; at most QUASI_STATIC_ITERATIONS of them
+// (`quasi_static_angles_within(.., FAR_ITERATIONS)`).
 // The same steps in f32 (the CPU solves its small system in f64), so the
 // two agree to the solve's tolerance, not bit for bit.
 #ifndef MEADOW_QUASI_STATIC_GLSL
@@ -10,8 +12,8 @@
 
 #include "dynamics.glsl"
 
-const int QS_MAX_ITERATIONS = 100;     // `quasi_static::MAX_ITERATIONS`
 const float QS_START_RELAXATION = 10.0;
+const float QS_RELAXATION_SHRINK = 0.6;
 const float QS_MAX_TURN = 0.25;        // rad
 const float QS_DIFFERENCE = 1e-3;      // rad
 const float QS_TOLERANCE = 1e-6;       // rad
@@ -102,10 +104,10 @@ vec4 quasi_static_angles(GrassBlade b, vec3 wind) {
     }
     float relax = QS_START_RELAXATION;
     float last_norm = qs_norm(qs_torque(b, angle, wind), used);
-    for (int iteration = 0; iteration < QS_MAX_ITERATIONS; ++iteration) {
+    for (int iteration = 0; iteration < int(QUASI_STATIC_ITERATIONS); ++iteration) {
         vec4 t = qs_torque(b, angle, wind) * used;
         float now = qs_norm(t, used);
-        relax = min(relax * now / max(last_norm, 1e-37), QS_START_RELAXATION);
+        relax = min(relax * min(now / max(last_norm, 1e-37), QS_RELAXATION_SHRINK), QS_START_RELAXATION);
         last_norm = now;
         mat4 system = -qs_jacobian(b, angle, wind, used);
         for (int m = 0; m < 4; ++m) {

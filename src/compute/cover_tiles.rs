@@ -11,8 +11,8 @@ use ash::vk;
 use crate::error::{Error, Result};
 use crate::gpu::batches::{part, sets_per_batch};
 use crate::gpu::{
-    Access, Buffer, BufferId, BufferUse, DescriptorSet, Gpu, LayoutBinding, Pipeline,
-    PipelineLayout, Recording,
+    Access, Buffer, BufferId, BufferUse, DescriptorKind, DescriptorSet, Gpu, LayoutBinding,
+    Pipeline, PipelineLayout, Recording,
 };
 use crate::gpu::{Bound, CommandPool, MemoryLocation};
 use crate::interface::{CoverParams, CoverPush, COVER_GROUP};
@@ -23,9 +23,15 @@ use crate::scene::{Cover, Grass};
 
 /// Set 0 of the tile kernel.
 pub const COVER_SET: &[LayoutBinding] = &[
-    LayoutBinding::compute_storage(0), // blade control points (a batch)
-    LayoutBinding::compute_storage(1), // CoverParams
-    LayoutBinding::compute_storage(2), // the wind velocity (or a placeholder)
+    LayoutBinding {
+        set: 0,
+        binding: 0,
+        ty: DescriptorKind::UniformBuffer,
+        stages: vk::ShaderStageFlags::COMPUTE,
+    }, // the frame uniforms (camera, sun, thinning)
+    LayoutBinding::compute_storage(1), // blade control points (a batch)
+    LayoutBinding::compute_storage(2), // CoverParams
+    LayoutBinding::compute_storage(3), // the wind velocity (or a placeholder)
 ];
 
 /// The wind the cover's blades are posed in: the solver's velocity (one
@@ -33,6 +39,28 @@ pub const COVER_SET: &[LayoutBinding] = &[
 pub struct CoverWind<'a> {
     pub velocity: &'a Buffer,
     pub grid: WindGrid,
+}
+
+/// What the tile pass is made for.
+pub struct CoverSetup<'a> {
+    pub cover: &'a Cover,
+    /// The cover's seed: its own or the scene's.
+    pub seed: u64,
+    /// The scene's blade shapes and physics ranges.
+    pub grass: &'a Grass,
+    /// The blade buffer, holding `cover::most_blades(cover)` blades from
+    /// blade `base` on (after the scene's patches' blades).
+    pub vertices: &'a Buffer,
+    pub base: u32,
+    /// With a wind the blades take their quasi-static pose in it;
+    /// without, they stand at rest.
+    pub wind: Option<CoverWind<'a>>,
+    /// The frame uniforms (the renderer's uniform buffer): what the frame
+    /// draws, for `pose_drawn_only`.
+    pub frame: &'a Buffer,
+    /// Pose only the blades the frame may draw (the others keep their
+    /// rest shape, which no pass draws either).
+    pub pose_drawn_only: bool,
 }
 
 /// One blade's control points in the blade buffer.
@@ -61,23 +89,18 @@ pub struct CoverTilePass {
 }
 
 impl CoverTilePass {
-    /// The pass writing `cover`'s blades into `vertices` from its blade
-    /// `base` on (after the scene's patches' blades), which must hold
-    /// `cover::most_blades(cover)` blades there; `seed` is the cover's
-    /// (its own or the scene's), `grass` the scene's shapes and physics.
-    /// With `wind` the blades take their quasi-static pose in it; without,
-    /// they stand at rest.
-    #[allow(clippy::too_many_arguments)]
-    pub fn new(
-        gpu: &Gpu,
-        commands: &CommandPool,
-        cover: &Cover,
-        seed: u64,
-        grass: &Grass,
-        vertices: &Buffer,
-        base: u32,
-        wind: Option<CoverWind<'_>>,
-    ) -> Result<Self> {
+    /// The pass `setup` describes.
+    pub fn new(gpu: &Gpu, commands: &CommandPool, setup: CoverSetup<'_>) -> Result<Self> {
+        let CoverSetup {
+            cover,
+            seed,
+            grass,
+            vertices,
+            base,
+            wind,
+            frame,
+            pose_drawn_only,
+        } = setup;
         let most = cover::most_blades(cover);
         let too_many = || {
             Error::InvalidInput(format!(
@@ -108,7 +131,7 @@ impl CoverTilePass {
             stiffness_ratio: d.stiffness_ratio,
             sigma: d.sigma,
             pose: wind.is_some() as u32,
-            _pad0: 0,
+            pose_drawn_only: pose_drawn_only as u32,
         };
         let params = Buffer::with_data(
             gpu,
@@ -152,6 +175,7 @@ impl CoverTilePass {
             "cover tiles set",
             |blades| {
                 vec![
+                    Bound::Buffer(frame),
                     part(vertices, blades, BLADE_BYTES),
                     Bound::Buffer(&params),
                     Bound::Buffer(wind_buffer),

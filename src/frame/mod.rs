@@ -11,7 +11,7 @@
 pub mod blades;
 pub mod timing;
 
-use crate::compute::cover_tiles::CoverWind;
+use crate::compute::cover_tiles::{CoverSetup, CoverWind};
 use crate::compute::{CoverTilePass, Simulation};
 use crate::error::{Error, Result};
 use crate::gpu::query::{PipelineStatistics, Span, SpanTimer, StatisticsQuery};
@@ -134,30 +134,15 @@ impl FrameRecorder {
         let simulation = dynamics
             .map(|d| Simulation::new(gpu, &commands, scene, d, blade_buffer.buffer()))
             .transpose()?;
-        // Posed in the simulation's wind; at rest in a still.
-        let cover = scene
-            .grass
-            .cover
-            .as_ref()
-            .map(|c| {
-                let input = simulation.as_ref().map(|s| s.wind().grass_input());
-                let wind = input.as_ref().map(|i| CoverWind {
-                    velocity: i.velocity,
-                    grid: i.grid,
-                });
-                CoverTilePass::new(
-                    gpu,
-                    &commands,
-                    c,
-                    c.seed.unwrap_or(scene.seed),
-                    &scene.grass,
-                    blade_buffer.buffer(),
-                    blades.len() as u32,
-                    wind,
-                )
-                .map(|pass| (pass, c.clone()))
-            })
-            .transpose()?;
+        let cover = Self::cover_pass(
+            gpu,
+            &commands,
+            scene,
+            simulation.as_ref(),
+            &renderer,
+            &blade_buffer,
+            blades.len() as u32,
+        )?;
         let cull = Self::cull_pass(gpu, scene, &renderer, &blade_buffer)?;
         Ok(Self {
             simulation,
@@ -197,6 +182,20 @@ impl FrameRecorder {
             msaa,
         )?;
         self.cull = Self::cull_pass(gpu, scene, &self.renderer, &self.blades)?;
+        // The cover's pass reads the new renderer's uniforms too.
+        if let Some((pass, _)) = &self.cover {
+            let base = pass.base();
+            self.cover = None;
+            self.cover = Self::cover_pass(
+                gpu,
+                &self.commands,
+                scene,
+                self.simulation.as_ref(),
+                &self.renderer,
+                &self.blades,
+                base,
+            )?;
+        }
         self.extent = (width, height);
         Ok(())
     }
@@ -220,6 +219,39 @@ impl FrameRecorder {
             crate::render::terrain::mesh(scene).as_ref(),
             scene.cull.enabled && scene.cull.occlusion,
         )
+    }
+
+    /// With `[grass.cover]`, its tile pass after the patches' `base`
+    /// blades: posed in the simulation's wind (only the blades the frame
+    /// may draw), at rest in a still.
+    fn cover_pass(
+        gpu: &Gpu,
+        commands: &CommandPool,
+        scene: &Scene,
+        simulation: Option<&Simulation>,
+        renderer: &Renderer,
+        blades: &BladeBuffer,
+        base: u32,
+    ) -> Result<Option<(CoverTilePass, Cover)>> {
+        let Some(cover) = &scene.grass.cover else {
+            return Ok(None);
+        };
+        let input = simulation.map(|s| s.wind().grass_input());
+        let setup = CoverSetup {
+            cover,
+            seed: cover.seed.unwrap_or(scene.seed),
+            grass: &scene.grass,
+            vertices: blades.buffer(),
+            base,
+            wind: input.as_ref().map(|i| CoverWind {
+                velocity: i.velocity,
+                grid: i.grid,
+            }),
+            frame: renderer.uniforms(),
+            pose_drawn_only: true,
+        };
+        let pass = CoverTilePass::new(gpu, commands, setup)?;
+        Ok(Some((pass, cover.clone())))
     }
 
     fn cull_pass(

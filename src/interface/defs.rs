@@ -32,6 +32,10 @@ gpu_interface! {
     /// Invocations per workgroup of the grass step and collider-binning
     /// kernels (glsl/grass/).
     pub const GRASS_GROUP: u32 = 64;
+    /// Iterations of the far field's quasi-static solve at most (the
+    /// cover's pose: glsl/grass/quasi_static.glsl and
+    /// `quasi_static::FAR_ITERATIONS`).
+    pub const QUASI_STATIC_ITERATIONS: usize = 12;
     /// Invocations per workgroup of the cover's tile kernel
     /// (glsl/cover/tiles.comp): one blade each.
     pub const COVER_GROUP: u32 = 64;
@@ -387,7 +391,10 @@ gpu_interface! {
         /// 1: the blades take their quasi-static pose in the wind; 0: they
         /// stand at rest (no wind to pose them in).
         pub pose: u32,
-        pub _pad0: u32,
+        /// 1: only blades the frame may draw are posed (the cull pass's
+        /// tests on the box their reach allows, glsl/common/cull.glsl);
+        /// the rest keep their rest shape, which no pass draws either.
+        pub pose_drawn_only: u32,
     }
 
     /// Push constants of the bench's floor (glsl/bench/floor.vert).

@@ -16,7 +16,7 @@ use glam::{Vec2, Vec3};
 use super::{BladeShape, Cover, GrassDynamics};
 use crate::error::Result;
 use crate::model::grass::{self, GrassBlade};
-use crate::model::quasi_static::quasi_static_angles;
+use crate::model::quasi_static::{quasi_static_angles_within, FAR_ITERATIONS};
 use crate::model::{Blade, BladeKind, BladePhysics, BladeVertex};
 
 /// A tile's side (m).
@@ -240,7 +240,7 @@ pub fn posed_vertices(
         for index in 0..tiles.per_tile {
             let rest = blade(seed, shape, tile, index);
             let b = GrassBlade::new(&rest, &physics(seed, dynamics, tile, index))?;
-            let (angles, _) = quasi_static_angles(&b, wind_at(rest.rest[3]));
+            let (angles, _) = quasi_static_angles_within(&b, wind_at(rest.rest[3]), FAR_ITERATIONS);
             out.extend(grass::vertices(&b, &grass::pose(&b, angles)));
         }
     }
