@@ -296,8 +296,9 @@ fn in_a_steady_wind_the_gpu_poses_the_cover_where_its_torques_balance_as_the_cpu
     let tiles = CoverTiles::around(&cover, Vec2::ZERO);
 
     let gpu = strict_gpu_with(None);
-    let posed = posed_on_the_gpu(&gpu, &cover, &grass, &recorded, grid, &tiles, None);
+    let (posed, count) = posed_on_the_gpu(&gpu, &cover, &grass, &recorded, grid, &tiles, None);
     finish(gpu);
+    assert_eq!(count as usize, posed.len() / 4, "blades counted as posed");
 
     let seed = cover::seed32(3);
     let cpu = cover::posed_vertices(seed, &grass.shape, &grass.dynamics, &tiles, |x| {
@@ -365,7 +366,7 @@ fn posed_on_the_gpu(
     grid: WindGrid,
     tiles: &CoverTiles,
     seen: Option<&meadow::render::FrameUniforms>,
-) -> Vec<BladeVertex> {
+) -> (Vec<BladeVertex>, u32) {
     let blades = tiles.blade_count() as usize;
     let commands = CommandPool::new(gpu, "cover pose commands").unwrap();
     let velocity = Buffer::with_data(
@@ -411,8 +412,9 @@ fn posed_on_the_gpu(
     pass.record(&rec, &vertices, tiles).unwrap();
     rec.submit_and_wait("posing the cover").unwrap();
     let posed = vertices.read_back(gpu, &commands, blades * 4).unwrap();
+    let count = pass.posed();
     drop((pass, vertices, velocity, frame, commands));
-    posed
+    (posed, count)
 }
 
 /// Posing only what the frame may draw changes nothing the frame draws:
@@ -440,8 +442,8 @@ fn posing_only_what_the_frame_may_draw_changes_nothing_drawn() {
     let uniforms = FrameUniforms::new(&scene, 320, 180, ViewMode::Shaded, 0.0);
 
     let gpu = strict_gpu_with(None);
-    let every = posed_on_the_gpu(&gpu, &cover, &grass, &recorded, grid, &tiles, None);
-    let drawn_only = posed_on_the_gpu(
+    let (every, _) = posed_on_the_gpu(&gpu, &cover, &grass, &recorded, grid, &tiles, None);
+    let (drawn_only, counted) = posed_on_the_gpu(
         &gpu,
         &cover,
         &grass,
@@ -484,6 +486,7 @@ fn posing_only_what_the_frame_may_draw_changes_nothing_drawn() {
         "{posed} blades posed, {left} left at rest, of {}",
         posed + left
     );
+    assert_eq!(counted, posed, "the kernel's count of the blades it posed");
     assert!(posed >= 50, "only {posed} blades posed");
     assert!(
         left >= posed,

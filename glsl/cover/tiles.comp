@@ -29,6 +29,8 @@ layout(set = 0, binding = 1, std430) buffer Vertices { BladeVertex vertices[]; }
 layout(set = 0, binding = 2, std430) readonly buffer Params { CoverParams params; };
 // The wind the blades are posed in (a placeholder with `params.pose` 0).
 layout(set = 0, binding = 3, std430) readonly buffer Wind { float wind_velocity[]; };
+// How many blades this pass posed (cleared before it).
+layout(set = 0, binding = 4, std430) buffer Posed { uint posed; };
 #define WIND_VELOCITY(i) wind_velocity[i]
 #include "wind_sample.glsl"
 
@@ -181,6 +183,7 @@ void main() {
     float between_tip = params.tip_stiffness.x + (params.tip_stiffness.y - params.tip_stiffness.x) * draw(key, 9u);
     float ratio = params.stiffness_ratio.x + (params.stiffness_ratio.y - params.stiffness_ratio.x) * draw(key, 10u);
     float sigma = params.sigma.x + (params.sigma.y - params.sigma.x) * draw(key, 11u);
+    atomicAdd(posed, 1u);
     GrassBlade b = cover_grass_blade(rest, vec3(f.y, 0.0, -f.x), hw, rand, between_tip, ratio, sigma);
     vec4 angle = quasi_static_angles(b, sample_wind(params.grid, rest[3]));
     Pose p = blade_pose(b, angle, 0.0);

@@ -293,6 +293,7 @@ fn render_with(
         })?;
     let msaa_used = recorder.samples();
     let generated = recorder.cover_blades();
+    let posed = recorder.cover_posed();
     let simulated = if simulation.grass().is_some() {
         blades.len() as u64
     } else {
@@ -326,12 +327,13 @@ fn render_with(
                     Some(c) => ((c.in_view + c.occluded) as u64, c.in_view as u64),
                     None => (all, all),
                 };
-                // A render always runs the wind: the cover is posed in it.
+                // A render always runs the wind: the cover's blades the
+                // frame may draw are posed in it.
                 BladeCounts {
                     generated,
                     simulated,
-                    quasi_static: generated,
-                    at_rest: 0,
+                    quasi_static: posed,
+                    at_rest: generated - posed,
                     in_view,
                     drawn,
                 }

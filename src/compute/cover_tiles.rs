@@ -32,6 +32,7 @@ pub const COVER_SET: &[LayoutBinding] = &[
     LayoutBinding::compute_storage(1), // blade control points (a batch)
     LayoutBinding::compute_storage(2), // CoverParams
     LayoutBinding::compute_storage(3), // the wind velocity (or a placeholder)
+    LayoutBinding::compute_storage(4), // the blades posed (one word, host-read)
 ];
 
 /// The wind the cover's blades are posed in: the solver's velocity (one
@@ -69,6 +70,8 @@ const BLADE_BYTES: usize = 4 * std::mem::size_of::<BladeVertex>();
 pub struct CoverTilePass {
     pipeline: Pipeline,
     params: Buffer,
+    /// How many blades the last recorded pass posed (host-visible).
+    posed: Buffer,
     /// The wind's velocity where the blades are posed (the sets keep it
     /// alive; declared read each frame); else a placeholder bound in its
     /// place.
@@ -141,6 +144,13 @@ impl CoverTilePass {
             vk::BufferUsageFlags::STORAGE_BUFFER,
             Access::COMPUTE_READ,
         )?;
+        let posed = Buffer::new(
+            gpu,
+            "cover blades posed",
+            4,
+            vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuToCpu,
+        )?;
         let placeholder = match wind {
             Some(_) => None,
             None => Some(Buffer::new(
@@ -179,6 +189,7 @@ impl CoverTilePass {
                     part(vertices, blades, BLADE_BYTES),
                     Bound::Buffer(&params),
                     Bound::Buffer(wind_buffer),
+                    Bound::Buffer(&posed),
                 ]
             },
         )?
@@ -189,6 +200,7 @@ impl CoverTilePass {
         Ok(Self {
             pipeline,
             params,
+            posed,
             wind,
             _placeholder: placeholder,
             sets,
@@ -223,7 +235,10 @@ impl CoverTilePass {
             )));
         }
         let end = self.base + blades as u32;
+        rec.uses(&[BufferUse::new(&self.posed, Access::TRANSFER_WRITE)]);
+        rec.fill_buffer(&self.posed, 0);
         let mut uses = vec![
+            BufferUse::new(&self.posed, Access::COMPUTE_READ_WRITE),
             BufferUse::new(vertices, Access::COMPUTE_WRITE),
             BufferUse::new(&self.params, Access::COMPUTE_READ),
         ];
@@ -264,6 +279,14 @@ impl CoverTilePass {
                 start += count;
             }
         }
+        rec.uses(&[BufferUse::new(&self.posed, Access::HOST_READ)]);
         Ok(())
+    }
+
+    /// How many blades the last recorded pass, run and waited for, posed
+    /// quasi-statically (the others stand at rest).
+    pub fn posed(&self) -> u32 {
+        let bytes = self.posed.mapped().expect("the count is host-visible");
+        u32::from_le_bytes([bytes[0], bytes[1], bytes[2], bytes[3]])
     }
 }

@@ -347,6 +347,12 @@ impl FrameRecorder {
         })
     }
 
+    /// Of those, how many the last frame posed quasi-statically (the ones
+    /// it may draw; the others stand at rest).
+    pub fn cover_posed(&self) -> u64 {
+        self.cover.as_ref().map_or(0, |(p, _)| p.posed() as u64)
+    }
+
     /// The cull pass (None with culling off).
     pub fn cull(&self) -> Option<&CullPass> {
         self.cull.as_ref()

@@ -86,11 +86,11 @@ pub struct RenderReport {
     pub validation: ValidationReport,
 }
 
-/// One frame's blades by what happened to them: made by the cover's tile
-/// pass, stepped by the paper's dynamics (the patches'), posed
-/// quasi-statically in the wind (the cover's, where a wind runs) or left
-/// in their rest shape (the cover's in a still), in view (with culling;
-/// else every blade) and drawn by the colour pass.
+/// The last frame's blades by what happened to them: made by the cover's
+/// tile pass, stepped by the paper's dynamics (the patches'), posed
+/// quasi-statically in the wind (the cover's the frame may draw) or left
+/// in their rest shape (the cover's it cannot draw), in view (with
+/// culling; else every blade) and drawn by the colour pass.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
 pub struct BladeCounts {
     pub generated: u64,
@@ -156,7 +156,7 @@ pub fn summary(report: &RenderReport, out: &Path) -> String {
     let b = &report.blade_counts;
     if b.generated > 0 {
         text += &format!(
-            "cover: {} blades made around the camera each frame, {} posed quasi-statically in the wind, {} at rest; {} simulated\n",
+            "cover: {} blades made around the camera each frame, {} posed quasi-statically in the wind (those the frame may draw), {} at rest; {} simulated\n",
             b.generated, b.quasi_static, b.at_rest, b.simulated
         );
     }
