@@ -263,6 +263,7 @@ fn reproduce_quick_renders_every_figure_validation_clean_with_both_indexes() {
         "Beyond the paper: turbulence everywhere",
         "Beyond the paper: touch",
         "Beyond the paper: a landscape",
+        "Beyond the paper: grass without edges",
     ] {
         assert!(
             md.contains(&format!("## {title}")),
@@ -280,9 +281,9 @@ fn reproduce_quick_renders_every_figure_validation_clean_with_both_indexes() {
         .skip(1)
         .map(|rest| &rest[..rest.find(')').unwrap()])
         .collect();
-    // 18 shots' frames, the gust strip's space-time diagram and the
-    // turbulent field's plan view and spectrum.
-    assert_eq!(links.len(), 21, "{links:?}");
+    // 21 shots' frames (steppe's flight three of them), the gust strip's
+    // space-time diagram and the turbulent field's plan view and spectrum.
+    assert_eq!(links.len(), 24, "{links:?}");
     let (svgs, pngs): (Vec<&str>, Vec<&str>) = links.iter().partition(|l| l.ends_with(".svg"));
     assert_eq!(
         svgs,

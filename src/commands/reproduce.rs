@@ -117,6 +117,7 @@ pub fn plan(quick: bool) -> Result<Vec<Figure>> {
     let strip = Scene::builtin("gust-strip")?;
     let roll = Scene::builtin("roll")?;
     let hills = Scene::builtin("hills")?;
+    let steppe = Scene::builtin("steppe")?;
     let field = turbulent_field(b.field_density)?;
     let mut open = obstacles.clone();
     open.wind.obstacles.clear();
@@ -130,6 +131,12 @@ pub fn plan(quick: bool) -> Result<Vec<Figure>> {
         0.0,
     );
     sequence.frames = b.sequence_frames;
+    // Half a second apart: the camera flies 5 m between frames.
+    let flight = Shot {
+        frames: b.sequence_frames.min(4),
+        fps: 2.0,
+        ..shot("flying over it", "steppe", &steppe, 0.0)
+    };
     let lod_shaded = Shot {
         view: ViewMode::Shaded,
         ..shot("the same meadow, shaded", "fig12-shaded", &lod, 0.0)
@@ -275,6 +282,17 @@ pub fn plan(quick: bool) -> Result<Vec<Figure>> {
                     density mask, the wind crossing the ridge at an angle: the solver sees the \
                     ground as solid (docs/physics.md, \"Wind over a ridge\").",
             shots: vec![shot("in the wind", "hills", &hills, b.sway)],
+            diagrams: Vec::new(),
+        },
+        Figure {
+            title: "Beyond the paper: grass without edges",
+            paper: "The paper's meadows are bounded and made once. A [grass.cover] is made on \
+                    the GPU each frame in 4 m tiles around the camera, each tile's blades from \
+                    the seed and the tile alone, and each blade the frame may draw leans where \
+                    its torques balance in the wind at its tip (the quasi-static pose, \
+                    docs/method.md): the camera flies over it and it never ends \
+                    (docs/perf.md, \"The cover\").",
+            shots: vec![flight],
             diagrams: Vec::new(),
         },
     ])
