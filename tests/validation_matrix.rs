@@ -334,7 +334,7 @@ fn reproduce_quick_renders_every_figure_validation_clean_with_both_indexes() {
             }
         }
     }
-    assert_eq!(shots, 16, "one report per shot");
+    assert_eq!(shots, 17, "one report per shot");
     seen.assert_accepted();
     let _ = std::fs::remove_dir_all(&out);
 }

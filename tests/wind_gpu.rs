@@ -615,6 +615,7 @@ fn gpu_multigrid_leaves_under_1_percent_of_the_divergence_on_every_shipped_scene
     let gpu = strict_gpu();
     let commands = CommandPool::new(&gpu, "multigrid scene commands").unwrap();
     let mut failures = Vec::new();
+    let mut scenes_above_floor = 0;
     for (name, _) in meadow::scene::BUILTIN {
         let scene = meadow::scene::Scene::load(name).unwrap();
         let grid = scene.wind_grid().unwrap();
@@ -627,6 +628,7 @@ fn gpu_multigrid_leaves_under_1_percent_of_the_divergence_on_every_shipped_scene
         let mut field = WindField::new(grid, &settings);
         let dt = scene.wind.dt;
         let mut worst = 0.0f64;
+        let mut above_floor = 0;
         for step in 0..STEPS {
             let rec = commands.begin().unwrap();
             pass.record_step(&rec, step as f32 * dt, dt);
@@ -641,12 +643,24 @@ fn gpu_multigrid_leaves_under_1_percent_of_the_divergence_on_every_shipped_scene
                 before > 0.0,
                 "{name}: no divergence to remove at step {step}"
             );
-            worst = worst.max(after / before);
+            // A field already divergence-free to f32's rounding (steppe's
+            // uniform inflow and divergence-free turbulence: rms 2e-7 1/s
+            // before, 1e-6 after) leaves rounding, not a failed solve.
+            let speed = field
+                .vel
+                .iter()
+                .flatten()
+                .fold(0.0f32, |m, v| m.max(v.abs()));
+            if after > grid.divergence_floor(speed) as f64 {
+                worst = worst.max(after / before);
+                above_floor += 1;
+            }
         }
         eprintln!(
-            "{name}: worst share of the divergence left {:.2}%",
+            "{name}: worst share of the divergence left {:.2}% ({above_floor} of {STEPS} steps above f32's floor)",
             100.0 * worst
         );
+        scenes_above_floor += usize::from(above_floor > 0);
         if worst > 0.01 {
             failures.push(format!("{name}: {:.2}%", 100.0 * worst));
         }
@@ -654,6 +668,12 @@ fn gpu_multigrid_leaves_under_1_percent_of_the_divergence_on_every_shipped_scene
     drop(commands);
     finish(gpu);
     assert!(failures.is_empty(), "more than 1% left: {failures:?}");
+    // Every scene but the one whose wind is divergence-free as it enters
+    // had divergence above the floor to remove.
+    assert!(
+        scenes_above_floor + 1 >= meadow::scene::BUILTIN.len(),
+        "only {scenes_above_floor} scenes left more than rounding"
+    );
 }
 
 /// The spread in time of the downwind wind at blade height (0.4 m), 36 m

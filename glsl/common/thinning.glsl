@@ -16,21 +16,11 @@
 #define MEADOW_THINNING_GLSL
 
 #include "frame.glsl"
-
-// A 32-bit integer hash (lowbias32): every bit of the input moves about
-// half of the output's.
-uint thinning_hash(uint x) {
-    x ^= x >> 16;
-    x *= 0x7feb352du;
-    x ^= x >> 15;
-    x *= 0x846ca68bu;
-    x ^= x >> 16;
-    return x;
-}
+#include "hash.glsl"
 
 // The blade's h: 24 bits of the hash, exact in a float.
 float thinning_h(float variation) {
-    return float(thinning_hash(floatBitsToUint(variation)) >> 8) * (1.0 / 16777216.0);
+    return float(lowbias32(floatBitsToUint(variation)) >> 8) * (1.0 / 16777216.0);
 }
 
 // The width scale of a blade rooted at root.xyz with colour variation

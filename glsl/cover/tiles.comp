@@ -34,14 +34,9 @@ layout(set = 0, binding = 4, std430) buffer Posed { uint posed; };
 #define WIND_VELOCITY(i) wind_velocity[i]
 #include "wind_sample.glsl"
 
-// Wellons' lowbias32 (`cover::hash`).
+// `cover::hash`: lowbias32 (hash.glsl, through cull.glsl).
 uint hash(uint x) {
-    x ^= x >> 16;
-    x *= 0x7feb352du;
-    x ^= x >> 15;
-    x *= 0x846ca68bu;
-    x ^= x >> 16;
-    return x;
+    return lowbias32(x);
 }
 
 uint draw_bits(uint key, uint k) {

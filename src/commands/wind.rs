@@ -120,7 +120,10 @@ pub fn wind_to_dir(
     // The projection should remove most of the divergence advection made;
     // when it did not, the field is not incompressible and the user should
     // know why and what to change.
-    if report.rms_divergence_after > 0.5 * report.rms_divergence_before {
+    // Below f32's rounding floor there is nothing left to remove.
+    if report.rms_divergence_after > 0.5 * report.rms_divergence_before
+        && report.rms_divergence_after > grid.divergence_floor(report.max_speed)
+    {
         let solve =
             crate::report::wind::describe(report.solver, report.jacobi_iterations, report.v_cycles);
         let fix = match report.solver {

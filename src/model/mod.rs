@@ -8,6 +8,7 @@ pub mod collider;
 pub mod contact;
 pub mod grass;
 pub mod grass_field;
+pub mod hash;
 
 pub use blade::{Blade, BladeKind, BladeVertex, EdgeFrame};
 pub use grass::{BladePhysics, GrassBlade, GrassState};

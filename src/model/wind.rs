@@ -66,6 +66,15 @@ impl WindGrid {
         })
     }
 
+    /// The divergence f32 arithmetic leaves in any field whose faces reach
+    /// `max_speed` (m/s) on this grid: each face value rounded by up to
+    /// half an ulp of the fastest, six of them over the smallest cell side,
+    /// with a factor for the solve's own rounding. Below it a projection
+    /// has nothing left to remove (1/s).
+    pub fn divergence_floor(&self, max_speed: f32) -> f32 {
+        4.0 * f32::EPSILON * max_speed.abs() / self.cell.min_element()
+    }
+
     pub fn cell_count(&self) -> usize {
         (self.cells.x * self.cells.y * self.cells.z) as usize
     }

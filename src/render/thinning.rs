@@ -95,16 +95,9 @@ impl Thinning {
     }
 }
 
-/// A 32-bit integer hash (lowbias32): every bit of the input moves about
-/// half of the output's.
-pub fn hash(mut x: u32) -> u32 {
-    x ^= x >> 16;
-    x = x.wrapping_mul(0x7feb_352d);
-    x ^= x >> 15;
-    x = x.wrapping_mul(0x846c_a68b);
-    x ^= x >> 16;
-    x
-}
+/// The thinning's hash (`model::hash::lowbias32`), the same in
+/// glsl/common/thinning.glsl.
+pub use crate::model::hash::lowbias32 as hash;
 
 /// A blade's h in [0, 1): 24 bits of the hash of its colour variation's
 /// bits, exact in an f32.

@@ -97,16 +97,9 @@ pub fn kind_thresholds(shape: &BladeShape) -> [f32; 3] {
     ]
 }
 
-/// A 32-bit integer hash with good avalanche (Wellons' lowbias32), the
-/// same in glsl/cover/tiles.comp.
-pub fn hash(mut x: u32) -> u32 {
-    x ^= x >> 16;
-    x = x.wrapping_mul(0x7feb_352d);
-    x ^= x >> 15;
-    x = x.wrapping_mul(0x846c_a68b);
-    x ^= x >> 16;
-    x
-}
+/// The blades' hash (`model::hash::lowbias32`), the same in
+/// glsl/cover/tiles.comp.
+pub use crate::model::hash::lowbias32 as hash;
 
 /// The key all of a blade's draws come from.
 pub fn blade_key(seed: u32, tile: [i32; 2], index: u32) -> u32 {
