@@ -122,12 +122,7 @@ impl CoverTilePass {
         let d = &grass.dynamics;
         let record = CoverParams {
             grid: match &wind {
-                Some(w) => {
-                    let faces: u64 = (0..3)
-                        .map(|a| w.grid.face_dims(a).as_u64vec3().element_product())
-                        .sum();
-                    super::wind_pass::grid_params(&w.grid, faces as u32)
-                }
+                Some(w) => super::wind_pass::grid_params(&w.grid, w.grid.face_count() as u32),
                 None => bytemuck::Zeroable::zeroed(),
             },
             tip_stiffness: d.tip_stiffness,

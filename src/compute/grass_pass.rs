@@ -442,11 +442,8 @@ fn grass_push(
     dt: f32,
 ) -> GrassPush {
     let grid = &wind.grid;
-    let face_count: u64 = (0..3)
-        .map(|a| grid.face_dims(a).as_u64vec3().element_product())
-        .sum();
     GrassPush {
-        grid: grid_params(grid, face_count as u32),
+        grid: grid_params(grid, grid.face_count() as u32),
         blade_count,
         substeps,
         lay_canopy: wind.canopy.is_some() as u32,

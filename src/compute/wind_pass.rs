@@ -395,9 +395,7 @@ impl WindPass {
         settings: &WindSettings,
         canopy_unit: f32,
     ) -> Result<Self> {
-        let face_count: u64 = (0..3)
-            .map(|a| grid.face_dims(a).as_u64vec3().element_product())
-            .sum();
+        let face_count = grid.face_count();
         let cell_count = grid.cell_count() as u64;
         // Velocity x2 or x3, face kinds, with turbulence what it added,
         // pressure x2, divergence, solid cells, canopy: 4 bytes each.

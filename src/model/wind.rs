@@ -79,6 +79,13 @@ impl WindGrid {
         (self.cells.x * self.cells.y * self.cells.z) as usize
     }
 
+    /// Faces of all three velocity components: one velocity copy's length.
+    pub fn face_count(&self) -> u64 {
+        (0..3)
+            .map(|a| self.face_dims(a).as_u64vec3().element_product())
+            .sum()
+    }
+
     /// Number of samples of velocity component `axis` (one more along its own axis).
     pub fn face_dims(&self, axis: usize) -> UVec3 {
         let mut d = self.cells;
