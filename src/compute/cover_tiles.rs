@@ -209,11 +209,6 @@ impl CoverTilePass {
         })
     }
 
-    /// The blades the buffer holds for this cover.
-    pub fn capacity(&self) -> u32 {
-        self.capacity
-    }
-
     /// The buffer's blade the cover's first blade is.
     pub fn base(&self) -> u32 {
         self.base

@@ -55,6 +55,13 @@ impl CoverTiles {
         self.tile_count() * self.per_tile as u64
     }
 
+    /// Every blade's tile and index in the tile, in the blade buffer's
+    /// order: tile after tile, row by row (the tile kernel's order).
+    pub fn blades(&self) -> impl Iterator<Item = ([i32; 2], u32)> + '_ {
+        (0..self.tile_count() as u32)
+            .flat_map(move |slot| (0..self.per_tile).map(move |index| (self.tile(slot), index)))
+    }
+
     /// The tile coordinates of the blade buffer's `slot`th tile.
     pub fn tile(&self, slot: u32) -> [i32; 2] {
         [
@@ -228,14 +235,11 @@ pub fn posed_vertices(
     wind_at: impl Fn(Vec3) -> Vec3,
 ) -> Result<Vec<BladeVertex>> {
     let mut out = Vec::with_capacity(tiles.blade_count() as usize * 4);
-    for slot in 0..tiles.tile_count() as u32 {
-        let tile = tiles.tile(slot);
-        for index in 0..tiles.per_tile {
-            let rest = blade(seed, shape, tile, index);
-            let b = GrassBlade::new(&rest, &physics(seed, dynamics, tile, index))?;
-            let (angles, _) = quasi_static_angles_within(&b, wind_at(rest.rest[3]), FAR_ITERATIONS);
-            out.extend(grass::vertices(&b, &grass::pose(&b, angles)));
-        }
+    for (tile, index) in tiles.blades() {
+        let rest = blade(seed, shape, tile, index);
+        let b = GrassBlade::new(&rest, &physics(seed, dynamics, tile, index))?;
+        let (angles, _) = quasi_static_angles_within(&b, wind_at(rest.rest[3]), FAR_ITERATIONS);
+        out.extend(grass::vertices(&b, &grass::pose(&b, angles)));
     }
     Ok(out)
 }
@@ -243,14 +247,10 @@ pub fn posed_vertices(
 /// The control points of every blade of `tiles`, in the blade buffer's
 /// order: what the tile kernel writes.
 pub fn vertices(seed: u32, shape: &BladeShape, tiles: &CoverTiles) -> Vec<BladeVertex> {
-    let mut out = Vec::with_capacity(tiles.blade_count() as usize * 4);
-    for slot in 0..tiles.tile_count() as u32 {
-        let tile = tiles.tile(slot);
-        for index in 0..tiles.per_tile {
-            out.extend(blade(seed, shape, tile, index).vertices());
-        }
-    }
-    out
+    tiles
+        .blades()
+        .flat_map(|(tile, index)| blade(seed, shape, tile, index).vertices())
+        .collect()
 }
 
 #[cfg(test)]
