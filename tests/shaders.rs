@@ -11,7 +11,9 @@ mod common;
 use ash::vk;
 use common::reflect::{self, Binding};
 use meadow::compute::grass_pass::GRASS_SET;
-use meadow::compute::wind_pass::{GpuWindSource, WIND_KERNELS, WIND_KERNEL_VARIANTS, WIND_SET};
+use meadow::compute::wind_pass::{
+    GpuWindSource, WIND_KERNELS, WIND_KERNEL_VARIANTS, WIND_SET, WIND_SHIFT_KERNEL,
+};
 use meadow::gpu::LayoutBinding;
 use meadow::interface::{StructLayout, LAYOUTS};
 use meadow::model::contact::GpuCollider;
@@ -113,10 +115,11 @@ fn descriptor_layouts_match_reflection() {
     check_pipeline("shadow", SHADOW_STAGES, SHADOW_SET);
     check_pipeline("obstacle shadow", OBSTACLE_SHADOW_STAGES, SHADOW_SET);
     check_pipeline("terrain shadow", TERRAIN_SHADOW_STAGES, SHADOW_SET);
-    // The five wind kernels share one set layout.
+    // The wind kernels and the window's shift share one set layout.
     let wind: Vec<&Spirv> = WIND_KERNELS
         .iter()
         .chain(&WIND_KERNEL_VARIANTS)
+        .chain(&[WIND_SHIFT_KERNEL])
         .copied()
         .collect();
     check_pipeline("wind", &wind, WIND_SET);
@@ -371,6 +374,7 @@ fn every_push_constant_block_is_its_interface_struct() {
     };
     expect(&WIND_KERNELS, "WindPush");
     expect(&WIND_KERNEL_VARIANTS, "WindPush");
+    expect(&[WIND_SHIFT_KERNEL], "WindShiftPush");
     expect(
         &[
             &shaders::GRASS_STEP_COMP,

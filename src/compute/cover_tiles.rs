@@ -69,7 +69,10 @@ const BLADE_BYTES: usize = 4 * std::mem::size_of::<BladeVertex>();
 
 pub struct CoverTilePass {
     pipeline: Pipeline,
+    /// `record`, written into the command buffer before each pass (the
+    /// wind window moves).
     params: Buffer,
+    record: CoverParams,
     /// How many blades the last recorded pass posed (host-visible).
     posed: Buffer,
     /// The wind's velocity where the blades are posed (the sets keep it
@@ -136,7 +139,7 @@ impl CoverTilePass {
             commands,
             "cover tile parameters",
             bytemuck::bytes_of(&record),
-            vk::BufferUsageFlags::STORAGE_BUFFER,
+            vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
             Access::COMPUTE_READ,
         )?;
         let posed = Buffer::new(
@@ -195,6 +198,7 @@ impl CoverTilePass {
         Ok(Self {
             pipeline,
             params,
+            record,
             posed,
             wind,
             _placeholder: placeholder,
@@ -207,6 +211,14 @@ impl CoverTilePass {
             width: grass.shape.width,
             max_groups: gpu.limits().max_compute_work_group_count[0].max(1),
         })
+    }
+
+    /// The wind grid the blades are posed in from the next pass on (the
+    /// wind window moved under the camera); ignored without a wind.
+    pub fn set_wind_grid(&mut self, grid: &WindGrid) {
+        if self.wind.is_some() {
+            self.record.grid = super::wind_pass::grid_params(grid, grid.face_count() as u32);
+        }
     }
 
     /// The buffer's blade the cover's first blade is.
@@ -225,8 +237,12 @@ impl CoverTilePass {
             )));
         }
         let end = self.base + blades as u32;
-        rec.uses(&[BufferUse::new(&self.posed, Access::TRANSFER_WRITE)]);
+        rec.uses(&[
+            BufferUse::new(&self.posed, Access::TRANSFER_WRITE),
+            BufferUse::new(&self.params, Access::TRANSFER_WRITE),
+        ]);
         rec.fill_buffer(&self.posed, 0);
+        rec.update_buffer(&self.params, 0, bytemuck::cast_slice(&[self.record]));
         let mut uses = vec![
             BufferUse::new(&self.posed, Access::COMPUTE_READ_WRITE),
             BufferUse::new(vertices, Access::COMPUTE_WRITE),

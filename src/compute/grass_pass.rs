@@ -273,6 +273,12 @@ impl GrassPass {
         uses
     }
 
+    /// The wind grid's corner from the next step on: the wind window
+    /// moved under the camera (`WindPass::record_shift`).
+    pub fn set_wind_origin(&mut self, origin: glam::Vec3) {
+        self.push.grid.origin = origin.to_array();
+    }
+
     /// Records one simulation step, sampling the wind velocity copy that
     /// starts `wind_offset` floats into the wind buffer (0 for `WindPass`'s
     /// state): with colliders, their binning (`ColliderBins::record`), the

@@ -104,6 +104,26 @@ impl Simulation {
         self.steps_done += 1;
     }
 
+    /// Keeps a wind window that follows the camera (`[grass.cover]`)
+    /// under an eye at `eye_xz` (x, z): moved in whole cells once the eye is a cell
+    /// or more from its centre (`WindGrid::window_shift`), the air with
+    /// it, and the grass samples the moved grid. Records nothing for a
+    /// grid fixed over the field.
+    pub fn record_follow(&mut self, rec: &Recording, eye_xz: glam::Vec2) -> Result<()> {
+        if !self.wind.follows_camera() {
+            return Ok(());
+        }
+        let by = self.wind.grid.window_shift(eye_xz);
+        if by == glam::IVec2::ZERO {
+            return Ok(());
+        }
+        self.wind.record_shift(rec, by)?;
+        if let Some(grass) = &mut self.grass {
+            grass.set_wind_origin(self.wind.grid.origin);
+        }
+        Ok(())
+    }
+
     /// Records `steps` whole steps, untimed.
     pub fn record_steps(&mut self, rec: &Recording, steps: u64) {
         for _ in 0..steps {

@@ -26,8 +26,8 @@ use crate::model::wind::{
 use crate::shaders::{self, Spirv};
 
 use crate::interface::{
-    MgLevel, TurbulenceMode, WindGridParams, WindPush, FACE_BURIED, FACE_FREE, FACE_INFLOW,
-    FACE_WALL, MG_MAX_LEVELS, MG_TAIL_FLOATS, MG_TAIL_FLOATS_LARGE, WIND_GROUP,
+    MgLevel, TurbulenceMode, WindGridParams, WindPush, WindShiftPush, FACE_BURIED, FACE_FREE,
+    FACE_INFLOW, FACE_WALL, MG_MAX_LEVELS, MG_TAIL_FLOATS, MG_TAIL_FLOATS_LARGE, WIND_GROUP,
 };
 /// Waypoints a source's path may have on the GPU.
 pub use crate::model::wind::MAX_PATH_POINTS;
@@ -106,6 +106,9 @@ const ADVECT_PREDICT: usize = 2;
 const ADVECT_CORRECT: usize = 3;
 const DIVERGENCE: usize = 4;
 const JACOBI: usize = 5;
+/// The wind window's shift (`WindPass::record_shift`): the wind kernels'
+/// set, its own push constants (`WindShiftPush`).
+pub const WIND_SHIFT_KERNEL: &Spirv = &shaders::WIND_SHIFT_COMP;
 /// Kernels that stand in for one of `WIND_KERNELS` on some devices, on the
 /// same layout and push constants: the tail with its 48 KiB shared array.
 pub const WIND_KERNEL_VARIANTS: [&Spirv; 1] = [&shaders::WIND_MG_TAIL_LARGE_COMP];
@@ -368,6 +371,9 @@ pub struct WindPass {
     /// The turbulence's modes and how far they have gone (None: no
     /// turbulence), stepped as the CPU reference steps them.
     turbulence: Option<TurbulenceField>,
+    /// The window's shift kernel, where the grid follows the camera
+    /// (`WindSettings::moving_window`).
+    shift: Option<Pipeline>,
 }
 
 /// The wind as the grass step sees it: the velocity it samples and, with
@@ -460,6 +466,19 @@ impl WindPass {
             &buffers.bound(),
             "wind descriptor set",
         )?;
+        // Its set layout is the kernels' own, so their set binds to it.
+        let shift = settings
+            .moving_window
+            .then(|| {
+                let layout = PipelineLayout::new::<WindShiftPush>(
+                    gpu,
+                    WIND_SET,
+                    vk::ShaderStageFlags::COMPUTE,
+                    "wind window shift",
+                )?;
+                Pipeline::compute(gpu, &layout, WIND_SHIFT_KERNEL)
+            })
+            .transpose()?;
         Ok(Self {
             grid,
             settings: settings.clone(),
@@ -487,6 +506,7 @@ impl WindPass {
             buried: field.faces.iter().flatten().any(|&k| k == FaceKind::Buried),
             collider_records: super::colliders::records(&settings.colliders)?,
             turbulence: field.turbulence,
+            shift,
         })
     }
 
@@ -495,6 +515,12 @@ impl WindPass {
     /// above it run kernel by kernel.
     pub fn tail_level(&self) -> u32 {
         self.tail_level
+    }
+
+    /// Whether the grid is a window that follows the camera
+    /// (`record_shift`).
+    pub fn follows_camera(&self) -> bool {
+        self.shift.is_some()
     }
 
     /// What drives the wind now: the scene's settings, as `set_drive`
@@ -778,10 +804,75 @@ impl WindPass {
             dispatch(UNDER_GROUND, face_groups, 0, [0; 3]);
         }
         if let Some(modes) = modes {
-            rec.uses(&[BufferUse::new(&self.buffers.modes, Access::TRANSFER_WRITE)]);
-            rec.update_buffer(&self.buffers.modes, 0, bytemuck::cast_slice(&modes));
-            dispatch(TURBULENCE, face_groups, 0, [0; 3]);
+            self.record_turbulence(rec, &modes, &step);
         }
+    }
+
+    /// The turbulence kernel with `modes`: every face not a wall gains
+    /// the field (the wind set bound).
+    fn record_turbulence(&self, rec: &Recording, modes: &[TurbulenceMode], push: &WindPush) {
+        rec.uses(&[BufferUse::new(&self.buffers.modes, Access::TRANSFER_WRITE)]);
+        rec.update_buffer(&self.buffers.modes, 0, bytemuck::cast_slice(modes));
+        let pipeline = &self.kernels[TURBULENCE];
+        rec.uses(&self.kernel_uses(TURBULENCE));
+        rec.bind_pipeline(pipeline);
+        rec.push_constants(pipeline, push);
+        rec.dispatch(self.face_count.div_ceil(WIND_GROUP));
+    }
+
+    /// Records the window's move by `by` whole cells (x, z) before the
+    /// next step, as `WindField::shift_window` makes it: the air shifted
+    /// with the grid (glsl/wind/shift.comp), the turbulence added where
+    /// the faces now are; `grid` is the moved grid from then on. Refused
+    /// on a grid that does not follow the camera.
+    pub fn record_shift(&mut self, rec: &Recording, by: glam::IVec2) -> Result<()> {
+        let Some(shift) = &self.shift else {
+            return Err(Error::InvalidInput(
+                "this wind grid is fixed over the field; only a [grass.cover]'s wind window follows the camera".into(),
+            ));
+        };
+        if by == glam::IVec2::ZERO {
+            return Ok(());
+        }
+        let b = &self.buffers;
+        let (read, read_write) = (Access::COMPUTE_READ, Access::COMPUTE_READ_WRITE);
+        let uses = [
+            BufferUse::new(&b.velocity, read_write),
+            BufferUse::new(&b.faces, read),
+            BufferUse::new(&b.pressure, read_write),
+            BufferUse::new(&b.divergence, read_write),
+            BufferUse::new(&b.canopy, read_write),
+            BufferUse::new(&b.turbulence_added, read),
+        ];
+        let fill = self
+            .settings
+            .inflow
+            .map_or(glam::Vec3::ZERO, |i| i.mean_velocity());
+        rec.bind_pipeline(shift);
+        rec.bind_set(shift, &self.set);
+        for phase in 0..2 {
+            rec.uses(&uses);
+            rec.push_constants(
+                shift,
+                &WindShiftPush {
+                    grid: grid_params(&self.grid, self.face_count),
+                    shift: by.to_array(),
+                    phase,
+                    fill: fill.to_array(),
+                    ..WindShiftPush::default()
+                },
+            );
+            rec.dispatch(self.face_count.max(self.cell_count).div_ceil(WIND_GROUP));
+        }
+        let before = self.grid;
+        self.grid = before.shifted(by);
+        if let Some(field) = &mut self.turbulence {
+            field.move_corner(self.grid.origin - before.origin);
+            let modes = field.records(self.settings.turbulence_sigma());
+            rec.bind_set(&self.kernels[TURBULENCE], &self.set);
+            self.record_turbulence(rec, &modes, &self.push(0.0, 0.0));
+        }
+        Ok(())
     }
 
     /// The turbulence's modes at the end of a step of `dt` from now, the

@@ -483,6 +483,15 @@ impl FrameRecorder {
         t.reset(&rec);
         t.1 = t.begin(&rec, Phase::Frame);
         if let Some(simulation) = simulation {
+            // A wind window that follows the camera moves before the
+            // steps, as part of the wind's work.
+            if simulation.wind().follows_camera() {
+                let mut followed = Ok(());
+                t.span(&rec, Phase::Wind, |rec| {
+                    followed = simulation.record_follow(rec, *camera_xz);
+                });
+                followed?;
+            }
             for _ in 0..steps {
                 t.span(&rec, Phase::Wind, |rec| simulation.record_wind_step(rec));
                 t.span(&rec, Phase::Grass, |rec| simulation.record_grass_step(rec));
@@ -497,8 +506,11 @@ impl FrameRecorder {
                 }
             }
         }
-        if let Some((pass, cover)) = cover.as_ref() {
+        if let Some((pass, cover)) = cover.as_mut() {
             let tiles = CoverTiles::around(cover, *camera_xz);
+            if let Some(simulation) = simulation.as_ref() {
+                pass.set_wind_grid(&simulation.wind().grid);
+            }
             let mut made = Ok(());
             t.span(&rec, Phase::Cover, |rec| {
                 made = pass.record(rec, buffer, &tiles);
@@ -585,9 +597,10 @@ impl FrameRecorder {
         if let Some(s) = &self.simulation {
             self.renderer.place_colliders(s.time_after(steps) as f32);
         }
-        // Two spans per simulation step, eight for the frame's own phases.
+        // Two spans per simulation step, eight for the frame's own phases,
+        // one for the wind window's move.
         if let Some(timer) = self.timer.as_mut() {
-            let pairs = u32::try_from(steps.saturating_mul(2).saturating_add(8)).map_err(|_| {
+            let pairs = u32::try_from(steps.saturating_mul(2).saturating_add(9)).map_err(|_| {
                 Error::InvalidInput(format!(
                     "{steps} simulation steps in one frame are too many to time"
                 ))

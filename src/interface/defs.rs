@@ -243,6 +243,23 @@ gpu_interface! {
         pub coarse_cells: u32,
     }
 
+    /// Push constants of the wind window's shift (glsl/wind/shift.comp;
+    /// src/model/wind_window.rs): the wind kernels' set, its own push.
+    pub struct WindShiftPush {
+        /// The grid before the shift (only its cells and faces are read).
+        pub grid: WindGridParams,
+        /// Whole cells the window moves by along x and z.
+        pub shift: [i32; 2],
+        /// 0: the moved air into copy B and the moved canopy into the
+        /// divergence buffer; 1: both copied back, the pressure cleared.
+        pub phase: u32,
+        pub _pad0: u32,
+        /// What a face with no air to take holds: the inflow's mean
+        /// velocity (m/s).
+        pub fill: [f32; 3],
+        pub _pad1: f32,
+    }
+
     /// Push constants of the grass kernels (glsl/grass/step.glsl).
     pub struct GrassPush {
         pub grid: WindGridParams,

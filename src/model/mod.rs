@@ -19,3 +19,4 @@ pub mod quasi_static;
 pub mod terrain;
 pub mod turbulence;
 pub mod wind;
+pub mod wind_window;

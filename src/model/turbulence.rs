@@ -239,6 +239,12 @@ impl TurbulenceField {
         self.clock += sigma as f64 * dt as f64;
     }
 
+    /// The grid's corner moved by `d` (m): the modes' phases follow, so
+    /// that the field stays where it is in the world.
+    pub fn move_corner(&mut self, d: Vec3) {
+        self.drift -= d.as_dvec3();
+    }
+
     /// The modes as the GPU reads them now, for a standard deviation of
     /// `sigma` (m/s): the phase theta_n = phi_n + omega_n int(sigma dt) -
     /// k_n . int(U dt) (along the axes not mirrored), in double precision,

@@ -609,6 +609,10 @@ pub struct WindSettings {
     /// The ground: cells whose centre lies under it are solid.
     #[serde(skip)]
     pub terrain: Terrain,
+    /// The grid is a window that follows the camera (`wind.window` with
+    /// `[grass.cover]`; src/model/wind_window.rs).
+    #[serde(skip)]
+    pub moving_window: bool,
 }
 
 impl WindSettings {
@@ -631,9 +635,13 @@ impl WindSettings {
 
     /// Which axes' two sides hold no flow through them for the
     /// turbulence: the ground and the top, and the sides along an inflow
-    /// (its modes are mirrored across them; src/model/turbulence.rs).
+    /// (its modes are mirrored across them; src/model/turbulence.rs),
+    /// except on a window that follows the camera: mirrored across its
+    /// sides the field would move with them.
     pub fn turbulence_walls(&self) -> [bool; 3] {
-        let along = |axis: usize| self.inflow.is_some_and(|i| i.side(axis, 0) == Side::Along);
+        let along = |axis: usize| {
+            !self.moving_window && self.inflow.is_some_and(|i| i.side(axis, 0) == Side::Along)
+        };
         [along(0), true, along(2)]
     }
 
@@ -660,6 +668,7 @@ impl Default for WindSettings {
             advection: Advection::default(),
             turbulence: None,
             terrain: Terrain::default(),
+            moving_window: false,
         }
     }
 }
@@ -926,9 +935,21 @@ impl WindField {
         let (Some(field), Some(_)) = (&mut self.turbulence, &settings.turbulence) else {
             return;
         };
-        let sigma = settings.turbulence_sigma();
-        field.advance(settings.turbulence_convection(), sigma, dt);
-        let records = field.records(sigma);
+        field.advance(
+            settings.turbulence_convection(),
+            settings.turbulence_sigma(),
+            dt,
+        );
+        self.add_turbulence_now(settings);
+    }
+
+    /// Every face not a wall gains the turbulence's field as its modes
+    /// stand now, and keeps what it gained (`turbulence_added`).
+    pub(super) fn add_turbulence_now(&mut self, settings: &WindSettings) {
+        let (Some(field), Some(_)) = (&self.turbulence, &settings.turbulence) else {
+            return;
+        };
+        let records = field.records(settings.turbulence_sigma());
         for axis in 0..3 {
             for (idx, f) in self.grid.each_face(axis) {
                 if self.faces[axis][idx] == FaceKind::Wall {

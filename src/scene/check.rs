@@ -153,6 +153,9 @@ pub fn scene(s: &Scene) -> Check {
     grass(&s.grass).map_err(|e| e.at("grass"))?;
     camera_reaches_grass(s).map_err(|e| e.at("camera"))?;
     wind(&s.wind).map_err(|e| e.at("wind"))?;
+    if s.grass.cover.is_some() {
+        moving_wind_window(&s.wind).map_err(|e| e.at("wind"))?;
+    }
     if s.colliders.len() > MAX_COLLIDERS {
         return Err(FieldError::new(
             "collider",
@@ -164,6 +167,28 @@ pub fn scene(s: &Scene) -> Check {
     }
     for (i, c) in s.colliders.iter().enumerate() {
         collider(c).map_err(|e| e.at(&format!("collider[{i}]")))?;
+    }
+    Ok(())
+}
+
+/// With `[grass.cover]` the wind grid is a window that follows the camera
+/// in whole cells, its air shifted with it (src/model/wind_window.rs):
+/// what is fixed to the grid's sides or cells would move with it.
+fn moving_wind_window(w: &super::WindConfig) -> Check {
+    if w.inflow.is_some_and(|i| i.gust.amplitude != 0.0) {
+        return Err(FieldError::new(
+            "inflow.gust",
+            "enters at the wind window's upwind side, which follows the camera with [grass.cover]; remove the gust and use wind.turbulence, which is alive everywhere",
+        ));
+    }
+    if !w.obstacles.is_empty() {
+        return Err(FieldError::new(
+            "obstacle",
+            format!(
+                "{} obstacles with [grass.cover]: its wind window follows the camera and holds no fixed solid cells yet; remove the [[wind.obstacle]] or the cover",
+                w.obstacles.len()
+            ),
+        ));
     }
     Ok(())
 }

@@ -616,6 +616,7 @@ impl WindConfig {
             advection: self.advection,
             turbulence: self.turbulence,
             terrain: Default::default(),
+            moving_window: false,
         }
     }
 }
@@ -975,6 +976,7 @@ impl Scene {
         WindSettings {
             colliders: self.colliders.clone(),
             terrain: self.ground.terrain(),
+            moving_window: self.grass.cover.is_some(),
             ..self.wind.settings()
         }
     }
