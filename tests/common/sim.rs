@@ -75,6 +75,17 @@ impl SimRig {
         }
     }
 
+    /// Keeps a wind window that follows the camera under `eye_xz`
+    /// (`Simulation::record_follow`), in a submission of its own; whether
+    /// the window moved.
+    pub fn follow(&mut self, eye_xz: glam::Vec2) -> bool {
+        let before = self.simulation.wind().grid;
+        let rec = self.commands.begin().unwrap();
+        self.simulation.record_follow(&rec, eye_xz).unwrap();
+        rec.submit_and_wait("moving the wind window").unwrap();
+        self.simulation.wind().grid != before
+    }
+
     pub fn steps_done(&self) -> u64 {
         self.simulation.steps_done()
     }
