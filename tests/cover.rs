@@ -70,6 +70,7 @@ fn made_on_the_gpu(
             wind: None,
             frame: &frame,
             pose_drawn_only: false,
+            states: None,
         },
     )
     .unwrap();
@@ -433,6 +434,7 @@ fn posed_on_the_gpu(
             }),
             frame: &frame,
             pose_drawn_only: seen.is_some(),
+            states: None,
         },
     )
     .unwrap();
@@ -645,4 +647,214 @@ fn a_traced_blade_shows_no_jump_when_the_wind_window_moves() {
         worst < 0.1 * typical,
         "a move changes the blades' kick by {worst:.2e} m, against an ordinary kick of {typical:.2e} m"
     );
+}
+
+/// Issue 40, item 2: near the camera the cover's blades carry the paper's
+/// dynamics (`CoverDynamics`), as the CPU steps them (`GrassField`): the
+/// tiles reaching within `simulate_radius` keep their blades' state in the
+/// slot their coordinates wrap to; a tile coming in starts at its
+/// quasi-static pose, still. Over 30 steps in one wind, the camera moved a
+/// tile along x, then 40 in a wind half again as strong (the blades swing
+/// to it): the GPU's states follow the CPU's, a kept tile's state carried
+/// on, the new column's started where it came in (fails with the states
+/// not kept across the move, or not started). Then the tile pass poses
+/// every blade: within the radius less the band from its state, beyond
+/// it quasi-statically, in the band the two blended
+/// (`cover::dynamic_weight`), as the CPU does.
+#[test]
+fn near_the_camera_the_cover_runs_the_papers_dynamics_as_the_cpu() {
+    use meadow::compute::wind_pass::WindInput;
+    use meadow::compute::CoverDynamics;
+    use meadow::model::grass::{self, GrassState};
+    use meadow::model::quasi_static::{quasi_static_angles_within, FAR_ITERATIONS};
+    use meadow::model::GrassField;
+
+    let cover = Cover {
+        density: 1.0,
+        view_distance: 12.0,
+        seed: Some(21),
+        simulate_radius: Some(7.0),
+    };
+    let grass = Grass::default();
+    let seed = cover::seed32(21);
+    let (grid, mut field, calm) = steady_wind(Vec3::new(-16.0, 0.0, -16.0), 40.0);
+    let strong: Vec<f32> = calm.iter().map(|v| 1.5 * v).collect();
+    let dt = 1.0 / 60.0;
+    let eyes = [Vec2::new(1.0, 1.0), Vec2::new(5.5, 1.0)];
+
+    let gpu = strict_gpu_with(None);
+    let commands = CommandPool::new(&gpu, "cover dynamics commands").unwrap();
+    let velocity = Buffer::with_data(
+        &gpu,
+        &commands,
+        "steady wind",
+        bytemuck::cast_slice(&calm),
+        vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
+        Access::COMPUTE_READ,
+    )
+    .unwrap();
+    let input = WindInput {
+        grid,
+        velocity: &velocity,
+        canopy: None,
+    };
+    let setup = meadow::compute::cover_dynamics::CoverDynamicsSetup {
+        cover: &cover,
+        seed,
+        grass: &grass,
+        dt,
+        camera: eyes[0],
+    };
+    let mut dynamics = CoverDynamics::new(&gpu, &commands, setup, &input).unwrap();
+    let rec = commands.begin().unwrap();
+    let mut step = 0u64;
+    for (phase, eye) in eyes.iter().enumerate() {
+        if phase == 1 {
+            rec.uses(&[meadow::gpu::BufferUse::new(
+                &velocity,
+                Access::TRANSFER_WRITE,
+            )]);
+            rec.update_buffer(&velocity, 0, bytemuck::cast_slice(&strong));
+        }
+        dynamics.record_follow(&rec, *eye).unwrap();
+        for _ in 0..[30, 40][phase] {
+            dynamics.record_step(&rec, meadow::model::contact::step_end_time(step, dt));
+            step += 1;
+        }
+    }
+    rec.submit_and_wait("cover dynamics").unwrap();
+    let states = dynamics.grass().read_states(&gpu, &commands).unwrap();
+    let kept = *dynamics.square();
+    let stepped = dynamics.blade_count() as usize;
+
+    // The tile pass poses the cover around the last eye from those states.
+    let tiles = CoverTiles::around(&cover, eyes[1]);
+    let vertices = Buffer::new(
+        &gpu,
+        "posed cover",
+        tiles.blade_count() * 4 * std::mem::size_of::<BladeVertex>() as u64,
+        vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC,
+        meadow::gpu::MemoryLocation::GpuOnly,
+    )
+    .unwrap();
+    let frame = unused_frame_uniforms(&gpu);
+    let mut pass = CoverTilePass::new(
+        &gpu,
+        &commands,
+        CoverSetup {
+            cover: &cover,
+            seed: 21,
+            grass: &grass,
+            vertices: &vertices,
+            base: 0,
+            wind: Some(CoverWind {
+                velocity: &velocity,
+                grid,
+            }),
+            frame: &frame,
+            pose_drawn_only: false,
+            states: Some(dynamics.states()),
+        },
+    )
+    .unwrap();
+    pass.set_dynamics(Some(&kept), eyes[1]);
+    let rec = commands.begin().unwrap();
+    pass.record(&rec, &vertices, &tiles).unwrap();
+    rec.submit_and_wait("cover tiles").unwrap();
+    let posed: Vec<BladeVertex> = vertices
+        .read_back(&gpu, &commands, tiles.blade_count() as usize * 4)
+        .unwrap();
+    drop((pass, vertices, frame, dynamics, velocity, commands));
+    finish(gpu);
+
+    // The CPU: the same slots, tiles coming in started at their
+    // quasi-static pose (the far field's iterations, as the GPU's).
+    let per_tile = kept.per_tile;
+    let mut cpu = GrassField::new(vec![Default::default(); stepped], dt).unwrap();
+    let mut held: Vec<Option<[i32; 2]>> = vec![None; kept.tile_count() as usize];
+    let mut substeps = None;
+    let mut entered = [0usize; 2];
+    for (phase, eye) in eyes.iter().enumerate() {
+        let wind = if phase == 0 { &calm } else { &strong };
+        let mut start = 0;
+        for axis in 0..3 {
+            let n = field.vel[axis].len();
+            field.vel[axis].copy_from_slice(&wind[start..start + n]);
+            start += n;
+        }
+        let square = cover::kept_tiles(&cover, *eye);
+        for n in 0..square.tile_count() as u32 {
+            let tile = square.tile(n);
+            let slot = cover::state_slot(tile, square.side) as usize;
+            if held[slot] == Some(tile) {
+                continue;
+            }
+            held[slot] = Some(tile);
+            entered[phase] += 1;
+            for index in 0..per_tile {
+                let b =
+                    cover::grass_blade(seed, &grass.shape, &grass.dynamics, tile, index).unwrap();
+                let (angle, _) =
+                    quasi_static_angles_within(&b, field.sample(b.rest_point(3)), FAR_ITERATIONS);
+                let i = slot * per_tile as usize + index as usize;
+                cpu.blades[i] = b;
+                cpu.states[i] = GrassState {
+                    angle,
+                    velocity: [0.0; 4],
+                };
+            }
+        }
+        // The GPU's pass counts its substeps from the blades it was made
+        // with: the first square's.
+        let n = *substeps.get_or_insert_with(|| grass::substeps(&cpu.blades, dt).unwrap());
+        cpu.substeps = n;
+        for _ in 0..[30, 40][phase] {
+            cpu.step(|x| field.sample(x));
+        }
+    }
+    assert_eq!(entered, [25, 5], "tiles started in each phase");
+    let mut differs = 0.0f32;
+    let mut swung = 0.0f32;
+    for (g, c) in states.iter().zip(&cpu.states) {
+        for m in 0..4 {
+            differs = differs.max((g.angle[m] - c.angle[m]).abs());
+            swung = swung.max(c.velocity[m].abs());
+        }
+    }
+    eprintln!(
+        "{stepped} kept blades: GPU and CPU angles within {differs:e} rad; swinging at up to {swung} rad/s"
+    );
+    assert!(swung > 0.1, "the blades barely swing: {swung} rad/s");
+    assert!(differs < 1e-4, "GPU and CPU states differ by {differs} rad");
+
+    // The tile pass's pose, blade by blade.
+    let r = cover.simulate_radius();
+    let mut counts = [0usize; 3];
+    let mut worst = 0.0f32;
+    for (n, (tile, index)) in tiles.blades().enumerate() {
+        let b = cover::grass_blade(seed, &grass.shape, &grass.dynamics, tile, index).unwrap();
+        let root = b.rest_point(0);
+        let weight = cover::dynamic_weight(r, Vec2::new(root.x, root.z).distance(eyes[1]));
+        let (still, _) =
+            quasi_static_angles_within(&b, field.sample(b.rest_point(3)), FAR_ITERATIONS);
+        let angle = if weight > 0.0 {
+            let slot = cover::state_slot(tile, kept.side);
+            let s = &states[(slot * per_tile + index) as usize];
+            std::array::from_fn(|m| still[m] + (s.angle[m] - still[m]) * weight)
+        } else {
+            still
+        };
+        counts[(weight > 0.0) as usize + (weight >= 1.0) as usize] += 1;
+        let cpu_pose = grass::vertices(&b, &grass::pose(&b, angle));
+        for (g, c) in posed[4 * n..4 * n + 4].iter().zip(&cpu_pose) {
+            let at = |v: &BladeVertex| Vec3::from_slice(&v.position[..3]);
+            worst = worst.max(at(g).distance(at(c)));
+        }
+    }
+    eprintln!(
+        "posed: {} quasi-static, {} blended, {} from their state; GPU and CPU within {worst:e} m",
+        counts[0], counts[1], counts[2]
+    );
+    assert!(counts.iter().all(|&c| c > 10), "{counts:?}");
+    assert!(worst < 1e-4, "the tile pass's poses differ by {worst} m");
 }

@@ -141,6 +141,11 @@ fn descriptor_layouts_match_reflection() {
         &[&shaders::COVER_TILES_COMP],
         meadow::compute::cover_tiles::COVER_SET,
     );
+    check_pipeline(
+        "cover enter",
+        &[&shaders::COVER_ENTER_COMP],
+        meadow::compute::cover_dynamics::COVER_ENTER_SET,
+    );
     // The cull pass's three kernels share one set layout.
     check_pipeline(
         "cull",
@@ -384,6 +389,7 @@ fn every_push_constant_block_is_its_interface_struct() {
     );
     expect(&[&shaders::GRASS_BIN_COLLIDERS_COMP], "BinPush");
     expect(&[&shaders::COVER_TILES_COMP], "CoverPush");
+    expect(&[&shaders::COVER_ENTER_COMP], "CoverEnterPush");
     expect(
         &[
             &shaders::CULL_FLAGS_COMP,

@@ -29,8 +29,12 @@ layout(set = 0, binding = 1, std430) buffer Vertices { BladeVertex vertices[]; }
 layout(set = 0, binding = 2, std430) readonly buffer Params { CoverParams params; };
 // The wind the blades are posed in (a placeholder with `params.pose` 0).
 layout(set = 0, binding = 3, std430) readonly buffer Wind { float wind_velocity[]; };
-// How many blades this pass posed (cleared before it).
-layout(set = 0, binding = 4, std430) buffer Posed { uint posed; };
+// How many blades this pass posed quasi-statically (those blended
+// included) and from their state alone (cleared before it).
+layout(set = 0, binding = 4, std430) buffer Posed { uint posed; uint from_state; };
+// The kept blades' states (`compute::CoverDynamics`; a placeholder with
+// `params.dynamic` 0): the paper's dynamics near the camera.
+layout(set = 0, binding = 5, std430) readonly buffer States { GrassState states[]; };
 #define WIND_VELOCITY(i) wind_velocity[i]
 #include "wind_sample.glsl"
 
@@ -136,6 +140,29 @@ bool may_be_drawn(vec3 root, float rand, float reach, float half_width) {
     return (kept & (in_view | caster)) != 0u;
 }
 
+// `cover::dynamic_weight`: 1 within the radius less the band, 0 from the
+// radius on, smoothstep between.
+float dynamic_weight(float radius, float d) {
+    float band = min(COVER_BLEND_BAND_M, radius);
+    if (band <= 0.0) {
+        return 0.0;
+    }
+    float t = clamp((radius - d) / band, 0.0, 1.0);
+    return t * t * (3.0 - 2.0 * t);
+}
+
+// `cover::state_slot`: the tile's coordinates wrapped (`rem_euclid`).
+// GLSL leaves % of negative integers undefined: the coordinate is first
+// raised by a multiple of the side, which leaves the remainder as it is,
+// past zero for any tile within 2^20 sides (over 4,000 km) of the origin.
+uint wrap(int a, uint side) {
+    return uint(a + int(side) * (1 << 20)) % side;
+}
+
+uint state_slot(ivec2 tile, uint side) {
+    return wrap(tile.x, side) + side * wrap(tile.y, side);
+}
+
 void main() {
     if (gl_GlobalInvocationID.x >= pc.count) {
         return;
@@ -174,13 +201,28 @@ void main() {
         return;
     }
     // The quasi-static pose in the wind at the rest tip (`cover::posed_vertices`),
-    // written as the grass step writes a blade (`write_blade` in step.glsl).
+    // written as the grass step writes a blade (`write_blade` in step.glsl);
+    // near the camera the dynamics' angles, blended into it over the band.
     float between_tip = params.tip_stiffness.x + (params.tip_stiffness.y - params.tip_stiffness.x) * draw(key, 9u);
     float ratio = params.stiffness_ratio.x + (params.stiffness_ratio.y - params.stiffness_ratio.x) * draw(key, 10u);
     float sigma = params.sigma.x + (params.sigma.y - params.sigma.x) * draw(key, 11u);
-    atomicAdd(posed, 1u);
     GrassBlade b = cover_grass_blade(rest, vec3(f.y, 0.0, -f.x), hw, rand, between_tip, ratio, sigma);
-    vec4 angle = quasi_static_angles(b, sample_wind(params.grid, rest[3]));
+    float weight = 0.0;
+    vec4 kept_angle = vec4(0.0);
+    ivec2 k = tile - params.kept_origin;
+    if (params.dynamic != 0u && all(greaterThanEqual(k, ivec2(0)))
+        && all(lessThan(k, ivec2(int(params.kept_side))))) {
+        weight = dynamic_weight(params.simulate_radius, distance(root, params.eye));
+        kept_angle = states[state_slot(tile, params.kept_side) * pc.per_tile + index].angle;
+    }
+    vec4 angle = kept_angle;
+    if (weight >= 1.0) {
+        atomicAdd(from_state, 1u);
+    } else {
+        atomicAdd(posed, 1u);
+        vec4 still = quasi_static_angles(b, sample_wind(params.grid, rest[3]));
+        angle = weight > 0.0 ? mix(still, kept_angle, weight) : still;
+    }
     Pose p = blade_pose(b, angle, 0.0);
     vec3 rest_tip = normalize_or(rest[3] - rest[2], UP);
     float displacement = atan(length(cross(rest_tip, p.e[2])), dot(rest_tip, p.e[2]));

@@ -294,11 +294,16 @@ fn render_with(
     let msaa_used = recorder.samples();
     let generated = recorder.cover_blades();
     let posed = recorder.cover_posed();
-    let simulated = if simulation.grass().is_some() {
+    let from_state = recorder.cover_from_state();
+    let patches = if simulation.grass().is_some() {
         blades.len() as u64
     } else {
         0
     };
+    let simulated = patches
+        + simulation
+            .cover_dynamics()
+            .map_or(0, |d| d.blade_count() as u64);
 
     let info = gpu.info();
     let device_memory = gpu.device_memory();
@@ -322,7 +327,7 @@ fn render_with(
             msaa_used,
             blades: blades.len(),
             blade_counts: {
-                let all = simulated + generated;
+                let all = patches + generated;
                 let (in_view, drawn) = match &done.cull {
                     Some(c) => ((c.in_view + c.occluded) as u64, c.in_view as u64),
                     None => (all, all),
@@ -333,7 +338,7 @@ fn render_with(
                     generated,
                     simulated,
                     quasi_static: posed,
-                    at_rest: generated - posed,
+                    at_rest: generated - posed - from_state,
                     in_view,
                     drawn,
                 }

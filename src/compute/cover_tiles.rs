@@ -32,7 +32,8 @@ pub const COVER_SET: &[LayoutBinding] = &[
     LayoutBinding::compute_storage(1), // blade control points (a batch)
     LayoutBinding::compute_storage(2), // CoverParams
     LayoutBinding::compute_storage(3), // the wind velocity (or a placeholder)
-    LayoutBinding::compute_storage(4), // the blades posed (one word, host-read)
+    LayoutBinding::compute_storage(4), // the blades posed (two words, host-read)
+    LayoutBinding::compute_storage(5), // the kept blades' states (or a placeholder)
 ];
 
 /// The wind the cover's blades are posed in: the solver's velocity (one
@@ -62,6 +63,9 @@ pub struct CoverSetup<'a> {
     /// Pose only the blades the frame may draw (the others keep their
     /// rest shape, which no pass draws either).
     pub pose_drawn_only: bool,
+    /// The states of the blades the paper's dynamics step near the camera
+    /// (`CoverDynamics::states`; None: every blade quasi-static).
+    pub states: Option<&'a Buffer>,
 }
 
 /// One blade's control points in the blade buffer.
@@ -79,6 +83,8 @@ pub struct CoverTilePass {
     /// alive; declared read each frame); else a placeholder bound in its
     /// place.
     wind: Option<BufferId>,
+    /// The kept blades' states (`CoverDynamics`), declared read each frame.
+    states: Option<BufferId>,
     _placeholder: Option<Buffer>,
     /// One set per batch of the blade buffer, with its blades.
     sets: Vec<(DescriptorSet, Range<u32>)>,
@@ -106,6 +112,7 @@ impl CoverTilePass {
             wind,
             frame,
             pose_drawn_only,
+            states,
         } = setup;
         let most = cover::most_blades(cover);
         let too_many = || {
@@ -133,6 +140,8 @@ impl CoverTilePass {
             sigma: d.sigma,
             pose: wind.is_some() as u32,
             pose_drawn_only: pose_drawn_only as u32,
+            simulate_radius: cover.simulate_radius(),
+            ..bytemuck::Zeroable::zeroed()
         };
         let params = Buffer::with_data(
             gpu,
@@ -144,25 +153,30 @@ impl CoverTilePass {
         )?;
         let posed = Buffer::new(
             gpu,
-            "cover blades posed",
-            4,
+            "cover blades posed (quasi-static, from their state)",
+            8,
             vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::GpuToCpu,
         )?;
-        let placeholder = match wind {
-            Some(_) => None,
-            None => Some(Buffer::new(
+        // One placeholder stands for the wind and the states where either
+        // is missing (the kernel reads neither then).
+        let placeholder = if wind.is_none() || states.is_none() {
+            Some(Buffer::new(
                 gpu,
-                "cover wind placeholder (no wind: blades at rest)",
-                16,
+                "cover placeholder (no wind: blades at rest; no dynamics)",
+                32,
                 vk::BufferUsageFlags::STORAGE_BUFFER,
                 MemoryLocation::GpuOnly,
-            )?),
+            )?)
+        } else {
+            None
         };
-        let wind_buffer: &Buffer = match (&wind, &placeholder) {
-            (Some(w), _) => w.velocity,
-            (None, Some(p)) => p,
-            (None, None) => unreachable!("a placeholder is made without wind"),
+        let (wind_buffer, states_buffer): (&Buffer, &Buffer) = match (&wind, states, &placeholder) {
+            (Some(w), Some(s), _) => (w.velocity, s),
+            (Some(w), None, Some(p)) => (w.velocity, p),
+            (None, Some(s), Some(p)) => (p, s),
+            (None, None, Some(p)) => (p, p),
+            (_, _, None) => unreachable!("a placeholder is made for what is missing"),
         };
         let layout = PipelineLayout::new::<CoverPush>(
             gpu,
@@ -188,6 +202,7 @@ impl CoverTilePass {
                     Bound::Buffer(&params),
                     Bound::Buffer(wind_buffer),
                     Bound::Buffer(&posed),
+                    Bound::Buffer(states_buffer),
                 ]
             },
         )?
@@ -195,12 +210,14 @@ impl CoverTilePass {
         .filter(|(_, blades)| blades.end > base)
         .collect();
         let wind = wind.map(|w| BufferId::from(w.velocity));
+        let states = states.map(BufferId::from);
         Ok(Self {
             pipeline,
             params,
             record,
             posed,
             wind,
+            states,
             _placeholder: placeholder,
             sets,
             base,
@@ -218,6 +235,22 @@ impl CoverTilePass {
     pub fn set_wind_grid(&mut self, grid: &WindGrid) {
         if self.wind.is_some() {
             self.record.grid = super::wind_pass::grid_params(grid, grid.face_count() as u32);
+        }
+    }
+
+    /// The tiles whose blades' states the next pass poses
+    /// (`CoverDynamics::square`) around a camera at `camera` (x, z); None:
+    /// every blade quasi-static. Ignored by a pass made without states.
+    pub fn set_dynamics(&mut self, kept: Option<&CoverTiles>, camera: glam::Vec2) {
+        let r = &mut self.record;
+        r.eye = camera.to_array();
+        match kept.filter(|_| self.states.is_some()) {
+            Some(k) => {
+                r.kept_origin = k.origin;
+                r.kept_side = k.side;
+                r.dynamic = 1;
+            }
+            None => r.dynamic = 0,
         }
     }
 
@@ -250,6 +283,9 @@ impl CoverTilePass {
         ];
         if let Some(wind) = self.wind {
             uses.push(BufferUse::new(wind, Access::COMPUTE_READ));
+        }
+        if let Some(states) = self.states {
+            uses.push(BufferUse::new(states, Access::COMPUTE_READ));
         }
         rec.uses(&uses);
         rec.bind_pipeline(&self.pipeline);
@@ -290,9 +326,21 @@ impl CoverTilePass {
     }
 
     /// How many blades the last recorded pass, run and waited for, posed
-    /// quasi-statically (the others stand at rest).
+    /// quasi-statically, those in the blend band included (the others
+    /// stand at rest or take their dynamics' state).
     pub fn posed(&self) -> u32 {
-        let bytes = self.posed.mapped().expect("the count is host-visible");
-        u32::from_le_bytes([bytes[0], bytes[1], bytes[2], bytes[3]])
+        self.counter(0)
+    }
+
+    /// How many blades the last pass, run and waited for, posed from their
+    /// dynamics' state alone (within `simulate_radius` less the band).
+    pub fn from_state(&self) -> u32 {
+        self.counter(1)
+    }
+
+    fn counter(&self, word: usize) -> u32 {
+        let bytes = self.posed.mapped().expect("the counts are host-visible");
+        let at = 4 * word;
+        u32::from_le_bytes([bytes[at], bytes[at + 1], bytes[at + 2], bytes[at + 3]])
     }
 }

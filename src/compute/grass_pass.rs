@@ -222,6 +222,47 @@ impl GrassPass {
         self.blade_count
     }
 
+    /// Replaces the rest shapes and physics of blades `first..` with
+    /// `blades`, written in the command buffer ahead of the next step (the
+    /// cover's tiles coming into its simulated square); their states are
+    /// the caller's to set. Only for a pass made without colliders, whose
+    /// slots are the blades' own order.
+    pub fn record_replace(&self, rec: &Recording, first: u32, blades: &[GrassBlade]) -> Result<()> {
+        if self.presses_live() {
+            return Err(Error::InvalidInput(
+                "a grass step made with colliders keeps its blades in place order; its blades cannot be replaced".into(),
+            ));
+        }
+        if first as u64 + blades.len() as u64 > self.blade_count as u64 {
+            return Err(Error::InvalidInput(format!(
+                "blades {first}..{} are beyond the grass step's {}",
+                first as u64 + blades.len() as u64,
+                self.blade_count
+            )));
+        }
+        let size = std::mem::size_of::<GrassBlade>();
+        rec.uses(&[BufferUse::new(&self.blades, Access::TRANSFER_WRITE)]);
+        // vkCmdUpdateBuffer writes at most 65536 bytes a call.
+        let per_call = 65536 / size;
+        for (n, chunk) in blades.chunks(per_call).enumerate() {
+            let offset = (first as usize + n * per_call) * size;
+            rec.update_buffer(&self.blades, offset as u64, bytemuck::cast_slice(chunk));
+        }
+        Ok(())
+    }
+
+    /// The rest shapes and physics in slot order (for a kernel that sets
+    /// states; declared by its user).
+    pub fn blades(&self) -> &Buffer {
+        &self.blades
+    }
+
+    /// The angles and angular velocities in slot order, which the next
+    /// step reads and writes (declared by any other user).
+    pub fn states(&self) -> &Buffer {
+        &self.states
+    }
+
     /// Whether each blade keeps a pressed state (made with colliders).
     fn presses_live(&self) -> bool {
         self.push.pressed_states != 0
@@ -540,7 +581,11 @@ impl StepBuffers {
             std::iter::repeat(Press::default()),
             "the grass pressed state",
         )?;
-        let usage = vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC;
+        // TRANSFER_DST: the cover's kept tiles replace blades and states
+        // (`record_replace`).
+        let usage = vk::BufferUsageFlags::STORAGE_BUFFER
+            | vk::BufferUsageFlags::TRANSFER_SRC
+            | vk::BufferUsageFlags::TRANSFER_DST;
         let upload = |name: &str, bytes: &[u8], then: Access| {
             Buffer::with_data(gpu, commands, name, bytes, usage, then)
         };

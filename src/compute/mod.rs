@@ -8,6 +8,7 @@
 
 pub mod collider_bins;
 mod colliders;
+pub mod cover_dynamics;
 pub mod cover_tiles;
 pub mod grass_pass;
 mod place_order;
@@ -20,6 +21,7 @@ use crate::model::collider::Collider;
 use crate::model::{canopy, GrassBlade};
 use crate::scene::Scene;
 
+pub use cover_dynamics::CoverDynamics;
 pub use cover_tiles::CoverTilePass;
 pub use grass_pass::GrassPass;
 pub use step_pace::StepPace;
@@ -29,6 +31,9 @@ pub struct Simulation {
     /// None where the scene's only grass is a cover (no patch blades to
     /// step): the wind runs alone.
     grass: Option<GrassPass>,
+    /// The cover's blades within its `simulate_radius` of the camera
+    /// (`[grass.cover]` with a radius above zero).
+    cover: Option<CoverDynamics>,
     wind: WindPass,
     dt: f32,
     steps_done: u64,
@@ -61,8 +66,28 @@ impl Simulation {
                 )
             })
             .transpose()?;
+        let cover = match &scene.grass.cover {
+            Some(c) if c.simulate_radius() > 0.0 => {
+                let (eye, _) = scene.camera.at(0.0);
+                let setup = cover_dynamics::CoverDynamicsSetup {
+                    cover: c,
+                    seed: crate::scene::cover::seed32(c.seed.unwrap_or(scene.seed)),
+                    grass: &scene.grass,
+                    dt,
+                    camera: glam::Vec2::new(eye.x, eye.z),
+                };
+                Some(CoverDynamics::new(
+                    gpu,
+                    commands,
+                    setup,
+                    &wind.grass_input(),
+                )?)
+            }
+            _ => None,
+        };
         Ok(Self {
             grass,
+            cover,
             wind,
             dt,
             steps_done: 0,
@@ -101,27 +126,42 @@ impl Simulation {
         if let Some(grass) = &self.grass {
             grass.record_step(rec, 0, end_time);
         }
+        if let Some(cover) = &mut self.cover {
+            cover.record_step(rec, end_time);
+        }
         self.steps_done += 1;
     }
 
-    /// Keeps a wind window that follows the camera (`[grass.cover]`)
-    /// under an eye at `eye_xz` (x, z): moved in whole cells once the eye is a cell
-    /// or more from its centre (`WindGrid::window_shift`), the air with
-    /// it, and the grass samples the moved grid. Records nothing for a
-    /// grid fixed over the field.
+    /// Follows a camera at `eye_xz` (x, z) with what `[grass.cover]`
+    /// keeps around it: the wind window, moved in whole cells once the eye
+    /// is a cell or more from its centre (`WindGrid::window_shift`), the
+    /// air with it, the grass sampling the moved grid; and the tiles whose
+    /// blades the paper's dynamics step (`CoverDynamics::record_follow`).
+    /// Records nothing for a scene without a cover.
     pub fn record_follow(&mut self, rec: &Recording, eye_xz: glam::Vec2) -> Result<()> {
-        if !self.wind.follows_camera() {
-            return Ok(());
+        if self.wind.follows_camera() {
+            let by = self.wind.grid.window_shift(eye_xz);
+            if by != glam::IVec2::ZERO {
+                self.wind.record_shift(rec, by)?;
+                let origin = self.wind.grid.origin;
+                if let Some(grass) = &mut self.grass {
+                    grass.set_wind_origin(origin);
+                }
+                if let Some(cover) = &mut self.cover {
+                    cover.set_wind_origin(origin);
+                }
+            }
         }
-        let by = self.wind.grid.window_shift(eye_xz);
-        if by == glam::IVec2::ZERO {
-            return Ok(());
-        }
-        self.wind.record_shift(rec, by)?;
-        if let Some(grass) = &mut self.grass {
-            grass.set_wind_origin(self.wind.grid.origin);
+        if let Some(cover) = &mut self.cover {
+            cover.record_follow(rec, eye_xz)?;
         }
         Ok(())
+    }
+
+    /// The cover's blades the paper's dynamics step near the camera (None
+    /// without a cover or with a `simulate_radius` of 0).
+    pub fn cover_dynamics(&self) -> Option<&CoverDynamics> {
+        self.cover.as_ref()
     }
 
     /// Records `steps` whole steps, untimed.

@@ -249,6 +249,9 @@ impl FrameRecorder {
             }),
             frame: renderer.uniforms(),
             pose_drawn_only: true,
+            states: simulation
+                .and_then(Simulation::cover_dynamics)
+                .map(|d| d.states()),
         };
         let pass = CoverTilePass::new(gpu, commands, setup)?;
         Ok(Some((pass, cover.clone())))
@@ -348,9 +351,18 @@ impl FrameRecorder {
     }
 
     /// Of those, how many the last frame posed quasi-statically (the ones
-    /// it may draw; the others stand at rest).
+    /// it may draw, those blended into their dynamics included; the others
+    /// stand at rest or take their state).
     pub fn cover_posed(&self) -> u64 {
         self.cover.as_ref().map_or(0, |(p, _)| p.posed() as u64)
+    }
+
+    /// Of those, how many the last frame posed from their dynamics' state
+    /// alone (within `simulate_radius` less the blend band).
+    pub fn cover_from_state(&self) -> u64 {
+        self.cover
+            .as_ref()
+            .map_or(0, |(p, _)| p.from_state() as u64)
     }
 
     /// The cull pass (None with culling off).
@@ -485,7 +497,7 @@ impl FrameRecorder {
         if let Some(simulation) = simulation {
             // A wind window that follows the camera moves before the
             // steps, as part of the wind's work.
-            if simulation.wind().follows_camera() {
+            if simulation.wind().follows_camera() || simulation.cover_dynamics().is_some() {
                 let mut followed = Ok(());
                 t.span(&rec, Phase::Wind, |rec| {
                     followed = simulation.record_follow(rec, *camera_xz);
@@ -511,6 +523,11 @@ impl FrameRecorder {
             if let Some(simulation) = simulation.as_ref() {
                 pass.set_wind_grid(&simulation.wind().grid);
             }
+            let kept = simulation
+                .as_ref()
+                .and_then(|s| s.cover_dynamics())
+                .map(|d| *d.square());
+            pass.set_dynamics(kept.as_ref(), *camera_xz);
             let mut made = Ok(());
             t.span(&rec, Phase::Cover, |rec| {
                 made = pass.record(rec, buffer, &tiles);

@@ -39,6 +39,10 @@ gpu_interface! {
     /// Invocations per workgroup of the cover's tile kernel
     /// (glsl/cover/tiles.comp): one blade each.
     pub const COVER_GROUP: u32 = 64;
+    /// The band (m) inside `simulate_radius` over which a cover blade's
+    /// pose goes from its dynamics' to the quasi-static one
+    /// (`cover::BLEND_BAND_M`).
+    pub const COVER_BLEND_BAND_M: f32 = 4.0;
     /// Blades per workgroup of the cull pass's flag and compaction kernels:
     /// one blade per invocation (glsl/cull/).
     pub const CULL_GROUP: u32 = 256;
@@ -412,6 +416,31 @@ gpu_interface! {
         /// tests on the box their reach allows, glsl/common/cull.glsl);
         /// the rest keep their rest shape, which no pass draws either.
         pub pose_drawn_only: u32,
+        /// The tiles whose blades carry the paper's dynamics
+        /// (`cover::kept_tiles`): the first, and how many a side; each
+        /// blade's state at `cover::state_slot` x blades a tile + its index.
+        pub kept_origin: [i32; 2],
+        pub kept_side: u32,
+        /// `simulate_radius` (m): the blend band lies inside it.
+        pub simulate_radius: f32,
+        /// The camera's x and z, which the radius is measured from.
+        pub eye: [f32; 2],
+        /// 1: the kept tiles' states are posed, blended with the
+        /// quasi-static pose over the band; 0: every blade quasi-static.
+        pub dynamic: u32,
+        pub _pad0: u32,
+    }
+
+    /// Push constants of the kernel that starts the cover's tiles coming
+    /// into its simulated square at their quasi-static pose
+    /// (glsl/cover/enter.comp).
+    pub struct CoverEnterPush {
+        pub grid: WindGridParams,
+        /// The first blade (in the dynamics' slot order) and how many.
+        pub first: u32,
+        pub count: u32,
+        pub _pad0: u32,
+        pub _pad1: u32,
     }
 
     /// Push constants of the bench's floor (glsl/bench/floor.vert).

@@ -87,10 +87,14 @@ pub struct RenderReport {
 }
 
 /// The last frame's blades by what happened to them: made by the cover's
-/// tile pass, stepped by the paper's dynamics (the patches'), posed
-/// quasi-statically in the wind (the cover's the frame may draw) or left
-/// in their rest shape (the cover's it cannot draw), in view (with
-/// culling; else every blade) and drawn by the colour pass.
+/// tile pass, stepped by the paper's dynamics (the patches' and the
+/// cover's tiles within its `simulate_radius`), posed quasi-statically in
+/// the wind (the cover's the frame may draw beyond the radius less the
+/// blend band, the band's blended with their state) or left in their rest
+/// shape (the cover's it cannot draw), in view (with culling; else every
+/// blade) and drawn by the colour pass. The cover's drawable blades within
+/// the radius less the band take their state alone: generated - at_rest -
+/// quasi_static of them.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
 pub struct BladeCounts {
     pub generated: u64,

@@ -253,6 +253,57 @@ pub fn vertices(seed: u32, shape: &BladeShape, tiles: &CoverTiles) -> Vec<BladeV
         .collect()
 }
 
+/// The band (m) inside `simulate_radius` over which a cover blade's pose
+/// goes from its dynamics' to the quasi-static one, so that nothing pops
+/// where a blade crosses the radius.
+pub const BLEND_BAND_M: f32 = crate::interface::COVER_BLEND_BAND_M;
+
+/// How much of a blade's pose is its dynamics' at `distance` (m, along the
+/// ground) from the camera: 1 within `radius` less the band, 0 from the
+/// radius on, smooth between (smoothstep: no kink either).
+pub fn dynamic_weight(radius: f32, distance: f32) -> f32 {
+    let band = BLEND_BAND_M.min(radius);
+    if band <= 0.0 {
+        return 0.0;
+    }
+    let t = ((radius - distance) / band).clamp(0.0, 1.0);
+    t * t * (3.0 - 2.0 * t)
+}
+
+/// The tiles whose blades carry the paper's dynamics around a camera at
+/// `camera` (x, z): those whose squares reach within `simulate_radius`.
+pub fn kept_tiles(cover: &Cover, camera: Vec2) -> CoverTiles {
+    let simulated = Cover {
+        view_distance: cover.simulate_radius(),
+        ..cover.clone()
+    };
+    CoverTiles::around(&simulated, camera)
+}
+
+/// The state slot among `side` x `side` that `tile` is kept in: its
+/// coordinates wrapped, so a tile keeps its slot (and its blades' state)
+/// for as long as it stays in the simulated square, and the tile that
+/// replaces one leaving takes the slot it leaves.
+pub fn state_slot(tile: [i32; 2], side: u32) -> u32 {
+    let s = side as i32;
+    (tile[0].rem_euclid(s) + s * tile[1].rem_euclid(s)) as u32
+}
+
+/// The `index`th blade of `tile` as the dynamics step it (its physics
+/// from the same key as its shape).
+pub fn grass_blade(
+    seed: u32,
+    shape: &BladeShape,
+    dynamics: &GrassDynamics,
+    tile: [i32; 2],
+    index: u32,
+) -> Result<GrassBlade> {
+    GrassBlade::new(
+        &blade(seed, shape, tile, index),
+        &physics(seed, dynamics, tile, index),
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -264,6 +315,63 @@ mod tests {
             seed: None,
             simulate_radius: None,
         }
+    }
+
+    /// The simulated square's tiles take every state slot once wherever
+    /// the camera is, negative coordinates included; a tile that stays in
+    /// the square as the camera moves keeps its slot.
+    #[test]
+    fn kept_tiles_wrap_onto_their_slots_one_to_one() {
+        let c = Cover {
+            simulate_radius: Some(9.0),
+            ..cover(2.0, 20.0)
+        };
+        let mut before: Option<CoverTiles> = None;
+        for camera in [
+            Vec2::new(0.5, 0.5),
+            Vec2::new(-13.0, 7.0),
+            Vec2::new(-14.1, 3.0),
+            Vec2::new(-400.0, -9.0),
+        ] {
+            let kept = kept_tiles(&c, camera);
+            assert_eq!(kept.side, 7);
+            let mut taken = [false; 49];
+            for n in 0..49 {
+                let slot = state_slot(kept.tile(n), kept.side) as usize;
+                assert!(!taken[slot], "slot {slot} taken twice");
+                taken[slot] = true;
+            }
+            if let Some(b) = before.filter(|b| b.origin[0].abs_diff(kept.origin[0]) < 7) {
+                for n in 0..49 {
+                    let tile = b.tile(n);
+                    let inside = (0..7).contains(&(tile[0] - kept.origin[0]))
+                        && (0..7).contains(&(tile[1] - kept.origin[1]));
+                    if inside {
+                        assert_eq!(state_slot(tile, 7), state_slot(tile, kept.side));
+                    }
+                }
+            }
+            before = Some(kept);
+        }
+    }
+
+    #[test]
+    fn the_dynamics_weigh_in_smoothly_over_the_band() {
+        let r = 30.0;
+        assert_eq!(dynamic_weight(r, 0.0), 1.0);
+        assert_eq!(dynamic_weight(r, r - BLEND_BAND_M), 1.0);
+        assert_eq!(dynamic_weight(r, r), 0.0);
+        assert_eq!(dynamic_weight(r, 100.0), 0.0);
+        assert_eq!(dynamic_weight(r, r - 0.5 * BLEND_BAND_M), 0.5);
+        let mut last = 1.0;
+        for n in 0..=400 {
+            let w = dynamic_weight(r, 25.0 + n as f32 * 0.0125);
+            assert!(w <= last && last - w < 0.01, "{w} after {last}");
+            last = w;
+        }
+        // A radius inside the band: the band shrinks to it.
+        assert_eq!(dynamic_weight(2.0, 0.0), 1.0);
+        assert_eq!(dynamic_weight(0.0, 0.0), 0.0);
     }
 
     #[test]

@@ -1,0 +1,35 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// The cover's tiles coming into its simulated square
+// (`compute::CoverDynamics`): each of their blades starts where its
+// torques balance in the wind at its rest tip (the quasi-static pose,
+// glsl/grass/quasi_static.glsl) and still, so the paper's dynamics take
+// over from the pose the tile pass showed without a jolt.
+
+#include "wind_grid.glsl"
+#include "blade_vertex.glsl"
+#include "../grass/quasi_static.glsl"
+
+layout(local_size_x = COVER_GROUP) in;
+
+// CoverEnterPush: src/interface/defs.rs.
+layout(push_constant, std430) uniform Push {
+    CoverEnterPush pc;
+};
+
+// The dynamics' blades and states (`GrassPass`), in its slot order.
+layout(set = 0, binding = 0, std430) readonly buffer Blades { GrassBlade blades[]; };
+layout(set = 0, binding = 1, std430) buffer States { GrassState states[]; };
+layout(set = 0, binding = 2, std430) readonly buffer Wind { float wind_velocity[]; };
+#define WIND_VELOCITY(i) wind_velocity[i]
+#include "wind_sample.glsl"
+
+void main() {
+    if (gl_GlobalInvocationID.x >= pc.count) {
+        return;
+    }
+    uint id = pc.first + gl_GlobalInvocationID.x;
+    GrassBlade b = blades[id];
+    vec4 angle = quasi_static_angles(b, sample_wind(pc.grid, b.rest[3].xyz));
+    states[id] = GrassState(angle, vec4(0.0));
+}

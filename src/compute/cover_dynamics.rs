@@ -1,0 +1,268 @@
+//! The paper's dynamics near the camera for the cover (`[grass.cover]`'s
+//! `simulate_radius`): the tiles whose squares reach within the radius
+//! keep their blades' state, stepped by the grass kernel like any patch's
+//! (`GrassPass`). Each tile is kept in the state slot its coordinates wrap
+//! to (`cover::state_slot`), so a tile keeps its state for as long as it
+//! stays in the simulated square, and a tile coming in takes the slot of
+//! the one leaving: its blades are made on the CPU (`cover::grass_blade`,
+//! the same blades the tile kernel makes) and written in the command
+//! buffer, and glsl/cover/enter.comp starts them at their quasi-static
+//! pose, still. The tile kernel poses the kept blades from their state,
+//! blended into the quasi-static pose over the band inside the radius
+//! (`cover::dynamic_weight`).
+
+use ash::vk;
+use glam::Vec2;
+
+use crate::compute::wind_pass::{grid_params, WindInput};
+use crate::compute::GrassPass;
+use crate::error::{Error, Result};
+use crate::gpu::{
+    Access, Bound, Buffer, BufferId, BufferUse, CommandPool, DescriptorSet, Gpu, LayoutBinding,
+    MemoryLocation, Pipeline, PipelineLayout, Recording,
+};
+use crate::interface::{CoverEnterPush, COVER_GROUP};
+use crate::model::grass::GrassBlade;
+use crate::model::wind::WindGrid;
+use crate::model::BladeVertex;
+use crate::scene::cover::{self, CoverTiles};
+use crate::scene::{BladeShape, Cover, Grass, GrassDynamics};
+
+/// Set 0 of the enter kernel.
+pub const COVER_ENTER_SET: &[LayoutBinding] = &[
+    LayoutBinding::compute_storage(0), // the dynamics' blades
+    LayoutBinding::compute_storage(1), // their states
+    LayoutBinding::compute_storage(2), // the wind velocity
+];
+
+pub struct CoverDynamics {
+    /// The kept tiles' blades, stepped as the patches' are; its control
+    /// points go to `_stepped`, which nothing draws (the tile kernel poses
+    /// the blades from their states).
+    grass: GrassPass,
+    enter: Pipeline,
+    enter_set: DescriptorSet,
+    _stepped: Buffer,
+    wind: BufferId,
+    grid: WindGrid,
+    cover: Cover,
+    seed: u32,
+    shape: BladeShape,
+    dynamics: GrassDynamics,
+    /// The tile each state slot holds.
+    kept: Vec<[i32; 2]>,
+    /// The slots whose blades the next step starts at their quasi-static
+    /// pose.
+    entering: Vec<u32>,
+    square: CoverTiles,
+}
+
+/// What the cover's dynamics are made for.
+pub struct CoverDynamicsSetup<'a> {
+    pub cover: &'a Cover,
+    /// The cover's seed as the tile kernel takes it (`cover::seed32`).
+    pub seed: u32,
+    /// The scene's blade shapes and physics ranges.
+    pub grass: &'a Grass,
+    /// The simulation step (s).
+    pub dt: f32,
+    /// Where the camera starts (x, z).
+    pub camera: Vec2,
+}
+
+impl CoverDynamics {
+    /// The dynamics of the cover's blades within its `simulate_radius` of
+    /// the camera, in `wind`.
+    pub fn new(
+        gpu: &Gpu,
+        commands: &CommandPool,
+        setup: CoverDynamicsSetup<'_>,
+        wind: &WindInput,
+    ) -> Result<Self> {
+        let CoverDynamicsSetup {
+            cover,
+            seed,
+            grass,
+            dt,
+            camera,
+        } = setup;
+        let square = cover::kept_tiles(cover, camera);
+        let count = square.blade_count();
+        let bytes = count * std::mem::size_of::<GrassBlade>() as u64;
+        let range = gpu.limits().max_storage_buffer_range as u64;
+        if bytes > range {
+            return Err(Error::InvalidInput(format!(
+                "grass.cover.simulate_radius {} m at {} blades a square metre keeps {count} blades in the dynamics ({bytes} bytes of blades), more than one storage binding of this device holds ({range}); lower simulate_radius or density",
+                cover.simulate_radius(),
+                cover.density
+            )));
+        }
+        let side = square.side;
+        let mut kept = vec![[0, 0]; square.tile_count() as usize];
+        let mut blades = vec![GrassBlade::default(); count as usize];
+        for n in 0..square.tile_count() as u32 {
+            let tile = square.tile(n);
+            let slot = cover::state_slot(tile, side);
+            kept[slot as usize] = tile;
+            let first = (slot * square.per_tile) as usize;
+            let made = tile_blades(seed, &grass.shape, &grass.dynamics, tile, square.per_tile)?;
+            blades[first..first + made.len()].copy_from_slice(&made);
+        }
+        let stepped = Buffer::new(
+            gpu,
+            "cover dynamics control points (not drawn)",
+            count * 4 * std::mem::size_of::<BladeVertex>() as u64,
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+            MemoryLocation::GpuOnly,
+        )?;
+        let grass_pass = GrassPass::new(gpu, commands, &blades, &stepped, wind, &[], dt)?;
+        let layout = PipelineLayout::new::<CoverEnterPush>(
+            gpu,
+            COVER_ENTER_SET,
+            vk::ShaderStageFlags::COMPUTE,
+            "cover enter",
+        )?;
+        let enter = Pipeline::compute(gpu, &layout, &crate::shaders::COVER_ENTER_COMP)?;
+        let enter_set = DescriptorSet::new(
+            gpu,
+            &layout,
+            COVER_ENTER_SET,
+            &[
+                Bound::Buffer(grass_pass.blades()),
+                Bound::Buffer(grass_pass.states()),
+                Bound::Buffer(wind.velocity),
+            ],
+            "cover enter set",
+        )?;
+        Ok(Self {
+            grass: grass_pass,
+            enter,
+            enter_set,
+            _stepped: stepped,
+            wind: wind.velocity.into(),
+            grid: wind.grid,
+            cover: cover.clone(),
+            seed,
+            shape: grass.shape.clone(),
+            dynamics: grass.dynamics.clone(),
+            kept,
+            entering: (0..square.tile_count() as u32).collect(),
+            square,
+        })
+    }
+
+    /// Keeps the tiles around a camera at `camera` (x, z): each tile come
+    /// into the simulated square replaces the one that left its slot, its
+    /// blades written in the command buffer; they start at their
+    /// quasi-static pose before the next step.
+    pub fn record_follow(&mut self, rec: &Recording, camera: Vec2) -> Result<()> {
+        let square = cover::kept_tiles(&self.cover, camera);
+        for n in 0..square.tile_count() as u32 {
+            let tile = square.tile(n);
+            let slot = cover::state_slot(tile, square.side);
+            if self.kept[slot as usize] == tile {
+                continue;
+            }
+            let blades = tile_blades(
+                self.seed,
+                &self.shape,
+                &self.dynamics,
+                tile,
+                square.per_tile,
+            )?;
+            self.grass
+                .record_replace(rec, slot * square.per_tile, &blades)?;
+            self.kept[slot as usize] = tile;
+            self.entering.push(slot);
+        }
+        self.square = square;
+        // Started now, so that the tile kernel poses them from their pose
+        // in this frame even without a step.
+        self.record_enter(rec);
+        Ok(())
+    }
+
+    /// Records one step of the kept blades (the tiles that came in first
+    /// start at their quasi-static pose), `end_time` the simulated time
+    /// at its end.
+    pub fn record_step(&mut self, rec: &Recording, end_time: f32) {
+        self.record_enter(rec);
+        self.grass.record_step(rec, 0, end_time);
+    }
+
+    /// The enter kernel over the entering slots' blades.
+    fn record_enter(&mut self, rec: &Recording) {
+        if self.entering.is_empty() {
+            return;
+        }
+        self.entering.sort_unstable();
+        let per_tile = self.square.per_tile;
+        rec.bind_pipeline(&self.enter);
+        rec.bind_set(&self.enter, &self.enter_set);
+        // Runs of neighbouring slots in one dispatch each.
+        let mut runs: Vec<(u32, u32)> = Vec::new();
+        for &slot in &self.entering {
+            match runs.last_mut() {
+                Some((first, count)) if *first + *count == slot => *count += 1,
+                _ => runs.push((slot, 1)),
+            }
+        }
+        for (first, count) in runs {
+            rec.uses(&[
+                BufferUse::new(self.grass.blades(), Access::COMPUTE_READ),
+                BufferUse::new(self.grass.states(), Access::COMPUTE_READ_WRITE),
+                BufferUse::new(self.wind, Access::COMPUTE_READ),
+            ]);
+            let push = CoverEnterPush {
+                grid: grid_params(&self.grid, self.grid.face_count() as u32),
+                first: first * per_tile,
+                count: count * per_tile,
+                ..CoverEnterPush::default()
+            };
+            rec.push_constants(&self.enter, &push);
+            rec.dispatch((count * per_tile).div_ceil(COVER_GROUP));
+        }
+        self.entering.clear();
+    }
+
+    /// The wind grid's corner from the next step on (the wind window
+    /// moved).
+    pub fn set_wind_origin(&mut self, origin: glam::Vec3) {
+        self.grid.origin = origin;
+        self.grass.set_wind_origin(origin);
+    }
+
+    /// The kept blades' states in slot order (state slot x blades a tile
+    /// + index), which the tile kernel poses from.
+    pub fn states(&self) -> &Buffer {
+        self.grass.states()
+    }
+
+    /// The tiles kept now.
+    pub fn square(&self) -> &CoverTiles {
+        &self.square
+    }
+
+    /// Blades stepped each step.
+    pub fn blade_count(&self) -> u32 {
+        self.grass.blade_count()
+    }
+
+    /// The dynamics' grass step (for tests).
+    pub fn grass(&self) -> &GrassPass {
+        &self.grass
+    }
+}
+
+/// The `per_tile` blades of `tile` as the dynamics step them.
+fn tile_blades(
+    seed: u32,
+    shape: &BladeShape,
+    dynamics: &GrassDynamics,
+    tile: [i32; 2],
+    per_tile: u32,
+) -> Result<Vec<GrassBlade>> {
+    (0..per_tile)
+        .map(|index| cover::grass_blade(seed, shape, dynamics, tile, index))
+        .collect()
+}
