@@ -858,3 +858,143 @@ fn near_the_camera_the_cover_runs_the_papers_dynamics_as_the_cpu() {
     assert!(counts.iter().all(|&c| c > 10), "{counts:?}");
     assert!(worst < 1e-4, "the tile pass's poses differ by {worst} m");
 }
+
+/// A cover seen from 5 m up while the camera flies along x at 10 m/s in a
+/// turbulent wind, the paper's dynamics within 12 m (the blend band 8-12
+/// m out).
+fn band_scene() -> meadow::scene::Scene {
+    let text = r#"name = "band"
+seed = 3
+
+[camera]
+position = [0.0, 5.0, 0.0]
+target = [12.0, 0.0, 0.0]
+fov_y = 60.0
+
+[[camera.path]]
+time = 0.0
+position = [0.0, 5.0, 0.0]
+target = [12.0, 0.0, 0.0]
+
+[[camera.path]]
+time = 1.0
+position = [0.0, 5.0, 0.0]
+target = [12.0, 0.0, 0.0]
+
+[[camera.path]]
+time = 3.0
+position = [20.0, 5.0, 0.0]
+target = [32.0, 0.0, 0.0]
+
+[light]
+shadow_map = 512
+
+[grass.cover]
+density = 12.0
+view_distance = 24.0
+simulate_radius = 12.0
+
+[wind]
+cells = [48, 6, 48]
+height = 3.0
+window = [48.0, 48.0]
+turbulence = { intensity = 0.5, length_scale = 3.0, seed = 4 }
+
+[wind.inflow]
+speed = 3.0
+heading = 90.0
+"#;
+    meadow::scene::file::parse(text, "band.toml").unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// Issue 40, item 2: nothing pops where the cover's blades cross
+/// `simulate_radius`. Over a flight at 10 m/s, 30 frames a second, each
+/// cover blade's tip is followed from frame to frame (by its tile and
+/// index); the blades crossing the band move from one frame to the next no
+/// more than the blades of the rings beside it (4-8 m, 12-16 m), whose
+/// pose switches nothing: the band's 99th percentile of a frame's tip move
+/// within a quarter over the larger of theirs. Measured: 0.0238 m against
+/// 0.0234 (inside) and 0.0153 m (outside); with the blend replaced by a
+/// hard switch, 0.0387 m. On the blades' geometry, not on pixels as the
+/// issue asks: in 320 x 180 frames the per-pixel FLIP between frames was
+/// the same to four digits with the hard switch (0.1532), the camera's
+/// own motion swamping a pop of a few centimetres.
+#[test]
+fn nothing_pops_where_the_cover_crosses_the_simulate_radius() {
+    use meadow::frame::FrameRecorder;
+    use meadow::render::{FrameUniforms, ViewMode};
+    use std::collections::HashMap;
+    let scene = band_scene();
+    let cover = scene.grass.cover.clone().unwrap();
+    let seed = cover::seed32(scene.seed);
+    let gpu = strict_gpu_with(None);
+    let (w, h) = (160, 90);
+    let mut recorder = FrameRecorder::new(&gpu, &scene, (w, h), 1, &[], Some(&[])).unwrap();
+    // A second of wind first: the kept blades sway.
+    recorder.simulate(60).unwrap();
+    let mut frames = Vec::new();
+    for n in 0..16 {
+        let time = 1.0 + n as f32 / 30.0;
+        let uniforms = FrameUniforms::new(&scene, w, h, ViewMode::Shaded, time);
+        let steps = recorder.steps_until(time as f64).unwrap();
+        recorder.render(&gpu, &uniforms, steps).unwrap();
+        let all: Vec<BladeVertex> = recorder
+            .blades()
+            .buffer()
+            .read_back(
+                &gpu,
+                recorder.commands(),
+                recorder.blades().count() as usize * 4,
+            )
+            .unwrap();
+        let (eye, _) = scene.camera.at(time);
+        let eye = Vec2::new(eye.x, eye.z);
+        let tiles = CoverTiles::around(&cover, eye);
+        let rest = cover::vertices(seed, &scene.grass.shape, &tiles);
+        // The tips of the blades posed (the others stand at rest: the
+        // frame cannot draw them).
+        let tips: HashMap<([i32; 2], u32), Vec3> = tiles
+            .blades()
+            .enumerate()
+            .filter(|(n, _)| all[4 * n + 3].position != rest[4 * n + 3].position)
+            .map(|(n, key)| (key, Vec3::from_slice(&all[4 * n + 3].position[..3])))
+            .collect();
+        frames.push((eye, tips));
+    }
+    drop(recorder);
+    finish(gpu);
+
+    let mut moves: [Vec<f32>; 3] = Default::default();
+    for pair in frames.windows(2) {
+        let ((_, before), (eye, after)) = (&pair[0], &pair[1]);
+        for (key, tip) in after {
+            let Some(was) = before.get(key) else { continue };
+            let d = Vec2::new(tip.x, tip.z).distance(*eye);
+            let Some(r) = [4.0f32, 8.0, 12.0, 16.0]
+                .windows(2)
+                .position(|r| (r[0]..r[1]).contains(&d))
+            else {
+                continue;
+            };
+            moves[r].push(tip.distance(*was));
+        }
+    }
+    let counts = moves.each_ref().map(Vec::len);
+    let [inside, band, outside] = moves.map(|mut m| {
+        m.sort_by(f32::total_cmp);
+        let at = |q: f64| m.get(((m.len().max(1) - 1) as f64 * q) as usize).copied();
+        (at(0.99).unwrap_or(0.0), at(1.0).unwrap_or(0.0))
+    });
+    eprintln!(
+        "tips' move between frames, 99th percentile (largest): 4-8 m {:.4} m ({:.3}), the band 8-12 m {:.4} m ({:.3}), 12-16 m {:.4} m ({:.3}); {counts:?} blade-pairs",
+        inside.0, inside.1, band.0, band.1, outside.0, outside.1
+    );
+    assert!(counts.iter().all(|&c| c > 1000), "{counts:?}");
+    assert!(
+        band.0 <= 1.25 * inside.0.max(outside.0),
+        "the band's blades move {:.4} m in a frame (99th percentile), more than beside it ({:.4}, {:.4} m)",
+        band.0,
+        inside.0,
+        outside.0
+    );
+}

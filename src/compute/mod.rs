@@ -199,9 +199,14 @@ impl Simulation {
         self.steps_done
     }
 
-    /// The grass step's substeps (0 without patch blades).
+    /// The grass step's substeps: the patches', or else the cover's
+    /// kept blades' (0 with neither).
     pub fn substeps(&self) -> u32 {
-        self.grass.as_ref().map_or(0, GrassPass::substeps)
+        match (&self.grass, &self.cover) {
+            (Some(g), _) => g.substeps(),
+            (None, Some(c)) => c.grass().substeps(),
+            (None, None) => 0,
+        }
     }
 
     pub fn dt(&self) -> f32 {

@@ -160,8 +160,12 @@ pub fn summary(report: &RenderReport, out: &Path) -> String {
     let b = &report.blade_counts;
     if b.generated > 0 {
         text += &format!(
-            "cover: {} blades made around the camera each frame, {} posed quasi-statically in the wind (those the frame may draw), {} at rest; {} simulated\n",
-            b.generated, b.quasi_static, b.at_rest, b.simulated
+            "cover: {} blades made around the camera each frame: {} posed from the paper's dynamics, {} quasi-statically in the wind (those the frame may draw; the blend band's mixed with their dynamics), {} at rest; {} blades simulated\n",
+            b.generated,
+            b.generated - b.quasi_static - b.at_rest,
+            b.quasi_static,
+            b.at_rest,
+            b.simulated
         );
     }
     if report.validation.enabled {
