@@ -746,12 +746,22 @@ pub fn check_fits(gpu: &Gpu, scene: &Scene, width: u32, height: u32, msaa: u32) 
         .cover
         .as_ref()
         .map_or(0, crate::scene::cover::most_blades);
+    // The blades the cover's dynamics keep near the camera: the grass
+    // step's buffers and the control points it writes.
+    let kept = scene.grass.cover.as_ref().map_or(0, |c| {
+        if c.simulate_radius() > 0.0 {
+            crate::scene::cover::kept_tiles(c, glam::Vec2::ZERO).blade_count()
+        } else {
+            0
+        }
+    });
     let what = match &scene.grass.cover {
         Some(c) => format!(
-            "{} blades and grass.cover's {cover} (density {} a square metre, view_distance {} m) at {width}x{height} with {msaa}x MSAA",
+            "{} blades and grass.cover's {cover} (density {} a square metre, view_distance {} m; {kept} of them within simulate_radius {} m keep a state) at {width}x{height} with {msaa}x MSAA",
             scene.blade_count(),
             c.density,
-            c.view_distance
+            c.view_distance,
+            c.simulate_radius()
         ),
         None => format!(
             "{} blades at {width}x{height} with {msaa}x MSAA",
@@ -763,6 +773,7 @@ pub fn check_fits(gpu: &Gpu, scene: &Scene, width: u32, height: u32, msaa: u32) 
         &what,
         crate::compute::grass_pass::device_bytes(scene.blade_count(), !scene.colliders.is_empty())
             + cover * 4 * std::mem::size_of::<crate::model::BladeVertex>() as u64
+            + crate::compute::grass_pass::device_bytes(kept as usize, false)
             + if scene.cull.enabled {
                 crate::render::cull::device_bytes(drawn)
             } else {
