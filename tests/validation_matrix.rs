@@ -281,9 +281,15 @@ fn reproduce_quick_renders_every_figure_validation_clean_with_both_indexes() {
         .skip(1)
         .map(|rest| &rest[..rest.find(')').unwrap()])
         .collect();
-    // 21 shots' frames (steppe's flight three of them), the gust strip's
-    // space-time diagram and the turbulent field's plan view and spectrum.
-    assert_eq!(links.len(), 24, "{links:?}");
+    // 21 shots' frames (steppe's flight three of them) and the flight's
+    // video (scripts/test installs ffmpeg), the gust strip's space-time
+    // diagram and the turbulent field's plan view and spectrum.
+    assert_eq!(links.len(), 25, "{links:?}");
+    let (videos, links): (Vec<&str>, Vec<&str>) = links.iter().partition(|l| l.ends_with(".mp4"));
+    assert_eq!(videos, ["steppe/flight.mp4"]);
+    let mp4 = std::fs::read(out.join(videos[0])).unwrap();
+    assert!(mp4.len() > 1000 && &mp4[4..8] == b"ftyp", "an MP4 file");
+    assert_eq!(html.matches("src=\"data:video/mp4;base64,").count(), 1);
     let (svgs, pngs): (Vec<&str>, Vec<&str>) = links.iter().partition(|l| l.ends_with(".svg"));
     assert_eq!(
         svgs,

@@ -22,6 +22,8 @@ pub struct Shot {
     pub fps: f32,
     /// Simulated seconds before the first frame.
     pub start: f32,
+    /// Also a video of its frames, this file in its folder (ffmpeg; .mp4).
+    pub video: Option<String>,
 }
 
 impl Shot {
@@ -57,6 +59,20 @@ pub struct Rendered {
     /// The scene as rendered (for the parameters shown beside it).
     pub scene: Scene,
     pub report: RenderReport,
+    /// The video asked for: its file name in `dir` when written, or why it
+    /// was not (no ffmpeg on this machine).
+    pub video: Option<std::result::Result<String, String>>,
+}
+
+/// The frames an index shows of a shot of `frames`: every one up to
+/// four, else four spread from the first to the last (a video shot has
+/// them all).
+fn shown(frames: usize) -> Vec<usize> {
+    if frames <= 4 {
+        (0..frames).collect()
+    } else {
+        (0..4).map(|k| k * (frames - 1) / 3).collect()
+    }
 }
 
 /// "Paper: ..." for the paper's figures; beyond the paper, what to see.
@@ -140,8 +156,17 @@ pub fn markdown(figures: &[Figure], rendered: &[Rendered], quick: bool) -> Strin
         for r in rendered.iter().filter(|r| r.figure == i) {
             let scene = &r.scene;
             let _ = writeln!(md, "**{}** ({})\n", r.label, scene.caption);
-            for frame in &r.report.frames {
-                let _ = write!(md, "![{}]({}/{}) ", r.label, r.dir, frame);
+            for k in shown(r.report.frames.len()) {
+                let _ = write!(md, "![{}]({}/{}) ", r.label, r.dir, r.report.frames[k]);
+            }
+            match &r.video {
+                Some(Ok(name)) => {
+                    let _ = write!(md, "\n\nVideo: [{name}]({}/{name})", r.dir);
+                }
+                Some(Err(why)) => {
+                    let _ = write!(md, "\n\nNo video: {why}");
+                }
+                None => {}
             }
             let _ = writeln!(md, "\n\n{}\n", parameters(&r.report, scene));
         }
@@ -192,16 +217,32 @@ pub fn html(figures: &[Figure], rendered: &[Rendered], out: &Path, quick: bool) 
             );
             // Every frame of a shot is written (no --every): the n-th file
             // is frame n.
-            for (frame, time) in r.report.frames.iter().zip(0..) {
-                let path = out.join(&r.dir).join(frame);
+            for time in shown(r.report.frames.len()) {
+                let path = out.join(&r.dir).join(&r.report.frames[time]);
                 let png = std::fs::read(&path).map_err(|e| crate::Error::io(&path, e))?;
                 let data = base64::engine::general_purpose::STANDARD.encode(png);
                 let _ = writeln!(
                     h,
                     "<figure><img alt=\"{}\" src=\"data:image/png;base64,{data}\"><figcaption>t = {:.2} s</figcaption></figure>",
                     escape(&r.label),
-                    r.report.animation.time_of(time)
+                    r.report.animation.time_of(time as u32)
                 );
+            }
+            match &r.video {
+                Some(Ok(name)) => {
+                    let path = out.join(&r.dir).join(name);
+                    let mp4 = std::fs::read(&path).map_err(|e| crate::Error::io(&path, e))?;
+                    let data = base64::engine::general_purpose::STANDARD.encode(mp4);
+                    let _ = writeln!(
+                        h,
+                        "<figure><video controls loop src=\"data:video/mp4;base64,{data}\"></video><figcaption>{}</figcaption></figure>",
+                        escape(name)
+                    );
+                }
+                Some(Err(why)) => {
+                    let _ = writeln!(h, "<p class=\"params\">No video: {}</p>", escape(why));
+                }
+                None => {}
             }
             let _ = writeln!(
                 h,
