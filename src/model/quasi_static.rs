@@ -25,6 +25,10 @@ use crate::model::grass::{self, GrassBlade, GrassState, BEND_B, MAX_ANGLE};
 
 /// Iterations at most (table1's blades in 1-6 m/s balance in at most 16).
 pub const MAX_ITERATIONS: usize = 100;
+/// The band (m) inside a cover's `simulate_radius` over which a blade's
+/// pose goes from its dynamics' to the quasi-static one
+/// (`scene::cover::dynamic_weight`; glsl/cover/tiles.comp reads the same).
+pub use crate::interface::COVER_BLEND_BAND_M as BLEND_BAND_M;
 /// Iterations the far field's pose takes at most (the cover's, on the GPU
 /// and in its CPU reference): table1's blades in 1-6 m/s are within 3.2e-5
 /// of the settled angles after 12, within 9% after 10.

@@ -256,7 +256,7 @@ pub fn vertices(seed: u32, shape: &BladeShape, tiles: &CoverTiles) -> Vec<BladeV
 /// The band (m) inside `simulate_radius` over which a cover blade's pose
 /// goes from its dynamics' to the quasi-static one, so that nothing pops
 /// where a blade crosses the radius.
-pub const BLEND_BAND_M: f32 = crate::interface::COVER_BLEND_BAND_M;
+pub use crate::model::quasi_static::BLEND_BAND_M;
 
 /// How much of a blade's pose is its dynamics' at `distance` (m, along the
 /// ground) from the camera: 1 within `radius` less the band, 0 from the
