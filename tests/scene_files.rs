@@ -648,6 +648,22 @@ fn bad_cover_is_refused_naming_the_field_the_limit_and_the_memory() {
             "density = 1000.0\nview_distance = 200.0",
             "grass.cover.view_distance: 200 m at 1000 blades a square metre makes 101 x 101 tiles of 16000 blades, 163216000 blades (20.9 GB of control points), over the 9999990 allowed; lower view_distance or density",
         ),
+        (
+            "density = 40.0\nview_distance = 50.0\nsize = [1000.0, 0.0]",
+            "grass.cover.size[1]: 0 is not allowed, use a number above 0 and at most 100000",
+        ),
+        (
+            "density = 40.0\nview_distance = 50.0\nsize = [1e9, 10.0]",
+            "grass.cover.size[0]: 1000000000 is not allowed, use a number above 0 and at most 100000",
+        ),
+        (
+            "density = 40.0\nview_distance = 50.0\nsize = [100.0, 100.0]\ncenter = [inf, 0.0]",
+            "grass.cover.center: [inf, 0.0] is not allowed, every value must be a finite number",
+        ),
+        (
+            "density = 40.0\nview_distance = 50.0\ncenter = [10.0, 0.0]",
+            "grass.cover.center: is the centre of the cover's rectangle, which has no size; add size = [w, d] (m) or remove center",
+        ),
     ] {
         let err = file::parse(&covered(table), "bad.toml")
             .err()
@@ -669,4 +685,14 @@ fn bad_cover_is_refused_naming_the_field_the_limit_and_the_memory() {
     let near = alone.replace("view_distance = 60.0", "view_distance = 12.0");
     let scene = file::parse(&near, "cover.toml").unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(scene.grass.cover.unwrap().simulate_radius(), 12.0);
+    // A kilometre-wide cover centred off the origin.
+    let bounded = alone.replace(
+        "seed = 3\n",
+        "seed = 3\nsize = [1000.0, 200.0]\ncenter = [400.0, -50.0]\n",
+    );
+    let scene = file::parse(&bounded, "cover.toml").unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(
+        scene.grass.cover.unwrap().bounds(),
+        [-100.0, -150.0, 900.0, 50.0]
+    );
 }

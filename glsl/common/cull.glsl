@@ -91,13 +91,14 @@ float least_alignment(BladeVertex v[4], vec3 dir[4]) {
 // branches depend on and compiles a new shader variant at every dispatch,
 // never freed (about 330 KiB and a compile per frame, tests/host_memory.rs
 // saw it). A sun too low to sweep leaves every blade a caster; a blade the
-// distance thinning drops is drawn by neither pass; `edge_on` (a cosine,
-// 1 = off) leaves out blades seen edge-on from the camera (colour pass)
-// and from the sun (shadow pass). `lo` and `hi` return the blade's bounds
+// distance thinning drops, or one without width, is drawn by neither
+// pass; `edge_on` (a cosine, 1 = off) leaves out blades seen edge-on from
+// the camera (colour pass) and from the sun (shadow pass). `lo` and `hi` return the blade's bounds
 // (for the occlusion test, glsl/cull/flags.comp).
 uint cull_flags(BladeVertex v[4], bool shadows, float edge_on, out vec3 lo, out vec3 hi) {
     float width_scale = thinning_scale(v[0].position);
-    uint kept = uint(width_scale > 0.0);
+    // A blade without width (the cover's beyond its bounds) is no blade.
+    uint kept = uint(width_scale > 0.0) & uint(any(notEqual(v[0].width.xyz, vec3(0.0))));
     blade_bounds(v, width_scale, lo, hi);
     vec3 light = frame.light_dir.xyz;
     vec3 to_eye[4], to_sun[4];

@@ -30,8 +30,9 @@ layout(set = 0, binding = 2, std430) readonly buffer Params { CoverParams params
 // The wind the blades are posed in (a placeholder with `params.pose` 0).
 layout(set = 0, binding = 3, std430) readonly buffer Wind { float wind_velocity[]; };
 // How many blades this pass posed quasi-statically (those blended
-// included) and from their state alone (cleared before it).
-layout(set = 0, binding = 4, std430) buffer Posed { uint posed; uint from_state; };
+// included), from their state alone, and left out beyond the cover's
+// bounds (cleared before it).
+layout(set = 0, binding = 4, std430) buffer Posed { uint posed; uint from_state; uint outside; };
 // The kept blades' states (`compute::CoverDynamics`; a placeholder with
 // `params.dynamic` 0): the paper's dynamics near the camera.
 layout(set = 0, binding = 5, std430) readonly buffer States { GrassState states[]; };
@@ -191,6 +192,16 @@ void main() {
         precise vec3 p = vec3(root.x, 0.0, root.y) + vec3(f.x, 0.0, f.y) * (unit[i].x * h)
             + vec3(0.0, 1.0, 0.0) * (unit[i].y * h);
         rest[i] = p;
+    }
+    // Beyond the bounds (`CoverTiles::grows_at`): no blade, its rest
+    // points without width (`cover::left_out`), which no pass draws.
+    if (!(root.x >= pc.bounds.x && root.x < pc.bounds.z && root.y >= pc.bounds.y
+          && root.y < pc.bounds.w)) {
+        atomicAdd(outside, 1u);
+        for (int i = 0; i < 4; ++i) {
+            vertices[4u * local + uint(i)] = BladeVertex(vec4(rest[i], rand), vec4(0.0));
+        }
+        return;
     }
     float reach = distance(rest[0], rest[1]) + distance(rest[1], rest[2]) + distance(rest[2], rest[3]);
     if (params.pose == 0u

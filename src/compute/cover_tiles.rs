@@ -32,7 +32,7 @@ pub const COVER_SET: &[LayoutBinding] = &[
     LayoutBinding::compute_storage(1), // blade control points (a batch)
     LayoutBinding::compute_storage(2), // CoverParams
     LayoutBinding::compute_storage(3), // the wind velocity (or a placeholder)
-    LayoutBinding::compute_storage(4), // the blades posed (two words, host-read)
+    LayoutBinding::compute_storage(4), // the blades posed and left out (three words, host-read)
     LayoutBinding::compute_storage(5), // the kept blades' states (or a placeholder)
 ];
 
@@ -153,8 +153,8 @@ impl CoverTilePass {
         )?;
         let posed = Buffer::new(
             gpu,
-            "cover blades posed (quasi-static, from their state)",
-            8,
+            "cover blades posed (quasi-static, from their state) and left out",
+            12,
             vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::GpuToCpu,
         )?;
@@ -315,6 +315,7 @@ impl CoverTilePass {
                     _pad0: 0,
                     _pad1: 0,
                     _pad2: 0,
+                    bounds: tiles.bounds,
                 };
                 rec.push_constants(&self.pipeline, &push);
                 rec.dispatch(count.div_ceil(COVER_GROUP));
@@ -336,6 +337,12 @@ impl CoverTilePass {
     /// dynamics' state alone (within `simulate_radius` less the band).
     pub fn from_state(&self) -> u32 {
         self.counter(1)
+    }
+
+    /// How many blades the last pass, run and waited for, left out: rooted
+    /// beyond the cover's bounds.
+    pub fn outside(&self) -> u32 {
+        self.counter(2)
     }
 
     fn counter(&self, word: usize) -> u32 {

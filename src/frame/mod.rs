@@ -343,10 +343,13 @@ impl FrameRecorder {
     }
 
     /// The cover's blades each frame makes around the camera (0 without
-    /// `[grass.cover]`): its whole square of tiles.
+    /// `[grass.cover]`): its whole square of tiles, less those the last
+    /// frame (run and waited for) left out beyond the cover's bounds.
     pub fn cover_blades(&self) -> u64 {
-        self.cover.as_ref().map_or(0, |(_, c)| {
-            CoverTiles::around(c, self.camera_xz).blade_count()
+        self.cover.as_ref().map_or(0, |(p, c)| {
+            CoverTiles::around(c, self.camera_xz)
+                .blade_count()
+                .saturating_sub(p.outside() as u64)
         })
     }
 

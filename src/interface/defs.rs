@@ -396,6 +396,10 @@ gpu_interface! {
         pub _pad0: u32,
         pub _pad1: u32,
         pub _pad2: u32,
+        /// Where blades grow: x0, z0, x1, z1 (m), roots with x0 <= x < x1
+        /// and z0 <= z < z1 (`Cover::bounds`); the others are made
+        /// without width.
+        pub bounds: [f32; 4],
     }
 
     /// What the cover's tile kernel reads besides its push constants

@@ -186,8 +186,8 @@ pub struct Margins {
 
 impl CullView {
     /// The cull pass's tests for one blade (glsl/common/cull.glsl
-    /// `cull_flags`): a blade the distance thinning drops is in neither
-    /// list, the bounds hold the widened blade; a blade seen edge-on from
+    /// `cull_flags`): a blade the distance thinning drops, or one without
+    /// width, is in neither list, the bounds hold the widened blade; a blade seen edge-on from
     /// the camera is not drawn in colour, one edge-on to the sun casts no
     /// shadow.
     pub fn test(&self, v: &[BladeVertex; 4]) -> (Visibility, Margins) {
@@ -205,7 +205,9 @@ impl CullView {
                 .abs()
                 .min((from_sun - self.edge_on).abs()),
         };
-        if width_scale <= 0.0 {
+        // A blade without width (the cover's beyond its bounds) is no blade.
+        let has_width = Vec4::from(v[0].width).truncate() != Vec3::ZERO;
+        if width_scale <= 0.0 || !has_width {
             return (Visibility::default(), margins);
         }
         let bounds = Bounds::of_scaled_blade(v, width_scale);
@@ -323,6 +325,17 @@ mod tests {
     }
 
     #[test]
+    fn a_blade_without_width_is_in_neither_list() {
+        let sun = Vec3::new(0.0, 1.0, 0.0);
+        let mut ahead = upright(Vec3::new(0.0, 0.0, -5.0), 0.5);
+        for v in &mut ahead {
+            v.width = [0.0; 4];
+        }
+        let (seen, _) = visibility(&ahead, &camera(), sun, true);
+        assert_eq!(seen, Visibility::default());
+    }
+
+    #[test]
     fn a_blade_out_of_view_casts_into_it_when_its_shadow_falls_there() {
         // 20 m to the left, out of a 45 degree view at 10 m ahead; a low
         // sun on the far left throws a 1 m blade's shadow 20 m to the right.
@@ -404,9 +417,9 @@ mod tests {
         // Width along the sun's rays: drawn, casts nothing.
         let sunward = view(Vec3::new(0.0, 0.0, -5.0), sun * 0.01);
         assert!(sunward.in_view && !sunward.caster, "{sunward:?}");
-        // No width: face-on to both.
+        // No width: no blade (the cover's beyond its bounds), in neither.
         let none = view(Vec3::new(0.0, 0.0, -5.0), Vec3::ZERO);
-        assert!(none.in_view && none.caster, "{none:?}");
+        assert_eq!(none, Visibility::default());
     }
 
     #[test]

@@ -474,6 +474,11 @@ pub fn grass(g: &Grass) -> Check {
     Ok(())
 }
 
+/// The widest bounded cover (m) and the farthest its centre lies from
+/// the origin: 100 km, where f32 roots still fall within 8 mm of where
+/// the draws put them.
+pub const MAX_COVER_SIZE: f32 = 100_000.0;
+
 /// The cover's values, and the blades it makes around the camera within
 /// the `room` the patches leave of `MAX_BLADES`.
 pub fn cover(c: &Cover, room: usize) -> Check {
@@ -488,6 +493,28 @@ pub fn cover(c: &Cover, room: usize) -> Check {
             c.view_distance
         ),
     )?;
+    match (c.size, c.center) {
+        (Some([w, d]), center) => {
+            positive("size[0]", w, MAX_COVER_SIZE)?;
+            positive("size[1]", d, MAX_COVER_SIZE)?;
+            if let Some(center) = center {
+                finite("center", &center)?;
+                within(
+                    "center",
+                    center[0].abs().max(center[1].abs()),
+                    0.0..=MAX_COVER_SIZE,
+                    &format!("a centre within {MAX_COVER_SIZE} m of the origin"),
+                )?;
+            }
+        }
+        (None, Some(_)) => {
+            return Err(FieldError::new(
+                "center",
+                "is the centre of the cover's rectangle, which has no size; add size = [w, d] (m) or remove center",
+            ))
+        }
+        (None, None) => {}
+    }
     let blades = super::cover::most_blades(c);
     if blades > room as u64 {
         let side = 2 * super::cover::tiles_reached(c.view_distance) + 1;

@@ -25,12 +25,15 @@ pub const TILE_M: f32 = 4.0;
 /// The tiles made around one camera position: `side` x `side` of them
 /// from tile `origin` (tile coordinates: the tile at (i, j) covers
 /// x in [i, i + 1) TILE_M and z in [j, j + 1) TILE_M), `per_tile` blades
-/// each, in the blade buffer tile after tile, row by row.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// each, in the blade buffer tile after tile, row by row; of those, the
+/// blades rooted within the cover's `bounds` grow (`Cover::bounds`), the
+/// rest are left out: made without width, which no pass draws.
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CoverTiles {
     pub origin: [i32; 2],
     pub side: u32,
     pub per_tile: u32,
+    pub bounds: [f32; 4],
 }
 
 impl CoverTiles {
@@ -44,7 +47,15 @@ impl CoverTiles {
             origin: [tile.x as i32 - reach as i32, tile.y as i32 - reach as i32],
             side: 2 * reach + 1,
             per_tile: per_tile(cover.density),
+            bounds: cover.bounds(),
         }
+    }
+
+    /// Whether a blade rooted at `root` (x, z) grows: inside the bounds,
+    /// their least edges included and their greatest not.
+    pub fn grows_at(&self, root: Vec2) -> bool {
+        let [x0, z0, x1, z1] = self.bounds;
+        root.x >= x0 && root.x < x1 && root.y >= z0 && root.y < z1
     }
 
     pub fn tile_count(&self) -> u64 {
@@ -223,6 +234,21 @@ pub fn physics(seed: u32, dynamics: &GrassDynamics, tile: [i32; 2], index: u32) 
     }
 }
 
+/// Where a blade is rooted (x, z): what `CoverTiles::grows_at` tests.
+pub fn root_xz(blade: &Blade) -> Vec2 {
+    Vec2::new(blade.rest[0].x, blade.rest[0].z)
+}
+
+/// A blade beyond the cover's bounds as the tile kernel leaves it: its
+/// rest points without width (no pass draws it; the cull pass counts it
+/// in neither list).
+pub fn left_out(blade: &Blade) -> [BladeVertex; 4] {
+    blade.vertices().map(|v| BladeVertex {
+        width: [0.0; 4],
+        ..v
+    })
+}
+
 /// The control points of every blade of `tiles` in its quasi-static pose
 /// (src/model/quasi_static.rs) for the wind `wind_at` gives at its rest
 /// tip, in the blade buffer's order: what the tile kernel writes with a
@@ -237,6 +263,10 @@ pub fn posed_vertices(
     let mut out = Vec::with_capacity(tiles.blade_count() as usize * 4);
     for (tile, index) in tiles.blades() {
         let rest = blade(seed, shape, tile, index);
+        if !tiles.grows_at(root_xz(&rest)) {
+            out.extend(left_out(&rest));
+            continue;
+        }
         let b = GrassBlade::new(&rest, &physics(seed, dynamics, tile, index))?;
         let (angles, _) = quasi_static_angles_within(&b, wind_at(rest.rest[3]), FAR_ITERATIONS);
         out.extend(grass::vertices(&b, &grass::pose(&b, angles)));
@@ -249,7 +279,14 @@ pub fn posed_vertices(
 pub fn vertices(seed: u32, shape: &BladeShape, tiles: &CoverTiles) -> Vec<BladeVertex> {
     tiles
         .blades()
-        .flat_map(|(tile, index)| blade(seed, shape, tile, index).vertices())
+        .flat_map(|(tile, index)| {
+            let b = blade(seed, shape, tile, index);
+            if tiles.grows_at(root_xz(&b)) {
+                b.vertices()
+            } else {
+                left_out(&b)
+            }
+        })
         .collect()
 }
 
@@ -314,6 +351,8 @@ mod tests {
             view_distance,
             seed: None,
             simulate_radius: None,
+            size: None,
+            center: None,
         }
     }
 
@@ -455,6 +494,58 @@ mod tests {
         assert!(shared >= 9, "{shared} tiles shared");
         // Another seed, other blades.
         assert_ne!(vertices(8, &shape, &a), va);
+    }
+
+    /// A bounded cover grows the unbounded one's blades rooted in its
+    /// rectangle, bit for bit, and leaves the others out (no width); two
+    /// rectangles side by side share no blade and leave none out between
+    /// them.
+    #[test]
+    fn a_bounded_cover_grows_the_unbounded_ones_blades_within_its_rectangle() {
+        let shape = BladeShape::default();
+        let open = cover(3.0, 12.0);
+        // x in [-7, 3) and [3, 13), z in [-14, 16).
+        let left = Cover {
+            size: Some([10.0, 30.0]),
+            center: Some([-2.0, 1.0]),
+            ..open.clone()
+        };
+        let right = Cover {
+            center: Some([8.0, 1.0]),
+            ..left.clone()
+        };
+        let camera = Vec2::new(1.3, 0.7);
+        let [o, l, r] = [&open, &left, &right].map(|c| CoverTiles::around(c, camera));
+        assert_eq!((o.origin, o.side), (l.origin, l.side));
+        let [vo, vl, vr] = [&o, &l, &r].map(|t| vertices(5, &shape, t));
+        let grows = |v: &[BladeVertex]| v[0].width[..3] != [0.0; 3];
+        let (mut in_left, mut in_right, mut in_neither) = (0, 0, 0);
+        for ((a, b), c) in vo.chunks(4).zip(vl.chunks(4)).zip(vr.chunks(4)) {
+            let root = Vec2::new(a[0].position[0], a[0].position[2]);
+            assert!(grows(a), "the unbounded cover grows every blade");
+            let inside = (-7.0..13.0).contains(&root.x) && (-14.0..16.0).contains(&root.y);
+            match (grows(b), grows(c)) {
+                (true, true) => panic!("{root} grows in both rectangles"),
+                (true, false) => {
+                    in_left += 1;
+                    assert_eq!(a, b);
+                    assert!(root.x < 3.0);
+                }
+                (false, true) => {
+                    in_right += 1;
+                    assert_eq!(a, c);
+                    assert!(root.x >= 3.0);
+                }
+                (false, false) => {
+                    in_neither += 1;
+                    assert!(!inside, "{root} grows in neither rectangle");
+                    // Left out where it stood, without width.
+                    let (at, out) = (&a[0].position, &b[0].position);
+                    assert_eq!(at, out);
+                }
+            }
+        }
+        assert!(in_left > 100 && in_right > 100 && in_neither > 100);
     }
 
     #[test]

@@ -296,10 +296,34 @@ pub struct Cover {
     /// the view distance where that is shorter).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub simulate_radius: Option<f32>,
+    /// The rectangle the grass grows in (m, x by z; absent: everywhere),
+    /// centred at `center`: a meadow kilometres wide made around the
+    /// camera as the unbounded cover is, its blades beyond the edge left
+    /// out.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub size: Option<[f32; 2]>,
+    /// The rectangle's centre (world x, z; absent: the origin). Only
+    /// with `size`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub center: Option<[f32; 2]>,
 }
 
 impl Cover {
     pub const DEFAULT_SIMULATE_RADIUS: f32 = 30.0;
+
+    /// The least and greatest x and z a blade's root may have, [x0, z0,
+    /// x1, z1]: a blade grows where x0 <= x < x1 and z0 <= z < z1 (half
+    /// open, so two covers side by side share no blade). Without a size,
+    /// every finite root.
+    pub fn bounds(&self) -> [f32; 4] {
+        match self.size {
+            Some([w, d]) => {
+                let [x, z] = self.center.unwrap_or([0.0, 0.0]);
+                [x - 0.5 * w, z - 0.5 * d, x + 0.5 * w, z + 0.5 * d]
+            }
+            None => [f32::MIN, f32::MIN, f32::MAX, f32::MAX],
+        }
+    }
 
     /// The radius given, or the default within the view distance.
     pub fn simulate_radius(&self) -> f32 {
