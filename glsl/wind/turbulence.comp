@@ -17,13 +17,18 @@ void main() {
     if (id >= pc.grid.faces) {
         return;
     }
-    uint kind = face_kind[id];
-    if (kind == FACE_WALL) {
-        return;
-    }
     uint axis;
     uvec3 f;
     face_of(pc.grid, id, axis, f);
+    // Walls gain nothing, but for those on the sides across an axis the
+    // modes are not mirrored across (a moving window's sides along the
+    // wind; `add_turbulence_now`): the next step's forces wall them again.
+    uvec3 n = pc.grid.cells.xyz;
+    bool open_side = axis != 1u && (f[axis] == 0u || f[axis] == n[axis])
+        && (modes[0].mirrored & (1u << axis)) == 0u;
+    if (face_kind[id] == FACE_WALL && !open_side) {
+        return;
+    }
     // The face's half-cell point (`TurbulenceField::face_point`): 2 f
     // along its axis, 2 f + 1 across.
     uvec3 q = 2u * f + 1u;

@@ -88,6 +88,12 @@ pub struct TurbulenceField {
 }
 
 impl TurbulenceField {
+    /// Whether the modes are mirrored across the grid's two sides across
+    /// `axis` (their normal component vanishing there).
+    pub fn is_mirrored(&self, axis: usize) -> bool {
+        self.mirrored & (1 << axis) != 0
+    }
+
     /// The modes of `turbulence` on a grid of `cells` cells of `cell`
     /// metres whose sides across each axis with `walls` set hold no flow
     /// through them, for a standard deviation of 1 m/s (`records` scales

@@ -944,15 +944,24 @@ impl WindField {
     }
 
     /// Every face not a wall gains the turbulence's field as its modes
-    /// stand now, and keeps what it gained (`turbulence_added`).
+    /// stand now, and keeps what it gained (`turbulence_added`); so do the
+    /// walls on the grid's sides across an axis the modes are not
+    /// mirrored across (a moving window's sides along the wind): there
+    /// the field's normal component is not zero, and holding it at zero
+    /// would leave a layer of cells diverging. The mean flow stays
+    /// walled: the next step's forces set those faces to zero again.
     pub(super) fn add_turbulence_now(&mut self, settings: &WindSettings) {
         let (Some(field), Some(_)) = (&self.turbulence, &settings.turbulence) else {
             return;
         };
         let records = field.records(settings.turbulence_sigma());
+        let n = self.grid.cells;
         for axis in 0..3 {
+            let open_side = |f: [u32; 3]| {
+                axis != 1 && !field.is_mirrored(axis) && (f[axis] == 0 || f[axis] == n[axis])
+            };
             for (idx, f) in self.grid.each_face(axis) {
-                if self.faces[axis][idx] == FaceKind::Wall {
+                if self.faces[axis][idx] == FaceKind::Wall && !open_side(f) {
                     continue;
                 }
                 let u = field.at(&records, axis, TurbulenceField::face_point(axis, f));
