@@ -695,4 +695,16 @@ fn bad_cover_is_refused_naming_the_field_the_limit_and_the_memory() {
         scene.grass.cover.unwrap().bounds(),
         [-100.0, -150.0, 900.0, 50.0]
     );
+    // A camera farther from a bounded cover than its view distance sees
+    // none of it.
+    let far = alone.replace(
+        "seed = 3\n",
+        "seed = 3\nsize = [100.0, 100.0]\ncenter = [1000.0, 0.0]\n",
+    );
+    let err = file::parse(&far, "cover.toml").unwrap_err().to_string();
+    assert!(
+        err.contains("camera.position: is 950 m from the grass.cover's rectangle (x 950..1050, z -50..50), beyond its view_distance of 60 m"),
+        "{err}"
+    );
+    assert_eq!(err.lines().count(), 1);
 }

@@ -197,9 +197,15 @@ fn moving_wind_window(w: &super::WindConfig) -> Check {
 /// of some grass: farther, the frame would hold no blade at all (a camera
 /// 1e7 m away rendered sky and haze and exited 0).
 fn camera_reaches_grass(s: &Scene) -> Check {
-    // A cover grows around the camera wherever it goes.
-    if s.grass.cover.is_some() {
-        return Ok(());
+    match &s.grass.cover {
+        // A cover grows around the camera wherever it goes.
+        Some(c) if c.size.is_none() => return Ok(()),
+        // A bounded one only where the camera comes within its view
+        // distance of its rectangle (or the patches are in view).
+        Some(c) if s.grass.bunch.is_empty() && s.grass.meadow.is_empty() => {
+            return camera_reaches_cover(s, c)
+        }
+        _ => {}
     }
     let (lo, hi) = s.grass_reach_bounds();
     // The grass lies between the lowest ground under it and its tallest
@@ -227,6 +233,34 @@ fn camera_reaches_grass(s: &Scene) -> Check {
                 format!(
                     "is {distance:.0} m from the nearest grass and the view reaches {VIEW_DISTANCE:.0} m; move it within {VIEW_DISTANCE:.0} m of the grass (from x {:.1}..{:.1}, z {:.1}..{:.1})",
                     lo[0], hi[0], lo[1], hi[1]
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Every camera position (and key of its path) within the bounded
+/// cover's view distance of its rectangle: farther, no tile around the
+/// camera holds a blade.
+fn camera_reaches_cover(s: &Scene, c: &Cover) -> Check {
+    let [x0, z0, x1, z1] = c.bounds();
+    let cam = &s.camera;
+    let points = std::iter::once(cam.position).chain(cam.path.iter().map(|k| k.position));
+    for (i, p) in points.enumerate() {
+        let gap = |x: f32, a: f32, b: f32| (a - x).max(x - b).max(0.0);
+        let (dx, dz) = (gap(p[0], x0, x1), gap(p[2], z0, z1));
+        if dx.max(dz) > c.view_distance {
+            let field = match i {
+                0 => "position".to_string(),
+                k => format!("path[{}].position", k - 1),
+            };
+            return Err(FieldError::new(
+                field,
+                format!(
+                    "is {:.0} m from the grass.cover's rectangle (x {x0}..{x1}, z {z0}..{z1}), beyond its view_distance of {} m, where no tile holds a blade; move it nearer, or widen the cover's size",
+                    (dx * dx + dz * dz).sqrt(),
+                    c.view_distance
                 ),
             ));
         }

@@ -965,7 +965,8 @@ impl Scene {
 
     /// Bounding box (x, z) of where the grass grows: (min, max). A cover
     /// grows within its view distance of every camera position the scene
-    /// gives (its position and its path's keys).
+    /// gives (its position and its path's keys), and a bounded cover
+    /// within its rectangle too.
     pub fn grass_bounds(&self) -> ([f32; 2], [f32; 2]) {
         let mut lo = [f32::MAX; 2];
         let mut hi = [f32::MIN; 2];
@@ -980,8 +981,21 @@ impl Scene {
         }
         if let Some(cover) = &self.grass.cover {
             let d = cover.view_distance;
+            let [x0, z0, x1, z1] = cover.bounds();
             for p in self.camera_positions() {
-                grow([p.x, p.z], [d, d]);
+                // The camera's square of tiles, within the bounds.
+                let (a, b) = (
+                    [(p.x - d).max(x0), (p.z - d).max(z0)],
+                    [(p.x + d).min(x1), (p.z + d).min(z1)],
+                );
+                if a[0] <= b[0] && a[1] <= b[1] {
+                    // Its corners as they are (no centre and half to
+                    // round): an unbounded cover's box is what it was.
+                    for axis in 0..2 {
+                        lo[axis] = lo[axis].min(a[axis]);
+                        hi[axis] = hi[axis].max(b[axis]);
+                    }
+                }
             }
         }
         (lo, hi)
