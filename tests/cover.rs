@@ -244,6 +244,20 @@ view_distance = 10.0
     meadow::scene::file::parse(&text, "covered.toml").unwrap_or_else(|e| panic!("{e}"))
 }
 
+/// The control points in a frame's blade buffer, the patches' and the
+/// cover's.
+fn blades_of(gpu: &Gpu, recorder: &meadow::frame::FrameRecorder) -> Vec<BladeVertex> {
+    recorder
+        .blades()
+        .buffer()
+        .read_back(
+            gpu,
+            recorder.commands(),
+            recorder.blades().count() as usize * 4,
+        )
+        .unwrap()
+}
+
 /// The frame makes the cover around the camera where it stands at each
 /// frame's time, bit for bit as the CPU reference, after the meadow's
 /// blades, which stay as they were uploaded; and it draws them.
@@ -263,15 +277,7 @@ fn each_frame_makes_the_cover_around_the_camera_after_the_patches_blades() {
         for time in [0.0, 1.5, 3.0] {
             let uniforms = FrameUniforms::new(&scene, w, h, ViewMode::Shaded, time);
             let frame = recorder.render(&gpu, &uniforms, 0).unwrap();
-            let all: Vec<BladeVertex> = recorder
-                .blades()
-                .buffer()
-                .read_back(
-                    &gpu,
-                    recorder.commands(),
-                    recorder.blades().count() as usize * 4,
-                )
-                .unwrap();
+            let all = blades_of(&gpu, &recorder);
             let drawn = frame.cull.map(|c| c.in_view).unwrap_or(0);
             made.push((time, all, drawn, recorder.cover_blades()));
         }
@@ -325,15 +331,7 @@ fn a_bounded_cover_grows_and_draws_only_within_its_rectangle() {
     for time in [0.0, 1.5, 3.0] {
         let uniforms = FrameUniforms::new(&scene, w, h, ViewMode::Shaded, time);
         let frame = recorder.render(&gpu, &uniforms, 0).unwrap();
-        let all: Vec<BladeVertex> = recorder
-            .blades()
-            .buffer()
-            .read_back(
-                &gpu,
-                recorder.commands(),
-                recorder.blades().count() as usize * 4,
-            )
-            .unwrap();
+        let all = blades_of(&gpu, &recorder);
         let cull = recorder.cull().expect("the scene culls");
         let lists = [
             cull.read_color_list(&gpu, recorder.commands()).unwrap(),

@@ -213,10 +213,7 @@ fn camera_reaches_grass(s: &Scene) -> Check {
     let step = ((hi[0] - lo[0]).max(hi[1] - lo[1]) / 64.0).max(0.1);
     let (low, high) = s.ground.terrain().range_over(lo, hi, step);
     let (low, high) = (low.min(0.0), high.max(0.0) + s.grass.shape.height[1]);
-    let c = &s.camera;
-    let points = std::iter::once(c.position).chain(c.path.iter().map(|k| k.position));
-    for (i, p) in points.enumerate() {
-        let gap = |x: f32, a: f32, b: f32| (a - x).max(x - b).max(0.0);
+    for (field, p) in camera_keys(s) {
         let (dx, dy, dz) = (
             gap(p[0], lo[0], hi[0]),
             gap(p[1], low, high),
@@ -224,10 +221,6 @@ fn camera_reaches_grass(s: &Scene) -> Check {
         );
         let distance = (dx * dx + dy * dy + dz * dz).sqrt();
         if distance > VIEW_DISTANCE {
-            let field = match i {
-                0 => "position".to_string(),
-                k => format!("path[{}].position", k - 1),
-            };
             return Err(FieldError::new(
                 field,
                 format!(
@@ -240,21 +233,30 @@ fn camera_reaches_grass(s: &Scene) -> Check {
     Ok(())
 }
 
+/// The camera's position and its path's keys', each with its field.
+fn camera_keys(s: &Scene) -> impl Iterator<Item = (String, [f32; 3])> + '_ {
+    let c = &s.camera;
+    std::iter::once(("position".to_string(), c.position)).chain(
+        c.path
+            .iter()
+            .enumerate()
+            .map(|(k, key)| (format!("path[{k}].position"), key.position)),
+    )
+}
+
+/// How far `x` lies outside [a, b] (0 within).
+fn gap(x: f32, a: f32, b: f32) -> f32 {
+    (a - x).max(x - b).max(0.0)
+}
+
 /// Every camera position (and key of its path) within the bounded
 /// cover's view distance of its rectangle: farther, no tile around the
 /// camera holds a blade.
 fn camera_reaches_cover(s: &Scene, c: &Cover) -> Check {
     let [x0, z0, x1, z1] = c.bounds();
-    let cam = &s.camera;
-    let points = std::iter::once(cam.position).chain(cam.path.iter().map(|k| k.position));
-    for (i, p) in points.enumerate() {
-        let gap = |x: f32, a: f32, b: f32| (a - x).max(x - b).max(0.0);
+    for (field, p) in camera_keys(s) {
         let (dx, dz) = (gap(p[0], x0, x1), gap(p[2], z0, z1));
         if dx.max(dz) > c.view_distance {
-            let field = match i {
-                0 => "position".to_string(),
-                k => format!("path[{}].position", k - 1),
-            };
             return Err(FieldError::new(
                 field,
                 format!(
