@@ -839,6 +839,7 @@ fn near_the_camera_the_cover_runs_the_papers_dynamics_as_the_cpu() {
     }
     rec.submit_and_wait("cover dynamics").unwrap();
     let states = dynamics.grass().read_states(&gpu, &commands).unwrap();
+    let gpu_substeps = dynamics.grass().substeps();
     let kept = *dynamics.square();
     let stepped = dynamics.blade_count() as usize;
 
@@ -920,14 +921,21 @@ fn near_the_camera_the_cover_runs_the_papers_dynamics_as_the_cpu() {
             }
         }
         // The GPU's pass counts its substeps from the blades it was made
-        // with: the first square's.
-        let n = *substeps.get_or_insert_with(|| grass::substeps(&cpu.blades, dt).unwrap());
+        // with, raised by any stiffer blade coming in.
+        let needed = grass::substeps(&cpu.blades, dt).unwrap();
+        let n = substeps.map_or(needed, |n: u32| n.max(needed));
+        substeps = Some(n);
         cpu.substeps = n;
         for _ in 0..[30, 40][phase] {
             cpu.step(|x| field.sample(x));
         }
     }
     assert_eq!(entered, [25, 5], "tiles started in each phase");
+    assert_eq!(
+        Some(gpu_substeps),
+        substeps,
+        "substeps after the tiles came in"
+    );
     let mut differs = 0.0f32;
     let mut swung = 0.0f32;
     for (g, c) in states.iter().zip(&cpu.states) {
@@ -1180,5 +1188,96 @@ fn a_100_m_a_1_km_and_an_unbounded_cover_hold_the_same_device_memory() {
     assert!(
         patch_200 as f64 > 1.5 * patch_100 as f64,
         "meadow patches of 100 and 200 m: {patch_100} and {patch_200} bytes"
+    );
+}
+
+/// A tile coming into the simulated square with a blade stiffer than any
+/// stepped so far raises the substeps for all, so explicit Euler stays
+/// stable for it (`model::grass::substeps`); they never fall. Over a
+/// flight of 60 tiles with a wide stiffness range, the GPU pass's
+/// substeps are the CPU's count over every blade kept so far, at each
+/// move (fails with the count left at the first square's).
+#[test]
+fn a_stiffer_blade_coming_in_raises_the_substeps() {
+    use meadow::compute::wind_pass::WindInput;
+    use meadow::compute::CoverDynamics;
+    use meadow::model::grass;
+    use meadow::scene::GrassDynamics;
+
+    // One blade a tile, 3 x 3 tiles kept.
+    let cover = Cover {
+        density: 0.07,
+        view_distance: 8.0,
+        seed: Some(5),
+        simulate_radius: Some(2.0),
+        size: None,
+        center: None,
+    };
+    let grass = Grass {
+        dynamics: GrassDynamics {
+            tip_stiffness: [5e-3, 0.2],
+            ..GrassDynamics::default()
+        },
+        ..Grass::default()
+    };
+    let seed = cover::seed32(5);
+    let dt = 1.0 / 60.0;
+    let (grid, _, calm) = steady_wind(Vec3::new(-16.0, 0.0, -16.0), 40.0);
+    let gpu = strict_gpu_with(None);
+    let commands = CommandPool::new(&gpu, "cover substeps commands").unwrap();
+    let velocity = Buffer::with_data(
+        &gpu,
+        &commands,
+        "steady wind",
+        bytemuck::cast_slice(&calm),
+        vk::BufferUsageFlags::STORAGE_BUFFER,
+        Access::COMPUTE_READ,
+    )
+    .unwrap();
+    let input = WindInput {
+        grid,
+        velocity: &velocity,
+        canopy: None,
+    };
+    let eye = |n: usize| Vec2::new(0.5 + 4.0 * n as f32, 0.5);
+    let setup = meadow::compute::cover_dynamics::CoverDynamicsSetup {
+        cover: &cover,
+        seed,
+        grass: &grass,
+        dt,
+        camera: eye(0),
+    };
+    let mut dynamics = CoverDynamics::new(&gpu, &commands, setup, &input).unwrap();
+    let kept_blades = |camera: Vec2| -> Vec<grass::GrassBlade> {
+        let square = cover::kept_tiles(&cover, camera);
+        square
+            .blades()
+            .map(|(tile, index)| {
+                cover::grass_blade(seed, &grass.shape, &grass.dynamics, tile, index).unwrap()
+            })
+            .collect()
+    };
+    let first = grass::substeps(&kept_blades(eye(0)), dt).unwrap();
+    assert_eq!(dynamics.grass().substeps(), first);
+    let mut expected = first;
+    let rec = commands.begin().unwrap();
+    for n in 1..=60 {
+        dynamics.record_follow(&rec, eye(n)).unwrap();
+        dynamics.record_step(&rec, meadow::model::contact::step_end_time(n as u64, dt));
+        expected = expected.max(grass::substeps(&kept_blades(eye(n)), dt).unwrap());
+        assert_eq!(dynamics.grass().substeps(), expected, "after move {n}");
+    }
+    rec.submit_and_wait("cover flight").unwrap();
+    let states = dynamics.grass().read_states(&gpu, &commands).unwrap();
+    drop((dynamics, velocity, commands));
+    finish(gpu);
+    eprintln!("substeps: {first} for the first square, {expected} after the flight");
+    assert!(
+        expected > first,
+        "no blade came in stiffer: the test tells nothing"
+    );
+    assert!(
+        states.iter().flat_map(|s| s.angle).all(|a| a.is_finite()),
+        "a kept blade's state is not finite"
     );
 }

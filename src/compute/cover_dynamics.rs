@@ -170,6 +170,9 @@ impl CoverDynamics {
                 tile,
                 square.per_tile,
             )?;
+            // A blade stiffer than any stepped so far raises the
+            // substeps for all (the first square's stiffest set them).
+            self.grass.raise_substeps_for(&blades)?;
             self.grass
                 .record_replace(rec, slot * square.per_tile, &blades)?;
             self.kept[slot as usize] = tile;

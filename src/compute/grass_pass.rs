@@ -293,6 +293,19 @@ impl GrassPass {
         self.push.substeps
     }
 
+    /// Raises the substeps, from the next step on, to what `blades` need
+    /// (`model::grass::substeps`) where that is more: blades coming in
+    /// stiffer than any stepped so far (the cover's tiles entering its
+    /// simulated square). Never lowers them.
+    pub fn raise_substeps_for(&mut self, blades: &[GrassBlade]) -> Result<()> {
+        let needed = substeps(blades, self.push.dt)?;
+        if needed > self.push.substeps {
+            self.push.substeps = needed;
+            self.push.substep = self.push.dt / needed as f32;
+        }
+        Ok(())
+    }
+
     /// What one dispatch of the grass kernels does to its buffers: the
     /// recording derives the barriers between batches and kernels, and
     /// against the wind step, the binning, the cull pass and the draws,
