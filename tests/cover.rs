@@ -480,6 +480,20 @@ fn a_cover_refuses_blades_and_hills_in_one_line() {
     }
 }
 
+/// The wind velocity as the GPU holds it, uploaded once (and writable by
+/// a transfer, for a test that changes the wind).
+fn wind_buffer(gpu: &Gpu, commands: &CommandPool, velocity: &[f32]) -> Buffer {
+    Buffer::with_data(
+        gpu,
+        commands,
+        "steady wind",
+        bytemuck::cast_slice(velocity),
+        vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
+        Access::COMPUTE_READ,
+    )
+    .unwrap()
+}
+
 /// A steady wind on a square grid `side` metres across from `corner`,
 /// varying from face to face: 1.5-4.5 m/s along x, 0.2-1 m/s along z. The
 /// grid, the CPU field and the velocity as the GPU holds it.
@@ -509,15 +523,7 @@ fn posed_on_the_gpu(
 ) -> (Vec<BladeVertex>, u32) {
     let blades = tiles.blade_count() as usize;
     let commands = CommandPool::new(gpu, "cover pose commands").unwrap();
-    let velocity = Buffer::with_data(
-        gpu,
-        &commands,
-        "steady wind",
-        bytemuck::cast_slice(recorded),
-        vk::BufferUsageFlags::STORAGE_BUFFER,
-        Access::COMPUTE_READ,
-    )
-    .unwrap();
+    let velocity = wind_buffer(gpu, &commands, recorded);
     let vertices = Buffer::new(
         gpu,
         "posed cover",
@@ -799,15 +805,7 @@ fn near_the_camera_the_cover_runs_the_papers_dynamics_as_the_cpu() {
 
     let gpu = strict_gpu_with(None);
     let commands = CommandPool::new(&gpu, "cover dynamics commands").unwrap();
-    let velocity = Buffer::with_data(
-        &gpu,
-        &commands,
-        "steady wind",
-        bytemuck::cast_slice(&calm),
-        vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
-        Access::COMPUTE_READ,
-    )
-    .unwrap();
+    let velocity = wind_buffer(&gpu, &commands, &calm);
     let input = WindInput {
         grid,
         velocity: &velocity,
@@ -1225,15 +1223,7 @@ fn a_stiffer_blade_coming_in_raises_the_substeps() {
     let (grid, _, calm) = steady_wind(Vec3::new(-16.0, 0.0, -16.0), 40.0);
     let gpu = strict_gpu_with(None);
     let commands = CommandPool::new(&gpu, "cover substeps commands").unwrap();
-    let velocity = Buffer::with_data(
-        &gpu,
-        &commands,
-        "steady wind",
-        bytemuck::cast_slice(&calm),
-        vk::BufferUsageFlags::STORAGE_BUFFER,
-        Access::COMPUTE_READ,
-    )
-    .unwrap();
+    let velocity = wind_buffer(&gpu, &commands, &calm);
     let input = WindInput {
         grid,
         velocity: &velocity,
