@@ -93,12 +93,13 @@ float least_alignment(BladeVertex v[4], vec3 dir[4]) {
 // saw it). A sun too low to sweep leaves every blade a caster; a blade the
 // distance thinning drops, or one without width, is drawn by neither
 // pass; `edge_on` (a cosine, 1 = off) leaves out blades seen edge-on from
-// the camera (colour pass) and from the sun (shadow pass). `lo` and `hi` return the blade's bounds
-// (for the occlusion test, glsl/cull/flags.comp).
+// the camera (colour pass) and from the sun (shadow pass). `lo` and `hi`
+// return the blade's bounds (for the occlusion test, glsl/cull/flags.comp).
 uint cull_flags(BladeVertex v[4], bool shadows, float edge_on, out vec3 lo, out vec3 hi) {
     float width_scale = thinning_scale(v[0].position);
     // A blade without width (the cover's beyond its bounds) is no blade.
-    uint kept = uint(width_scale > 0.0) & uint(any(notEqual(v[0].width.xyz, vec3(0.0))));
+    uint has_width = uint(any(notEqual(v[0].width.xyz, vec3(0.0))));
+    uint kept = uint(width_scale > 0.0) & has_width;
     blade_bounds(v, width_scale, lo, hi);
     vec3 light = frame.light_dir.xyz;
     vec3 to_eye[4], to_sun[4];

@@ -21,13 +21,19 @@ void main() {
     uvec3 f;
     face_of(pc.grid, id, axis, f);
     // Walls gain nothing, but for those on the sides across an axis the
-    // modes are not mirrored across (a moving window's sides along the
-    // wind; `add_turbulence_now`): the next step's forces wall them again.
-    uvec3 n = pc.grid.cells.xyz;
-    bool open_side = axis != 1u && (f[axis] == 0u || f[axis] == n[axis])
-        && (modes[0].mirrored & (1u << axis)) == 0u;
-    if (face_kind[id] == FACE_WALL && !open_side) {
-        return;
+    // modes are not mirrored across, before a cell of air (a moving
+    // window's sides along the wind; `add_turbulence_now`): the next
+    // step's forces wall them again.
+    if (face_kind[id] == FACE_WALL) {
+        uvec3 n = pc.grid.cells.xyz;
+        uvec3 c = f;
+        c[axis] = min(c[axis], n[axis] - 1u);
+        bool open_side = axis != 1u && (f[axis] == 0u || f[axis] == n[axis])
+            && (modes[0].mirrored & (1u << axis)) == 0u
+            && solid[cell_index(pc.grid, c)] == 0u;
+        if (!open_side) {
+            return;
+        }
     }
     // The face's half-cell point (`TurbulenceField::face_point`): 2 f
     // along its axis, 2 f + 1 across.

@@ -946,7 +946,8 @@ impl WindField {
     /// Every face not a wall gains the turbulence's field as its modes
     /// stand now, and keeps what it gained (`turbulence_added`); so do the
     /// walls on the grid's sides across an axis the modes are not
-    /// mirrored across (a moving window's sides along the wind): there
+    /// mirrored across, before a cell of air (a moving window's sides
+    /// along the wind): there
     /// the field's normal component is not zero, and holding it at zero
     /// would leave a layer of cells diverging. The mean flow stays
     /// walled: the next step's forces set those faces to zero again.
@@ -955,10 +956,18 @@ impl WindField {
             return;
         };
         let records = field.records(settings.turbulence_sigma());
-        let n = self.grid.cells;
+        let (grid, solid) = (&self.grid, &self.solid);
+        let n = grid.cells;
         for axis in 0..3 {
+            // A side's face before a cell of air (not one walled by an
+            // obstacle or the ground at the side).
             let open_side = |f: [u32; 3]| {
-                axis != 1 && !field.is_mirrored(axis) && (f[axis] == 0 || f[axis] == n[axis])
+                let mut c = f;
+                c[axis] = c[axis].min(n[axis] - 1);
+                axis != 1
+                    && !field.is_mirrored(axis)
+                    && (f[axis] == 0 || f[axis] == n[axis])
+                    && !solid[grid.cell_index(c[0], c[1], c[2])]
             };
             for (idx, f) in self.grid.each_face(axis) {
                 if self.faces[axis][idx] == FaceKind::Wall && !open_side(f) {

@@ -187,9 +187,9 @@ pub struct Margins {
 impl CullView {
     /// The cull pass's tests for one blade (glsl/common/cull.glsl
     /// `cull_flags`): a blade the distance thinning drops, or one without
-    /// width, is in neither list, the bounds hold the widened blade; a blade seen edge-on from
-    /// the camera is not drawn in colour, one edge-on to the sun casts no
-    /// shadow.
+    /// width, is in neither list, the bounds hold the widened blade; a
+    /// blade seen edge-on from the camera is not drawn in colour, one
+    /// edge-on to the sun casts no shadow.
     pub fn test(&self, v: &[BladeVertex; 4]) -> (Visibility, Margins) {
         let root = Vec4::from(v[0].position);
         let (width_scale, thin_margin) = self.thinning.scale(root.truncate(), root.w, self.eye);
