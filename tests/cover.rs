@@ -154,7 +154,7 @@ fn the_gpu_makes_the_tiles_bit_for_bit_as_the_cpu_and_a_tile_that_comes_back_is_
         assert_eq!(bits(&cpu), bits(gpu_vertices), "bounded, around {camera}");
         let growing = cpu
             .chunks(4)
-            .filter(|v| v[0].width[..3] != [0.0; 3])
+            .filter(|v| meadow::model::has_width(v))
             .count();
         eprintln!(
             "bounded, around {camera}: {growing} of {} blades grow",
@@ -355,7 +355,7 @@ fn a_bounded_cover_grows_and_draws_only_within_its_rectangle() {
         let tiles = CoverTiles::around(&cover, Vec2::new(eye.x, eye.z));
         let cpu = cover::vertices(seed, &scene.grass.shape, &tiles);
         assert_eq!(bits(all), bits(&cpu), "at {time} s");
-        let grows: Vec<bool> = cpu.chunks(4).map(|v| v[0].width[..3] != [0.0; 3]).collect();
+        let grows: Vec<bool> = cpu.chunks(4).map(meadow::model::has_width).collect();
         let growing = grows.iter().filter(|&&g| g).count() as u64;
         assert_eq!(*generated, growing, "at {time} s: blades generated");
         // The blades left out whose roots the camera sees: what a cull

@@ -145,6 +145,14 @@ pub fn bezier(p: &[Vec3; 4], t: f32) -> Vec3 {
 /// One control point as the render pipeline reads it (src/interface/defs.rs).
 pub use crate::interface::BladeVertex;
 
+/// Whether a blade's control points (from its root's on) have width: one
+/// without (the cover's beyond its bounds, `scene::cover::left_out`) is
+/// no blade, which the cull pass lists in neither pass
+/// (glsl/common/cull.glsl tests the same).
+pub fn has_width(blade: &[BladeVertex]) -> bool {
+    blade[0].width[..3] != [0.0; 3]
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -10,7 +10,7 @@ pub mod grass;
 pub mod grass_field;
 pub mod hash;
 
-pub use blade::{Blade, BladeKind, BladeVertex, EdgeFrame};
+pub use blade::{has_width, Blade, BladeKind, BladeVertex, EdgeFrame};
 pub use grass::{BladePhysics, GrassBlade, GrassState};
 pub use grass_field::GrassField;
 pub mod multigrid;

@@ -205,9 +205,7 @@ impl CullView {
                 .abs()
                 .min((from_sun - self.edge_on).abs()),
         };
-        // A blade without width (the cover's beyond its bounds) is no blade.
-        let has_width = Vec4::from(v[0].width).truncate() != Vec3::ZERO;
-        if width_scale <= 0.0 || !has_width {
+        if width_scale <= 0.0 || !crate::model::has_width(v) {
             return (Visibility::default(), margins);
         }
         let bounds = Bounds::of_scaled_blade(v, width_scale);

@@ -518,7 +518,7 @@ mod tests {
         let [o, l, r] = [&open, &left, &right].map(|c| CoverTiles::around(c, camera));
         assert_eq!((o.origin, o.side), (l.origin, l.side));
         let [vo, vl, vr] = [&o, &l, &r].map(|t| vertices(5, &shape, t));
-        let grows = |v: &[BladeVertex]| v[0].width[..3] != [0.0; 3];
+        let grows = crate::model::has_width;
         let (mut in_left, mut in_right, mut in_neither) = (0, 0, 0);
         for ((a, b), c) in vo.chunks(4).zip(vl.chunks(4)).zip(vr.chunks(4)) {
             let root = Vec2::new(a[0].position[0], a[0].position[2]);
