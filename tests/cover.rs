@@ -12,10 +12,18 @@ use glam::{UVec3, Vec3};
 use meadow::compute::cover_tiles::{CoverSetup, CoverWind};
 use meadow::compute::CoverTilePass;
 use meadow::gpu::{Access, Buffer, CommandPool, Gpu};
+use meadow::model::terrain::Terrain;
 use meadow::model::wind::{WindField, WindGrid, WindSettings};
 use meadow::model::BladeVertex;
 use meadow::scene::cover::{self, CoverTiles};
 use meadow::scene::{BladeShape, Cover, Grass};
+
+/// Flat ground: the cover's blades at height 0, as before terrain.
+const FLAT: Terrain = Terrain {
+    map: None,
+    hills: Vec::new(),
+    ridges: Vec::new(),
+};
 
 fn cover() -> Cover {
     Cover {
@@ -38,6 +46,7 @@ const SENTINEL: u32 = 0xDEAD_BEEF;
 /// its sentinel.
 fn made_on_the_gpu(
     gpu: &Gpu,
+    terrain: &Terrain,
     cover: &Cover,
     shape: &BladeShape,
     base: u32,
@@ -73,6 +82,7 @@ fn made_on_the_gpu(
             frame: &frame,
             pose_drawn_only: false,
             states: None,
+            terrain,
         },
     )
     .unwrap();
@@ -135,8 +145,8 @@ fn the_gpu_makes_the_tiles_bit_for_bit_as_the_cpu_and_a_tile_that_comes_back_is_
         Vec2::new(0.5, 0.5),
         Vec2::new(5.0, -3.0),
     ];
-    let made_after = made_on_the_gpu(&gpu, &cover, &shape, 300, &cameras);
-    let made_alone = made_on_the_gpu(&gpu, &cover, &shape, 0, &cameras[..1]);
+    let made_after = made_on_the_gpu(&gpu, &FLAT, &cover, &shape, 300, &cameras);
+    let made_alone = made_on_the_gpu(&gpu, &FLAT, &cover, &shape, 0, &cameras[..1]);
     // Bounded: x in [-2, 4), z in [-5, 4); a camera at its edge and one
     // far outside it.
     let bounded = Cover {
@@ -145,12 +155,12 @@ fn the_gpu_makes_the_tiles_bit_for_bit_as_the_cpu_and_a_tile_that_comes_back_is_
         ..cover.clone()
     };
     let bounded_cameras = [cameras[0], cameras[3], cameras[1]];
-    let made_bounded = made_on_the_gpu(&gpu, &bounded, &shape, 300, &bounded_cameras);
+    let made_bounded = made_on_the_gpu(&gpu, &FLAT, &bounded, &shape, 300, &bounded_cameras);
     finish(gpu);
     let seed = cover::seed32(cover.seed.unwrap());
     for (camera, (gpu_vertices, _)) in bounded_cameras.iter().zip(&made_bounded) {
         let tiles = CoverTiles::around(&bounded, *camera);
-        let cpu = cover::vertices(seed, &shape, &tiles);
+        let cpu = cover::vertices(&FLAT, seed, &shape, &tiles);
         assert_eq!(bits(&cpu), bits(gpu_vertices), "bounded, around {camera}");
         let growing = cpu
             .chunks(4)
@@ -165,7 +175,7 @@ fn the_gpu_makes_the_tiles_bit_for_bit_as_the_cpu_and_a_tile_that_comes_back_is_
     for (camera, (gpu_vertices, kept)) in cameras.iter().zip(&made_after) {
         assert!(kept, "the kernel wrote before the cover's blades");
         let tiles = CoverTiles::around(&cover, *camera);
-        let cpu = cover::vertices(seed, &shape, &tiles);
+        let cpu = cover::vertices(&FLAT, seed, &shape, &tiles);
         assert_eq!(cpu.len(), gpu_vertices.len());
         let differing = bits(&cpu)
             .iter()
@@ -294,7 +304,7 @@ fn each_frame_makes_the_cover_around_the_camera_after_the_patches_blades() {
             assert_eq!(*generated, tiles.blade_count());
             let (before, covered) = all.split_at(patches.len());
             assert_eq!(bits(before), bits(&patches), "the patches' blades changed");
-            let cpu = cover::vertices(seed, &scene.grass.shape, &tiles);
+            let cpu = cover::vertices(&FLAT, seed, &scene.grass.shape, &tiles);
             assert_eq!(
                 bits(covered),
                 bits(&cpu),
@@ -353,7 +363,7 @@ fn a_bounded_cover_grows_and_draws_only_within_its_rectangle() {
     for (time, all, lists, generated, view_proj) in &made {
         let (eye, _) = scene.camera.at(*time);
         let tiles = CoverTiles::around(&cover, Vec2::new(eye.x, eye.z));
-        let cpu = cover::vertices(seed, &scene.grass.shape, &tiles);
+        let cpu = cover::vertices(&FLAT, seed, &scene.grass.shape, &tiles);
         assert_eq!(bits(all), bits(&cpu), "at {time} s");
         let grows: Vec<bool> = cpu.chunks(4).map(meadow::model::has_width).collect();
         let growing = grows.iter().filter(|&&g| g).count() as u64;
@@ -408,16 +418,17 @@ fn in_a_steady_wind_the_gpu_poses_the_cover_where_its_torques_balance_as_the_cpu
     let tiles = CoverTiles::around(&cover, Vec2::ZERO);
 
     let gpu = strict_gpu_with(None);
-    let (posed, count) = posed_on_the_gpu(&gpu, &cover, &grass, &recorded, grid, &tiles, None);
+    let (posed, count) =
+        posed_on_the_gpu(&gpu, &FLAT, &cover, &grass, (grid, &recorded), &tiles, None);
     finish(gpu);
     assert_eq!(count as usize, posed.len() / 4, "blades counted as posed");
 
     let seed = cover::seed32(3);
-    let cpu = cover::posed_vertices(seed, &grass.shape, &grass.dynamics, &tiles, |x| {
+    let cpu = cover::posed_vertices(&FLAT, seed, &grass.shape, &grass.dynamics, &tiles, |x| {
         field.sample(x)
     })
     .unwrap();
-    let rest = cover::vertices(seed, &grass.shape, &tiles);
+    let rest = cover::vertices(&FLAT, seed, &grass.shape, &tiles);
     let (mut differs, mut moved) = (0.0f32, 0.0f32);
     for ((g, c), r) in posed.iter().zip(&cpu).zip(&rest) {
         let at = |v: &BladeVertex| Vec3::from_slice(&v.position[..3]);
@@ -426,6 +437,136 @@ fn in_a_steady_wind_the_gpu_poses_the_cover_where_its_torques_balance_as_the_cpu
         assert_eq!(g.position[3], c.position[3], "the colour draw");
     }
     eprintln!("posed cover: GPU and CPU within {differs:e} m; tips moved up to {moved} m");
+    assert!(moved > 0.1, "the wind barely posed the blades: {moved} m");
+    assert!(differs < 1e-4, "GPU and CPU poses differ by {differs} m");
+}
+
+/// Hills, a ridge and a height map together, slopes up to about 20
+/// degrees around the origin.
+fn hilly() -> Terrain {
+    use meadow::model::terrain::{HeightMap, Hill, Ridge};
+    Terrain {
+        map: Some(std::sync::Arc::new(HeightMap {
+            columns: 3,
+            rows: 4,
+            heights: vec![0.0, 0.5, 1.5, 0.2, 1.0, 0.0, 2.0, 0.3, 0.7, 0.0, 1.2, 0.4],
+            extent: [20.0, 24.0],
+            center: [3.0, -2.0],
+        })),
+        hills: vec![
+            Hill {
+                center: [2.0, 1.0],
+                height: 3.0,
+                half_width: 6.0,
+            },
+            Hill {
+                center: [-7.0, -4.0],
+                height: -1.5,
+                half_width: 3.0,
+            },
+        ],
+        ridges: vec![Ridge {
+            center: [0.0, 5.0],
+            height: 2.0,
+            half_width: 4.0,
+            heading: 30.0,
+        }],
+    }
+}
+
+/// On terrain the tile kernel roots each blade where the CPU does
+/// (`Terrain::root`): x and z bit for bit, the heights to the divisions'
+/// rounding (a device's division may round otherwise than the CPU's;
+/// lavapipe's does not), and poses it in the wind at its raised tip as
+/// the CPU reference does, to the solves' rounding.
+#[test]
+fn on_terrain_the_gpu_roots_and_poses_the_cover_where_the_cpu_does() {
+    let terrain = hilly();
+    let cover = cover();
+    let shape = BladeShape::default();
+    let cameras = [Vec2::new(0.5, 0.5), Vec2::new(-3.0, 7.0)];
+    let pose_cover = Cover {
+        density: 1.0,
+        view_distance: 8.0,
+        seed: Some(3),
+        simulate_radius: Some(0.0),
+        size: None,
+        center: None,
+    };
+    let grass = Grass::default();
+    // The wind's grid reaches over the hills' blades.
+    let (grid, field, recorded) = steady_wind(Vec3::new(-14.0, -2.0, -14.0), 28.0);
+    let posed_tiles = CoverTiles::around(&pose_cover, Vec2::ZERO);
+
+    let gpu = strict_gpu_with(None);
+    let made = made_on_the_gpu(&gpu, &terrain, &cover, &shape, 0, &cameras);
+    let (posed, _) = posed_on_the_gpu(
+        &gpu,
+        &terrain,
+        &pose_cover,
+        &grass,
+        (grid, &recorded),
+        &posed_tiles,
+        None,
+    );
+    finish(gpu);
+
+    let seed = cover::seed32(cover.seed.unwrap());
+    let (mut same_height, mut highest, mut lowest, mut most) = (0usize, f32::MIN, f32::MAX, 0f32);
+    for (camera, (gpu_vertices, _)) in cameras.iter().zip(&made) {
+        let cpu = cover::vertices(&terrain, seed, &shape, &CoverTiles::around(&cover, *camera));
+        assert_eq!(cpu.len(), gpu_vertices.len());
+        for (c, g) in cpu.iter().zip(gpu_vertices) {
+            for k in [0, 2, 3] {
+                assert_eq!(
+                    c.position[k].to_bits(),
+                    g.position[k].to_bits(),
+                    "around {camera}"
+                );
+            }
+            assert_eq!(
+                c.width.map(f32::to_bits),
+                g.width.map(f32::to_bits),
+                "around {camera}"
+            );
+            let (y, gy) = (c.position[1], g.position[1]);
+            most = most.max((y - gy).abs() / y.abs().max(1.0));
+            same_height += (y.to_bits() == gy.to_bits()) as usize;
+            highest = highest.max(y);
+            lowest = lowest.min(y);
+        }
+    }
+    let points = 4 * made.iter().map(|(v, _)| v.len() / 4).sum::<usize>();
+    eprintln!(
+        "on terrain: heights {lowest:.2} to {highest:.2} m, {same_height} of {points} bit for bit, \
+         the rest within {most:e} of their size"
+    );
+    assert!(
+        highest - lowest > 3.0,
+        "the terrain barely raised the blades"
+    );
+    assert!(
+        most <= 4.0 * f32::EPSILON,
+        "heights differ by {most:e} of their size"
+    );
+
+    let cpu = cover::posed_vertices(
+        &terrain,
+        cover::seed32(3),
+        &grass.shape,
+        &grass.dynamics,
+        &posed_tiles,
+        |x| field.sample(x),
+    )
+    .unwrap();
+    let rest = cover::vertices(&terrain, cover::seed32(3), &grass.shape, &posed_tiles);
+    let (mut differs, mut moved) = (0.0f32, 0.0f32);
+    for ((g, c), r) in posed.iter().zip(&cpu).zip(&rest) {
+        let at = |v: &BladeVertex| Vec3::from_slice(&v.position[..3]);
+        differs = differs.max(at(g).distance(at(c)));
+        moved = moved.max(at(c).distance(at(r)));
+    }
+    eprintln!("posed on terrain: GPU and CPU within {differs:e} m; tips moved up to {moved} m");
     assert!(moved > 0.1, "the wind barely posed the blades: {moved} m");
     assert!(differs < 1e-4, "GPU and CPU poses differ by {differs} m");
 }
@@ -510,14 +651,15 @@ fn steady_wind(corner: Vec3, side: f32) -> (WindGrid, WindField, Vec<f32>) {
     (grid, field, recorded)
 }
 
-/// `tiles` made and posed on the GPU in the recorded wind: every blade, or
-/// with `seen` (the frame's uniforms) only those the frame may draw.
+/// `tiles` made and posed on the GPU in the recorded wind (its grid and
+/// velocity): every blade, or with `seen` (the frame's uniforms) only
+/// those the frame may draw.
 fn posed_on_the_gpu(
     gpu: &Gpu,
+    terrain: &Terrain,
     cover: &Cover,
     grass: &Grass,
-    recorded: &[f32],
-    grid: WindGrid,
+    (grid, recorded): (WindGrid, &[f32]),
     tiles: &CoverTiles,
     seen: Option<&meadow::render::FrameUniforms>,
 ) -> (Vec<BladeVertex>, u32) {
@@ -552,6 +694,7 @@ fn posed_on_the_gpu(
             frame: &frame,
             pose_drawn_only: seen.is_some(),
             states: None,
+            terrain,
         },
     )
     .unwrap();
@@ -591,13 +734,13 @@ fn posing_only_what_the_frame_may_draw_changes_nothing_drawn() {
     let uniforms = FrameUniforms::new(&scene, 320, 180, ViewMode::Shaded, 0.0);
 
     let gpu = strict_gpu_with(None);
-    let (every, _) = posed_on_the_gpu(&gpu, &cover, &grass, &recorded, grid, &tiles, None);
+    let (every, _) = posed_on_the_gpu(&gpu, &FLAT, &cover, &grass, (grid, &recorded), &tiles, None);
     let (drawn_only, counted) = posed_on_the_gpu(
         &gpu,
+        &FLAT,
         &cover,
         &grass,
-        &recorded,
-        grid,
+        (grid, &recorded),
         &tiles,
         Some(&uniforms),
     );
@@ -612,7 +755,7 @@ fn posing_only_what_the_frame_may_draw_changes_nothing_drawn() {
         thinning: meadow::render::thinning::Thinning::of(&scene),
         edge_on: scene.cull.edge_on,
     };
-    let rest = cover::vertices(cover::seed32(9), &grass.shape, &tiles);
+    let rest = cover::vertices(&FLAT, cover::seed32(9), &grass.shape, &tiles);
     let (mut posed, mut left) = (0, 0);
     for ((a, b), r) in every
         .chunks(4)
@@ -817,6 +960,7 @@ fn near_the_camera_the_cover_runs_the_papers_dynamics_as_the_cpu() {
         grass: &grass,
         dt,
         camera: eyes[0],
+        terrain: &FLAT,
     };
     let mut dynamics = CoverDynamics::new(&gpu, &commands, setup, &input).unwrap();
     let rec = commands.begin().unwrap();
@@ -868,6 +1012,7 @@ fn near_the_camera_the_cover_runs_the_papers_dynamics_as_the_cpu() {
             frame: &frame,
             pose_drawn_only: false,
             states: Some(dynamics.states()),
+            terrain: &FLAT,
         },
     )
     .unwrap();
@@ -906,8 +1051,8 @@ fn near_the_camera_the_cover_runs_the_papers_dynamics_as_the_cpu() {
             held[slot] = Some(tile);
             entered[phase] += 1;
             for index in 0..per_tile {
-                let b =
-                    cover::grass_blade(seed, &grass.shape, &grass.dynamics, tile, index).unwrap();
+                let b = cover::grass_blade(&FLAT, seed, &grass.shape, &grass.dynamics, tile, index)
+                    .unwrap();
                 let (angle, _) =
                     quasi_static_angles_within(&b, field.sample(b.rest_point(3)), FAR_ITERATIONS);
                 let i = slot * per_tile as usize + index as usize;
@@ -953,7 +1098,8 @@ fn near_the_camera_the_cover_runs_the_papers_dynamics_as_the_cpu() {
     let mut counts = [0usize; 3];
     let mut worst = 0.0f32;
     for (n, (tile, index)) in tiles.blades().enumerate() {
-        let b = cover::grass_blade(seed, &grass.shape, &grass.dynamics, tile, index).unwrap();
+        let b =
+            cover::grass_blade(&FLAT, seed, &grass.shape, &grass.dynamics, tile, index).unwrap();
         let root = b.rest_point(0);
         let weight = cover::dynamic_weight(r, Vec2::new(root.x, root.z).distance(eyes[1]));
         let (still, _) =
@@ -1071,7 +1217,7 @@ fn nothing_pops_where_the_cover_crosses_the_simulate_radius() {
         let (eye, _) = scene.camera.at(time);
         let eye = Vec2::new(eye.x, eye.z);
         let tiles = CoverTiles::around(&cover, eye);
-        let rest = cover::vertices(seed, &scene.grass.shape, &tiles);
+        let rest = cover::vertices(&FLAT, seed, &scene.grass.shape, &tiles);
         // The tips of the blades posed (the others stand at rest: the
         // frame cannot draw them).
         let tips: HashMap<([i32; 2], u32), Vec3> = tiles
@@ -1236,6 +1382,7 @@ fn a_stiffer_blade_coming_in_raises_the_substeps() {
         grass: &grass,
         dt,
         camera: eye(0),
+        terrain: &FLAT,
     };
     let mut dynamics = CoverDynamics::new(&gpu, &commands, setup, &input).unwrap();
     let kept_blades = |camera: Vec2| -> Vec<grass::GrassBlade> {
@@ -1243,7 +1390,7 @@ fn a_stiffer_blade_coming_in_raises_the_substeps() {
         square
             .blades()
             .map(|(tile, index)| {
-                cover::grass_blade(seed, &grass.shape, &grass.dynamics, tile, index).unwrap()
+                cover::grass_blade(&FLAT, seed, &grass.shape, &grass.dynamics, tile, index).unwrap()
             })
             .collect()
     };

@@ -36,8 +36,14 @@ layout(set = 0, binding = 4, std430) buffer Posed { uint posed; uint from_state;
 // The kept blades' states (`compute::CoverDynamics`; a placeholder with
 // `params.dynamic` 0): the paper's dynamics near the camera.
 layout(set = 0, binding = 5, std430) readonly buffer States { GrassState states[]; };
+// The ground the blades are rooted on (`Terrain::gpu_words`).
+layout(set = 0, binding = 6, std430) readonly buffer Terrain {
+    TerrainHeader terrain;
+    float terrain_words[];
+};
 #define WIND_VELOCITY(i) wind_velocity[i]
 #include "wind_sample.glsl"
+#include "terrain.glsl"
 
 // `cover::hash`: lowbias32 (hash.glsl, through cull.glsl).
 uint hash(uint x) {
@@ -90,6 +96,9 @@ vec2[4] profile(uint kind, float c) {
 // k_i = k_tip r^((2 - i) / 2), the bending groups split where the slope's
 // sign turns, the drag S sigma per motion; its inertia and damping play no
 // part at rest.
+// The ground's normal and contact's c (the w of P1, P2 and P3) are left
+// at 0: no pose reads them (blades grow and swing upright on a slope; only
+// ground contact reads them, and no posed blade is in contact).
 GrassBlade cover_grass_blade(vec3 p[4], vec3 width_dir, float half_width, float rand,
                              float k_tip, float ratio, float sigma) {
     GrassBlade b;
@@ -192,6 +201,15 @@ void main() {
         precise vec3 p = vec3(root.x, 0.0, root.y) + vec3(f.x, 0.0, f.y) * (unit[i].x * h)
             + vec3(0.0, 1.0, 0.0) * (unit[i].y * h);
         rest[i] = p;
+    }
+    // Rooted on the ground (`Terrain::root`): raised to its height under
+    // the root, upright as grass grows on a slope.
+    if (!terrain_is_flat()) {
+        float lift = terrain_height(root.x, root.y);
+        for (int i = 0; i < 4; ++i) {
+            precise float y = rest[i].y + lift;
+            rest[i].y = y;
+        }
     }
     // Beyond the bounds (`CoverTiles::grows_at`): no blade, its rest
     // points without width (`cover::left_out`), which no pass draws.

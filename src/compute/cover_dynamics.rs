@@ -23,6 +23,7 @@ use crate::gpu::{
 };
 use crate::interface::{CoverEnterPush, COVER_GROUP};
 use crate::model::grass::GrassBlade;
+use crate::model::terrain::Terrain;
 use crate::model::wind::WindGrid;
 use crate::model::BladeVertex;
 use crate::scene::cover::{self, CoverTiles};
@@ -46,9 +47,8 @@ pub struct CoverDynamics {
     wind: BufferId,
     grid: WindGrid,
     cover: Cover,
-    seed: u32,
-    shape: BladeShape,
-    dynamics: GrassDynamics,
+    /// Makes the blades of a tile coming in.
+    maker: TileMaker,
     /// The tile each state slot holds.
     kept: Vec<[i32; 2]>,
     /// The slots whose blades the next step starts at their quasi-static
@@ -68,6 +68,8 @@ pub struct CoverDynamicsSetup<'a> {
     pub dt: f32,
     /// Where the camera starts (x, z).
     pub camera: Vec2,
+    /// The ground the blades are rooted on.
+    pub terrain: &'a Terrain,
 }
 
 impl CoverDynamics {
@@ -85,7 +87,14 @@ impl CoverDynamics {
             grass,
             dt,
             camera,
+            terrain,
         } = setup;
+        let maker = TileMaker {
+            terrain: terrain.clone(),
+            seed,
+            shape: grass.shape.clone(),
+            dynamics: grass.dynamics.clone(),
+        };
         let square = cover::kept_tiles(cover, camera);
         let count = square.blade_count();
         let bytes = count * std::mem::size_of::<GrassBlade>() as u64;
@@ -105,7 +114,7 @@ impl CoverDynamics {
             let slot = cover::state_slot(tile, side);
             kept[slot as usize] = tile;
             let first = (slot * square.per_tile) as usize;
-            let made = tile_blades(seed, &grass.shape, &grass.dynamics, tile, square.per_tile)?;
+            let made = maker.blades(tile, square.per_tile)?;
             blades[first..first + made.len()].copy_from_slice(&made);
         }
         let stepped = Buffer::new(
@@ -142,9 +151,7 @@ impl CoverDynamics {
             wind: wind.velocity.into(),
             grid: wind.grid,
             cover: cover.clone(),
-            seed,
-            shape: grass.shape.clone(),
-            dynamics: grass.dynamics.clone(),
+            maker,
             kept,
             entering: (0..square.tile_count() as u32).collect(),
             square,
@@ -163,13 +170,7 @@ impl CoverDynamics {
             if self.kept[slot as usize] == tile {
                 continue;
             }
-            let blades = tile_blades(
-                self.seed,
-                &self.shape,
-                &self.dynamics,
-                tile,
-                square.per_tile,
-            )?;
+            let blades = self.maker.blades(tile, square.per_tile)?;
             // A blade stiffer than any stepped so far raises the
             // substeps for all (the first square's stiffest set them).
             self.grass.raise_substeps_for(&blades)?;
@@ -257,15 +258,29 @@ impl CoverDynamics {
     }
 }
 
-/// The `per_tile` blades of `tile` as the dynamics step them.
-fn tile_blades(
+/// What a kept tile's blades are made from: the cover's seed as the tile
+/// kernel takes it, the scene's shapes and physics ranges, the ground.
+struct TileMaker {
+    terrain: Terrain,
     seed: u32,
-    shape: &BladeShape,
-    dynamics: &GrassDynamics,
-    tile: [i32; 2],
-    per_tile: u32,
-) -> Result<Vec<GrassBlade>> {
-    (0..per_tile)
-        .map(|index| cover::grass_blade(seed, shape, dynamics, tile, index))
-        .collect()
+    shape: BladeShape,
+    dynamics: GrassDynamics,
+}
+
+impl TileMaker {
+    /// The `per_tile` blades of `tile` as the dynamics step them.
+    fn blades(&self, tile: [i32; 2], per_tile: u32) -> Result<Vec<GrassBlade>> {
+        (0..per_tile)
+            .map(|index| {
+                cover::grass_blade(
+                    &self.terrain,
+                    self.seed,
+                    &self.shape,
+                    &self.dynamics,
+                    tile,
+                    index,
+                )
+            })
+            .collect()
+    }
 }

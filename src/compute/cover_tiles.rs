@@ -16,6 +16,7 @@ use crate::gpu::{
 };
 use crate::gpu::{Bound, CommandPool, MemoryLocation};
 use crate::interface::{CoverParams, CoverPush, COVER_GROUP};
+use crate::model::terrain::Terrain;
 use crate::model::wind::WindGrid;
 use crate::model::BladeVertex;
 use crate::scene::cover::{self, CoverTiles};
@@ -34,6 +35,7 @@ pub const COVER_SET: &[LayoutBinding] = &[
     LayoutBinding::compute_storage(3), // the wind velocity (or a placeholder)
     LayoutBinding::compute_storage(4), // the blades posed and left out (three words, host-read)
     LayoutBinding::compute_storage(5), // the kept blades' states (or a placeholder)
+    LayoutBinding::compute_storage(6), // the terrain (TerrainHeader and its words)
 ];
 
 /// The wind the cover's blades are posed in: the solver's velocity (one
@@ -66,6 +68,28 @@ pub struct CoverSetup<'a> {
     /// The states of the blades the paper's dynamics step near the camera
     /// (`CoverDynamics::states`; None: every blade quasi-static).
     pub states: Option<&'a Buffer>,
+    /// The ground the blades are rooted on.
+    pub terrain: &'a Terrain,
+}
+
+/// The terrain as glsl/common/terrain.glsl reads it (`Terrain::gpu_words`):
+/// its header, then its words (one unused word where it has none).
+fn terrain_buffer(gpu: &Gpu, commands: &CommandPool, terrain: &Terrain) -> Result<Buffer> {
+    let (header, words) = terrain.gpu_words();
+    let mut bytes = bytemuck::bytes_of(&header).to_vec();
+    bytes.extend_from_slice(bytemuck::cast_slice(if words.is_empty() {
+        &[0.0f32][..]
+    } else {
+        &words
+    }));
+    Buffer::with_data(
+        gpu,
+        commands,
+        "cover terrain (height map, hills, ridges)",
+        &bytes,
+        vk::BufferUsageFlags::STORAGE_BUFFER,
+        Access::COMPUTE_READ,
+    )
 }
 
 /// One blade's control points in the blade buffer.
@@ -86,6 +110,8 @@ pub struct CoverTilePass {
     /// The kept blades' states (`CoverDynamics`), declared read each frame.
     states: Option<BufferId>,
     _placeholder: Option<Buffer>,
+    /// The ground's height field (glsl/common/terrain.glsl), written once.
+    terrain: Buffer,
     /// One set per batch of the blade buffer, with its blades.
     sets: Vec<(DescriptorSet, Range<u32>)>,
     /// The buffer's blade the cover starts at, and how many blades it
@@ -113,6 +139,7 @@ impl CoverTilePass {
             frame,
             pose_drawn_only,
             states,
+            terrain,
         } = setup;
         let most = cover::most_blades(cover);
         let too_many = || {
@@ -151,6 +178,7 @@ impl CoverTilePass {
             vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
             Access::COMPUTE_READ,
         )?;
+        let terrain = terrain_buffer(gpu, commands, terrain)?;
         let posed = Buffer::new(
             gpu,
             "cover blades posed (quasi-static, from their state) and left out",
@@ -203,6 +231,7 @@ impl CoverTilePass {
                     Bound::Buffer(wind_buffer),
                     Bound::Buffer(&posed),
                     Bound::Buffer(states_buffer),
+                    Bound::Buffer(&terrain),
                 ]
             },
         )?
@@ -219,6 +248,7 @@ impl CoverTilePass {
             wind,
             states,
             _placeholder: placeholder,
+            terrain,
             sets,
             base,
             capacity,
@@ -280,6 +310,7 @@ impl CoverTilePass {
             BufferUse::new(&self.posed, Access::COMPUTE_READ_WRITE),
             BufferUse::new(vertices, Access::COMPUTE_WRITE),
             BufferUse::new(&self.params, Access::COMPUTE_READ),
+            BufferUse::new(&self.terrain, Access::COMPUTE_READ),
         ];
         if let Some(wind) = self.wind {
             uses.push(BufferUse::new(wind, Access::COMPUTE_READ));

@@ -75,6 +75,7 @@ impl Simulation {
                     grass: &scene.grass,
                     dt,
                     camera: glam::Vec2::new(eye.x, eye.z),
+                    terrain: &scene.ground.terrain(),
                 };
                 Some(CoverDynamics::new(
                     gpu,

@@ -252,6 +252,7 @@ impl FrameRecorder {
             states: simulation
                 .and_then(Simulation::cover_dynamics)
                 .map(|d| d.states()),
+            terrain: &scene.ground.terrain(),
         };
         let pass = CoverTilePass::new(gpu, commands, setup)?;
         Ok(Some((pass, cover.clone())))

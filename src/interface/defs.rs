@@ -435,6 +435,22 @@ gpu_interface! {
         pub _pad0: u32,
     }
 
+    /// The ground's height field as the GPU reads it
+    /// (glsl/common/terrain.glsl; `Terrain::height` on the CPU, which
+    /// `Terrain::gpu_words` packs): this header, then in the same buffer
+    /// each hill's (x, z, H, L), each ridge's (x, z, H, L) and (cos, sin)
+    /// of its heading, 4 floats each, then the height map's samples.
+    pub struct TerrainHeader {
+        /// The height map's samples along x and z (0, 0: no map).
+        pub map_size: [u32; 2],
+        /// Hills and ridges after the header.
+        pub hills: u32,
+        pub ridges: u32,
+        /// The ground the map covers (x, z metres) and its centre.
+        pub map_extent: [f32; 2],
+        pub map_center: [f32; 2],
+    }
+
     /// Push constants of the kernel that starts the cover's tiles coming
     /// into its simulated square at their quasi-static pose
     /// (glsl/cover/enter.comp).

@@ -12,6 +12,13 @@ use std::sync::Arc;
 
 use glam::{Vec2, Vec3};
 
+use super::Blade;
+use crate::interface::TerrainHeader;
+
+/// The central differences a root's ground normal is taken over (m): its
+/// tangent plane, for contact's paraboloid over it (`Terrain::root`).
+pub const NORMAL_STEP_M: f32 = 0.01;
+
 /// A round hill: H / (1 + (r/L)^2), r the distance from `center` (x, z).
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -118,6 +125,57 @@ impl Terrain {
             h += agnesi(ridge.height, ridge.half_width, d * d);
         }
         h
+    }
+
+    /// `blade` (made on flat ground) rooted on the ground: raised to the
+    /// height under its root, growing upright as grass does on a slope,
+    /// with contact's paraboloid over the ground within its reach
+    /// (`Blade::raised`). A flat terrain leaves it as it is.
+    pub fn root(&self, blade: Blade) -> Blade {
+        if self.is_flat() {
+            return blade;
+        }
+        let root = blade.rest[0];
+        let normal = self.normal(root.x, root.z, NORMAL_STEP_M);
+        let c = self.rise_bound(root.x, root.z, normal, blade.reach());
+        blade.raised(self.height(root.x, root.z), normal, c)
+    }
+
+    /// The terrain as glsl/common/terrain.glsl reads it: the header, then
+    /// the words after it (each hill's x, z, H, L; each ridge's x, z, H, L
+    /// and the cosine and sine of its heading, two words unused; the
+    /// height map's samples). The shader sums in `height`'s order, with
+    /// the ridges' cosine and sine taken from here.
+    pub fn gpu_words(&self) -> (TerrainHeader, Vec<f32>) {
+        let map = self.map.as_deref();
+        let header = TerrainHeader {
+            map_size: map.map_or([0, 0], |m| [m.columns, m.rows]),
+            hills: self.hills.len() as u32,
+            ridges: self.ridges.len() as u32,
+            map_extent: map.map_or([0.0; 2], |m| m.extent),
+            map_center: map.map_or([0.0; 2], |m| m.center),
+        };
+        let mut words = Vec::new();
+        for h in &self.hills {
+            words.extend([h.center[0], h.center[1], h.height, h.half_width]);
+        }
+        for r in &self.ridges {
+            let (s, c) = r.heading.to_radians().sin_cos();
+            words.extend([
+                r.center[0],
+                r.center[1],
+                r.height,
+                r.half_width,
+                c,
+                s,
+                0.0,
+                0.0,
+            ]);
+        }
+        if let Some(m) = map {
+            words.extend(&m.heights);
+        }
+        (header, words)
     }
 
     /// The upward unit normal at (x, z), from central differences over

@@ -17,6 +17,7 @@ use super::{BladeShape, Cover, GrassDynamics};
 use crate::error::Result;
 use crate::model::grass::{self, GrassBlade};
 use crate::model::quasi_static::{quasi_static_angles_within, FAR_ITERATIONS};
+use crate::model::terrain::Terrain;
 use crate::model::{Blade, BladeKind, BladePhysics, BladeVertex};
 
 /// A tile's side (m).
@@ -175,7 +176,8 @@ pub fn facing(u: f32, quadrant: u32) -> Vec2 {
 }
 
 /// The `index`th blade of `tile`: the field generator's shapes
-/// (`field::profile`), rooted uniformly in the tile, on flat ground.
+/// (`field::profile`), rooted uniformly in the tile, on flat ground
+/// (`blade_on` roots it on the terrain).
 pub fn blade(seed: u32, shape: &BladeShape, tile: [i32; 2], index: u32) -> Blade {
     let key = blade_key(seed, tile, index);
     let root = Vec2::new(
@@ -210,6 +212,20 @@ pub fn blade(seed: u32, shape: &BladeShape, tile: [i32; 2], index: u32) -> Blade
         ground: Vec3::Y,
         ground_curvature: 0.0,
     }
+}
+
+/// The `index`th blade of `tile` rooted on `terrain` (`Terrain::root`):
+/// raised to the ground's height at its root, which the tile kernel
+/// computes to its division's rounding, and swinging about the ground's
+/// normal there. On flat ground, `blade` itself.
+pub fn blade_on(
+    terrain: &Terrain,
+    seed: u32,
+    shape: &BladeShape,
+    tile: [i32; 2],
+    index: u32,
+) -> Blade {
+    terrain.root(blade(seed, shape, tile, index))
 }
 
 /// The physics draws: k_tip, k_root / k_tip and sigma (what the
@@ -254,6 +270,7 @@ pub fn left_out(blade: &Blade) -> [BladeVertex; 4] {
 /// tip, in the blade buffer's order: what the tile kernel writes with a
 /// wind to pose them in (to the solve's tolerance, not bit for bit).
 pub fn posed_vertices(
+    terrain: &Terrain,
     seed: u32,
     shape: &BladeShape,
     dynamics: &GrassDynamics,
@@ -262,7 +279,7 @@ pub fn posed_vertices(
 ) -> Result<Vec<BladeVertex>> {
     let mut out = Vec::with_capacity(tiles.blade_count() as usize * 4);
     for (tile, index) in tiles.blades() {
-        let rest = blade(seed, shape, tile, index);
+        let rest = blade_on(terrain, seed, shape, tile, index);
         if !tiles.grows_at(root_xz(&rest)) {
             out.extend(left_out(&rest));
             continue;
@@ -274,13 +291,19 @@ pub fn posed_vertices(
     Ok(out)
 }
 
-/// The control points of every blade of `tiles`, in the blade buffer's
-/// order: what the tile kernel writes.
-pub fn vertices(seed: u32, shape: &BladeShape, tiles: &CoverTiles) -> Vec<BladeVertex> {
+/// The control points of every blade of `tiles` on `terrain`, in the
+/// blade buffer's order: what the tile kernel writes (bit for bit on flat
+/// ground; on terrain the heights to the division's rounding).
+pub fn vertices(
+    terrain: &Terrain,
+    seed: u32,
+    shape: &BladeShape,
+    tiles: &CoverTiles,
+) -> Vec<BladeVertex> {
     tiles
         .blades()
         .flat_map(|(tile, index)| {
-            let b = blade(seed, shape, tile, index);
+            let b = blade_on(terrain, seed, shape, tile, index);
             if tiles.grows_at(root_xz(&b)) {
                 b.vertices()
             } else {
@@ -329,6 +352,7 @@ pub fn state_slot(tile: [i32; 2], side: u32) -> u32 {
 /// The `index`th blade of `tile` as the dynamics step it (its physics
 /// from the same key as its shape).
 pub fn grass_blade(
+    terrain: &Terrain,
     seed: u32,
     shape: &BladeShape,
     dynamics: &GrassDynamics,
@@ -336,7 +360,7 @@ pub fn grass_blade(
     index: u32,
 ) -> Result<GrassBlade> {
     GrassBlade::new(
-        &blade(seed, shape, tile, index),
+        &blade_on(terrain, seed, shape, tile, index),
         &physics(seed, dynamics, tile, index),
     )
 }
@@ -471,10 +495,14 @@ mod tests {
     #[test]
     fn a_tile_holds_the_same_blades_from_any_camera_and_its_own_blades_only() {
         let shape = BladeShape::default();
+        let flat = Terrain::default();
         let c = cover(2.0, 8.0);
         let a = CoverTiles::around(&c, Vec2::new(0.5, 0.5));
         let b = CoverTiles::around(&c, Vec2::new(9.0, -3.0));
-        let (va, vb) = (vertices(7, &shape, &a), vertices(7, &shape, &b));
+        let (va, vb) = (
+            vertices(&flat, 7, &shape, &a),
+            vertices(&flat, 7, &shape, &b),
+        );
         let per = 4 * a.per_tile as usize;
         let mut shared = 0;
         for slot_a in 0..a.tile_count() as u32 {
@@ -493,7 +521,7 @@ mod tests {
         }
         assert!(shared >= 9, "{shared} tiles shared");
         // Another seed, other blades.
-        assert_ne!(vertices(8, &shape, &a), va);
+        assert_ne!(vertices(&flat, 8, &shape, &a), va);
     }
 
     /// A bounded cover grows the unbounded one's blades rooted in its
@@ -515,9 +543,10 @@ mod tests {
             ..left.clone()
         };
         let camera = Vec2::new(1.3, 0.7);
+        let flat = Terrain::default();
         let [o, l, r] = [&open, &left, &right].map(|c| CoverTiles::around(c, camera));
         assert_eq!((o.origin, o.side), (l.origin, l.side));
-        let [vo, vl, vr] = [&o, &l, &r].map(|t| vertices(5, &shape, t));
+        let [vo, vl, vr] = [&o, &l, &r].map(|t| vertices(&flat, 5, &shape, t));
         let grows = crate::model::has_width;
         let (mut in_left, mut in_right, mut in_neither) = (0, 0, 0);
         for ((a, b), c) in vo.chunks(4).zip(vl.chunks(4)).zip(vr.chunks(4)) {

@@ -686,10 +686,6 @@ fn unit_hash(seed: u64, index: u64) -> f32 {
 /// or cylinder standing on the ground holds its footprint's roots.
 const ROOT_CLEARANCE: f32 = 0.01;
 
-/// The central differences a root's ground normal is taken over (m): its
-/// tangent plane, for contact's paraboloid over it.
-const NORMAL_STEP_M: f32 = 0.01;
-
 /// The grass a scene grows: its blades, and how many of those its patches
 /// planted were left out under the obstacles.
 #[derive(Clone, Debug)]
@@ -732,10 +728,7 @@ impl Scene {
             // slope; contact keeps them over the ground within their reach
             // (`Blade::ground_curvature`).
             for b in &mut blades {
-                let root = b.rest[0];
-                let normal = terrain.normal(root.x, root.z, NORMAL_STEP_M);
-                let c = terrain.rise_bound(root.x, root.z, normal, b.reach());
-                *b = b.raised(terrain.height(root.x, root.z), normal, c);
+                *b = terrain.root(*b);
             }
         }
         let obstacles = &self.wind.obstacles;
