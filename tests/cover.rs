@@ -478,7 +478,8 @@ fn hilly() -> Terrain {
 /// (`Terrain::root`): x and z bit for bit, the heights to the divisions'
 /// rounding (a device's division may round otherwise than the CPU's;
 /// lavapipe's does not), and poses it in the wind at its raised tip as
-/// the CPU reference does, to the solves' rounding.
+/// the CPU reference does, to the solves' rounding, in a wind window that
+/// follows the ground (glsl/common/wind_felt.glsl).
 #[test]
 fn on_terrain_the_gpu_roots_and_poses_the_cover_where_the_cpu_does() {
     let terrain = hilly();
@@ -494,8 +495,9 @@ fn on_terrain_the_gpu_roots_and_poses_the_cover_where_the_cpu_does() {
         center: None,
     };
     let grass = Grass::default();
-    // The wind's grid reaches over the hills' blades.
-    let (grid, field, recorded) = steady_wind(Vec3::new(-14.0, -2.0, -14.0), 28.0);
+    // A wind window that follows the ground: each blade feels the wind
+    // at its height above it.
+    let (grid, field, recorded) = steady_wind_over(&terrain, Vec3::new(-14.0, 0.0, -14.0), 28.0);
     let posed_tiles = CoverTiles::around(&pose_cover, Vec2::ZERO);
 
     let gpu = strict_gpu_with(None);
@@ -639,8 +641,21 @@ fn wind_buffer(gpu: &Gpu, commands: &CommandPool, velocity: &[f32]) -> Buffer {
 /// varying from face to face: 1.5-4.5 m/s along x, 0.2-1 m/s along z. The
 /// grid, the CPU field and the velocity as the GPU holds it.
 fn steady_wind(corner: Vec3, side: f32) -> (WindGrid, WindField, Vec<f32>) {
-    let grid = WindGrid::new(UVec3::new(8, 4, 8), corner, Vec3::new(side, 2.0, side)).unwrap();
-    let mut field = WindField::new(grid, &WindSettings::default());
+    steady_wind_over(&FLAT, corner, side)
+}
+
+/// `steady_wind` over `terrain`: on terrain, a grid that follows the
+/// ground, its heights above it (a cover's wind window).
+fn steady_wind_over(terrain: &Terrain, corner: Vec3, side: f32) -> (WindGrid, WindField, Vec<f32>) {
+    let mut grid = WindGrid::new(UVec3::new(8, 4, 8), corner, Vec3::new(side, 2.0, side)).unwrap();
+    if !terrain.is_flat() {
+        grid = grid.following_ground();
+    }
+    let settings = WindSettings {
+        terrain: terrain.clone(),
+        ..WindSettings::default()
+    };
+    let mut field = WindField::new(grid, &settings);
     for (i, v) in field.vel[0].iter_mut().enumerate() {
         *v = 1.5 + (i % 11) as f32 * 0.3;
     }
@@ -925,6 +940,20 @@ fn a_traced_blade_shows_no_jump_when_the_wind_window_moves() {
 /// (`cover::dynamic_weight`), as the CPU does.
 #[test]
 fn near_the_camera_the_cover_runs_the_papers_dynamics_as_the_cpu() {
+    kept_dynamics_against_the_cpu(&FLAT);
+}
+
+/// The same on hills, a ridge and a height map in a wind window that
+/// follows the ground: the kept blades rooted on it (and held over it by
+/// ground contact), each feeling the wind at its height above the ground
+/// (`WindField::window_point`; glsl/common/wind_felt.glsl in the grass
+/// step, the enter and the tile kernels).
+#[test]
+fn on_terrain_the_kept_blades_feel_a_wind_that_follows_the_ground_as_the_cpu() {
+    kept_dynamics_against_the_cpu(&hilly());
+}
+
+fn kept_dynamics_against_the_cpu(terrain: &Terrain) {
     use meadow::compute::wind_pass::WindInput;
     use meadow::compute::CoverDynamics;
     use meadow::model::grass::{self, GrassState};
@@ -941,7 +970,7 @@ fn near_the_camera_the_cover_runs_the_papers_dynamics_as_the_cpu() {
     };
     let grass = Grass::default();
     let seed = cover::seed32(21);
-    let (grid, mut field, calm) = steady_wind(Vec3::new(-16.0, 0.0, -16.0), 40.0);
+    let (grid, mut field, calm) = steady_wind_over(terrain, Vec3::new(-16.0, 0.0, -16.0), 40.0);
     let strong: Vec<f32> = calm.iter().map(|v| 1.5 * v).collect();
     let dt = 1.0 / 60.0;
     let eyes = [Vec2::new(1.0, 1.0), Vec2::new(5.5, 1.0)];
@@ -949,10 +978,12 @@ fn near_the_camera_the_cover_runs_the_papers_dynamics_as_the_cpu() {
     let gpu = strict_gpu_with(None);
     let commands = CommandPool::new(&gpu, "cover dynamics commands").unwrap();
     let velocity = wind_buffer(&gpu, &commands, &calm);
+    let ground = meadow::compute::terrain_buffer(&gpu, &commands, terrain, "test ground").unwrap();
     let input = WindInput {
         grid,
         velocity: &velocity,
         canopy: None,
+        ground: grid.follows_ground.then_some(&ground),
     };
     let setup = meadow::compute::cover_dynamics::CoverDynamicsSetup {
         cover: &cover,
@@ -960,7 +991,7 @@ fn near_the_camera_the_cover_runs_the_papers_dynamics_as_the_cpu() {
         grass: &grass,
         dt,
         camera: eyes[0],
-        terrain: &FLAT,
+        terrain,
     };
     let mut dynamics = CoverDynamics::new(&gpu, &commands, setup, &input).unwrap();
     let rec = commands.begin().unwrap();
@@ -1012,7 +1043,7 @@ fn near_the_camera_the_cover_runs_the_papers_dynamics_as_the_cpu() {
             frame: &frame,
             pose_drawn_only: false,
             states: Some(dynamics.states()),
-            terrain: &FLAT,
+            terrain,
         },
     )
     .unwrap();
@@ -1023,7 +1054,7 @@ fn near_the_camera_the_cover_runs_the_papers_dynamics_as_the_cpu() {
     let posed: Vec<BladeVertex> = vertices
         .read_back(&gpu, &commands, tiles.blade_count() as usize * 4)
         .unwrap();
-    drop((pass, vertices, frame, dynamics, velocity, commands));
+    drop((pass, vertices, frame, dynamics, velocity, ground, commands));
     finish(gpu);
 
     // The CPU: the same slots, tiles coming in started at their
@@ -1051,8 +1082,9 @@ fn near_the_camera_the_cover_runs_the_papers_dynamics_as_the_cpu() {
             held[slot] = Some(tile);
             entered[phase] += 1;
             for index in 0..per_tile {
-                let b = cover::grass_blade(&FLAT, seed, &grass.shape, &grass.dynamics, tile, index)
-                    .unwrap();
+                let b =
+                    cover::grass_blade(terrain, seed, &grass.shape, &grass.dynamics, tile, index)
+                        .unwrap();
                 let (angle, _) =
                     quasi_static_angles_within(&b, field.sample(b.rest_point(3)), FAR_ITERATIONS);
                 let i = slot * per_tile as usize + index as usize;
@@ -1099,7 +1131,7 @@ fn near_the_camera_the_cover_runs_the_papers_dynamics_as_the_cpu() {
     let mut worst = 0.0f32;
     for (n, (tile, index)) in tiles.blades().enumerate() {
         let b =
-            cover::grass_blade(&FLAT, seed, &grass.shape, &grass.dynamics, tile, index).unwrap();
+            cover::grass_blade(terrain, seed, &grass.shape, &grass.dynamics, tile, index).unwrap();
         let root = b.rest_point(0);
         let weight = cover::dynamic_weight(r, Vec2::new(root.x, root.z).distance(eyes[1]));
         let (still, _) =
@@ -1374,6 +1406,7 @@ fn a_stiffer_blade_coming_in_raises_the_substeps() {
         grid,
         velocity: &velocity,
         canopy: None,
+        ground: None,
     };
     let eye = |n: usize| Vec2::new(0.5 + 4.0 * n as f32, 0.5);
     let setup = meadow::compute::cover_dynamics::CoverDynamicsSetup {

@@ -91,6 +91,7 @@ fn recorded_input(velocity: &Buffer, grid: WindGrid) -> WindInput<'_> {
         grid,
         velocity,
         canopy: None,
+        ground: None,
     }
 }
 

@@ -43,7 +43,7 @@ layout(set = 0, binding = 6, std430) readonly buffer Terrain {
 };
 #define WIND_VELOCITY(i) wind_velocity[i]
 #include "wind_sample.glsl"
-#include "terrain.glsl"
+#include "wind_felt.glsl"
 
 // `cover::hash`: lowbias32 (hash.glsl, through cull.glsl).
 uint hash(uint x) {
@@ -249,7 +249,7 @@ void main() {
         atomicAdd(from_state, 1u);
     } else {
         atomicAdd(posed, 1u);
-        vec4 still = quasi_static_angles(b, sample_wind(params.grid, rest[3]));
+        vec4 still = quasi_static_angles(b, wind_felt(params.grid, rest[3]));
         angle = weight > 0.0 ? mix(still, kept_angle, weight) : still;
     }
     Pose p = blade_pose(b, angle, 0.0);

@@ -67,6 +67,13 @@ uint bin_of(vec3 root) {
 
 #define WIND_VELOCITY(i) wind_velocity[pc.wind_offset + (i)]
 #include "wind_sample.glsl"
+// On a wind grid that follows the ground, the ground its heights are
+// measured from (`Terrain::gpu_words`); else a placeholder never read.
+layout(set = 0, binding = 11, std430) readonly buffer Terrain {
+    TerrainHeader terrain;
+    float terrain_words[];
+};
+#include "wind_felt.glsl"
 
 // Two-way coupling (`deposit` in src/model/canopy.rs): each edge's plate,
 // projected across the wind the blade felt, added to the cell its midpoint
@@ -83,7 +90,7 @@ void lay_frontal_area(GrassBlade b, Pose p, vec3 wind) {
         float facing = n_len > 1e-12 ? abs(dot(n, along) / n_len) : 0.0;
         float area = length(rest_point(b, i + 1) - rest_point(b, i)) * 2.0 * b.width.w * facing;
         vec3 mid = (p.points[i] + p.points[i + 1]) * 0.5;
-        vec3 g = floor((mid - pc.grid.origin.xyz) / pc.grid.cell_size.xyz);
+        vec3 g = floor((window_point(pc.grid, mid) - pc.grid.origin.xyz) / pc.grid.cell_size.xyz);
         if (all(greaterThanEqual(g, vec3(0.0))) && all(lessThan(g, vec3(pc.grid.cells.xyz)))) {
             atomicAdd(canopy[cell_index(pc.grid, uvec3(g))], uint(area / pc.canopy_unit + 0.5));
         }
@@ -170,7 +177,7 @@ void main() {
     GrassState s = states[id];
     // The wind only at the tip (paper section 4), as the last step left it.
     vec3 tip = blade_pose(b, s.angle, 0.0).points[3];
-    vec3 felt = sample_wind(pc.grid, tip);
+    vec3 felt = wind_felt(pc.grid, tip);
     blade_step(b, s, felt, pc.substep, pc.substeps, 0.0, uvec4(0u));
     write_blade(id, b, s, 0.0, felt);
 }
@@ -189,7 +196,7 @@ void main() {
     Press press = presses[id];
     // The wind only at the tip (paper section 4), as the last step left it.
     vec3 tip = blade_pose(b, s.angle, press.pressed).points[3];
-    vec3 felt = sample_wind(pc.grid, tip);
+    vec3 felt = wind_felt(pc.grid, tip);
     float pressed = press_next(press, pc.dt, pc.press_decay);
     bool touched = blade_step(b, s, felt, pc.substep, pc.substeps, pressed, near);
     presses[id] = Press(pressed, touched ? 1.0 : 0.0);

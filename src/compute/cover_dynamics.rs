@@ -34,6 +34,7 @@ pub const COVER_ENTER_SET: &[LayoutBinding] = &[
     LayoutBinding::compute_storage(0), // the dynamics' blades
     LayoutBinding::compute_storage(1), // their states
     LayoutBinding::compute_storage(2), // the wind velocity
+    LayoutBinding::compute_storage(3), // the ground the wind grid's heights follow (or a placeholder)
 ];
 
 pub struct CoverDynamics {
@@ -44,6 +45,9 @@ pub struct CoverDynamics {
     enter: Pipeline,
     enter_set: DescriptorSet,
     _stepped: Buffer,
+    /// Bound in the enter set where the wind grid's heights are the
+    /// world's (never read then).
+    _no_ground: Option<Buffer>,
     wind: BufferId,
     grid: WindGrid,
     cover: Cover,
@@ -132,6 +136,20 @@ impl CoverDynamics {
             "cover enter",
         )?;
         let enter = Pipeline::compute(gpu, &layout, &crate::shaders::COVER_ENTER_COMP)?;
+        let no_ground = match wind.ground {
+            Some(_) => None,
+            None => Some(super::terrain_buffer(
+                gpu,
+                commands,
+                &Terrain::default(),
+                "cover enter ground placeholder (wind grid of world heights)",
+            )?),
+        };
+        let ground = match (wind.ground, &no_ground) {
+            (Some(g), _) => g,
+            (None, Some(p)) => p,
+            (None, None) => unreachable!("a placeholder is made where the wind has no ground"),
+        };
         let enter_set = DescriptorSet::new(
             gpu,
             &layout,
@@ -140,6 +158,7 @@ impl CoverDynamics {
                 Bound::Buffer(grass_pass.blades()),
                 Bound::Buffer(grass_pass.states()),
                 Bound::Buffer(wind.velocity),
+                Bound::Buffer(ground),
             ],
             "cover enter set",
         )?;
@@ -148,6 +167,7 @@ impl CoverDynamics {
             enter,
             enter_set,
             _stepped: stepped,
+            _no_ground: no_ground,
             wind: wind.velocity.into(),
             grid: wind.grid,
             cover: cover.clone(),

@@ -72,26 +72,6 @@ pub struct CoverSetup<'a> {
     pub terrain: &'a Terrain,
 }
 
-/// The terrain as glsl/common/terrain.glsl reads it (`Terrain::gpu_words`):
-/// its header, then its words (one unused word where it has none).
-fn terrain_buffer(gpu: &Gpu, commands: &CommandPool, terrain: &Terrain) -> Result<Buffer> {
-    let (header, words) = terrain.gpu_words();
-    let mut bytes = bytemuck::bytes_of(&header).to_vec();
-    bytes.extend_from_slice(bytemuck::cast_slice(if words.is_empty() {
-        &[0.0f32][..]
-    } else {
-        &words
-    }));
-    Buffer::with_data(
-        gpu,
-        commands,
-        "cover terrain (height map, hills, ridges)",
-        &bytes,
-        vk::BufferUsageFlags::STORAGE_BUFFER,
-        Access::COMPUTE_READ,
-    )
-}
-
 /// One blade's control points in the blade buffer.
 const BLADE_BYTES: usize = 4 * std::mem::size_of::<BladeVertex>();
 
@@ -178,7 +158,12 @@ impl CoverTilePass {
             vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
             Access::COMPUTE_READ,
         )?;
-        let terrain = terrain_buffer(gpu, commands, terrain)?;
+        let terrain = super::terrain_buffer(
+            gpu,
+            commands,
+            terrain,
+            "cover terrain (height map, hills, ridges)",
+        )?;
         let posed = Buffer::new(
             gpu,
             "cover blades posed (quasi-static, from their state) and left out",

@@ -29,7 +29,7 @@ use crate::gpu::{
     part, Access, Bound, Buffer, BufferId, BufferUse, CommandPool, DescriptorSet, Gpu,
     LayoutBinding, Pipeline, PipelineLayout, Recording,
 };
-use crate::interface::{GrassPush, GRASS_GROUP};
+use crate::interface::{GrassPush, TerrainHeader, GRASS_GROUP};
 use crate::model::contact::{press_decay, Collider, Press};
 use crate::model::grass::{substeps, CapCounts, GrassBlade, GrassState};
 use crate::model::BladeVertex;
@@ -58,6 +58,7 @@ pub const GRASS_SET: &[LayoutBinding] = &[
     LayoutBinding::compute_storage(8), // collider bins
     LayoutBinding::compute_storage(9), // the batch's blades near a collider or pressed
     LayoutBinding::compute_storage(10), // each slot's blade, whose control points it writes
+    LayoutBinding::compute_storage(11), // the ground a wind grid's heights follow (or a placeholder)
 ];
 
 /// Words each batch's list of touching blades has beyond one per blade:
@@ -137,6 +138,7 @@ impl GrassPass {
         let order = placed.order.clone();
         let buffers = StepBuffers::new(gpu, commands, blades.len(), placed, colliders)?;
         let canopy = wind.canopy.map_or(&buffers.no_canopy, |(buffer, _)| buffer);
+        let ground = wind.ground.unwrap_or(&buffers.no_ground);
         let bins = ColliderBins::new(gpu, bin_grid, colliders)?;
         let layout = PipelineLayout::new::<GrassPush>(
             gpu,
@@ -190,6 +192,7 @@ impl GrassPass {
                         Bound::Buffer(&touching)
                     },
                     part(&b.vertex_slots, blades, size_of::<u32>()),
+                    Bound::Buffer(ground),
                 ]
             },
         )?;
@@ -569,6 +572,10 @@ struct StepBuffers {
     /// Bound when the coupling is one-way (a binding must name a live
     /// buffer); the kernel never touches it then.
     no_canopy: Buffer,
+    /// Bound when the wind grid's heights are the world's (it does not
+    /// follow the ground); the kernel never reads it then. A flat
+    /// terrain's header, which a block of it needs.
+    no_ground: Buffer,
     /// Made without colliders, the kernel touches none: one entry. Made
     /// with them, each blade keeps a pressed state even when
     /// `set_colliders` takes them all away, so that it decays.
@@ -629,6 +636,11 @@ impl StepBuffers {
                 "grass canopy placeholder (one-way coupling)",
                 &[0u8; 4],
                 Access::COMPUTE_READ_WRITE,
+            )?,
+            no_ground: upload(
+                "grass ground placeholder (wind grid of world heights)",
+                &[0u8; std::mem::size_of::<TerrainHeader>() + 4],
+                Access::COMPUTE_READ,
             )?,
             presses: upload(
                 "grass pressed state (colliders)",

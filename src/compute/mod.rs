@@ -16,8 +16,11 @@ pub mod step_pace;
 pub mod wind_pass;
 
 use crate::error::{Error, Result};
-use crate::gpu::{Buffer, CommandPool, Gpu, Recording};
+use ash::vk;
+
+use crate::gpu::{Access, Buffer, CommandPool, Gpu, Recording};
 use crate::model::collider::Collider;
+use crate::model::terrain::Terrain;
 use crate::model::{canopy, GrassBlade};
 use crate::scene::Scene;
 
@@ -226,4 +229,30 @@ impl Simulation {
     pub fn grass(&self) -> Option<&GrassPass> {
         self.grass.as_ref()
     }
+}
+
+/// The terrain as glsl/common/terrain.glsl reads it (`Terrain::gpu_words`):
+/// its header, then its words (one unused word where it has none), named
+/// `name`.
+pub fn terrain_buffer(
+    gpu: &Gpu,
+    commands: &CommandPool,
+    terrain: &Terrain,
+    name: &str,
+) -> Result<Buffer> {
+    let (header, words) = terrain.gpu_words();
+    let mut bytes = bytemuck::bytes_of(&header).to_vec();
+    bytes.extend_from_slice(bytemuck::cast_slice(if words.is_empty() {
+        &[0.0f32][..]
+    } else {
+        &words
+    }));
+    Buffer::with_data(
+        gpu,
+        commands,
+        name,
+        &bytes,
+        vk::BufferUsageFlags::STORAGE_BUFFER,
+        Access::COMPUTE_READ,
+    )
 }

@@ -374,6 +374,9 @@ pub struct WindPass {
     /// The window's shift kernel, where the grid follows the camera
     /// (`WindSettings::moving_window`).
     shift: Option<Pipeline>,
+    /// On a grid that follows the ground, the terrain its heights are
+    /// measured from, for the grass that samples it.
+    ground: Option<Buffer>,
 }
 
 /// The wind as the grass step sees it: the velocity it samples and, with
@@ -384,6 +387,10 @@ pub struct WindInput<'a> {
     pub velocity: &'a Buffer,
     /// None: one-way coupling, the grass lays nothing.
     pub canopy: Option<(&'a Buffer, f32)>,
+    /// On a grid that follows the ground, the terrain its heights are
+    /// measured from (glsl/common/terrain.glsl's buffer); None: the grid's
+    /// heights are the world's.
+    pub ground: Option<&'a Buffer>,
 }
 
 fn u32_bytes(values: impl Iterator<Item = u32>) -> Vec<u8> {
@@ -479,6 +486,17 @@ impl WindPass {
                 Pipeline::compute(gpu, &layout, WIND_SHIFT_KERNEL)
             })
             .transpose()?;
+        let ground = grid
+            .follows_ground
+            .then(|| {
+                super::terrain_buffer(
+                    gpu,
+                    commands,
+                    &settings.terrain,
+                    "wind window's ground (height map, hills, ridges)",
+                )
+            })
+            .transpose()?;
         Ok(Self {
             grid,
             settings: settings.clone(),
@@ -507,6 +525,7 @@ impl WindPass {
             collider_records: super::colliders::records(&settings.colliders)?,
             turbulence: field.turbulence,
             shift,
+            ground,
         })
     }
 
@@ -611,6 +630,7 @@ impl WindPass {
             canopy: self
                 .coupled()
                 .then_some((&self.buffers.canopy, self.canopy_unit)),
+            ground: self.ground.as_ref(),
         }
     }
 
@@ -934,6 +954,7 @@ pub fn grid_params(grid: &WindGrid, faces: u32) -> WindGridParams {
         cells: grid.cells.to_array(),
         faces,
         origin: grid.origin.to_array(),
+        follows_ground: grid.follows_ground as u32,
         cell_size: grid.cell.to_array(),
         ..WindGridParams::default()
     }

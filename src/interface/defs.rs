@@ -196,7 +196,10 @@ gpu_interface! {
         pub faces: u32,
         /// World position of the grid's minimum corner (m).
         pub origin: [f32; 3],
-        pub _pad0: f32,
+        /// 1: the grid's heights are heights above the ground under each
+        /// point (a cover's wind window over terrain;
+        /// glsl/common/wind_felt.glsl); 0: world heights.
+        pub follows_ground: u32,
         /// Cell size along each axis (m).
         pub cell_size: [f32; 3],
         pub _pad1: f32,

@@ -71,11 +71,12 @@ pub fn cell_of(grid: &WindGrid, x: Vec3) -> Option<usize> {
 }
 
 /// Adds a blade's frontal area (`frontal_areas`, at `pose` in the wind
-/// `wind` it felt) to the cells its edges' midpoints lie in, in counts of
-/// `unit` m^2 rounded to the nearest. Midpoints outside the grid lay none.
+/// `wind` it felt) to the cells `cell_at` finds its edges' midpoints in, in
+/// counts of `unit` m^2 rounded to the nearest. Midpoints outside the grid
+/// lay none.
 pub fn deposit(
     counts: &mut [u32],
-    grid: &WindGrid,
+    cell_at: impl Fn(Vec3) -> Option<usize>,
     unit: f32,
     blade: &GrassBlade,
     pose: &Pose,
@@ -83,7 +84,7 @@ pub fn deposit(
 ) {
     for (i, area) in frontal_areas(blade, pose, wind).into_iter().enumerate() {
         let mid = (pose.points[i] + pose.points[i + 1]) * 0.5;
-        if let Some(c) = cell_of(grid, mid) {
+        if let Some(c) = cell_at(mid) {
             counts[c] = counts[c].wrapping_add((area / unit + 0.5) as u32);
         }
     }
@@ -106,7 +107,10 @@ pub fn coupled_step(wind: &mut WindField, settings: &WindSettings, grass: &mut G
         |x| wind.sample(x),
         |blade, state, felt| {
             let pose = pose(blade, state.angle);
-            deposit(&mut counts, &grid, unit, blade, &pose, guard_wind(felt));
+            // The cell a point of the world lies in: on a window that
+            // follows the ground, by its height above it.
+            let cell_at = |x| cell_of(&grid, wind.window_point(x));
+            deposit(&mut counts, cell_at, unit, blade, &pose, guard_wind(felt));
         },
     );
     wind.canopy = counts;

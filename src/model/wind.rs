@@ -40,6 +40,10 @@ pub struct WindGrid {
     pub origin: Vec3,
     /// Size of one cell along x, y, z (metres).
     pub cell: Vec3,
+    /// The grid's heights are heights above the ground under each point,
+    /// not the world's (a cover's wind window over terrain: its cells
+    /// stand on the ground; `WindField::window_point`).
+    pub follows_ground: bool,
 }
 
 /// The most cells one grid may have (the paper's is 72,000).
@@ -63,7 +67,16 @@ impl WindGrid {
             cells,
             origin,
             cell: size / cells.as_vec3(),
+            follows_ground: false,
         })
+    }
+
+    /// The same grid with its heights measured from the ground.
+    pub fn following_ground(self) -> Self {
+        Self {
+            follows_ground: true,
+            ..self
+        }
     }
 
     /// The divergence f32 arithmetic leaves in any field whose faces reach
@@ -728,6 +741,9 @@ pub struct WindField {
     /// again before the next (zero without turbulence).
     pub turbulence_added: [Vec<f32>; 3],
     multigrid_work: Work,
+    /// On a grid that follows the ground, the ground its heights are
+    /// measured from.
+    followed: Option<Terrain>,
     pub time: f32,
 }
 
@@ -737,7 +753,14 @@ impl WindField {
     /// under the ground (a staircase whose treads lie at the ground's
     /// height rounded to the nearest face; docs/method.md).
     pub fn new(grid: WindGrid, settings: &WindSettings) -> Self {
-        let terrain = &settings.terrain;
+        // A grid that follows the ground stands on it: no cell lies under
+        // it, and its floor is the ground.
+        let flat = Terrain::default();
+        let terrain = if grid.follows_ground {
+            &flat
+        } else {
+            &settings.terrain
+        };
         let ground: Vec<bool> = grid
             .each_cell()
             .map(|(_, [i, j, k])| {
@@ -775,6 +798,7 @@ impl WindField {
                 let d = grid.face_dims(a);
                 vec![0.0; (d.x * d.y * d.z) as usize]
             }),
+            followed: grid.follows_ground.then(|| settings.terrain.clone()),
             grid,
             time: 0.0,
         };
@@ -1113,8 +1137,19 @@ impl WindField {
         Vec3::new(mean(0), mean(1), mean(2))
     }
 
+    /// Where a point of the world lies in the grid: the point itself, or
+    /// on a grid that follows the ground, the point with its height taken
+    /// above the ground under it (glsl/common/wind_felt.glsl the same).
+    pub fn window_point(&self, x: Vec3) -> Vec3 {
+        match &self.followed {
+            Some(ground) => Vec3::new(x.x, x.y - ground.height(x.x, x.z), x.z),
+            None => x,
+        }
+    }
+
     /// Wind velocity at a world position (what a blade tip samples).
     pub fn sample(&self, x: Vec3) -> Vec3 {
+        let x = self.window_point(x);
         Vec3::new(
             self.sample_component(&self.vel[0], 0, x),
             self.sample_component(&self.vel[1], 1, x),

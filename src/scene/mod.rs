@@ -17,6 +17,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
 use crate::model::collider::Collider;
+use crate::model::terrain::Terrain;
 use crate::model::wind::{
     Advection, Coupling, Gust, Inflow, Obstacle, PressureSolver, Turbulence, WindGrid,
     WindSettings, WindSource, DEFAULT_CANOPY_DRAG, DEFAULT_JACOBI_ITERATIONS, DEFAULT_V_CYCLES,
@@ -1038,9 +1039,42 @@ impl Scene {
             }
         };
         let span = [hi[0] - lo[0], hi[1] - lo[1]];
+        let terrain = self.ground.terrain();
+        let (grid, size) = if self.grass.cover.is_some() && !terrain.is_flat() {
+            // A window over terrain stands on the ground wherever it goes:
+            // its heights are heights above it, `wind.height` of air.
+            let size = Vec3::new(span[0], w.height, span[1]);
+            let origin = Vec3::new(lo[0], 0.0, lo[1]);
+            let grid = WindGrid::new(glam::UVec3::from(w.cells), origin, size)?;
+            (grid.following_ground(), size)
+        } else {
+            self.grid_over_ground(&terrain, lo, hi)?
+        };
+        if let Some(t) = &w.turbulence {
+            let (cell, side) = (grid.cell.max_element(), size.max_element());
+            if !(cell..=side).contains(&t.length_scale) {
+                return Err(Error::InvalidInput(format!(
+                    "wind.turbulence.length_scale {} m is not allowed on this wind grid, use {cell:.2}..={side:.1} m: from its largest cell side (smaller eddies cannot be held) to its largest side",
+                    t.length_scale
+                )));
+            }
+        }
+        Ok(grid)
+    }
+
+    /// The wind grid over `lo`..`hi` (x, z), from the lowest ground there
+    /// to `wind.height` over the highest, and its size.
+    fn grid_over_ground(
+        &self,
+        terrain: &Terrain,
+        lo: [f32; 2],
+        hi: [f32; 2],
+    ) -> Result<(WindGrid, Vec3)> {
+        let w = &self.wind;
+        let span = [hi[0] - lo[0], hi[1] - lo[1]];
         // A quarter of a wind cell between the heights looked at.
         let step = (span[0] / w.cells[0] as f32).min(span[1] / w.cells[2] as f32) / 4.0;
-        let (low, high) = self.ground.terrain().range_over(lo, hi, step.max(1e-3));
+        let (low, high) = terrain.range_over(lo, hi, step.max(1e-3));
         let origin = Vec3::new(lo[0], low, lo[1]);
         let size = Vec3::new(span[0], high - low + w.height, span[1]);
         let cell_height = size.y / w.cells[1] as f32;
@@ -1052,16 +1086,7 @@ impl Scene {
             )));
         }
         let grid = WindGrid::new(glam::UVec3::from(w.cells), origin, size)?;
-        if let Some(t) = &w.turbulence {
-            let (cell, side) = (grid.cell.max_element(), size.max_element());
-            if !(cell..=side).contains(&t.length_scale) {
-                return Err(Error::InvalidInput(format!(
-                    "wind.turbulence.length_scale {} m is not allowed on this wind grid, use {cell:.2}..={side:.1} m: from its largest cell side (smaller eddies cannot be held) to its largest side",
-                    t.length_scale
-                )));
-            }
-        }
-        Ok(grid)
+        Ok((grid, size))
     }
 
     /// Centre of the grass (x, z), for the ground square.
