@@ -319,6 +319,98 @@ fn each_frame_makes_the_cover_around_the_camera_after_the_patches_blades() {
     }
 }
 
+/// A cover over a ridge 200 m along the camera's flight, shadows off.
+/// `path`: the camera flies there from the origin over 20 s; else it
+/// stands where the flight ends.
+fn covered_ridge(path: bool) -> meadow::scene::Scene {
+    let (end, end_target) = ("[200.0, 7.6, 4.0]", "[200.0, 6.3, -4.0]");
+    let camera = if path {
+        format!(
+            "[camera]\nposition = [0.0, 1.6, 4.0]\ntarget = [0.0, 0.3, -4.0]\nfov_y = 50.0\n\n\
+             [[camera.path]]\ntime = 0.0\nposition = [0.0, 1.6, 4.0]\ntarget = [0.0, 0.3, -4.0]\n\n\
+             [[camera.path]]\ntime = 20.0\nposition = {end}\ntarget = {end_target}\n"
+        )
+    } else {
+        format!("[camera]\nposition = {end}\ntarget = {end_target}\nfov_y = 50.0\n")
+    };
+    let text = format!(
+        r#"name = "covered-ridge"
+seed = 5
+
+{camera}
+[light]
+shadow_map = 0
+
+[ground]
+half_extent = 10.0
+
+[[ground.ridge]]
+center = [200.0, 0.0]
+height = 6.0
+half_width = 20.0
+heading = 90.0
+
+[grass.cover]
+density = 3.0
+view_distance = 10.0
+"#
+    );
+    meadow::scene::file::parse(&text, "covered-ridge.toml").unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// Over terrain the cover's ground follows the camera: its blades stand
+/// on the ridge 200 m along the flight, and the terrain's mesh, remade
+/// about the camera as it flies (`terrain::mesh_centre`), draws the ground
+/// under them. The frame there is the frame of a camera that started
+/// there, pixel for pixel (with the mesh left where the flight began, the
+/// ridge's grass stands over the flat backdrop 6 m below and the frames
+/// differ).
+#[test]
+fn over_terrain_the_ground_follows_the_camera_as_if_it_had_started_there() {
+    use meadow::frame::FrameRecorder;
+    use meadow::render::{FrameUniforms, ViewMode};
+    let (flying, standing) = (covered_ridge(true), covered_ridge(false));
+    assert!(flying.planted().unwrap().blades.is_empty());
+    let (w, h) = (160, 90);
+    let gpu = strict_gpu_with(None);
+    let frame_at = |scene: &meadow::scene::Scene, times: &[f32]| {
+        let mut recorder = FrameRecorder::new(&gpu, scene, (w, h), 1, &[], None).unwrap();
+        let mut last = None;
+        for &time in times {
+            let uniforms = FrameUniforms::new(scene, w, h, ViewMode::Shaded, time);
+            last = Some(recorder.render(&gpu, &uniforms, 0).unwrap());
+        }
+        let rest = blades_of(&gpu, &recorder);
+        (last.unwrap(), rest)
+    };
+    let (flown, flown_blades) = frame_at(&flying, &[0.0, 10.0, 20.0]);
+    let (stood, _) = frame_at(&standing, &[0.0]);
+    finish(gpu);
+
+    // The blades around the ridge's crest stand on it.
+    let roots: Vec<f32> = flown_blades
+        .chunks(4)
+        .filter(|v| meadow::model::has_width(v))
+        .map(|v| v[0].position[1])
+        .collect();
+    let highest = roots.iter().fold(f32::MIN, |a, &b| a.max(b));
+    assert!(highest > 5.5, "the highest root stands at {highest} m");
+    let differing = flown
+        .rgba
+        .chunks(4)
+        .zip(stood.rgba.chunks(4))
+        .filter(|(a, b)| a != b)
+        .count();
+    assert_eq!(
+        differing, 0,
+        "{differing} pixels differ between the flown-to and the started-at frame"
+    );
+    assert!(
+        flown.cull.map_or(0, |c| c.in_view) > 100,
+        "too few blades in view"
+    );
+}
+
 /// A cover bounded to a rectangle the camera flies out of: each frame
 /// makes the blades of the unbounded cover rooted within it, bit for bit
 /// as the CPU, counts those alone as generated, and the cull pass lists
@@ -574,9 +666,10 @@ fn on_terrain_the_gpu_roots_and_poses_the_cover_where_the_cpu_does() {
 }
 
 /// What a cover cannot do yet is refused in one line naming it: `--blades`
-/// on a scene whose only grass is a cover, a cover on hills.
+/// on a scene whose only grass is a cover; over terrain (a cover on hills
+/// is taken), colliders and wind sources.
 #[test]
-fn a_cover_refuses_blades_and_hills_in_one_line() {
+fn a_cover_refuses_what_it_cannot_do_yet_in_one_line() {
     let mut steppe = meadow::scene::Scene::builtin("steppe").unwrap();
     let err = steppe.set_blade_count(1000).unwrap_err().to_string();
     assert!(err.contains("only grass is a [grass.cover]"), "{err}");
@@ -591,12 +684,25 @@ fn a_cover_refuses_blades_and_hills_in_one_line() {
     let covered =
         meadow::scene::file::parse(&text, "hills-covered.toml").unwrap_or_else(|e| panic!("{e}"));
     assert!(!covered.ground.terrain().is_flat());
-    let err = covered.planted().unwrap_err().to_string();
-    assert!(
-        err.contains("grass.cover grows on flat ground only"),
-        "{err}"
-    );
-    assert_eq!(err.lines().count(), 1);
+    assert!(covered.planted().is_ok(), "a cover on hills is refused");
+    // Over terrain the window follows the ground; what pushes the air at a
+    // world position does not yet.
+    for (extra, field) in [
+        (
+            "\n[[collider]]\nkind = \"sphere\"\nradius = 0.2\nposition = [0.0, 0.5, 0.0]\n",
+            "collider",
+        ),
+        (
+            "\n[[wind.source]]\nposition = [0.0, 0.5, 0.0]\ndirection = [1.0, 0.0, 0.0]\nstrength = 2.0\nradius = 1.0\n",
+            "wind.source",
+        ),
+    ] {
+        let err = meadow::scene::file::parse(&(text.clone() + extra), "hills-covered.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains(field) && err.contains("over terrain"), "{err}");
+        assert_eq!(err.lines().count(), 1, "{err}");
+    }
     // The wind window follows the camera: no gusts entering at its side,
     // no obstacles fixed in its cells.
     let steppe = meadow::scene::Scene::builtin("steppe").unwrap();

@@ -23,7 +23,7 @@ void main() {
     }
     vec3 world = eye + dir * (-eye.y / dir.y);
     // Over terrain its mesh draws the ground in its square (src/render/terrain.rs).
-    if (frame.terrain.y > 0.0 && all(lessThan(abs(world.xz - frame.ground.xy), vec2(frame.terrain.y)))) {
+    if (frame.terrain.y > 0.0 && all(lessThan(abs(world.xz - frame.terrain.zw), vec2(frame.terrain.y)))) {
         discard;
     }
     vec4 clip = frame.view_proj * vec4(world, 1.0);

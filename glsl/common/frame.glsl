@@ -22,7 +22,7 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     vec4 shadow;        // x: one texel (uv units), y: 1 = shadows on, z: depth bias, w: PCF radius (texels)
     vec4 thinning;      // x: distance it begins (m), y: least share, z: band, w: 1 = on (glsl/common/thinning.glsl)
     vec4 shadow_tess_level; // tess_level of the shadow pass, which reads it as its tess_level
-    vec4 terrain;       // x: the lowest ground shadows fall on (m); y: half side of the terrain mesh (0: flat, none)
+    vec4 terrain;       // x: the lowest ground shadows fall on (m); y: half side of the terrain mesh (0: flat, none); zw: its centre (x, z)
 } frame;
 
 #endif

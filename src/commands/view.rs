@@ -211,9 +211,20 @@ impl Live {
         // Made with a ball among the colliders, so that each blade keeps a
         // pressed state for it; it is taken away before the first frame
         // and B brings it back.
-        let ball_room = scene.colliders.len() < MAX_COLLIDERS;
+        let no_ball = if scene.colliders.len() >= MAX_COLLIDERS {
+            Some(format!(
+                "the scene has {MAX_COLLIDERS} colliders, as many as a step simulates"
+            ))
+        } else if scene.grass.cover.is_some() && !scene.ground.terrain().is_flat() {
+            Some(
+                "a [grass.cover] over terrain takes no colliders yet (its wind window follows the ground)"
+                    .to_string(),
+            )
+        } else {
+            None
+        };
         let mut made = scene.clone();
-        if ball_room {
+        if no_ball.is_none() {
             let (low, high) = ball_rectangle(&scene)?;
             let middle = (low + high) * 0.5;
             let mut parked = Ball::new(Vec3::new(middle.x, 0.0, middle.y), low, high);
@@ -242,7 +253,7 @@ impl Live {
             state::announce_view(request.view, scene.lod.levels);
         }
         Ok(Self {
-            state: ViewState::new(scene, request.view, script, ball_room),
+            state: ViewState::new(scene, request.view, script, no_ball),
             overlay: Overlay::default(),
             recorder,
             swapchain: None,

@@ -23,6 +23,7 @@ use crate::model::collider::Collider;
 use crate::model::{Blade, GrassBlade};
 use crate::render::cull::{BladeDraw, CullPass};
 use crate::render::depth_pyramid::Occluders;
+use crate::render::terrain;
 use crate::render::{FrameUniforms, Renderer};
 use crate::scene::cover::CoverTiles;
 use crate::scene::{Cover, Scene, ViewMode};
@@ -96,6 +97,17 @@ pub struct FrameRecorder {
     /// Why this device cannot time the grass draw inside the colour pass
     /// (`DeviceInfo::draw_timing_unavailable`); None where it can.
     draw_timing_unavailable: Option<String>,
+    /// A cover on terrain: its mesh follows the camera.
+    ground_follow: Option<GroundFollow>,
+}
+
+/// A cover's ground over terrain: the terrain mesh remade about the
+/// camera as it moves (`terrain::mesh_centre`), from the scene it was
+/// made for.
+struct GroundFollow {
+    scene: Box<Scene>,
+    /// The centre the renderer's mesh was made about.
+    centre: [f32; 2],
 }
 
 impl FrameRecorder {
@@ -111,10 +123,12 @@ impl FrameRecorder {
         dynamics: Option<&[GrassBlade]>,
     ) -> Result<Self> {
         let commands = CommandPool::new(gpu, "frame commands")?;
+        let (eye, _) = scene.camera.at(0.0);
         let renderer = Self::new_renderer(
             gpu,
             &commands,
             scene,
+            eye,
             &scene.colliders,
             (width, height),
             msaa,
@@ -157,6 +171,12 @@ impl FrameRecorder {
             commands,
             extent: (width, height),
             draw_timing_unavailable: gpu.info().draw_timing_unavailable.clone(),
+            ground_follow: (scene.grass.cover.is_some() && !scene.ground.terrain().is_flat()).then(
+                || GroundFollow {
+                    scene: Box::new(scene.clone()),
+                    centre: terrain::mesh_centre(scene, eye),
+                },
+            ),
         })
     }
 
@@ -173,14 +193,21 @@ impl FrameRecorder {
         // The colliders drawn carry over (`set_colliders` may have changed
         // the scene's).
         let colliders = self.renderer.colliders().to_vec();
+        // The terrain mesh about where the camera starts; the next frame
+        // moves it under the camera if it is elsewhere.
+        let (eye, _) = scene.camera.at(0.0);
         self.renderer = Self::new_renderer(
             gpu,
             &self.commands,
             scene,
+            eye,
             &colliders,
             (width, height),
             msaa,
         )?;
+        if let Some(follow) = &mut self.ground_follow {
+            follow.centre = terrain::mesh_centre(scene, eye);
+        }
         self.cull = Self::cull_pass(gpu, scene, &self.renderer, &self.blades)?;
         // The cover's pass reads the new renderer's uniforms too.
         if let Some((pass, _)) = &self.cover {
@@ -204,6 +231,7 @@ impl FrameRecorder {
         gpu: &Gpu,
         commands: &CommandPool,
         scene: &Scene,
+        eye: glam::Vec3,
         colliders: &[Collider],
         (width, height): (u32, u32),
         msaa: u32,
@@ -216,7 +244,7 @@ impl FrameRecorder {
             scene.light.shadow_map,
             &scene.wind.obstacles,
             colliders,
-            crate::render::terrain::mesh(scene).as_ref(),
+            terrain::mesh(scene, eye).as_ref(),
             scene.cull.enabled && scene.cull.occlusion,
         )
     }
@@ -611,6 +639,17 @@ impl FrameRecorder {
         }
         self.renderer.set_uniforms(uniforms);
         self.camera_xz = glam::Vec2::new(uniforms.camera_pos[0], uniforms.camera_pos[2]);
+        if let Some(follow) = &mut self.ground_follow {
+            // The previous frame was waited for: its mesh is free to go.
+            let eye = glam::Vec3::from_slice(&uniforms.camera_pos[..3]);
+            let centre = terrain::mesh_centre(&follow.scene, eye);
+            if centre != follow.centre {
+                if let Some(grid) = terrain::mesh(&follow.scene, eye) {
+                    self.renderer.set_terrain(gpu, &self.commands, &grid)?;
+                }
+                follow.centre = centre;
+            }
+        }
         let occluders = self
             .renderer
             .begin_frame(glam::Mat4::from_cols_array(&uniforms.view_proj));

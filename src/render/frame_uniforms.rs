@@ -41,8 +41,8 @@ pub struct FrameUniforms {
     /// pass's close level with it off.
     pub shadow_tess_level: [f32; 4],
     /// x: the lowest ground the grass's shadows can fall on (m; 0 on flat
-    /// ground); y: half the side of the terrain mesh's square about the
-    /// grass's centre (0: flat, no mesh; src/render/terrain.rs).
+    /// ground); y: half the side of the terrain mesh's square (0: flat, no
+    /// mesh; src/render/terrain.rs); zw: its centre (x, z).
     pub terrain: [f32; 4],
 }
 
@@ -124,11 +124,12 @@ impl FrameUniforms {
             terrain: if scene.ground.terrain().is_flat() {
                 [0.0; 4]
             } else {
+                let centre = terrain::mesh_centre(scene, eye);
                 [
-                    terrain::lowest(scene),
+                    terrain::lowest(scene, eye),
                     terrain::half_side(scene.ground.half_extent),
-                    0.0,
-                    0.0,
+                    centre[0],
+                    centre[1],
                 ]
             },
         }

@@ -107,6 +107,14 @@ impl Renderer {
         })
     }
 
+    /// Draws the terrain's mesh `ground` from the next frame on (a cover's,
+    /// made about the camera as it moves): uploaded and waited for; the
+    /// old mesh goes, so no frame using it may be in flight.
+    pub fn set_terrain(&mut self, gpu: &Gpu, commands: &CommandPool, ground: &Grid) -> Result<()> {
+        self.terrain = Some(TerrainMesh::new(gpu, commands, ground)?);
+        Ok(())
+    }
+
     /// The depth pyramid (None without occlusion culling).
     pub fn depth_pyramid(&self) -> Option<&DepthPyramid> {
         self.pyramid.as_ref()

@@ -21,6 +21,7 @@
 //! map, are not drawn twice.
 
 use ash::vk;
+use glam::Vec3;
 
 use crate::error::Result;
 use crate::gpu::{Access, Buffer, CommandPool, Gpu, Pipeline, Recording};
@@ -63,21 +64,55 @@ pub struct Grid {
     pub indices: Vec<u32>,
 }
 
-/// The scene's terrain mesh; None for flat ground.
-pub fn mesh(scene: &Scene) -> Option<Grid> {
+/// A cover's terrain mesh is made around the camera's position rounded
+/// to a lattice of this spacing (m): remade each time the camera crosses
+/// into another square of it, and the same wherever in the square the
+/// camera is.
+pub const COVER_MESH_STEP_M: f32 = 8.0;
+
+/// The centre (x, z) of the scene's terrain mesh with the camera at `eye`:
+/// the grass's centre, or a cover's, `eye` rounded to
+/// `COVER_MESH_STEP_M` (the cover grows around the camera).
+pub fn mesh_centre(scene: &Scene, eye: Vec3) -> [f32; 2] {
+    match scene.grass.cover {
+        Some(_) => {
+            let snap = |v: f32| (v / COVER_MESH_STEP_M).round() * COVER_MESH_STEP_M;
+            [snap(eye.x), snap(eye.z)]
+        }
+        None => {
+            let c = scene.grass_center();
+            [c.x, c.z]
+        }
+    }
+}
+
+/// The scene's terrain mesh with the camera at `eye`, about `mesh_centre`;
+/// None for flat ground.
+pub fn mesh(scene: &Scene, eye: Vec3) -> Option<Grid> {
     let terrain = scene.ground.terrain();
     if terrain.is_flat() {
         return None;
     }
-    let centre = scene.grass_center();
+    let centre = mesh_centre(scene, eye);
     let half = half_side(scene.ground.half_extent);
     let edge = (
-        [centre.x - half, centre.z - half],
-        [centre.x + half, centre.z + half],
+        [centre[0] - half, centre[1] - half],
+        [centre[0] + half, centre[1] + half],
     );
     // The fine part: the grass's footprint and the reach of its tallest
-    // blade (a point just beside it when there is none).
-    let (mut lo, mut hi) = scene.grass_reach_bounds();
+    // blade (a point just beside it when there is none); a cover's, its
+    // view distance around the camera wherever in the centre's square it
+    // is.
+    let (mut lo, mut hi) = match &scene.grass.cover {
+        Some(c) => {
+            let reach = c.view_distance + COVER_MESH_STEP_M + scene.grass.shape.height[1];
+            (
+                [centre[0] - reach, centre[1] - reach],
+                [centre[0] + reach, centre[1] + reach],
+            )
+        }
+        None => scene.grass_reach_bounds(),
+    };
     for a in 0..2 {
         if lo[a] > hi[a] {
             (lo[a], hi[a]) = (edge.0[a] + half, edge.0[a] + half);
@@ -222,19 +257,19 @@ impl TerrainMesh {
     }
 }
 
-/// The lowest ground under the grass's box and what it can shade (the
-/// shadows the cull pass follows down to it; 0 on flat ground).
-pub fn lowest(scene: &Scene) -> f32 {
+/// The lowest ground under the terrain mesh's square with the camera at
+/// `eye` (the shadows the cull pass follows down to it; 0 on flat ground).
+pub fn lowest(scene: &Scene, eye: Vec3) -> f32 {
     let terrain = scene.ground.terrain();
     if terrain.is_flat() {
         return 0.0;
     }
-    let c = scene.grass_center();
+    let c = mesh_centre(scene, eye);
     let half = half_side(scene.ground.half_extent);
     terrain
         .range_over(
-            [c.x - half, c.z - half],
-            [c.x + half, c.z + half],
+            [c[0] - half, c[1] - half],
+            [c[0] + half, c[1] + half],
             half / 64.0,
         )
         .0
@@ -245,7 +280,6 @@ pub fn lowest(scene: &Scene) -> f32 {
 mod tests {
     use super::*;
     use crate::model::terrain::{Hill, Ridge};
-    use glam::Vec3;
 
     fn hills() -> Terrain {
         Terrain {

@@ -710,11 +710,6 @@ impl Scene {
     /// scene whose obstacles leave no blade is refused, naming them.
     pub fn planted(&self) -> Result<Planted> {
         let terrain = self.ground.terrain();
-        if self.grass.cover.is_some() && !terrain.is_flat() {
-            return Err(Error::InvalidInput(
-                "grass.cover grows on flat ground only for now: the tile kernel roots its blades at height 0; remove [ground]'s hills or height map, or use a [[grass.meadow]]".into(),
-            ));
-        }
         let mut blades = field::generate(&self.grass, self.seed)?;
         let masked = self.mask_out(&mut blades);
         // A cover alone plants nothing here: its blades are made around

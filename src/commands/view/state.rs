@@ -13,7 +13,6 @@ use super::ball::Ball;
 use super::script::{self, Action};
 use super::wind_controls::{self, WindControls};
 use crate::error::Result;
-use crate::model::contact::MAX_COLLIDERS;
 use crate::report::legend;
 use crate::scene::{Scene, ViewMode};
 
@@ -85,9 +84,10 @@ pub struct ViewState {
     pub wind_changed: bool,
     /// The ball B brings, while it is out.
     pub ball: Option<Ball>,
-    /// Whether the simulation has room for the ball (the scene has fewer
-    /// than `MAX_COLLIDERS` colliders of its own).
-    ball_room: bool,
+    /// Why B brings no ball, where it cannot (the scene has
+    /// `MAX_COLLIDERS` colliders of its own, or a cover over terrain);
+    /// None: it can.
+    no_ball: Option<String>,
     /// The script's actions to come, at seconds after the first frame.
     script: Vec<(f64, Action)>,
     pub screenshot_asked: bool,
@@ -95,7 +95,12 @@ pub struct ViewState {
 
 impl ViewState {
     /// At the scene's start, seen from its camera at simulated time `start`.
-    pub fn new(scene: Scene, view: ViewMode, script: Vec<(f64, Action)>, ball_room: bool) -> Self {
+    pub fn new(
+        scene: Scene,
+        view: ViewMode,
+        script: Vec<(f64, Action)>,
+        no_ball: Option<String>,
+    ) -> Self {
         let (eye, target) = scene.camera.at(scene.render.start);
         Self {
             wind: WindControls::new(&scene),
@@ -111,7 +116,7 @@ impl ViewState {
             pressed: None,
             wind_changed: false,
             ball: None,
-            ball_room,
+            no_ball,
             script,
             screenshot_asked: false,
         }
@@ -238,10 +243,8 @@ impl ViewState {
     }
 
     fn bring_ball(&mut self, ground: Vec3) {
-        if !self.ball_room {
-            println!(
-                "no ball: the scene has {MAX_COLLIDERS} colliders, as many as a step simulates"
-            );
+        if let Some(why) = &self.no_ball {
+            println!("no ball: {why}");
             return;
         }
         match ball_rectangle(&self.scene) {
