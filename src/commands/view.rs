@@ -215,7 +215,7 @@ impl Live {
             Some(format!(
                 "the scene has {MAX_COLLIDERS} colliders, as many as a step simulates"
             ))
-        } else if scene.grass.cover.is_some() && !scene.ground.terrain().is_flat() {
+        } else if scene.cover_on_terrain() {
             Some(
                 "a [grass.cover] over terrain takes no colliders yet (its wind window follows the ground)"
                     .to_string(),

@@ -29,9 +29,10 @@ use crate::gpu::{
     part, Access, Bound, Buffer, BufferId, BufferUse, CommandPool, DescriptorSet, Gpu,
     LayoutBinding, Pipeline, PipelineLayout, Recording,
 };
-use crate::interface::{GrassPush, TerrainHeader, GRASS_GROUP};
+use crate::interface::{GrassPush, GRASS_GROUP};
 use crate::model::contact::{press_decay, Collider, Press};
 use crate::model::grass::{substeps, CapCounts, GrassBlade, GrassState};
+use crate::model::terrain::Terrain;
 use crate::model::BladeVertex;
 /// Bytes of the largest per-blade part the kernel binds (the rest shape
 /// and physics, the state, the four control points): what limits a batch.
@@ -574,7 +575,7 @@ struct StepBuffers {
     no_canopy: Buffer,
     /// Bound when the wind grid's heights are the world's (it does not
     /// follow the ground); the kernel never reads it then. A flat
-    /// terrain's header, which a block of it needs.
+    /// terrain, which the block's header needs.
     no_ground: Buffer,
     /// Made without colliders, the kernel touches none: one entry. Made
     /// with them, each blade keeps a pressed state even when
@@ -637,10 +638,11 @@ impl StepBuffers {
                 &[0u8; 4],
                 Access::COMPUTE_READ_WRITE,
             )?,
-            no_ground: upload(
+            no_ground: super::terrain_buffer(
+                gpu,
+                commands,
+                &Terrain::default(),
                 "grass ground placeholder (wind grid of world heights)",
-                &[0u8; std::mem::size_of::<TerrainHeader>() + 4],
-                Access::COMPUTE_READ,
             )?,
             presses: upload(
                 "grass pressed state (colliders)",

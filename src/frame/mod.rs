@@ -171,12 +171,10 @@ impl FrameRecorder {
             commands,
             extent: (width, height),
             draw_timing_unavailable: gpu.info().draw_timing_unavailable.clone(),
-            ground_follow: (scene.grass.cover.is_some() && !scene.ground.terrain().is_flat()).then(
-                || GroundFollow {
-                    scene: Box::new(scene.clone()),
-                    centre: terrain::mesh_centre(scene, eye),
-                },
-            ),
+            ground_follow: scene.cover_on_terrain().then(|| GroundFollow {
+                scene: Box::new(scene.clone()),
+                centre: terrain::mesh_centre(scene, eye),
+            }),
         })
     }
 

@@ -155,9 +155,9 @@ pub fn scene(s: &Scene) -> Check {
     wind(&s.wind).map_err(|e| e.at("wind"))?;
     if s.grass.cover.is_some() {
         moving_wind_window(&s.wind).map_err(|e| e.at("wind"))?;
-        if !s.ground.terrain().is_flat() {
-            window_over_terrain(s)?;
-        }
+    }
+    if s.cover_on_terrain() {
+        window_over_terrain(s)?;
     }
     if s.colliders.len() > MAX_COLLIDERS {
         return Err(FieldError::new(

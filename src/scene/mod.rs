@@ -1035,7 +1035,7 @@ impl Scene {
         };
         let span = [hi[0] - lo[0], hi[1] - lo[1]];
         let terrain = self.ground.terrain();
-        let (grid, size) = if self.grass.cover.is_some() && !terrain.is_flat() {
+        let (grid, size) = if self.cover_on_terrain() {
             // A window over terrain stands on the ground wherever it goes:
             // its heights are heights above it, `wind.height` of air.
             let size = Vec3::new(span[0], w.height, span[1]);
@@ -1082,6 +1082,13 @@ impl Scene {
         }
         let grid = WindGrid::new(glam::UVec3::from(w.cells), origin, size)?;
         Ok((grid, size))
+    }
+
+    /// Whether the scene's grass is a `[grass.cover]` over terrain: its
+    /// wind window then follows the ground, and its terrain mesh the
+    /// camera.
+    pub fn cover_on_terrain(&self) -> bool {
+        self.grass.cover.is_some() && !self.ground.terrain().is_flat()
     }
 
     /// Centre of the grass (x, z), for the ground square.
