@@ -214,19 +214,43 @@ fn bad_wind_input_is_refused_or_warned() {
     .is_err());
     assert!(WindGrid::new(UVec3::new(100_000, 1000, 1000), Vec3::ZERO, Vec3::ONE).is_err());
     let g = grid();
+    let flat = meadow::model::terrain::Terrain::default();
     let mut nan = blowing_source();
     nan.strength = f32::NAN;
-    assert!(nan.validate(&g).unwrap_err().to_string().contains("NaN"));
+    assert!(nan
+        .validate(&g, &flat)
+        .unwrap_err()
+        .to_string()
+        .contains("NaN"));
     let mut zero_radius = blowing_source();
     zero_radius.radius = 0.0;
-    assert!(zero_radius.validate(&g).is_err());
+    assert!(zero_radius.validate(&g, &flat).is_err());
     let mut outside = blowing_source();
     outside.position = Vec3::new(50.0, 1.0, 0.0);
-    let warnings = outside.validate(&g).unwrap();
+    let warnings = outside.validate(&g, &flat).unwrap();
     assert!(
         warnings[0].contains("outside the wind domain"),
         "{warnings:?}"
     );
+    // On a grid that follows the ground, a source 1 m over a 20 m hill's
+    // top is inside (its height above the ground taken); on the world's
+    // grid it is far above.
+    let hill = meadow::model::terrain::Terrain {
+        hills: vec![meadow::model::terrain::Hill {
+            center: [0.0, 0.0],
+            height: 20.0,
+            half_width: 30.0,
+        }],
+        ..Default::default()
+    };
+    let mut on_hill = blowing_source();
+    on_hill.position = Vec3::new(0.0, 21.0, 0.0);
+    assert!(on_hill
+        .validate(&g.following_ground(), &hill)
+        .unwrap()
+        .is_empty());
+    let warnings = on_hill.validate(&g, &hill).unwrap();
+    assert!(warnings[0].contains("outside"), "{warnings:?}");
     // An obstacle that covers no cell blocks nothing: said, as a source
     // outside the grid is; one inside says nothing.
     let far = Obstacle::Sphere {

@@ -215,11 +215,6 @@ impl Live {
             Some(format!(
                 "the scene has {MAX_COLLIDERS} colliders, as many as a step simulates"
             ))
-        } else if scene.cover_on_terrain() {
-            Some(
-                "a [grass.cover] over terrain takes no colliders yet (its wind window follows the ground)"
-                    .to_string(),
-            )
         } else {
             None
         };
@@ -227,7 +222,12 @@ impl Live {
         if no_ball.is_none() {
             let (low, high) = ball_rectangle(&scene)?;
             let middle = (low + high) * 0.5;
-            let mut parked = Ball::new(Vec3::new(middle.x, 0.0, middle.y), low, high);
+            let mut parked = Ball::new(
+                Vec3::new(middle.x, 0.0, middle.y),
+                low,
+                high,
+                scene.ground.terrain(),
+            );
             made.colliders.push(parked.stretch(0.0, 0.0).0);
         }
         crate::frame::check_fits(gpu, &made, width, height, request.msaa)?;

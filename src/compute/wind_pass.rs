@@ -19,6 +19,7 @@ use crate::gpu::{
 };
 use crate::model::contact::{Collider, GpuCollider};
 use crate::model::multigrid::{self, Multigrid};
+use crate::model::terrain::Terrain;
 use crate::model::turbulence::{self, TurbulenceField};
 use crate::model::wind::{
     Advection, FaceKind, Inflow, PressureSolver, WindField, WindGrid, WindSettings, WindSource,
@@ -80,6 +81,7 @@ pub const WIND_SET: &[LayoutBinding] = &[
     LayoutBinding::compute_storage(10), // colliders: moving obstacles (forces kernel)
     LayoutBinding::compute_storage(11), // what the last step's turbulence added to each face
     LayoutBinding::compute_storage(12), // the turbulence's modes, written before each step
+    LayoutBinding::compute_storage(13), // the ground a grid that follows it stands on (forces kernel)
 ];
 
 /// The kernels in the order a step runs them (Jacobi or the five multigrid
@@ -180,6 +182,9 @@ struct WindBuffers {
     /// The turbulence's modes with their phases, written before each step
     /// (room for `turbulence::MODES`).
     modes: Buffer,
+    /// The ground the grid stands on where it follows it (a flat
+    /// placeholder, never read, where it does not).
+    ground: Buffer,
 }
 
 impl WindBuffers {
@@ -256,6 +261,21 @@ impl WindBuffers {
                 storage | vk::BufferUsageFlags::TRANSFER_DST,
                 MemoryLocation::GpuOnly,
             )?,
+            ground: if field.grid.follows_ground {
+                super::terrain_buffer(
+                    gpu,
+                    commands,
+                    &settings.terrain,
+                    "wind window's ground (height map, hills, ridges)",
+                )?
+            } else {
+                super::terrain_buffer(
+                    gpu,
+                    commands,
+                    &Terrain::default(),
+                    "wind ground placeholder (the grid's heights are the world's)",
+                )?
+            },
         };
         let rec = commands.begin()?;
         if field.vel.iter().flatten().all(|&v| v == 0.0) {
@@ -322,7 +342,7 @@ impl WindBuffers {
     }
 
     /// In the order of `WIND_SET`.
-    fn bound(&self) -> [Bound<'_>; 13] {
+    fn bound(&self) -> [Bound<'_>; 14] {
         [
             Bound::Buffer(&self.velocity),
             Bound::Buffer(&self.faces),
@@ -337,6 +357,7 @@ impl WindBuffers {
             Bound::Buffer(&self.colliders),
             Bound::Buffer(&self.turbulence_added),
             Bound::Buffer(&self.modes),
+            Bound::Buffer(&self.ground),
         ]
     }
 }
@@ -374,9 +395,6 @@ pub struct WindPass {
     /// The window's shift kernel, where the grid follows the camera
     /// (`WindSettings::moving_window`).
     shift: Option<Pipeline>,
-    /// On a grid that follows the ground, the terrain its heights are
-    /// measured from, for the grass that samples it.
-    ground: Option<Buffer>,
 }
 
 /// The wind as the grass step sees it: the velocity it samples and, with
@@ -486,17 +504,6 @@ impl WindPass {
                 Pipeline::compute(gpu, &layout, WIND_SHIFT_KERNEL)
             })
             .transpose()?;
-        let ground = grid
-            .follows_ground
-            .then(|| {
-                super::terrain_buffer(
-                    gpu,
-                    commands,
-                    &settings.terrain,
-                    "wind window's ground (height map, hills, ridges)",
-                )
-            })
-            .transpose()?;
         Ok(Self {
             grid,
             settings: settings.clone(),
@@ -525,7 +532,6 @@ impl WindPass {
             collider_records: super::colliders::records(&settings.colliders)?,
             turbulence: field.turbulence,
             shift,
-            ground,
         })
     }
 
@@ -630,7 +636,7 @@ impl WindPass {
             canopy: self
                 .coupled()
                 .then_some((&self.buffers.canopy, self.canopy_unit)),
-            ground: self.ground.as_ref(),
+            ground: self.grid.follows_ground.then_some(&self.buffers.ground),
         }
     }
 
@@ -699,6 +705,7 @@ impl WindPass {
                 BufferUse::new(&b.sources, read),
                 BufferUse::new(&b.colliders, read),
                 BufferUse::new(&b.turbulence_added, read),
+                BufferUse::new(&b.ground, read),
             ]),
             ADVECT | ADVECT_PREDICT | ADVECT_CORRECT => uses.extend([
                 BufferUse::new(&b.velocity, read_write),

@@ -345,7 +345,10 @@ impl WindSource {
         along_path(&self.path, self.path_speed, true, t, self.position).0
     }
 
-    pub fn validate(&self, grid: &WindGrid) -> Result<Vec<String>> {
+    /// Refuses what cannot be simulated; warns where the source lies
+    /// outside `grid` (on a grid that follows the ground, its height
+    /// above `ground` taken).
+    pub fn validate(&self, grid: &WindGrid, ground: &Terrain) -> Result<Vec<String>> {
         let finite = self.position.is_finite()
             && self.direction.is_finite()
             && self.strength.is_finite()
@@ -369,9 +372,20 @@ impl WindSource {
         let mut warnings = Vec::new();
         let lo = grid.origin;
         let hi = grid.origin + grid.size();
-        if self.position.cmplt(lo).any() || self.position.cmpgt(hi).any() {
+        let p = self.position;
+        let at = if grid.follows_ground {
+            Vec3::new(p.x, p.y - ground.height(p.x, p.z), p.z)
+        } else {
+            p
+        };
+        if at.cmplt(lo).any() || at.cmpgt(hi).any() {
+            let heights = if grid.follows_ground {
+                " (its heights above the ground)"
+            } else {
+                ""
+            };
             warnings.push(format!(
-                "wind source at {} lies outside the wind domain {lo}..{hi}; only its reach inside counts",
+                "wind source at {} lies outside the wind domain {lo}..{hi}{heights}; only its reach inside counts",
                 self.position
             ));
         }
@@ -695,7 +709,7 @@ impl WindSettings {
     pub fn check(&self, grid: &WindGrid) -> Result<Vec<String>> {
         let mut warnings = Vec::new();
         for source in &self.sources {
-            warnings.extend(source.validate(grid)?);
+            warnings.extend(source.validate(grid, &self.terrain)?);
         }
         for (i, obstacle) in self.obstacles.iter().enumerate() {
             let solid = grid
@@ -1035,6 +1049,10 @@ impl WindField {
     /// the fixed solids; unlike theirs, these faces stay free, so the
     /// multigrid hierarchy is built once. What is left flowing through a
     /// collider is measured in tests/wind_cpu.rs (docs/physics.md).
+    ///
+    /// On a grid that follows the ground a face stands at its height above
+    /// the ground: sources and colliders, placed in the world, push the
+    /// faces whose world points (`world_point`) they reach.
     pub fn add_forces(&mut self, settings: &WindSettings, dt: f32) {
         let t = self.time;
         let moving: Vec<ColliderState> = settings.colliders.iter().map(|c| c.at(t)).collect();
@@ -1059,7 +1077,7 @@ impl WindField {
                         self.vel[axis][idx] = inflow.velocity_at(axis, &self.grid, x, t);
                     }
                     FaceKind::Free => {
-                        let x = self.grid.face_position(axis, i, j, k);
+                        let x = self.world_point(self.grid.face_position(axis, i, j, k));
                         let mut a = 0.0;
                         for &(p, dir, strength, radius) in &sources {
                             a += strength * dir[axis] * falloff(x.distance(p), radius);
@@ -1143,6 +1161,16 @@ impl WindField {
     pub fn window_point(&self, x: Vec3) -> Vec3 {
         match &self.followed {
             Some(ground) => Vec3::new(x.x, x.y - ground.height(x.x, x.z), x.z),
+            None => x,
+        }
+    }
+
+    /// The point of the world a point of the grid stands for: itself, or on
+    /// a grid that follows the ground, raised by the ground under it
+    /// (`window_point` undone; glsl/wind/forces.comp the same).
+    pub fn world_point(&self, x: Vec3) -> Vec3 {
+        match &self.followed {
+            Some(ground) => Vec3::new(x.x, x.y + ground.height(x.x, x.z), x.z),
             None => x,
         }
     }

@@ -156,9 +156,6 @@ pub fn scene(s: &Scene) -> Check {
     if s.grass.cover.is_some() {
         moving_wind_window(&s.wind).map_err(|e| e.at("wind"))?;
     }
-    if s.cover_on_terrain() {
-        window_over_terrain(s)?;
-    }
     if s.colliders.len() > MAX_COLLIDERS {
         return Err(FieldError::new(
             "collider",
@@ -190,31 +187,6 @@ fn moving_wind_window(w: &super::WindConfig) -> Check {
             format!(
                 "{} obstacles with [grass.cover]: its wind window follows the camera and holds no fixed solid cells yet; remove the [[wind.obstacle]] or the cover",
                 w.obstacles.len()
-            ),
-        ));
-    }
-    Ok(())
-}
-
-/// Over terrain a cover's wind window follows the ground (its heights are
-/// heights above it: `WindGrid::follows_ground`); what pushes the air at
-/// a world position does not follow it yet.
-fn window_over_terrain(s: &Scene) -> Check {
-    if !s.wind.sources.is_empty() {
-        return Err(FieldError::new(
-            "wind.source",
-            format!(
-                "{} wind sources with [grass.cover] over terrain: its wind window follows the ground, and a source's position is not yet taken above it; remove the [[wind.source]], the cover or the ground's hills and height map",
-                s.wind.sources.len()
-            ),
-        ));
-    }
-    if !s.colliders.is_empty() {
-        return Err(FieldError::new(
-            "collider",
-            format!(
-                "{} colliders with [grass.cover] over terrain: its wind window follows the ground, and a collider's position is not yet taken above it; remove the [[collider]], the cover or the ground's hills and height map",
-                s.colliders.len()
             ),
         ));
     }

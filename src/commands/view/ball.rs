@@ -12,6 +12,7 @@
 use glam::{Quat, Vec2, Vec3, Vec3Swizzles};
 
 use crate::model::contact::{Collider, ColliderKind};
+use crate::model::terrain::Terrain;
 
 /// The ball's radius (m): a football's size and a half.
 pub const BALL_RADIUS: f32 = 0.2;
@@ -26,7 +27,7 @@ pub const STOP_SPEED: f32 = 0.05;
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct Ball {
-    /// Its centre, `BALL_RADIUS` above the ground.
+    /// Its centre, `BALL_RADIUS` above the ground under it.
     pub centre: Vec3,
     pub velocity: Vec3,
     /// How it is turned by its rolling so far.
@@ -37,6 +38,8 @@ pub struct Ball {
     /// its radius, so that it pushes air wherever it goes.
     low: Vec2,
     high: Vec2,
+    /// The ground it rolls on.
+    ground: Terrain,
 }
 
 /// What a frame's stretch did: the ball arrived at its goal.
@@ -44,26 +47,34 @@ pub struct Ball {
 pub struct Arrived(pub Vec3);
 
 impl Ball {
-    /// A ball at rest on the ground at `ground` (x, z), kept within the
+    /// A ball at rest on `terrain` at `at` (x, z), kept within the
     /// rectangle `low`..`high` (x, z).
-    pub fn new(ground: Vec3, low: Vec2, high: Vec2) -> Self {
+    pub fn new(at: Vec3, low: Vec2, high: Vec2, terrain: Terrain) -> Self {
         let margin = Vec2::splat(BALL_RADIUS);
         let (low, high) = (low + margin, (high - margin).max(low + margin));
-        let at = ground.xz().clamp(low, high);
-        Self {
-            centre: Vec3::new(at.x, BALL_RADIUS, at.y),
+        let mut ball = Self {
+            centre: Vec3::ZERO,
             velocity: Vec3::ZERO,
             turned: Quat::IDENTITY,
             goal: None,
             low,
             high,
-        }
+            ground: terrain,
+        };
+        ball.centre = ball.resting_at(at.xz());
+        ball
+    }
+
+    /// Its centre resting on the ground at `at` (x, z), kept within its
+    /// rectangle.
+    fn resting_at(&self, at: Vec2) -> Vec3 {
+        let at = at.clamp(self.low, self.high);
+        Vec3::new(at.x, self.ground.height(at.x, at.y) + BALL_RADIUS, at.y)
     }
 
     /// Rolls it to `ground` (kept within its rectangle); returns the goal.
     pub fn roll_to(&mut self, ground: Vec3) -> Vec3 {
-        let at = ground.xz().clamp(self.low, self.high);
-        let goal = Vec3::new(at.x, BALL_RADIUS, at.y);
+        let goal = self.resting_at(ground.xz());
         self.goal = Some(goal);
         goal
     }
@@ -76,12 +87,7 @@ impl Ball {
         if h > 0.0 {
             self.velocity = self.push(h);
         }
-        let end = self.centre + self.velocity * h;
-        let end = Vec3::new(
-            end.x.clamp(self.low.x, self.high.x),
-            BALL_RADIUS,
-            end.z.clamp(self.low.y, self.high.y),
-        );
+        let end = self.resting_at((self.centre + self.velocity * h).xz());
         let moving = end.distance(self.centre) > 1e-6;
         let collider = Collider {
             kind: ColliderKind::Sphere,
@@ -159,7 +165,7 @@ mod tests {
     #[test]
     fn a_rolled_ball_speeds_up_slows_down_and_stops_on_its_goal() {
         let (low, high) = field();
-        let mut ball = Ball::new(Vec3::new(-1.0, 0.0, 0.0), low, high);
+        let mut ball = Ball::new(Vec3::new(-1.0, 0.0, 0.0), low, high, Terrain::default());
         let goal = ball.roll_to(Vec3::new(2.0, 0.0, 0.0));
         let h = 1.0 / 30.0;
         let mut t = 10.0f32;
@@ -215,7 +221,7 @@ mod tests {
     #[test]
     fn the_ball_stays_within_its_rectangle() {
         let (low, high) = field();
-        let mut ball = Ball::new(Vec3::new(9.0, 0.0, -9.0), low, high);
+        let mut ball = Ball::new(Vec3::new(9.0, 0.0, -9.0), low, high, Terrain::default());
         assert_eq!(
             ball.centre,
             Vec3::new(5.0 - BALL_RADIUS, BALL_RADIUS, -5.0 + BALL_RADIUS)
@@ -232,5 +238,47 @@ mod tests {
             );
         }
         assert!(ball.centre.distance(goal) < ARRIVED);
+    }
+
+    /// Over a hill it rests and rolls on the ground: every stretch ends
+    /// with its centre its radius above the ground there, and it arrives
+    /// on the far side.
+    #[test]
+    fn over_a_hill_the_ball_rolls_on_the_ground() {
+        use crate::model::terrain::Hill;
+        let (low, high) = field();
+        let hill = Terrain {
+            hills: vec![Hill {
+                center: [0.0, 0.5],
+                height: 1.0,
+                half_width: 1.5,
+            }],
+            ..Terrain::default()
+        };
+        let mut ball = Ball::new(Vec3::new(-3.0, 0.0, 0.0), low, high, hill.clone());
+        let on_ground = |c: Vec3| (c.y - hill.height(c.x, c.z) - BALL_RADIUS).abs() < 1e-5;
+        assert!(on_ground(ball.centre), "{}", ball.centre);
+        let goal = ball.roll_to(Vec3::new(3.0, 0.0, 0.0));
+        assert!(on_ground(goal), "{goal}");
+        let mut highest = f32::MIN;
+        let mut arrived = false;
+        for i in 0..600 {
+            let t = i as f32 / 30.0;
+            let (c, a) = ball.stretch(t, t + 1.0 / 30.0);
+            let (from, _, _) = c.motion_at(t);
+            assert!(
+                on_ground(from) && on_ground(ball.centre),
+                "{from} {}",
+                ball.centre
+            );
+            highest = highest.max(ball.centre.y);
+            if a.is_some() {
+                arrived = true;
+                break;
+            }
+        }
+        assert!(arrived && ball.centre.distance(goal) < ARRIVED);
+        // It went over the hill's shoulder (0.85 m high on its way).
+        assert!(highest > 0.8, "{highest}");
     }
 }

@@ -85,8 +85,7 @@ pub struct ViewState {
     /// The ball B brings, while it is out.
     pub ball: Option<Ball>,
     /// Why B brings no ball, where it cannot (the scene has
-    /// `MAX_COLLIDERS` colliders of its own, or a cover over terrain);
-    /// None: it can.
+    /// `MAX_COLLIDERS` colliders of its own); None: it can.
     no_ball: Option<String>,
     /// The script's actions to come, at seconds after the first frame.
     script: Vec<(f64, Action)>,
@@ -249,7 +248,7 @@ impl ViewState {
         }
         match ball_rectangle(&self.scene) {
             Ok((low, high)) => {
-                let ball = Ball::new(ground, low, high);
+                let ball = Ball::new(ground, low, high, self.scene.ground.terrain());
                 println!("ball at ({:.4}, {:.4}) m", ball.centre.x, ball.centre.z);
                 self.ball = Some(ball);
             }

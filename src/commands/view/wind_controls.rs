@@ -10,6 +10,7 @@
 
 use glam::{Vec3, Vec4};
 
+use crate::model::terrain::Terrain;
 use crate::model::wind::{turned_about_y, Inflow, WindSource};
 use crate::render::frame_uniforms::view_projection;
 use crate::scene::Scene;
@@ -148,9 +149,9 @@ impl WindControls {
     }
 }
 
-/// The point of the ground (y = 0) seen at pixel (`x`, `y`) of a frame of
-/// `size` pixels, for the camera `scene` has at `time`; None where the
-/// pixel looks above the horizon.
+/// The point of the ground seen at pixel (`x`, `y`) of a frame of `size`
+/// pixels, for the camera `scene` has at `time`; None where the pixel
+/// looks above the horizon (or over every hill in reach).
 pub fn ground_point(
     scene: &Scene,
     size: (u32, u32),
@@ -166,6 +167,15 @@ pub fn ground_point(
         p.truncate() / p.w
     };
     let (near, far) = (unproject(0.0), unproject(1.0));
+    let terrain = scene.ground.terrain();
+    if terrain.is_flat() {
+        return flat_ground_point(near, far);
+    }
+    terrain_point(&terrain, near, far)
+}
+
+/// Where the ray from `near` to `far` meets the plane y = 0.
+fn flat_ground_point(near: Vec3, far: Vec3) -> Option<Vec3> {
     let ray = far - near;
     if ray.y >= 0.0 || near.y <= 0.0 {
         return None;
@@ -173,6 +183,40 @@ pub fn ground_point(
     let t = -near.y / ray.y;
     (t <= 1.0).then(|| near + ray * t)
 }
+
+/// Along the ray from `near` to `far`, the first point at or under the
+/// ground `terrain` raises: marched in steps of `TERRAIN_MARCH` metres,
+/// then halved down to f32's precision between the last step above and the
+/// first under. A ridge thinner than a step can be missed; a pick only
+/// needs the ground a person sees.
+fn terrain_point(terrain: &Terrain, near: Vec3, far: Vec3) -> Option<Vec3> {
+    let ray = far - near;
+    let above = |t: f32| {
+        let p = near + ray * t;
+        p.y - terrain.height(p.x, p.z)
+    };
+    if above(0.0) <= 0.0 {
+        return None;
+    }
+    let steps = (ray.length() / TERRAIN_MARCH).ceil().clamp(1.0, 1e6) as u32;
+    let under = (1..=steps).find(|&i| above(i as f32 / steps as f32) <= 0.0)?;
+    let (mut lo, mut hi) = (
+        (under - 1) as f32 / steps as f32,
+        under as f32 / steps as f32,
+    );
+    for _ in 0..40 {
+        let mid = 0.5 * (lo + hi);
+        if above(mid) > 0.0 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    Some(near + ray * hi)
+}
+
+/// The step (m) `terrain_point` marches along a ray.
+const TERRAIN_MARCH: f32 = 0.25;
 
 #[cfg(test)]
 mod tests {
@@ -198,6 +242,51 @@ mod tests {
         }
         // The top row looks at the sky.
         assert_eq!(ground_point(&scene, (w, h), (320.0, 0.0), 0.0), None);
+    }
+
+    /// Over hills the point seen is on the ground as the terrain raises it
+    /// (not on the plane under it), the first the ray meets, and projects
+    /// back to its pixel.
+    #[test]
+    fn over_hills_the_ground_point_is_the_first_the_ray_meets_on_the_ground() {
+        let scene = Scene::builtin("hills").unwrap();
+        let terrain = scene.ground.terrain();
+        assert!(!terrain.is_flat());
+        let (w, h) = (640u32, 360u32);
+        let view_proj = view_projection(&scene, w as f32 / h as f32, 0.0);
+        let eye = Vec3::from(scene.camera.position);
+        let mut raised = 0.0f32;
+        for pixel in [
+            (320.0, 300.0),
+            (40.5, 250.0),
+            (600.0, 359.0),
+            (320.0, 200.0),
+        ] {
+            let Some(p) = ground_point(&scene, (w, h), pixel, 0.0) else {
+                continue;
+            };
+            let ground = terrain.height(p.x, p.z);
+            assert!((p.y - ground).abs() < 1e-3, "{p} over ground {ground}");
+            raised = raised.max(ground.abs());
+            // Nothing of the ground stands between the eye and it.
+            for i in 1..200 {
+                let q = eye.lerp(p, i as f32 / 200.0);
+                assert!(
+                    q.y > terrain.height(q.x, q.z) - 1e-3,
+                    "{q} under the ground before {p}"
+                );
+            }
+            let clip = view_proj * p.extend(1.0);
+            let back = (
+                (clip.x / clip.w + 1.0) * 0.5 * w as f32,
+                (clip.y / clip.w + 1.0) * 0.5 * h as f32,
+            );
+            assert!(
+                (back.0 - pixel.0).abs() < 0.05 && (back.1 - pixel.1).abs() < 0.05,
+                "{pixel:?} -> {p} -> {back:?}"
+            );
+        }
+        assert!(raised > 0.1, "no pixel saw a hill: {raised} m");
     }
 
     #[test]
