@@ -82,6 +82,7 @@ fn made_on_the_gpu(
             frame: &frame,
             pose_drawn_only: false,
             states: None,
+            presses: None,
             terrain,
         },
     )
@@ -808,6 +809,7 @@ fn posed_on_the_gpu(
             frame: &frame,
             pose_drawn_only: seen.is_some(),
             states: None,
+            presses: None,
             terrain,
         },
     )
@@ -1039,7 +1041,7 @@ fn a_traced_blade_shows_no_jump_when_the_wind_window_moves() {
 /// (`cover::dynamic_weight`), as the CPU does.
 #[test]
 fn near_the_camera_the_cover_runs_the_papers_dynamics_as_the_cpu() {
-    kept_dynamics_against_the_cpu(&FLAT);
+    kept_dynamics_against_the_cpu(&FLAT, &[]);
 }
 
 /// The same on hills, a ridge and a height map in a wind window that
@@ -1049,10 +1051,52 @@ fn near_the_camera_the_cover_runs_the_papers_dynamics_as_the_cpu() {
 /// step, the enter and the tile kernels).
 #[test]
 fn on_terrain_the_kept_blades_feel_a_wind_that_follows_the_ground_as_the_cpu() {
-    kept_dynamics_against_the_cpu(&hilly());
+    kept_dynamics_against_the_cpu(&hilly(), &[]);
 }
 
-fn kept_dynamics_against_the_cpu(terrain: &Terrain) {
+/// A ball rolling over the hills and a walker crossing the kept tiles
+/// press the cover's blades as the CPU's `GrassField` does (the grass step
+/// in the cover's slots, its colliders binned over the square it keeps as
+/// that moves, one walker crossing the tiles that came in; a tile coming
+/// in starts unpressed), and the tile kernel
+/// poses them pressed (`pressed_pose`, faded over the band as the angles
+/// are). The pressed blades lie lower than the rest. Fails with the tile
+/// kernel posing them unpressed (the poses), the kept blades stepped
+/// without the colliders, or the bins left where the square first was
+/// (the states).
+#[test]
+fn near_the_camera_a_rolling_ball_presses_the_cover_as_the_cpu() {
+    use meadow::model::contact::{Collider, ColliderKind};
+    let terrain = hilly();
+    let on_ground = |x: f32, z: f32, above: f32| Vec3::new(x, terrain.height(x, z) + above, z);
+    let ball = Collider {
+        kind: ColliderKind::Sphere,
+        radius: 0.8,
+        path: vec![on_ground(-1.0, 0.5, 0.8), on_ground(7.0, 2.5, 0.8)],
+        path_speed: 6.0,
+        roll: true,
+        ..Default::default()
+    };
+    let walker = Collider {
+        kind: ColliderKind::Capsule,
+        radius: 0.4,
+        height: 1.8,
+        path: vec![on_ground(3.0, -3.0, 0.0), on_ground(4.0, 4.0, 0.0)],
+        path_speed: 3.0,
+        ..Default::default()
+    };
+    // One crossing the tiles that come in at the move (x 12-16 m).
+    let newcomer = Collider {
+        path: vec![on_ground(15.0, -3.0, 0.0), on_ground(15.0, 4.0, 0.0)],
+        ..walker.clone()
+    };
+    kept_dynamics_against_the_cpu(&terrain, &[ball, walker, newcomer]);
+}
+
+fn kept_dynamics_against_the_cpu(
+    terrain: &Terrain,
+    colliders: &[meadow::model::contact::Collider],
+) {
     use meadow::compute::wind_pass::WindInput;
     use meadow::compute::CoverDynamics;
     use meadow::model::grass::{self, GrassState};
@@ -1091,6 +1135,7 @@ fn kept_dynamics_against_the_cpu(terrain: &Terrain) {
         dt,
         camera: eyes[0],
         terrain,
+        colliders,
     };
     let mut dynamics = CoverDynamics::new(&gpu, &commands, setup, &input).unwrap();
     let rec = commands.begin().unwrap();
@@ -1111,6 +1156,7 @@ fn kept_dynamics_against_the_cpu(terrain: &Terrain) {
     }
     rec.submit_and_wait("cover dynamics").unwrap();
     let states = dynamics.grass().read_states(&gpu, &commands).unwrap();
+    let presses = dynamics.grass().read_presses(&gpu, &commands).unwrap();
     let gpu_substeps = dynamics.grass().substeps();
     let kept = *dynamics.square();
     let stepped = dynamics.blade_count() as usize;
@@ -1142,6 +1188,7 @@ fn kept_dynamics_against_the_cpu(terrain: &Terrain) {
             frame: &frame,
             pose_drawn_only: false,
             states: Some(dynamics.states()),
+            presses: dynamics.presses(),
             terrain,
         },
     )
@@ -1159,7 +1206,9 @@ fn kept_dynamics_against_the_cpu(terrain: &Terrain) {
     // The CPU: the same slots, tiles coming in started at their
     // quasi-static pose (the far field's iterations, as the GPU's).
     let per_tile = kept.per_tile;
-    let mut cpu = GrassField::new(vec![Default::default(); stepped], dt).unwrap();
+    let mut cpu = GrassField::new(vec![Default::default(); stepped], dt)
+        .unwrap()
+        .with_colliders(colliders.to_vec());
     let mut held: Vec<Option<[i32; 2]>> = vec![None; kept.tile_count() as usize];
     let mut substeps = None;
     let mut entered = [0usize; 2];
@@ -1192,6 +1241,7 @@ fn kept_dynamics_against_the_cpu(terrain: &Terrain) {
                     angle,
                     velocity: [0.0; 4],
                 };
+                cpu.pressed[i] = Default::default();
             }
         }
         // The GPU's pass counts its substeps from the blades it was made
@@ -1223,10 +1273,43 @@ fn kept_dynamics_against_the_cpu(terrain: &Terrain) {
     );
     assert!(swung > 0.1, "the blades barely swing: {swung} rad/s");
     assert!(differs < 1e-4, "GPU and CPU states differ by {differs} rad");
+    if !colliders.is_empty() {
+        let pressed_differs = presses
+            .iter()
+            .zip(&cpu.pressed)
+            .map(|(g, c)| (g.pressed - c.pressed).abs())
+            .fold(0.0f32, f32::max);
+        let pressed = cpu.pressed.iter().filter(|p| p.pressed > 0.1).count();
+        // How high each kept tip stands over its root, against its rest
+        // height: the pressed blades' and the others' means.
+        let mut lowered = [(0.0f32, 0usize); 2];
+        for (i, pose) in cpu.poses().enumerate() {
+            let b = &cpu.blades[i];
+            let stands =
+                (pose.points[3].y - b.rest_point(0).y) / (b.rest_point(3).y - b.rest_point(0).y);
+            let k = (cpu.pressed[i].pressed > 0.1) as usize;
+            lowered[k].0 += stands;
+            lowered[k].1 += 1;
+        }
+        let [free, under] = lowered.map(|(sum, n)| sum / n.max(1) as f32);
+        eprintln!(
+            "{pressed} kept blades pressed over 0.1 (GPU and CPU pressed states within {pressed_differs:e}); \
+             their tips stand at {under:.2} of their rest height, the others' at {free:.2}"
+        );
+        assert!(pressed >= 10, "{pressed} blades pressed");
+        assert!(pressed_differs < 1e-5, "{pressed_differs}");
+        assert!(under < free - 0.2, "pressed {under}, free {free}");
+    } else {
+        assert!(
+            presses.is_empty(),
+            "a pass made without colliders keeps pressed states"
+        );
+    }
 
     // The tile pass's pose, blade by blade.
     let r = cover.simulate_radius();
     let mut counts = [0usize; 3];
+    let mut posed_pressed = 0;
     let mut worst = 0.0f32;
     for (n, (tile, index)) in tiles.blades().enumerate() {
         let b =
@@ -1235,25 +1318,37 @@ fn kept_dynamics_against_the_cpu(terrain: &Terrain) {
         let weight = cover::dynamic_weight(r, Vec2::new(root.x, root.z).distance(eyes[1]));
         let (still, _) =
             quasi_static_angles_within(&b, field.sample(b.rest_point(3)), FAR_ITERATIONS);
-        let angle = if weight > 0.0 {
+        let (angle, pressed) = if weight > 0.0 {
             let slot = cover::state_slot(tile, kept.side);
-            let s = &states[(slot * per_tile + index) as usize];
-            std::array::from_fn(|m| still[m] + (s.angle[m] - still[m]) * weight)
+            let kept = (slot * per_tile + index) as usize;
+            let s = &states[kept];
+            let pressed = presses.get(kept).map_or(0.0, |p| p.pressed);
+            (
+                std::array::from_fn(|m| still[m] + (s.angle[m] - still[m]) * weight),
+                weight * pressed,
+            )
         } else {
-            still
+            (still, 0.0)
         };
         counts[(weight > 0.0) as usize + (weight >= 1.0) as usize] += 1;
-        let cpu_pose = grass::vertices(&b, &grass::pose(&b, angle));
+        posed_pressed += (pressed > 0.01) as usize;
+        let cpu_pose = grass::vertices(&b, &grass::pressed_pose(&b, angle, pressed));
         for (g, c) in posed[4 * n..4 * n + 4].iter().zip(&cpu_pose) {
             let at = |v: &BladeVertex| Vec3::from_slice(&v.position[..3]);
             worst = worst.max(at(g).distance(at(c)));
         }
     }
     eprintln!(
-        "posed: {} quasi-static, {} blended, {} from their state; GPU and CPU within {worst:e} m",
+        "posed: {} quasi-static, {} blended, {} from their state ({posed_pressed} pressed); \
+         GPU and CPU within {worst:e} m",
         counts[0], counts[1], counts[2]
     );
     assert!(counts.iter().all(|&c| c > 10), "{counts:?}");
+    assert_eq!(
+        posed_pressed > 0,
+        !colliders.is_empty(),
+        "{posed_pressed} posed pressed"
+    );
     assert!(worst < 1e-4, "the tile pass's poses differ by {worst} m");
 }
 
@@ -1515,6 +1610,7 @@ fn a_stiffer_blade_coming_in_raises_the_substeps() {
         dt,
         camera: eye(0),
         terrain: &FLAT,
+        colliders: &[],
     };
     let mut dynamics = CoverDynamics::new(&gpu, &commands, setup, &input).unwrap();
     let kept_blades = |camera: Vec2| -> Vec<grass::GrassBlade> {

@@ -41,6 +41,9 @@ layout(set = 0, binding = 6, std430) readonly buffer Terrain {
     TerrainHeader terrain;
     float terrain_words[];
 };
+// The kept blades' pressed states (`CoverDynamics::presses`; a placeholder
+// with `params.pressed_states` 0): a ball's trail through them.
+layout(set = 0, binding = 7, std430) readonly buffer Presses { Press presses[]; };
 #define WIND_VELOCITY(i) wind_velocity[i]
 #include "wind_sample.glsl"
 #include "wind_felt.glsl"
@@ -238,11 +241,16 @@ void main() {
     GrassBlade b = cover_grass_blade(rest, vec3(f.y, 0.0, -f.x), hw, rand, between_tip, ratio, sigma);
     float weight = 0.0;
     vec4 kept_angle = vec4(0.0);
+    float kept_pressed = 0.0;
     ivec2 k = tile - params.kept_origin;
     if (params.dynamic != 0u && all(greaterThanEqual(k, ivec2(0)))
         && all(lessThan(k, ivec2(int(params.kept_side))))) {
         weight = dynamic_weight(params.simulate_radius, distance(root, params.eye));
-        kept_angle = states[state_slot(tile, params.kept_side) * pc.per_tile + index].angle;
+        uint kept = state_slot(tile, params.kept_side) * pc.per_tile + index;
+        kept_angle = states[kept].angle;
+        if (params.pressed_states != 0u) {
+            kept_pressed = presses[kept].pressed;
+        }
     }
     vec4 angle = kept_angle;
     if (weight >= 1.0) {
@@ -252,7 +260,9 @@ void main() {
         vec4 still = quasi_static_angles(b, wind_felt(params.grid, rest[3]));
         angle = weight > 0.0 ? mix(still, kept_angle, weight) : still;
     }
-    Pose p = blade_pose(b, angle, 0.0);
+    // Pressed as the dynamics left it, faded out over the band as its
+    // angles are.
+    Pose p = blade_pose(b, angle, weight * kept_pressed);
     vec3 rest_tip = normalize_or(rest[3] - rest[2], UP);
     float displacement = atan(length(cross(rest_tip, p.e[2])), dot(rest_tip, p.e[2]));
     for (int i = 0; i < BLADE_CONTROL_POINTS; ++i) {

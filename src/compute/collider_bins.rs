@@ -81,6 +81,28 @@ impl BinGrid {
         }
     }
 
+    /// The grid over a square whose roots lie within `low`..`high` (x, z)
+    /// wherever it moves (`ColliderBins::set_corner`), their heights
+    /// anywhere (the cover's kept tiles: the ground under them changes as
+    /// the square moves), for blades reaching as far as `blades`'
+    /// longest (`ColliderBins::widen_reach` for longer ones coming in).
+    pub fn over_square(low: Vec2, high: Vec2, blades: &[GrassBlade]) -> Self {
+        let longest = blades.iter().map(reach).fold(0.0f32, f32::max);
+        let corner = low - MARGIN;
+        let extent = (high - low) + 2.0 * MARGIN;
+        let cell = (extent.max_element() / (MAX_CELLS_PER_SIDE - 1) as f32).max(longest);
+        let per_metre = 1.0 / cell.max(MARGIN);
+        let side = |length: f32| ((length * per_metre).floor() as u32 + 1).min(MAX_CELLS_PER_SIDE);
+        Self {
+            corner,
+            per_metre,
+            columns: side(extent.x),
+            rows: side(extent.y),
+            reach: longest + MARGIN,
+            root_y: (f32::MIN, f32::MAX),
+        }
+    }
+
     pub fn cell_count(&self) -> usize {
         (self.columns * self.rows) as usize
     }
@@ -168,6 +190,19 @@ impl ColliderBins {
     pub fn set_colliders(&mut self, colliders: &[Collider]) -> Result<()> {
         self.records = super::colliders::records(colliders)?;
         Ok(())
+    }
+
+    /// The grid's lowest corner at `low` (x, z) from the next binning on
+    /// (a square of roots moved: `BinGrid::over_square`).
+    pub fn set_corner(&mut self, low: Vec2) {
+        self.grid.corner = low - MARGIN;
+    }
+
+    /// Widens the colliders' reach, from the next binning on, to `blades`'
+    /// longest where that is more (blades coming in).
+    pub fn widen_reach(&mut self, blades: &[GrassBlade]) {
+        let longest = blades.iter().map(reach).fold(0.0f32, f32::max) + MARGIN;
+        self.grid.reach = self.grid.reach.max(longest);
     }
 
     /// How many colliders the next binning evaluates.

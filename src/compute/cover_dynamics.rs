@@ -14,6 +14,7 @@
 use ash::vk;
 use glam::Vec2;
 
+use crate::compute::grass_pass::SlotsSetup;
 use crate::compute::wind_pass::{grid_params, WindInput};
 use crate::compute::GrassPass;
 use crate::error::{Error, Result};
@@ -22,6 +23,7 @@ use crate::gpu::{
     MemoryLocation, Pipeline, PipelineLayout, Recording,
 };
 use crate::interface::{CoverEnterPush, COVER_GROUP};
+use crate::model::contact::Collider;
 use crate::model::grass::GrassBlade;
 use crate::model::terrain::Terrain;
 use crate::model::wind::WindGrid;
@@ -74,6 +76,9 @@ pub struct CoverDynamicsSetup<'a> {
     pub camera: Vec2,
     /// The ground the blades are rooted on.
     pub terrain: &'a Terrain,
+    /// The colliders the kept blades will meet (the viewer's ball among
+    /// them), so that each keeps a pressed state.
+    pub colliders: &'a [Collider],
 }
 
 impl CoverDynamics {
@@ -92,6 +97,7 @@ impl CoverDynamics {
             dt,
             camera,
             terrain,
+            colliders,
         } = setup;
         let maker = TileMaker {
             terrain: terrain.clone(),
@@ -128,7 +134,13 @@ impl CoverDynamics {
             vk::BufferUsageFlags::STORAGE_BUFFER,
             MemoryLocation::GpuOnly,
         )?;
-        let grass_pass = GrassPass::new(gpu, commands, &blades, &stepped, wind, &[], dt)?;
+        let slots = SlotsSetup {
+            blades: &blades,
+            colliders,
+            dt,
+            square: square.extent(),
+        };
+        let grass_pass = GrassPass::in_slots(gpu, commands, slots, &stepped, wind)?;
         let layout = PipelineLayout::new::<CoverEnterPush>(
             gpu,
             COVER_ENTER_SET,
@@ -199,6 +211,7 @@ impl CoverDynamics {
             self.kept[slot as usize] = tile;
             self.entering.push(slot);
         }
+        self.grass.set_square(square.extent().0);
         self.square = square;
         // Started now, so that the tile kernel poses them from their pose
         // in this frame even without a step.
@@ -247,6 +260,17 @@ impl CoverDynamics {
             rec.dispatch((count * per_tile).div_ceil(COVER_GROUP));
         }
         self.entering.clear();
+    }
+
+    /// The colliders from the next recorded step on (the viewer's ball).
+    pub fn set_colliders(&mut self, colliders: &[Collider]) -> Result<()> {
+        self.grass.set_colliders(colliders)
+    }
+
+    /// Each kept blade's pressed state in slot order, which the tile
+    /// kernel poses from (None where made without colliders).
+    pub fn presses(&self) -> Option<&Buffer> {
+        self.grass.presses()
     }
 
     /// The wind grid's corner from the next step on (the wind window

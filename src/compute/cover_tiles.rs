@@ -36,6 +36,7 @@ pub const COVER_SET: &[LayoutBinding] = &[
     LayoutBinding::compute_storage(4), // the blades posed and left out (three words, host-read)
     LayoutBinding::compute_storage(5), // the kept blades' states (or a placeholder)
     LayoutBinding::compute_storage(6), // the terrain (TerrainHeader and its words)
+    LayoutBinding::compute_storage(7), // the kept blades' pressed states (or a placeholder)
 ];
 
 /// The wind the cover's blades are posed in: the solver's velocity (one
@@ -68,6 +69,9 @@ pub struct CoverSetup<'a> {
     /// The states of the blades the paper's dynamics step near the camera
     /// (`CoverDynamics::states`; None: every blade quasi-static).
     pub states: Option<&'a Buffer>,
+    /// Their pressed states (`CoverDynamics::presses`, made with
+    /// colliders; None: none kept).
+    pub presses: Option<&'a Buffer>,
     /// The ground the blades are rooted on.
     pub terrain: &'a Terrain,
 }
@@ -89,6 +93,8 @@ pub struct CoverTilePass {
     wind: Option<BufferId>,
     /// The kept blades' states (`CoverDynamics`), declared read each frame.
     states: Option<BufferId>,
+    /// Their pressed states, declared read each frame.
+    presses: Option<BufferId>,
     _placeholder: Option<Buffer>,
     /// The ground's height field (glsl/common/terrain.glsl), written once.
     terrain: Buffer,
@@ -119,8 +125,10 @@ impl CoverTilePass {
             frame,
             pose_drawn_only,
             states,
+            presses,
             terrain,
         } = setup;
+        let presses = presses.filter(|_| states.is_some());
         let most = cover::most_blades(cover);
         let too_many = || {
             Error::InvalidInput(format!(
@@ -148,6 +156,7 @@ impl CoverTilePass {
             pose: wind.is_some() as u32,
             pose_drawn_only: pose_drawn_only as u32,
             simulate_radius: cover.simulate_radius(),
+            pressed_states: presses.is_some() as u32,
             ..bytemuck::Zeroable::zeroed()
         };
         let params = Buffer::with_data(
@@ -171,12 +180,12 @@ impl CoverTilePass {
             vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::GpuToCpu,
         )?;
-        // One placeholder stands for the wind and the states where either
-        // is missing (the kernel reads neither then).
-        let placeholder = if wind.is_none() || states.is_none() {
+        // One placeholder stands for the wind, the states and the pressed
+        // states where any is missing (the kernel reads none of those then).
+        let placeholder = if wind.is_none() || states.is_none() || presses.is_none() {
             Some(Buffer::new(
                 gpu,
-                "cover placeholder (no wind: blades at rest; no dynamics)",
+                "cover placeholder (no wind: blades at rest; no dynamics; no pressed states)",
                 32,
                 vk::BufferUsageFlags::STORAGE_BUFFER,
                 MemoryLocation::GpuOnly,
@@ -184,13 +193,14 @@ impl CoverTilePass {
         } else {
             None
         };
-        let (wind_buffer, states_buffer): (&Buffer, &Buffer) = match (&wind, states, &placeholder) {
-            (Some(w), Some(s), _) => (w.velocity, s),
-            (Some(w), None, Some(p)) => (w.velocity, p),
-            (None, Some(s), Some(p)) => (p, s),
-            (None, None, Some(p)) => (p, p),
-            (_, _, None) => unreachable!("a placeholder is made for what is missing"),
-        };
+        let [wind_buffer, states_buffer, presses_buffer] =
+            [wind.as_ref().map(|w| w.velocity), states, presses].map(|given| {
+                match (given, &placeholder) {
+                    (Some(b), _) => b,
+                    (None, Some(p)) => p,
+                    (None, None) => unreachable!("a placeholder is made for what is missing"),
+                }
+            });
         let layout = PipelineLayout::new::<CoverPush>(
             gpu,
             COVER_SET,
@@ -217,6 +227,7 @@ impl CoverTilePass {
                     Bound::Buffer(&posed),
                     Bound::Buffer(states_buffer),
                     Bound::Buffer(&terrain),
+                    Bound::Buffer(presses_buffer),
                 ]
             },
         )?
@@ -225,6 +236,7 @@ impl CoverTilePass {
         .collect();
         let wind = wind.map(|w| BufferId::from(w.velocity));
         let states = states.map(BufferId::from);
+        let presses = presses.map(BufferId::from);
         Ok(Self {
             pipeline,
             params,
@@ -232,6 +244,7 @@ impl CoverTilePass {
             posed,
             wind,
             states,
+            presses,
             _placeholder: placeholder,
             terrain,
             sets,
@@ -302,6 +315,9 @@ impl CoverTilePass {
         }
         if let Some(states) = self.states {
             uses.push(BufferUse::new(states, Access::COMPUTE_READ));
+        }
+        if let Some(presses) = self.presses {
+            uses.push(BufferUse::new(presses, Access::COMPUTE_READ));
         }
         rec.uses(&uses);
         rec.bind_pipeline(&self.pipeline);

@@ -19,6 +19,7 @@
 //! velocity and canopy): its sets keep them alive.
 
 use ash::vk;
+use glam::Vec2;
 
 use std::ops::Range;
 
@@ -104,6 +105,29 @@ pub struct GrassPass {
     bins: ColliderBins,
     push: GrassPush,
     blade_count: u32,
+    /// Whether each blade keeps its slot (`in_slots`).
+    in_slots: bool,
+}
+
+/// What a pass whose blades keep their slots is made for
+/// (`GrassPass::in_slots`).
+pub struct SlotsSetup<'a> {
+    pub blades: &'a [GrassBlade],
+    /// The colliders it will meet (the viewer's ball among them), so that
+    /// each blade keeps a pressed state.
+    pub colliders: &'a [Collider],
+    /// The simulation step (s).
+    pub dt: f32,
+    /// The lowest and highest corner (x, z) of the square the roots lie in.
+    pub square: (Vec2, Vec2),
+}
+
+/// What `GrassPass::made` makes a pass of.
+struct Made<'a> {
+    blades: &'a [GrassBlade],
+    colliders: &'a [Collider],
+    dt: f32,
+    square: Option<(Vec2, Vec2)>,
 }
 
 impl GrassPass {
@@ -111,7 +135,8 @@ impl GrassPass {
     /// `vertices` must hold 4 `BladeVertex` per blade; `wind.velocity`
     /// holds velocity copies in the layout of glsl/common/wind_grid.glsl
     /// for `wind.grid`. The simulation step is `dt`; substeps follow from
-    /// the stiffest blade (`model::grass::substeps`).
+    /// the stiffest blade (`model::grass::substeps`). With colliders the
+    /// blades are stepped in place order (`place_order::by_place`).
     pub fn new(
         gpu: &Gpu,
         commands: &CommandPool,
@@ -121,9 +146,54 @@ impl GrassPass {
         colliders: &[Collider],
         dt: f32,
     ) -> Result<Self> {
+        let made = Made {
+            blades,
+            colliders,
+            dt,
+            square: None,
+        };
+        Self::made(gpu, commands, made, vertices, wind)
+    }
+
+    /// A pass whose blades keep their slots whatever the colliders (the
+    /// cover's kept tiles: `record_replace` puts a tile coming in where
+    /// the one leaving was), their roots within `square` (x, z: lowest
+    /// and highest corner), which `set_square` moves.
+    pub fn in_slots(
+        gpu: &Gpu,
+        commands: &CommandPool,
+        setup: SlotsSetup<'_>,
+        vertices: &Buffer,
+        wind: &WindInput,
+    ) -> Result<Self> {
+        let made = Made {
+            blades: setup.blades,
+            colliders: setup.colliders,
+            dt: setup.dt,
+            square: Some(setup.square),
+        };
+        Self::made(gpu, commands, made, vertices, wind)
+    }
+
+    fn made(
+        gpu: &Gpu,
+        commands: &CommandPool,
+        made: Made<'_>,
+        vertices: &Buffer,
+        wind: &WindInput,
+    ) -> Result<Self> {
+        let Made {
+            blades,
+            colliders,
+            dt,
+            square,
+        } = made;
         let blade_count = check_blades(blades, vertices)?;
         super::colliders::check_count(colliders)?;
-        let bin_grid = BinGrid::covering(blades);
+        let bin_grid = match square {
+            Some((low, high)) => BinGrid::over_square(low, high, blades),
+            None => BinGrid::covering(blades),
+        };
         let push = grass_push(
             wind,
             colliders,
@@ -135,7 +205,8 @@ impl GrassPass {
         // Host memory first: failing here leaves nothing on the GPU to undo.
         let batch_len = crate::gpu::batches::storage_batch_len(gpu, BLADE_BYTES_BOUND)?;
         let ranges = crate::gpu::batches::batches(blade_count, batch_len)?;
-        let placed = Placed::new(blades, &ranges, colliders)?;
+        let in_place_order = square.is_none() && !colliders.is_empty();
+        let placed = Placed::new(blades, &ranges, in_place_order)?;
         let order = placed.order.clone();
         let buffers = StepBuffers::new(gpu, commands, blades.len(), placed, colliders)?;
         let canopy = wind.canopy.map_or(&buffers.no_canopy, |(buffer, _)| buffer);
@@ -219,6 +290,7 @@ impl GrassPass {
             bins,
             push,
             blade_count,
+            in_slots: square.is_some(),
         })
     }
 
@@ -228,11 +300,17 @@ impl GrassPass {
 
     /// Replaces the rest shapes and physics of blades `first..` with
     /// `blades`, written in the command buffer ahead of the next step (the
-    /// cover's tiles coming into its simulated square); their states are
-    /// the caller's to set. Only for a pass made without colliders, whose
-    /// slots are the blades' own order.
-    pub fn record_replace(&self, rec: &Recording, first: u32, blades: &[GrassBlade]) -> Result<()> {
-        if self.presses_live() {
+    /// cover's tiles coming into its simulated square), their pressed
+    /// states at rest; their states are the caller's to set. Only for a
+    /// pass whose blades keep their slots (`in_slots`), or one made
+    /// without colliders (whose slots are the blades' own order).
+    pub fn record_replace(
+        &mut self,
+        rec: &Recording,
+        first: u32,
+        blades: &[GrassBlade],
+    ) -> Result<()> {
+        if self.presses_live() && !self.in_slots {
             return Err(Error::InvalidInput(
                 "a grass step made with colliders keeps its blades in place order; its blades cannot be replaced".into(),
             ));
@@ -244,6 +322,7 @@ impl GrassPass {
                 self.blade_count
             )));
         }
+        self.bins.widen_reach(blades);
         let size = std::mem::size_of::<GrassBlade>();
         rec.uses(&[BufferUse::new(&self.blades, Access::TRANSFER_WRITE)]);
         // vkCmdUpdateBuffer writes at most 65536 bytes a call.
@@ -252,7 +331,36 @@ impl GrassPass {
             let offset = (first as usize + n * per_call) * size;
             rec.update_buffer(&self.blades, offset as u64, bytemuck::cast_slice(chunk));
         }
+        if self.presses_live() {
+            let size = std::mem::size_of::<Press>();
+            let rest = vec![Press::default(); blades.len().min(65536 / size)];
+            rec.uses(&[BufferUse::new(&self.presses, Access::TRANSFER_WRITE)]);
+            let mut done = 0;
+            while done < blades.len() {
+                let n = rest.len().min(blades.len() - done);
+                let offset = (first as usize + done) * size;
+                rec.update_buffer(
+                    &self.presses,
+                    offset as u64,
+                    bytemuck::cast_slice(&rest[..n]),
+                );
+                done += n;
+            }
+        }
         Ok(())
+    }
+
+    /// Moves the square the roots lie in (`in_slots`) to start at `low`
+    /// (x, z) from the next step on: the colliders' bins follow it.
+    pub fn set_square(&mut self, low: Vec2) {
+        self.bins.set_corner(low);
+        self.push.bin_corner = self.bins.grid().corner.to_array();
+    }
+
+    /// Each blade's pressed state, in slot order (None for a pass made
+    /// without colliders, which keeps none).
+    pub fn presses(&self) -> Option<&Buffer> {
+        self.presses_live().then_some(&self.presses)
     }
 
     /// The rest shapes and physics in slot order (for a kernel that sets
@@ -534,14 +642,17 @@ struct Placed {
 }
 
 impl Placed {
-    fn new(blades: &[GrassBlade], ranges: &[Range<u32>], colliders: &[Collider]) -> Result<Self> {
+    /// `in_place_order`: with colliders, neighbours stepped together, so
+    /// that the blades near one fill whole SIMD groups. Otherwise (every
+    /// blade taking the same path without colliders, or the cover's
+    /// blades, which keep their slots and lie tile by tile) scene order,
+    /// which keeps the control points' writes contiguous.
+    fn new(blades: &[GrassBlade], ranges: &[Range<u32>], in_place_order: bool) -> Result<Self> {
         let count = blades.len();
-        // Without colliders every blade takes the same path: scene order
-        // keeps the control points' writes contiguous.
-        let order = if colliders.is_empty() {
-            try_collect(count, 0..count as u32, "the blades' order")?
-        } else {
+        let order = if in_place_order {
             super::place_order::by_place(blades, ranges)
+        } else {
+            try_collect(count, 0..count as u32, "the blades' order")?
         };
         let placed = try_collect(
             count,

@@ -79,6 +79,7 @@ impl Simulation {
                     dt,
                     camera: glam::Vec2::new(eye.x, eye.z),
                     terrain: &scene.ground.terrain(),
+                    colliders: &scene.colliders,
                 };
                 Some(CoverDynamics::new(
                     gpu,
@@ -183,6 +184,9 @@ impl Simulation {
     pub fn set_colliders(&mut self, colliders: &[Collider]) -> Result<()> {
         if let Some(grass) = &mut self.grass {
             grass.set_colliders(colliders)?;
+        }
+        if let Some(cover) = &mut self.cover {
+            cover.set_colliders(colliders)?;
         }
         self.wind.set_colliders(colliders)
     }

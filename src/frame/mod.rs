@@ -278,6 +278,9 @@ impl FrameRecorder {
             states: simulation
                 .and_then(Simulation::cover_dynamics)
                 .map(|d| d.states()),
+            presses: simulation
+                .and_then(Simulation::cover_dynamics)
+                .and_then(|d| d.presses()),
             terrain: &scene.ground.terrain(),
         };
         let pass = CoverTilePass::new(gpu, commands, setup)?;

@@ -435,7 +435,9 @@ gpu_interface! {
         /// 1: the kept tiles' states are posed, blended with the
         /// quasi-static pose over the band; 0: every blade quasi-static.
         pub dynamic: u32,
-        pub _pad0: u32,
+        /// 1: the kept blades keep pressed states (their dynamics were made
+        /// with colliders), and their poses show them; 0: none kept.
+        pub pressed_states: u32,
     }
 
     /// The ground's height field as the GPU reads it

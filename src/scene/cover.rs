@@ -59,6 +59,12 @@ impl CoverTiles {
         root.x >= x0 && root.x < x1 && root.y >= z0 && root.y < z1
     }
 
+    /// The lowest and highest corner (x, z) of the tiles' squares.
+    pub fn extent(&self) -> (Vec2, Vec2) {
+        let low = Vec2::new(self.origin[0] as f32, self.origin[1] as f32) * TILE_M;
+        (low, low + Vec2::splat(self.side as f32 * TILE_M))
+    }
+
     pub fn tile_count(&self) -> u64 {
         self.side as u64 * self.side as u64
     }
