@@ -220,7 +220,7 @@ impl Live {
         };
         let mut made = scene.clone();
         if no_ball.is_none() {
-            let (low, high) = ball_rectangle(&scene)?;
+            let (low, high) = ball_rectangle(&scene, 0.0)?;
             let middle = (low + high) * 0.5;
             let mut parked = Ball::new(
                 Vec3::new(middle.x, 0.0, middle.y),

@@ -236,17 +236,17 @@ impl ViewState {
         }
         let middle = (seen.size.0 as f32 / 2.0, seen.size.1 as f32 / 2.0);
         match self.ground_at(middle, seen) {
-            Some(ground) => self.bring_ball(ground),
+            Some(ground) => self.bring_ball(ground, seen),
             None => println!("no ball: the middle of the window looks above the horizon"),
         }
     }
 
-    fn bring_ball(&mut self, ground: Vec3) {
+    fn bring_ball(&mut self, ground: Vec3, seen: Seen) {
         if let Some(why) = &self.no_ball {
             println!("no ball: {why}");
             return;
         }
-        match ball_rectangle(&self.scene) {
+        match ball_rectangle(&self.shown_scene(), seen.time as f32) {
             Ok((low, high)) => {
                 let ball = Ball::new(ground, low, high, self.scene.ground.terrain());
                 println!("ball at ({:.4}, {:.4}) m", ball.centre.x, ball.centre.z);
@@ -263,7 +263,7 @@ impl ViewState {
             return;
         };
         if self.ball.is_none() {
-            self.bring_ball(ground);
+            self.bring_ball(ground, seen);
         }
         if let Some(ball) = self.ball.as_mut() {
             let goal = ball.roll_to(ground);
@@ -332,11 +332,19 @@ impl ViewState {
 }
 
 /// The rectangle (x, z) of the ground the ball may roll on: the wind's
-/// domain, so that it pushes air wherever it goes.
-pub fn ball_rectangle(scene: &Scene) -> Result<(glam::Vec2, glam::Vec2)> {
+/// domain, so that it pushes air wherever it goes; with a `[grass.cover]`,
+/// whose wind window follows the camera, the window under the camera
+/// `scene` has at `time` (to within the cell it moves by).
+pub fn ball_rectangle(scene: &Scene, time: f32) -> Result<(glam::Vec2, glam::Vec2)> {
     let grid = scene.wind_grid()?;
-    let low = grid.origin.xz();
-    Ok((low, low + (grid.cells.as_vec3() * grid.cell).xz()))
+    let size = (grid.cells.as_vec3() * grid.cell).xz();
+    let low = if scene.grass.cover.is_some() {
+        let (eye, _) = scene.camera.at(time);
+        eye.xz() - 0.5 * size
+    } else {
+        grid.origin.xz()
+    };
+    Ok((low, low + size))
 }
 
 /// The keys' help, printed when H shows it in the overlay.
@@ -352,5 +360,36 @@ pub fn announce_view(view: ViewMode, levels: [u32; 3]) {
     match legend::words(view, levels) {
         Some(words) => println!("view {name}: {words}"),
         None => println!("view {name}"),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A cover's wind window follows the camera, and the ball's rectangle
+    /// with it: 500 m along steppe's flight it lies around the camera
+    /// there, not where the flight began; a bounded meadow's is its wind
+    /// domain whenever it is asked.
+    #[test]
+    fn the_balls_rectangle_is_the_wind_window_under_the_camera_now() {
+        let steppe = Scene::builtin("steppe").unwrap();
+        for time in [0.0, 50.0] {
+            let (low, high) = ball_rectangle(&steppe, time).unwrap();
+            let (eye, _) = steppe.camera.at(time);
+            let middle = (low + high) * 0.5;
+            assert!(middle.distance(eye.xz()) < 1e-3, "{middle} vs {eye}");
+            let size = high - low;
+            assert!(
+                (size.x - steppe.wind.window[0]).abs() < 1e-3
+                    && (size.y - steppe.wind.window[1]).abs() < 1e-3,
+                "{size}"
+            );
+        }
+        let roll = Scene::builtin("roll").unwrap();
+        let grid = roll.wind_grid().unwrap();
+        for time in [0.0, 50.0] {
+            assert_eq!(ball_rectangle(&roll, time).unwrap().0, grid.origin.xz());
+        }
     }
 }
