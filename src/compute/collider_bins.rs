@@ -13,7 +13,7 @@
 //! the step's end and the bins; the grass step binds the last two.
 
 use ash::vk;
-use glam::{Vec2, Vec3};
+use glam::{Vec2, Vec3, Vec3Swizzles};
 
 use crate::error::Result;
 use crate::gpu::{
@@ -64,8 +64,24 @@ impl BinGrid {
         if blades.is_empty() {
             (low, high) = (Vec3::ZERO, Vec3::ZERO);
         }
-        let corner = Vec2::new(low.x, low.z) - MARGIN;
-        let extent = Vec2::new(high.x - low.x, high.z - low.z) + 2.0 * MARGIN;
+        Self::over(low.xz(), high.xz(), longest, (low.y, high.y))
+    }
+
+    /// The grid over a square whose roots lie within `low`..`high` (x, z)
+    /// wherever it moves (`ColliderBins::set_corner`), their heights
+    /// anywhere (the cover's kept tiles: the ground under them changes as
+    /// the square moves), for blades reaching as far as `blades`'
+    /// longest (`ColliderBins::widen_reach` for longer ones coming in).
+    pub fn over_square(low: Vec2, high: Vec2, blades: &[GrassBlade]) -> Self {
+        let longest = blades.iter().map(reach).fold(0.0f32, f32::max);
+        Self::over(low, high, longest, (f32::MIN, f32::MAX))
+    }
+
+    /// The grid over roots within `low`..`high` (x, z) and `root_y`, for
+    /// blades reaching `longest` at most.
+    fn over(low: Vec2, high: Vec2, longest: f32, root_y: (f32, f32)) -> Self {
+        let corner = low - MARGIN;
+        let extent = (high - low) + 2.0 * MARGIN;
         let cell = (extent.max_element() / (MAX_CELLS_PER_SIDE - 1) as f32).max(longest);
         let per_metre = 1.0 / cell.max(MARGIN);
         // The highest root lies at least the margin inside the last cell
@@ -77,29 +93,7 @@ impl BinGrid {
             columns: side(extent.x),
             rows: side(extent.y),
             reach: longest + MARGIN,
-            root_y: (low.y, high.y),
-        }
-    }
-
-    /// The grid over a square whose roots lie within `low`..`high` (x, z)
-    /// wherever it moves (`ColliderBins::set_corner`), their heights
-    /// anywhere (the cover's kept tiles: the ground under them changes as
-    /// the square moves), for blades reaching as far as `blades`'
-    /// longest (`ColliderBins::widen_reach` for longer ones coming in).
-    pub fn over_square(low: Vec2, high: Vec2, blades: &[GrassBlade]) -> Self {
-        let longest = blades.iter().map(reach).fold(0.0f32, f32::max);
-        let corner = low - MARGIN;
-        let extent = (high - low) + 2.0 * MARGIN;
-        let cell = (extent.max_element() / (MAX_CELLS_PER_SIDE - 1) as f32).max(longest);
-        let per_metre = 1.0 / cell.max(MARGIN);
-        let side = |length: f32| ((length * per_metre).floor() as u32 + 1).min(MAX_CELLS_PER_SIDE);
-        Self {
-            corner,
-            per_metre,
-            columns: side(extent.x),
-            rows: side(extent.y),
-            reach: longest + MARGIN,
-            root_y: (f32::MIN, f32::MAX),
+            root_y,
         }
     }
 
