@@ -1126,7 +1126,7 @@ fn kept_dynamics_against_the_cpu(
         grid,
         velocity: &velocity,
         canopy: None,
-        ground: grid.follows_ground.then_some(&ground),
+        ground: &ground,
     };
     let setup = meadow::compute::cover_dynamics::CoverDynamicsSetup {
         cover: &cover,
@@ -1596,11 +1596,12 @@ fn a_stiffer_blade_coming_in_raises_the_substeps() {
     let gpu = strict_gpu_with(None);
     let commands = CommandPool::new(&gpu, "cover substeps commands").unwrap();
     let velocity = wind_buffer(&gpu, &commands, &calm);
+    let ground = meadow::compute::terrain_buffer(&gpu, &commands, &FLAT, "test ground").unwrap();
     let input = WindInput {
         grid,
         velocity: &velocity,
         canopy: None,
-        ground: None,
+        ground: &ground,
     };
     let eye = |n: usize| Vec2::new(0.5 + 4.0 * n as f32, 0.5);
     let setup = meadow::compute::cover_dynamics::CoverDynamicsSetup {
@@ -1634,7 +1635,7 @@ fn a_stiffer_blade_coming_in_raises_the_substeps() {
     }
     rec.submit_and_wait("cover flight").unwrap();
     let states = dynamics.grass().read_states(&gpu, &commands).unwrap();
-    drop((dynamics, velocity, commands));
+    drop((dynamics, velocity, ground, commands));
     finish(gpu);
     eprintln!("substeps: {first} for the first square, {expected} after the flight");
     assert!(

@@ -72,9 +72,15 @@ impl Differences {
     }
 }
 
-/// A recorded wind velocity on the GPU, for the grass step to sample.
-fn recorded_wind(gpu: &Gpu, commands: &CommandPool, name: &str, recorded: &[f32]) -> Buffer {
-    Buffer::with_data(
+/// A recorded wind velocity on the GPU, for the grass step to sample, on
+/// a grid of the world's heights (its ground a flat placeholder).
+struct RecordedWind {
+    velocity: Buffer,
+    ground: Buffer,
+}
+
+fn recorded_wind(gpu: &Gpu, commands: &CommandPool, name: &str, recorded: &[f32]) -> RecordedWind {
+    let velocity = Buffer::with_data(
         gpu,
         commands,
         name,
@@ -82,16 +88,21 @@ fn recorded_wind(gpu: &Gpu, commands: &CommandPool, name: &str, recorded: &[f32]
         ash::vk::BufferUsageFlags::STORAGE_BUFFER,
         Access::COMPUTE_READ,
     )
-    .unwrap()
+    .unwrap();
+    let flat = meadow::model::terrain::Terrain::default();
+    let ground = meadow::compute::terrain_buffer(gpu, commands, &flat, "flat ground").unwrap();
+    RecordedWind { velocity, ground }
 }
 
-/// A recorded wind as the grass step's input, one-way.
-fn recorded_input(velocity: &Buffer, grid: WindGrid) -> WindInput<'_> {
-    WindInput {
-        grid,
-        velocity,
-        canopy: None,
-        ground: None,
+impl RecordedWind {
+    /// The grass step's input on `grid`, one-way.
+    fn input(&self, grid: WindGrid) -> WindInput<'_> {
+        WindInput {
+            grid,
+            velocity: &self.velocity,
+            canopy: None,
+            ground: &self.ground,
+        }
     }
 }
 
@@ -211,7 +222,7 @@ fn agree_over_500_steps_of_recorded_wind(
         &commands,
         "grass test vertices",
         &blades,
-        &recorded_input(&wind_buffer, grid),
+        &wind_buffer.input(grid),
         &[],
     );
     let vertices = blade_buffer.buffer();
@@ -308,7 +319,7 @@ fn the_gpu_counts_blade_steps_at_an_angle_cap_as_the_cpu_does() {
         &commands,
         "cap test vertices",
         &blades,
-        &recorded_input(&wind_buffer, grid),
+        &wind_buffer.input(grid),
         &[],
     );
     let rec = commands.begin().unwrap();
@@ -444,7 +455,7 @@ fn colliders_pressing_the_grass(count: Option<usize>, storage_range: Option<u32>
         &commands,
         "contact test vertices",
         &blades,
-        &recorded_input(&wind_buffer, grid),
+        &wind_buffer.input(grid),
         &colliders,
     );
     let rec = commands.begin().unwrap();
@@ -576,7 +587,7 @@ fn colliders_changed_between_steps_reach_the_gpu_kernel() {
         &commands,
         "changed colliders test vertices",
         &blades,
-        &recorded_input(&wind_buffer, grid),
+        &wind_buffer.input(grid),
         &schedule(0),
     );
     for (from, to) in [(0, TURN), (TURN, AWAY), (AWAY, STEPS)] {
@@ -669,7 +680,7 @@ fn the_collider_bins_hold_every_blades_near_colliders() {
         &commands,
         "collider bins test vertices",
         &blades,
-        &recorded_input(&wind_buffer, grid),
+        &wind_buffer.input(grid),
         &colliders,
     );
     let bin_grid = *pass.collider_bins().grid();

@@ -47,9 +47,6 @@ pub struct CoverDynamics {
     enter: Pipeline,
     enter_set: DescriptorSet,
     _stepped: Buffer,
-    /// Bound in the enter set where the wind grid's heights are the
-    /// world's (never read then).
-    _no_ground: Option<Buffer>,
     wind: BufferId,
     grid: WindGrid,
     cover: Cover,
@@ -148,20 +145,6 @@ impl CoverDynamics {
             "cover enter",
         )?;
         let enter = Pipeline::compute(gpu, &layout, &crate::shaders::COVER_ENTER_COMP)?;
-        let no_ground = match wind.ground {
-            Some(_) => None,
-            None => Some(super::terrain_buffer(
-                gpu,
-                commands,
-                &Terrain::default(),
-                "cover enter ground placeholder (wind grid of world heights)",
-            )?),
-        };
-        let ground = match (wind.ground, &no_ground) {
-            (Some(g), _) => g,
-            (None, Some(p)) => p,
-            (None, None) => unreachable!("a placeholder is made where the wind has no ground"),
-        };
         let enter_set = DescriptorSet::new(
             gpu,
             &layout,
@@ -170,7 +153,7 @@ impl CoverDynamics {
                 Bound::Buffer(grass_pass.blades()),
                 Bound::Buffer(grass_pass.states()),
                 Bound::Buffer(wind.velocity),
-                Bound::Buffer(ground),
+                Bound::Buffer(wind.ground),
             ],
             "cover enter set",
         )?;
@@ -179,7 +162,6 @@ impl CoverDynamics {
             enter,
             enter_set,
             _stepped: stepped,
-            _no_ground: no_ground,
             wind: wind.velocity.into(),
             grid: wind.grid,
             cover: cover.clone(),

@@ -33,7 +33,6 @@ use crate::gpu::{
 use crate::interface::{GrassPush, GRASS_GROUP};
 use crate::model::contact::{press_decay, Collider, Press};
 use crate::model::grass::{substeps, CapCounts, GrassBlade, GrassState};
-use crate::model::terrain::Terrain;
 use crate::model::BladeVertex;
 /// Bytes of the largest per-blade part the kernel binds (the rest shape
 /// and physics, the state, the four control points): what limits a batch.
@@ -210,7 +209,6 @@ impl GrassPass {
         let order = placed.order.clone();
         let buffers = StepBuffers::new(gpu, commands, blades.len(), placed, colliders)?;
         let canopy = wind.canopy.map_or(&buffers.no_canopy, |(buffer, _)| buffer);
-        let ground = wind.ground.unwrap_or(&buffers.no_ground);
         let bins = ColliderBins::new(gpu, bin_grid, colliders)?;
         let layout = PipelineLayout::new::<GrassPush>(
             gpu,
@@ -264,7 +262,7 @@ impl GrassPass {
                         Bound::Buffer(&touching)
                     },
                     part(&b.vertex_slots, blades, size_of::<u32>()),
-                    Bound::Buffer(ground),
+                    Bound::Buffer(wind.ground),
                 ]
             },
         )?;
@@ -684,10 +682,6 @@ struct StepBuffers {
     /// Bound when the coupling is one-way (a binding must name a live
     /// buffer); the kernel never touches it then.
     no_canopy: Buffer,
-    /// Bound when the wind grid's heights are the world's (it does not
-    /// follow the ground); the kernel never reads it then. A flat
-    /// terrain, which the block's header needs.
-    no_ground: Buffer,
     /// Made without colliders, the kernel touches none: one entry. Made
     /// with them, each blade keeps a pressed state even when
     /// `set_colliders` takes them all away, so that it decays.
@@ -748,12 +742,6 @@ impl StepBuffers {
                 "grass canopy placeholder (one-way coupling)",
                 &[0u8; 4],
                 Access::COMPUTE_READ_WRITE,
-            )?,
-            no_ground: super::terrain_buffer(
-                gpu,
-                commands,
-                &Terrain::default(),
-                "grass ground placeholder (wind grid of world heights)",
             )?,
             presses: upload(
                 "grass pressed state (colliders)",

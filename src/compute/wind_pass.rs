@@ -269,6 +269,8 @@ impl WindBuffers {
                     "wind window's ground (height map, hills, ridges)",
                 )?
             } else {
+                // Also what the grass step and the cover's enter kernel
+                // bind for the ground (`WindInput::ground`).
                 super::terrain_buffer(
                     gpu,
                     commands,
@@ -406,9 +408,9 @@ pub struct WindInput<'a> {
     /// None: one-way coupling, the grass lays nothing.
     pub canopy: Option<(&'a Buffer, f32)>,
     /// On a grid that follows the ground, the terrain its heights are
-    /// measured from (glsl/common/terrain.glsl's buffer); None: the grid's
-    /// heights are the world's.
-    pub ground: Option<&'a Buffer>,
+    /// measured from (glsl/common/terrain.glsl's buffer); where the grid's
+    /// heights are the world's, a flat placeholder never read.
+    pub ground: &'a Buffer,
 }
 
 fn u32_bytes(values: impl Iterator<Item = u32>) -> Vec<u8> {
@@ -636,7 +638,7 @@ impl WindPass {
             canopy: self
                 .coupled()
                 .then_some((&self.buffers.canopy, self.canopy_unit)),
-            ground: self.grid.follows_ground.then_some(&self.buffers.ground),
+            ground: &self.buffers.ground,
         }
     }
 
