@@ -286,6 +286,7 @@ fn wind_slices_have_axes_a_colour_bar_and_outlines() {
 /// `meadow wind --v-cycles` picks the multigrid solve: the report names it,
 /// the projection removes nearly all the divergence and nothing warns; a
 /// count of 0 and both solvers at once are refused by the flags' names.
+/// `--advection` picks the advection, timed beside the other.
 #[test]
 fn wind_v_cycles_pick_multigrid_which_removes_the_divergence() {
     assert_refused(
@@ -306,6 +307,8 @@ fn wind_v_cycles_pick_multigrid_which_removes_the_divergence() {
             "24,10,24",
             "--v-cycles",
             "6",
+            "--advection",
+            "maccormack",
             "--steps",
             "10",
             "--out",
@@ -341,6 +344,16 @@ fn wind_v_cycles_pick_multigrid_which_removes_the_divergence() {
         (&"jacobi".into(), &30.into())
     );
     assert!(left(0) < 0.01 && left(1) > 10.0 * left(0), "{solvers:?}");
+    // MacCormack's advection (the default; the figure scene asks the
+    // paper's, --advection overrides it) timed beside the paper's over the
+    // same steps (lavapipe has timestamps).
+    assert_eq!(report["advection"], "maccormack");
+    let cost = &report["advection_cost"];
+    assert_eq!(cost["steps"], 10);
+    let ms = |k: &str| cost[k].as_f64().unwrap();
+    let ratio = ms("step_ms_median_maccormack") / ms("step_ms_median_semi_lagrangian");
+    assert!((ms("ratio") - ratio).abs() < 1e-9 && ratio > 0.0, "{cost}");
+    assert!(stdout.contains("MacCormack's advection"), "{stdout}");
     let _ = std::fs::remove_dir_all(&out);
 }
 

@@ -15,10 +15,10 @@ use crate::frame::timing::median_p95;
 use crate::frame::BladeBuffer;
 use crate::gpu::query::TimestampQueries;
 use crate::gpu::{CommandPool, DeviceMemory, Gpu, GpuOptions, ValidationReport};
-use crate::model::wind::{Coupling, PressureSolver, WindField, WindGrid, WindSettings};
+use crate::model::wind::{Advection, Coupling, PressureSolver, WindField, WindGrid, WindSettings};
 use crate::report::claim::OutputClaim;
 use crate::report::files;
-pub use crate::report::wind::{SolverTiming, TurbulenceTiming};
+pub use crate::report::wind::{AdvectionTiming, SolverTiming, TurbulenceTiming};
 use crate::report::wind_slices::{self, Outlines, Slice};
 use crate::scene::{field, Scene};
 
@@ -50,6 +50,8 @@ pub struct WindReport {
     pub v_cycles: u32,
     /// Whether the grass slowed the wind (two-way: its grass stepped too).
     pub coupling: Coupling,
+    /// How the advection carried the velocity.
+    pub advection: Advection,
     pub steps: u32,
     pub dt: f32,
     pub max_speed: f32,
@@ -70,13 +72,16 @@ pub struct WindReport {
     /// same steps.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub turbulence_cost: Option<TurbulenceTiming>,
+    /// The step with each advection (MacCormack's, the paper's
+    /// semi-Lagrangian) over the same steps.
+    pub advection_cost: AdvectionTiming,
     pub warnings: Vec<String>,
     pub validation: ValidationReport,
 }
 
 /// The steps `wind_to_dir` runs for `steps` of the scene's.
 pub fn steps_run(scene: &Scene, steps: u32) -> u64 {
-    let runs = 3 + scene.wind.turbulence.is_some() as u64;
+    let runs = 4 + scene.wind.turbulence.is_some() as u64;
     runs * steps as u64
 }
 
@@ -92,7 +97,8 @@ pub const WIND_OUTPUTS: [&str; 4] = [
 /// `out_dir`, replacing only an earlier run's (`overwrite`: any file of
 /// those names; `report::claim`). `progress` hears of each submission's
 /// steps as they finish: `steps_run(scene, steps)` in all (the scene's,
-/// each solver's for the comparison, and without turbulence for its cost).
+/// each solver's for the comparison, with the other advection, and without
+/// turbulence for its cost).
 pub fn wind_to_dir(
     scene: &Scene,
     steps: u32,
@@ -321,6 +327,33 @@ fn turbulence_cost(
     }))
 }
 
+/// The scene's wind step timed with the advection it does not use over the
+/// same number of steps, beside `own` (the steps' GPU times with its own,
+/// ms).
+fn advection_cost(
+    gpu: &Gpu,
+    scene: &Scene,
+    steps: u32,
+    own: &[f64],
+    progress: &mut dyn FnMut(u32),
+) -> Result<AdvectionTiming> {
+    let mut other = scene.clone();
+    other.wind.advection = match scene.wind.advection {
+        Advection::Maccormack => Advection::SemiLagrangian,
+        Advection::SemiLagrangian => Advection::Maccormack,
+    };
+    let commands = CommandPool::new(gpu, "wind advection cost commands")?;
+    let run = run_steps(gpu, &commands, &other, steps, progress)?;
+    let (own, other_ms) = (median_p95(own), median_p95(&run.times));
+    Ok(AdvectionTiming::new(steps, |advection| {
+        if advection == scene.wind.advection {
+            own.map(|t| t.0)
+        } else {
+            other_ms.map(|t| t.0)
+        }
+    }))
+}
+
 fn run(
     gpu: &Gpu,
     scene: &Scene,
@@ -349,12 +382,13 @@ fn run(
         grass_height,
     };
     let how = format!(
-        "{}, {} coupling",
+        "{}, {} advection, {} coupling",
         crate::report::wind::describe(
             settings.solver,
             settings.jacobi_iterations,
             settings.v_cycles
         ),
+        settings.advection.name(),
         settings.coupling.name()
     );
     for (name, slice) in [
@@ -395,6 +429,7 @@ fn run(
         jacobi_iterations: settings.jacobi_iterations,
         v_cycles: settings.v_cycles,
         coupling: settings.coupling,
+        advection: settings.advection,
         steps,
         dt,
         max_speed,
@@ -406,6 +441,7 @@ fn run(
         step_ms_p95: timing.map(|t| t.1),
         solvers: compare_solvers(gpu, scene, steps, progress)?,
         turbulence_cost: turbulence_cost(gpu, scene, steps, &times, progress)?,
+        advection_cost: advection_cost(gpu, scene, steps, &times, progress)?,
         warnings: Vec::new(),
         validation: ValidationReport::default(),
     })

@@ -1,7 +1,7 @@
 //! CPU reference of the wind solver (paper section 3.2; docs/method.md section 3):
 //! inviscid, incompressible Navier-Stokes on a grid, one step =
-//! add source forces -> advection (the paper's semi-Lagrangian step by
-//! default, or MacCormack's corrector on it) -> divergence ->
+//! add source forces -> advection (MacCormack's corrector on the paper's
+//! semi-Lagrangian step by default, or that step alone) -> divergence ->
 //! pressure (multigrid V-cycles by default, src/model/multigrid.rs, or the
 //! paper's Jacobi iterations) -> subtract the pressure gradient; with
 //! turbulence (src/model/turbulence.rs) its field is added on top.
@@ -547,19 +547,30 @@ impl PressureSolver {
 }
 
 /// How the advection (kernel 2) carries the velocity.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    Default,
+    PartialEq,
+    Eq,
+    serde::Serialize,
+    serde::Deserialize,
+    clap::ValueEnum,
+)]
 #[serde(rename_all = "kebab-case")]
 pub enum Advection {
     /// MacCormack's predictor and corrector on the semi-Lagrangian step
     /// (Selle, Fedkiw, Kim, Liu and Rossignac 2008), clamped to the range
     /// of the values the predictor interpolated: second order, bounded;
-    /// a gust keeps its strength down a field (docs/physics.md). Not yet
-    /// the default: behind fig13-obstacles' wall it leaves no calm lee
-    /// (docs/physics.md).
+    /// a gust keeps its strength down a field (docs/physics.md); the
+    /// default.
+    #[default]
     Maccormack,
     /// The paper's first-order semi-Lagrangian step (Stam 1999), which
-    /// wears a gust away within tens of metres; the default.
-    #[default]
+    /// wears a gust away within tens of metres; the paper's figure scenes
+    /// ask for it (docs/physics.md: behind fig13-obstacles' wall its
+    /// numerical viscosity makes the calm lee the paper shows).
     SemiLagrangian,
 }
 
@@ -1187,11 +1198,10 @@ impl WindField {
 
     /// Kernel 2: advection. Each free face traces back by dt along the
     /// velocity there and takes the value it finds (semi-Lagrangian, the
-    /// paper's); MacCormack's corrector (`wind.advection = "maccormack"`)
-    /// traces that result forward again, adds half the difference from
-    /// the value it started with (the first-order step's error, so second
-    /// order), and
-    /// clamps the sum to the range of the eight values the back trace
+    /// paper's); MacCormack's corrector (`wind.advection = "maccormack"`,
+    /// the default) traces that result forward again, adds half the
+    /// difference from the value it started with (the first-order step's
+    /// error, so second order), and clamps the sum to the range of the eight values the back trace
     /// interpolated (no new extremes). Then the canopy drag with
     /// coefficient `canopy_drag` (0: none) slows it, implicitly, by the
     /// speed at the face before advection: u' = u / (1 + dt C_d a |u|)

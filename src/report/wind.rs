@@ -1,6 +1,6 @@
 //! The pressure solvers side by side, as `wind` and `bench` report them.
 
-use crate::model::wind::PressureSolver;
+use crate::model::wind::{Advection, PressureSolver};
 
 /// One pressure solver timed on a scene's wind: `bench` and `wind` report
 /// both, side by side.
@@ -30,6 +30,34 @@ pub struct TurbulenceTiming {
     pub step_ms_median_without: Option<f64>,
     /// with / without.
     pub ratio: Option<f64>,
+}
+
+/// The scene's wind step with each advection over the same steps in one
+/// run: what MacCormack's corrector (the default) costs over the paper's
+/// semi-Lagrangian step.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct AdvectionTiming {
+    pub steps: u32,
+    /// GPU time of one whole wind step, ms (median; None where the device
+    /// has no timestamps).
+    pub step_ms_median_maccormack: Option<f64>,
+    pub step_ms_median_semi_lagrangian: Option<f64>,
+    /// maccormack / semi-lagrangian.
+    pub ratio: Option<f64>,
+}
+
+impl AdvectionTiming {
+    /// From the steps' GPU times (ms) with each scheme.
+    pub fn new(steps: u32, times: impl Fn(Advection) -> Option<f64>) -> Self {
+        let mac = times(Advection::Maccormack);
+        let semi = times(Advection::SemiLagrangian);
+        AdvectionTiming {
+            steps,
+            step_ms_median_maccormack: mac,
+            step_ms_median_semi_lagrangian: semi,
+            ratio: mac.zip(semi).map(|(m, s)| m / s),
+        }
+    }
 }
 
 /// "6 multigrid V-cycles" or "30 Jacobi iterations": what one step's
