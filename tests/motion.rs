@@ -92,16 +92,20 @@ fn gusts_travel_down_a_strip_at_the_speed_of_the_wind() {
 /// left out), 1,500 blades traced 16 s, the first 6 s left out (the grass
 /// leaning into the wind). The spread in time of each 3 m band's mean
 /// downwind tip displacement is at least 4% of that band's mean
-/// displacement (measured 5.3-10.1%; issue 39 asks 30%, which these
-/// blades do not give: docs/physics.md), and in the last three bands at
-/// least 70% of the first three's (measured 112%): the turbulence is as alive 30 m
-/// downwind as at the inflow. Without it (the same steady inflow) every
-/// band holds still, its spread under 1% of its mean, which fails the
-/// first bound.
+/// displacement (measured 5.3-10.1%), and in the last three bands at least
+/// 70% of the first three's (measured 112%): the turbulence is as alive
+/// 30 m downwind as at the inflow. Each blade's own spread, averaged over
+/// a band's blades, is at least 25% of the band's mean displacement
+/// (measured 29-35%; issue 39 asks 30%): the band's mean averages away the
+/// eddies smaller than its 3 x 4 m, which a von Karman wind of length
+/// scale 4 m has in plenty (docs/physics.md). Without the turbulence (the
+/// same steady inflow) every band and every blade holds still, its spread
+/// under 1% of its mean, which fails the first and third bounds.
 #[test]
 fn turbulence_moves_the_grass_all_along_a_strip() {
     let gpu = strict_gpu();
-    let bands = |turbulent: bool| -> Vec<(f64, f64)> {
+    // (band mean, its spread, the band's blades' mean own spread), per band.
+    let bands = |turbulent: bool| -> Vec<(f64, f64, f64)> {
         let mut scene = Scene::builtin("gust-strip").unwrap();
         scene.wind.inflow.as_mut().unwrap().gust.amplitude = 0.0;
         if !turbulent {
@@ -119,45 +123,72 @@ fn turbulence_moves_the_grass_all_along_a_strip() {
         };
         let run = trace(&gpu, &request, &mut |_, _| true).unwrap();
         let skip = (6.0 / (run.times[1] - run.times[0])).round() as usize;
+        let mean_spread = |v: &[f64]| {
+            let mean = v.iter().sum::<f64>() / v.len() as f64;
+            let spread =
+                (v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / v.len() as f64).sqrt();
+            (mean, spread)
+        };
+        let own_spread = |band: usize| {
+            let x0 = -18.0 + 3.0 * band as f32;
+            let spreads: Vec<f64> = (0..run.blades.len())
+                .filter(|&b| (x0..x0 + 3.0).contains(&run.roots[b][0]))
+                .map(|b| {
+                    let tip_x: Vec<f64> = (skip..run.times.len())
+                        .map(|s| (run.tip(s, b)[0] - run.tip(0, b)[0]) as f64)
+                        .collect();
+                    mean_spread(&tip_x).1
+                })
+                .collect();
+            spreads.iter().sum::<f64>() / spreads.len().max(1) as f64
+        };
         run.band_displacement(-18.0, 3.0, 12)
             .iter()
-            .map(|b| {
-                let b = &b[skip..];
-                let mean = b.iter().sum::<f64>() / b.len() as f64;
-                let spread =
-                    (b.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / b.len() as f64).sqrt();
-                (mean, spread)
+            .enumerate()
+            .map(|(band, b)| {
+                let (mean, spread) = mean_spread(&b[skip..]);
+                (mean, spread, own_spread(band))
             })
             .collect()
     };
     let (turbulent, steady) = (bands(true), bands(false));
     finish(gpu);
-    let show = |bands: &[(f64, f64)]| {
+    let show = |bands: &[(f64, f64, f64)]| {
         bands
             .iter()
-            .map(|(m, s)| format!("{:.1}+-{:.1}", 1e3 * m, 1e3 * s))
+            .map(|(m, s, own)| format!("{:.1}+-{:.1} ({:.1})", 1e3 * m, 1e3 * s, 1e3 * own))
             .collect::<Vec<_>>()
             .join(" ")
     };
-    eprintln!("turbulent, mm by 3 m band: {}", show(&turbulent));
-    eprintln!("steady, mm by 3 m band:    {}", show(&steady));
-    for (k, &(mean, spread)) in turbulent.iter().enumerate() {
+    eprintln!(
+        "turbulent, mm by 3 m band (each blade's own spread): {}",
+        show(&turbulent)
+    );
+    eprintln!(
+        "steady, mm by 3 m band (each blade's own spread):    {}",
+        show(&steady)
+    );
+    for (k, &(mean, spread, own)) in turbulent.iter().enumerate() {
         assert!(
             spread >= 0.04 * mean.abs(),
             "band {k}: spread {spread} against mean {mean}"
         );
+        assert!(
+            own >= 0.25 * mean.abs(),
+            "band {k}: the blades' own spread {own} against mean {mean}"
+        );
     }
-    let spread = |b: &[(f64, f64)]| b.iter().map(|&(_, s)| s).sum::<f64>() / b.len() as f64;
+    let spread = |b: &[(f64, f64, f64)]| b.iter().map(|&(_, s, _)| s).sum::<f64>() / b.len() as f64;
     let (near, far) = (spread(&turbulent[..3]), spread(&turbulent[9..]));
     eprintln!(
         "spread in the last three bands over the first three: {:.2}",
         far / near
     );
     assert!(far >= 0.7 * near, "{far} against {near}");
-    for (k, &(mean, spread)) in steady.iter().enumerate() {
+    for (k, &(mean, spread, own)) in steady.iter().enumerate() {
         assert!(
-            spread < 0.01 * mean.abs(),
-            "steady band {k}: {spread} against {mean}"
+            spread < 0.01 * mean.abs() && own < 0.01 * mean.abs(),
+            "steady band {k}: {spread} and {own} against {mean}"
         );
     }
 }
