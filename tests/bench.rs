@@ -319,7 +319,7 @@ fn bench_bench_grass_and_wind_show_their_progress_on_a_terminal() {
         ),
         (
             "wind --steps 4 --cells 12,6,12",
-            &["/12 wind steps (the scene's, then each solver's)"][..],
+            &["/16 wind steps (the scene's, then each solver's and advection's)"][..],
         ),
     ] {
         let command = format!(

@@ -344,9 +344,8 @@ fn wind_v_cycles_pick_multigrid_which_removes_the_divergence() {
         (&"jacobi".into(), &30.into())
     );
     assert!(left(0) < 0.01 && left(1) > 10.0 * left(0), "{solvers:?}");
-    // MacCormack's advection (the default; the figure scene asks the
-    // paper's, --advection overrides it) timed beside the paper's over the
-    // same steps (lavapipe has timestamps).
+    // MacCormack's advection (--advection overrides the scene's) timed
+    // beside the paper's over the same steps (lavapipe has timestamps).
     assert_eq!(report["advection"], "maccormack");
     let cost = &report["advection_cost"];
     assert_eq!(cost["steps"], 10);

@@ -51,6 +51,10 @@ gpu_interface! {
     /// Words before the blades of a batch's list of touching blades: the
     /// indirect dispatch's three workgroup counts, then the count.
     pub const TOUCHING_HEADER: u32 = 4;
+    /// Lattice coordinates within this of a whole number count as on it
+    /// when MacCormack's clamp picks its eight samples
+    /// (`model::wind::RANGE_SNAP`).
+    pub const WIND_RANGE_SNAP: f32 = 1e-3;
     /// Waypoints a moving source or collider's path may have.
     pub const MAX_PATH_POINTS: usize = 8;
     /// Colliders a scene may have (the collider bins hold one bit each).

@@ -546,6 +546,11 @@ impl PressureSolver {
     }
 }
 
+/// Lattice coordinates within this of a whole number count as on it
+/// when MacCormack's clamp picks its eight samples (`sample_range`, and
+/// glsl/common/wind_sample.glsl's).
+pub use crate::interface::WIND_RANGE_SNAP as RANGE_SNAP;
+
 /// How the advection (kernel 2) carries the velocity.
 #[derive(
     Clone,
@@ -1119,8 +1124,19 @@ impl WindField {
 
     /// The least and greatest of the eight samples `sample_component`
     /// interpolates at `x`: the range MacCormack's corrector is clamped to.
+    /// A point within `RANGE_SNAP` of a lattice plane counts as on it:
+    /// there the interpolation is continuous but the eight samples are not
+    /// (a hair below the plane takes the row beyond it), and a back trace
+    /// along a component near zero lands there, where the GPU's rounding
+    /// and the CPU's would pick different rows.
     pub fn sample_range(&self, vel: &[f32], axis: usize, x: Vec3) -> (f32, f32) {
-        let (at, _) = self.stencil(axis, x);
+        let g = self.lattice_point(axis, x);
+        let snapped = Vec3::select(
+            (g - g.round()).abs().cmplt(Vec3::splat(RANGE_SNAP)),
+            g.round(),
+            g,
+        );
+        let (at, _) = self.corners(axis, snapped);
         at.iter().fold((f32::MAX, f32::MIN), |(lo, hi), &i| {
             (lo.min(vel[i]), hi.max(vel[i]))
         })
@@ -1129,11 +1145,22 @@ impl WindField {
     /// The eight samples of component `axis` around `x` (x fastest, then
     /// y, then z) and the fractions between them, clamped to the lattice.
     fn stencil(&self, axis: usize, x: Vec3) -> ([usize; 8], Vec3) {
+        self.corners(axis, self.lattice_point(axis, x))
+    }
+
+    /// `x` in the sample lattice of component `axis`, clamped to it.
+    fn lattice_point(&self, axis: usize, x: Vec3) -> Vec3 {
         let d = self.grid.face_dims(axis);
         let mut offset = Vec3::splat(0.5);
         offset[axis] = 0.0;
         let g = (x - self.grid.origin) / self.grid.cell - offset;
-        let g = g.clamp(Vec3::ZERO, (d - 1).as_vec3());
+        g.clamp(Vec3::ZERO, (d - 1).as_vec3())
+    }
+
+    /// The eight samples around lattice point `g` and the fractions
+    /// between them.
+    fn corners(&self, axis: usize, g: Vec3) -> ([usize; 8], Vec3) {
+        let d = self.grid.face_dims(axis);
         let i0 = g.floor().as_uvec3().min(d - 1);
         let i1 = (i0 + 1).min(d - 1);
         let f = g - i0.as_vec3();

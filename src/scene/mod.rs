@@ -561,8 +561,8 @@ pub struct WindConfig {
     pub coupling: Coupling,
     /// C_d of the canopy drag with two-way coupling.
     pub canopy_drag: f32,
-    /// "maccormack" (default: second order, bounded) or "semi-lagrangian"
-    /// (the paper's first-order step).
+    /// "maccormack" (default: second order, bounded, keeps gusts) or
+    /// "semi-lagrangian" (the paper's first-order step).
     pub advection: Advection,
     /// `{ intensity, length_scale, seed }`: a fluctuating wind everywhere
     /// (src/model/turbulence.rs); absent: none.
