@@ -639,19 +639,21 @@ fn gpu_multigrid_leaves_under_1_percent_of_the_divergence_on_every_shipped_scene
             );
             field.vel = pass.read_velocity(&gpu, &commands).unwrap();
             let after = field.rms_divergence() as f64;
-            assert!(
-                before > 0.0,
-                "{name}: no divergence to remove at step {step}"
-            );
             // A field already divergence-free to f32's rounding (steppe's
-            // uniform inflow and divergence-free turbulence: rms 2e-7 1/s
-            // before, 1e-6 after) leaves rounding, not a failed solve.
+            // uniform inflow and divergence-free turbulence: rms 0 1/s
+            // before, MacCormack's step carrying a uniform wind exactly,
+            // and 1e-6 after) leaves rounding, not a failed solve.
             let speed = field
                 .vel
                 .iter()
                 .flatten()
                 .fold(0.0f32, |m, v| m.max(v.abs()));
-            if after > grid.divergence_floor(speed) as f64 {
+            let floor = grid.divergence_floor(speed) as f64;
+            assert!(
+                before > 0.0 || after <= floor,
+                "{name}: rms divergence {after:e} after a step that left none to remove (step {step})"
+            );
+            if after > floor {
                 worst = worst.max(after / before);
                 above_floor += 1;
             }
