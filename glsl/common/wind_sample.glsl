@@ -53,14 +53,15 @@ float sample_component(WindGridParams g, uint axis, vec3 x) {
 
 // The least (x) and greatest (y) of the eight samples `sample_component`
 // interpolates at x (`WindField::sample_range`).
-// A point within WIND_RANGE_SNAP of a lattice plane counts as on it (the eight
-// samples are not continuous there; `WindField::sample_range`).
+// Along an axis where the point lies within WIND_RANGE_SNAP of a lattice
+// plane only that plane's samples count (the eight samples are not
+// continuous there; `WindField::sample_range`).
 vec2 sample_range(WindGridParams g, uint axis, vec3 x) {
     ComponentLattice l = component_lattice(g, axis, x);
     vec3 p = vec3(l.i0) + l.f;
-    vec3 snapped = mix(p, round(p), lessThan(abs(p - round(p)), vec3(WIND_RANGE_SNAP)));
-    l.i0 = min(uvec3(floor(snapped)), l.d - 1u);
-    l.i1 = min(l.i0 + 1u, l.d - 1u);
+    bvec3 on = lessThan(abs(p - round(p)), vec3(WIND_RANGE_SNAP));
+    l.i0 = min(uvec3(mix(floor(p), round(p), on)), l.d - 1u);
+    l.i1 = mix(min(l.i0 + 1u, l.d - 1u), l.i0, on);
     vec2 range = vec2(lattice_sample(l, l.i0.x, l.i0.y, l.i0.z));
     for (uint n = 1u; n < 8u; ++n) {
         uvec3 i = mix(l.i0, l.i1, bvec3((n & 1u) != 0u, (n & 2u) != 0u, (n & 4u) != 0u));

@@ -1124,22 +1124,34 @@ impl WindField {
 
     /// The least and greatest of the eight samples `sample_component`
     /// interpolates at `x`: the range MacCormack's corrector is clamped to.
-    /// A point within `RANGE_SNAP` of a lattice plane counts as on it:
-    /// there the interpolation is continuous but the eight samples are not
-    /// (a hair below the plane takes the row beyond it), and a back trace
-    /// along a component near zero lands there, where the GPU's rounding
-    /// and the CPU's would pick different rows.
+    /// Along an axis where the point lies within `RANGE_SNAP` of a
+    /// lattice plane, only that plane's samples count: there the
+    /// interpolation is continuous but the eight samples are not (a hair
+    /// below the plane takes the row beyond it), and a back trace along a
+    /// component near zero lands there, where the GPU's rounding and the
+    /// CPU's would pick different rows, and a wind turned a quarter
+    /// another row than the unturned one.
     pub fn sample_range(&self, vel: &[f32], axis: usize, x: Vec3) -> (f32, f32) {
         let g = self.lattice_point(axis, x);
-        let snapped = Vec3::select(
-            (g - g.round()).abs().cmplt(Vec3::splat(RANGE_SNAP)),
-            g.round(),
-            g,
-        );
-        let (at, _) = self.corners(axis, snapped);
-        at.iter().fold((f32::MAX, f32::MIN), |(lo, hi), &i| {
-            (lo.min(vel[i]), hi.max(vel[i]))
-        })
+        let d = self.grid.face_dims(axis);
+        let on = (g - g.round()).abs().cmplt(Vec3::splat(RANGE_SNAP));
+        let i0 = Vec3::select(on, g.round(), g.floor()).as_uvec3().min(d - 1);
+        let i1 = UVec3::select(on, i0, (i0 + 1).min(d - 1));
+        let mut range = (f32::MAX, f32::MIN);
+        for n in 0..8u32 {
+            let pick = |a: u32, bit: u32| {
+                if n & bit != 0 {
+                    i1[a as usize]
+                } else {
+                    i0[a as usize]
+                }
+            };
+            let v = vel[self
+                .grid
+                .face_index(axis, pick(0, 1), pick(1, 2), pick(2, 4))];
+            range = (range.0.min(v), range.1.max(v));
+        }
+        range
     }
 
     /// The eight samples of component `axis` around `x` (x fastest, then
