@@ -733,8 +733,7 @@ fn gust_kept_over_36_m(gpu: &meadow::gpu::Gpu, advection: Advection) -> f64 {
 
 /// Issue 39: MacCormack's advection, the default, keeps most of a gust's
 /// strength down gust-strip's 36 m, where the paper's semi-Lagrangian step
-/// wears it away (measured on lavapipe: 81% against 5%; gust-strip's full
-/// width keeps 78%: docs/physics.md). The bounds: at least 70% kept, as
+/// wears it away (measured on lavapipe: 72% against 5%: docs/physics.md). The bounds: at least 70% kept, as
 /// issue 39 asks, and at least 5 times what the semi-Lagrangian step keeps.
 #[test]
 fn gpu_maccormack_keeps_a_gust_down_a_36_m_strip() {
