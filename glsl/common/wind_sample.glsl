@@ -52,10 +52,9 @@ float sample_component(WindGridParams g, uint axis, vec3 x) {
 }
 
 // The least (x) and greatest (y) of the eight samples `sample_component`
-// interpolates at x (`WindField::sample_range`).
-// Along an axis where the point lies within WIND_RANGE_SNAP of a lattice
-// plane only that plane's samples count (the eight samples are not
-// continuous there; `WindField::sample_range`).
+// interpolates at x, save that along an axis where the point lies within
+// WIND_RANGE_SNAP of a lattice plane only that plane's samples count (the
+// eight samples are not continuous there; `WindField::sample_range`).
 vec2 sample_range(WindGridParams g, uint axis, vec3 x) {
     ComponentLattice l = component_lattice(g, axis, x);
     vec3 p = vec3(l.i0) + l.f;

@@ -344,14 +344,12 @@ fn advection_cost(
     };
     let commands = CommandPool::new(gpu, "wind advection cost commands")?;
     let run = run_steps(gpu, &commands, &other, steps, progress)?;
-    let (own, other_ms) = (median_p95(own), median_p95(&run.times));
-    Ok(AdvectionTiming::new(steps, |advection| {
-        if advection == scene.wind.advection {
-            own.map(|t| t.0)
-        } else {
-            other_ms.map(|t| t.0)
-        }
-    }))
+    let median = |times: &[f64]| median_p95(times).map(|t| t.0);
+    let (own, other) = (median(own), median(&run.times));
+    Ok(match scene.wind.advection {
+        Advection::Maccormack => AdvectionTiming::new(steps, own, other),
+        Advection::SemiLagrangian => AdvectionTiming::new(steps, other, own),
+    })
 }
 
 fn run(

@@ -1137,27 +1137,21 @@ impl WindField {
         let on = (g - g.round()).abs().cmplt(Vec3::splat(RANGE_SNAP));
         let i0 = Vec3::select(on, g.round(), g.floor()).as_uvec3().min(d - 1);
         let i1 = UVec3::select(on, i0, (i0 + 1).min(d - 1));
-        let mut range = (f32::MAX, f32::MIN);
-        for n in 0..8u32 {
-            let pick = |a: u32, bit: u32| {
-                if n & bit != 0 {
-                    i1[a as usize]
-                } else {
-                    i0[a as usize]
-                }
-            };
-            let v = vel[self
-                .grid
-                .face_index(axis, pick(0, 1), pick(1, 2), pick(2, 4))];
-            range = (range.0.min(v), range.1.max(v));
-        }
-        range
+        self.corners(axis, i0, i1)
+            .iter()
+            .fold((f32::MAX, f32::MIN), |(lo, hi), &i| {
+                (lo.min(vel[i]), hi.max(vel[i]))
+            })
     }
 
     /// The eight samples of component `axis` around `x` (x fastest, then
     /// y, then z) and the fractions between them, clamped to the lattice.
     fn stencil(&self, axis: usize, x: Vec3) -> ([usize; 8], Vec3) {
-        self.corners(axis, self.lattice_point(axis, x))
+        let d = self.grid.face_dims(axis);
+        let g = self.lattice_point(axis, x);
+        let i0 = g.floor().as_uvec3().min(d - 1);
+        let i1 = (i0 + 1).min(d - 1);
+        (self.corners(axis, i0, i1), g - i0.as_vec3())
     }
 
     /// `x` in the sample lattice of component `axis`, clamped to it.
@@ -1169,27 +1163,20 @@ impl WindField {
         g.clamp(Vec3::ZERO, (d - 1).as_vec3())
     }
 
-    /// The eight samples around lattice point `g` and the fractions
-    /// between them.
-    fn corners(&self, axis: usize, g: Vec3) -> ([usize; 8], Vec3) {
-        let d = self.grid.face_dims(axis);
-        let i0 = g.floor().as_uvec3().min(d - 1);
-        let i1 = (i0 + 1).min(d - 1);
-        let f = g - i0.as_vec3();
+    /// The face indices of component `axis`'s samples at the corners
+    /// `i0` and `i1` span (x fastest, then y, then z).
+    fn corners(&self, axis: usize, i0: UVec3, i1: UVec3) -> [usize; 8] {
         let at = |i: u32, j: u32, k: u32| self.grid.face_index(axis, i, j, k);
-        (
-            [
-                at(i0.x, i0.y, i0.z),
-                at(i1.x, i0.y, i0.z),
-                at(i0.x, i1.y, i0.z),
-                at(i1.x, i1.y, i0.z),
-                at(i0.x, i0.y, i1.z),
-                at(i1.x, i0.y, i1.z),
-                at(i0.x, i1.y, i1.z),
-                at(i1.x, i1.y, i1.z),
-            ],
-            f,
-        )
+        [
+            at(i0.x, i0.y, i0.z),
+            at(i1.x, i0.y, i0.z),
+            at(i0.x, i1.y, i0.z),
+            at(i1.x, i1.y, i0.z),
+            at(i0.x, i0.y, i1.z),
+            at(i1.x, i0.y, i1.z),
+            at(i0.x, i1.y, i1.z),
+            at(i1.x, i1.y, i1.z),
+        ]
     }
 
     /// The velocity at the centre of cell (i, j, k): each component the
@@ -1240,8 +1227,8 @@ impl WindField {
     /// paper's); MacCormack's corrector (`wind.advection = "maccormack"`,
     /// the default) traces that result forward again, adds half the
     /// difference from the value it started with (the first-order step's
-    /// error, so second order), and clamps the sum to the range of the eight values the back trace
-    /// interpolated (no new extremes). Then the canopy drag with
+    /// error, so second order), and clamps the sum to the range of the
+    /// eight values the back trace interpolated (no new extremes). Then the canopy drag with
     /// coefficient `canopy_drag` (0: none) slows it, implicitly, by the
     /// speed at the face before advection: u' = u / (1 + dt C_d a |u|)
     /// (src/model/canopy.rs).

@@ -1,6 +1,6 @@
 //! The pressure solvers side by side, as `wind` and `bench` report them.
 
-use crate::model::wind::{Advection, PressureSolver};
+use crate::model::wind::PressureSolver;
 
 /// One pressure solver timed on a scene's wind: `bench` and `wind` report
 /// both, side by side.
@@ -47,10 +47,8 @@ pub struct AdvectionTiming {
 }
 
 impl AdvectionTiming {
-    /// From the steps' GPU times (ms) with each scheme.
-    pub fn new(steps: u32, times: impl Fn(Advection) -> Option<f64>) -> Self {
-        let mac = times(Advection::Maccormack);
-        let semi = times(Advection::SemiLagrangian);
+    /// From the median step (ms) with each scheme.
+    pub fn new(steps: u32, mac: Option<f64>, semi: Option<f64>) -> Self {
         AdvectionTiming {
             steps,
             step_ms_median_maccormack: mac,
