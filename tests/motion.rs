@@ -196,21 +196,21 @@ fn turbulence_moves_the_grass_all_along_a_strip() {
 /// The blades ring at their natural frequency under the turbulence: on
 /// gust-strip in turbulence alone (the inflow's gusts left out), 300
 /// blades traced 40 s with the wind at their tips, the first 6 s left
-/// out. The gain from the wind to the tip (the ratio of their downwind
-/// spectra, averaged over the blades) is largest within 30% of the median
-/// of the blades' bending natural frequencies (the model's closed form,
-/// `GrassBlade::natural_frequency_hz`), and there at least 5 times what it
-/// is below a third of that frequency: the resonance (issue 39, after Py,
-/// de Langre and Moulia 2006). The wind's 48 modes give it a spectrum of
-/// lines (none between 0.8 and 1.5 Hz here), so the gain is read only
-/// where the wind has power, and the tips' own spectrum peaks at the wind
-/// line the resonance lifts most or at a strong slow one, depending on
-/// the blades traced (0.67 Hz for 1,000 of them, 0.26 Hz for these 300):
-/// it is printed, not held to a bound. Measured: the gain largest at 0.70
-/// Hz, 0.79 of the natural frequency, 10.8 times the slow lines'; with
-/// the GPU's damping 5 times higher, 2.2 times (fails). With its inertia
-/// doubled the gain still peaks at 0.70 Hz (6.3 times): the lines are too
-/// sparse to place the resonance finely (docs/physics.md).
+/// out. In quarter-octave bands from 0.1 to 3 Hz, the gain from the wind
+/// to the tip (the band's downwind tip power over its wind power, both
+/// averaged over the blades) averaged over the bands within 30% of the
+/// median of the blades' bending natural frequencies (the model's closed
+/// form, `GrassBlade::natural_frequency_hz`) is at least twice the median
+/// gain below a third of that frequency: the resonance (issue 39, after
+/// Py, de Langre and Moulia 2006). Measured 2.95 times; with the GPU's
+/// damping 5 times higher by hand, 0.51 (fails). The renewed modes make
+/// the wind broadband, and the gain is a plateau of 2.7-3.6 times from
+/// 0.6 to 1.7 Hz, largest at 1.47 Hz: the downwind tip moves by bending
+/// (0.65-1.40 Hz, 5-95%) in blades facing the wind and by swinging
+/// (1.42-4.50 Hz) in blades across it, so it is the band the test reads,
+/// not where the gain is largest. The tips' own spectrum, and where it is
+/// largest above a third of the natural frequency, are printed, not held:
+/// it falls all the way (docs/physics.md says why).
 #[test]
 fn blades_ring_at_their_natural_frequency_in_turbulence() {
     let gpu = strict_gpu();
@@ -235,43 +235,69 @@ fn blades_ring_at_their_natural_frequency_in_turbulence() {
         .mean_spectrum(6.0, |s, b| run.wind[s * n + b][0] as f64)
         .unwrap()
         .power;
-    let strongest = wind.iter().cloned().fold(0.0, f64::max);
-    let gains: Vec<(f64, f64)> = spectrum
-        .frequency_hz
-        .iter()
-        .zip(spectrum.power.iter().zip(&wind))
-        .filter(|(_, (_, &w))| w > 0.03 * strongest)
-        .map(|(&f, (&tip, &w))| (f, tip / w))
+    // Quarter-octave bands from 0.1 to 3 Hz: each band's tip power over
+    // its wind power (the gain), and its tip power per hertz.
+    let edges: Vec<f64> = (0..=20).map(|i| 0.1 * 2f64.powf(i as f64 / 4.0)).collect();
+    let bands: Vec<(f64, f64, f64)> = edges
+        .windows(2)
+        .filter_map(|e| {
+            let (mut tip, mut air, mut bins) = (0.0, 0.0, 0);
+            for (i, &f) in spectrum.frequency_hz.iter().enumerate() {
+                if f >= e[0] && f < e[1] {
+                    tip += spectrum.power[i];
+                    air += wind[i];
+                    bins += 1;
+                }
+            }
+            (bins > 0 && air > 0.0).then(|| ((e[0] * e[1]).sqrt(), tip / air, tip / bins as f64))
+        })
         .collect();
-    let median = |mut v: Vec<f64>| {
-        v.sort_by(f64::total_cmp);
-        v[v.len() / 2]
-    };
-    let slow = median(
-        gains
+    let slow = {
+        let mut g: Vec<f64> = bands
             .iter()
-            .filter(|(f, _)| *f < natural / 3.0)
-            .map(|&(_, g)| g)
-            .collect(),
-    );
-    let (ringing_hz, ringing) = gains
+            .filter(|b| b.0 < natural / 3.0)
+            .map(|b| b.1)
+            .collect();
+        g.sort_by(f64::total_cmp);
+        g[g.len() / 2]
+    };
+    let &(ringing_hz, ringing, _) = bands.iter().max_by(|a, b| a.1.total_cmp(&b.1)).unwrap();
+    // The mean gain over the bands within 30% of the natural frequency.
+    let near: Vec<f64> = bands
         .iter()
-        .copied()
-        .max_by(|a, b| a.1.total_cmp(&b.1))
+        .filter(|b| (b.0 / natural - 1.0).abs() < 0.3)
+        .map(|b| b.1)
+        .collect();
+    let resonant = near.iter().sum::<f64>() / near.len() as f64;
+    // The tips' own spectrum: its largest band above a third of the
+    // natural frequency, a local peak when the bands either side are lower.
+    let fast: Vec<&(f64, f64, f64)> = bands.iter().filter(|b| b.0 > natural / 3.0).collect();
+    let top = (1..fast.len() - 1)
+        .max_by(|&a, &b| fast[a].2.total_cmp(&fast[b].2))
         .unwrap();
+    let (tip_peak_hz, local) = (
+        fast[top].0,
+        fast[top].2 > fast[top - 1].2 && fast[top].2 > fast[top + 1].2,
+    );
     eprintln!(
-        "gain largest at {ringing_hz:.3} Hz ({:.2} of the natural frequency {natural:.3} Hz), {:.1}x the slow lines'; the tips' spectrum peaks at {:.3} Hz",
+        "gain within 30% of the natural frequency {natural:.3} Hz: {:.2}x the slow bands'; largest at {ringing_hz:.3} Hz ({:.2} of it), {:.2}x; \
+         the tips' spectrum: largest at {:.3} Hz, above a third of the natural frequency largest at {tip_peak_hz:.3} Hz ({:.2} of it, {}a local peak)",
+        resonant / slow,
         ringing_hz / natural,
         ringing / slow,
-        spectrum.peak_hz
+        spectrum.peak_hz,
+        tip_peak_hz / natural,
+        if local { "" } else { "not " }
     );
+    for (f, gain, tip) in &bands {
+        eprintln!(
+            "  {f:.3} Hz: gain {:.2}x the slow bands', tips {tip:.3e}",
+            gain / slow
+        );
+    }
     assert!(
-        (ringing_hz / natural - 1.0).abs() < 0.3,
-        "the gain peaks at {ringing_hz} Hz, the blades' natural frequency is {natural} Hz"
-    );
-    assert!(
-        ringing > 5.0 * slow,
-        "gain at its peak {ringing:.3e}, below a third of the natural frequency {slow:.3e}"
+        resonant > 2.0 * slow,
+        "gain within 30% of the natural frequency {resonant:.3e}, below a third of it {slow:.3e}"
     );
 }
 

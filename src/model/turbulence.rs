@@ -6,7 +6,8 @@
 //! J. Fluid Mech. 236, 1992): a sum of random Fourier modes whose energies
 //! follow the von Karman spectrum of the set intensity and integral length
 //! scale, each moved with the inflow's mean velocity (Taylor's frozen
-//! turbulence) and changing at its own rate while it goes. Each mode is the
+//! turbulence), changing at its own rate while it goes, and drawn afresh
+//! at the end of its life (`TurbulenceField`). Each mode is the
 //! discrete curl of a vector potential on the grid's staggered faces
 //! (its wavenumber replaced by the difference quotient's), so what the faces
 //! hold is divergence-free cell by cell, to rounding. The solver steps the
@@ -41,10 +42,20 @@ pub struct Turbulence {
 /// repetition, few enough for a face to sum them every step.
 pub const MODES: usize = 48;
 
+/// Wavenumber shells: each holds two of the modes, whose lives overlap by
+/// half of one (`TurbulenceField::records`).
+const SHELLS: usize = MODES / 2;
+
 /// lambda of the modes' own rate, omega = lambda sqrt(k^3 E(k)) (Fung et
 /// al. 1992 take 0.4-1): eddies change while they are carried, over about
 /// their turnover time.
 const UNSTEADINESS: f64 = 0.5;
+
+/// A mode's life in radians of its own rate: 0.5 / omega, one turnover
+/// time 1 / sqrt(k^3 E(k)) (with lambda 0.5); then it is drawn anew. The
+/// modes below the spectrum's peak, whose own rate falls as k^3.5, live as
+/// long as the peak's.
+const LIFE: f64 = 0.5;
 
 /// The von Karman spectrum's peak k_e times the integral length scale:
 /// L = sqrt(pi) Gamma(5/6) / Gamma(1/3) / k_e.
@@ -54,18 +65,35 @@ const PEAK_TIMES_LENGTH: f64 = 0.746_834;
 /// (rising as k^4) holds under 1e-4 of the energy.
 const LOWEST: f64 = 0.1;
 
-/// One Fourier mode.
+/// Draws per mode that estimate a shell's mean horizontal variance, which
+/// sets the field's scale (`TurbulenceField::new`).
+const SCALE_DRAWS: u64 = 64;
+
+/// One draw of a mode, for sigma = 1 m/s before the field's scale.
 #[derive(Clone, Copy, Debug)]
 struct Mode {
     /// Wavenumber (rad/m); along a mirrored axis a whole number of half
     /// waves across the grid, 0 or more.
     k: DVec3,
     /// What the mode adds to a face of each axis at phase 0 (m/s).
-    amplitude: Vec3,
+    amplitude: DVec3,
     /// Phase at t = 0 at the grid's corner (rad).
     phase: f64,
-    /// Its own rate (rad/s).
+    /// Its own rate (rad per metre of `clock`).
     omega: f64,
+}
+
+/// One wavenumber shell: its modes' wavenumbers are drawn log-uniform in
+/// it, and live `life`.
+#[derive(Clone, Copy, Debug)]
+struct Shell {
+    k_lo: f64,
+    k_hi: f64,
+    /// A mode's life (metres of `clock`: seconds times sigma).
+    life: f64,
+    /// Where in its life the shell's first mode is at t = 0 (0-1): the
+    /// shells are not renewed in step.
+    offset: f64,
 }
 
 /// The modes of one scene's turbulence on one grid (for sigma = 1 m/s),
@@ -73,18 +101,58 @@ struct Mode {
 /// changed: integrals over the steps taken, so that a wind that changes
 /// speed or heading (the viewer's keys) moves the patches on without a
 /// jump.
+///
+/// The modes are renewed (as a synthetic-eddy method recycles its eddies:
+/// Jarrin, Benhamadouche, Laurence and Prosser, Int. J. Heat Fluid Flow
+/// 27, 2006): each is drawn afresh, wavenumber, direction, polarisation
+/// and phase, at the end of its life, and weighed over its life by sin(pi
+/// s), s its age over its life. The two modes of a shell are half a life
+/// apart, so the shell's weights squared add to 1 at every instant: its
+/// energy stays, its patches come and go. Over a record of a few lives
+/// the field is a fresh draw of the spectrum, not one draw carried on, and
+/// each mode's line in a point's spectrum is widened to the inverse of its
+/// life.
 #[derive(Clone, Debug)]
 pub struct TurbulenceField {
-    modes: Vec<Mode>,
+    seed: u32,
+    shells: Vec<Shell>,
+    /// k_e (rad/m) and the spectrum's integral over the shells, which
+    /// scale E(k).
+    k_e: f64,
+    integral: f64,
+    /// The draws' scale: the horizontal components' variance is 1 on
+    /// average over draws and over the grid.
+    scale: f64,
+    /// The grid's size (m), for the half waves across its walls.
+    size: DVec3,
     /// Bit a: the grid's two sides across axis a are walls, and each mode
     /// is paired with its mirror images across them (`at`).
     mirrored: u32,
     cell: Vec3,
     /// The integral of the convection velocity (m).
     drift: DVec3,
-    /// The integral of sigma (m): each mode's own rate is sigma times its
-    /// rate at sigma = 1.
+    /// The integral of sigma (m): each mode's own rate and life are sigma
+    /// times their rate and life at sigma = 1.
     clock: f64,
+}
+
+/// The von Karman spectrum's shape at `k` for peak `k_e`.
+fn von_karman(k: f64, k_e: f64) -> f64 {
+    let r = k / k_e;
+    r.powi(4) / (1.0 + r * r).powf(17.0 / 6.0)
+}
+
+/// A 64-bit key of a seed, a mode and a generation (splitmix64's
+/// finalizer over each in turn): each draw its own random stream.
+fn draw_key(seed: u32, slot: u64, generation: i64) -> u64 {
+    let mix = |mut z: u64| {
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^ (z >> 31)
+    };
+    let a = mix(0x7475_7262 ^ seed as u64);
+    let b = mix(a ^ slot.wrapping_mul(0x9e37_79b9_7f4a_7c15));
+    mix(b ^ (generation as u64).wrapping_mul(0xd1b5_4a32_d192_ed03))
 }
 
 impl TurbulenceField {
@@ -97,97 +165,135 @@ impl TurbulenceField {
     /// The modes of `turbulence` on a grid of `cells` cells of `cell`
     /// metres whose sides across each axis with `walls` set hold no flow
     /// through them, for a standard deviation of 1 m/s (`records` scales
-    /// them): wavenumbers log-spaced from 0.1 k_e to the Nyquist
-    /// wavenumber of the grid's coarsest axis (none aliases), directions
-    /// uniform on the sphere, each polarised at random across its
-    /// wavenumber (so divergence-free), energies E(k) dk of the von Karman
-    /// spectrum E ~ (k/k_e)^4 / (1 + (k/k_e)^2)^(17/6). Across walls a
-    /// wavenumber is rounded to a whole number of half waves across the
-    /// grid and the mode paired with its mirror images (the normal
-    /// component then vanishes on both walls: the modes of a channel). The
-    /// whole is scaled so that the horizontal components' variance over the
-    /// grid's cells is 1 (the resolved modes carry it all).
+    /// them): wavenumber shells log-spaced from 0.1 k_e to the Nyquist
+    /// wavenumber of the grid's coarsest axis (none aliases), each mode's
+    /// wavenumber drawn log-uniform in its shell, its direction uniform on
+    /// the sphere, polarised at random across its wavenumber (so
+    /// divergence-free), its energy E(k) dk of the von Karman spectrum E ~
+    /// (k/k_e)^4 / (1 + (k/k_e)^2)^(17/6). Across walls a wavenumber is
+    /// rounded to a whole number of half waves across the grid and the mode
+    /// paired with its mirror images (the normal component then vanishes on
+    /// both walls: the modes of a channel). The whole is scaled so that the
+    /// horizontal components' variance over the grid, averaged over draws,
+    /// is 1 (the resolved modes carry it all); a single instant's field is a
+    /// draw away from it.
     pub fn new(turbulence: &Turbulence, cells: UVec3, cell: Vec3, walls: [bool; 3]) -> Self {
-        let mut rng = rand_pcg::Pcg32::seed_from_u64(0x7475_7262 ^ turbulence.seed as u64);
         let h = cell.as_dvec3();
-        let size = cells.as_dvec3() * h;
         let k_e = PEAK_TIMES_LENGTH / turbulence.length_scale as f64;
         let k_lo = LOWEST * k_e;
         let k_hi = (std::f64::consts::PI / h.max_element()).max(k_lo * 1.01);
         let span = (k_hi / k_lo).ln();
-        let spectrum = |k: f64| {
-            let r = k / k_e;
-            r.powi(4) / (1.0 + r * r).powf(17.0 / 6.0)
-        };
-        let mirrored = (0..3).filter(|&a| walls[a]).map(|a| 1u32 << a).sum();
-        let wavenumber_at = |n: usize| k_lo * (span * (n as f64 + 0.5) / MODES as f64).exp();
-        // The spectrum's integral over the shells: E(k) = 1.5 spectrum(k)
+        let edge = |n: usize| k_lo * (span * n as f64 / SHELLS as f64).exp();
+        // The spectrum's integral over the shells: E(k) = 1.5 von_karman(k)
         // / it is the von Karman spectrum of sigma = 1 (its integral is the
         // kinetic energy, 3/2 sigma^2).
-        let integral: f64 = (0..MODES)
+        let integral = {
+            let fine = 16 * SHELLS;
+            (0..fine)
+                .map(|n| {
+                    let k = k_lo * (span * (n as f64 + 0.5) / fine as f64).exp();
+                    von_karman(k, k_e) * span / fine as f64 * k
+                })
+                .sum::<f64>()
+        };
+        let rate = |k: f64| UNSTEADINESS * (k.powi(3) * 1.5 * von_karman(k, k_e) / integral).sqrt();
+        let mut offsets = rand_pcg::Pcg32::seed_from_u64(draw_key(turbulence.seed, u64::MAX, -1));
+        let shells = (0..SHELLS)
             .map(|n| {
-                let k = wavenumber_at(n);
-                spectrum(k) * span / MODES as f64 * k
-            })
-            .sum();
-        let modes: Vec<Mode> = (0..MODES)
-            .map(|n| {
-                let k = wavenumber_at(n);
-                let shell = span / MODES as f64 * k;
-                let weight = spectrum(k) * shell;
-                let mut wavenumber = unit_on_sphere(&mut rng) * k;
-                for a in (0..3).filter(|&a| walls[a]) {
-                    let half_wave = std::f64::consts::PI / size[a];
-                    wavenumber[a] = (wavenumber[a].abs() / half_wave).round() * half_wave;
-                }
-                let (e1, e2) = wavenumber
-                    .try_normalize()
-                    .unwrap_or(DVec3::X)
-                    .any_orthonormal_pair();
-                let angle = rng.random::<f64>() * std::f64::consts::TAU;
-                let a = (e1 * angle.cos() + e2 * angle.sin()) * weight.sqrt();
-                let phase = rng.random::<f64>() * std::f64::consts::TAU;
-                // Its rate at sigma = 1 from E(k) per wavenumber.
-                let omega = UNSTEADINESS * (k.powi(3) * 1.5 * spectrum(k) / integral).sqrt();
-                Mode {
-                    k: wavenumber,
-                    amplitude: face_amplitude(wavenumber, a, h),
-                    phase,
-                    omega,
+                let (lo, hi) = (edge(n), edge(n + 1));
+                Shell {
+                    k_lo: lo,
+                    k_hi: hi,
+                    life: LIFE / rate((lo * hi).sqrt()).max(rate(k_e)),
+                    offset: offsets.random::<f64>(),
                 }
             })
             .collect();
         let mut field = Self {
-            modes,
-            mirrored,
+            seed: turbulence.seed,
+            shells,
+            k_e,
+            integral,
+            scale: 1.0,
+            size: cells.as_dvec3() * h,
+            mirrored: (0..3).filter(|&a| walls[a]).map(|a| 1u32 << a).sum(),
             cell,
             drift: DVec3::ZERO,
             clock: 0.0,
         };
-        // The horizontal components' variance over (at most about 20,000
-        // of) the cells' centres, made 1: a few dozen random modes leave
-        // the field a draw away from any analytic mean.
-        let records = field.records(1.0);
-        let stride = ((cells.as_dvec3().element_product() / 20_000.0)
-            .cbrt()
-            .ceil() as u32)
-            .max(1);
-        let (mut sum, mut count) = (0.0f64, 0usize);
-        for i in (0..cells.x).step_by(stride as usize) {
-            for j in (0..cells.y).step_by(stride as usize) {
-                for k in (0..cells.z).step_by(stride as usize) {
-                    let q = UVec3::new(2 * i + 1, 2 * j + 1, 2 * k + 1);
-                    sum += (field.at(&records, 0, q) as f64).powi(2)
-                        + (field.at(&records, 2, q) as f64).powi(2);
-                    count += 2;
-                }
-            }
-        }
-        let scale = (count as f64 / sum.max(f64::MIN_POSITIVE)).sqrt();
-        for m in &mut field.modes {
-            m.amplitude *= scale as f32;
-        }
+        // Each draw's horizontal variance over the grid: half its
+        // amplitude squared along the axes not mirrored, and per mirrored
+        // axis a half where the mode has waves across it (none for the
+        // component across it where it has none: sin 0).
+        let horizontal = |m: &Mode| -> f64 {
+            [0, 2]
+                .iter()
+                .map(|&axis| {
+                    let mut share = 0.5;
+                    for a in (0..3).filter(|&a| walls[a]) {
+                        share *= match (m.k[a] != 0.0, a == axis) {
+                            (true, _) => 0.5,
+                            (false, true) => 0.0,
+                            (false, false) => 1.0,
+                        };
+                    }
+                    m.amplitude[axis].powi(2) * share
+                })
+                .sum()
+        };
+        // At every instant each shell's two weights squared add to 1, so
+        // the field's mean variance is the sum over shells of a draw's.
+        let mean: f64 = (0..MODES)
+            .map(|slot| {
+                (0..SCALE_DRAWS as i64)
+                    .map(|g| horizontal(&field.draw(slot, g)))
+                    .sum::<f64>()
+                    / (2 * SCALE_DRAWS) as f64
+            })
+            .sum();
+        field.scale = (2.0 / mean.max(f64::MIN_POSITIVE)).sqrt();
         field
+    }
+
+    /// Mode `slot`'s draw of `generation`, the same for the same seed.
+    fn draw(&self, slot: usize, generation: i64) -> Mode {
+        let mut rng = rand_pcg::Pcg32::seed_from_u64(draw_key(self.seed, slot as u64, generation));
+        let shell = self.shells[slot / 2];
+        let k = shell.k_lo * (shell.k_hi / shell.k_lo).powf(rng.random::<f64>());
+        // E(k) dk over the shell, sampled log-uniform: dk = k ln(hi / lo).
+        let weight =
+            1.5 * von_karman(k, self.k_e) / self.integral * k * (shell.k_hi / shell.k_lo).ln();
+        let mut wavenumber = unit_on_sphere(&mut rng) * k;
+        for a in (0..3).filter(|&a| self.is_mirrored(a)) {
+            let half_wave = std::f64::consts::PI / self.size[a];
+            wavenumber[a] = (wavenumber[a].abs() / half_wave).round() * half_wave;
+        }
+        let (e1, e2) = wavenumber
+            .try_normalize()
+            .unwrap_or(DVec3::X)
+            .any_orthonormal_pair();
+        let angle = rng.random::<f64>() * std::f64::consts::TAU;
+        let a = (e1 * angle.cos() + e2 * angle.sin()) * weight.sqrt();
+        let phase = rng.random::<f64>() * std::f64::consts::TAU;
+        Mode {
+            k: wavenumber,
+            amplitude: face_amplitude(wavenumber, a, self.cell.as_dvec3()),
+            phase,
+            omega: UNSTEADINESS
+                * (k.powi(3) * 1.5 * von_karman(k, self.k_e) / self.integral).sqrt(),
+        }
+    }
+
+    /// Mode `slot`'s generation and its weight now: sin(pi s) of its age s
+    /// over its life, the shell's second mode half a life after its first.
+    fn age(&self, slot: usize) -> (i64, f64) {
+        let shell = self.shells[slot / 2];
+        let lives = self.clock / shell.life + shell.offset + 0.5 * (slot % 2) as f64;
+        let generation = lives.floor();
+        (
+            generation as i64,
+            (std::f64::consts::PI * (lives - generation)).sin(),
+        )
     }
 
     /// The half-cell point of face `f` of component `axis`: 2 f along the
@@ -252,13 +358,15 @@ impl TurbulenceField {
     }
 
     /// The modes as the GPU reads them now, for a standard deviation of
-    /// `sigma` (m/s): the phase theta_n = phi_n + omega_n int(sigma dt) -
-    /// k_n . int(U dt) (along the axes not mirrored), in double precision,
-    /// reduced to [0, 2 pi).
+    /// `sigma` (m/s): each slot's draw of its current generation, weighed
+    /// by where it is in its life, at the phase theta_n = phi_n + omega_n
+    /// int(sigma dt) - k_n . int(U dt) (along the axes not mirrored), in
+    /// double precision, reduced to [0, 2 pi).
     pub fn records(&self, sigma: f32) -> Vec<TurbulenceMode> {
-        self.modes
-            .iter()
-            .map(|m| {
+        (0..MODES)
+            .map(|slot| {
+                let (generation, weight) = self.age(slot);
+                let m = self.draw(slot, generation);
                 let carried: f64 = (0..3)
                     .filter(|&a| self.mirrored & (1 << a) == 0)
                     .map(|a| m.k[a] * self.drift[a])
@@ -267,7 +375,9 @@ impl TurbulenceField {
                     (m.phase + m.omega * self.clock - carried).rem_euclid(std::f64::consts::TAU);
                 TurbulenceMode {
                     wavenumber_phase: m.k.as_vec3().extend(phase as f32).to_array(),
-                    amplitude: (m.amplitude * sigma).to_array(),
+                    amplitude: (m.amplitude * self.scale * weight * sigma as f64)
+                        .as_vec3()
+                        .to_array(),
                     mirrored: self.mirrored,
                 }
             })
@@ -289,11 +399,11 @@ fn unit_on_sphere(rng: &mut impl Rng) -> DVec3 {
 /// wavenumber along each axis is k~ = 2 sin(k h / 2) / h: the faces hold
 /// -k~ x (k x a) / |k|^2 cos(theta), which is `a` when k~ = k and whose
 /// discrete divergence, i k~ . (k~ x ...), is zero.
-fn face_amplitude(k: DVec3, a: DVec3, h: DVec3) -> Vec3 {
+fn face_amplitude(k: DVec3, a: DVec3, h: DVec3) -> DVec3 {
     let modified = DVec3::new(
         2.0 * (0.5 * k.x * h.x).sin() / h.x,
         2.0 * (0.5 * k.y * h.y).sin() / h.y,
         2.0 * (0.5 * k.z * h.z).sin() / h.z,
     );
-    (-modified.cross(k.cross(a)) / k.length_squared()).as_vec3()
+    -modified.cross(k.cross(a)) / k.length_squared()
 }
