@@ -116,10 +116,7 @@ struct Shell {
 pub struct TurbulenceField {
     seed: u32,
     shells: Vec<Shell>,
-    /// k_e (rad/m) and the spectrum's integral over the shells, which
-    /// scale E(k).
-    k_e: f64,
-    integral: f64,
+    spectrum: VonKarman,
     /// The draws' scale: the horizontal components' variance is 1 on
     /// average over draws and over the grid.
     scale: f64,
@@ -136,10 +133,32 @@ pub struct TurbulenceField {
     clock: f64,
 }
 
-/// The von Karman spectrum's shape at `k` for peak `k_e`.
-fn von_karman(k: f64, k_e: f64) -> f64 {
-    let r = k / k_e;
-    r.powi(4) / (1.0 + r * r).powf(17.0 / 6.0)
+/// The von Karman spectrum of sigma = 1 over the shells' wavenumbers.
+#[derive(Clone, Copy, Debug)]
+struct VonKarman {
+    /// The peak k_e (rad/m).
+    k_e: f64,
+    /// The integral of `shape` over the shells' wavenumbers.
+    integral: f64,
+}
+
+impl VonKarman {
+    /// The spectrum's shape, (k/k_e)^4 / (1 + (k/k_e)^2)^(17/6).
+    fn shape(k: f64, k_e: f64) -> f64 {
+        let r = k / k_e;
+        r.powi(4) / (1.0 + r * r).powf(17.0 / 6.0)
+    }
+
+    /// E(k) (m^3/s^2): its integral is the kinetic energy, 3/2 sigma^2.
+    fn energy(&self, k: f64) -> f64 {
+        1.5 * Self::shape(k, self.k_e) / self.integral
+    }
+
+    /// A mode's own rate at sigma = 1, omega = lambda sqrt(k^3 E(k)) (rad
+    /// per metre of `clock`).
+    fn rate(&self, k: f64) -> f64 {
+        UNSTEADINESS * (k.powi(3) * self.energy(k)).sqrt()
+    }
 }
 
 /// A 64-bit key of a seed, a mode and a generation (splitmix64's
@@ -184,19 +203,16 @@ impl TurbulenceField {
         let k_hi = (std::f64::consts::PI / h.max_element()).max(k_lo * 1.01);
         let span = (k_hi / k_lo).ln();
         let edge = |n: usize| k_lo * (span * n as f64 / SHELLS as f64).exp();
-        // The spectrum's integral over the shells: E(k) = 1.5 von_karman(k)
-        // / it is the von Karman spectrum of sigma = 1 (its integral is the
-        // kinetic energy, 3/2 sigma^2).
-        let integral = {
-            let fine = 16 * SHELLS;
-            (0..fine)
+        let fine = 16 * SHELLS;
+        let spectrum = VonKarman {
+            k_e,
+            integral: (0..fine)
                 .map(|n| {
                     let k = k_lo * (span * (n as f64 + 0.5) / fine as f64).exp();
-                    von_karman(k, k_e) * span / fine as f64 * k
+                    VonKarman::shape(k, k_e) * span / fine as f64 * k
                 })
-                .sum::<f64>()
+                .sum::<f64>(),
         };
-        let rate = |k: f64| UNSTEADINESS * (k.powi(3) * 1.5 * von_karman(k, k_e) / integral).sqrt();
         let mut offsets = rand_pcg::Pcg32::seed_from_u64(draw_key(turbulence.seed, u64::MAX, -1));
         let shells = (0..SHELLS)
             .map(|n| {
@@ -204,7 +220,7 @@ impl TurbulenceField {
                 Shell {
                     k_lo: lo,
                     k_hi: hi,
-                    life: LIFE / rate((lo * hi).sqrt()).max(rate(k_e)),
+                    life: LIFE / spectrum.rate((lo * hi).sqrt()).max(spectrum.rate(k_e)),
                     offset: offsets.random::<f64>(),
                 }
             })
@@ -212,8 +228,7 @@ impl TurbulenceField {
         let mut field = Self {
             seed: turbulence.seed,
             shells,
-            k_e,
-            integral,
+            spectrum,
             scale: 1.0,
             size: cells.as_dvec3() * h,
             mirrored: (0..3).filter(|&a| walls[a]).map(|a| 1u32 << a).sum(),
@@ -261,8 +276,7 @@ impl TurbulenceField {
         let shell = self.shells[slot / 2];
         let k = shell.k_lo * (shell.k_hi / shell.k_lo).powf(rng.random::<f64>());
         // E(k) dk over the shell, sampled log-uniform: dk = k ln(hi / lo).
-        let weight =
-            1.5 * von_karman(k, self.k_e) / self.integral * k * (shell.k_hi / shell.k_lo).ln();
+        let weight = self.spectrum.energy(k) * k * (shell.k_hi / shell.k_lo).ln();
         let mut wavenumber = unit_on_sphere(&mut rng) * k;
         for a in (0..3).filter(|&a| self.is_mirrored(a)) {
             let half_wave = std::f64::consts::PI / self.size[a];
@@ -279,8 +293,7 @@ impl TurbulenceField {
             k: wavenumber,
             amplitude: face_amplitude(wavenumber, a, self.cell.as_dvec3()),
             phase,
-            omega: UNSTEADINESS
-                * (k.powi(3) * 1.5 * von_karman(k, self.k_e) / self.integral).sqrt(),
+            omega: self.spectrum.rate(k),
         }
     }
 
