@@ -8,6 +8,7 @@ mod common;
 use common::{finish, strict_gpu};
 use meadow::commands::trace::{best_lag, trace, BladePick, TraceRequest};
 use meadow::gpu::{GpuOptions, ValidationOptions};
+use meadow::model::wind::Coupling;
 use meadow::scene::Scene;
 
 fn strict_options() -> GpuOptions {
@@ -89,26 +90,40 @@ fn gusts_travel_down_a_strip_at_the_speed_of_the_wind() {
 
 /// Issue 39, turbulence alive all along a strip: gust-strip's 36 m in its
 /// turbulence alone (intensity 0.3, length scale 4 m; the inflow's gusts
-/// left out), 1,500 blades traced 16 s, the first 6 s left out (the grass
-/// leaning into the wind). The spread in time of each 3 m band's mean
-/// downwind tip displacement is at least 4% of that band's mean
-/// displacement (measured 11.7-20.7% with the renewed modes, 5.3-10.1%
-/// with modes drawn once), and in the last three bands at least 70% of
-/// the first three's (measured 127%): the turbulence is as alive 30 m
-/// downwind as at the inflow. Each blade's own spread, averaged over a
-/// band's blades, is at least 25% of the band's mean displacement
-/// (measured 27-41%; issue 39 asks 30%): the band's mean averages away the
-/// eddies smaller than its 3 x 4 m, which a von Karman wind of length
-/// scale 4 m has in plenty (docs/physics.md). Without the turbulence (the
-/// same steady inflow) every band and every blade holds still, its spread
-/// under 1% of its mean, which fails the first and third bounds.
+/// left out), 1,500 blades traced 16 s with the wind at their tips, the
+/// first 6 s left out (the grass leaning into the wind).
+///
+/// One-way (the scene's coupling): the spread in time of each 3 m band's
+/// mean downwind tip displacement is at least 4% of that band's mean
+/// displacement (measured 11.7-20.7%), and in the last three bands at least
+/// 70% of the first three's (measured 1.27): the turbulence is as alive
+/// 30 m downwind as at the inflow. Each blade's own spread, averaged over
+/// a band's blades, is at least 25% of the band's mean displacement
+/// (measured 27-41%). A band's relative spread is its wind's: over each
+/// band, the spread of the blades' mean displacement over its mean is
+/// 0.7-1.4 times the spread of the mean wind at their tips over its mean
+/// (measured 0.84-1.10; the paper's drag is linear in the wind), and the
+/// band's mean averages away the eddies smaller than its 3 x 4 m: the
+/// tips' wind spreads 30% about its mean, a band's mean wind 14-20%.
+///
+/// Two-way (the canopy's drag slows the air at the tips, as in a real
+/// canopy, where the turbulence at the top keeps its strength): the bands
+/// from 18 m on spread by at least 30% of their mean in the median
+/// (measured 42%; the one-way run's 17%, which fails the bound): issue
+/// 39's 30%, reached where the canopy has slowed the mean wind at its top
+/// to less than half (2.6 m/s in the first band, 1.0-1.4 from 18 m on)
+/// while the turbulence keeps its strength (docs/physics.md).
+///
+/// Without the turbulence (the same steady inflow) every band and every
+/// blade holds still, its spread under 1% of its mean, which fails the
+/// first and third bounds.
 #[test]
 fn turbulence_moves_the_grass_all_along_a_strip() {
     let gpu = strict_gpu();
-    // (band mean, its spread, the band's blades' mean own spread), per band.
-    let bands = |turbulent: bool| -> Vec<(f64, f64, f64)> {
+    let bands = |turbulent: bool, coupling: Coupling| -> Vec<Band> {
         let mut scene = Scene::builtin("gust-strip").unwrap();
         scene.wind.inflow.as_mut().unwrap().gust.amplitude = 0.0;
+        scene.wind.coupling = coupling;
         if !turbulent {
             scene.wind.turbulence = None;
         }
@@ -118,22 +133,22 @@ fn turbulence_moves_the_grass_all_along_a_strip() {
             seconds: 16.0,
             every: 6,
             blades: BladePick::Count(1500),
-            wind: false,
+            wind: true,
             diagram_from: 0.0,
             gpu: strict_options(),
         };
         let run = trace(&gpu, &request, &mut |_, _| true).unwrap();
         let skip = (6.0 / (run.times[1] - run.times[0])).round() as usize;
-        let mean_spread = |v: &[f64]| {
-            let mean = v.iter().sum::<f64>() / v.len() as f64;
-            let spread =
-                (v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / v.len() as f64).sqrt();
-            (mean, spread)
+        let n = run.blades.len();
+        let in_band = |band: usize| -> Vec<usize> {
+            let x0 = -18.0 + 3.0 * band as f32;
+            (0..n)
+                .filter(|&b| (x0..x0 + 3.0).contains(&run.roots[b][0]))
+                .collect()
         };
         let own_spread = |band: usize| {
-            let x0 = -18.0 + 3.0 * band as f32;
-            let spreads: Vec<f64> = (0..run.blades.len())
-                .filter(|&b| (x0..x0 + 3.0).contains(&run.roots[b][0]))
+            let spreads: Vec<f64> = in_band(band)
+                .into_iter()
                 .map(|b| {
                     let tip_x: Vec<f64> = (skip..run.times.len())
                         .map(|s| (run.tip(s, b)[0] - run.tip(0, b)[0]) as f64)
@@ -143,55 +158,130 @@ fn turbulence_moves_the_grass_all_along_a_strip() {
                 .collect();
             spreads.iter().sum::<f64>() / spreads.len().max(1) as f64
         };
+        let wind = |band: usize| {
+            let blades = in_band(band);
+            let mean_wind: Vec<f64> = (skip..run.times.len())
+                .map(|s| {
+                    blades
+                        .iter()
+                        .map(|&b| run.wind[s * n + b][0] as f64)
+                        .sum::<f64>()
+                        / blades.len().max(1) as f64
+                })
+                .collect();
+            mean_spread(&mean_wind)
+        };
         run.band_displacement(-18.0, 3.0, 12)
             .iter()
             .enumerate()
             .map(|(band, b)| {
                 let (mean, spread) = mean_spread(&b[skip..]);
-                (mean, spread, own_spread(band))
+                Band {
+                    mean,
+                    spread,
+                    own: own_spread(band),
+                    wind: wind(band),
+                }
             })
             .collect()
     };
-    let (turbulent, steady) = (bands(true), bands(false));
+    let turbulent = bands(true, Coupling::OneWay);
+    let steady = bands(false, Coupling::OneWay);
+    let canopy = bands(true, Coupling::TwoWay);
     finish(gpu);
-    let show = |bands: &[(f64, f64, f64)]| {
+    let show = |bands: &[Band]| {
         bands
             .iter()
-            .map(|(m, s, own)| format!("{:.1}+-{:.1} ({:.1})", 1e3 * m, 1e3 * s, 1e3 * own))
+            .map(|b| {
+                format!(
+                    "{:.1}+-{:.1} ({:.1}; wind {:.2}+-{:.2})",
+                    1e3 * b.mean,
+                    1e3 * b.spread,
+                    1e3 * b.own,
+                    b.wind.0,
+                    b.wind.1
+                )
+            })
             .collect::<Vec<_>>()
             .join(" ")
     };
-    eprintln!(
-        "turbulent, mm by 3 m band (each blade's own spread): {}",
-        show(&turbulent)
-    );
-    eprintln!(
-        "steady, mm by 3 m band (each blade's own spread):    {}",
-        show(&steady)
-    );
-    for (k, &(mean, spread, own)) in turbulent.iter().enumerate() {
+    eprintln!("mm by 3 m band (each blade's own spread; the band's mean wind, m/s):");
+    eprintln!("turbulent, one-way: {}", show(&turbulent));
+    eprintln!("steady, one-way:    {}", show(&steady));
+    eprintln!("turbulent, two-way: {}", show(&canopy));
+    for (k, b) in turbulent.iter().enumerate() {
         assert!(
-            spread >= 0.04 * mean.abs(),
-            "band {k}: spread {spread} against mean {mean}"
+            b.spread >= 0.04 * b.mean.abs(),
+            "band {k}: spread {} against mean {}",
+            b.spread,
+            b.mean
         );
         assert!(
-            own >= 0.25 * mean.abs(),
-            "band {k}: the blades' own spread {own} against mean {mean}"
+            b.own >= 0.25 * b.mean.abs(),
+            "band {k}: the blades' own spread {} against mean {}",
+            b.own,
+            b.mean
+        );
+        let passed_on = b.relative() / (b.wind.1 / b.wind.0);
+        eprintln!("band {k}: relative spread over its wind's {passed_on:.2}");
+        assert!(
+            (0.7..1.4).contains(&passed_on),
+            "band {k}: relative spread {:.3} against its wind's {:.3}",
+            b.relative(),
+            b.wind.1 / b.wind.0
         );
     }
-    let spread = |b: &[(f64, f64, f64)]| b.iter().map(|&(_, s, _)| s).sum::<f64>() / b.len() as f64;
+    let spread = |b: &[Band]| b.iter().map(|b| b.spread).sum::<f64>() / b.len() as f64;
     let (near, far) = (spread(&turbulent[..3]), spread(&turbulent[9..]));
     eprintln!(
         "spread in the last three bands over the first three: {:.2}",
         far / near
     );
     assert!(far >= 0.7 * near, "{far} against {near}");
-    for (k, &(mean, spread, own)) in steady.iter().enumerate() {
+    for (k, b) in steady.iter().enumerate() {
         assert!(
-            spread < 0.01 * mean.abs() && own < 0.01 * mean.abs(),
-            "steady band {k}: {spread} and {own} against {mean}"
+            b.spread < 0.01 * b.mean.abs() && b.own < 0.01 * b.mean.abs(),
+            "steady band {k}: {} and {} against {}",
+            b.spread,
+            b.own,
+            b.mean
         );
     }
+    let median = |b: &[Band]| {
+        let mut r: Vec<f64> = b.iter().map(Band::relative).collect();
+        r.sort_by(f64::total_cmp);
+        (r[(r.len() - 1) / 2] + r[r.len() / 2]) / 2.0
+    };
+    let (one_way, two_way) = (median(&turbulent[6..]), median(&canopy[6..]));
+    eprintln!(
+        "from 18 m on, the bands' spread over their mean, median: {:.1}% one-way, {:.1}% two-way",
+        100.0 * one_way,
+        100.0 * two_way
+    );
+    assert!(two_way >= 0.3, "two-way: {two_way:.3} of the mean");
+}
+
+/// One 3 m band of a strip: its mean downwind tip displacement and that
+/// mean's spread in time (m), its blades' own spread averaged (m), and
+/// the mean and spread of its mean downwind wind at the tips (m/s).
+struct Band {
+    mean: f64,
+    spread: f64,
+    own: f64,
+    wind: (f64, f64),
+}
+
+impl Band {
+    fn relative(&self) -> f64 {
+        self.spread / self.mean.abs()
+    }
+}
+
+/// The mean of a series and its spread (standard deviation) about it.
+fn mean_spread(v: &[f64]) -> (f64, f64) {
+    let mean = v.iter().sum::<f64>() / v.len() as f64;
+    let spread = (v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / v.len() as f64).sqrt();
+    (mean, spread)
 }
 
 /// The blades ring at their natural frequency under the turbulence: on

@@ -107,10 +107,13 @@ pub fn run(args: TraceArgs) -> anyhow::Result<()> {
         report.every,
         report.dt
     );
-    if let (Some(spectrum), Some(natural)) = (&report.tip_spectrum, &report.bend_natural_hz) {
+    if let (Some(spectrum), Some(bend)) = (&report.tip_spectrum, &report.bend_natural_hz) {
+        let swing = report.swing_natural_hz.map_or(String::new(), |s| {
+            format!(", swinging {:.2} Hz ({:.2}-{:.2})", s.median, s.p5, s.p95)
+        });
         println!(
-            "tip motion (x) from {:.1} s peaks at {:.2} Hz; the traced blades' bending natural frequency {:.2} Hz (5-95%: {:.2}-{:.2}); the spectrum is in trace.json and spectrum.svg",
-            spectrum.from_s, spectrum.peak_hz, natural.median, natural.p5, natural.p95
+            "tip motion (x) from {:.1} s peaks at {:.2} Hz; the traced blades' natural frequencies: bending {:.2} Hz (5-95%: {:.2}-{:.2}){swing}; the spectrum is in trace.json and spectrum.svg",
+            spectrum.from_s, spectrum.peak_hz, bend.median, bend.p5, bend.p95
         );
     }
     if let Some(c) = &report.tip_correlation {

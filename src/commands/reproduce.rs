@@ -504,6 +504,7 @@ fn field_diagrams(b: &Budget, gpu: &GpuOptions) -> Result<(String, String)> {
     let spectrum = spectrum_svg(
         &spectrum,
         run.bend_natural_hz().as_ref(),
+        run.swing_natural_hz().as_ref(),
         "60 x 60 m in turbulence: the tips' spectrum",
     )?;
     Ok((plan_view, spectrum))

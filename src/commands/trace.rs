@@ -157,6 +157,8 @@ pub struct Trace {
     /// Each traced blade's bending natural frequency (Hz,
     /// `GrassBlade::natural_frequency_hz`).
     pub bend_hz: Vec<f64>,
+    /// Each traced blade's swinging natural frequency (Hz), the same way.
+    pub swing_hz: Vec<f64>,
     /// Blades in the field.
     pub total_blades: usize,
     /// Steps simulated: all asked for, or up to the last sample when
@@ -329,6 +331,12 @@ impl Trace {
     /// 95th percentiles (Hz). None without blades.
     pub fn bend_natural_hz(&self) -> Option<Percentiles> {
         Percentiles::of(&self.bend_hz)
+    }
+
+    /// The traced blades' swinging natural frequencies, the same way: a
+    /// blade standing across the wind moves its tip downwind by swinging.
+    pub fn swing_natural_hz(&self) -> Option<Percentiles> {
+        Percentiles::of(&self.swing_hz)
     }
 }
 
@@ -623,14 +631,17 @@ fn integral_length(correlation: &[f64], step: f64) -> f64 {
 /// (report::spectrum).
 pub fn spectrum_svg(
     spectrum: &Spectrum,
-    natural: Option<&Percentiles>,
+    bend: Option<&Percentiles>,
+    swing: Option<&Percentiles>,
     title: &str,
 ) -> Result<String> {
+    let range = |n: &Percentiles| (n.median, n.p5, n.p95);
     report_spectrum::svg(&SpectrumChart {
         title,
         frequency_hz: &spectrum.frequency_hz,
         power: &spectrum.power,
-        natural_hz: natural.map(|n| (n.median, n.p5, n.p95)),
+        bend_hz: bend.map(range),
+        swing_hz: swing.map(range),
     })
 }
 
@@ -702,6 +713,10 @@ pub fn trace(
         bend_hz: blades
             .iter()
             .map(|&b| dynamic[b as usize].natural_frequency_hz(BEND_A))
+            .collect(),
+        swing_hz: blades
+            .iter()
+            .map(|&b| dynamic[b as usize].natural_frequency_hz(SWING))
             .collect(),
         blades,
         total_blades: rest.len(),
@@ -920,6 +935,10 @@ pub struct TraceReport {
     /// The traced blades' bending natural frequencies (Hz): where the tip
     /// spectrum of a blade that locks in to the wind peaks.
     pub bend_natural_hz: Option<Percentiles>,
+    /// The traced blades' swinging natural frequencies (Hz): a blade
+    /// standing across the wind moves its tip downwind by swinging, so the
+    /// tips' downwind motion rings at both.
+    pub swing_natural_hz: Option<Percentiles>,
     /// How far the tips' motion stays alike along and across the wind,
     /// from `diagram_from` on (None on a field under three cells either
     /// way).
@@ -1027,10 +1046,18 @@ pub fn trace_to_dir(
     }
     let tip_spectrum = trace.tip_spectrum(request.diagram_from);
     let bend_natural_hz = trace.bend_natural_hz();
+    let swing_natural_hz = trace.swing_natural_hz();
     let title = format!("{}: the tips' spectrum", request.scene.name);
     let spectrum = tip_spectrum
         .as_ref()
-        .map(|s| spectrum_svg(s, bend_natural_hz.as_ref(), &title))
+        .map(|s| {
+            spectrum_svg(
+                s,
+                bend_natural_hz.as_ref(),
+                swing_natural_hz.as_ref(),
+                &title,
+            )
+        })
         .transpose()?;
     if let Some(svg) = &spectrum {
         claim.write(SPECTRUM_NAME, svg.as_bytes())?;
@@ -1060,6 +1087,7 @@ pub fn trace_to_dir(
         spectrum: spectrum.map(|_| SPECTRUM_NAME.into()),
         tip_spectrum,
         bend_natural_hz,
+        swing_natural_hz,
         tip_correlation: trace.tip_correlation(request.diagram_from),
         columns: columns(request.wind),
         interrupted: trace.interrupted,
@@ -1165,6 +1193,7 @@ mod tests {
             tips,
             wind: Vec::new(),
             bend_hz: Vec::new(),
+            swing_hz: Vec::new(),
             total_blades: 1600,
             steps_done: 300,
             interrupted: false,

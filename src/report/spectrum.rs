@@ -1,19 +1,22 @@
 //! The tips' power spectrum as a chart: power (log scale) against
-//! frequency, with the blades' natural frequencies marked, so that a
-//! peak at the natural frequency (the lock-in of a canopy to its wind)
-//! reads at a glance.
+//! frequency, with the blades' bending and swinging natural frequencies
+//! marked, so that a peak at a natural frequency (the lock-in of a canopy
+//! to its wind) reads at a glance.
 
 use plotters::prelude::*;
 
 use crate::error::{Error, Result};
 
 /// What to draw: `power[i]` (m^2/Hz) at `frequency_hz[i]`, and the
-/// natural frequencies' median and 5-95% range, if known.
+/// bending and swinging natural frequencies' median and 5-95% range, if
+/// known (a downwind tip moves by bending where its blade faces the wind,
+/// by swinging where it stands across it).
 pub struct SpectrumChart<'a> {
     pub title: &'a str,
     pub frequency_hz: &'a [f64],
     pub power: &'a [f64],
-    pub natural_hz: Option<(f64, f64, f64)>,
+    pub bend_hz: Option<(f64, f64, f64)>,
+    pub swing_hz: Option<(f64, f64, f64)>,
 }
 
 /// The chart as SVG, from the lowest frequency to 4 Hz (or the highest
@@ -55,28 +58,50 @@ pub fn svg(c: &SpectrumChart) -> Result<String> {
             .y_label_formatter(&|v| format!("{v:.0e}"))
             .draw()
             .map_err(|e| err(e.to_string()))?;
-        if let Some((median, p5, p95)) = c.natural_hz {
-            let band = RGBColor(255, 228, 196);
-            chart
-                .draw_series(std::iter::once(Rectangle::new(
-                    [(p5.max(first.0), lo), (p95.min(last.0), hi)],
-                    band.filled(),
-                )))
-                .map_err(|e| err(e.to_string()))?
-                .label(format!(
-                    "blades' natural frequencies, 5-95% ({p5:.2}-{p95:.2} Hz)"
-                ))
-                .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 14, y + 5)], band.filled()));
-            chart
-                .draw_series(LineSeries::new(
-                    [(median, lo), (median, hi)],
-                    RGBColor(200, 90, 20).stroke_width(2),
-                ))
-                .map_err(|e| err(e.to_string()))?
-                .label(format!("their median, {median:.2} Hz"))
-                .legend(|(x, y)| {
-                    PathElement::new([(x, y), (x + 14, y)], RGBColor(200, 90, 20).stroke_width(2))
-                });
+        let motions = [
+            (
+                "bending",
+                c.bend_hz,
+                RGBColor(255, 228, 196),
+                RGBColor(200, 90, 20),
+            ),
+            (
+                "swinging",
+                c.swing_hz,
+                RGBColor(214, 236, 214),
+                RGBColor(40, 130, 60),
+            ),
+        ];
+        for (motion, hz, band, line) in motions {
+            let Some((median, p5, p95)) = hz else {
+                continue;
+            };
+            if p5 < last.0 {
+                chart
+                    .draw_series(std::iter::once(Rectangle::new(
+                        [(p5.max(first.0), lo), (p95.min(last.0), hi)],
+                        band.mix(0.8).filled(),
+                    )))
+                    .map_err(|e| err(e.to_string()))?
+                    .label(format!(
+                        "{motion} natural frequencies, 5-95% ({p5:.2}-{p95:.2} Hz)"
+                    ))
+                    .legend(move |(x, y)| {
+                        Rectangle::new([(x, y - 5), (x + 14, y + 5)], band.filled())
+                    });
+            }
+            if median < last.0 {
+                chart
+                    .draw_series(LineSeries::new(
+                        [(median, lo), (median, hi)],
+                        line.stroke_width(2),
+                    ))
+                    .map_err(|e| err(e.to_string()))?
+                    .label(format!("their median, {median:.2} Hz"))
+                    .legend(move |(x, y)| {
+                        PathElement::new([(x, y), (x + 14, y)], line.stroke_width(2))
+                    });
+            }
         }
         chart
             .draw_series(LineSeries::new(
@@ -113,12 +138,15 @@ mod tests {
             title: "test",
             frequency_hz: &f,
             power: &p,
-            natural_hz: Some((0.89, 0.65, 1.41)),
+            bend_hz: Some((0.89, 0.65, 1.41)),
+            swing_hz: Some((2.36, 1.42, 4.50)),
         })
         .unwrap();
         assert!(svg.starts_with("<svg"));
         assert!(svg.contains("frequency (Hz)") && svg.contains("their median, 0.89 Hz"));
-        assert!(svg.contains("0.65-1.41 Hz"));
+        assert!(svg.contains("bending natural frequencies, 5-95% (0.65-1.41 Hz)"));
+        assert!(svg.contains("swinging natural frequencies, 5-95% (1.42-4.50 Hz)"));
+        assert!(svg.contains("their median, 2.36 Hz"));
         let none = svg_err(&[0.0], &[0.0]);
         assert!(none.contains("no power"), "{none}");
     }
@@ -128,7 +156,8 @@ mod tests {
             title: "t",
             frequency_hz: f,
             power: p,
-            natural_hz: None,
+            bend_hz: None,
+            swing_hz: None,
         })
         .unwrap_err()
         .to_string()
