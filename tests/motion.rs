@@ -102,7 +102,9 @@ fn gusts_travel_down_a_strip_at_the_speed_of_the_wind() {
 /// (measured 27-41%). A band's relative spread is its wind's: over each
 /// band, the spread of the blades' mean displacement over its mean is
 /// 0.7-1.4 times the spread of the mean wind at their tips over its mean
-/// (measured 0.84-1.10; the paper's drag is linear in the wind), and the
+/// (measured 0.84-1.10; the paper's drag is linear in the wind: made
+/// quadratic by hand, |v| / 3 m/s times it, 1.57 in the first band, which
+/// fails), and the
 /// band's mean averages away the eddies smaller than its 3 x 4 m: the
 /// tips' wind spreads 30% about its mean, a band's mean wind 14-20%.
 ///
