@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{finish, strict_gpu};
+use common::{finish, mean_spread, strict_gpu};
 use meadow::commands::trace::{best_lag, trace, BladePick, TraceRequest};
 use meadow::gpu::{GpuOptions, ValidationOptions};
 use meadow::model::wind::Coupling;
@@ -104,9 +104,9 @@ fn gusts_travel_down_a_strip_at_the_speed_of_the_wind() {
 /// 0.7-1.4 times the spread of the mean wind at their tips over its mean
 /// (measured 0.84-1.10; the paper's drag is linear in the wind: made
 /// quadratic by hand, |v| / 3 m/s times it, 1.57 in the first band, which
-/// fails), and the
-/// band's mean averages away the eddies smaller than its 3 x 4 m: the
-/// tips' wind spreads 30% about its mean, a band's mean wind 14-20%.
+/// fails), and the band's mean averages away the eddies smaller than its
+/// 3 x 4 m: the tips' wind spreads 30% about its mean, a band's mean wind
+/// 14-20%.
 ///
 /// Two-way (the canopy's drag slows the air at the tips, as in a real
 /// canopy, where the turbulence at the top keeps its strength): the bands
@@ -277,13 +277,6 @@ impl Band {
     fn relative(&self) -> f64 {
         self.spread / self.mean.abs()
     }
-}
-
-/// The mean of a series and its spread (standard deviation) about it.
-fn mean_spread(v: &[f64]) -> (f64, f64) {
-    let mean = v.iter().sum::<f64>() / v.len() as f64;
-    let spread = (v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / v.len() as f64).sqrt();
-    (mean, spread)
 }
 
 /// The blades ring at their natural frequency under the turbulence: on

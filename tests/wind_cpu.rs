@@ -3,6 +3,7 @@
 
 mod common;
 
+use common::mean_spread;
 use common::wind_scenes::{self, behaviour_grid, blowing_source};
 use glam::{UVec3, Vec3};
 use meadow::commands::trace::lagged_correlation;
@@ -556,8 +557,7 @@ fn sample_field_60_m(
 
 /// The standard deviation of a series about its mean.
 fn spread(v: &[f64]) -> f64 {
-    let mean = v.iter().sum::<f64>() / v.len() as f64;
-    (v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / v.len() as f64).sqrt()
+    mean_spread(v).1
 }
 
 /// Issue 39, patches and not fronts, settled: the downwind wind averaged

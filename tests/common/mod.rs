@@ -17,6 +17,13 @@ use meadow::model::Blade;
 use meadow::render::ViewMode;
 use meadow::scene::Scene;
 
+/// The mean of a series and its spread (standard deviation) about it.
+pub fn mean_spread(v: &[f64]) -> (f64, f64) {
+    let mean = v.iter().sum::<f64>() / v.len() as f64;
+    let spread = (v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / v.len() as f64).sqrt();
+    (mean, spread)
+}
+
 pub fn strict_gpu() -> Gpu {
     strict_gpu_with(None)
 }
