@@ -116,6 +116,14 @@ pub fn run(args: TraceArgs) -> anyhow::Result<()> {
             spectrum.from_s, spectrum.peak_hz, bend.median, bend.p5, bend.p95
         );
     }
+    if let Some(s) = &report.tip_spectrum_scaled {
+        println!(
+            "tip motion per unit log frequency, each blade against its own bending frequency: largest at {:.2} f_bend{} ({} blades)",
+            s.peak_over_natural,
+            if s.peak_is_slowest_band { ", the slowest band: no peak" } else { "" },
+            s.blades
+        );
+    }
     if let Some(c) = &report.tip_correlation {
         println!(
             "tips' correlation ({:.1} m cells): integral length {:.1} m along the wind, {:.1} m across{}",

@@ -503,6 +503,7 @@ fn field_diagrams(b: &Budget, gpu: &GpuOptions) -> Result<(String, String)> {
         .ok_or_else(|| no_picture("spectrum"))?;
     let spectrum = spectrum_svg(
         &spectrum,
+        run.scaled_tip_spectrum(FIELD_SKIP).as_ref(),
         run.bend_natural_hz().as_ref(),
         run.swing_natural_hz().as_ref(),
         "60 x 60 m in turbulence: the tips' spectrum",

@@ -6,6 +6,7 @@
 //! where the numbers came from) and DIR/space_time.svg (the motion along x
 //! over time).
 
+use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -21,7 +22,7 @@ use crate::report::claim::OutputClaim;
 use crate::report::files;
 use crate::report::plan_view::{self, PlanView};
 use crate::report::space_time::{self, SpaceTime};
-use crate::report::spectrum::{self as report_spectrum, SpectrumChart};
+use crate::report::spectrum::{self as report_spectrum, ScaledPanel, SpectrumChart};
 use crate::scene::{field, Scene};
 use glam::Vec3;
 
@@ -247,6 +248,26 @@ pub struct Spectrum {
     pub power: Vec<f64>,
 }
 
+/// `Trace::scaled_tip_spectrum`: the tips' motion per unit log frequency,
+/// each blade against its own bending natural frequency.
+#[derive(Clone, Debug, Default, serde::Serialize)]
+pub struct ScaledSpectrum {
+    /// f / f_bend at the centre of the largest band (1: the band from
+    /// 2^(-1/8) to 2^(1/8) of f_bend).
+    pub peak_over_natural: f64,
+    /// Whether that is the slowest band: then the motion has no peak, only
+    /// the wind's slowest eddies.
+    pub peak_is_slowest_band: bool,
+    /// Blades averaged (those that move and ring).
+    pub blades: usize,
+    pub seconds: f64,
+    pub from_s: f64,
+    /// Centres of the quarter-octave bands, f / f_bend.
+    pub frequency_over_natural: Vec<f64>,
+    /// f S(f) / variance in each band, averaged over the blades.
+    pub power_per_log_f: Vec<f64>,
+}
+
 /// The one-sided periodogram of `series` sampled every `dt` seconds, its
 /// mean taken off and a Hann window applied (power scaled back by the
 /// window's mean square), from 1 / T up to the Nyquist frequency. A direct
@@ -324,6 +345,79 @@ impl Trace {
             from_s: self.times[skip],
             frequency_hz,
             power,
+        })
+    }
+
+    /// The tips' downwind motion against each blade's own bending natural
+    /// frequency: each traced blade's periodogram from `from_s` on, its
+    /// frequencies divided by the blade's f_bend and its power read per
+    /// unit log frequency as a share of its variance (f S(f) / var, whose
+    /// integral over ln f is 1), averaged in quarter-octave bands of f /
+    /// f_bend over the blades. The blades' natural frequencies spread over
+    /// a factor of two, so `tip_spectrum`, in hertz, smears the ringing of
+    /// each over them all; this lines them up. None with fewer than 8
+    /// samples or no blade that both moves and rings (f_bend > 0).
+    pub fn scaled_tip_spectrum(&self, from_s: f64) -> Option<ScaledSpectrum> {
+        const BANDS_PER_OCTAVE: f64 = 4.0;
+        let skip = self.samples_before(from_s);
+        let samples = self.times.len().saturating_sub(skip);
+        if samples < 8 || self.blades.is_empty() {
+            return None;
+        }
+        let dt = self.times[1] - self.times[0];
+        let n = self.blades.len();
+        // Bands centred on powers of 2^(1/4), one of them on f_bend itself.
+        let band_of = |ratio: f64| (ratio.log2() * BANDS_PER_OCTAVE).round() as i64;
+        // band -> (sum of the blades' band means, blades with the band)
+        let mut bands: BTreeMap<i64, (f64, usize)> = Default::default();
+        let mut blades = 0usize;
+        for b in 0..n {
+            let natural = self.bend_hz.get(b).copied().unwrap_or(0.0);
+            let series: Vec<f64> = (skip..self.times.len())
+                .map(|s| self.tips[s * n + b][0] as f64)
+                .collect();
+            let periodogram = periodogram(&series, dt);
+            let variance: f64 =
+                periodogram.iter().map(|(_, p)| p).sum::<f64>() / (dt * samples as f64);
+            if natural <= 0.0 || variance <= 0.0 {
+                continue;
+            }
+            blades += 1;
+            let mut own: BTreeMap<i64, (f64, usize)> = Default::default();
+            for (f, p) in periodogram {
+                let entry = own.entry(band_of(f / natural)).or_default();
+                entry.0 += f * p / variance;
+                entry.1 += 1;
+            }
+            for (band, (sum, count)) in own {
+                let entry = bands.entry(band).or_default();
+                entry.0 += sum / count as f64;
+                entry.1 += 1;
+            }
+        }
+        // A band only some blades reach (the slowest and fastest ends) is
+        // left out: its mean is over a few blades, not the field.
+        let (frequency_over_natural, power_per_log_f): (Vec<f64>, Vec<f64>) = bands
+            .into_iter()
+            .filter(|(_, (_, count))| 2 * count >= blades && blades > 0)
+            .map(|(band, (sum, count))| {
+                let centre = (band as f64 / BANDS_PER_OCTAVE).exp2();
+                (centre, sum / count as f64)
+            })
+            .unzip();
+        let peak = power_per_log_f
+            .iter()
+            .enumerate()
+            .max_by(|a, b| a.1.total_cmp(b.1))
+            .map(|(i, _)| i)?;
+        Some(ScaledSpectrum {
+            peak_over_natural: frequency_over_natural[peak],
+            peak_is_slowest_band: peak == 0,
+            blades,
+            seconds: samples as f64 * dt,
+            from_s: self.times[skip],
+            frequency_over_natural,
+            power_per_log_f,
         })
     }
 
@@ -631,6 +725,7 @@ fn integral_length(correlation: &[f64], step: f64) -> f64 {
 /// (report::spectrum).
 pub fn spectrum_svg(
     spectrum: &Spectrum,
+    scaled: Option<&ScaledSpectrum>,
     bend: Option<&Percentiles>,
     swing: Option<&Percentiles>,
     title: &str,
@@ -642,6 +737,10 @@ pub fn spectrum_svg(
         power: &spectrum.power,
         bend_hz: bend.map(range),
         swing_hz: swing.map(range),
+        scaled: scaled.map(|s| ScaledPanel {
+            frequency_over_natural: &s.frequency_over_natural,
+            power_per_log_f: &s.power_per_log_f,
+        }),
     })
 }
 
@@ -932,6 +1031,10 @@ pub struct TraceReport {
     /// The spectrum of the tips' downwind (x) motion from `diagram_from`
     /// on, averaged over the traced blades (None: too few samples).
     pub tip_spectrum: Option<Spectrum>,
+    /// The same motion per unit log frequency, each blade's frequencies
+    /// over its own bending natural frequency: where the blades ring
+    /// against where the wind drives them (None: too few samples).
+    pub tip_spectrum_scaled: Option<ScaledSpectrum>,
     /// The traced blades' bending natural frequencies (Hz): where the tip
     /// spectrum of a blade that locks in to the wind peaks.
     pub bend_natural_hz: Option<Percentiles>,
@@ -1045,6 +1148,7 @@ pub fn trace_to_dir(
         claim.write(PLAN_VIEW_NAME, svg.as_bytes())?;
     }
     let tip_spectrum = trace.tip_spectrum(request.diagram_from);
+    let tip_spectrum_scaled = trace.scaled_tip_spectrum(request.diagram_from);
     let bend_natural_hz = trace.bend_natural_hz();
     let swing_natural_hz = trace.swing_natural_hz();
     let title = format!("{}: the tips' spectrum", request.scene.name);
@@ -1053,6 +1157,7 @@ pub fn trace_to_dir(
         .map(|s| {
             spectrum_svg(
                 s,
+                tip_spectrum_scaled.as_ref(),
                 bend_natural_hz.as_ref(),
                 swing_natural_hz.as_ref(),
                 &title,
@@ -1086,6 +1191,7 @@ pub fn trace_to_dir(
         plan_view: plan_view.map(|_| PLAN_VIEW_NAME.into()),
         spectrum: spectrum.map(|_| SPECTRUM_NAME.into()),
         tip_spectrum,
+        tip_spectrum_scaled,
         bend_natural_hz,
         swing_natural_hz,
         tip_correlation: trace.tip_correlation(request.diagram_from),
@@ -1198,6 +1304,52 @@ mod tests {
             steps_done: 300,
             interrupted: false,
         }
+    }
+
+    #[test]
+    fn each_blade_ringing_at_its_own_frequency_peaks_at_one_when_scaled() {
+        // Blades whose natural frequencies spread from 0.6 to 1.4 Hz, each
+        // ringing at its own over a slow sway of 0.1 Hz: in hertz the
+        // ringing is smeared over the spread, scaled it is one band.
+        let mut run = synthetic(|r, t| {
+            let natural = 0.6 + 0.02 * r[0] as f64;
+            (0.01 * (std::f64::consts::TAU * natural * t).sin()
+                + 0.02 * (std::f64::consts::TAU * 0.1 * t).sin()) as f32
+        });
+        run.bend_hz = run.roots.iter().map(|r| 0.6 + 0.02 * r[0] as f64).collect();
+        let scaled = run.scaled_tip_spectrum(0.0).unwrap();
+        assert_eq!(scaled.peak_over_natural, 1.0, "{scaled:?}");
+        assert!(!scaled.peak_is_slowest_band);
+        assert_eq!(scaled.blades, 1600);
+        // Ringing alone: every blade's shares integrate to 1 over ln f
+        // (Parseval), all bands being kept.
+        let mut ringing = synthetic(|r, t| {
+            let natural = 0.6 + 0.02 * r[0] as f64;
+            (0.01 * (std::f64::consts::TAU * natural * t).sin()) as f32
+        });
+        ringing.bend_hz = run.bend_hz.clone();
+        let scaled = ringing.scaled_tip_spectrum(0.0).unwrap();
+        let step = std::f64::consts::LN_2 / 4.0;
+        let total: f64 = scaled.power_per_log_f.iter().sum::<f64>() * step;
+        assert!((total - 1.0).abs() < 0.1, "{total}");
+
+        // A spectrum falling as f^-3 (f S(f) as f^-2) has its largest share
+        // in its slowest band: no peak.
+        let mut fall = synthetic(|r, t| {
+            (1..=60)
+                .map(|k| {
+                    let phase = (k as f64 * 2.4 + r[0] as f64 * 0.7 + r[1] as f64 * 1.3).sin();
+                    0.01 / (k as f64).powf(1.5)
+                        * (std::f64::consts::TAU * k as f64 / 30.0 * t + 6.0 * phase).sin()
+                })
+                .sum::<f64>() as f32
+        });
+        fall.bend_hz = vec![0.9; fall.roots.len()];
+        let scaled = fall.scaled_tip_spectrum(0.0).unwrap();
+        assert!(scaled.peak_is_slowest_band, "{scaled:?}");
+        // Blades that do not ring are left out.
+        fall.bend_hz[0] = 0.0;
+        assert_eq!(fall.scaled_tip_spectrum(0.0).unwrap().blades, 1599);
     }
 
     #[test]
