@@ -52,7 +52,7 @@ pub fn svg(c: &SpectrumChart) -> Result<String> {
         s.frequency_over_natural
             .iter()
             .zip(s.power_per_log_f)
-            .filter(|(&r, &p)| r > 0.0 && p > 0.0)
+            .filter(|(&r, &p)| r > 0.0 && r <= 4.0 && p > 0.0)
             .map(|(&r, &p)| (r, p))
             .collect::<Vec<_>>()
     });
@@ -165,14 +165,18 @@ fn draw_hertz<DB: DrawingBackend>(
         .map_err(err)
 }
 
-/// The same motion per unit log frequency, f / f_bend on a log axis, with
-/// f_bend itself and the 30% either side of it marked.
+/// The same motion per unit log frequency, f / f_bend on a log axis up to
+/// 4 (the blades' motion lives below it), with f_bend itself and the 30%
+/// either side of it marked.
 fn draw_scaled<DB: DrawingBackend>(
     area: &DrawingArea<DB, plotters::coord::Shift>,
     points: &[(f64, f64)],
 ) -> Result<()> {
-    let (first, last) = (points[0].0, points[points.len() - 1].0);
-    let hi = points.iter().map(|p| p.1).fold(0.0, f64::max) * 1.15;
+    // Octaves on a linear axis, labelled as f / f_bend: ticks fall on
+    // powers of two rather than crowding where a log axis packs them.
+    let (first, last) = (points[0].0.log2(), points[points.len() - 1].0.log2());
+    // Headroom over the largest band for the legend.
+    let hi = points.iter().map(|p| p.1).fold(0.0, f64::max) * 1.6;
     let mut chart = ChartBuilder::on(area)
         .caption(
             "per unit log frequency, each blade against its own f_bend",
@@ -181,22 +185,24 @@ fn draw_scaled<DB: DrawingBackend>(
         .margin(12)
         .x_label_area_size(40)
         .y_label_area_size(60)
-        .build_cartesian_2d((first..last).log_scale(), 0.0..hi)
+        .build_cartesian_2d(first..last, 0.0..hi)
         .map_err(err)?;
     chart
         .configure_mesh()
         .light_line_style(WHITE)
         .x_desc("frequency / the blade's bending natural frequency")
         .y_desc("f S(f) / variance")
-        .x_label_formatter(&|v| format!("{v:.2}"))
+        .x_labels(8)
+        .x_label_formatter(&|v| ratio_label(v.exp2()))
         .draw()
         .map_err(err)?;
     let band = RGBColor(255, 228, 196);
     let line = RGBColor(200, 90, 20);
-    if first < 1.3 && last > 0.7 {
+    let (near_lo, near_hi) = (0.7f64.log2(), 1.3f64.log2());
+    if first < near_hi && last > near_lo {
         chart
             .draw_series(std::iter::once(Rectangle::new(
-                [(0.7f64.max(first), 0.0), (1.3f64.min(last), hi)],
+                [(near_lo.max(first), 0.0), (near_hi.min(last), hi)],
                 band.mix(0.8).filled(),
             )))
             .map_err(err)?
@@ -204,7 +210,7 @@ fn draw_scaled<DB: DrawingBackend>(
             .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 14, y + 5)], band.filled()));
         chart
             .draw_series(LineSeries::new(
-                [(1.0, 0.0), (1.0, hi)],
+                [(0.0, 0.0), (0.0, hi)],
                 line.stroke_width(2),
             ))
             .map_err(err)?
@@ -213,7 +219,7 @@ fn draw_scaled<DB: DrawingBackend>(
     }
     chart
         .draw_series(LineSeries::new(
-            points.iter().copied(),
+            points.iter().map(|&(r, p)| (r.log2(), p)),
             BLUE.stroke_width(2),
         ))
         .map_err(err)?
@@ -226,6 +232,13 @@ fn draw_scaled<DB: DrawingBackend>(
         .position(SeriesLabelPosition::UpperRight)
         .draw()
         .map_err(err)
+}
+
+/// A ratio with at most three decimals and no trailing zeros: 0.125, 0.5,
+/// 1, 4.
+fn ratio_label(ratio: f64) -> String {
+    let text = format!("{ratio:.3}");
+    text.trim_end_matches('0').trim_end_matches('.').to_string()
 }
 
 #[cfg(test)]
@@ -270,6 +283,10 @@ mod tests {
         assert!(both.contains("each blade against its own f_bend"));
         assert!(both.contains("within 30% of f_bend") && both.contains("f S(f) / variance"));
         assert!(!svg.contains("f S(f)"));
+        assert_eq!(
+            [0.125, 0.5, 1.0, 4.0, 2f64.sqrt()].map(ratio_label),
+            ["0.125", "0.5", "1", "4", "1.414"]
+        );
         let none = svg_err(&[0.0], &[0.0]);
         assert!(none.contains("no power"), "{none}");
     }
