@@ -156,13 +156,7 @@ fn draw_hertz<DB: DrawingBackend>(
         .map_err(err)?
         .label("the tips' downwind motion, mean of the blades' periodograms")
         .legend(|(x, y)| PathElement::new([(x, y), (x + 14, y)], BLUE.stroke_width(2)));
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .position(SeriesLabelPosition::UpperRight)
-        .draw()
-        .map_err(err)
+    draw_legend(&mut chart)
 }
 
 /// The same motion per unit log frequency, f / f_bend on a log axis up to
@@ -225,6 +219,13 @@ fn draw_scaled<DB: DrawingBackend>(
         .map_err(err)?
         .label("quarter-octave bands, mean of the blades")
         .legend(|(x, y)| PathElement::new([(x, y), (x + 14, y)], BLUE.stroke_width(2)));
+    draw_legend(&mut chart)
+}
+
+/// Both panels' legend, at the upper right.
+fn draw_legend<'a, DB: DrawingBackend + 'a, CT: plotters::coord::CoordTranslate>(
+    chart: &mut ChartContext<'a, DB, CT>,
+) -> Result<()> {
     chart
         .configure_series_labels()
         .background_style(WHITE.mix(0.85))
