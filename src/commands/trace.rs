@@ -399,7 +399,7 @@ impl Trace {
         // left out: its mean is over a few blades, not the field.
         let (frequency_over_natural, power_per_log_f): (Vec<f64>, Vec<f64>) = bands
             .into_iter()
-            .filter(|(_, (_, count))| 2 * count >= blades && blades > 0)
+            .filter(|(_, (_, count))| 2 * count >= blades)
             .map(|(band, (sum, count))| {
                 let centre = (band as f64 / BANDS_PER_OCTAVE).exp2();
                 (centre, sum / count as f64)

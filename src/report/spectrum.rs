@@ -35,6 +35,11 @@ const HERTZ_WIDTH: u32 = 720;
 const SCALED_WIDTH: u32 = 560;
 const HEIGHT: u32 = 440;
 
+/// The bending frequencies' colours, in both panels: their range's band
+/// and their median's (or f_bend's) line.
+const BEND_BAND: RGBColor = RGBColor(255, 228, 196);
+const BEND_LINE: RGBColor = RGBColor(200, 90, 20);
+
 /// The chart as SVG, from the lowest frequency to 4 Hz (or the highest
 /// sampled, if lower): the blades' motion lives below it.
 pub fn svg(c: &SpectrumChart) -> Result<String> {
@@ -106,12 +111,7 @@ fn draw_hertz<DB: DrawingBackend>(
         .draw()
         .map_err(err)?;
     let motions = [
-        (
-            "bending",
-            c.bend_hz,
-            RGBColor(255, 228, 196),
-            RGBColor(200, 90, 20),
-        ),
+        ("bending", c.bend_hz, BEND_BAND, BEND_LINE),
         (
             "swinging",
             c.swing_hz,
@@ -190,8 +190,7 @@ fn draw_scaled<DB: DrawingBackend>(
         .x_label_formatter(&|v| ratio_label(v.exp2()))
         .draw()
         .map_err(err)?;
-    let band = RGBColor(255, 228, 196);
-    let line = RGBColor(200, 90, 20);
+    let (band, line) = (BEND_BAND, BEND_LINE);
     let (near_lo, near_hi) = (0.7f64.log2(), 1.3f64.log2());
     if first < near_hi && last > near_lo {
         chart
