@@ -1127,6 +1127,7 @@ fn kept_dynamics_against_the_cpu(
         velocity: &velocity,
         canopy: None,
         ground: &ground,
+        subgrid: None,
     };
     let setup = meadow::compute::cover_dynamics::CoverDynamicsSetup {
         cover: &cover,
@@ -1602,6 +1603,7 @@ fn a_stiffer_blade_coming_in_raises_the_substeps() {
         velocity: &velocity,
         canopy: None,
         ground: &ground,
+        subgrid: None,
     };
     let eye = |n: usize| Vec2::new(0.5 + 4.0 * n as f32, 0.5);
     let setup = meadow::compute::cover_dynamics::CoverDynamicsSetup {

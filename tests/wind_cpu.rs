@@ -453,6 +453,7 @@ fn turbulence_records(seed: u32, seconds: f32) -> (TurbulenceField, Vec<Turbulen
         length_scale: 4.0,
         seed,
         speed: Some(3.0),
+        finest_wavelength: None,
     };
     let g = turbulence_grid();
     // The ground, the top and the sides along a wind from +x are walls.
@@ -525,6 +526,78 @@ fn the_field_has_the_set_intensity_and_follows_its_seed() {
     assert_ne!(turbulence_records(3, 2.0).1, turbulence_records(4, 2.0).1);
 }
 
+/// The modes finer than the grid carry the spectrum's share of the
+/// energy: on a 60 x 60 m grid of 2 m cells (shortest wave 4 m) with the
+/// tips feeling waves down to 0.5 m, the von Karman spectrum of L = 4 m
+/// holds 29% of the energy between 4 m and 0.5 m waves (of all of it
+/// above 0.5 m), a little less of the horizontal variance (the grid's
+/// eddies deeper than the air are flattened into horizontal ones); over
+/// twelve seeds the downwind component's variance over the grid's x
+/// faces, the sub-grid modes summed at the same points, takes 0.12-0.4 of
+/// the sum's, and the sum's standard deviation is within 20% of sigma.
+/// With the finest wavelength the grid's own (4 m) there are none, and
+/// the grid's modes carry sigma alone.
+#[test]
+fn the_modes_finer_than_the_grid_carry_their_share_of_the_spectrum() {
+    let g = WindGrid::new(
+        UVec3::new(30, 8, 30),
+        Vec3::new(-30.0, 0.0, -30.0),
+        Vec3::new(60.0, 4.0, 60.0),
+    )
+    .unwrap();
+    let variance = |v: &[f64]| {
+        let mean = v.iter().sum::<f64>() / v.len() as f64;
+        v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / v.len() as f64
+    };
+    let field = |seed: u32, finest: Option<f32>| {
+        let t = Turbulence {
+            intensity: 0.3,
+            length_scale: 4.0,
+            seed,
+            speed: Some(3.0),
+            finest_wavelength: finest,
+        };
+        TurbulenceField::new(&t, g.cells, g.cell, [false, true, true])
+    };
+    let (mut grid_var, mut subgrid_var, mut total_var) = (0.0, 0.0, 0.0);
+    for seed in 1..=12 {
+        let modes = field(seed, None);
+        let (records, subgrid) = (modes.records(0.9), modes.subgrid_records(0.9));
+        assert_eq!(subgrid.len(), meadow::model::turbulence::SUBGRID_MODES);
+        let (mut resolved, mut finer, mut sum) = (Vec::new(), Vec::new(), Vec::new());
+        for (_, f) in g.each_face(0) {
+            let q = TurbulenceField::face_point(0, f);
+            let on_grid = modes.at(&records, 0, q) as f64;
+            let x = q.as_vec3() * 0.5 * g.cell;
+            let below = meadow::model::turbulence::velocity_at(&subgrid, x).x as f64;
+            resolved.push(on_grid);
+            finer.push(below);
+            sum.push(on_grid + below);
+        }
+        grid_var += variance(&resolved) / 12.0;
+        subgrid_var += variance(&finer) / 12.0;
+        total_var += variance(&sum) / 12.0;
+    }
+    let share = subgrid_var / total_var;
+    let sd = total_var.sqrt();
+    eprintln!(
+        "sub-grid share of the downwind variance {share:.3}; the grid's alone {:.3} m/s, with the sub-grid {sd:.3} m/s (sigma 0.9)",
+        grid_var.sqrt()
+    );
+    assert!((0.12..0.4).contains(&share), "sub-grid share {share}");
+    assert!((sd / 0.9 - 1.0).abs() < 0.2, "sd {sd}");
+    let own = field(1, Some(4.0));
+    assert!(own.subgrid_records(0.9).is_empty());
+    let records = own.records(0.9);
+    let alone: Vec<f64> = g
+        .each_face(0)
+        .map(|(_, f)| own.at(&records, 0, TurbulenceField::face_point(0, f)) as f64)
+        .collect();
+    let sd_alone = variance(&alone).sqrt();
+    eprintln!("finest wavelength the grid's: its modes alone {sd_alone:.3} m/s");
+    assert!((sd_alone / 0.9 - 1.0).abs() < 0.3, "sd {sd_alone}");
+}
+
 /// The downwind turbulence on a 60 x 60 m grid of 2 m cells (walls at
 /// the ground, the top and the sides along a 3 m/s wind from +x; sigma 0.9
 /// m/s), sampled every `dt` for `seconds`: at each sample `probe` reads
@@ -546,6 +619,7 @@ fn sample_field_60_m(
         length_scale: 4.0,
         seed,
         speed: Some(3.0),
+        finest_wavelength: None,
     };
     let mut field = TurbulenceField::new(&t, g.cells, g.cell, [false, true, true]);
     for _ in 0..(seconds / dt).round() as u32 {

@@ -252,6 +252,7 @@ fn gpu_turbulence_matches_the_cpu_reference_over_terrain() {
         length_scale: 2.0,
         seed: 5,
         speed: None,
+        finest_wavelength: None,
     }));
 }
 
@@ -854,6 +855,7 @@ fn gpu_turbulence_makes_patches_carried_by_the_wind() {
         length_scale: 4.0,
         seed: 9,
         speed: None,
+        finest_wavelength: None,
     };
     // Two points 20 m apart across the wind, then 21 along the wind (x)
     // and 21 across it (z), 2 m apart, for the correlation lengths and the
@@ -979,6 +981,7 @@ fn gpu_moves_the_wind_window_as_the_cpu_reference() {
                 length_scale: 2.0,
                 seed: 9,
                 speed: None,
+                finest_wavelength: None,
             }),
             moving_window: true,
             ..Default::default()
@@ -1038,6 +1041,7 @@ fn gpu_moves_the_wind_window_as_the_cpu_reference() {
             length_scale: 2.0,
             seed: 9,
             speed: None,
+            finest_wavelength: None,
         }),
         ..Default::default()
     };

@@ -74,6 +74,23 @@ layout(set = 0, binding = 11, std430) readonly buffer Terrain {
     float terrain_words[];
 };
 #include "wind_felt.glsl"
+#include "turbulence.glsl"
+
+// The turbulence's modes finer than the wind grid as the wind step left
+// them (`TurbulenceField::subgrid_records`; pc.subgrid_modes of them), or
+// a placeholder never read.
+layout(set = 0, binding = 12, std430) readonly buffer SubgridModes { TurbulenceMode subgrid_modes[]; };
+
+// The wind the tip at `tip` feels (`WindField::felt`): the grid's, and the
+// modes finer than it summed there.
+vec3 felt_at(vec3 tip) {
+    vec3 felt = wind_felt(pc.grid, tip);
+    vec3 x = window_point(pc.grid, tip) - pc.grid.origin.xyz;
+    for (uint n = 0u; n < pc.subgrid_modes; ++n) {
+        felt += turbulence_velocity(subgrid_modes[n], x);
+    }
+    return felt;
+}
 
 // Two-way coupling (`deposit` in src/model/canopy.rs): each edge's plate,
 // projected across the wind the blade felt, added to the cell its midpoint
@@ -177,7 +194,7 @@ void main() {
     GrassState s = states[id];
     // The wind only at the tip (paper section 4), as the last step left it.
     vec3 tip = blade_pose(b, s.angle, 0.0).points[3];
-    vec3 felt = wind_felt(pc.grid, tip);
+    vec3 felt = felt_at(tip);
     blade_step(b, s, felt, pc.substep, pc.substeps, 0.0, uvec4(0u));
     write_blade(id, b, s, 0.0, felt);
 }
@@ -196,7 +213,7 @@ void main() {
     Press press = presses[id];
     // The wind only at the tip (paper section 4), as the last step left it.
     vec3 tip = blade_pose(b, s.angle, press.pressed).points[3];
-    vec3 felt = wind_felt(pc.grid, tip);
+    vec3 felt = felt_at(tip);
     float pressed = press_next(press, pc.dt, pc.press_decay);
     bool touched = blade_step(b, s, felt, pc.substep, pc.substeps, pressed, near);
     presses[id] = Press(pressed, touched ? 1.0 : 0.0);

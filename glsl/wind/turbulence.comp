@@ -7,6 +7,7 @@
 // inflow face is set anew there). The modes are written before each step
 // with their phases then.
 #include "wind_kernel.glsl"
+#include "turbulence.glsl"
 
 // TurbulenceMode: src/interface/defs.rs.
 layout(set = 0, binding = 12, std430) readonly buffer Modes { TurbulenceMode modes[]; };
@@ -42,23 +43,7 @@ void main() {
     vec3 x = vec3(q) * 0.5 * pc.grid.cell_size.xyz;
     float u = 0.0;
     for (uint n = 0u; n < uint(modes.length()); ++n) {
-        vec4 k = modes[n].wavenumber_phase;
-        uint mirrored = modes[n].mirrored;
-        // `model::turbulence::at`: the phase along the axes not mirrored,
-        // times per mirrored axis sin (the component across it) or cos.
-        float theta = k.w;
-        for (uint a = 0u; a < 3u; ++a) {
-            if ((mirrored & (1u << a)) == 0u) {
-                theta += k[a] * x[a];
-            }
-        }
-        float value = (mirrored & (1u << axis)) != 0u ? -sin(theta) : cos(theta);
-        for (uint a = 0u; a < 3u; ++a) {
-            if ((mirrored & (1u << a)) != 0u) {
-                value *= a == axis ? sin(k[a] * x[a]) : cos(k[a] * x[a]);
-            }
-        }
-        u += modes[n].amplitude[axis] * value;
+        u += turbulence_component(modes[n], axis, x);
     }
     vel[id] += u;
     turbulence_added[id] = u;

@@ -895,9 +895,12 @@ fn sample(
     }
     if let Some(field) = wind {
         field.vel = simulation.wind().read_velocity(gpu, commands)?;
+        field.subgrid_turbulence = simulation.wind().subgrid_records();
         let first = trace.tips.len() - trace.blades.len();
         for tip in &trace.tips[first..] {
-            trace.wind.push(field.sample(Vec3::from(*tip)).to_array());
+            // What the tip feels: the grid's wind and the turbulence finer
+            // than the grid there.
+            trace.wind.push(field.felt(Vec3::from(*tip)).to_array());
         }
     }
     Ok(())

@@ -60,6 +60,7 @@ pub const GRASS_SET: &[LayoutBinding] = &[
     LayoutBinding::compute_storage(9), // the batch's blades near a collider or pressed
     LayoutBinding::compute_storage(10), // each slot's blade, whose control points it writes
     LayoutBinding::compute_storage(11), // the ground a wind grid's heights follow (or a placeholder)
+    LayoutBinding::compute_storage(12), // the turbulence's modes finer than the wind grid (or a placeholder)
 ];
 
 /// Words each batch's list of touching blades has beyond one per blade:
@@ -98,6 +99,9 @@ pub struct GrassPass {
     wind_velocity: BufferId,
     canopy: BufferId,
     vertices: BufferId,
+    /// The turbulence's modes finer than the wind grid, which the wind
+    /// step writes (a placeholder of the pass's own without).
+    subgrid_modes: BufferId,
     /// Each blade's pressed state (a placeholder without colliders).
     presses: Buffer,
     /// The colliders, evaluated and binned before each step.
@@ -209,6 +213,9 @@ impl GrassPass {
         let order = placed.order.clone();
         let buffers = StepBuffers::new(gpu, commands, blades.len(), placed, colliders)?;
         let canopy = wind.canopy.map_or(&buffers.no_canopy, |(buffer, _)| buffer);
+        let subgrid_modes = wind
+            .subgrid
+            .map_or(&buffers.no_subgrid, |(buffer, _)| buffer);
         let bins = ColliderBins::new(gpu, bin_grid, colliders)?;
         let layout = PipelineLayout::new::<GrassPush>(
             gpu,
@@ -263,6 +270,7 @@ impl GrassPass {
                     },
                     part(&b.vertex_slots, blades, size_of::<u32>()),
                     Bound::Buffer(wind.ground),
+                    Bound::Buffer(subgrid_modes),
                 ]
             },
         )?;
@@ -279,6 +287,7 @@ impl GrassPass {
             wind_velocity: wind.velocity.into(),
             canopy: canopy.into(),
             vertices: vertices.into(),
+            subgrid_modes: subgrid_modes.into(),
             blades: buffers.blades,
             vertex_slots: buffers.vertex_slots,
             order,
@@ -428,6 +437,7 @@ impl GrassPass {
             BufferUse::new(&self.states, read_write),
             BufferUse::new(self.vertices, Access::COMPUTE_WRITE),
             BufferUse::new(self.wind_velocity, read),
+            BufferUse::new(self.subgrid_modes, read),
             BufferUse::new(&self.caps, read_write),
             BufferUse::new(self.canopy, read_write),
             BufferUse::new(&self.presses, read_write),
@@ -626,6 +636,7 @@ fn grass_push(
         bin_corner: bin_grid.corner.to_array(),
         bin_columns: bin_grid.columns,
         bin_rows: bin_grid.rows,
+        subgrid_modes: wind.subgrid.map_or(0, |(_, count)| count),
         ..GrassPush::default()
     }
 }
@@ -682,6 +693,8 @@ struct StepBuffers {
     /// Bound when the coupling is one-way (a binding must name a live
     /// buffer); the kernel never touches it then.
     no_canopy: Buffer,
+    /// Bound when the wind has no modes finer than its grid; never read.
+    no_subgrid: Buffer,
     /// Made without colliders, the kernel touches none: one entry. Made
     /// with them, each blade keeps a pressed state even when
     /// `set_colliders` takes them all away, so that it decays.
@@ -742,6 +755,11 @@ impl StepBuffers {
                 "grass canopy placeholder (one-way coupling)",
                 &[0u8; 4],
                 Access::COMPUTE_READ_WRITE,
+            )?,
+            no_subgrid: upload(
+                "grass sub-grid turbulence placeholder (none)",
+                &[0u8; std::mem::size_of::<crate::interface::TurbulenceMode>()],
+                Access::COMPUTE_READ,
             )?,
             presses: upload(
                 "grass pressed state (colliders)",

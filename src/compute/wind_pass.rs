@@ -182,6 +182,10 @@ struct WindBuffers {
     /// The turbulence's modes with their phases, written before each step
     /// (room for `turbulence::MODES`).
     modes: Buffer,
+    /// The turbulence's modes finer than the grid, written with `modes`,
+    /// which the grass step sums at its tips (room for
+    /// `turbulence::SUBGRID_MODES`; not in the wind's set).
+    subgrid_modes: Buffer,
     /// The ground the grid stands on where it follows it (a flat
     /// placeholder, never read, where it does not).
     ground: Buffer,
@@ -261,6 +265,13 @@ impl WindBuffers {
                 storage | vk::BufferUsageFlags::TRANSFER_DST,
                 MemoryLocation::GpuOnly,
             )?,
+            subgrid_modes: Buffer::new(
+                gpu,
+                "wind turbulence sub-grid modes",
+                (turbulence::SUBGRID_MODES * std::mem::size_of::<TurbulenceMode>()) as u64,
+                storage | vk::BufferUsageFlags::TRANSFER_DST,
+                MemoryLocation::GpuOnly,
+            )?,
             ground: if field.grid.follows_ground {
                 super::terrain_buffer(
                     gpu,
@@ -288,6 +299,7 @@ impl WindBuffers {
         rec.fill_buffer(&buffers.canopy, 0);
         rec.fill_buffer(&buffers.turbulence_added, 0);
         rec.fill_buffer(&buffers.modes, 0);
+        rec.fill_buffer(&buffers.subgrid_modes, 0);
         // The next recording's first use of each waits for these writes.
         rec.submit_and_wait("clearing the wind")?;
         Ok(buffers)
@@ -411,6 +423,9 @@ pub struct WindInput<'a> {
     /// measured from (glsl/common/terrain.glsl's buffer); where the grid's
     /// heights are the world's, a flat placeholder never read.
     pub ground: &'a Buffer,
+    /// The turbulence's modes finer than the grid, which the tips sum, and
+    /// how many (`WindPass::subgrid_records`); None: none.
+    pub subgrid: Option<(&'a Buffer, u32)>,
 }
 
 fn u32_bytes(values: impl Iterator<Item = u32>) -> Vec<u8> {
@@ -629,9 +644,11 @@ impl WindPass {
         self.settings.effective_canopy_drag() > 0.0 && self.canopy_unit > 0.0
     }
 
-    /// What the grass step binds: the velocity, and the canopy buffer when
-    /// the coupling is two-way.
+    /// What the grass step binds: the velocity, the canopy buffer when
+    /// the coupling is two-way, and the turbulence's modes finer than the
+    /// grid where there are any.
     pub fn grass_input(&self) -> WindInput<'_> {
+        let subgrid = self.subgrid_records().len() as u32;
         WindInput {
             grid: self.grid,
             velocity: &self.buffers.velocity,
@@ -639,7 +656,18 @@ impl WindPass {
                 .coupled()
                 .then_some((&self.buffers.canopy, self.canopy_unit)),
             ground: &self.buffers.ground,
+            subgrid: (subgrid > 0).then_some((&self.buffers.subgrid_modes, subgrid)),
         }
+    }
+
+    /// The turbulence's modes finer than the grid as the last recorded
+    /// step leaves them (`TurbulenceField::subgrid_records`): what the
+    /// grass step sums at its tips (`WindField::felt` on the CPU); empty
+    /// without.
+    pub fn subgrid_records(&self) -> Vec<TurbulenceMode> {
+        self.turbulence.as_ref().map_or(Vec::new(), |field| {
+            field.subgrid_records(self.settings.turbulence_sigma())
+        })
     }
 
     /// The frontal area per cell the grass laid last step, in counts of
@@ -838,10 +866,16 @@ impl WindPass {
     }
 
     /// The turbulence kernel with `modes`: every face not a wall gains
-    /// the field (the wind set bound).
-    fn record_turbulence(&self, rec: &Recording, modes: &[TurbulenceMode], push: &WindPush) {
+    /// the field (the wind set bound); the modes finer than the grid
+    /// written for the grass step.
+    fn record_turbulence(&self, rec: &Recording, modes: &Modes, push: &WindPush) {
         rec.uses(&[BufferUse::new(&self.buffers.modes, Access::TRANSFER_WRITE)]);
-        rec.update_buffer(&self.buffers.modes, 0, bytemuck::cast_slice(modes));
+        rec.update_buffer(&self.buffers.modes, 0, bytemuck::cast_slice(&modes.grid));
+        if !modes.subgrid.is_empty() {
+            let subgrid = &self.buffers.subgrid_modes;
+            rec.uses(&[BufferUse::new(subgrid, Access::TRANSFER_WRITE)]);
+            rec.update_buffer(subgrid, 0, bytemuck::cast_slice(&modes.subgrid));
+        }
         let pipeline = &self.kernels[TURBULENCE];
         rec.uses(&self.kernel_uses(TURBULENCE));
         rec.bind_pipeline(pipeline);
@@ -897,7 +931,7 @@ impl WindPass {
         self.grid = before.shifted(by);
         if let Some(field) = &mut self.turbulence {
             field.move_corner(self.grid.origin - before.origin);
-            let modes = field.records(self.settings.turbulence_sigma());
+            let modes = Modes::of(field, self.settings.turbulence_sigma());
             rec.bind_set(&self.kernels[TURBULENCE], &self.set);
             self.record_turbulence(rec, &modes, &self.push(0.0, 0.0));
         }
@@ -907,11 +941,11 @@ impl WindPass {
     /// The turbulence's modes at the end of a step of `dt` from now, the
     /// modes carried on by it (`WindField::add_turbulence`); None without
     /// turbulence.
-    fn turbulence_records(&mut self, dt: f32) -> Option<Vec<TurbulenceMode>> {
+    fn turbulence_records(&mut self, dt: f32) -> Option<Modes> {
         let field = self.turbulence.as_mut()?;
         let sigma = self.settings.turbulence_sigma();
         field.advance(self.settings.turbulence_convection(), sigma, dt);
-        Some(field.records(sigma))
+        Some(Modes::of(field, sigma))
     }
 
     /// Copies the velocity (copy A: x, y, z components) back to the host:
@@ -943,6 +977,22 @@ impl WindPass {
     /// in the layout of glsl/common/wind_grid.glsl. The grass samples it.
     pub fn velocity(&self) -> &Buffer {
         &self.buffers.velocity
+    }
+}
+
+/// The turbulence's modes as one step writes them: the grid's, and those
+/// finer than the grid.
+struct Modes {
+    grid: Vec<TurbulenceMode>,
+    subgrid: Vec<TurbulenceMode>,
+}
+
+impl Modes {
+    fn of(field: &TurbulenceField, sigma: f32) -> Self {
+        Self {
+            grid: field.records(sigma),
+            subgrid: field.subgrid_records(sigma),
+        }
     }
 }
 

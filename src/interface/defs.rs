@@ -166,13 +166,16 @@ gpu_interface! {
         pub path: [[f32; 4]; MAX_PATH_POINTS],
     }
 
-    /// One Fourier mode of the turbulence as glsl/wind/turbulence.comp
-    /// reads it (src/model/turbulence.rs), written before each step.
+    /// One Fourier mode of the turbulence as glsl/common/turbulence.glsl
+    /// reads it (src/model/turbulence.rs), written before each step: the
+    /// grid's for glsl/wind/turbulence.comp, those finer than the grid for
+    /// the grass step.
     pub struct TurbulenceMode {
         /// xyz: wavenumber k (rad/m); w: the mode's phase at the step's
         /// end, taken at the grid's minimum corner (rad, in [0, 2 pi)).
         pub wavenumber_phase: [f32; 4],
-        /// What the mode adds to a face of each axis at phase 0 (m/s).
+        /// What the mode adds to a face of each axis at phase 0 (m/s); a
+        /// mode finer than the grid, its velocity at phase 0.
         pub amplitude: [f32; 3],
         /// Bit a: the mode is paired with its mirror images across the
         /// grid's two sides across axis a (`model::turbulence::at`).
@@ -304,6 +307,12 @@ gpu_interface! {
         pub bin_columns: u32,
         /// The collider bins' rows (along z).
         pub bin_rows: u32,
+        /// The turbulence's modes finer than the wind grid the tips sum
+        /// (glsl/grass/step.glsl's `felt_at`); 0: none.
+        pub subgrid_modes: u32,
+        pub _pad0: u32,
+        pub _pad1: u32,
+        pub _pad2: u32,
     }
 
     /// Push constants of the collider-binning kernel

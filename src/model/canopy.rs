@@ -97,14 +97,14 @@ pub fn deposit(
 pub fn coupled_step(wind: &mut WindField, settings: &WindSettings, grass: &mut GrassField) {
     wind.step(settings, grass.dt);
     if !wind.is_coupled(settings) {
-        grass.step(|x| wind.sample(x));
+        grass.step(|x| wind.felt(x));
         return;
     }
     let mut counts = std::mem::take(&mut wind.canopy);
     counts.fill(0);
     let (grid, unit) = (wind.grid, wind.canopy_unit);
     grass.step_each(
-        |x| wind.sample(x),
+        |x| wind.felt(x),
         |blade, state, felt| {
             let pose = pose(blade, state.angle);
             // The cell a point of the world lies in: on a window that

@@ -36,7 +36,27 @@ pub struct Turbulence {
     /// inflow's speed when absent; needed without an inflow.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub speed: Option<f32>,
+    /// The shortest wavelength (m) the blades feel: the modes finer than
+    /// the wind grid holds, down to it, are summed at each blade's tip
+    /// (`velocity_at`); absent: `FINEST_WAVELENGTH`. One as long as the
+    /// grid's shortest wave (two of its largest cell sides) or longer
+    /// leaves the grid's alone.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub finest_wavelength: Option<f32>,
 }
+
+impl Turbulence {
+    /// The shortest wavelength the blades feel (m).
+    pub fn finest_wavelength(&self) -> f32 {
+        self.finest_wavelength.unwrap_or(FINEST_WAVELENGTH)
+    }
+}
+
+/// The shortest wavelength the blades feel unless a scene says (m): about
+/// a blade's height. The wind drives a blade's resonance (about 1 Hz) with
+/// waves of U / f_bend, 3 m at 3 m/s, finer than a 2 m grid's shortest
+/// (4 m); waves under half a metre change along the blade itself.
+pub const FINEST_WAVELENGTH: f32 = 0.5;
 
 /// Fourier modes in the field: enough for patches without visible
 /// repetition, few enough for a face to sum them every step.
@@ -45,6 +65,15 @@ pub const MODES: usize = 48;
 /// Wavenumber shells: each holds two of the modes, whose lives overlap by
 /// half of one (`TurbulenceField::records`).
 const SHELLS: usize = MODES / 2;
+
+/// Fourier modes finer than the grid, summed at each blade's tip rather
+/// than on the faces (`TurbulenceField::subgrid_records`), when the
+/// scene's finest wavelength is shorter than the grid's shortest wave.
+pub const SUBGRID_MODES: usize = 16;
+
+/// Their shells, log-spaced from the grid's Nyquist wavenumber to the
+/// finest wavelength's.
+const SUBGRID_SHELLS: usize = SUBGRID_MODES / 2;
 
 /// lambda of the modes' own rate, omega = lambda sqrt(k^3 E(k)) (Fung et
 /// al. 1992 take 0.4-1): eddies change while they are carried, over about
@@ -75,7 +104,8 @@ struct Mode {
     /// Wavenumber (rad/m); along a mirrored axis a whole number of half
     /// waves across the grid, 0 or more.
     k: DVec3,
-    /// What the mode adds to a face of each axis at phase 0 (m/s).
+    /// What the mode adds to a face of each axis at phase 0 (m/s); a
+    /// sub-grid mode's own velocity amplitude.
     amplitude: DVec3,
     /// Phase at t = 0 at the grid's corner (rad).
     phase: f64,
@@ -115,6 +145,8 @@ struct Shell {
 #[derive(Clone, Debug)]
 pub struct TurbulenceField {
     seed: u32,
+    /// The grid's `SHELLS`, then the sub-grid's (none, or
+    /// `SUBGRID_SHELLS`).
     shells: Vec<Shell>,
     spectrum: VonKarman,
     /// The draws' scale: the horizontal components' variance is 1 on
@@ -189,21 +221,33 @@ impl TurbulenceField {
     /// wavenumber drawn log-uniform in its shell, its direction uniform on
     /// the sphere, polarised at random across its wavenumber (so
     /// divergence-free), its energy E(k) dk of the von Karman spectrum E ~
-    /// (k/k_e)^4 / (1 + (k/k_e)^2)^(17/6). Across walls a wavenumber is
+    /// (k/k_e)^4 / (1 + (k/k_e)^2)^(17/6). Where the scene's finest
+    /// wavelength is shorter than the grid's shortest wave, `SUBGRID_MODES`
+    /// more in shells on from the Nyquist wavenumber to it, which the grass
+    /// sums at its tips (`subgrid_records`). Across walls a wavenumber is
     /// rounded to a whole number of half waves across the grid and the mode
     /// paired with its mirror images (the normal component then vanishes on
     /// both walls: the modes of a channel). The whole is scaled so that the
-    /// horizontal components' variance over the grid, averaged over draws,
-    /// is 1 (the resolved modes carry it all); a single instant's field is a
-    /// draw away from it.
+    /// horizontal components' variance, averaged over draws, is 1 (the
+    /// modes, the grid's and the sub-grid's, carry it all); a single
+    /// instant's field is a draw away from it.
     pub fn new(turbulence: &Turbulence, cells: UVec3, cell: Vec3, walls: [bool; 3]) -> Self {
         let h = cell.as_dvec3();
         let k_e = PEAK_TIMES_LENGTH / turbulence.length_scale as f64;
         let k_lo = LOWEST * k_e;
         let k_hi = (std::f64::consts::PI / h.max_element()).max(k_lo * 1.01);
-        let span = (k_hi / k_lo).ln();
-        let edge = |n: usize| k_lo * (span * n as f64 / SHELLS as f64).exp();
-        let fine = 16 * SHELLS;
+        let k_finest = std::f64::consts::TAU / turbulence.finest_wavelength() as f64;
+        let subgrid = k_finest > k_hi * 1.01;
+        let k_top = if subgrid { k_finest } else { k_hi };
+        let log_shells = |lo: f64, hi: f64, shells: usize| {
+            let span = (hi / lo).ln();
+            (0..shells).map(move |n| {
+                let edge = |n: usize| lo * (span * n as f64 / shells as f64).exp();
+                (edge(n), edge(n + 1))
+            })
+        };
+        let span = (k_top / k_lo).ln();
+        let fine = 16 * (SHELLS + SUBGRID_SHELLS);
         let spectrum = VonKarman {
             k_e,
             integral: (0..fine)
@@ -214,15 +258,20 @@ impl TurbulenceField {
                 .sum::<f64>(),
         };
         let mut offsets = rand_pcg::Pcg32::seed_from_u64(draw_key(turbulence.seed, u64::MAX, -1));
-        let shells = (0..SHELLS)
-            .map(|n| {
-                let (lo, hi) = (edge(n), edge(n + 1));
-                Shell {
-                    k_lo: lo,
-                    k_hi: hi,
-                    life: LIFE / spectrum.rate((lo * hi).sqrt()).max(spectrum.rate(k_e)),
-                    offset: offsets.random::<f64>(),
-                }
+        let edges: Vec<(f64, f64)> = log_shells(k_lo, k_hi, SHELLS)
+            .chain(log_shells(
+                k_hi,
+                k_top,
+                if subgrid { SUBGRID_SHELLS } else { 0 },
+            ))
+            .collect();
+        let shells = edges
+            .into_iter()
+            .map(|(lo, hi)| Shell {
+                k_lo: lo,
+                k_hi: hi,
+                life: LIFE / spectrum.rate((lo * hi).sqrt()).max(spectrum.rate(k_e)),
+                offset: offsets.random::<f64>(),
             })
             .collect();
         let mut field = Self {
@@ -258,7 +307,7 @@ impl TurbulenceField {
         };
         // At every instant each shell's two weights squared add to 1, so
         // the field's mean variance is the sum over shells of a draw's.
-        let mean: f64 = (0..MODES)
+        let mean: f64 = (0..field.slots())
             .map(|slot| {
                 (0..SCALE_DRAWS as i64)
                     .map(|g| horizontal(&field.draw(slot, g)))
@@ -268,6 +317,16 @@ impl TurbulenceField {
             .sum();
         field.scale = (2.0 / mean.max(f64::MIN_POSITIVE)).sqrt();
         field
+    }
+
+    /// The modes' slots: the grid's `MODES`, then the sub-grid's.
+    fn slots(&self) -> usize {
+        2 * self.shells.len()
+    }
+
+    /// Whether there are modes finer than the grid for the tips to sum.
+    pub fn has_subgrid(&self) -> bool {
+        self.slots() > MODES
     }
 
     /// Mode `slot`'s draw of `generation`, the same for the same seed.
@@ -289,9 +348,16 @@ impl TurbulenceField {
         let angle = rng.random::<f64>() * std::f64::consts::TAU;
         let a = (e1 * angle.cos() + e2 * angle.sin()) * weight.sqrt();
         let phase = rng.random::<f64>() * std::f64::consts::TAU;
+        // The grid's modes as its faces hold them; the sub-grid's as they
+        // are, summed at a point (`velocity_at`).
+        let amplitude = if slot < MODES {
+            face_amplitude(wavenumber, a, self.cell.as_dvec3())
+        } else {
+            a
+        };
         Mode {
             k: wavenumber,
-            amplitude: face_amplitude(wavenumber, a, self.cell.as_dvec3()),
+            amplitude,
             phase,
             omega: self.spectrum.rate(k),
         }
@@ -319,42 +385,9 @@ impl TurbulenceField {
 
     /// Component `axis` of the field `records` describe at half-cell point
     /// `q` (at q h / 2 from the grid's minimum corner), as
-    /// glsl/wind/turbulence.comp sums it. A mode a cos(k . x + theta)
-    /// paired with its mirror images across the walls of the axes m in
-    /// `mirrored` is, for each component, cos(theta') (or -sin(theta') for
-    /// the component across a mirrored axis) times, per mirrored axis m,
-    /// sin(k_m x_m) for the component across it and cos(k_m x_m) for the
-    /// others, theta' the phase along the axes not mirrored: the normal
-    /// component is zero on both walls.
+    /// glsl/wind/turbulence.comp sums it (`component_at`).
     pub fn at(&self, records: &[TurbulenceMode], axis: usize, q: UVec3) -> f32 {
-        let x = q.as_vec3() * 0.5 * self.cell;
-        let mut u = 0.0;
-        for m in records {
-            let [kx, ky, kz, phase] = m.wavenumber_phase;
-            let k = [kx, ky, kz];
-            let mut theta = phase;
-            for a in 0..3 {
-                if m.mirrored & (1 << a) == 0 {
-                    theta += k[a] * x[a];
-                }
-            }
-            let mut f = if m.mirrored & (1 << axis) != 0 {
-                -theta.sin()
-            } else {
-                theta.cos()
-            };
-            for a in 0..3 {
-                if m.mirrored & (1 << a) != 0 {
-                    f *= if a == axis {
-                        (k[a] * x[a]).sin()
-                    } else {
-                        (k[a] * x[a]).cos()
-                    };
-                }
-            }
-            u += m.amplitude[axis] * f;
-        }
-        u
+        component_at(records, axis, q.as_vec3() * 0.5 * self.cell)
     }
 
     /// One step of `dt` (s): the modes carried with `convection` (m/s)
@@ -370,32 +403,89 @@ impl TurbulenceField {
         self.drift -= d.as_dvec3();
     }
 
-    /// The modes as the GPU reads them now, for a standard deviation of
-    /// `sigma` (m/s): each slot's draw of its current generation, weighed
-    /// by where it is in its life, at the phase theta_n = phi_n + omega_n
-    /// int(sigma dt) - k_n . int(U dt) (along the axes not mirrored), in
-    /// double precision, reduced to [0, 2 pi).
+    /// The grid's modes as the GPU reads them now, for a standard
+    /// deviation of `sigma` (m/s): each slot's draw of its current
+    /// generation, weighed by where it is in its life, at the phase theta_n
+    /// = phi_n + omega_n int(sigma dt) - k_n . int(U dt) (along the axes
+    /// not mirrored), in double precision, reduced to [0, 2 pi).
     pub fn records(&self, sigma: f32) -> Vec<TurbulenceMode> {
-        (0..MODES)
-            .map(|slot| {
-                let (generation, weight) = self.age(slot);
-                let m = self.draw(slot, generation);
-                let carried: f64 = (0..3)
-                    .filter(|&a| self.mirrored & (1 << a) == 0)
-                    .map(|a| m.k[a] * self.drift[a])
-                    .sum();
-                let phase =
-                    (m.phase + m.omega * self.clock - carried).rem_euclid(std::f64::consts::TAU);
-                TurbulenceMode {
-                    wavenumber_phase: m.k.as_vec3().extend(phase as f32).to_array(),
-                    amplitude: (m.amplitude * self.scale * weight * sigma as f64)
-                        .as_vec3()
-                        .to_array(),
-                    mirrored: self.mirrored,
-                }
-            })
+        (0..MODES).map(|slot| self.record(slot, sigma)).collect()
+    }
+
+    /// The modes finer than the grid, the same way, which the grass sums
+    /// at its tips (`velocity_at`): none where the grid holds the finest
+    /// wavelength the scene asks for.
+    pub fn subgrid_records(&self, sigma: f32) -> Vec<TurbulenceMode> {
+        (MODES..self.slots())
+            .map(|slot| self.record(slot, sigma))
             .collect()
     }
+
+    fn record(&self, slot: usize, sigma: f32) -> TurbulenceMode {
+        let (generation, weight) = self.age(slot);
+        let m = self.draw(slot, generation);
+        let carried: f64 = (0..3)
+            .filter(|&a| self.mirrored & (1 << a) == 0)
+            .map(|a| m.k[a] * self.drift[a])
+            .sum();
+        let phase = (m.phase + m.omega * self.clock - carried).rem_euclid(std::f64::consts::TAU);
+        TurbulenceMode {
+            wavenumber_phase: m.k.as_vec3().extend(phase as f32).to_array(),
+            amplitude: (m.amplitude * self.scale * weight * sigma as f64)
+                .as_vec3()
+                .to_array(),
+            mirrored: self.mirrored,
+        }
+    }
+}
+
+/// Component `axis` of the field `records` describe at `x` (m from the
+/// grid's minimum corner), as glsl/common/turbulence.glsl sums it. A mode
+/// a cos(k . x + theta) paired with its mirror images across the walls of
+/// the axes m in `mirrored` is, for each component, cos(theta') (or
+/// -sin(theta') for the component across a mirrored axis) times, per
+/// mirrored axis m, sin(k_m x_m) for the component across it and cos(k_m
+/// x_m) for the others, theta' the phase along the axes not mirrored: the
+/// normal component is zero on both walls.
+pub fn component_at(records: &[TurbulenceMode], axis: usize, x: Vec3) -> f32 {
+    let mut u = 0.0;
+    for m in records {
+        let [kx, ky, kz, phase] = m.wavenumber_phase;
+        let k = [kx, ky, kz];
+        let mut theta = phase;
+        for a in 0..3 {
+            if m.mirrored & (1 << a) == 0 {
+                theta += k[a] * x[a];
+            }
+        }
+        let mut f = if m.mirrored & (1 << axis) != 0 {
+            -theta.sin()
+        } else {
+            theta.cos()
+        };
+        for a in 0..3 {
+            if m.mirrored & (1 << a) != 0 {
+                f *= if a == axis {
+                    (k[a] * x[a]).sin()
+                } else {
+                    (k[a] * x[a]).cos()
+                };
+            }
+        }
+        u += m.amplitude[axis] * f;
+    }
+    u
+}
+
+/// The velocity the modes `records` describe at `x` (m from the grid's
+/// minimum corner): what the sub-grid modes add to the wind a blade's tip
+/// feels (`WindField::felt`; glsl/grass/step.glsl).
+pub fn velocity_at(records: &[TurbulenceMode], x: Vec3) -> Vec3 {
+    Vec3::new(
+        component_at(records, 0, x),
+        component_at(records, 1, x),
+        component_at(records, 2, x),
+    )
 }
 
 /// A point uniform on the unit sphere.

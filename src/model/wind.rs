@@ -31,6 +31,7 @@ use super::terrain::Terrain;
 pub use super::turbulence::Turbulence;
 use super::turbulence::TurbulenceField;
 use crate::error::{Error, Result};
+use crate::interface::TurbulenceMode;
 
 /// The grid: `cells` = (nx, ny, nz), x and z horizontal, y up.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -770,6 +771,10 @@ pub struct WindField {
     /// What the last step added of the turbulence on each face, taken off
     /// again before the next (zero without turbulence).
     pub turbulence_added: [Vec<f32>; 3],
+    /// The turbulence's modes finer than the grid as the last step left
+    /// them (`TurbulenceField::subgrid_records`), which `felt` adds at a
+    /// blade's tip; empty without.
+    pub subgrid_turbulence: Vec<TurbulenceMode>,
     multigrid_work: Work,
     /// On a grid that follows the ground, the ground its heights are
     /// measured from.
@@ -828,6 +833,7 @@ impl WindField {
                 let d = grid.face_dims(a);
                 vec![0.0; (d.x * d.y * d.z) as usize]
             }),
+            subgrid_turbulence: Vec::new(),
             followed: grid.follows_ground.then(|| settings.terrain.clone()),
             grid,
             time: 0.0,
@@ -1010,6 +1016,7 @@ impl WindField {
             return;
         };
         let records = field.records(settings.turbulence_sigma());
+        self.subgrid_turbulence = field.subgrid_records(settings.turbulence_sigma());
         let (grid, solid) = (&self.grid, &self.solid);
         let n = grid.cells;
         for axis in 0..3 {
@@ -1220,6 +1227,18 @@ impl WindField {
             self.sample_component(&self.vel[1], 1, x),
             self.sample_component(&self.vel[2], 2, x),
         )
+    }
+
+    /// The wind a blade's tip at `x` feels: the grid's (`sample`) and the
+    /// turbulence's modes finer than the grid summed there
+    /// (glsl/grass/step.glsl the same).
+    pub fn felt(&self, x: Vec3) -> Vec3 {
+        let wind = self.sample(x);
+        if self.subgrid_turbulence.is_empty() {
+            return wind;
+        }
+        let at = self.window_point(x) - self.grid.origin;
+        wind + super::turbulence::velocity_at(&self.subgrid_turbulence, at)
     }
 
     /// Kernel 2: advection. Each free face traces back by dt along the

@@ -135,6 +135,7 @@ mod tests {
                 length_scale: 3.0,
                 seed: 4,
                 speed: None,
+                finest_wavelength: None,
             }),
             moving_window: true,
             ..Default::default()
