@@ -587,6 +587,11 @@ fn bad_turbulence_is_refused_naming_the_field() {
             false,
             "wind.turbulence.speed: -2 is not allowed",
         ),
+        (
+            "intensity = 0.3, length_scale = 1.0, finest_wavelength = 0.0",
+            true,
+            "wind.turbulence.finest_wavelength: 0 is not allowed, use a number above 0",
+        ),
     ] {
         let err = file::parse(&turbulent(table, inflow), "bad.toml")
             .err()

@@ -641,6 +641,9 @@ pub fn wind(w: &super::WindConfig) -> Check {
 fn turbulence(t: &crate::model::wind::Turbulence, inflow: bool) -> Check {
     positive("intensity", t.intensity, 2.0)?;
     positive("length_scale", t.length_scale, 100_000.0)?;
+    if let Some(finest) = t.finest_wavelength {
+        positive("finest_wavelength", finest, 100_000.0)?;
+    }
     match t.speed {
         Some(speed) => positive("speed", speed, 100.0),
         None if inflow => Ok(()),
