@@ -539,16 +539,8 @@ fn the_field_has_the_set_intensity_and_follows_its_seed() {
 /// the grid's modes carry sigma alone.
 #[test]
 fn the_modes_finer_than_the_grid_carry_their_share_of_the_spectrum() {
-    let g = WindGrid::new(
-        UVec3::new(30, 8, 30),
-        Vec3::new(-30.0, 0.0, -30.0),
-        Vec3::new(60.0, 4.0, 60.0),
-    )
-    .unwrap();
-    let variance = |v: &[f64]| {
-        let mean = v.iter().sum::<f64>() / v.len() as f64;
-        v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / v.len() as f64
-    };
+    let g = grid_60_m();
+    let variance = |v: &[f64]| spread(v).powi(2);
     let field = |seed: u32, finest: Option<f32>| {
         let t = Turbulence {
             intensity: 0.3,
@@ -593,7 +585,7 @@ fn the_modes_finer_than_the_grid_carry_their_share_of_the_spectrum() {
         .each_face(0)
         .map(|(_, f)| own.at(&records, 0, TurbulenceField::face_point(0, f)) as f64)
         .collect();
-    let sd_alone = variance(&alone).sqrt();
+    let sd_alone = spread(&alone);
     eprintln!("finest wavelength the grid's: its modes alone {sd_alone:.3} m/s");
     assert!((sd_alone / 0.9 - 1.0).abs() < 0.3, "sd {sd_alone}");
 }
@@ -608,12 +600,7 @@ fn sample_field_60_m(
     seconds: f32,
     mut probe: impl FnMut(&dyn Fn([u32; 3]) -> f32),
 ) {
-    let g = WindGrid::new(
-        UVec3::new(30, 8, 30),
-        Vec3::new(-30.0, 0.0, -30.0),
-        Vec3::new(60.0, 4.0, 60.0),
-    )
-    .unwrap();
+    let g = grid_60_m();
     let t = Turbulence {
         intensity: 0.3,
         length_scale: 4.0,
@@ -627,6 +614,16 @@ fn sample_field_60_m(
         let records = field.records(0.9);
         probe(&|f| field.at(&records, 0, TurbulenceField::face_point(0, f)));
     }
+}
+
+/// A 60 x 60 m field's wind grid, 4 m of air, in 2 m cells (0.5 m up).
+fn grid_60_m() -> WindGrid {
+    WindGrid::new(
+        UVec3::new(30, 8, 30),
+        Vec3::new(-30.0, 0.0, -30.0),
+        Vec3::new(60.0, 4.0, 60.0),
+    )
+    .unwrap()
 }
 
 /// The standard deviation of a series about its mean.
