@@ -626,6 +626,66 @@ fn grid_60_m() -> WindGrid {
     .unwrap()
 }
 
+/// Issue 39, patches carried by the wind: the downwind turbulence on 21
+/// points 2 m apart along a 3 m/s wind (x faces 5..=25 of the 60 x 60 m
+/// grid's lowest layer, 0.25 m up, mid-field), sampled every 0.05 s for
+/// 20 s, for each of six seeds. The mean correlation of points d apart at
+/// a lag tau, averaged over the pairs and the seeds, peaks along a ridge
+/// d = U_c tau (the moving-frame estimate: at a fixed lag every
+/// separation shares the eddies' decay in time, so the peak over d is not
+/// pulled towards zero lag as the peak over the lag at a fixed d is); its
+/// least-squares slope through the peaks at 0.5, 1 and 1.5 s (parabolic
+/// between the points; beyond 1.5 s the ridge falls under 0.2 and is
+/// noise) is 0.8-1.5 times the wind the modes are carried with (measured
+/// 1.21: the ridge's decay still leans it a little towards short lags;
+/// the issue allows 0.8-2.2 for the tips, canopy eddies travelling at
+/// 1.5-2 U(h)). With the modes carried at twice the wind by hand it reads
+/// 2.08 times the wind (fails); carried against it, the ridge downwind is
+/// lost (2.32, fails). The peak over
+/// the lag at 8 m, one seed's record, is not a measure: over twelve seeds
+/// it read 0.5 to 53 times the wind (the eddies of a few metres live about
+/// a second, under the 2.7 s they take to cross 8 m).
+#[test]
+fn patches_are_carried_at_the_speed_of_the_wind() {
+    const LAGS_S: [f64; 3] = [0.5, 1.0, 1.5];
+    const SEEDS: u32 = 6;
+    let mut rho = [[0.0f64; 12]; 3];
+    for seed in 1..=SEEDS {
+        let mut series = vec![Vec::new(); 21];
+        sample_field_60_m(seed, 0.05, 20.0, |u| {
+            for (i, s) in series.iter_mut().enumerate() {
+                s.push(u([5 + i as u32, 0, 15]) as f64);
+            }
+        });
+        for (l, lag_s) in LAGS_S.iter().enumerate() {
+            let lag = (lag_s / 0.05).round() as usize;
+            for (d, r) in rho[l].iter_mut().enumerate() {
+                let pairs = 21 - d;
+                *r += (0..pairs)
+                    .map(|i| lagged_correlation(&series[i], &series[i + d], lag))
+                    .sum::<f64>()
+                    / (pairs as u32 * SEEDS) as f64;
+            }
+        }
+    }
+    let (mut dt, mut tt) = (0.0, 0.0);
+    for (l, lag_s) in LAGS_S.iter().enumerate() {
+        let r = &rho[l];
+        let m = (1..11).max_by(|&a, &b| r[a].total_cmp(&r[b])).unwrap();
+        let curve = r[m - 1] - 2.0 * r[m] + r[m + 1];
+        let d = 2.0 * (m as f64 + 0.5 * (r[m - 1] - r[m + 1]) / curve);
+        eprintln!("lag {lag_s} s: correlation peaks at {d:.2} m ({:.2})", r[m]);
+        dt += d * lag_s;
+        tt += lag_s * lag_s;
+    }
+    let speed = dt / tt;
+    eprintln!(
+        "the ridge's speed {speed:.2} m/s, {:.2} times the wind",
+        speed / 3.0
+    );
+    assert!((0.8..=1.5).contains(&(speed / 3.0)), "{speed} m/s");
+}
+
 /// The standard deviation of a series about its mean.
 fn spread(v: &[f64]) -> f64 {
     mean_spread(v).1
