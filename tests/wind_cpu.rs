@@ -670,11 +670,8 @@ fn patches_are_carried_at_the_speed_of_the_wind() {
     }
     let (mut dt, mut tt) = (0.0, 0.0);
     for (l, lag_s) in LAGS_S.iter().enumerate() {
-        let r = &rho[l];
-        let m = (1..11).max_by(|&a, &b| r[a].total_cmp(&r[b])).unwrap();
-        let curve = r[m - 1] - 2.0 * r[m] + r[m + 1];
-        let d = 2.0 * (m as f64 + 0.5 * (r[m - 1] - r[m + 1]) / curve);
-        eprintln!("lag {lag_s} s: correlation peaks at {d:.2} m ({:.2})", r[m]);
+        let d = wind_scenes::ridge(&rho[l], 2.0);
+        eprintln!("lag {lag_s} s: correlation peaks at {d:.2} m");
         dt += d * lag_s;
         tt += lag_s * lag_s;
     }

@@ -71,3 +71,14 @@ pub fn switched_off_after_one_second() -> WindSettings {
 pub fn kinetic_energy(vel: &[Vec<f32>; 3]) -> f64 {
     vel.iter().flatten().map(|&v| (v as f64).powi(2)).sum()
 }
+
+/// Where a correlation sampled at separations 0, `spacing`, 2 `spacing`,
+/// ... peaks between its samples: the parabola through its largest inner
+/// sample and their neighbours (the moving frame's ridge at one lag).
+pub fn ridge(rho: &[f64], spacing: f64) -> f64 {
+    let m = (1..rho.len() - 1)
+        .max_by(|&a, &b| rho[a].total_cmp(&rho[b]))
+        .unwrap();
+    let curve = rho[m - 1] - 2.0 * rho[m] + rho[m + 1];
+    spacing * (m as f64 + 0.5 * (rho[m - 1] - rho[m + 1]) / curve)
+}
