@@ -447,7 +447,7 @@ fn scaled_peak(run: &meadow::commands::trace::Trace) -> (f64, f64) {
 /// at 1.00 f_bend, 1.75 times); with the finest wavelength longer than
 /// the grid's shortest wave (none finer), the same field's is not largest
 /// there (the control: the grid alone leaves the resonance undriven;
-/// measured at 0.35 f_bend, 1.08 times).
+/// measured at 0.35 f_bend, 1.05 times).
 #[test]
 fn turbulence_finer_than_a_coarse_grid_makes_the_blades_ring() {
     let gpu = strict_gpu();
