@@ -10,7 +10,9 @@
 //! at the end of its life (`TurbulenceField`). Each mode is the
 //! discrete curl of a vector potential on the grid's staggered faces
 //! (its wavenumber replaced by the difference quotient's), so what the faces
-//! hold is divergence-free cell by cell, to rounding. The solver steps the
+//! hold is divergence-free cell by cell, to rounding. Modes finer than the
+//! grid, down to the scene's finest wavelength, are summed at each blade's
+//! tip instead (`subgrid_records`, `velocity_at`). The solver steps the
 //! mean wind alone: each step takes off what the last one added and adds
 //! the field at the step's end (`WindField::step`). docs/method.md says why
 //! this method and what it leaves out.
@@ -258,15 +260,9 @@ impl TurbulenceField {
                 .sum::<f64>(),
         };
         let mut offsets = rand_pcg::Pcg32::seed_from_u64(draw_key(turbulence.seed, u64::MAX, -1));
-        let edges: Vec<(f64, f64)> = log_shells(k_lo, k_hi, SHELLS)
-            .chain(log_shells(
-                k_hi,
-                k_top,
-                if subgrid { SUBGRID_SHELLS } else { 0 },
-            ))
-            .collect();
-        let shells = edges
-            .into_iter()
+        let subgrid_shells = if subgrid { SUBGRID_SHELLS } else { 0 };
+        let shells = log_shells(k_lo, k_hi, SHELLS)
+            .chain(log_shells(k_hi, k_top, subgrid_shells))
             .map(|(lo, hi)| Shell {
                 k_lo: lo,
                 k_hi: hi,
