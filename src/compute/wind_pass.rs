@@ -648,7 +648,10 @@ impl WindPass {
     /// the coupling is two-way, and the turbulence's modes finer than the
     /// grid where there are any.
     pub fn grass_input(&self) -> WindInput<'_> {
-        let subgrid = self.subgrid_records().len() as u32;
+        let subgrid = self
+            .turbulence
+            .as_ref()
+            .map_or(0, |field| field.subgrid_count() as u32);
         WindInput {
             grid: self.grid,
             velocity: &self.buffers.velocity,

@@ -320,9 +320,10 @@ impl TurbulenceField {
         2 * self.shells.len()
     }
 
-    /// Whether there are modes finer than the grid for the tips to sum.
-    pub fn has_subgrid(&self) -> bool {
-        self.slots() > MODES
+    /// How many modes finer than the grid the tips sum: 0 or
+    /// `SUBGRID_MODES`.
+    pub fn subgrid_count(&self) -> usize {
+        self.slots() - MODES
     }
 
     /// Mode `slot`'s draw of `generation`, the same for the same seed.
