@@ -745,3 +745,113 @@ fn modes_are_renewed_without_a_jump_and_keep_the_energy() {
         assert!((0.5..1.4).contains(&(sd / 0.9)), "{sd}");
     }
 }
+
+/// Issue 39's band of grass, in closed form: the mean of the downwind
+/// wind over a lattice of tips 3 m along by 4 m across and 0.4 m deep
+/// (gust-strip's 3 m bands on its 4 m width, 7 x 9 x 3 points) spreads
+/// as the von Karman spectrum of the set integral length scale says. For
+/// an isotropic field the lattice mean's variance over a point's is
+/// int E(k) <(1 - k_x^2 / k^2) D_x^2 D_y^2 D_z^2> dk / int E(k) dk, the
+/// angle brackets a mean over the directions of k and D the lattice's
+/// Dirichlet kernel sin(n k d / 2) / (n sin(k d / 2)) along each axis;
+/// the test sums it (400 log-spaced wavenumbers over the drawn range,
+/// 2,000 directions). The modes (no walls; 0.5 m cells, finest
+/// wavelength 0.5 m, so the grid's 48 and 16 finer ones), 24 seeds, 81
+/// lattices each, must give a standard deviation ratio within 6% of it:
+/// measured 0.727 against 0.726 for L = 4 m. With the field's length
+/// scale twice the set one by hand (its k_e halved in
+/// `TurbulenceField::new`) the modes give 0.824 (fails), half of it 0.590
+/// (fails).
+///
+/// What it says about the grass (docs/physics.md): one-way, a band's
+/// displacement spreads as its mean wind does (tests/motion.rs), and
+/// that is 0.73 of a point's, so at intensity 0.3 a 3 x 4 m band's
+/// displacement spreads about 0.73 x 0.3 x 0.9 = 20% of its mean (d ~
+/// U^0.9), and no length scale can lift it to the issue's 30%: the ratio
+/// is under 1 for any L. Only a canopy's top, whose air the grass slows
+/// while the turbulence keeps its strength, reaches it (two-way).
+#[test]
+fn a_band_of_grass_averages_the_turbulence_as_the_von_karman_spectrum_says() {
+    const L: f64 = 4.0;
+    const FINEST: f64 = 0.5;
+    // Lattice points along x (downwind), y (up) and z (across).
+    const N: [usize; 3] = [7, 3, 9];
+    const D: [f64; 3] = [0.5, 0.2, 0.5];
+    let dirichlet = |k: f64, axis: usize| -> f64 {
+        let half = 0.5 * k * D[axis];
+        if half.sin().abs() < 1e-12 {
+            return 1.0;
+        }
+        (N[axis] as f64 * half).sin() / (N[axis] as f64 * half.sin())
+    };
+    // The closed form, on the modes' wavenumber range (k_e L = 0.746834,
+    // from 0.1 k_e to 2 pi / FINEST).
+    let k_e = 0.746_834 / L;
+    let (k_lo, k_hi) = (0.1 * k_e, std::f64::consts::TAU / FINEST);
+    let shape = |k: f64| (k / k_e).powi(4) / (1.0 + (k / k_e).powi(2)).powf(17.0 / 6.0);
+    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+    let directions: Vec<[f64; 3]> = (0..2000)
+        .map(|i| {
+            let x = 1.0 - 2.0 * (i as f64 + 0.5) / 2000.0;
+            let r = (1.0 - x * x).sqrt();
+            let a = golden * i as f64;
+            [x, r * a.cos(), r * a.sin()]
+        })
+        .collect();
+    let (mut lattice, mut point) = (0.0, 0.0);
+    let span = (k_hi / k_lo).ln();
+    for n in 0..400 {
+        let k = k_lo * (span * (n as f64 + 0.5) / 400.0).exp();
+        let weight = shape(k) * k * span / 400.0;
+        let mut mean = 0.0;
+        for d in &directions {
+            let h: f64 = (0..3).map(|a| dirichlet(k * d[a], a).powi(2)).product();
+            mean += (1.0 - d[0] * d[0]) * h;
+        }
+        lattice += weight * mean / directions.len() as f64;
+        point += weight * 2.0 / 3.0;
+    }
+    let closed = (lattice / point).sqrt();
+
+    let cells = UVec3::new(120, 16, 120);
+    let cell = Vec3::splat(0.5);
+    let (mut lattice_sq, mut point_sq, mut count) = (0.0f64, 0.0f64, 0usize);
+    for seed in 1..=24 {
+        let t = Turbulence {
+            intensity: 0.3,
+            length_scale: L as f32,
+            seed,
+            speed: Some(3.0),
+            finest_wavelength: Some(FINEST as f32),
+        };
+        let field = TurbulenceField::new(&t, cells, cell, [false; 3]);
+        let (grid, finer) = (field.records(0.9), field.subgrid_records(0.9));
+        assert_eq!(finer.len(), meadow::model::turbulence::SUBGRID_MODES);
+        for (bi, bk) in (0..9).flat_map(|i| (0..9).map(move |k| (i, k))) {
+            let corner = Vec3::new(3.0 + 6.0 * bi as f32, 3.0, 3.0 + 6.0 * bk as f32);
+            let mut sum = 0.0f64;
+            for (i, j, k) in (0..N[0])
+                .flat_map(|i| (0..N[1]).flat_map(move |j| (0..N[2]).map(move |k| (i, j, k))))
+            {
+                let x = corner + Vec3::new(i as f32, j as f32, k as f32) * Vec3::new(0.5, 0.2, 0.5);
+                let u = meadow::model::turbulence::component_at(&grid, 0, x)
+                    + meadow::model::turbulence::component_at(&finer, 0, x);
+                sum += u as f64;
+                point_sq += (u as f64).powi(2);
+            }
+            let mean = sum / (N[0] * N[1] * N[2]) as f64;
+            lattice_sq += mean * mean;
+            count += 1;
+        }
+    }
+    let measured =
+        (lattice_sq / count as f64 / (point_sq / (count * N[0] * N[1] * N[2]) as f64)).sqrt();
+    eprintln!(
+        "a 3 x 4 m band's mean downwind wind over a point's, standard deviations: {measured:.3} (closed form {closed:.3}; a point's {:.3} m/s for sigma 0.9)",
+        (point_sq / (count * N[0] * N[1] * N[2]) as f64).sqrt()
+    );
+    assert!(
+        (measured / closed - 1.0).abs() < 0.06,
+        "{measured:.3} against the closed form's {closed:.3}"
+    );
+}
