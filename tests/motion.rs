@@ -290,7 +290,7 @@ impl Band {
 /// gain below a third of that frequency: the resonance (issue 39, after
 /// Py, de Langre and Moulia 2006). Measured 3.64 times (2.95 before the
 /// tips felt the modes finer than the grid); with the GPU's damping 5
-/// times higher by hand, 0.51 (fails). The renewed modes make
+/// times higher by hand, 0.49 (fails). The renewed modes make
 /// the wind broadband, and the gain is a plateau of 2.7-3.6 times from
 /// 0.6 to 1.7 Hz, largest at 1.47 Hz: the downwind tip moves by bending
 /// (0.65-1.40 Hz, 5-95%) in blades facing the wind and by swinging
@@ -302,8 +302,8 @@ impl Band {
 /// frequency (`Trace::scaled_tip_spectrum`) it peaks: its largest band
 /// within 30% of f_bend and at least 1.3 times the median band at
 /// 0.25-0.6 f_bend (measured: at 1.00 f_bend, 1.87 times, 1.62 before the
-/// modes finer than the grid; with the damping
-/// 5 times higher by hand, at 0.30 f_bend, 1.19 times: fails).
+/// modes finer than the grid; with the damping 5 times higher by hand,
+/// at 0.30 f_bend, 1.12 times: fails).
 #[test]
 fn blades_ring_at_their_natural_frequency_in_turbulence() {
     let gpu = strict_gpu();
