@@ -5,7 +5,7 @@ mod common;
 
 use common::mean_spread;
 use common::wind_scenes::{self, behaviour_grid, blowing_source};
-use glam::{UVec3, Vec3};
+use glam::{DVec3, UVec3, Vec3};
 use meadow::commands::trace::lagged_correlation;
 use meadow::interface::TurbulenceMode;
 use meadow::model::contact::{Collider, ColliderKind};
@@ -777,6 +777,7 @@ fn a_band_of_grass_averages_the_turbulence_as_the_von_karman_spectrum_says() {
     // Lattice points along x (downwind), y (up) and z (across).
     const N: [usize; 3] = [7, 3, 9];
     const D: [f64; 3] = [0.5, 0.2, 0.5];
+    let points = N.iter().product::<usize>();
     let dirichlet = |k: f64, axis: usize| -> f64 {
         let half = 0.5 * k * D[axis];
         if half.sin().abs() < 1e-12 {
@@ -833,22 +834,22 @@ fn a_band_of_grass_averages_the_turbulence_as_the_von_karman_spectrum_says() {
             for (i, j, k) in (0..N[0])
                 .flat_map(|i| (0..N[1]).flat_map(move |j| (0..N[2]).map(move |k| (i, j, k))))
             {
-                let x = corner + Vec3::new(i as f32, j as f32, k as f32) * Vec3::new(0.5, 0.2, 0.5);
+                let x = corner + Vec3::new(i as f32, j as f32, k as f32) * DVec3::from(D).as_vec3();
                 let u = meadow::model::turbulence::component_at(&grid, 0, x)
                     + meadow::model::turbulence::component_at(&finer, 0, x);
                 sum += u as f64;
                 point_sq += (u as f64).powi(2);
             }
-            let mean = sum / (N[0] * N[1] * N[2]) as f64;
+            let mean = sum / points as f64;
             lattice_sq += mean * mean;
             count += 1;
         }
     }
-    let measured =
-        (lattice_sq / count as f64 / (point_sq / (count * N[0] * N[1] * N[2]) as f64)).sqrt();
+    let point_variance = point_sq / (count * points) as f64;
+    let measured = (lattice_sq / count as f64 / point_variance).sqrt();
     eprintln!(
         "a 3 x 4 m band's mean downwind wind over a point's, standard deviations: {measured:.3} (closed form {closed:.3}; a point's {:.3} m/s for sigma 0.9)",
-        (point_sq / (count * N[0] * N[1] * N[2]) as f64).sqrt()
+        point_variance.sqrt()
     );
     assert!(
         (measured / closed - 1.0).abs() < 0.06,
