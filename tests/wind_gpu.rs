@@ -6,6 +6,7 @@ mod common;
 use common::wind_scenes::{self, behaviour_grid, blowing_source};
 use common::{finish, strict_gpu};
 use glam::{UVec3, Vec3};
+use meadow::commands::trace::lagged_correlation;
 use meadow::compute::WindPass;
 use meadow::gpu::CommandPool;
 use meadow::model::contact::{Collider, ColliderKind};
@@ -820,16 +821,6 @@ fn downwind_wind(
     series
 }
 
-/// Pearson correlation of two series shifted by `lag` samples (b later).
-fn correlation(a: &[f64], b: &[f64], lag: usize) -> f64 {
-    let (a, b) = (&a[..a.len() - lag], &b[lag..]);
-    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
-    let (ma, mb) = (mean(a), mean(b));
-    let cov: f64 = a.iter().zip(b).map(|(x, y)| (x - ma) * (y - mb)).sum();
-    let var = |v: &[f64], m: f64| v.iter().map(|x| (x - m).powi(2)).sum::<f64>();
-    cov / (var(a, ma) * var(b, mb)).sqrt()
-}
-
 /// Issue 39, patches and not fronts: on a 60 x 60 m field in a 3 m/s wind,
 /// the downwind wind at 0.4 m at two points 20 m apart across the wind
 /// correlates below 0.5 with turbulence (intensity 0.3, length scale 4 m,
@@ -886,7 +877,7 @@ fn gpu_turbulence_makes_patches_carried_by_the_wind() {
             .map(|m| {
                 let pairs = series.len() - m;
                 (0..pairs)
-                    .map(|i| correlation(&series[i], &series[i + m], 0))
+                    .map(|i| lagged_correlation(&series[i], &series[i + m], 0))
                     .sum::<f64>()
                     / pairs as f64
             })
@@ -926,8 +917,8 @@ fn gpu_turbulence_makes_patches_carried_by_the_wind() {
     }
 
     let (across, across_fronts) = (
-        correlation(&turbulent[0], &turbulent[1], 0),
-        correlation(&fronts[0], &fronts[1], 0),
+        lagged_correlation(&turbulent[0], &turbulent[1], 0),
+        lagged_correlation(&fronts[0], &fronts[1], 0),
     );
     // Samples every 3 steps of 1/60 s: half a second is 10 samples. The
     // mean correlation of the points d apart on the line along the wind,
@@ -937,7 +928,7 @@ fn gpu_turbulence_makes_patches_carried_by_the_wind() {
         .map(|d| {
             let pairs = 21 - d;
             (0..pairs)
-                .map(|i| correlation(&along_line[i], &along_line[i + d], 10))
+                .map(|i| lagged_correlation(&along_line[i], &along_line[i + d], 10))
                 .sum::<f64>()
                 / pairs as f64
         })
