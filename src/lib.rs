@@ -11,12 +11,15 @@
 //!    `render` (the paper's render pipeline, shadow map, targets,
 //!    read-back): siblings.
 //! 4. `frame`: the blade buffer both share, and the frame recorder.
+//!    `analysis`: measurements of results as plain arithmetic (pixels,
+//!    series), no GPU; it needs `interface` only.
 //! 5. `report`: files, pictures, tables and charts from results.
 //! 6. `commands`: one file per `meadow` command (the binary's src/cli/
 //!    holds each one's arguments).
 //!
 //! docs/architecture.md has the map.
 
+pub mod analysis;
 pub mod commands;
 pub mod compute;
 pub mod error;

@@ -27,7 +27,7 @@ const FLAT: Terrain = Terrain {
 
 fn cover() -> Cover {
     Cover {
-        density: 2.0,
+        density: Some(2.0),
         view_distance: 8.0,
         seed: Some(11),
         simulate_radius: Some(4.0),
@@ -498,7 +498,7 @@ fn a_bounded_cover_grows_and_draws_only_within_its_rectangle() {
 #[test]
 fn in_a_steady_wind_the_gpu_poses_the_cover_where_its_torques_balance_as_the_cpu() {
     let cover = Cover {
-        density: 1.0,
+        density: Some(1.0),
         view_distance: 4.0,
         seed: Some(3),
         simulate_radius: Some(0.0),
@@ -580,7 +580,7 @@ fn on_terrain_the_gpu_roots_and_poses_the_cover_where_the_cpu_does() {
     let shape = BladeShape::default();
     let cameras = [Vec2::new(0.5, 0.5), Vec2::new(-3.0, 7.0)];
     let pose_cover = Cover {
-        density: 1.0,
+        density: Some(1.0),
         view_distance: 8.0,
         seed: Some(3),
         simulate_radius: Some(0.0),
@@ -836,7 +836,7 @@ fn posing_only_what_the_frame_may_draw_changes_nothing_drawn() {
     // A low sun behind the camera: blades behind it cast into the view.
     scene.light.direction = [0.0, 0.2, 1.0];
     let cover = Cover {
-        density: 2.0,
+        density: Some(2.0),
         view_distance: 20.0,
         seed: Some(9),
         simulate_radius: None,
@@ -1104,7 +1104,7 @@ fn kept_dynamics_against_the_cpu(
     use meadow::model::GrassField;
 
     let cover = Cover {
-        density: 1.0,
+        density: Some(1.0),
         view_distance: 12.0,
         seed: Some(21),
         simulate_radius: Some(7.0),
@@ -1577,7 +1577,7 @@ fn a_stiffer_blade_coming_in_raises_the_substeps() {
 
     // One blade a tile, 3 x 3 tiles kept.
     let cover = Cover {
-        density: 0.07,
+        density: Some(0.07),
         view_distance: 8.0,
         seed: Some(5),
         simulate_radius: Some(2.0),

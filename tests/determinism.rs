@@ -52,6 +52,7 @@ fn the_frame_rate_does_not_change_the_simulation() {
         gif: false,
         video: None,
         overwrite: false,
+        light_waves: false,
         ..common::strict_request(scene.clone(), 160, 90, frames, fps)
     };
     let dir = std::env::temp_dir().join(format!("meadow-frame-rate-{}", std::process::id()));

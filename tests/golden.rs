@@ -276,6 +276,7 @@ fn render_sampled(
         gif: false,
         video: None,
         overwrite: false,
+        light_waves: false,
         gpu: GpuOptions {
             validation: ValidationOptions::strict(),
             device_name: std::env::var("MEADOW_TEST_DEVICE").ok(),

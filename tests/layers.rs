@@ -33,7 +33,11 @@ const ALLOWED: &[(&str, &[&str])] = &[
             "render",
         ],
     ),
-    ("report", &["error", "gpu", "model", "scene", "frame"]),
+    ("analysis", &["interface"]),
+    (
+        "report",
+        &["error", "gpu", "model", "scene", "frame", "analysis"],
+    ),
     (
         "commands",
         &[
@@ -46,6 +50,7 @@ const ALLOWED: &[(&str, &[&str])] = &[
             "compute",
             "render",
             "frame",
+            "analysis",
             "report",
         ],
     ),

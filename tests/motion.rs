@@ -6,7 +6,8 @@
 mod common;
 
 use common::{finish, mean_spread, strict_gpu};
-use meadow::commands::trace::{best_lag, trace, BladePick, TraceRequest};
+use meadow::analysis::stats::best_lag;
+use meadow::commands::trace::{trace, BladePick, TraceRequest};
 use meadow::gpu::{GpuOptions, ValidationOptions};
 use meadow::model::wind::Coupling;
 use meadow::scene::Scene;

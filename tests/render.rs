@@ -387,6 +387,7 @@ fn motion_view_is_blue_at_rest_and_warms_as_the_wind_bends_the_blades() {
         gif: false,
         video: None,
         overwrite: false,
+        light_waves: false,
         gpu: GpuOptions {
             validation: ValidationOptions::strict(),
             ..Default::default()

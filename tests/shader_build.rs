@@ -25,8 +25,15 @@ fn a_glsl_error_names_file_line_and_message() {
 fn includes_resolve_against_glsl_common() {
     let src = "#version 450\n#extension GL_GOOGLE_include_directive : require\n#include \"frame.glsl\"\nlayout(location = 0) out vec4 c;\nvoid main() { c = frame.light_color; }\n";
     let common = Path::new(env!("CARGO_MANIFEST_DIR")).join("glsl/common");
-    let (words, included) =
-        glsl_compile::compile(Path::new("glsl/test/include.frag"), src, &[&common]).unwrap();
+    // frame.glsl includes the generated interface.glsl, which build.rs
+    // writes under OUT_DIR.
+    let generated = Path::new(env!("OUT_DIR")).join("glsl");
+    let (words, included) = glsl_compile::compile(
+        Path::new("glsl/test/include.frag"),
+        src,
+        &[&common, &generated],
+    )
+    .unwrap();
     assert_eq!(words[0], 0x0723_0203, "not SPIR-V");
     assert!(
         included.iter().any(|p| p.ends_with("frame.glsl")),

@@ -231,6 +231,11 @@ fn frame_uniforms_match_the_glsl_block() {
             offset_of!(FrameUniforms, shadow_tess_level),
         ),
         ("terrain", offset_of!(FrameUniforms, terrain)),
+        ("canopy", offset_of!(FrameUniforms, canopy)),
+        ("canopy_map", offset_of!(FrameUniforms, canopy_map)),
+        ("cover_bounds", offset_of!(FrameUniforms, cover_bounds)),
+        ("look", offset_of!(FrameUniforms, look)),
+        ("look_more", offset_of!(FrameUniforms, look_more)),
     ];
     let glsl: Vec<(String, usize)> = members.into_iter().map(|(n, o)| (n, o as usize)).collect();
     let rust: Vec<(String, usize)> = rust.iter().map(|(n, o)| (n.to_string(), *o)).collect();

@@ -128,6 +128,7 @@ fn request(pretend_missing: Vec<String>) -> RenderRequest {
         gif: false,
         video: None,
         overwrite: false,
+        light_waves: false,
         gpu: GpuOptions {
             validation: ValidationOptions::strict(),
             pretend_missing,

@@ -6,7 +6,7 @@ mod common;
 use common::mean_spread;
 use common::wind_scenes::{self, behaviour_grid, blowing_source};
 use glam::{DVec3, UVec3, Vec3};
-use meadow::commands::trace::lagged_correlation;
+use meadow::analysis::stats::lagged_correlation;
 use meadow::interface::TurbulenceMode;
 use meadow::model::contact::{Collider, ColliderKind};
 use meadow::model::turbulence::{Turbulence, TurbulenceField};

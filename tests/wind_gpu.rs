@@ -6,7 +6,7 @@ mod common;
 use common::wind_scenes::{self, behaviour_grid, blowing_source};
 use common::{finish, strict_gpu};
 use glam::{UVec3, Vec3};
-use meadow::commands::trace::lagged_correlation;
+use meadow::analysis::stats::lagged_correlation;
 use meadow::compute::WindPass;
 use meadow::gpu::CommandPool;
 use meadow::model::contact::{Collider, ColliderKind};

@@ -8,6 +8,7 @@
 #include "shadow.glsl"
 #include "sky.glsl"
 #include "surfaces.glsl"
+#include "canopy.glsl"
 #include "soil.glsl"
 
 layout(location = 0) in vec2 v_ndc;
@@ -30,5 +31,5 @@ void main() {
     // Beyond the far plane the ground still covers the sky, at the back.
     gl_FragDepth = min(clip.z / clip.w, 0.9999999);
 
-    out_color = vec4(soil_lit(world, max(frame.light_dir.y, 0.0)), 1.0);
+    out_color = data_view() ? vec4(0.0, 0.0, 0.0, 1.0) : vec4(soil_lit(world, max(frame.light_dir.y, 0.0)), 1.0);
 }

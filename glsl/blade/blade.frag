@@ -1,12 +1,21 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 // Fragment stage: two-sided lighting of the blade (the normal is flipped on
-// back faces, and light passes through to the back a little), shadows from
-// the sun's shadow map, the grass texture along the blade tinted per blade,
-// and debug views.
+// back faces), shadows from the sun's shadow map, the grass texture along
+// the blade coloured per blade and per clump, and debug views. The light
+// is a leaf's (glsl/common/leaf_optics.glsl): diffuse reflection on the lit
+// side, diffuse transmission through to the other, and the cuticle's
+// sheen, all on the normal of the deformed curve (bend, swing and twist
+// turn it), so a bending blade turns its sheen toward or away from the eye.
+// The canopy above a point shades it (glsl/common/canopy.glsl).
 #include "frame.glsl"
+#include "hash.glsl"
 #include "shadow.glsl"
+#include "sky.glsl"
 #include "surfaces.glsl"
+#include "canopy.glsl"
+#include "leaf_optics.glsl"
+#include "grass_color.glsl"
 
 layout(location = 0) in vec3 g_world;
 layout(location = 1) in vec3 g_normal;
@@ -14,18 +23,15 @@ layout(location = 2) in vec2 g_uv;
 layout(location = 3) flat in float g_blade_rand;
 layout(location = 4) flat in float g_tess_level;
 layout(location = 5) flat in float g_motion;
+layout(location = 6) flat in vec4 g_blade;   // root x, z; reach (m); clump
+layout(location = 7) in vec3 g_side;
 
 layout(location = 0) out vec4 out_color;
 
-vec3 grass_albedo(vec2 uv, float r) {
-    // The texture is the meadow's average blade (dark root, light tip,
-    // midrib and veins); each blade is tinted by its random number r,
-    // fresher green or yellower, more toward the tip, so a meadow is not
-    // one flat colour.
-    vec3 base = texture(sampler2D(grass_texture, surface_sampler), uv).rgb;
-    vec3 tint = mix(vec3(0.70, 0.93, 0.70), vec3(1.35, 1.07, 1.30), r);
-    return base * mix(vec3(1.0), tint, uv.y);
-}
+// How far the normal turns across the blade, edge to edge (a leaf is
+// folded along its midrib and curls at its edges, not flat): the sheen
+// runs along the blade as a band rather than lighting it all at once.
+const float BLADE_ROUNDING = 0.55;
 
 vec3 lod_color(float level) {
     if (level >= frame.tess_level.x) return vec3(0.85, 0.10, 0.08);   // close: red
@@ -34,18 +40,20 @@ vec3 lod_color(float level) {
 }
 
 void main() {
+    if (data_view()) {
+        // Data, not a picture: the displacement and the blade's coverage.
+        out_color = vec4(clamp(g_motion / DISPLACEMENT_FULL_SCALE, 0.0, 1.0), 0.0, 1.0, 1.0);
+        return;
+    }
     vec3 n = normalize(g_normal);
     if (!gl_FrontFacing) {
         n = -n;                                   // two-sided lighting
     }
     vec3 l = frame.light_dir.xyz;
     float ambient = frame.light_dir.w;
-    float lambert = max(dot(n, l), 0.0);
-    // Light through the blade: a thin leaf passes some of the light that hits
-    // its other side.
-    float translucent = 0.35 * max(dot(-n, l), 0.0);
-    // Self-shadowing of the tuft: less light reaches the lower blade.
-    float occlusion = mix(0.35, 1.0, g_uv.y);
+    vec3 to_eye = frame.camera_pos.xyz - g_world;
+    float eye_distance = length(to_eye);
+    vec3 v = to_eye / max(eye_distance, 1e-6);
 
     vec3 albedo;
     if (frame.view.x == VIEW_LOD) {
@@ -53,11 +61,53 @@ void main() {
     } else if (frame.view.x == VIEW_MOTION) {
         albedo = mix(vec3(0.05, 0.15, 0.6), vec3(0.9, 0.1, 0.05), clamp(g_motion / 0.6, 0.0, 1.0));
     } else {
-        albedo = grass_albedo(g_uv, g_blade_rand);
+        vec3 base = texture(sampler2D(grass_texture, surface_sampler), g_uv).rgb;
+        albedo = grass_albedo(base, g_uv, g_blade_rand, g_blade.w);
     }
-    // The sun reaches both faces only where the shadow map says it is not
-    // blocked (by this blade, its neighbours, or the tuft in front).
-    float sun = sun_visibility(g_world);
-    vec3 lit = albedo * (ambient + frame.light_color.rgb * (lambert + translucent) * sun) * occlusion;
-    out_color = vec4(lit, 1.0);
+    // The debug views keep the plain two-sided Lambert light they always
+    // had, so their colours read as their keys say.
+    if (frame.view.x != VIEW_SHADED) {
+        float lambert = max(dot(n, l), 0.0) + 0.35 * max(dot(-n, l), 0.0);
+        float occlusion = mix(0.35, 1.0, g_uv.y);
+        out_color = vec4(albedo * (ambient + frame.light_color.rgb * lambert * sun_visibility(g_world)) * occlusion, 1.0);
+        return;
+    }
+
+    // The surface's normal, rounded across the blade; facing the eye.
+    vec3 side = normalize(g_side - n * dot(g_side, n));
+    vec3 ns = normalize(n + side * (2.0 * g_uv.x - 1.0) * BLADE_ROUNDING);
+    // Far blades are thinner than a pixel: the sheen is spread over the
+    // normals a pixel sees (a rougher surface), so it does not sparkle.
+    float pixel_angle = length(fwidth(ns));
+    float alpha = sqrt(CUTICLE_ALPHA * CUTICLE_ALPHA + min(pixel_angle * pixel_angle, 0.5));
+
+    // The canopy above this point: the leaf area over its height at rest
+    // (its share of the blade's reach: the same in any pose, as the
+    // canopy bends together).
+    float lai = leaf_area_index(g_blade.xy);
+    float above = leaf_area_above(lai, g_uv.y * g_blade.z);
+    // The leaves around it lie as this blade does (a gust bends them
+    // together): their inclination is this blade's here.
+    vec2 reach = canopy_transmission(above, abs(n.y), max(l.y, 0.0));
+    float sun = sun_visibility(g_world) * reach.x;
+
+    float n_l = dot(ns, l);
+    float n_v = max(dot(ns, v), 1e-4);
+    vec3 light = frame.light_color.rgb;
+    // Diffuse: reflected on the lit side, transmitted (greener, yellower)
+    // when the sun is behind the blade.
+    vec3 diffuse = albedo * max(n_l, 0.0)
+                 + albedo * LEAF_T_TINT * (LEAF_T_OVER_R * frame.look_more.z) * max(-n_l, 0.0);
+    // The sky's light: from above, less from below the blade's horizon.
+    float sky_seen = 0.75 + 0.25 * ns.y;
+    vec3 color = albedo * ambient * sky_seen * reach.y + light * diffuse * sun;
+    // The sheen: the sun's highlight and the sky's reflection, white
+    // (off the cuticle, before the leaf's pigments).
+    float sheen = frame.look_more.y;
+    color += sheen * light * cuticle_sheen(ns, v, l, alpha) * sun;
+    vec3 mirrored = reflect(-v, ns);
+    float sky_open = smoothstep(-0.05, 0.25, mirrored.y);
+    vec3 sky = sky_color(normalize(vec3(mirrored.x, max(mirrored.y, 0.0), mirrored.z)), l);
+    color += sheen * cuticle_sky_albedo(n_v, alpha) * sky * sky_open * reach.y;
+    out_color = vec4(color, 1.0);
 }

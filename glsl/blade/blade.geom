@@ -14,6 +14,7 @@ layout(location = 3) in float e_v[];
 layout(location = 4) in float e_blade_rand[];
 layout(location = 5) in float e_tess_level[];
 layout(location = 6) in float e_motion[];
+layout(location = 7) in vec4 e_blade[];
 
 layout(location = 0) out vec3 g_world;
 layout(location = 1) out vec3 g_normal;
@@ -21,6 +22,8 @@ layout(location = 2) out vec2 g_uv;          // x: across the blade (0..1), y: v
 layout(location = 3) flat out float g_blade_rand;
 layout(location = 4) flat out float g_tess_level;
 layout(location = 5) flat out float g_motion;
+layout(location = 6) flat out vec4 g_blade;  // root x, z; reach (m); clump
+layout(location = 7) out vec3 g_side;        // unit width direction (across the blade)
 
 // Width profile along the blade: full near the root, a point at the tip.
 float taper(float v) {
@@ -39,6 +42,9 @@ void emit_side(int i, float side) {
     g_blade_rand = e_blade_rand[0];
     g_tess_level = e_tess_level[0];
     g_motion = e_motion[0];
+    g_blade = e_blade[0];
+    float w2 = dot(e_width[i], e_width[i]);
+    g_side = w2 > 1e-20 ? e_width[i] * inversesqrt(w2) : vec3(1.0, 0.0, 0.0);
     gl_Position = frame.view_proj * vec4(p, 1.0);
     EmitVertex();
 }

@@ -6,6 +6,7 @@
 // (glsl/common/thinning.glsl); the cull pass has left out those it drops.
 #include "frame.glsl"
 #include "thinning.glsl"
+#include "grass_color.glsl"
 
 layout(vertices = 4) out;
 
@@ -15,6 +16,9 @@ layout(location = 1) in vec4 v_width[];
 layout(location = 0) out vec4 c_position[];
 layout(location = 1) out vec4 c_width[];
 layout(location = 2) patch out float c_tess_level;
+// x, z: the root; z: the blade's reach (its edges end to end: the same in
+// any pose); w: its clump's random number (glsl/common/grass_color.glsl).
+layout(location = 3) patch out vec4 c_blade;
 
 float tess_level_for(float distance_to_eye) {
     if (frame.lod_distance.z == 0.0) {
@@ -42,5 +46,8 @@ void main() {
         gl_TessLevelOuter[0] = 1.0;
         gl_TessLevelOuter[1] = level;
         c_tess_level = level;
+        vec3 p0 = v_position[0].xyz, p1 = v_position[1].xyz, p2 = v_position[2].xyz, p3 = v_position[3].xyz;
+        float reach = distance(p0, p1) + distance(p1, p2) + distance(p2, p3);
+        c_blade = vec4(p0.xz, reach, clump_of(p0.xz));
     }
 }

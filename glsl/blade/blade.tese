@@ -9,6 +9,7 @@ layout(isolines, equal_spacing) in;
 layout(location = 0) in vec4 c_position[];
 layout(location = 1) in vec4 c_width[];
 layout(location = 2) patch in float c_tess_level;
+layout(location = 3) patch in vec4 c_blade;
 
 layout(location = 0) out vec3 e_position;
 layout(location = 1) out vec3 e_tangent;
@@ -17,6 +18,7 @@ layout(location = 3) out float e_v;          // texture coordinate along the bla
 layout(location = 4) out float e_blade_rand;
 layout(location = 5) out float e_tess_level;
 layout(location = 6) out float e_motion;
+layout(location = 7) out vec4 e_blade;
 
 void main() {
     float t = gl_TessCoord.x;
@@ -33,4 +35,5 @@ void main() {
     e_blade_rand = c_position[0].w;
     e_tess_level = c_tess_level;
     e_motion = abs(c_width[3].w);
+    e_blade = c_blade;
 }

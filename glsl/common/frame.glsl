@@ -3,7 +3,11 @@
 #ifndef MEADOW_FRAME_GLSL
 #define MEADOW_FRAME_GLSL
 
-// View modes (frame.view.x), matching `ViewMode` in Rust.
+#include "interface.glsl"
+
+// View modes (frame.view.x), matching `ViewMode` in Rust, and the data
+// view VIEW_DISPLACEMENT (src/interface/defs.rs) that `--light-waves`
+// draws beside each shaded frame.
 #define VIEW_SHADED 0u
 #define VIEW_LOD    1u
 #define VIEW_MOTION 2u
@@ -23,6 +27,17 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     vec4 thinning;      // x: distance it begins (m), y: least share, z: band, w: 1 = on (glsl/common/thinning.glsl)
     vec4 shadow_tess_level; // tess_level of the shadow pass, which reads it as its tess_level
     vec4 terrain;       // x: the lowest ground shadows fall on (m); y: half side of the terrain mesh (0: flat, none); zw: its centre (x, z)
+    vec4 canopy;        // x: leaf area index of the cover (0: none); y: the canopy's top (m); z: 1 = self-shadowing on; w: the map's LAI at 1.0 (glsl/common/canopy.glsl)
+    vec4 canopy_map;    // xy: the canopy map's least corner (x, z); zw: 1 / its extent (x, z)
+    vec4 cover_bounds;  // x0, z0, x1, z1: where the cover grows
+    vec4 look;          // x: hue spread, y: dry share, z: dry tips, w: clump size (m) (glsl/common/grass_color.glsl)
+    vec4 look_more;     // x: clump variation, y: sheen, z: translucency, w: the scene's seed, 16 bits
 } frame;
+
+// In the data view only the blades write (their displacement); the sky,
+// the ground and the obstacles write black.
+bool data_view() {
+    return frame.view.x == VIEW_DISPLACEMENT;
+}
 
 #endif

@@ -36,5 +36,5 @@ void main() {
     float lambert = max(dot(n, frame.light_dir.xyz), 0.0);
     float sky = 0.75 + 0.25 * n.y;
     vec3 lit = albedo * (frame.light_dir.w * sky + frame.light_color.rgb * lambert * sun_visibility(v_world));
-    out_color = vec4(lit, 1.0);
+    out_color = data_view() ? vec4(0.0, 0.0, 0.0, 1.0) : vec4(lit, 1.0);
 }

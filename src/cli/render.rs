@@ -36,6 +36,12 @@ pub struct RenderArgs {
     /// FILE.webm (VP9), 4:2:0, near-lossless, at FPS / K frames a second.
     #[arg(long, value_name = "FILE")]
     video: Option<PathBuf>,
+    /// Also measure the waves of light: how much each 16 x 16 pixel block
+    /// of grass changes brightness over the frames, and how closely that
+    /// follows its blades' displacement (report.json's light_waves; each
+    /// frame is drawn once more, in a data view). Needs 3 frames or more.
+    #[arg(long)]
+    light_waves: bool,
     /// Folder for the frames, animation.gif, report.json and scene.toml
     /// (made if missing; an earlier render's outputs there are replaced).
     #[arg(long, default_value = "out")]
@@ -55,6 +61,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
         every,
         no_gif,
         video,
+        light_waves,
         out,
         overwrite,
         device,
@@ -73,6 +80,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
     request.gif = !no_gif;
     request.video = video;
     request.overwrite = overwrite.overwrite;
+    request.light_waves |= light_waves;
     let (report, signal) = render_with_progress(&request, &out)?;
     for w in meadow::report::warnings::collapsed(&report.warnings) {
         eprintln!("meadow: warning: {w}");

@@ -447,6 +447,7 @@ fn run_frames(
         gif: false,
         video: None,
         overwrite: request.overwrite,
+        light_waves: false,
         gpu: gpu.clone(),
     };
     let report = render_to_dir(&render, dir)?;

@@ -5,6 +5,7 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+use crate::analysis::light_waves::{self, LightWaveSeries, LightWaves};
 use crate::commands::on_gpu;
 use crate::compute::StepPace;
 use crate::error::{Error, Result};
@@ -42,6 +43,10 @@ pub struct RenderRequest {
     /// Replace files in the output folder that an earlier meadow run did
     /// not write, or that were changed since (`report::claim`).
     pub overwrite: bool,
+    /// Also measure the waves of light (`analysis::light_waves`): each
+    /// frame written is drawn once more in the data view (and shaded,
+    /// when no picture is), and report.json holds `light_waves`.
+    pub light_waves: bool,
     pub gpu: GpuOptions,
 }
 
@@ -64,6 +69,7 @@ impl RenderRequest {
             gif: true,
             video: None,
             overwrite: false,
+            light_waves: r.light_waves,
             gpu,
         }
     }
@@ -88,6 +94,7 @@ impl RenderRequest {
             frames: self.animation.frames,
             fps: self.animation.fps,
             start: self.animation.start,
+            light_waves: self.light_waves,
         }
     }
 
@@ -110,6 +117,14 @@ impl RenderRequest {
             return Err(Error::InvalidInput(format!(
                 "--every {} is not allowed, use 1..={MAX_FRAMES}",
                 self.every
+            )));
+        }
+        let written = self.frames_written().count();
+        if self.light_waves && written < light_waves::LEAST_FRAMES {
+            return Err(Error::InvalidInput(format!(
+                "--light-waves measures a series of frames, and {written} would be written: \
+                 ask for at least {} (e.g. --frames 24 --fps 8, a gust period or more)",
+                light_waves::LEAST_FRAMES
             )));
         }
         if let Some(path) = &self.video {
@@ -276,7 +291,7 @@ fn render_with(
         &blades,
         Some(&dynamic),
     )?;
-    let done = animate(gpu, request, &mut recorder, pictures, claims, observer)?;
+    let (done, light_waves) = animate(gpu, request, &mut recorder, pictures, claims, observer)?;
     let simulation = recorder.simulation().expect("made with dynamics");
     let (sim_dt, substeps, sim_steps) = (
         simulation.dt(),
@@ -377,6 +392,7 @@ fn render_with(
             cull: scene.cull.enabled,
             cull_counts: done.cull,
             timing: TimingSummary::of(&done.gpu_timings, &done.wall_ms, &untimed),
+            light_waves: light_waves.clone(),
             wall_seconds: 0.0,
             validation: ValidationReport::default(),
         })
@@ -455,8 +471,9 @@ impl PictureWriter<'_> {
 /// Simulates up to each written frame's time and renders it once per
 /// picture, in one submission per picture (the first also steps the
 /// simulation); writes each frame (and adds it to the GIF) as it is read
-/// back. A failure names the frame it happened at; the frames written
-/// before it stay complete.
+/// back. With `light_waves`, each instant is drawn once more in the data
+/// view (and shaded, when no picture is) and measured. A failure names the
+/// frame it happened at; the frames written before it stay complete.
 fn animate(
     gpu: &Gpu,
     request: &RenderRequest,
@@ -464,7 +481,7 @@ fn animate(
     pictures: &[Picture],
     claims: &[OutputClaim],
     observer: &mut dyn FnMut(FrameProgress) -> bool,
-) -> Result<Vec<Animated>> {
+) -> Result<(Vec<Animated>, Option<LightWaves>)> {
     let planned = request.frames_written().count() as u32;
     let mut writers = Vec::with_capacity(pictures.len());
     for (picture, claim) in pictures.iter().zip(claims) {
@@ -504,6 +521,9 @@ fn animate(
     }
     let mut interrupted = false;
     let mut pace = StepPace::default();
+    let mut waves = request
+        .light_waves
+        .then(|| LightWaveSeries::new(request.width, request.height));
     'frames: for (before, f) in request.frames_written().enumerate() {
         // Frames written before this one.
         let written = before as u32;
@@ -530,6 +550,7 @@ fn animate(
                 break 'frames;
             }
         }
+        let mut shaded: Option<Vec<u8>> = None;
         for writer in writers.iter_mut() {
             let uniforms = FrameUniforms::new(
                 &request.scene,
@@ -564,6 +585,33 @@ fn animate(
             legend::stamp(&mut frame, writer.view, request.scene.lod.levels);
             let wall_ms = started.elapsed().as_secs_f64() * 1e3;
             writer.write(f, &frame, wall_ms)?;
+            if waves.is_some() && writer.view == ViewMode::Shaded && shaded.is_none() {
+                shaded = Some(frame.rgba);
+            }
+        }
+        if let Some(series) = waves.as_mut() {
+            let base = FrameUniforms::new(
+                &request.scene,
+                request.width,
+                request.height,
+                ViewMode::Shaded,
+                time as f32,
+            );
+            let mut draw = |uniforms: &FrameUniforms| {
+                recorder
+                    .render_unless_stopped(gpu, uniforms, std::mem::take(&mut steps), None)
+                    .map_err(at_frame)
+            };
+            let shaded = match shaded {
+                Some(rgba) => Some(rgba),
+                None => draw(&base)?.map(|frame| frame.rgba),
+            };
+            let data = draw(&base.displacement_view())?;
+            let (Some(shaded), Some(data)) = (shaded, data) else {
+                interrupted = true;
+                break 'frames;
+            };
+            series.add(time, &shaded, &data.rgba);
         }
         let progress = FrameProgress {
             written: written + 1,
@@ -575,12 +623,13 @@ fn animate(
             break;
         }
     }
-    writers
+    let done = writers
         .into_iter()
         .map(|w| {
             let mut done = w.finish(request.video.as_deref())?;
             done.interrupted = interrupted;
             Ok(done)
         })
-        .collect()
+        .collect::<Result<Vec<_>>>()?;
+    Ok((done, waves.and_then(|w| w.measure())))
 }

@@ -10,6 +10,7 @@ use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::Path;
 
+use crate::analysis::stats::lagged_correlation;
 use crate::commands::on_gpu;
 use crate::compute::{Simulation, StepPace};
 use crate::error::{Error, Result};
@@ -744,38 +745,6 @@ pub fn spectrum_svg(
     })
 }
 
-/// Pearson correlation of a[i] with b[i + lag] over the samples both have.
-pub fn lagged_correlation(a: &[f64], b: &[f64], lag: usize) -> f64 {
-    let n = a.len().min(b.len().saturating_sub(lag));
-    if n < 2 {
-        return 0.0;
-    }
-    let (a, b) = (&a[..n], &b[lag..lag + n]);
-    let mean = |v: &[f64]| v.iter().sum::<f64>() / n as f64;
-    let (ma, mb) = (mean(a), mean(b));
-    let (mut ab, mut aa, mut bb) = (0.0, 0.0, 0.0);
-    for (x, y) in a.iter().zip(b) {
-        ab += (x - ma) * (y - mb);
-        aa += (x - ma) * (x - ma);
-        bb += (y - mb) * (y - mb);
-    }
-    if aa == 0.0 || bb == 0.0 {
-        return 0.0;
-    }
-    ab / (aa * bb).sqrt()
-}
-
-/// The lag in 0..=max_lag samples at which b follows a most closely, and
-/// the correlation there.
-pub fn best_lag(a: &[f64], b: &[f64], max_lag: usize) -> (usize, f64) {
-    (0..=max_lag)
-        .map(|lag| (lag, lagged_correlation(a, b, lag)))
-        .fold(
-            (0, f64::NEG_INFINITY),
-            |best, x| if x.1 > best.1 { x } else { best },
-        )
-}
-
 /// Simulates `request`'s scene on `gpu`, sampling from t = 0. `observer`
 /// is asked after each sample, and after each submission of steps between
 /// samples, whether to go on (false: stop, the trace ending at its last
@@ -1249,25 +1218,6 @@ mod tests {
         assert_ne!(picked, BladePick::Count(10).indices(1000, 8));
         assert_eq!(BladePick::Count(5000).indices(30, 1).len(), 30);
         assert_eq!(BladePick::All.indices(4, 1), [0, 1, 2, 3]);
-    }
-
-    /// A wave sin(w (t - x / c)) seen at two points d apart: the best lag
-    /// is d / c, where the correlation is 1.
-    #[test]
-    fn the_best_lag_of_a_travelling_wave_is_its_travel_time() {
-        let dt = 0.1;
-        let wave = |x: f64| -> Vec<f64> {
-            (0..400)
-                .map(|i| {
-                    let t = i as f64 * dt - x / 3.0;
-                    (1.3 * t).sin() + 0.5 * (3.1 * t).sin()
-                })
-                .collect()
-        };
-        let (lag, r) = best_lag(&wave(0.0), &wave(3.0), 30);
-        assert_eq!(lag, 10, "3 m at 3 m/s is 1 s, 10 samples");
-        assert!(r > 0.999, "{r}");
-        assert!(lagged_correlation(&wave(0.0), &wave(3.0), 0) < 0.9);
     }
 
     #[test]

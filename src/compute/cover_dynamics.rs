@@ -110,7 +110,7 @@ impl CoverDynamics {
             return Err(Error::InvalidInput(format!(
                 "grass.cover.simulate_radius {} m at {} blades a square metre keeps {count} blades in the dynamics ({bytes} bytes of blades), more than one storage binding of this device holds ({range}); lower simulate_radius or density",
                 cover.simulate_radius(),
-                cover.density
+                cover.density()
             )));
         }
         let side = square.side;

@@ -21,6 +21,7 @@ use crate::gpu::{
 };
 use crate::model::collider::Collider;
 use crate::model::{Blade, GrassBlade};
+use crate::render::canopy_map::CanopyMap;
 use crate::render::cull::{BladeDraw, CullPass};
 use crate::render::depth_pyramid::Occluders;
 use crate::render::terrain;
@@ -243,6 +244,7 @@ impl FrameRecorder {
             &scene.wind.obstacles,
             colliders,
             terrain::mesh(scene, eye).as_ref(),
+            &CanopyMap::of(scene),
             scene.cull.enabled && scene.cull.occlusion,
         )
     }
@@ -803,7 +805,7 @@ pub fn check_fits(gpu: &Gpu, scene: &Scene, width: u32, height: u32, msaa: u32) 
         Some(c) => format!(
             "{} blades and grass.cover's {cover} (density {} a square metre, view_distance {} m; {kept} of them within simulate_radius {} m keep a state) at {width}x{height} with {msaa}x MSAA",
             scene.blade_count(),
-            c.density,
+            c.density(),
             c.view_distance,
             c.simulate_radius()
         ),

@@ -70,6 +70,15 @@ gpu_interface! {
     /// the air above (glsl/wind/under_ground.comp).
     pub const FACE_BURIED: u32 = 3;
 
+    /// The fragment stages' data view for `meadow render --light-waves`
+    /// (src/report/light_waves.rs), beside `ViewMode`'s pictures (0
+    /// shaded, 1 LOD, 2 motion; glsl/common/frame.glsl): a blade writes
+    /// its displacement in red (over `DISPLACEMENT_FULL_SCALE`) and 1 in
+    /// blue, everything else black, unlit.
+    pub const VIEW_DISPLACEMENT: u32 = 3;
+    /// The displacement (rad) the data view's red channel reads 1 at.
+    pub const DISPLACEMENT_FULL_SCALE: f32 = 1.5707964;
+
     /// One control point of a blade as the render pipeline reads it: four
     /// per blade, one patch; the grass step writes them
     /// (glsl/common/blade_vertex.glsl).

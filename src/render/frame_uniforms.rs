@@ -6,6 +6,7 @@ use glam::{Mat4, Vec3};
 
 use crate::error::Result;
 use crate::gpu::{Buffer, Gpu, MemoryLocation};
+use crate::render::canopy_map;
 use crate::render::shadow_frustum::light_view_proj;
 use crate::render::terrain;
 use crate::render::thinning::Thinning;
@@ -44,6 +45,21 @@ pub struct FrameUniforms {
     /// ground); y: half the side of the terrain mesh's square (0: flat, no
     /// mesh; src/render/terrain.rs); zw: its centre (x, z).
     pub terrain: [f32; 4],
+    /// x: the cover's leaf area index (0: none); y: the canopy's top (m,
+    /// the tallest blades); z: 1 = self-shadowing on; w: the leaf area
+    /// index the canopy map's 1.0 stands for (set by the renderer, which
+    /// owns the map; glsl/common/canopy.glsl).
+    pub canopy: [f32; 4],
+    /// The canopy map's least corner (x, z) and one over its extent; set
+    /// by the renderer (`CanopyMap::placement`).
+    pub canopy_map: [f32; 4],
+    /// Where the cover grows: x0, z0, x1, z1 (empty without one).
+    pub cover_bounds: [f32; 4],
+    /// `[grass.look]`: hue, dryness, tip, clump_size.
+    pub look: [f32; 4],
+    /// `[grass.look]`: clump_variation, sheen, translucency; w: the
+    /// scene's seed's low 16 bits (exact in a float), the clumps' seed.
+    pub look_more: [f32; 4],
 }
 
 /// The camera at simulated time `time`, in Vulkan clip space: y points
@@ -92,6 +108,7 @@ impl FrameUniforms {
             .try_normalize()
             .unwrap_or(Vec3::Y);
         let lod = &scene.lod;
+        let look = &scene.grass.look;
         // The clear ground lies around the grass; a cover's grass lies
         // around the camera.
         let ground = match scene.grass.cover {
@@ -121,6 +138,28 @@ impl FrameUniforms {
             } else {
                 lod.levels
             }),
+            canopy: [
+                canopy_map::cover_leaf_area_index(scene),
+                scene.grass.shape.height[1],
+                if scene.grass.look.self_shadowing {
+                    1.0
+                } else {
+                    0.0
+                },
+                0.0,
+            ],
+            canopy_map: [0.0; 4],
+            cover_bounds: match &scene.grass.cover {
+                Some(cover) => cover.bounds(),
+                None => [0.0; 4],
+            },
+            look: [look.hue, look.dryness, look.tip, look.clump_size],
+            look_more: [
+                look.clump_variation,
+                look.sheen,
+                look.translucency,
+                (scene.seed & 0xffff) as f32,
+            ],
             terrain: if scene.ground.terrain().is_flat() {
                 [0.0; 4]
             } else {
@@ -133,6 +172,15 @@ impl FrameUniforms {
                 ]
             },
         }
+    }
+}
+
+impl FrameUniforms {
+    /// The same instant in the data view of `--light-waves`: every blade
+    /// its displacement, nothing else (`VIEW_DISPLACEMENT`).
+    pub fn displacement_view(mut self) -> Self {
+        self.view[0] = crate::interface::VIEW_DISPLACEMENT;
+        self
     }
 }
 

@@ -5,6 +5,7 @@
 //! and the read-back; and the bench's vertex+fragment floor. It draws the
 //! blade buffer it is handed and knows nothing of the simulation.
 
+pub mod canopy_map;
 pub mod cull;
 pub mod depth_pyramid;
 pub mod floor;

@@ -17,8 +17,8 @@ use crate::render::terrain::TerrainVertex;
 use crate::shaders::{self, Spirv};
 
 /// Set 0 of every render pipeline: the per-frame uniforms, the sun's
-/// shadow map, and the grass and soil textures (the last five read by the
-/// fragment stages of the colour pass). Images and samplers are bound apart
+/// shadow map, the grass and soil textures and the canopy map (the last
+/// six read by the fragment stages of the colour pass). Images and samplers are bound apart
 /// (glsl/common/shadow.glsl says why).
 pub const FRAME_SET: &[LayoutBinding] = &[
     LayoutBinding {
@@ -61,6 +61,12 @@ pub const FRAME_SET: &[LayoutBinding] = &[
         set: 0,
         binding: 5,
         ty: DescriptorKind::Sampler,
+        stages: vk::ShaderStageFlags::FRAGMENT,
+    },
+    LayoutBinding {
+        set: 0,
+        binding: 6,
+        ty: DescriptorKind::SampledImage,
         stages: vk::ShaderStageFlags::FRAGMENT,
     },
 ];

@@ -12,6 +12,7 @@ use crate::gpu::{
 };
 use crate::model::collider::Collider;
 use crate::model::wind::Obstacle;
+use crate::render::canopy_map::CanopyMap;
 use crate::render::cull::BladeDraw;
 use crate::render::depth_pyramid::{DepthPyramid, Occluders};
 use crate::render::frame_uniforms::FrameUniforms;
@@ -58,6 +59,7 @@ impl Renderer {
         obstacles: &[Obstacle],
         colliders: &[Collider],
         ground: Option<&Grid>,
+        canopy: &CanopyMap,
         occlusion: bool,
     ) -> Result<Self> {
         let targets = RenderTargets::new(gpu, width, height, choose_samples(gpu, msaa), occlusion)?;
@@ -73,13 +75,13 @@ impl Renderer {
         }
         let shadow = ShadowMap::new(gpu, shadow_map, &pipelines.shadow_layout)?;
         let uniforms = FrameUniforms::buffer(gpu, "frame uniforms")?;
-        let textures = SurfaceTextures::new(gpu, commands)?;
+        let textures = SurfaceTextures::new(gpu, commands, canopy)?;
         let obstacles = ObstacleMeshes::new(gpu, commands, obstacles, colliders)?;
         let terrain = ground
             .map(|grid| TerrainMesh::new(gpu, commands, grid))
             .transpose()?;
         let [map, map_sampler] = shadow.bindings();
-        let [grass, ground, surface_sampler] = textures.bindings();
+        let [grass, ground, surface_sampler, canopy_map] = textures.bindings();
         let frame_set = DescriptorSet::new(
             gpu,
             &pipelines.frame_layout,
@@ -91,6 +93,7 @@ impl Renderer {
                 grass,
                 ground,
                 surface_sampler,
+                canopy_map,
             ],
             "frame descriptor set",
         )?;
@@ -167,6 +170,8 @@ impl Renderer {
     pub fn set_uniforms(&mut self, uniforms: &FrameUniforms) {
         let mut uniforms = *uniforms;
         uniforms.shadow = self.shadow.params();
+        uniforms.canopy[3] = self.textures.canopy_scale;
+        uniforms.canopy_map = self.textures.canopy_placement;
         self.uniforms.write(0, std::slice::from_ref(&uniforms));
         self.shadow.write_uniforms(&uniforms);
     }

@@ -3,6 +3,7 @@
 
 use std::path::Path;
 
+use crate::analysis::light_waves::LightWaves;
 use crate::frame::timing::TimingSummary;
 use crate::frame::{Animation, CullCounts};
 use crate::gpu::query::PipelineStatistics;
@@ -81,6 +82,10 @@ pub struct RenderReport {
     pub cull_counts: Option<CullCounts>,
     /// Per-phase GPU time (median, p95), wall-clock frame time and FPS.
     pub timing: TimingSummary,
+    /// With `--light-waves`: whether the shaded picture shows the blades'
+    /// motion (`analysis::light_waves`); absent otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub light_waves: Option<LightWaves>,
     /// Wall-clock seconds of the whole job (GPU start-up to teardown).
     pub wall_seconds: f64,
     pub validation: ValidationReport,
@@ -168,6 +173,9 @@ pub fn summary(report: &RenderReport, out: &Path) -> String {
             b.simulated
         );
     }
+    if let Some(w) = &report.light_waves {
+        text += &light_waves_line(w);
+    }
     if report.validation.enabled {
         text += &format!(
             "validation: {} errors, {} warnings\n",
@@ -214,4 +222,30 @@ pub fn summary(report: &RenderReport, out: &Path) -> String {
 
 fn mib(bytes: u64) -> f64 {
     bytes as f64 / (1u64 << 20) as f64
+}
+
+/// The waves of light in one line.
+fn light_waves_line(w: &LightWaves) -> String {
+    match (w.modulation_median, w.correlation_abs_median) {
+        (Some(modulation), Some(r)) => format!(
+            "light waves: over {} frames ({:.2} s), {} of {} blocks of {} x {} pixels are grass; \
+             their luminance varies by {:.2}% of its mean (median; quartiles {:.2}-{:.2}%) and \
+             follows the blades' displacement with median |r| {:.2}\n",
+            w.frames,
+            w.seconds,
+            w.blocks,
+            w.blocks_in_frame,
+            w.block_pixels,
+            w.block_pixels,
+            100.0 * modulation,
+            100.0 * w.modulation_p25.unwrap_or(modulation),
+            100.0 * w.modulation_p75.unwrap_or(modulation),
+            r
+        ),
+        _ => format!(
+            "light waves: none of the {} blocks is grass in every frame (blades covering {:.0}% or more)\n",
+            w.blocks_in_frame,
+            100.0 * w.least_grass_share
+        ),
+    }
 }

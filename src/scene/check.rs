@@ -446,6 +446,7 @@ pub fn grass(g: &Grass) -> Check {
     range_within("shape.height", shape.height, 0.01..=10.0)?;
     range_within("shape.width", shape.width, 0.0005..=1.0)?;
     dynamics(&g.dynamics).map_err(|e| e.at("dynamics"))?;
+    look(&g.look).map_err(|e| e.at("look"))?;
 
     for (i, b) in g.bunch.iter().enumerate() {
         let at = format!("bunch[{i}]");
@@ -510,6 +511,33 @@ pub fn grass(g: &Grass) -> Check {
     Ok(())
 }
 
+/// `[grass.look]`'s values, each in its range.
+fn look(l: &crate::scene::Look) -> Check {
+    let unit = "a number from 0 to 1";
+    within("hue", l.hue, 0.0..=1.0, unit)?;
+    within("dryness", l.dryness, 0.0..=1.0, unit)?;
+    within("tip", l.tip, 0.0..=1.0, unit)?;
+    within(
+        "clump_size",
+        l.clump_size,
+        0.0..=10.0,
+        "metres from 0 (no clumps) to 10",
+    )?;
+    within("clump_variation", l.clump_variation, 0.0..=1.0, unit)?;
+    within(
+        "sheen",
+        l.sheen,
+        0.0..=4.0,
+        "a number from 0 (none) to 4 (1: a leaf's)",
+    )?;
+    within(
+        "translucency",
+        l.translucency,
+        0.0..=4.0,
+        "a number from 0 (none) to 4 (1: a leaf's)",
+    )
+}
+
 /// The widest bounded cover (m) and the farthest its centre lies from
 /// the origin: 100 km, where f32 roots still fall within 8 mm of where
 /// the draws put them.
@@ -518,7 +546,7 @@ pub const MAX_COVER_SIZE: f32 = 100_000.0;
 /// The cover's values, and the blades it makes around the camera within
 /// the `room` the patches leave of `MAX_BLADES`.
 pub fn cover(c: &Cover, room: usize) -> Check {
-    positive("density", c.density, 10_000.0)?;
+    positive("density", c.density(), 10_000.0)?;
     positive("view_distance", c.view_distance, VIEW_DISTANCE)?;
     within(
         "simulate_radius",
@@ -559,8 +587,8 @@ pub fn cover(c: &Cover, room: usize) -> Check {
             format!(
                 "{} m at {} blades a square metre makes {side} x {side} tiles of {} blades, {blades} blades ({:.1} GB of control points), over the {room} allowed; lower view_distance or density",
                 c.view_distance,
-                c.density,
-                super::cover::per_tile(c.density),
+                c.density(),
+                super::cover::per_tile(c.density()),
                 blades as f64 * 128.0 / 1e9
             ),
         ));

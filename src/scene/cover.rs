@@ -47,7 +47,7 @@ impl CoverTiles {
         Self {
             origin: [tile.x as i32 - reach as i32, tile.y as i32 - reach as i32],
             side: 2 * reach + 1,
-            per_tile: per_tile(cover.density),
+            per_tile: per_tile(cover.density()),
             bounds: cover.bounds(),
         }
     }
@@ -103,7 +103,7 @@ pub fn per_tile(density: f32) -> u32 {
 /// camera is: what the blade buffer must hold.
 pub fn most_blades(cover: &Cover) -> u64 {
     let side = 2 * tiles_reached(cover.view_distance) as u64 + 1;
-    side * side * per_tile(cover.density) as u64
+    side * side * per_tile(cover.density()) as u64
 }
 
 /// The cover's seed as the kernel takes it: the 64-bit seed folded to 32.
@@ -377,7 +377,7 @@ mod tests {
 
     fn cover(density: f32, view_distance: f32) -> Cover {
         Cover {
-            density,
+            density: Some(density),
             view_distance,
             seed: None,
             simulate_radius: None,

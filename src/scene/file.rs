@@ -90,6 +90,7 @@ pub fn parse_in(text: &str, origin: &str, files: SceneFiles<'_>) -> Result<Scene
         }
     };
     check_lengths(text, &scene).map_err(|e| located(text, origin, e))?;
+    scene.grass.fill_defaults();
     check::scene(&scene).map_err(|e| located(text, origin, e))?;
     scene
         .read_files(files)

@@ -84,6 +84,10 @@ pub struct RenderSettings {
     pub fps: f32,
     /// Simulated seconds before the first frame (the grass starts at rest).
     pub start: f32,
+    /// Measure the waves of light over the frames (report.json's
+    /// `light_waves`; `meadow render --light-waves`).
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub light_waves: bool,
 }
 
 impl Default for RenderSettings {
@@ -96,6 +100,7 @@ impl Default for RenderSettings {
             frames: 1,
             fps: 30.0,
             start: 0.0,
+            light_waves: false,
         }
     }
 }
@@ -265,6 +270,10 @@ impl Default for Cull {
 pub struct Grass {
     #[serde(default)]
     pub shape: BladeShape,
+    /// How the blades look: their colours blade by blade and clump by
+    /// clump, and their light (`[grass.look]`; docs/scenes.md).
+    #[serde(default)]
+    pub look: Look,
     /// The blades' physical parameters (docs/method.md, grass dynamics).
     #[serde(default)]
     pub dynamics: GrassDynamics,
@@ -285,8 +294,10 @@ pub struct Grass {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Cover {
-    /// Blades per square metre.
-    pub density: f32,
+    /// Blades per square metre (absent: `closing_density` of the scene's
+    /// blade shapes, filled in when the scene is read).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub density: Option<f32>,
     /// How far from the camera tiles are made (m).
     pub view_distance: f32,
     /// The cover's own seed (absent: the scene's).
@@ -311,6 +322,14 @@ pub struct Cover {
 
 impl Cover {
     pub const DEFAULT_SIMULATE_RADIUS: f32 = 30.0;
+
+    /// Blades per square metre: as given, else the closing density of the
+    /// default blade shapes (a scene read from a file has it filled in for
+    /// its own shapes: `Grass::fill_defaults`).
+    pub fn density(&self) -> f32 {
+        self.density
+            .unwrap_or_else(|| closing_density(&BladeShape::default()))
+    }
 
     /// The least and greatest x and z a blade's root may have, [x0, z0,
     /// x1, z1]: a blade grows where x0 <= x < x1 and z0 <= z < z1 (half
@@ -426,7 +445,41 @@ impl GrassPatch {
     }
 }
 
+/// The leaf area index (one side's leaf area over the ground's) of a
+/// closed canopy: a meadow's, where a standing eye sees grass, not soil,
+/// between the blades a few metres off (the gap fraction at 80 degrees
+/// from the zenith, exp(-0.5 LAI / cos 80), is 6%; docs/method.md,
+/// "Light in the canopy").
+pub const CLOSED_CANOPY_LAI: f32 = 1.0;
+
+/// The blades a square metre of `shape`'s blades that close the canopy:
+/// `CLOSED_CANOPY_LAI` over a blade's mean area (160 for the default
+/// shapes; table1's meadow has 222).
+pub fn closing_density(shape: &BladeShape) -> f32 {
+    CLOSED_CANOPY_LAI / shape.mean_area()
+}
+
+impl BladeShape {
+    /// A blade's mean one-sided area (m^2): mean height times mean width
+    /// times 2/3, the mean of the taper sqrt(1 - v) the geometry stage
+    /// gives it (glsl/blade/blade.geom).
+    pub fn mean_area(&self) -> f32 {
+        let h = 0.5 * (self.height[0] + self.height[1]);
+        let w = 0.5 * (self.width[0] + self.width[1]);
+        h * w * (2.0 / 3.0)
+    }
+}
+
 impl Grass {
+    /// Fills in what a scene file may leave out and depends on other
+    /// tables: the cover's density from the blade shapes.
+    pub fn fill_defaults(&mut self) {
+        let closing = closing_density(&self.shape);
+        if let Some(cover) = &mut self.cover {
+            cover.density.get_or_insert(closing);
+        }
+    }
+
     pub fn patches(&self) -> Vec<GrassPatch> {
         let bunches = self.bunch.iter().map(|b| GrassPatch::Bunch {
             center: b.center,
@@ -467,6 +520,52 @@ impl Default for BladeShape {
             drooping: 0.2,
             height: [0.35, 0.75],
             width: [0.012, 0.022],
+        }
+    }
+}
+
+/// How the blades look (ours; glsl/common/grass_color.glsl and
+/// glsl/blade/blade.frag): each blade's colour from the grass texture,
+/// varied by its own random number and its clump's, all drawn from the
+/// scene's seed; and the strength of the leaf's sheen and translucency
+/// (1: the leaf optics of docs/method.md). The defaults are a summer
+/// meadow.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Look {
+    /// How far blades differ in hue, fresher (bluer) to yellower green,
+    /// 0..=1.
+    pub hue: f32,
+    /// The share of the blades that are dry (straw), 0..=1.
+    pub dryness: f32,
+    /// How far the tips dry and pale, 0..=1 (up to 35% of a blade).
+    pub tip: f32,
+    /// The clumps' size (m): blades grow in clumps of about this
+    /// spacing that differ in shade (0: no clumps), 0..=10.
+    pub clump_size: f32,
+    /// How far clumps differ in hue and lightness, 0..=1.
+    pub clump_variation: f32,
+    /// The cuticle's sheen (specular), times the leaf optics', 0..=4.
+    pub sheen: f32,
+    /// The light through a blade lit from behind, times the leaf
+    /// optics', 0..=4.
+    pub translucency: f32,
+    /// The canopy's shade of its own lower part (Beer-Lambert over the
+    /// leaf area above a point): on, or off.
+    pub self_shadowing: bool,
+}
+
+impl Default for Look {
+    fn default() -> Self {
+        Self {
+            hue: 0.5,
+            dryness: 0.04,
+            tip: 0.4,
+            clump_size: 0.5,
+            clump_variation: 0.5,
+            sheen: 1.0,
+            translucency: 1.0,
+            self_shadowing: true,
         }
     }
 }
@@ -671,6 +770,7 @@ pub const BUILTIN: &[(&str, &str)] = &[
     ("steppe", include_str!("../../scenes/steppe.toml")),
     ("roll", include_str!("../../scenes/roll.toml")),
     ("hills", include_str!("../../scenes/hills.toml")),
+    ("honami", include_str!("../../scenes/honami.toml")),
 ];
 
 /// A uniform draw in [0, 1) from a seed and an index (SplitMix64's

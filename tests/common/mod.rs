@@ -87,6 +87,7 @@ pub fn strict_request(
         gif: true,
         video: None,
         overwrite: false,
+        light_waves: false,
         gpu: GpuOptions {
             validation: ValidationOptions::strict(),
             ..Default::default()
