@@ -309,6 +309,11 @@ struct Manifest {
     /// main set.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     reason: Option<String>,
+    /// Why each golden was last re-made (GOLDEN_REASON): the change to the
+    /// picture it holds. A golden re-rendered within its limits is kept as
+    /// it was, and so is its reason.
+    #[serde(default, skip_serializing_if = "std::collections::BTreeMap::is_empty")]
+    remade: std::collections::BTreeMap<String, String>,
 }
 
 fn read_manifest_in(set: &Path) -> Option<Manifest> {
@@ -531,22 +536,56 @@ fn update_target(device: &str) -> (PathBuf, Option<String>) {
     (golden_dir(), None)
 }
 
+/// Why the goldens re-made now changed (GOLDEN_REASON), required with
+/// GOLDEN_UPDATE so that the manifest says it.
+fn remake_reason() -> String {
+    std::env::var("GOLDEN_REASON")
+        .ok()
+        .filter(|r| !r.trim().is_empty())
+        .unwrap_or_else(|| {
+            panic!(
+                "GOLDEN_UPDATE needs GOLDEN_REASON='what changed in the picture, and why' \
+                 (kept in the manifest beside each golden it re-makes)"
+            )
+        })
+}
+
+/// Whether `actual` still passes golden `g` of `set` (a golden that does
+/// is kept as it is when updating).
+fn still_passes(g: &Golden, set: &Path, actual: &image::RgbaImage) -> bool {
+    let Ok(reference) = image::open(set.join(format!("{}.png", g.name))) else {
+        return false;
+    };
+    let reference = reference.to_rgba8();
+    reference.dimensions() == actual.dimensions() && compare(&reference, actual).passes(&g.limits)
+}
+
 #[test]
 fn golden_frames_match() {
     let mut failures = Vec::new();
     let mut made_on = None;
     let mut compared_with = None;
+    let mut remade = None;
     for g in GOLDENS {
         let (actual, device, driver) = render_golden(g);
         if updating() {
+            let why = remake_reason();
             let (set, reason) = update_target(&device);
             std::fs::create_dir_all(&set).unwrap();
+            let remade = remade.get_or_insert_with(|| {
+                read_manifest_in(&set).map(|m| m.remade).unwrap_or_default()
+            });
             let path = set.join(format!("{}.png", g.name));
-            actual.save(&path).unwrap();
-            eprintln!(
-                "GOLDEN_UPDATE: wrote {} on {device} ({driver})",
-                path.display()
-            );
+            if still_passes(g, &set, &actual) {
+                eprintln!("GOLDEN_UPDATE: {} still passes, kept", g.name);
+            } else {
+                actual.save(&path).unwrap();
+                remade.insert(g.name.to_string(), why);
+                eprintln!(
+                    "GOLDEN_UPDATE: wrote {} on {device} ({driver})",
+                    path.display()
+                );
+            }
             made_on = Some((set, device, driver, reason));
             continue;
         }
@@ -565,6 +604,7 @@ fn golden_frames_match() {
             size: [SIZE.0, SIZE.1],
             goldens: GOLDENS.iter().map(|g| g.name.to_string()).collect(),
             reason,
+            remade: remade.unwrap_or_default(),
         };
         let json = serde_json::to_string_pretty(&m).unwrap() + "\n";
         std::fs::write(set.join("manifest.json"), json).unwrap();

@@ -261,6 +261,7 @@ fn reproduce_quick_renders_every_figure_validation_clean_with_both_indexes() {
         "Fig. 13",
         "Beyond the paper: gusts that travel",
         "Beyond the paper: turbulence everywhere",
+        "Beyond the paper: waves of light",
         "Beyond the paper: touch",
         "Beyond the paper: a landscape",
         "Beyond the paper: grass without edges",
@@ -281,10 +282,35 @@ fn reproduce_quick_renders_every_figure_validation_clean_with_both_indexes() {
         .skip(1)
         .map(|rest| &rest[..rest.find(')').unwrap()])
         .collect();
-    // 21 shots' frames (steppe's flight three of them) and the flight's
+    // 29 shots' frames (steppe's flight three of them, honami's two four
+    // each), the GIFs of the four shots of several frames, the flight's
     // video (scripts/test installs ffmpeg), the gust strip's space-time
     // diagram and the turbulent field's plan view and spectrum.
-    assert_eq!(links.len(), 25, "{links:?}");
+    assert_eq!(links.len(), 37, "{links:?}");
+    let (gifs, links): (Vec<&str>, Vec<&str>) = links.iter().partition(|l| l.ends_with(".gif"));
+    assert_eq!(
+        gifs,
+        [
+            "fig11/animation.gif",
+            "honami/shaded/animation.gif",
+            "honami/motion/animation.gif",
+            "steppe/animation.gif"
+        ]
+    );
+    for gif in &gifs {
+        let frames = image::codecs::gif::GifDecoder::new(std::io::BufReader::new(
+            std::fs::File::open(out.join(gif)).unwrap(),
+        ))
+        .map(|d| image::AnimationDecoder::into_frames(d).count())
+        .unwrap_or_else(|e| panic!("{gif}: {e}"));
+        assert!(frames >= 3, "{gif}: {frames} frames");
+    }
+    assert_eq!(html.matches("src=\"data:image/gif;base64,").count(), 4);
+    // honami's shaded shot measures its waves of light.
+    assert!(
+        md.contains("light waves: over 4 frames"),
+        "honami's light waves"
+    );
     let (videos, links): (Vec<&str>, Vec<&str>) = links.iter().partition(|l| l.ends_with(".mp4"));
     assert_eq!(videos, ["steppe/flight.mp4"]);
     let mp4 = std::fs::read(out.join(videos[0])).unwrap();
@@ -340,7 +366,7 @@ fn reproduce_quick_renders_every_figure_validation_clean_with_both_indexes() {
             }
         }
     }
-    assert_eq!(shots, 17, "one report per shot");
+    assert_eq!(shots, 19, "one report per shot");
     seen.assert_accepted();
     let _ = std::fs::remove_dir_all(&out);
 }

@@ -84,7 +84,7 @@ void main() {
     // The canopy above this point: the leaf area over its height at rest
     // (its share of the blade's reach: the same in any pose, as the
     // canopy bends together).
-    float lai = leaf_area_index(g_blade.xy);
+    float lai = leaf_area_index(g_blade.xy).y;
     float above = leaf_area_above(lai, g_uv.y * g_blade.z);
     // The leaves around it lie as this blade does (a gust bends them
     // together): their inclination is this blade's here.

@@ -38,18 +38,20 @@ const float CANOPY_K_DIFFUSE = 0.8;
 // from within: extinction times sqrt(1 - scattering) (Goudriaan 1977).
 const float CANOPY_SCATTERING = 0.3;
 
-// The leaf area index at (x, z): the map's (meadows, bunches) plus the
-// cover's where it grows.
-float leaf_area_index(vec2 xz) {
-    float lai = 0.0;
+// The leaf area index at (x, z), the map's (meadows, bunches) plus the
+// cover's where it grows: x, where the grass grows (the floor's cover); y,
+// spread over the canopy's height, the leaf area the light crosses to
+// reach a point there (src/render/canopy_map.rs says why).
+vec2 leaf_area_index(vec2 xz) {
+    vec2 lai = vec2(0.0);
     vec2 uv = (xz - frame.canopy_map.xy) * frame.canopy_map.zw;
     if (all(greaterThanEqual(uv, vec2(0.0))) && all(lessThanEqual(uv, vec2(1.0)))) {
         // The map's border texels are empty, so the repeating sampler
         // brings nothing in from the other side.
-        lai = textureLod(sampler2D(canopy_texture, surface_sampler), uv, 0.0).r * frame.canopy.w;
+        lai = textureLod(sampler2D(canopy_texture, surface_sampler), uv, 0.0).rg * frame.canopy.w;
     }
     if (all(greaterThanEqual(xz, frame.cover_bounds.xy)) && all(lessThan(xz, frame.cover_bounds.zw))) {
-        lai += frame.canopy.x;
+        lai += vec2(frame.canopy.x);
     }
     return lai;
 }

@@ -34,14 +34,14 @@ vec3 soil_lit(vec3 world, float lambert) {
     float grain = mix(0.85, 1.1, value_noise(world.xz * 0.37));
     // Under grass the ground is the sward's floor, in the canopy's shade
     // (glsl/common/canopy.glsl); the soil's texture still varies it.
-    float lai = leaf_area_index(world.xz);
-    float covered = 1.0 - exp(-lai / LITTER_LAI);
+    vec2 lai = leaf_area_index(world.xz);
+    float covered = 1.0 - exp(-lai.x / LITTER_LAI);
     float soil_shade = dot(soil, vec3(0.2126, 0.7152, 0.0722)) / 0.09;
     vec3 floor_albedo = LITTER * mix(0.8, 1.2, clamp(soil_shade, 0.0, 1.0));
     vec3 albedo = mix(soil, floor_albedo, covered) * grain;
     // Leaves at random angles above the floor (cos 60 degrees: the mean
     // inclination of a spherical distribution).
-    vec2 reach = canopy_transmission(lai, 0.5, max(frame.light_dir.y, 0.0));
+    vec2 reach = canopy_transmission(lai.y, 0.5, max(frame.light_dir.y, 0.0));
     vec3 lit = albedo * (frame.light_dir.w * reach.y + frame.light_color.rgb * lambert * sun_visibility(world) * reach.x);
     float clear = frame.ground.z;
     float beyond = max(distance(world.xz, frame.ground.xy) - clear, 0.0);

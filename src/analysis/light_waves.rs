@@ -240,11 +240,17 @@ mod tests {
         let expected = std_dev(&light) / mean(&light);
         let modulation = m.modulation_median.unwrap();
         // The bytes' rounding: a few parts in a thousand of the light.
-        assert!((modulation - expected).abs() < 0.03 * expected, "{modulation} vs {expected}");
+        assert!(
+            (modulation - expected).abs() < 0.03 * expected,
+            "{modulation} vs {expected}"
+        );
         assert!(m.correlation_abs_median.unwrap() > 0.99, "{m:?}");
         assert!(m.correlation_median.unwrap() > 0.99);
         let displacement = 0.4 + 0.2 * mean(&phase);
-        assert!((m.displacement_mean.unwrap() - displacement).abs() < 0.01, "{m:?}");
+        assert!(
+            (m.displacement_mean.unwrap() - displacement).abs() < 0.01,
+            "{m:?}"
+        );
         assert!((m.seconds - 39.0 * 0.125).abs() < 1e-12);
     }
 

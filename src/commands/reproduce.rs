@@ -40,6 +40,10 @@ struct Budget {
     /// The flight over steppe: its frames (a video of them) and their rate.
     flight_frames: u32,
     flight_fps: f32,
+    /// Honami: its frames (a gust period or more) and whether the meadow is
+    /// cut to 8 x 6 m.
+    honami_frames: u32,
+    honami_small: bool,
 }
 
 fn budget(quick: bool) -> Budget {
@@ -57,6 +61,8 @@ fn budget(quick: bool) -> Budget {
             field_density: 1.5,
             flight_frames: 3,
             flight_fps: 2.0,
+            honami_frames: 4,
+            honami_small: true,
         }
     } else {
         Budget {
@@ -72,6 +78,8 @@ fn budget(quick: bool) -> Budget {
             field_density: 3.0,
             flight_frames: 48,
             flight_fps: 8.0,
+            honami_frames: 28,
+            honami_small: false,
         }
     }
 }
@@ -114,6 +122,22 @@ pub fn turbulent_field(density: f32) -> Result<Scene> {
     Ok(scene)
 }
 
+/// honami, or with `small` its meadow cut to 8 x 6 m (the camera at its
+/// downwind edge, the wind grid to match): the same waves at a tenth of
+/// the blades.
+pub fn honami(small: bool) -> Result<Scene> {
+    let mut scene = Scene::builtin("honami")?;
+    if small {
+        scene.grass.meadow[0].size = [8.0, 6.0];
+        scene.wind.cells = [24, 12, 20];
+        scene.camera.position = [4.5, 1.7, 0.0];
+        scene.camera.target = [-3.0, 0.0, 0.0];
+        scene.render.start = 3.0;
+        scene.validate()?;
+    }
+    Ok(scene)
+}
+
 /// The figures and their shots.
 pub fn plan(quick: bool) -> Result<Vec<Figure>> {
     let b = budget(quick);
@@ -127,6 +151,17 @@ pub fn plan(quick: bool) -> Result<Vec<Figure>> {
     let hills = Scene::builtin("hills")?;
     let steppe = Scene::builtin("steppe")?;
     let field = turbulent_field(b.field_density)?;
+    let honami = honami(b.honami_small)?;
+    let waves = Shot {
+        frames: b.honami_frames,
+        fps: honami.render.fps,
+        ..shot(
+            "shaded: looking into the wind",
+            "honami/shaded",
+            &honami,
+            honami.render.start,
+        )
+    };
     let mut open = obstacles.clone();
     open.wind.obstacles.clear();
     open.name = "fig13-obstacles (obstacles removed)".into();
@@ -272,6 +307,25 @@ pub fn plan(quick: bool) -> Result<Vec<Figure>> {
                     ),
                 },
             ],
+        },
+        Figure {
+            title: "Beyond the paper: waves of light",
+            paper: "Honami: a gust crossing a dense meadow bows its blades together, and \
+                    their faces and sheen turn toward or away from the sun, the sky and the \
+                    eye (a leaf's optics, docs/method.md section 4b): bands of light run \
+                    across the shaded field at the wind's speed. The motion view beside it \
+                    shows the same instants in false colour; the line under the shaded shot \
+                    says how far its light varies and follows the blades' displacement \
+                    (meadow render --light-waves; docs/physics.md, \"Waves of light\").",
+            shots: vec![
+                waves.clone(),
+                motion(Shot {
+                    label: "the same frames".into(),
+                    dir: "honami/motion".into(),
+                    ..waves
+                }),
+            ],
+            diagrams: Vec::new(),
         },
         Figure {
             title: "Beyond the paper: touch",

@@ -31,8 +31,16 @@ pub struct CanopyMap {
     /// World x, z of the map's least corner, and its extent (m).
     pub origin: [f32; 2],
     pub extent: [f32; 2],
-    /// Row by row from the least z, each from the least x.
+    /// Row by row from the least z, each from the least x: where the grass
+    /// grows, and how densely (the floor's cover).
     pub leaf_area_index: Vec<f32>,
+    /// The same spread over about the canopy's height: the leaf area the
+    /// light crosses on its way to a point. Beer-Lambert's law holds for a
+    /// canopy wide against its height; light reaches into a tuft or a
+    /// meadow's edge from the side, so a tuft a few centimetres across
+    /// shades itself as its leaf area spread over a canopy's height does,
+    /// not as a meadow of its density would.
+    pub shade_leaf_area_index: Vec<f32>,
 }
 
 impl CanopyMap {
@@ -57,7 +65,15 @@ impl CanopyMap {
                 origin: [0.0, 0.0],
                 extent: [1.0, 1.0],
                 leaf_area_index: vec![0.0],
+                shade_leaf_area_index: vec![0.0],
             };
+        }
+        // The light's spread: the tallest blade's height, so the map
+        // reaches that far beyond the grass.
+        let spread = scene.grass.shape.height[1];
+        for a in 0..2 {
+            lo[a] -= spread;
+            hi[a] += spread;
         }
         let span = (hi[0] - lo[0]).max(hi[1] - lo[1]);
         let texel = (span / (MAP_TEXELS - 2) as f32).max(LEAST_TEXEL_M);
@@ -82,12 +98,30 @@ impl CanopyMap {
                 lai[(j * width + i) as usize] = 0.25 * sum * area;
             }
         }
+        // Three box passes of half width spread / 2 each way: about a
+        // Gaussian of that deviation, its border still empty.
+        let half = ((0.5 * spread / texel).round() as usize).max(1);
+        let mut shade = lai.clone();
+        for _ in 0..3 {
+            box_rows(&mut shade, width as usize, height as usize, half);
+            transpose(&mut shade, width as usize, height as usize);
+            box_rows(&mut shade, height as usize, width as usize, half);
+            transpose(&mut shade, height as usize, width as usize);
+        }
+        for j in 0..height as usize {
+            for i in 0..width as usize {
+                if i == 0 || j == 0 || i + 1 == width as usize || j + 1 == height as usize {
+                    shade[j * width as usize + i] = 0.0;
+                }
+            }
+        }
         Self {
             width,
             height,
             origin,
             extent: [width as f32 * texel, height as f32 * texel],
             leaf_area_index: lai,
+            shade_leaf_area_index: shade,
         }
     }
 
@@ -97,12 +131,15 @@ impl CanopyMap {
         self.leaf_area_index.iter().copied().fold(1e-3, f32::max)
     }
 
-    /// The texels as the GPU stores them: R8 UNORM of value / `scale`.
+    /// The texels as the GPU stores them: R8G8 UNORM of the leaf area
+    /// index and its spread, over `scale`.
     pub fn texels(&self) -> Vec<u8> {
         let scale = self.scale();
+        let byte = |v: f32| (v / scale * 255.0).round().clamp(0.0, 255.0) as u8;
         self.leaf_area_index
             .iter()
-            .map(|v| (v / scale * 255.0).round().clamp(0.0, 255.0) as u8)
+            .zip(&self.shade_leaf_area_index)
+            .flat_map(|(&a, &b)| [byte(a), byte(b)])
             .collect()
     }
 
@@ -116,6 +153,34 @@ impl CanopyMap {
             1.0 / self.extent[1],
         ]
     }
+}
+
+/// Each row of `w` values replaced by its mean over `half` values either
+/// side (the row's ends count as empty beyond it).
+fn box_rows(values: &mut [f32], w: usize, h: usize, half: usize) {
+    let mut row = vec![0.0f64; w + 1];
+    for j in 0..h {
+        let line = &mut values[j * w..(j + 1) * w];
+        for i in 0..w {
+            row[i + 1] = row[i] + line[i] as f64;
+        }
+        let n = (2 * half + 1) as f64;
+        for i in 0..w {
+            let (a, b) = (i.saturating_sub(half), (i + half + 1).min(w));
+            line[i] = ((row[b] - row[a]) / n) as f32;
+        }
+    }
+}
+
+/// `values` (h rows of w) as w rows of h.
+fn transpose(values: &mut Vec<f32>, w: usize, h: usize) {
+    let mut out = vec![0.0; values.len()];
+    for j in 0..h {
+        for i in 0..w {
+            out[i * h + j] = values[j * w + i];
+        }
+    }
+    *values = out;
 }
 
 /// Blades per square metre at (x, z): each meadow's over its rectangle
@@ -168,8 +233,24 @@ mod tests {
         assert_eq!(*map.leaf_area_index.last().unwrap(), 0.0);
         assert!(map.width <= MAP_TEXELS && map.height <= MAP_TEXELS);
         let texels = map.texels();
-        assert_eq!(texels.len(), (map.width * map.height) as usize);
+        assert_eq!(texels.len(), 2 * (map.width * map.height) as usize);
         assert_eq!(texels.iter().max(), Some(&255));
+        // Spread over the canopy's height, the light's leaf area is the
+        // meadow's inside it and falls off over its edge: half way at the
+        // edge, a few percent at the map's end, a canopy's height beyond.
+        let shade = |x: f32, z: f32| {
+            let i = ((x - map.origin[0]) / map.extent[0] * map.width as f32) as u32;
+            let j = ((z - map.origin[1]) / map.extent[1] * map.height as f32) as u32;
+            map.shade_leaf_area_index[(j * map.width + i) as usize]
+        };
+        assert!((shade(0.0, 0.0) - expected).abs() < 1e-3 * expected);
+        assert!(
+            (shade(15.0, 0.0) / expected - 0.5).abs() < 0.05,
+            "{}",
+            shade(15.0, 0.0)
+        );
+        assert!(shade(15.74, 0.0) < 0.05 * expected, "{}", shade(15.74, 0.0));
+        assert!(map.origin[0] + map.extent[0] < 15.9);
     }
 
     /// A mask's black path is bare in the map.
@@ -209,7 +290,7 @@ mod tests {
         let scene = Scene::builtin("steppe").unwrap();
         let map = CanopyMap::of(&scene);
         assert_eq!((map.width, map.height), (1, 1));
-        assert_eq!(map.texels(), [0]);
+        assert_eq!(map.texels(), [0, 0]);
         let lai = cover_leaf_area_index(&scene);
         let density = scene.grass.cover.as_ref().unwrap().density();
         assert!(

@@ -16,9 +16,10 @@ use crate::render::texture_maps::{self, mip_chain};
 /// sRGB storage: the GPU decodes to linear before filtering.
 pub const TEXTURE_FORMAT: vk::Format = vk::Format::R8G8B8A8_SRGB;
 
-/// The canopy map's format: one channel, the leaf area index over the
-/// map's scale (`CanopyMap::texels`), filtered linearly.
-pub const CANOPY_FORMAT: vk::Format = vk::Format::R8_UNORM;
+/// The canopy map's format: the leaf area index and its spread over the
+/// canopy's height, over the map's scale (`CanopyMap::texels`), filtered
+/// linearly.
+pub const CANOPY_FORMAT: vk::Format = vk::Format::R8G8_UNORM;
 
 pub struct SurfaceTextures {
     pub grass: Image,

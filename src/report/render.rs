@@ -225,7 +225,7 @@ fn mib(bytes: u64) -> f64 {
 }
 
 /// The waves of light in one line.
-fn light_waves_line(w: &LightWaves) -> String {
+pub fn light_waves_line(w: &LightWaves) -> String {
     match (w.modulation_median, w.correlation_abs_median) {
         (Some(modulation), Some(r)) => format!(
             "light waves: over {} frames ({:.2} s), {} of {} blocks of {} x {} pixels are grass; \

@@ -12,6 +12,7 @@ use crate::report::render::RenderReport;
 use crate::scene::{Scene, ViewMode};
 
 /// One rendered picture (or frame sequence) of a figure.
+#[derive(Clone)]
 pub struct Shot {
     pub label: String,
     /// Folder under DIR for its frames.
@@ -159,6 +160,16 @@ pub fn markdown(figures: &[Figure], rendered: &[Rendered], quick: bool) -> Strin
             for k in shown(r.report.frames.len()) {
                 let _ = write!(md, "![{}]({}/{}) ", r.label, r.dir, r.report.frames[k]);
             }
+            if let Some(gif) = &r.report.gif {
+                let _ = write!(md, "\n\nMoving: ![{} (GIF)]({}/{gif})", r.label, r.dir);
+            }
+            if let Some(waves) = &r.report.light_waves {
+                let _ = write!(
+                    md,
+                    "\n\n{}",
+                    crate::report::render::light_waves_line(waves).trim_end()
+                );
+            }
             match &r.video {
                 Some(Ok(name)) => {
                     let _ = write!(md, "\n\nVideo: [{name}]({}/{name})", r.dir);
@@ -226,6 +237,23 @@ pub fn html(figures: &[Figure], rendered: &[Rendered], out: &Path, quick: bool) 
                     "<figure><img alt=\"{}\" src=\"data:image/png;base64,{data}\"><figcaption>t = {:.2} s</figcaption></figure>",
                     escape(&r.label),
                     r.report.animation.time_of(time as u32)
+                );
+            }
+            if let Some(gif) = &r.report.gif {
+                let path = out.join(&r.dir).join(gif);
+                let bytes = std::fs::read(&path).map_err(|e| crate::Error::io(&path, e))?;
+                let data = base64::engine::general_purpose::STANDARD.encode(bytes);
+                let _ = writeln!(
+                    h,
+                    "<figure><img alt=\"{} (moving)\" src=\"data:image/gif;base64,{data}\"><figcaption>moving ({gif})</figcaption></figure>",
+                    escape(&r.label)
+                );
+            }
+            if let Some(waves) = &r.report.light_waves {
+                let _ = writeln!(
+                    h,
+                    "<p class=\"params\">{}</p>",
+                    escape(crate::report::render::light_waves_line(waves).trim_end())
                 );
             }
             match &r.video {
