@@ -870,6 +870,10 @@ fn posing_only_what_the_frame_may_draw_changes_nothing_drawn() {
         shadows: true,
         thinning: meadow::render::thinning::Thinning::of(&scene),
         edge_on: scene.cull.edge_on,
+        filter_reach: meadow::render::visibility::filter_reach(
+            &glam::Mat4::from_cols_array(&uniforms.light_view_proj),
+            meadow::render::shadow::params_of(scene.light.shadow_map),
+        ),
     };
     let rest = cover::vertices(&FLAT, cover::seed32(9), &grass.shape, &tiles);
     let (mut posed, mut left) = (0, 0);

@@ -135,6 +135,10 @@ fn lists_are_the_cpu_references(storage_range: Option<u32>) {
         shadows: true,
         thinning,
         edge_on: scene.cull.edge_on,
+        filter_reach: meadow::render::visibility::filter_reach(
+            &Mat4::from_cols_array(&uniforms.light_view_proj),
+            meadow::render::shadow::params_of(scene.light.shadow_map),
+        ),
     };
     let face_on = CullView {
         edge_on: 1.0,

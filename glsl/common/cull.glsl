@@ -84,6 +84,17 @@ float least_alignment(BladeVertex v[4], vec3 dir[4]) {
     return least;
 }
 
+// How far (m) the shadow map's filter reaches around a receiver: the PCF
+// taps' spacing plus a bilinear texel and one more, in metres along the
+// light's axes (its projection is orthographic); 0 without shadows.
+float shadow_filter_reach() {
+    mat4 m = frame.light_view_proj;
+    float row0 = length(vec3(m[0][0], m[1][0], m[2][0]));
+    float row1 = length(vec3(m[0][1], m[1][1], m[2][1]));
+    float texel_m = frame.shadow.x * 2.0 / max(min(row0, row1), 1e-12);
+    return texel_m * (frame.shadow.w + 2.0) * frame.shadow.y;   // y: 1 on, 0 off
+}
+
 // Suns this low cast shadows too long to bound: every blade casts.
 #define LOWEST_SWEPT_SUN 0.02
 
@@ -114,6 +125,12 @@ uint cull_flags(BladeVertex v[4], bool shadows, float edge_on, out vec3 lo, out 
     light.y = max(light.y, LOWEST_SWEPT_SUN);
     vec3 swept_lo = lo, swept_hi = hi;
     shadow_sweep(light, swept_lo, swept_hi);
+    // The shadow map's filter reads around a receiver: a blade whose
+    // shadow falls just beyond the view still darkens what it sees a
+    // little (`visibility::filter_reach`).
+    float reach = shadow_filter_reach();
+    swept_lo -= vec3(reach);
+    swept_hi += vec3(reach);
     uint caster = kept & facing_sun & uint(shadows)
                 & (low_sun | uint(box_in_frustum(frame.view_proj, swept_lo, swept_hi)));
     return in_view * CULL_IN_VIEW | caster * CULL_CASTER | kept * CULL_KEPT

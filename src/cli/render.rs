@@ -80,7 +80,12 @@ pub fn run(args: RenderArgs) -> anyhow::Result<()> {
     request.gif = !no_gif;
     request.video = video;
     request.overwrite = overwrite.overwrite;
-    request.light_waves |= light_waves;
+    // Asked on the command line, a render too short to measure is refused;
+    // a scene's `light_waves = true` measures only when a series is
+    // rendered (one frame of honami is a picture, not an error).
+    request.light_waves = light_waves
+        || (request.light_waves
+            && request.frames_written().count() >= meadow::analysis::light_waves::LEAST_FRAMES);
     let (report, signal) = render_with_progress(&request, &out)?;
     for w in meadow::report::warnings::collapsed(&report.warnings) {
         eprintln!("meadow: warning: {w}");

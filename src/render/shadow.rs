@@ -21,6 +21,15 @@ use crate::render::terrain::TerrainMesh;
 /// bias: a blade is a thin sheet that is often both occluder and receiver.
 const SHADER_DEPTH_BIAS: f32 = 2e-4;
 
+/// `frame.shadow` for a map of `size` texels a side (0: none): one texel
+/// in uv, on or off, the depth bias and the PCF taps' spacing in texels.
+pub fn params_of(size: u32) -> [f32; 4] {
+    let on = if size > 0 { 1.0 } else { 0.0 };
+    // PCF taps 1.5 texels apart: with bilinear comparison, a soft edge
+    // about 4 texels wide whatever the map size.
+    [1.0 / size.max(1) as f32, on, SHADER_DEPTH_BIAS, 1.5]
+}
+
 pub struct ShadowMap {
     /// Side in texels; 0 when shadows are off (a 1 x 1 map cleared to
     /// "lit" keeps the colour pass's descriptor valid).
@@ -92,10 +101,7 @@ impl ShadowMap {
 
     /// The `shadow` vector of the frame uniforms.
     pub fn params(&self) -> [f32; 4] {
-        let on = if self.size > 0 { 1.0 } else { 0.0 };
-        // PCF taps 1.5 texels apart: with bilinear comparison, a soft edge
-        // about 4 texels wide whatever the map size.
-        [1.0 / self.size.max(1) as f32, on, SHADER_DEPTH_BIAS, 1.5]
+        params_of(self.size)
     }
 
     /// Writes the light's view of `frame` for this frame's shadow pass.

@@ -78,6 +78,14 @@ impl Bounds {
     /// -w <= x, y <= w, 0 <= z <= w) the box reaches, by the least of the
     /// six planes read off the matrix's rows, in the planes' own units:
     /// negative when the box lies wholly outside one of them.
+    /// The box grown by `by` (m) every way.
+    pub fn grown(self, by: f32) -> Self {
+        Bounds {
+            lo: self.lo - Vec3::splat(by),
+            hi: self.hi + Vec3::splat(by),
+        }
+    }
+
     pub fn frustum_margin(self, m: &Mat4) -> f32 {
         frustum_planes(m)
             .into_iter()
@@ -169,6 +177,24 @@ pub struct CullView {
     pub thinning: Thinning,
     /// The orientation test's cosine (1 = off): `least_alignment`.
     pub edge_on: f32,
+    /// How far (m) the shadow map's filter reads beyond a receiver
+    /// (`filter_reach`): a blade whose shadow falls that near the view
+    /// still darkens what the view sees, a little.
+    pub filter_reach: f32,
+}
+
+/// How far (m) the shadow map's filter reaches around a receiver: the
+/// PCF taps' spacing plus a bilinear texel and one more, in the world's
+/// metres along the light's axes (`light_view_proj`: world to the map's
+/// clip space, orthographic; `shadow`: `frame.shadow`). 0 without shadows.
+pub fn filter_reach(light_view_proj: &Mat4, shadow: [f32; 4]) -> f32 {
+    if shadow[1] == 0.0 {
+        return 0.0;
+    }
+    let row = |i: usize| light_view_proj.row(i).truncate().length();
+    // Clip space spans 2 across the map, uv 1.
+    let texel_m = shadow[0] * 2.0 / row(0).min(row(1)).max(1e-12);
+    texel_m * (shadow[3] + 2.0)
 }
 
 /// How near each decision about a blade came to going the other way, so
@@ -221,6 +247,7 @@ impl CullView {
             } else {
                 let swept = bounds
                     .shadow_sweep(self.light, self.floor)
+                    .grown(self.filter_reach)
                     .frustum_margin(&self.view_proj);
                 seen.caster = swept >= 0.0;
                 margins.frustum = margins.frustum.min(swept.abs());
@@ -267,6 +294,7 @@ pub fn visibility(
         shadows,
         thinning: Thinning::OFF,
         edge_on: 1.0,
+        filter_reach: 0.0,
     };
     let (seen, margins) = view.test(v);
     (seen, margins.frustum)
@@ -389,6 +417,7 @@ mod tests {
                 shadows: true,
                 thinning: Thinning::OFF,
                 edge_on: 0.9,
+                filter_reach: 0.0,
             }
             .test(&blade)
             .0

@@ -85,8 +85,8 @@ pub struct RenderSettings {
     /// Simulated seconds before the first frame (the grass starts at rest).
     pub start: f32,
     /// Measure the waves of light over the frames (report.json's
-    /// `light_waves`; `meadow render --light-waves`).
-    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    /// `light_waves`; `meadow render --light-waves`) when three or more
+    /// are written.
     pub light_waves: bool,
 }
 
