@@ -165,9 +165,9 @@ fn box_rows(values: &mut [f32], w: usize, h: usize, half: usize) {
             row[i + 1] = row[i] + line[i] as f64;
         }
         let n = (2 * half + 1) as f64;
-        for i in 0..w {
+        for (i, value) in line.iter_mut().enumerate() {
             let (a, b) = (i.saturating_sub(half), (i + half + 1).min(w));
-            line[i] = ((row[b] - row[a]) / n) as f32;
+            *value = ((row[b] - row[a]) / n) as f32;
         }
     }
 }
