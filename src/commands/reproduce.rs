@@ -78,7 +78,7 @@ fn budget(quick: bool) -> Budget {
             field_density: 3.0,
             flight_frames: 48,
             flight_fps: 8.0,
-            honami_frames: 28,
+            honami_frames: 33,
             honami_small: false,
         }
     }
