@@ -13,6 +13,12 @@
 
 layout(set = 0, binding = 6) uniform texture2D canopy_texture;
 
+// The cover's leaf area index at (x, z): frame.canopy.x where it grows.
+float cover_leaf_area_index(vec2 xz) {
+    bool inside = all(greaterThanEqual(xz, frame.cover_bounds.xy)) && all(lessThan(xz, frame.cover_bounds.zw));
+    return inside ? frame.canopy.x : 0.0;
+}
+
 // The leaf area index at (x, z), the map's (meadows, bunches) plus the
 // cover's where it grows: x, where the grass grows (the floor's cover); y,
 // spread over the canopy's height, the leaf area the light crosses to
@@ -25,10 +31,7 @@ vec2 leaf_area_index(vec2 xz) {
         // brings nothing in from the other side.
         lai = textureLod(sampler2D(canopy_texture, surface_sampler), uv, 0.0).rg * frame.canopy.w;
     }
-    if (all(greaterThanEqual(xz, frame.cover_bounds.xy)) && all(lessThan(xz, frame.cover_bounds.zw))) {
-        lai += vec2(frame.canopy.x);
-    }
-    return lai;
+    return lai + vec2(cover_leaf_area_index(xz));
 }
 
 // The leaf area index spread over the canopy's height (leaf_area_index's
@@ -42,10 +45,7 @@ float blade_leaf_area_index(vec2 root) {
         ivec2 texel = ivec2(uv * vec2(textureSize(sampler2D(canopy_texture, surface_sampler), 0)));
         lai = texelFetch(sampler2D(canopy_texture, surface_sampler), texel, 0).g * frame.canopy.w;
     }
-    if (all(greaterThanEqual(root, frame.cover_bounds.xy)) && all(lessThan(root, frame.cover_bounds.zw))) {
-        lai += frame.canopy.x;
-    }
-    return lai;
+    return lai + cover_leaf_area_index(root);
 }
 
 #endif
