@@ -40,9 +40,9 @@ struct Budget {
     /// The flight over steppe: its frames (a video of them) and their rate.
     flight_frames: u32,
     flight_fps: f32,
-    /// Honami: its frames (a gust period or more) and whether the meadow is
-    /// cut to 8 x 6 m.
-    honami_frames: u32,
+    /// Honami: its frames (None: the scene's own, a gust period) and
+    /// whether the meadow is cut to 8 x 6 m.
+    honami_frames: Option<u32>,
     honami_small: bool,
 }
 
@@ -61,7 +61,7 @@ fn budget(quick: bool) -> Budget {
             field_density: 1.5,
             flight_frames: 3,
             flight_fps: 2.0,
-            honami_frames: 4,
+            honami_frames: Some(4),
             honami_small: true,
         }
     } else {
@@ -78,7 +78,7 @@ fn budget(quick: bool) -> Budget {
             field_density: 3.0,
             flight_frames: 48,
             flight_fps: 8.0,
-            honami_frames: 33,
+            honami_frames: None,
             honami_small: false,
         }
     }
@@ -153,7 +153,7 @@ pub fn plan(quick: bool) -> Result<Vec<Figure>> {
     let field = turbulent_field(b.field_density)?;
     let honami = honami(b.honami_small)?;
     let waves = Shot {
-        frames: b.honami_frames,
+        frames: b.honami_frames.unwrap_or(honami.render.frames),
         fps: honami.render.fps,
         ..shot(
             "shaded: looking into the wind",
