@@ -11,7 +11,6 @@
 #include "frame.glsl"
 #include "hash.glsl"
 #include "shadow.glsl"
-#include "sky.glsl"
 #include "surfaces.glsl"
 #include "canopy.glsl"
 #include "leaf_optics.glsl"
@@ -20,18 +19,15 @@
 layout(location = 0) in vec3 g_world;
 layout(location = 1) in vec3 g_normal;
 layout(location = 2) in vec2 g_uv;
-layout(location = 3) flat in float g_blade_rand;
 layout(location = 4) flat in float g_tess_level;
 layout(location = 5) flat in float g_motion;
 layout(location = 6) flat in vec4 g_blade;   // root x, z; reach (m); clump
 layout(location = 7) in vec3 g_side;
+layout(location = 8) in vec2 g_extinction;  // the canopy's per unit of leaf area index (sun, sky)
+layout(location = 9) in vec3 g_sky;         // the sky the cuticle mirrors toward the eye
+layout(location = 10) flat in vec4 g_tint;  // the blade's colour
 
 layout(location = 0) out vec4 out_color;
-
-// How far the normal turns across the blade, edge to edge (a leaf is
-// folded along its midrib and curls at its edges, not flat): the sheen
-// runs along the blade as a band rather than lighting it all at once.
-const float BLADE_ROUNDING = 0.55;
 
 vec3 lod_color(float level) {
     if (level >= frame.tess_level.x) return vec3(0.85, 0.10, 0.08);   // close: red
@@ -62,34 +58,30 @@ void main() {
         albedo = mix(vec3(0.05, 0.15, 0.6), vec3(0.9, 0.1, 0.05), clamp(g_motion / 0.6, 0.0, 1.0));
     } else {
         vec3 base = texture(sampler2D(grass_texture, surface_sampler), g_uv).rgb;
-        albedo = grass_albedo(base, g_uv, g_blade_rand, g_blade.w);
+        albedo = grass_albedo(base, g_uv, g_tint);
     }
+    // The shadow map's 9 taps, once: lavapipe runs both sides of a branch.
+    float shadow = sun_visibility(g_world);
     // The debug views keep the plain two-sided Lambert light they always
     // had, so their colours read as their keys say.
     if (frame.view.x != VIEW_SHADED) {
         float lambert = max(dot(n, l), 0.0) + 0.35 * max(dot(-n, l), 0.0);
         float occlusion = mix(0.35, 1.0, g_uv.y);
-        out_color = vec4(albedo * (ambient + frame.light_color.rgb * lambert * sun_visibility(g_world)) * occlusion, 1.0);
+        out_color = vec4(albedo * (ambient + frame.light_color.rgb * lambert * shadow) * occlusion, 1.0);
         return;
     }
 
     // The surface's normal, rounded across the blade; facing the eye.
-    vec3 side = normalize(g_side - n * dot(g_side, n));
-    vec3 ns = normalize(n + side * (2.0 * g_uv.x - 1.0) * BLADE_ROUNDING);
+    vec3 ns = rounded_normal(n, g_side, 2.0 * g_uv.x - 1.0);
     // Far blades are thinner than a pixel: the sheen is spread over the
     // normals a pixel sees (a rougher surface), so it does not sparkle.
     float pixel_angle = length(fwidth(ns));
     float alpha = sqrt(CUTICLE_ALPHA * CUTICLE_ALPHA + min(pixel_angle * pixel_angle, 0.5));
 
-    // The canopy above this point: the leaf area over its height at rest
-    // (its share of the blade's reach: the same in any pose, as the
-    // canopy bends together).
-    float lai = leaf_area_index(g_blade.xy).y;
-    float above = leaf_area_above(lai, g_uv.y * g_blade.z);
-    // The leaves around it lie as this blade does (a gust bends them
-    // together): their inclination is this blade's here.
-    vec2 reach = canopy_transmission(above, abs(n.y), max(l.y, 0.0));
-    float sun = sun_visibility(g_world) * reach.x;
+    // The canopy above this point (its extinction worked out along the
+    // blade by the geometry stage) under the leaf area index here.
+    vec2 reach = exp(-blade_leaf_area_index(g_blade.xy) * g_extinction);
+    float sun = shadow * reach.x;
 
     float n_l = dot(ns, l);
     float n_v = max(dot(ns, v), 1e-4);
@@ -105,9 +97,7 @@ void main() {
     // (off the cuticle, before the leaf's pigments).
     float sheen = frame.look_more.y;
     color += sheen * light * cuticle_sheen(ns, v, l, alpha) * sun;
-    vec3 mirrored = reflect(-v, ns);
-    float sky_open = smoothstep(-0.05, 0.25, mirrored.y);
-    vec3 sky = sky_color(normalize(vec3(mirrored.x, max(mirrored.y, 0.0), mirrored.z)), l);
-    color += sheen * cuticle_sky_albedo(n_v, alpha) * sky * sky_open * reach.y;
+    // (The sky it mirrors, smooth over the blade, is the geometry stage's.)
+    color += sheen * cuticle_sky_albedo(n_v, alpha) * g_sky * reach.y;
     out_color = vec4(color, 1.0);
 }

@@ -2,7 +2,13 @@
 #extension GL_GOOGLE_include_directive : require
 // Geometry stage: each line segment of the tessellated curve becomes a quad,
 // a 4-vertex triangle strip whose width tapers toward the tip (paper section 5).
+// What varies smoothly along the blade is worked out here, at its vertices,
+// rather than at every pixel: the canopy's extinction above a point and
+// the sky its cuticle mirrors (the blade's light: glsl/blade/blade.frag).
 #include "frame.glsl"
+#include "sky.glsl"
+#include "canopy_light.glsl"
+#include "leaf_optics.glsl"
 
 layout(lines) in;
 layout(triangle_strip, max_vertices = 4) out;
@@ -11,19 +17,21 @@ layout(location = 0) in vec3 e_position[];
 layout(location = 1) in vec3 e_tangent[];
 layout(location = 2) in vec3 e_width[];
 layout(location = 3) in float e_v[];
-layout(location = 4) in float e_blade_rand[];
 layout(location = 5) in float e_tess_level[];
 layout(location = 6) in float e_motion[];
 layout(location = 7) in vec4 e_blade[];
+layout(location = 8) in vec4 e_tint[];
 
 layout(location = 0) out vec3 g_world;
 layout(location = 1) out vec3 g_normal;
 layout(location = 2) out vec2 g_uv;          // x: across the blade (0..1), y: v along it
-layout(location = 3) flat out float g_blade_rand;
 layout(location = 4) flat out float g_tess_level;
 layout(location = 5) flat out float g_motion;
 layout(location = 6) flat out vec4 g_blade;  // root x, z; reach (m); clump
 layout(location = 7) out vec3 g_side;        // unit width direction (across the blade)
+layout(location = 8) out vec2 g_extinction;  // the canopy's per unit of leaf area index (sun, sky)
+layout(location = 9) out vec3 g_sky;         // the sky the cuticle mirrors toward the eye here
+layout(location = 10) flat out vec4 g_tint;  // the blade's colour (grass_color.glsl's blade_tint)
 
 // Width profile along the blade: full near the root, a point at the tip.
 float taper(float v) {
@@ -36,15 +44,30 @@ void emit_side(int i, float side) {
     // E_n = E_w x E_e (docs/method.md section 2). Guard a zero tangent or width.
     vec3 n = cross(e_width[i], e_tangent[i]);
     float len2 = dot(n, n);
+    n = len2 > 1e-20 ? n * inversesqrt(len2) : vec3(0.0, 1.0, 0.0);
     g_world = p;
-    g_normal = len2 > 1e-20 ? n * inversesqrt(len2) : vec3(0.0, 1.0, 0.0);
+    g_normal = n;
     g_uv = vec2(side * 0.5 + 0.5, e_v[i]);
-    g_blade_rand = e_blade_rand[0];
     g_tess_level = e_tess_level[0];
     g_motion = e_motion[0];
     g_blade = e_blade[0];
+    g_tint = e_tint[0];
     float w2 = dot(e_width[i], e_width[i]);
-    g_side = w2 > 1e-20 ? e_width[i] * inversesqrt(w2) : vec3(1.0, 0.0, 0.0);
+    vec3 across = w2 > 1e-20 ? e_width[i] * inversesqrt(w2) : vec3(1.0, 0.0, 0.0);
+    g_side = across;
+    // The canopy above this point: its height at rest along the blade (its
+    // share of the blade's reach: the same in any pose, as the canopy
+    // bends together); the leaves around it lie as this blade does here.
+    vec3 l = frame.light_dir.xyz;
+    g_extinction = canopy_extinction(e_v[i] * e_blade[0].z, abs(n.y), max(l.y, 0.0));
+    // The sky the cuticle mirrors at this edge: the rounded normal of the
+    // face the eye sees (blade.frag's), the sky above the mirror's horizon.
+    vec3 v = normalize(frame.camera_pos.xyz - p);
+    vec3 seen = dot(n, v) < 0.0 ? -n : n;
+    vec3 ns = rounded_normal(seen, across, side);
+    vec3 mirrored = reflect(-v, ns);
+    float sky_open = smoothstep(-0.05, 0.25, mirrored.y);
+    g_sky = sky_open * sky_color(normalize(vec3(mirrored.x, max(mirrored.y, 0.0), mirrored.z)), l);
     gl_Position = frame.view_proj * vec4(p, 1.0);
     EmitVertex();
 }

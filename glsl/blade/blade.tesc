@@ -19,6 +19,8 @@ layout(location = 2) patch out float c_tess_level;
 // x, z: the root; z: the blade's reach (its edges end to end: the same in
 // any pose); w: its clump's random number (glsl/common/grass_color.glsl).
 layout(location = 3) patch out vec4 c_blade;
+// The blade's colour (glsl/common/grass_color.glsl's blade_tint).
+layout(location = 4) patch out vec4 c_tint;
 
 float tess_level_for(float distance_to_eye) {
     if (frame.lod_distance.z == 0.0) {
@@ -48,6 +50,8 @@ void main() {
         c_tess_level = level;
         vec3 p0 = v_position[0].xyz, p1 = v_position[1].xyz, p2 = v_position[2].xyz, p3 = v_position[3].xyz;
         float reach = distance(p0, p1) + distance(p1, p2) + distance(p2, p3);
-        c_blade = vec4(p0.xz, reach, clump_of(p0.xz));
+        float clump = clump_of(p0.xz);
+        c_blade = vec4(p0.xz, reach, clump);
+        c_tint = blade_tint(v_position[0].w, clump);
     }
 }

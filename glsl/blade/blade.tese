@@ -10,15 +10,16 @@ layout(location = 0) in vec4 c_position[];
 layout(location = 1) in vec4 c_width[];
 layout(location = 2) patch in float c_tess_level;
 layout(location = 3) patch in vec4 c_blade;
+layout(location = 4) patch in vec4 c_tint;
 
 layout(location = 0) out vec3 e_position;
 layout(location = 1) out vec3 e_tangent;
 layout(location = 2) out vec3 e_width;
 layout(location = 3) out float e_v;          // texture coordinate along the blade: v = u
-layout(location = 4) out float e_blade_rand;
 layout(location = 5) out float e_tess_level;
 layout(location = 6) out float e_motion;
 layout(location = 7) out vec4 e_blade;
+layout(location = 8) out vec4 e_tint;
 
 void main() {
     float t = gl_TessCoord.x;
@@ -32,8 +33,8 @@ void main() {
     e_tangent = db.x * p0 + db.y * p1 + db.z * p2 + db.w * p3;
     e_width = b.x * c_width[0].xyz + b.y * c_width[1].xyz + b.z * c_width[2].xyz + b.w * c_width[3].xyz;
     e_v = t;
-    e_blade_rand = c_position[0].w;
     e_tess_level = c_tess_level;
     e_motion = abs(c_width[3].w);
     e_blade = c_blade;
+    e_tint = c_tint;
 }

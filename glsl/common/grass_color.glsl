@@ -49,9 +49,12 @@ float clump_of(vec2 root) {
     return unit_of(best_hash);
 }
 
-// The blade's albedo at `uv` (x across, y root to tip), from its random
-// number `blade_rand` and its clump's `clump`.
-vec3 grass_albedo(vec3 base, vec2 uv, float blade_rand, float clump) {
+// A blade's own colour, worked out once per blade (the tessellation
+// control stage) from its random number `blade_rand` and its clump's
+// `clump`: rgb, the tint its hue, lightness and clump give the texture's
+// colour; w, the share of its length its dry tip takes, or -1 for a dry
+// blade.
+vec4 blade_tint(float blade_rand, float clump) {
     uint h = lowbias32(floatBitsToUint(blade_rand) ^ 0x5bd1e995u);
     float r_hue = unit_of(h);
     h = lowbias32(h);
@@ -64,16 +67,24 @@ vec3 grass_albedo(vec3 base, vec2 uv, float blade_rand, float clump) {
     float t = (r_hue - 0.5) * frame.look.x + (clump - 0.5) * frame.look_more.x;
     vec3 hue = t < 0.0 ? mix(vec3(1.0), GRASS_FRESH, min(-2.0 * t, 1.0))
                        : mix(vec3(1.0), GRASS_YELLOW, min(2.0 * t, 1.0));
-    vec3 c = base * hue;
     // Lighter and darker blades, and clumps.
-    c *= 1.0 + 0.25 * (r_light - 0.5) + 0.3 * frame.look_more.x * (clump - 0.5);
-    // A share frame.look.y of the blades is dry: straw, darker toward the
-    // root as the texture is.
+    vec3 tint = hue * (1.0 + 0.25 * (r_light - 0.5) + 0.3 * frame.look_more.x * (clump - 0.5));
+    // A share frame.look.y of the blades is dry; of the others, dry tips
+    // over the last share of the blade, up to 0.35 of it.
+    float tip_len = frame.look.z * mix(0.08, 0.35, r_tip);
+    return vec4(tint, r_dry < frame.look.y ? -1.0 : tip_len);
+}
+
+// The blade's albedo at `uv` (x across, y root to tip): the texture's
+// colour `base` under the blade's `tint` (blade_tint).
+vec3 grass_albedo(vec3 base, vec2 uv, vec4 tint) {
+    vec3 c = base * tint.rgb;
+    // Dry blades and tips are straw, darker toward the root as the
+    // texture is.
     float shade = dot(base, vec3(0.2126, 0.7152, 0.0722)) / 0.24;
     vec3 straw = GRASS_STRAW * clamp(shade, 0.25, 1.3);
-    float dry = r_dry < frame.look.y ? 1.0 : 0.0;
-    // Dry tips: over the last share of the blade, up to 0.35 of it.
-    float tip_len = frame.look.z * mix(0.08, 0.35, r_tip);
+    float dry = tint.w < 0.0 ? 1.0 : 0.0;
+    float tip_len = max(tint.w, 0.0);
     float tip = tip_len > 0.0 ? smoothstep(1.0 - tip_len, 1.0, uv.y) : 0.0;
     return mix(c, straw, max(dry, 0.85 * tip));
 }

@@ -24,6 +24,19 @@ const float CUTICLE_ALPHA = 0.28;
 const float LEAF_T_OVER_R = 0.85;
 const vec3 LEAF_T_TINT = vec3(1.05, 1.0, 0.45);
 
+// How far the normal turns across the blade, edge to edge (a leaf is
+// folded along its midrib and curls at its edges, not flat): the sheen
+// runs along the blade as a band rather than lighting it all at once.
+const float BLADE_ROUNDING = 0.55;
+
+// The normal of the blade's surface at `at` across it (-1 one edge, 0 the
+// midrib, 1 the other): the flat blade's `n` turned toward its width
+// direction `across`.
+vec3 rounded_normal(vec3 n, vec3 across, float at) {
+    vec3 side = normalize(across - n * dot(across, n));
+    return normalize(n + side * (at * BLADE_ROUNDING));
+}
+
 // Schlick's Fresnel for the cuticle.
 float cuticle_fresnel(float cos_theta) {
     float m = clamp(1.0 - cos_theta, 0.0, 1.0);

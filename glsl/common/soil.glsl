@@ -41,7 +41,7 @@ vec3 soil_lit(vec3 world, float lambert) {
     vec3 albedo = mix(soil, floor_albedo, covered) * grain;
     // Leaves at random angles above the floor (cos 60 degrees: the mean
     // inclination of a spherical distribution).
-    vec2 reach = canopy_transmission(lai.y, 0.5, max(frame.light_dir.y, 0.0));
+    vec2 reach = exp(-lai.y * canopy_extinction(0.0, 0.5, max(frame.light_dir.y, 0.0)));
     vec3 lit = albedo * (frame.light_dir.w * reach.y + frame.light_color.rgb * lambert * sun_visibility(world) * reach.x);
     float clear = frame.ground.z;
     float beyond = max(distance(world.xz, frame.ground.xy) - clear, 0.0);
