@@ -824,7 +824,7 @@ impl WindField {
             solid,
             ground,
             faces: [Vec::new(), Vec::new(), Vec::new()],
-            multigrid: Multigrid { levels: Vec::new() },
+            multigrid: Multigrid::default(),
             multigrid_work: Work::default(),
             turbulence: settings.turbulence.map(|t| {
                 TurbulenceField::new(&t, grid.cells, grid.cell, settings.turbulence_walls())
@@ -839,6 +839,12 @@ impl WindField {
             time: 0.0,
         };
         field.classify_faces(settings.inflow.as_ref());
+        // The modes finer than the grid as they start (the GPU's wind pass
+        // hands the same to a trace's first sample); the first step's
+        // forces take them on from there.
+        if let Some(turbulence) = &field.turbulence {
+            field.subgrid_turbulence = turbulence.subgrid_records(settings.turbulence_sigma());
+        }
         if let Some(inflow) = settings
             .inflow
             .filter(|i| i.is_oblique() || !terrain.is_flat())
