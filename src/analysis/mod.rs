@@ -6,3 +6,4 @@
 
 pub mod light_waves;
 pub mod stats;
+pub mod trace;
