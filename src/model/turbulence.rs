@@ -387,6 +387,77 @@ impl TurbulenceField {
         component_at(records, axis, q.as_vec3() * 0.5 * self.cell)
     }
 
+    /// `at` at every face of component `axis` on a grid of `cells`, in
+    /// the velocity's face layout (x fastest). Each mode's factors
+    /// cos(k_a x_a) and sin(k_a x_a) are worked out once per lattice line
+    /// and multiplied (cos(a + b) from the factors of a and b), rather
+    /// than a sine and a cosine at every face: the same field to float
+    /// rounding, each face's modes summed in the same order, at a fraction
+    /// of the cost (it was half of a turbulent CPU trace's time).
+    pub fn at_faces(&self, records: &[TurbulenceMode], axis: usize, cells: UVec3) -> Vec<f32> {
+        let mut d = cells;
+        d[axis] += 1;
+        let mut out = vec![0.0f32; (d.x * d.y * d.z) as usize];
+        // Along axis a, the i-th face's coordinate (m), as `at` takes it.
+        let coordinate = |a: usize, i: u32| -> f32 {
+            let mut f = [0u32; 3];
+            f[a] = i;
+            (Self::face_point(axis, f).as_vec3() * 0.5 * self.cell)[a]
+        };
+        let lines: [Vec<f32>; 3] =
+            std::array::from_fn(|a| (0..d[a]).map(|i| coordinate(a, i)).collect());
+        for m in records {
+            let [kx, ky, kz, phase] = m.wavenumber_phase;
+            let k = [kx, ky, kz];
+            let mirrored = |a: usize| m.mirrored & (1 << a) != 0;
+            // Per axis and face line: (cos, sin) of k_a x_a.
+            let factors: [Vec<(f32, f32)>; 3] = std::array::from_fn(|a| {
+                lines[a]
+                    .iter()
+                    .map(|&x| {
+                        let t = k[a] * x;
+                        (t.cos(), t.sin())
+                    })
+                    .collect()
+            });
+            // A factor's part in the travelling phase (1 + 0i where the
+            // axis is mirrored) and in the standing product (1 where not).
+            let travelling = |a: usize, i: usize| {
+                if mirrored(a) {
+                    (1.0, 0.0)
+                } else {
+                    factors[a][i]
+                }
+            };
+            let standing = |a: usize, i: usize| {
+                if !mirrored(a) {
+                    1.0
+                } else if a == axis {
+                    factors[a][i].1
+                } else {
+                    factors[a][i].0
+                }
+            };
+            let times = |(a, b): (f32, f32), (c, s): (f32, f32)| (a * c - b * s, a * s + b * c);
+            let amplitude = m.amplitude[axis];
+            let mut index = 0;
+            for z in 0..d.z as usize {
+                let at_z = times((phase.cos(), phase.sin()), travelling(2, z));
+                for y in 0..d.y as usize {
+                    let at_yz = times(at_z, travelling(1, y));
+                    let standing_yz = standing(2, z) * standing(1, y);
+                    for x in 0..d.x as usize {
+                        let (cos, sin) = times(at_yz, travelling(0, x));
+                        let f = if mirrored(axis) { -sin } else { cos };
+                        out[index] += amplitude * (f * (standing_yz * standing(0, x)));
+                        index += 1;
+                    }
+                }
+            }
+        }
+        out
+    }
+
     /// One step of `dt` (s): the modes carried with `convection` (m/s)
     /// and changed at the rate of `sigma` (m/s).
     pub fn advance(&mut self, convection: Vec3, sigma: f32, dt: f32) {
@@ -506,4 +577,61 @@ fn face_amplitude(k: DVec3, a: DVec3, h: DVec3) -> DVec3 {
         2.0 * (0.5 * k.z * h.z).sin() / h.z,
     );
     -modified.cross(k.cross(a)) / k.length_squared()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `at_faces` is `at` at every face, to float rounding, for each
+    /// component, with the modes mirrored across no axis's walls and
+    /// across two (the sine factors of the component across them).
+    #[test]
+    fn at_faces_is_at_at_every_face() {
+        let turbulence = Turbulence {
+            intensity: 0.3,
+            length_scale: 2.0,
+            seed: 5,
+            speed: Some(3.0),
+            finest_wavelength: None,
+        };
+        let cells = UVec3::new(9, 5, 7);
+        let cell = Vec3::new(0.5, 0.3, 0.6);
+        for walls in [[false, false, false], [false, true, true]] {
+            let mut field = TurbulenceField::new(&turbulence, cells, cell, walls);
+            field.advance(Vec3::new(3.0, 0.0, 0.0), 0.9, 0.7);
+            assert_eq!(
+                (0..3).filter(|&a| field.is_mirrored(a)).count(),
+                2 * walls[1] as usize
+            );
+            let records = field.records(0.9);
+            for axis in 0..3 {
+                let all = field.at_faces(&records, axis, cells);
+                let mut d = cells;
+                d[axis] += 1;
+                let mut index = 0;
+                let (mut worst, mut largest) = (0.0f32, 0.0f32);
+                for z in 0..d.z {
+                    for y in 0..d.y {
+                        for x in 0..d.x {
+                            let q = TurbulenceField::face_point(axis, [x, y, z]);
+                            let exact = field.at(&records, axis, q);
+                            worst = worst.max((all[index] - exact).abs());
+                            largest = largest.max(exact.abs());
+                            index += 1;
+                        }
+                    }
+                }
+                assert_eq!(index, all.len());
+                assert!(
+                    largest > 0.1,
+                    "axis {axis}: the field is {largest} m/s at most"
+                );
+                assert!(
+                    worst <= 1e-5 * largest,
+                    "axis {axis}, walls {walls:?}: {worst} m/s off in a field up to {largest}"
+                );
+            }
+        }
+    }
 }
