@@ -279,12 +279,7 @@ pub fn trace(
             &mut trace,
             done,
         )?;
-        trace.steps_done = done;
-        if done >= steps {
-            break;
-        }
-        if !observer(done, steps) {
-            trace.interrupted = true;
+        if !trace.goes_on(done, steps, observer) {
             break;
         }
         // The steps to the next sample, in submissions paced to the
@@ -379,12 +374,7 @@ pub fn trace_on_cpu(
                 trace.wind.push(wind.felt(tip).to_array());
             }
         }
-        trace.steps_done = done;
-        if done >= steps {
-            break;
-        }
-        if !observer(done, steps) {
-            trace.interrupted = true;
+        if !trace.goes_on(done, steps, observer) {
             break;
         }
         let next = (done + request.every as u64).min(steps);
@@ -397,6 +387,26 @@ pub fn trace_on_cpu(
 }
 
 impl Trace {
+    /// After the sample at step `done` of `steps`: whether the run steps
+    /// on to the next (not at the end, and `observer` not stopping it,
+    /// which marks the trace interrupted).
+    fn goes_on(
+        &mut self,
+        done: u64,
+        steps: u64,
+        observer: &mut dyn FnMut(u64, u64) -> bool,
+    ) -> bool {
+        self.steps_done = done;
+        if done >= steps {
+            return false;
+        }
+        if !observer(done, steps) {
+            self.interrupted = true;
+            return false;
+        }
+        true
+    }
+
     /// A trace of `request`'s blades with no samples yet.
     fn begun(
         request: &TraceRequest,
