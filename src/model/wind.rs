@@ -1036,12 +1036,11 @@ impl WindField {
                     && (f[axis] == 0 || f[axis] == n[axis])
                     && !solid[grid.cell_index(c[0], c[1], c[2])]
             };
-            let at_faces = field.at_faces(&records, axis, n);
             for (idx, f) in self.grid.each_face(axis) {
                 if self.faces[axis][idx] == FaceKind::Wall && !open_side(f) {
                     continue;
                 }
-                let u = at_faces[idx];
+                let u = field.at(&records, axis, TurbulenceField::face_point(axis, f));
                 self.vel[axis][idx] += u;
                 self.turbulence_added[axis][idx] = u;
             }
