@@ -339,10 +339,10 @@ pub fn trace_on_cpu(
     let mut wind = WindField::new(scene.wind_grid()?, &settings);
     wind.canopy_unit = canopy::unit(&dynamic);
     let substeps = grass::substeps(&dynamic, dt)?;
-    let traced = request.blades.indices(rest.len(), scene.seed);
-    let coupled = wind.is_coupled(&settings);
+    let mut trace = Trace::begun(request, &rest, &dynamic, dt, substeps);
+    let traced = &trace.blades;
     // The blades stepped, and where each traced one is among them.
-    let (stepped, at): (Vec<GrassBlade>, Vec<usize>) = if coupled {
+    let (stepped, at): (Vec<GrassBlade>, Vec<usize>) = if wind.is_coupled(&settings) {
         (
             dynamic.clone(),
             traced.iter().map(|&b| b as usize).collect(),
@@ -355,7 +355,6 @@ pub fn trace_on_cpu(
     };
     let mut grass = GrassField::new(stepped, dt)?.with_colliders(scene.colliders.clone());
     grass.substeps = substeps;
-    let mut trace = Trace::begun(request, &rest, &dynamic, dt, substeps);
     let steps = request.steps();
     let mut done = 0u64;
     loop {

@@ -269,10 +269,12 @@ impl Lists {
 impl Operators {
     fn of(level: &Level, coarse: Option<&Level>) -> Self {
         let cells = level.cell_count();
-        let diagonal = (0..cells)
-            .map(|i| level.stencil_terms(level.cell_of(i)).0)
-            .collect();
-        let neighbours = Lists::of(cells, |i| level.stencil_terms(level.cell_of(i)).1);
+        let mut diagonal = Vec::with_capacity(cells);
+        let neighbours = Lists::of(cells, |i| {
+            let (sum, terms) = level.stencil_terms(level.cell_of(i));
+            diagonal.push(sum);
+            terms
+        });
         let (interpolation, gather) = match coarse {
             Some(coarse) => (
                 Lists::of(cells, |i| {
