@@ -1234,6 +1234,13 @@ fn bad_terrain_and_headings_are_refused_in_one_line() {
             .unwrap();
         b
     };
+    let white = {
+        let mut b = Vec::new();
+        image::codecs::png::PngEncoder::new(&mut b)
+            .write_image(&[255u8; 16], 4, 4, image::ExtendedColorType::L8)
+            .unwrap();
+        b
+    };
     let mut cut = grey.clone();
     cut.truncate(grey.len() - 12);
     // [ground] body, [wind.inflow] body, a file beside the scene, the refusal.
@@ -1278,8 +1285,17 @@ fn bad_terrain_and_headings_are_refused_in_one_line() {
         ),
         ("", "speed = 2.0\nheading = inf", None, "wind.inflow.heading: inf is not allowed"),
         (
-            // 50 m of hill under 2 m of air in 12 cells: no cell of air over it.
-            "[[ground.hill]]\ncenter = [0.0, 0.0]\nheight = 50.0\nhalf_width = 3.0",
+            // A plateau 4 m high under the camera at y = 3: the height
+            // map's ground, checked once the map is read.
+            "height_map = \"w.png\"\nextent = [16.0, 16.0]\nvertical_scale = 4.0",
+            "speed = 2.0",
+            Some(png("w.png", &white)),
+            "camera.position: is 1.00 m under the ground, whose surface at x 0.0, z 6.0 is at y 4.00",
+        ),
+        (
+            // 50 m of hill under 2 m of air in 12 cells: no cell of air
+            // over it (narrow enough to leave the camera 6 m away clear).
+            "[[ground.hill]]\ncenter = [0.0, 0.0]\nheight = 50.0\nhalf_width = 1.0",
             "speed = 2.0",
             None,
             "leaves less than one wind cell",

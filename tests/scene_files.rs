@@ -462,6 +462,73 @@ fn malformed_scene_files_are_refused_with_line_column_field_and_range() {
     assert!(wrong.is_empty(), "{}", wrong.join("\n"));
 }
 
+/// The camera, its path and the colliders are held over the ground where
+/// they are, not over y = 0: inside a hill (or passing through one between
+/// two keys over it) they are refused naming the ground's height there; in
+/// a hollow, under y = 0 but over its floor, they are accepted.
+#[test]
+fn the_camera_and_colliders_are_checked_against_the_ground_where_they_stand() {
+    // A hill 2 m high centred under the camera (x 0, z 3).
+    let hill = |height: f32, camera_y: f32, extra: &str| {
+        let text = with(
+            "position = [0.0, 1.0, 3.0]",
+            &format!("position = [0.0, {camera_y:?}, 3.0]"),
+        );
+        format!("{text}\n[[ground.hill]]\ncenter = [0.0, 3.0]\nheight = {height:?}\nhalf_width = 2.5\n{extra}\n")
+    };
+    let refused = |text: &str, fragment: &str| {
+        let e = file::parse(text, "hill.toml")
+            .expect_err(fragment)
+            .to_string();
+        assert!(
+            e.lines().count() == 1 && e.contains(fragment),
+            "{e:?} lacks {fragment:?}"
+        );
+    };
+    let accepted = |text: &str, what: &str| {
+        file::parse(text, "hill.toml").unwrap_or_else(|e| panic!("{what}: {e}"));
+    };
+    refused(
+        &hill(2.0, 1.0, ""),
+        "hill.toml:5:12: camera.position: is 1.00 m under the ground, whose surface at x 0.0, z 3.0 is at y 2.00; raise it to y >= 2.00",
+    );
+    accepted(&hill(2.0, 2.5, ""), "a camera over the hill's top");
+    accepted(
+        &hill(-2.0, -1.5, ""),
+        "a camera in a hollow, over its floor",
+    );
+    refused(
+        &hill(-2.0, -2.5, ""),
+        "camera.position: is 0.50 m under the ground, whose surface at x 0.0, z 3.0 is at y -2.00",
+    );
+    // Two keys clear of the hill, the line between them through it.
+    let path =
+        "[[camera.path]]\ntime = 0.0\nposition = [-6.0, 1.0, 3.0]\ntarget = [0.0, 0.0, 0.0]\n\
+                [[camera.path]]\ntime = 2.0\nposition = [6.0, 1.0, 3.0]\ntarget = [0.0, 0.0, 0.0]";
+    refused(
+        &hill(2.0, 2.5, path),
+        "camera.path: passes 1.00 m under the ground between path[0] and path[1] (deepest at x 0.0, z 3.0",
+    );
+    let ball = |y: f32, x: f32| {
+        format!("[[collider]]\nkind = \"sphere\"\nradius = 0.3\nposition = [{x:?}, {y:?}, 3.0]")
+    };
+    accepted(
+        &hill(2.0, 3.0, &ball(2.3, 0.0)),
+        "a ball resting on the hill's top",
+    );
+    // On the flank, 0.3 m over the ground under its centre: its uphill
+    // side is in the hill.
+    let flank = 2.0 / (1.0 + (2.5f32 / 2.5).powi(2));
+    refused(
+        &hill(2.0, 3.0, &ball(flank + 0.3, 2.5)),
+        "collider[0].position: reaches 0.0",
+    );
+    accepted(
+        &hill(-2.0, 0.5, &ball(-1.7, 0.0)),
+        "a ball resting in a hollow, under y = 0",
+    );
+}
+
 #[test]
 fn unreadable_files_name_the_path() {
     let dir = std::env::temp_dir().join(format!("meadow-scene-files-{}", std::process::id()));

@@ -6,6 +6,7 @@
 use glam::{Quat, Vec3};
 
 use crate::model::path::{along_path, MAX_PATH_POINTS};
+use crate::model::terrain::Terrain;
 
 /// A collider's shape.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -168,21 +169,52 @@ impl Collider {
         q
     }
 
-    /// The lowest height it reaches, at its position or any waypoint.
-    pub fn lowest(&self) -> f32 {
+    /// How far it reaches into `terrain` at its deepest, at its position
+    /// or anywhere along its path (0 or less: clear of the ground by that
+    /// much), and where its lowest cap's centre is then. Upright, its
+    /// surface over a point d from its axis lies sqrt(r^2 - d^2) under
+    /// that centre (a sphere's centre, a capsule's `a`), so the depth is
+    /// the largest h(q) + sqrt(r^2 - d^2) - centre.y over ground points q
+    /// under it, sampled on rings: on flat ground exactly `-lowest()`.
+    pub fn depth_in(&self, terrain: &Terrain) -> (f32, Vec3) {
         let lift = match self.kind {
-            ColliderKind::Sphere => -self.radius,
-            ColliderKind::Capsule => 0.0,
+            ColliderKind::Sphere => 0.0,
+            ColliderKind::Capsule => self.radius,
         };
-        let points = if self.path.is_empty() {
-            std::slice::from_ref(&self.position)
-        } else {
-            &self.path[..]
+        let r = self.radius;
+        let depth_at = |p: Vec3| {
+            let centre = p + Vec3::Y * lift;
+            let (rings, around) = (8, 24);
+            let mut deepest = terrain.height(centre.x, centre.z) + r - centre.y;
+            for k in 1..=rings {
+                let d = r * k as f32 / rings as f32;
+                let under = (r * r - d * d).max(0.0).sqrt();
+                for a in 0..around {
+                    let (s, c) = (a as f32 * std::f32::consts::TAU / around as f32).sin_cos();
+                    let (x, z) = (centre.x + d * c, centre.z + d * s);
+                    deepest = deepest.max(terrain.height(x, z) + under - centre.y);
+                }
+            }
+            (deepest, centre)
         };
-        points
-            .iter()
-            .map(|p| p.y + lift)
-            .fold(f32::INFINITY, f32::min)
+        let deepest = |a: (f32, Vec3), b: (f32, Vec3)| if b.0 > a.0 { b } else { a };
+        if self.path.is_empty() {
+            return depth_at(self.position);
+        }
+        let n = self.path.len();
+        let segments = if self.closed && n > 1 { n } else { n - 1 };
+        // Along each stretch every half radius (at most 512 a stretch): a
+        // rise between two waypoints counts as much as one at them.
+        let step = (0.5 * r).max(0.05);
+        let mut worst = depth_at(self.path[0]);
+        for i in 0..segments {
+            let (p, q) = (self.path[i], self.path[(i + 1) % n]);
+            let m = ((p.distance(q) / step).ceil() as usize).clamp(1, 512);
+            for j in 1..=m {
+                worst = deepest(worst, depth_at(p.lerp(q, j as f32 / m as f32)));
+            }
+        }
+        worst
     }
 }
 
@@ -386,8 +418,61 @@ mod tests {
         let (d, _) = walker.distance(Vec3::new(1.0, 1.8, 0.0));
         assert!(d.abs() < 1e-6, "top {d}");
         let sphere = ball(Vec::new(), false);
-        assert_eq!(sphere.lowest(), -0.3);
+        assert_eq!(sphere.depth_in(&Terrain::default()).0, 0.3);
         let (d, _) = sphere.at(0.0).distance(Vec3::new(0.0, 0.5, 0.0));
         assert!((d - 0.2).abs() < 1e-6);
+    }
+
+    /// The depth in the ground is the hill's, not y's: a ball resting on
+    /// a hill's top is clear, one at the same height over its flank sinks
+    /// in uphill, a path between two clear keys over the crest is caught
+    /// between them, and a capsule in a hollow under y = 0 is clear.
+    #[test]
+    fn the_depth_in_the_ground_follows_the_terrain_along_the_path() {
+        use crate::model::terrain::Hill;
+        let hill = Terrain {
+            hills: vec![Hill {
+                center: [0.0, 0.0],
+                height: 2.0,
+                half_width: 2.5,
+            }],
+            ..Terrain::default()
+        };
+        let at = |x: f32, lift: f32| Vec3::new(x, hill.height(x, 0.0) + lift, 0.0);
+        let on_top = Collider {
+            position: at(0.0, 0.3),
+            ..ball(Vec::new(), false)
+        };
+        assert!(
+            on_top.depth_in(&hill).0.abs() < 1e-6,
+            "{:?}",
+            on_top.depth_in(&hill)
+        );
+        let on_flank = Collider {
+            position: at(2.5, 0.3),
+            ..ball(Vec::new(), false)
+        };
+        let (depth, _) = on_flank.depth_in(&hill);
+        assert!(depth > 0.02, "a ball on the flank reaches {depth} m in");
+        let over_the_crest = ball(vec![at(-6.0, 0.5), at(6.0, 0.5)], false);
+        assert!(at(-6.0, 0.5).y < 1.0);
+        let (depth, centre) = over_the_crest.depth_in(&hill);
+        assert!(depth > 1.0 && centre.x.abs() < 0.5, "{depth} at {centre}");
+        let hollow = Terrain {
+            hills: vec![Hill {
+                height: -2.0,
+                ..hill.hills[0]
+            }],
+            ..Terrain::default()
+        };
+        let walker = Collider {
+            kind: ColliderKind::Capsule,
+            radius: 0.25,
+            height: 1.8,
+            position: Vec3::new(0.0, -1.9, 0.0),
+            ..ball(Vec::new(), false)
+        };
+        let (depth, _) = walker.depth_in(&hollow);
+        assert!((-0.11..0.0).contains(&depth), "{depth}");
     }
 }

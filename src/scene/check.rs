@@ -5,11 +5,14 @@
 use std::fmt::Display;
 use std::ops::RangeInclusive;
 
+use glam::Vec3;
+
 use super::{
     Camera, Cover, Cull, Grass, GrassDynamics, Light, Lod, RenderSettings, Scene, MAX_BLADES,
 };
 use crate::error::Error;
 use crate::model::contact::{Collider, ColliderKind, MAX_COLLIDERS};
+use crate::model::terrain::Terrain;
 use crate::model::wind::{Obstacle, WindSource, MAX_CELLS};
 use crate::model::BladePhysics;
 
@@ -168,7 +171,7 @@ pub fn scene(s: &Scene) -> Check {
     for (i, c) in s.colliders.iter().enumerate() {
         collider(c).map_err(|e| e.at(&format!("collider[{i}]")))?;
     }
-    Ok(())
+    above_ground(s)
 }
 
 /// With `[grass.cover]` the wind grid is a window that follows the camera
@@ -191,6 +194,113 @@ fn moving_wind_window(w: &super::WindConfig) -> Check {
         ));
     }
     Ok(())
+}
+
+/// The camera (its position, its path's keys and the lines between them)
+/// and every collider (where it stands, or anywhere along its path) over
+/// the ground where they are: from under it the meadow would be seen from
+/// below, floating in the sky, and a collider would press blades from
+/// inside the hill. A hollow's floor may lie under y = 0. The file loader
+/// runs it again once a height map is read.
+pub fn above_ground(s: &Scene) -> Check {
+    let terrain = s.ground.terrain();
+    camera_above_ground(&s.camera, &terrain).map_err(|e| e.at("camera"))?;
+    for (i, c) in s.colliders.iter().enumerate() {
+        collider_above_ground(c, &terrain).map_err(|e| e.at(&format!("collider[{i}]")))?;
+    }
+    Ok(())
+}
+
+fn camera_above_ground(c: &Camera, terrain: &Terrain) -> Check {
+    let under = |p: Vec3| {
+        let ground = terrain.height(p.x, p.z);
+        (p.y < ground).then_some(ground)
+    };
+    // With a path, the position is not where the camera is (`Camera::at`).
+    let position = c
+        .path
+        .is_empty()
+        .then(|| ("position".to_string(), c.position));
+    let keys = position.into_iter().chain(
+        c.path
+            .iter()
+            .enumerate()
+            .map(|(k, key)| (format!("path[{k}].position"), key.position)),
+    );
+    for (field, p) in keys {
+        let p = Vec3::from(p);
+        let Some(ground) = under(p) else { continue };
+        let message = if terrain.is_flat() {
+            format!("is {} m under the ground (y < 0); raise it to y >= 0", -p.y)
+        } else {
+            format!(
+                "is {:.2} m under the ground, whose surface at x {:.1}, z {:.1} is at y {ground:.2}; raise it to y >= {ground:.2} or move it off the rise",
+                ground - p.y,
+                p.x,
+                p.z
+            )
+        };
+        return Err(FieldError::new(field, message));
+    }
+    // Between keys the camera moves in a straight line (`Camera::at`):
+    // every 0.25 m of it, at most 4096 points a stretch.
+    for (k, pair) in c.path.windows(2).enumerate() {
+        let (a, b) = (Vec3::from(pair[0].position), Vec3::from(pair[1].position));
+        let n = ((a.distance(b) / 0.25).ceil() as usize).clamp(1, 4096);
+        let deepest = (1..n)
+            .map(|i| a.lerp(b, i as f32 / n as f32))
+            .filter_map(|p| under(p).map(|ground| (ground - p.y, p, ground)))
+            .max_by(|x, y| x.0.total_cmp(&y.0));
+        if let Some((depth, p, ground)) = deepest {
+            return Err(FieldError::new(
+                "path",
+                format!(
+                    "passes {depth:.2} m under the ground between path[{k}] and path[{}] (deepest at x {:.1}, z {:.1}, where the ground is at y {ground:.2}); raise those keys or add one between them above the ground",
+                    k + 1,
+                    p.x,
+                    p.z
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+fn collider_above_ground(c: &Collider, terrain: &Terrain) -> Check {
+    // Sampled on rings: a collider resting on a slope is clear within 1 mm.
+    let tolerance = if terrain.is_flat() { 1e-4 } else { 1e-3 };
+    let (depth, centre) = c.depth_in(terrain);
+    if depth <= tolerance {
+        return Ok(());
+    }
+    if c.path.is_empty() && c.position == Vec3::ZERO {
+        return Err(FieldError::new(
+            "position",
+            "is missing (or the origin), which puts it under the ground; give position (it \
+             stands there) or path (it moves along it)",
+        ));
+    }
+    let field = if c.path.is_empty() {
+        "position"
+    } else {
+        "path"
+    };
+    let message = if terrain.is_flat() {
+        format!(
+            "reaches {depth:.3} m below the ground, where the grass is rooted; raise it so its \
+             lowest point is at y >= 0 (a sphere's centre at y >= its radius)"
+        )
+    } else {
+        let lowest = match c.kind {
+            ColliderKind::Sphere => "its centre",
+            ColliderKind::Capsule => "its lowest point",
+        };
+        format!(
+            "reaches {depth:.3} m into the ground near x {:.1}, z {:.1} (its surface must clear the ground's, a hill's side too); raise {lowest} there by at least {depth:.3} m",
+            centre.x, centre.z
+        )
+    };
+    Err(FieldError::new(field, message))
 }
 
 /// Every camera position (and key of its path) within the view's reach
@@ -301,17 +411,6 @@ pub fn camera(c: &Camera) -> Check {
         };
         finite(&at("position"), &position)?;
         finite(&at("target"), &target)?;
-        // The ground is the plane y = 0: from under it the meadow would be
-        // seen from below, floating in the sky.
-        if position[1] < 0.0 {
-            return Err(FieldError::new(
-                at("position"),
-                format!(
-                    "is {} m under the ground (y < 0); raise it to y >= 0",
-                    -position[1]
-                ),
-            ));
-        }
         if position == target {
             return Err(FieldError::new(
                 at("target"),
@@ -344,7 +443,7 @@ pub fn camera(c: &Camera) -> Check {
 
 pub fn light(l: &Light) -> Check {
     finite("direction", &l.direction)?;
-    if glam::Vec3::from(l.direction).length() < 1e-6 {
+    if Vec3::from(l.direction).length() < 1e-6 {
         return Err(FieldError::new(
             "direction",
             "is zero, give the direction toward the light",
@@ -780,7 +879,7 @@ fn collider(c: &Collider) -> Check {
         }
     }
     finite("position", &c.position.to_array())?;
-    if !c.path.is_empty() && c.position != glam::Vec3::ZERO {
+    if !c.path.is_empty() && c.position != Vec3::ZERO {
         return Err(FieldError::new(
             "position",
             "and path both place it; give position (it stands) or path (it moves), not both",
@@ -791,28 +890,6 @@ fn collider(c: &Collider) -> Check {
         return Err(FieldError::new(
             "start",
             format!("{} is not allowed, use 0 ..= 1e6 s", c.start),
-        ));
-    }
-    let lowest = c.lowest();
-    if lowest < -1e-4 && c.path.is_empty() && c.position == glam::Vec3::ZERO {
-        return Err(FieldError::new(
-            "position",
-            "is missing (or the origin), which puts it under the ground; give position (it \
-             stands there) or path (it moves along it)",
-        ));
-    }
-    if lowest < -1e-4 {
-        return Err(FieldError::new(
-            if c.path.is_empty() {
-                "position"
-            } else {
-                "path"
-            },
-            format!(
-                "reaches {:.3} m below the ground, where the grass is rooted; raise it so its \
-                 lowest point is at y >= 0 (a sphere's centre at y >= its radius)",
-                -lowest
-            ),
         ));
     }
     Ok(())

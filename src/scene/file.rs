@@ -95,6 +95,10 @@ pub fn parse_in(text: &str, origin: &str, files: SceneFiles<'_>) -> Result<Scene
     scene
         .read_files(files)
         .map_err(|e| located(text, origin, e))?;
+    if scene.ground.map.is_some() {
+        // The height map's ground, now that it is read.
+        check::above_ground(&scene).map_err(|e| located(text, origin, e))?;
+    }
     Ok(scene)
 }
 
