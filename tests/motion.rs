@@ -89,6 +89,64 @@ fn the_gpu_trace_follows_the_cpu_reference() {
 /// at least 0.5 at that lag, and the best lag from the first band grows
 /// with distance (within one period of the gusts). A gust that scaled the whole inflow at once would move
 /// every band together: best lag 0, which fails.
+/// A trace reads "downwind" along the inflow's heading: a square meadow
+/// in a steady wind from heading 0 and from heading 90 (along z) bends its
+/// tips downwind alike in the trace's bands and spectra, where reading x
+/// at heading 90 would see almost nothing; against the heading (a negative
+/// speed) the tips still move downwind, forward.
+#[test]
+fn a_trace_reads_the_tips_along_the_winds_heading() {
+    let run = |heading: f32, speed: f32| {
+        let text = format!(
+            "name = \"heading\"\nseed = 3\n[camera]\nposition = [0.0, 1.0, 8.0]\ntarget = [0.0, 0.0, 0.0]\nfov_y = 45.0\n\
+             [[grass.meadow]]\ncenter = [0.0, 0.0]\nsize = [6.0, 6.0]\ncount = 400\n\
+             [wind]\ncells = [24, 10, 24]\nheight = 2.0\n[wind.inflow]\nspeed = {speed:?}\nheading = {heading:?}\n"
+        );
+        let request = TraceRequest {
+            scene: meadow::scene::file::parse(&text, "heading.toml").unwrap(),
+            seconds: 1.5,
+            every: 6,
+            blades: BladePick::Count(100),
+            wind: false,
+            diagram_from: 0.0,
+            gpu: GpuOptions::default(),
+        };
+        trace_on_cpu(&request, &mut |_, _| true).unwrap()
+    };
+    let downwind = |t: &Trace| *t.band_displacement(-10.0, 20.0, 1)[0].last().unwrap();
+    let across_x = |t: &Trace| {
+        let last = t.times.len() - 1;
+        (0..t.blades.len())
+            .map(|b| (t.tip(last, b)[0] - t.tip(0, b)[0]) as f64)
+            .sum::<f64>()
+            / t.blades.len() as f64
+    };
+    let (east, north, back) = (run(0.0, 4.0), run(90.0, 4.0), run(90.0, -4.0));
+    assert_eq!(north.frame.downwind, [0.0, 1.0]);
+    assert_eq!(back.frame.downwind, [0.0, -1.0]);
+    let (e, n, b) = (downwind(&east), downwind(&north), downwind(&back));
+    eprintln!(
+        "mean downwind tip displacement: heading 0 {e:.4} m, heading 90 {n:.4} m (along x {:.4} m), against heading 90 {b:.4} m",
+        across_x(&north)
+    );
+    assert!(e > 0.01, "the tips hardly moved: {e} m");
+    for (what, d) in [("heading 90", n), ("against heading 90", b)] {
+        assert!(
+            (d / e - 1.0).abs() < 0.25,
+            "{what}: {d} m downwind against {e} m at heading 0"
+        );
+    }
+    assert!(across_x(&north).abs() < 0.25 * e);
+    let (pe, pn) = (
+        east.tip_spectrum(0.0).unwrap().power.iter().sum::<f64>(),
+        north.tip_spectrum(0.0).unwrap().power.iter().sum::<f64>(),
+    );
+    assert!(
+        (pn / pe - 1.0).abs() < 0.5,
+        "the tips' spectra: heading 90 {pn:e} against heading 0 {pe:e}"
+    );
+}
+
 #[test]
 fn gusts_travel_down_a_strip_at_the_speed_of_the_wind() {
     // The inflow's gusts alone: the scene's turbulence left out.

@@ -11,6 +11,55 @@ use std::collections::BTreeMap;
 
 use crate::analysis::stats::lagged_correlation;
 
+/// The frame a trace is measured in: `downwind`, the unit (x, z) the mean
+/// wind blows along (the inflow's heading, or x without an inflow), and
+/// across it. Downwind displacement, bands, cells and correlations along
+/// and across the wind are read in it; at (1, 0) its coordinates are the
+/// world's x and z bit for bit.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct WindFrame {
+    pub downwind: [f32; 2],
+}
+
+impl Default for WindFrame {
+    fn default() -> Self {
+        Self {
+            downwind: [1.0, 0.0],
+        }
+    }
+}
+
+impl WindFrame {
+    /// How far along the wind (x, z) lies.
+    pub fn along(&self, p: [f32; 2]) -> f32 {
+        p[0] * self.downwind[0] + p[1] * self.downwind[1]
+    }
+
+    /// How far across it (x, z) lies: z at downwind (1, 0).
+    pub fn across(&self, p: [f32; 2]) -> f32 {
+        p[1] * self.downwind[0] - p[0] * self.downwind[1]
+    }
+
+    /// (along, across) of (x, z).
+    pub fn of(&self, p: [f32; 2]) -> [f32; 2] {
+        [self.along(p), self.across(p)]
+    }
+
+    /// The axes' names for a diagram: the world's where they are its x
+    /// and z.
+    pub fn axis_names(&self) -> (String, String) {
+        if self.downwind == [1.0, 0.0] {
+            ("x, along the wind (m)".into(), "z (m)".into())
+        } else {
+            let heading = self.downwind[1].atan2(self.downwind[0]).to_degrees();
+            (
+                format!("along the wind, heading {heading:.0} deg (m)"),
+                "across the wind (m)".into(),
+            )
+        }
+    }
+}
+
 /// The traced blades over time, in memory: sample s, blade b at
 /// `[s * blades.len() + b]`.
 #[derive(Clone, Debug, Default)]
@@ -21,6 +70,8 @@ pub struct Trace {
     pub blades: Vec<u32>,
     /// Root (x, z) of each traced blade, m.
     pub roots: Vec<[f32; 2]>,
+    /// Along and across the wind.
+    pub frame: WindFrame,
     /// Simulated time of each sample, s.
     pub times: Vec<f64>,
     /// Tip (P3) of each traced blade at each sample, m.
@@ -53,12 +104,24 @@ impl Trace {
     pub fn tip(&self, sample: usize, blade: usize) -> [f32; 3] {
         self.tips[sample * self.blades.len() + blade]
     }
+
+    /// How far along the wind blade b's tip is at sample s.
+    pub fn tip_along(&self, sample: usize, blade: usize) -> f32 {
+        let tip = self.tip(sample, blade);
+        self.frame.along([tip[0], tip[2]])
+    }
+
+    /// Each traced blade's root along and across the wind.
+    pub fn roots_in_frame(&self) -> impl Iterator<Item = [f32; 2]> + '_ {
+        self.roots.iter().map(|&r| self.frame.of(r))
+    }
 }
 
 impl Trace {
-    /// The mean downwind tip displacement (tip x now minus tip x at the
-    /// first sample) of the traced blades rooted in each band of
-    /// `band_width` metres along x from `x0`, per sample: `[band][sample]`.
+    /// The mean downwind tip displacement (the tip's distance along the
+    /// wind now less at the first sample) of the traced blades rooted in
+    /// each band of `band_width` metres along the wind from `x0` (a
+    /// `WindFrame` coordinate), per sample: `[band][sample]`.
     /// A band without blades is all zeros.
     pub fn band_displacement(&self, x0: f32, band_width: f32, bands: usize) -> Vec<Vec<f64>> {
         self.grouped_displacement(bands, |root| {
@@ -68,7 +131,8 @@ impl Trace {
     }
 
     /// As `band_displacement`, over square cells of `cell` metres from
-    /// (x0, z0), `nx` along x and `nz` along z: `[iz * nx + ix][sample]`.
+    /// `corner` (along, across the wind), `nx` along the wind and `nz`
+    /// across it: `[iz * nx + ix][sample]`.
     pub fn cell_displacement(
         &self,
         corner: [f32; 2],
@@ -84,23 +148,23 @@ impl Trace {
         })
     }
 
-    /// Cells (or bands) whose traced blades share no group are all zeros.
+    /// Cells (or bands) whose traced blades share no group are all zeros;
+    /// `group_of` takes a root along and across the wind.
     fn grouped_displacement(
         &self,
         groups: usize,
         group_of: impl Fn([f32; 2]) -> Option<usize>,
     ) -> Vec<Vec<f64>> {
-        let n = self.blades.len();
         let mut sum = vec![vec![0.0f64; self.times.len()]; groups];
         let mut count = vec![0usize; groups];
-        for (b, root) in self.roots.iter().enumerate() {
-            let Some(group) = group_of(*root) else {
+        for (b, root) in self.roots_in_frame().enumerate() {
+            let Some(group) = group_of(root) else {
                 continue;
             };
             count[group] += 1;
-            let rest = self.tips[b][0];
+            let rest = self.tip_along(0, b);
             for (s, total) in sum[group].iter_mut().enumerate() {
-                *total += (self.tips[s * n + b][0] - rest) as f64;
+                *total += (self.tip_along(s, b) - rest) as f64;
             }
         }
         for (series, &c) in sum.iter_mut().zip(&count) {
@@ -173,12 +237,11 @@ pub fn periodogram(series: &[f64], dt: f64) -> Vec<(f64, f64)> {
 }
 
 impl Trace {
-    /// The spectrum of the tips' downwind (x) motion from `from_s` on: each
+    /// The spectrum of the tips' motion along the wind from `from_s` on: each
     /// traced blade's periodogram, averaged over the blades. None with
     /// fewer than 8 samples after `from_s`.
     pub fn tip_spectrum(&self, from_s: f64) -> Option<Spectrum> {
-        let n = self.blades.len();
-        self.mean_spectrum(from_s, |s, b| self.tips[s * n + b][0] as f64)
+        self.mean_spectrum(from_s, |s, b| self.tip_along(s, b) as f64)
     }
 
     /// As `tip_spectrum`, of `value(sample, blade)` (the wind at the tip,
@@ -248,7 +311,7 @@ impl Trace {
         for b in 0..n {
             let natural = self.bend_hz.get(b).copied().unwrap_or(0.0);
             let series: Vec<f64> = (skip..self.times.len())
-                .map(|s| self.tips[s * n + b][0] as f64)
+                .map(|s| self.tip_along(s, b) as f64)
                 .collect();
             let periodogram = periodogram(&series, dt);
             let variance: f64 =
@@ -332,8 +395,9 @@ impl Percentiles {
     }
 }
 
-/// The traced blades' roots in square cells: where the plan view and the
-/// tips' correlation look.
+/// The traced blades' roots in square cells along and across the wind
+/// (`WindFrame`; x and z at heading 0): where the plan view and the tips'
+/// correlation look.
 pub struct CellGrid {
     pub corner: [f32; 2],
     pub cell: f32,
@@ -352,9 +416,10 @@ impl CellGrid {
             return None;
         }
         let fold = |i: usize| {
-            run.roots.iter().fold((f32::MAX, f32::MIN), |(lo, hi), r| {
-                (lo.min(r[i]), hi.max(r[i]))
-            })
+            run.roots_in_frame()
+                .fold((f32::MAX, f32::MIN), |(lo, hi), r| {
+                    (lo.min(r[i]), hi.max(r[i]))
+                })
         };
         let ((x0, x1), (z0, z1)) = (fold(0), fold(1));
         let area = ((x1 - x0) * (z1 - z0)).max(1.0);
@@ -366,7 +431,7 @@ impl CellGrid {
         let nx = ((x1 - corner[0]) / cell).floor() as usize + 1;
         let nz = ((z1 - corner[1]) / cell).floor() as usize + 1;
         let mut filled = vec![false; nx * nz];
-        for r in &run.roots {
+        for r in run.roots_in_frame() {
             let ix = (((r[0] - corner[0]) / cell) as usize).min(nx - 1);
             let iz = (((r[1] - corner[1]) / cell) as usize).min(nz - 1);
             filled[iz * nx + ix] = true;
@@ -392,8 +457,8 @@ impl CellGrid {
 
 /// How far the tips' motion stays alike across the field: the mean
 /// correlation (lag 0) of the downwind tip displacement of two cells
-/// (`CellGrid`) at each separation along the wind (x: the trace measures
-/// the displacement along x) and across it (z), their integral lengths,
+/// (`CellGrid`) at each separation along the wind and across it (the
+/// trace's `WindFrame`), their integral lengths,
 /// and the correlation of two bands along the wind 20 m apart across it
 /// (the test of patches against fronts). Each series' straight-line
 /// trend over the window is taken off first: the mean wind still settling

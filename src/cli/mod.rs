@@ -84,7 +84,7 @@ pub enum Command {
     /// data: DIR/blades.csv (time_s, blade, root, tip, swing, bend, twist
     /// per traced blade per sample), DIR/trace.json (columns, units, scene,
     /// seed, device, dt, the tips' spectrum), DIR/space_time.svg (the
-    /// motion along x over time: travelling gusts are diagonal stripes),
+    /// motion along the wind over time: travelling gusts are diagonal stripes),
     /// DIR/plan_view.svg (the field from above at three instants a second
     /// apart: patches of turbulence moving downwind) and DIR/spectrum.svg
     /// (the tips' spectrum beside the blades' natural frequencies).

@@ -5,14 +5,14 @@
 //! the tests of the physics measure). What is measured of a trace is
 //! src/analysis/trace.rs. Writes DIR/blades.csv (one row per traced blade per
 //! sample), DIR/trace.json (what the columns are, in which units, and
-//! where the numbers came from) and DIR/space_time.svg (the motion along x
-//! over time).
+//! where the numbers came from) and DIR/space_time.svg (the motion along
+//! the wind over time).
 
 use std::fmt::Write as _;
 use std::path::Path;
 
 use crate::analysis::trace::{
-    CellGrid, Percentiles, ScaledSpectrum, Spectrum, TipCorrelation, Trace,
+    CellGrid, Percentiles, ScaledSpectrum, Spectrum, TipCorrelation, Trace, WindFrame,
 };
 use crate::commands::on_gpu;
 use crate::compute::{Simulation, StepPace};
@@ -143,7 +143,7 @@ impl TraceRequest {
 }
 
 /// The space-time diagram of a trace (report::space_time): 1 m bands along
-/// x over the traced blades' roots, from `from_s` seconds on.
+/// the wind over the traced blades' roots, from `from_s` seconds on.
 pub fn space_time_svg(run: &Trace, from_s: f64, title: &str) -> Result<String> {
     let skip = run.samples_before(from_s);
     if skip >= run.times.len() {
@@ -151,9 +151,11 @@ pub fn space_time_svg(run: &Trace, from_s: f64, title: &str) -> Result<String> {
             "the trace ends before {from_s} s: nothing to draw"
         )));
     }
-    let (x0, x1) = run.roots.iter().fold((f32::MAX, f32::MIN), |(lo, hi), r| {
-        (lo.min(r[0]), hi.max(r[0]))
-    });
+    let (x0, x1) = run
+        .roots_in_frame()
+        .fold((f32::MAX, f32::MIN), |(lo, hi), r| {
+            (lo.min(r[0]), hi.max(r[0]))
+        });
     let x0 = x0.floor();
     let bands = (x1 - x0).floor().max(0.0) as usize + 1;
     let values: Vec<Vec<f64>> = run
@@ -202,8 +204,10 @@ pub fn plan_view_svg(run: &Trace, from_s: f64, title: &str) -> Result<Option<Str
             (times[s], values)
         })
         .collect();
+    let (along, across) = run.frame.axis_names();
     plan_view::svg(&PlanView {
         title,
+        axes: (&along, &across),
         x0: grid.corner[0] as f64,
         z0: grid.corner[1] as f64,
         cell: grid.cell as f64,
@@ -385,6 +389,20 @@ pub fn trace_on_cpu(
     Ok(trace)
 }
 
+/// The frame a trace of `scene` is measured in: downwind along the
+/// inflow's heading (against it for a negative speed), or along x without
+/// an inflow (sources alone, or still air).
+pub fn wind_frame(scene: &Scene) -> WindFrame {
+    let Some(inflow) = scene.wind.inflow.as_ref() else {
+        return WindFrame::default();
+    };
+    let [c, s] = inflow.heading_vector();
+    let sign = if inflow.speed < 0.0 { -1.0 } else { 1.0 };
+    WindFrame {
+        downwind: [sign * c, sign * s],
+    }
+}
+
 impl Trace {
     /// After the sample at step `done` of `steps`: whether the run steps
     /// on to the next (not at the end, and `observer` not stopping it,
@@ -418,6 +436,7 @@ impl Trace {
         Trace {
             dt,
             substeps,
+            frame: wind_frame(&request.scene),
             roots: blades
                 .iter()
                 .map(|&b| {
@@ -593,8 +612,12 @@ pub struct TraceReport {
     pub samples: usize,
     pub blades_traced: usize,
     pub blades_total: usize,
+    /// The unit (x, z) along which "downwind" and "along the wind" are
+    /// read (the inflow's heading; x without an inflow): the spectra,
+    /// correlations and diagrams measure the tips' motion along it.
+    pub downwind: [f32; 2],
     pub csv: String,
-    /// space_time.svg: each 1 m band along x, its mean downwind tip
+    /// space_time.svg: each 1 m band along the wind, its mean downwind tip
     /// displacement over time (beyond its mean, in its own standard
     /// deviations); travelling waves are diagonal stripes. None for a
     /// single blade or sample.
@@ -607,7 +630,7 @@ pub struct TraceReport {
     /// spectrum.svg: `tip_spectrum` drawn beside the blades' natural
     /// frequencies. None without a spectrum.
     pub spectrum: Option<String>,
-    /// The spectrum of the tips' downwind (x) motion from `diagram_from`
+    /// The spectrum of the tips' motion along the wind from `diagram_from`
     /// on, averaged over the traced blades (None: too few samples).
     pub tip_spectrum: Option<Spectrum>,
     /// The same motion per unit log frequency, each blade's frequencies
@@ -708,7 +731,10 @@ pub fn trace_to_dir(
     // would pass for this one's).
     claim.begin()?;
     claim.write(CSV_NAME, csv(&trace).as_bytes())?;
-    let title = format!("{}: tip displacement along x over time", request.scene.name);
+    let title = format!(
+        "{}: tip displacement along the wind over time",
+        request.scene.name
+    );
     let diagram = (trace.blades.len() > 1 && trace.times.len() > 1)
         .then(|| space_time_svg(&trace, request.diagram_from, &title))
         .transpose()?;
@@ -765,6 +791,7 @@ pub fn trace_to_dir(
         samples: trace.times.len(),
         blades_traced: trace.blades.len(),
         blades_total: trace.total_blades,
+        downwind: trace.frame.downwind,
         csv: CSV_NAME.into(),
         space_time: diagram.map(|_| SPACE_TIME_NAME.into()),
         plan_view: plan_view.map(|_| PLAN_VIEW_NAME.into()),

@@ -16,6 +16,9 @@ use crate::report::space_time::{diverging, diverging_key};
 /// where a cell has no blades.
 pub struct PlanView<'a> {
     pub title: &'a str,
+    /// The axes' names: along the wind (across the panel), across it
+    /// (down).
+    pub axes: (&'a str, &'a str),
     pub x0: f64,
     pub z0: f64,
     pub cell: f64,
@@ -24,8 +27,8 @@ pub struct PlanView<'a> {
     pub instants: &'a [(f64, Vec<f64>)],
 }
 
-/// The panels side by side, x (the wind's axis) across, z down, with a
-/// colour key.
+/// The panels side by side, the wind's axis across, the axis across the
+/// wind down, with a colour key.
 pub fn svg(p: &PlanView) -> Result<String> {
     let err = |e: String| Error::InvalidInput(format!("drawing the plan view: {e}"));
     if p.instants.is_empty() || p.nx == 0 || p.nz == 0 {
@@ -55,8 +58,8 @@ pub fn svg(p: &PlanView) -> Result<String> {
             chart
                 .configure_mesh()
                 .disable_mesh()
-                .x_desc("x, along the wind (m)")
-                .y_desc("z (m)")
+                .x_desc(p.axes.0)
+                .y_desc(p.axes.1)
                 .draw()
                 .map_err(|e| err(e.to_string()))?;
             let cells = values
@@ -89,6 +92,7 @@ mod tests {
             (12.0, values),
         ];
         let svg = svg(&PlanView {
+            axes: ("x, along the wind (m)", "z (m)"),
             title: "test",
             x0: -3.0,
             z0: -2.0,
