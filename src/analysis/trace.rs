@@ -644,6 +644,7 @@ mod tests {
             blades: (0..roots.len() as u32).collect(),
             angles: vec![[0.0; 3]; times.len() * roots.len()],
             roots,
+            frame: WindFrame::default(),
             times,
             tips,
             wind: Vec::new(),
@@ -729,6 +730,47 @@ mod tests {
         );
         assert!(c.bands_20m_across.unwrap().abs() < 0.3, "{c:?}");
         assert!(c.along_length_m < 0.7 * c.cell_m, "{c:?}");
+    }
+
+    /// The same front under a wind along z (heading 90), its tips moving
+    /// along z: read in the wind's frame it correlates as the front along
+    /// x does at heading 0, where x would see no motion at all.
+    #[test]
+    fn a_front_under_a_wind_along_z_reads_as_one_along_x() {
+        let wave = |along: f32, t: f64| {
+            0.01 * (std::f64::consts::TAU * (along as f64 - 3.0 * t) / 40.0).sin() as f32
+        };
+        let east = synthetic(|r, t| wave(r[0], t));
+        let mut north = synthetic(|_, _| 0.0);
+        for (s, &t) in north.times.clone().iter().enumerate() {
+            for (b, r) in north.roots.clone().iter().enumerate() {
+                north.tips[s * north.blades.len() + b][2] += wave(r[1], t);
+            }
+        }
+        north.frame = WindFrame {
+            downwind: [0.0, 1.0],
+        };
+        let (e, n) = (
+            east.tip_correlation(0.0).unwrap(),
+            north.tip_correlation(0.0).unwrap(),
+        );
+        assert!(
+            (n.along_length_m / e.along_length_m - 1.0).abs() < 1e-3,
+            "{n:?}"
+        );
+        assert!(n.across.iter().all(|&r| r > 0.999), "{n:?}");
+        let (pe, pn) = (
+            east.tip_spectrum(0.0).unwrap(),
+            north.tip_spectrum(0.0).unwrap(),
+        );
+        assert!((pn.peak_hz - pe.peak_hz).abs() < 1e-9 && pn.power[1] > 0.0);
+        north.frame = WindFrame::default();
+        assert!(north
+            .tip_spectrum(0.0)
+            .unwrap()
+            .power
+            .iter()
+            .all(|&p| p == 0.0));
     }
 
     #[test]
