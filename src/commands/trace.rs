@@ -132,6 +132,7 @@ impl TraceRequest {
             )));
         }
         self.scene.validate()?;
+        has_blades(&self.scene)?;
         self.scene.wind_grid()?;
         Ok(())
     }
@@ -140,6 +141,18 @@ impl TraceRequest {
     pub fn steps(&self) -> u64 {
         (self.seconds / self.scene.wind.dt as f64).round().max(1.0) as u64
     }
+}
+
+/// A trace follows the patches' blades (bunches and meadows): a scene
+/// without any is refused, saying why.
+fn has_blades(scene: &Scene) -> Result<()> {
+    if scene.blade_count() > 0 {
+        return Ok(());
+    }
+    Err(Error::InvalidInput(format!(
+        "trace follows the patches' blades and scene {:?} has none: a [grass.cover]'s blades are made and remade around the camera as it moves, none kept to follow; add a [[grass.meadow]] where to trace, or pick a scene with one",
+        scene.name
+    )))
 }
 
 /// The space-time diagram of a trace (report::space_time): 1 m bands along
@@ -331,13 +344,9 @@ pub fn trace_on_cpu(
             "the CPU trace has no reference for a simulated [grass.cover]; trace on the GPU, or set its simulate_radius to 0".into(),
         ));
     }
+    has_blades(scene)?;
     let rest = scene.field()?;
     let dynamic = field::dynamic_blades(&rest, &scene.grass.dynamics, scene.seed)?;
-    if dynamic.is_empty() {
-        return Err(Error::InvalidInput(
-            "trace follows the patches' blades and this scene has none; add a [[grass.meadow]] or pick another scene".into(),
-        ));
-    }
     let settings = scene.wind_settings();
     let dt = scene.wind.dt;
     let mut wind = WindField::new(scene.wind_grid()?, &settings);
@@ -813,6 +822,31 @@ pub fn trace_to_dir(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_scene_with_only_a_cover_is_refused_saying_why() {
+        let request = TraceRequest {
+            scene: Scene::builtin("steppe").unwrap(),
+            seconds: 1.0,
+            every: 1,
+            blades: BladePick::All,
+            wind: false,
+            diagram_from: 0.0,
+            gpu: GpuOptions::default(),
+        };
+        let e = request.validate().unwrap_err().to_string();
+        assert!(
+            e.contains("scene \"steppe\" has none") && e.contains("[[grass.meadow]]"),
+            "{e}"
+        );
+        let e = trace_on_cpu(&request, &mut |_, _| true)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("has none") || e.contains("simulated [grass.cover]"),
+            "{e}"
+        );
+    }
 
     #[test]
     fn a_pick_takes_one_blade_from_each_equal_run_and_depends_on_the_seed() {
