@@ -375,6 +375,7 @@ fn run(
     let center = grid.origin + grid.size() / 2.0;
     let patches = scene.grass.patches();
     let outlines = Outlines {
+        ground: &settings.terrain,
         obstacles: &settings.obstacles,
         grass: &patches,
         grass_height,
@@ -401,7 +402,7 @@ fn run(
         let title = format!(
             "{}: {} after {:.2} s ({how})",
             scene.name,
-            wind_slices::plane_name(slice),
+            wind_slices::plane_name(slice, &settings.terrain),
             steps as f32 * dt
         );
         let svg = wind_slices::svg(&field, slice, max_speed, &outlines, &title)?;

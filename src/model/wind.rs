@@ -1225,6 +1225,17 @@ impl WindField {
         }
     }
 
+    /// The cell holding the world point `x` (`window_point`), or None
+    /// outside the grid.
+    pub fn cell_at(&self, x: Vec3) -> Option<usize> {
+        let g = ((self.window_point(x) - self.grid.origin) / self.grid.cell).floor();
+        let inside = g.cmpge(Vec3::ZERO).all() && g.cmplt(self.grid.cells.as_vec3()).all();
+        inside.then(|| {
+            let g = g.as_uvec3();
+            self.grid.cell_index(g.x, g.y, g.z)
+        })
+    }
+
     /// Wind velocity at a world position (what a blade tip samples).
     pub fn sample(&self, x: Vec3) -> Vec3 {
         let x = self.window_point(x);

@@ -1,20 +1,24 @@
 //! Pictures of the wind a person can read: a slice of the field as SVG,
 //! speed as colour with a colour bar in m/s, direction as short streaks
 //! (a dot at the foot of each), axes in metres, the slice's height or
-//! depth in the title, obstacles outlined in white and the grass in green.
-//! Drawn on the CPU from the velocity read back from the GPU.
+//! depth in the title, obstacles outlined in white, the grass in green,
+//! solid cells (obstacles, the ground's staircase) and the ground under
+//! its surface in earth brown with the ground's line in black. Drawn on
+//! the CPU from the velocity read back from the GPU.
 
 use glam::{Vec2, Vec3, Vec3Swizzles};
 use plotters::prelude::*;
 
 use crate::error::{Error, Result};
+use crate::model::terrain::Terrain;
 use crate::model::wind::{Obstacle, WindField};
 use crate::scene::GrassPatch;
 
 /// Which plane to cut.
 #[derive(Clone, Copy, Debug)]
 pub enum Slice {
-    /// The horizontal plane y = height (x right, z up the picture).
+    /// The surface `height` above the ground (a horizontal plane over
+    /// flat ground; x right, z up the picture): where the grass is.
     Horizontal { height: f32 },
     /// The vertical plane z = depth (x right, y up).
     Vertical { depth: f32 },
@@ -22,6 +26,9 @@ pub enum Slice {
 
 /// What stands in the wind, outlined on a slice.
 pub struct Outlines<'a> {
+    /// The ground: the horizontal slice follows it, the vertical one
+    /// draws its line.
+    pub ground: &'a Terrain,
     pub obstacles: &'a [Obstacle],
     pub grass: &'a [GrassPatch],
     /// The tallest blade (m): the grass's outline on a vertical slice.
@@ -51,11 +58,14 @@ fn ramp(t: f32) -> RGBColor {
     RGBColor(c[0], c[1], c[2])
 }
 
+/// Solid cells and the ground under its surface.
+const EARTH: RGBColor = RGBColor(110, 84, 60);
+
 impl Slice {
     /// World position of picture point (u, v) in metres.
-    fn world(self, p: Vec2) -> Vec3 {
+    fn world(self, p: Vec2, ground: &Terrain) -> Vec3 {
         match self {
-            Slice::Horizontal { height } => Vec3::new(p.x, height, p.y),
+            Slice::Horizontal { height } => Vec3::new(p.x, ground.height(p.x, p.y) + height, p.y),
             Slice::Vertical { depth } => Vec3::new(p.x, p.y, depth),
         }
     }
@@ -134,6 +144,21 @@ fn outline_paths(slice: Slice, outlines: &Outlines) -> (Vec<Vec<Vec2>>, Vec<Vec<
         };
         solids.extend(path);
     }
+    // The grass's layer over x0..x1 in the plane z = depth: from the
+    // ground up to the tallest blade over it.
+    let layer = |x0: f32, x1: f32, depth: f32| -> Vec<Vec2> {
+        let xs = |n: u32| (0..=n).map(move |i| x0 + (x1 - x0) * i as f32 / n as f32);
+        let n = 48;
+        let ground = |x: f32| outlines.ground.height(x, depth);
+        let mut path: Vec<Vec2> = xs(n).map(|x| Vec2::new(x, ground(x))).collect();
+        path.extend(
+            xs(n)
+                .rev()
+                .map(|x| Vec2::new(x, ground(x) + outlines.grass_height)),
+        );
+        path.push(path[0]);
+        path
+    };
     let mut grass = Vec::new();
     for p in outlines.grass {
         let path = match (slice, *p) {
@@ -146,20 +171,11 @@ fn outline_paths(slice: Slice, outlines: &Outlines) -> (Vec<Vec<Vec2>>, Vec<Vec<
             }
             (Slice::Vertical { depth }, GrassPatch::Bunch { center, radius, .. }) => {
                 let r = chord(radius, depth - center[1]);
-                (r > 0.0).then(|| {
-                    rect(
-                        Vec2::new(center[0] - r, 0.0),
-                        Vec2::new(center[0] + r, outlines.grass_height),
-                    )
-                })
+                (r > 0.0).then(|| layer(center[0] - r, center[0] + r, depth))
             }
             (Slice::Vertical { depth }, GrassPatch::Meadow { center, size, .. }) => {
-                ((depth - center[1]).abs() <= size[1] / 2.0).then(|| {
-                    rect(
-                        Vec2::new(center[0] - size[0] / 2.0, 0.0),
-                        Vec2::new(center[0] + size[0] / 2.0, outlines.grass_height),
-                    )
-                })
+                ((depth - center[1]).abs() <= size[1] / 2.0)
+                    .then(|| layer(center[0] - size[0] / 2.0, center[0] + size[0] / 2.0, depth))
             }
         };
         grass.extend(path);
@@ -209,14 +225,20 @@ pub fn svg(
             .y_desc(y_desc)
             .draw()
             .map_err(|e| err(e.to_string()))?;
+        let ground = outlines.ground;
+        let solid = |x: Vec3| {
+            x.y < ground.height(x.x, x.z) || field.cell_at(x).is_some_and(|c| field.solid[c])
+        };
         let colour_cells = (0..across[1]).flat_map(|j| {
             (0..across[0]).map(move |i| {
                 let a = lo + step * Vec2::new(i as f32, j as f32);
-                let speed = field.sample(slice.world(a + step / 2.0)).length();
-                Rectangle::new(
-                    [(a.x, a.y), (a.x + step.x, a.y + step.y)],
-                    ramp(speed / scale).filled(),
-                )
+                let x = slice.world(a + step / 2.0, ground);
+                let colour = if solid(x) {
+                    EARTH
+                } else {
+                    ramp(field.sample(x).length() / scale)
+                };
+                Rectangle::new([(a.x, a.y), (a.x + step.x, a.y + step.y)], colour.filled())
             })
         });
         chart
@@ -229,7 +251,11 @@ pub fn svg(
         for j in 0..counts.y as u32 {
             for i in 0..counts.x as u32 {
                 let p = lo + (Vec2::new(i as f32, j as f32) + 0.5) * (size / counts);
-                let d = slice.planar(field.sample(slice.world(p)));
+                let x = slice.world(p, ground);
+                if solid(x) {
+                    continue;
+                }
+                let d = slice.planar(field.sample(x));
                 if let Some(dir) = d.try_normalize() {
                     let end = p + dir * (d.length() / scale).min(1.0) * spacing * 0.85;
                     streaks.push((p, end));
@@ -248,6 +274,19 @@ pub fn svg(
                     .map(|&(a, _)| Circle::new((a.x, a.y), 2, BLACK.filled())),
             )
             .map_err(|e| err(e.to_string()))?;
+        if let Slice::Vertical { depth } = slice {
+            // The ground's line across the plane.
+            let line = (0..=4 * across[0]).map(|i| {
+                let x = lo.x + size.x * i as f32 / (4 * across[0]) as f32;
+                (x, ground.height(x, depth))
+            });
+            chart
+                .draw_series(std::iter::once(PathElement::new(
+                    line.collect::<Vec<_>>(),
+                    BLACK.stroke_width(2),
+                )))
+                .map_err(|e| err(e.to_string()))?;
+        }
         let (solids, grass) = outline_paths(slice, outlines);
         let path = |p: &Vec<Vec2>, style: ShapeStyle| {
             PathElement::new(p.iter().map(|q| (q.x, q.y)).collect::<Vec<_>>(), style)
@@ -290,10 +329,14 @@ pub fn svg(
     Ok(out)
 }
 
-/// The plane's name for a title: "y = 0.60 m" or "z = 0.00 m".
-pub fn plane_name(slice: Slice) -> String {
+/// The plane's name for a title: "y = 0.60 m" (over flat ground, else
+/// "0.60 m above the ground") or "z = 0.00 m".
+pub fn plane_name(slice: Slice, ground: &Terrain) -> String {
     match slice {
-        Slice::Horizontal { height } => format!("horizontal slice at height y = {height:.2} m"),
+        Slice::Horizontal { height } if ground.is_flat() => {
+            format!("horizontal slice at height y = {height:.2} m")
+        }
+        Slice::Horizontal { height } => format!("slice {height:.2} m above the ground"),
         Slice::Vertical { depth } => format!("vertical slice at z = {depth:.2} m"),
     }
 }
@@ -323,13 +366,15 @@ mod tests {
             radius: 0.3,
             count: 10,
         }];
+        let flat = Terrain::default();
         let outlines = Outlines {
+            ground: &flat,
             obstacles: &obstacles,
             grass: &grass,
             grass_height: 0.7,
         };
         let slice = Slice::Horizontal { height: 0.5 };
-        let svg = svg(&field, slice, 2.0, &outlines, &plane_name(slice)).unwrap();
+        let svg = svg(&field, slice, 2.0, &outlines, &plane_name(slice, &flat)).unwrap();
         assert!(svg.starts_with("<svg"));
         for text in ["x (m)", "z (m)", "wind speed (m/s)", "height y = 0.50 m"] {
             assert!(svg.contains(text), "no {text:?}");
@@ -345,5 +390,69 @@ mod tests {
         let (_, green) = outline_paths(Slice::Vertical { depth: 0.1 }, &outlines);
         assert_eq!(green.len(), 1);
         assert!(green[0].iter().any(|p| (p.y - 0.7).abs() < 1e-6));
+    }
+
+    /// Over a ridge the horizontal slice follows the ground (no cell of it
+    /// solid, the wind's colour everywhere), and the vertical one draws the
+    /// ground and its staircase in earth, about as much of the picture as
+    /// lies under the ground, with the ground's line; the grass's layer
+    /// rides on the ground.
+    #[test]
+    fn over_terrain_the_slices_draw_the_ground_as_ground() {
+        use crate::model::terrain::Ridge;
+        let grid = WindGrid::new(
+            UVec3::new(40, 12, 8),
+            Vec3::new(-10.0, 0.0, -2.0),
+            Vec3::new(20.0, 3.0, 4.0),
+        )
+        .unwrap();
+        let ground = Terrain {
+            ridges: vec![Ridge {
+                center: [0.0, 0.0],
+                height: 1.5,
+                half_width: 2.0,
+                heading: 90.0,
+            }],
+            ..Terrain::default()
+        };
+        let settings = WindSettings {
+            terrain: ground.clone(),
+            ..WindSettings::default()
+        };
+        let mut field = WindField::new(grid, &settings);
+        field.vel[0].fill(2.0);
+        let grass = [GrassPatch::Meadow {
+            center: [0.0, 0.0],
+            size: [16.0, 4.0],
+            count: 100,
+        }];
+        let outlines = Outlines {
+            ground: &ground,
+            obstacles: &[],
+            grass: &grass,
+            grass_height: 0.5,
+        };
+        let earth = |svg: &str| svg.matches("fill=\"#6E543C\"").count();
+        let above = Slice::Horizontal { height: 0.3 };
+        let name = plane_name(above, &ground);
+        assert_eq!(name, "slice 0.30 m above the ground");
+        let picture = svg(&field, above, 2.0, &outlines, &name).unwrap();
+        assert_eq!(earth(&picture), 0);
+        let cut = Slice::Vertical { depth: 0.0 };
+        let picture = svg(&field, cut, 2.0, &outlines, &plane_name(cut, &ground)).unwrap();
+        // The ground's area over the grid's 20 x 3 m: the ridge's profile
+        // integrated, pi H L (less its tails beyond 10 m).
+        let under = (0..400)
+            .map(|i| ground.height(-10.0 + (i as f32 + 0.5) * 0.05, 0.0) * 0.05)
+            .sum::<f32>();
+        let share = earth(&picture) as f32 / (40.0 * 12.0);
+        assert!(
+            (share / (under / 60.0) - 1.0).abs() < 0.25,
+            "{share} of the cells in earth, {} of the slice under the ground",
+            under / 60.0
+        );
+        let (_, green) = outline_paths(cut, &outlines);
+        let top = green[0].iter().map(|p| p.y).fold(f32::MIN, f32::max);
+        assert!((top - 2.0).abs() < 1e-3, "the grass's layer tops at {top}");
     }
 }
