@@ -189,6 +189,13 @@ gpu_interface! {
         /// Bit a: the mode is paired with its mirror images across the
         /// grid's two sides across axis a (`model::turbulence::at`).
         pub mirrored: u32,
+        /// The amplitude of the mode's vector potential at phase 0 (m^2/s;
+        /// the faces' `amplitude` is its discrete curl): a face beside a
+        /// solid cell takes the curl of the potential held at zero on the
+        /// edges that touch one (`model::turbulence::potential_at`). Zero
+        /// for a mode finer than the grid.
+        pub potential: [f32; 3],
+        pub _pad0: u32,
     }
 
     /// One multigrid level as the kernels read it (glsl/wind/multigrid.glsl;

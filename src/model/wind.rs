@@ -782,6 +782,39 @@ pub struct WindField {
     pub time: f32,
 }
 
+/// The four edges around the face of component `axis` at half-cell point
+/// `q` (`TurbulenceField::face_point`), each as (the potential's component
+/// along it, its half-cell point): the two along c a step along b either
+/// side, the two along b a step along c, (a, b, c) the axes in turn.
+fn face_edges(axis: usize, q: UVec3) -> impl Iterator<Item = (usize, UVec3)> {
+    let (b, c) = ((axis + 1) % 3, (axis + 2) % 3);
+    let unit = |d: usize| UVec3::from(std::array::from_fn(|i| (i == d) as u32));
+    [
+        (c, q + unit(b)),
+        (c, q - unit(b)),
+        (b, q + unit(c)),
+        (b, q - unit(c)),
+    ]
+    .into_iter()
+}
+
+/// Whether the edge along `component` at half-cell point `p` (odd along
+/// it, even across) touches a solid cell of the grid: the cell it runs
+/// through along its axis, and those either side across each other axis.
+fn edge_touches_solid(grid: &WindGrid, solid: &[bool], component: usize, p: UVec3) -> bool {
+    let n = grid.cells;
+    let span = |d: usize| {
+        if d == component {
+            let c = (p[d] - 1) / 2;
+            c..c + 1
+        } else {
+            let g = p[d] / 2;
+            g.saturating_sub(1)..g.min(n[d] - 1) + 1
+        }
+    };
+    span(0).any(|i| span(1).any(|j| span(2).any(|k| solid[grid.cell_index(i, j, k)])))
+}
+
 impl WindField {
     /// Voxelises the obstacles and the ground and classifies every face,
     /// once: a cell is solid where its centre lies inside an obstacle or
@@ -1037,10 +1070,24 @@ impl WindField {
                     && !solid[grid.cell_index(c[0], c[1], c[2])]
             };
             for (idx, f) in self.grid.each_face(axis) {
-                if self.faces[axis][idx] == FaceKind::Wall && !open_side(f) {
+                let kind = self.faces[axis][idx];
+                if kind == FaceKind::Wall && !open_side(f) {
                     continue;
                 }
-                let u = field.at(&records, axis, TurbulenceField::face_point(axis, f));
+                let q = TurbulenceField::face_point(axis, f);
+                // Beside a solid cell, the curl of the potential held at
+                // zero on its edges: no flow into the solid, no
+                // divergence beside it. A buried face, between two cells
+                // under the ground, is only the samplers' ghost value.
+                let held =
+                    |component: usize, p: UVec3| edge_touches_solid(grid, solid, component, p);
+                let beside_solid =
+                    kind != FaceKind::Buried && face_edges(axis, q).any(|(c, p)| held(c, p));
+                let u = if beside_solid {
+                    field.curl_at(&records, axis, q, held)
+                } else {
+                    field.at(&records, axis, q)
+                };
                 self.vel[axis][idx] += u;
                 self.turbulence_added[axis][idx] = u;
             }
