@@ -8,6 +8,11 @@ use glam::Vec3;
 /// Vertical, the ground normal.
 pub const UP: Vec3 = Vec3::Y;
 
+/// How far inside contact's region a fitted rest shape keeps each control
+/// point (`Blade::fitted`): n . d - c |d|^2 at least this times |d|, about
+/// half a degree of lean.
+pub const FIT_ROOM: f32 = 0.01;
+
 /// The three shapes one cubic with one inflection point covers.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "lowercase")]
@@ -94,6 +99,69 @@ impl Blade {
             .fold(f32::MAX, f32::min);
         self.ground_curvature = curvature.min(rest_room).max(0.0);
         self
+    }
+
+    /// The rest shape fitted to the ground it stands on (after `raised`,
+    /// `curvature` the ground's rise over its tangent plane within the
+    /// blade's reach): where a control point lies outside contact's region
+    /// (a blade leaning or drooping into a slope, which would stand in the
+    /// hill, held there by contact and never moving), the blade is turned
+    /// about the vertical through its root as little as fits, its lean then
+    /// across or down the slope as grass on a slope hangs; where no turn
+    /// fits (a hollow tighter than the blade), its lean, turned where it
+    /// fits best, is shrunk toward upright as far as needed. Every control
+    /// point then keeps `FIT_ROOM` inside the region, and so does the drawn
+    /// curve (the region is convex); the blade stays upright at its root,
+    /// its width horizontal, and contact takes the ground's whole
+    /// `curvature`. A blade that fits is returned as it is.
+    pub fn fitted(self, curvature: f32) -> Self {
+        let (n, root) = (self.ground, self.rest[0]);
+        let room = |b: &Blade| {
+            b.rest[1..]
+                .iter()
+                .map(|&p| {
+                    let d = p - root;
+                    (n.dot(d) - curvature * d.length_squared()) / d.length().max(1e-9)
+                })
+                .fold(f32::MAX, f32::min)
+        };
+        if room(&self) >= FIT_ROOM {
+            return self;
+        }
+        let turned = |angle: f32| {
+            let q = glam::Quat::from_rotation_y(angle);
+            Blade {
+                rest: self.rest.map(|p| root + q * (p - root)),
+                width_dir: q * self.width_dir,
+                ..self
+            }
+        };
+        const TURNS: u32 = 32;
+        let fit = |b: Blade| b.raised(0.0, n, curvature);
+        for k in 1..=TURNS {
+            let angle = std::f32::consts::PI * k as f32 / TURNS as f32;
+            for b in [turned(angle), turned(-angle)] {
+                if room(&b) >= FIT_ROOM {
+                    return fit(b);
+                }
+            }
+        }
+        let best = (0..2 * TURNS)
+            .map(|k| turned(std::f32::consts::PI * k as f32 / TURNS as f32))
+            .max_by(|a, b| room(a).total_cmp(&room(b)))
+            .unwrap_or(self);
+        let shrunk = |t: f32| Blade {
+            rest: best.rest.map(|p| {
+                let d = p - root;
+                root + Vec3::new(d.x * t, d.y, d.z * t)
+            }),
+            ..best
+        };
+        const SHRINKS: u32 = 16;
+        (1..=SHRINKS)
+            .map(|k| shrunk(1.0 - k as f32 / SHRINKS as f32))
+            .find(|b| room(b) >= FIT_ROOM)
+            .map_or_else(|| fit(shrunk(0.0)), fit)
     }
 
     /// The farthest any point of the blade can get from its root: its
@@ -199,5 +267,55 @@ mod tests {
     fn degenerate_edge_is_guarded() {
         let f = edge_frame(Vec3::ONE, Vec3::ONE, Vec3::X);
         assert!(f.e.is_finite() && f.w.is_finite() && f.n.is_finite());
+    }
+
+    /// A drooping blade hanging uphill on a 27 degree slope reaches into
+    /// the ground: fitted, it is turned about its vertical (its shape, its
+    /// upright root and its horizontal width kept) until every control
+    /// point keeps `FIT_ROOM` inside contact's region, and contact takes
+    /// the ground's whole rise; a blade hanging downhill fits as it is;
+    /// and in a hollow tighter than any turn, the lean shrinks.
+    #[test]
+    fn a_blade_hanging_into_a_slope_is_turned_away_from_it() {
+        let slope = 27f32.to_radians();
+        // The ground rises toward +x: its normal leans toward -x.
+        let n = Vec3::new(-slope.sin(), slope.cos(), 0.0);
+        let profile = [[0.0, 0.0], [0.02, 0.3], [0.3, 0.45], [0.55, 0.15]];
+        let hanging = |facing: Vec3| {
+            Blade::from_profile(Vec3::ZERO, facing, profile, 0.01, BladeKind::Drooping, 0.5)
+                .raised(0.0, n, 0.05)
+        };
+        let room = |b: &Blade, c: f32| {
+            b.rest[1..]
+                .iter()
+                .map(|&d| (n.dot(d) - c * d.length_squared()) / d.length())
+                .fold(f32::MAX, f32::min)
+        };
+        let uphill = hanging(Vec3::X);
+        assert!(room(&uphill, 0.05) < 0.0, "the tip is not in the slope");
+        let fitted = uphill.fitted(0.05);
+        assert!(room(&fitted, 0.05) >= FIT_ROOM, "{}", room(&fitted, 0.05));
+        assert_eq!(fitted.ground_curvature, 0.05);
+        assert_eq!(fitted.kind, BladeKind::Drooping);
+        for (a, b) in fitted.edge_lengths().iter().zip(uphill.edge_lengths()) {
+            assert!((a - b).abs() < 1e-5);
+        }
+        assert!(fitted.width_dir.y.abs() < 1e-6 && (fitted.width_dir.length() - 1.0).abs() < 1e-5);
+        for i in 0..4 {
+            // Turned about the vertical: each point's height kept.
+            assert!((fitted.rest[i].y - uphill.rest[i].y).abs() < 1e-6);
+        }
+        let downhill = hanging(-Vec3::X);
+        assert_eq!(downhill.fitted(0.05), downhill);
+        // A hollow curving up faster than any turn leaves room for: the
+        // lean shrinks toward upright.
+        let pit = uphill.fitted(2.0);
+        let lean = |b: &Blade| Vec3::new(b.rest[3].x, 0.0, b.rest[3].z).length();
+        assert!(
+            lean(&pit) < lean(&uphill),
+            "{} {}",
+            lean(&pit),
+            lean(&uphill)
+        );
     }
 }

@@ -132,13 +132,31 @@ impl Terrain {
     /// with contact's paraboloid over the ground within its reach
     /// (`Blade::raised`). A flat terrain leaves it as it is.
     pub fn root(&self, blade: Blade) -> Blade {
+        self.rooted(blade).0
+    }
+
+    /// `root`, its rest shape then fitted to the ground (`Blade::fitted`:
+    /// a blade leaning or drooping into a slope turned away from it), so
+    /// that no point of it is under the ground at rest. The patches'
+    /// blades are; the cover's, whose tile kernel makes them without the
+    /// ground's rise, are rooted only.
+    pub fn root_fitted(&self, blade: Blade) -> Blade {
         if self.is_flat() {
             return blade;
+        }
+        let (rooted, rise) = self.rooted(blade);
+        rooted.fitted(rise)
+    }
+
+    /// `root`, and the ground's rise bound c there.
+    fn rooted(&self, blade: Blade) -> (Blade, f32) {
+        if self.is_flat() {
+            return (blade, 0.0);
         }
         let root = blade.rest[0];
         let normal = self.normal(root.x, root.z, NORMAL_STEP_M);
         let c = self.rise_bound(root.x, root.z, normal, blade.reach());
-        blade.raised(self.height(root.x, root.z), normal, c)
+        (blade.raised(self.height(root.x, root.z), normal, c), c)
     }
 
     /// The terrain as glsl/common/terrain.glsl reads it: the header, then

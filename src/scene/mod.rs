@@ -821,10 +821,11 @@ impl Scene {
         }
         if !terrain.is_flat() {
             // Rooted on the ground, growing upright as grass does on a
-            // slope; contact keeps them over the ground within their reach
+            // slope, a blade leaning into the slope turned away from it;
+            // contact keeps them over the ground within their reach
             // (`Blade::ground_curvature`).
             for b in &mut blades {
-                *b = terrain.root(*b);
+                *b = terrain.root_fitted(*b);
             }
         }
         let obstacles = &self.wind.obstacles;
