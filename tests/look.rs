@@ -135,6 +135,59 @@ fn the_sheen_at_a_blade_facing_the_half_vector_is_the_closed_form() {
     finish(gpu);
 }
 
+/// Far over the clear ground the grass takes the haze the ground takes
+/// (glsl/common/haze.glsl): a blade 40 m from the grass, its clear ground
+/// 5 m, is the colour of the hazed ground beside it, not a green blade
+/// standing over fog; with 200 m of clear ground it is green.
+#[test]
+fn far_over_the_clear_ground_the_grass_fades_into_the_haze_as_the_ground_does() {
+    let gpu = strict_gpu();
+    let mut scene = Scene::builtin("fig10-few-bunches").unwrap();
+    scene.grass.bunch = vec![Bunch {
+        center: [0.0, 0.0],
+        radius: 0.05,
+        count: 1,
+    }];
+    scene.grass.meadow.clear();
+    scene.light.shadow_map = 0;
+    scene.camera.position = [0.0, 1.0, -36.0];
+    scene.camera.target = [0.0, 0.5, -40.0];
+    scene.camera.fov_y = 30.0;
+    let blade = upright_blade(Vec3::new(0.0, 0.0, -40.0), Vec3::Z, 1.0, 0.2);
+    let (w, h) = (96, 96);
+    let (x, y) = common::project(&scene, Vec3::new(0.0, 0.5, -40.0), w, h);
+    let (x, y) = (x.round() as u32, y.round() as u32);
+    let gap = |frame: &meadow::frame::Frame| {
+        (0..3)
+            .map(|c| {
+                let blade = mean_linear(frame, x - 1, y - 1, x + 2, y + 2, c);
+                let ground = mean_linear(frame, 4, y - 1, 8, y + 2, c);
+                (blade - ground).abs()
+            })
+            .fold(0.0, f64::max)
+    };
+    let mut gaps = Vec::new();
+    for clear in [5.0, 200.0] {
+        scene.ground.half_extent = clear;
+        gaps.push(gap(&render(&gpu, &scene, &[blade], w, h, ViewMode::Shaded)));
+    }
+    eprintln!(
+        "blade against the ground beside it: {:.4} with 5 m of clear ground, {:.4} with 200 m",
+        gaps[0], gaps[1]
+    );
+    assert!(
+        gaps[1] > 0.05,
+        "the clear blade is not apart from the ground: {}",
+        gaps[1]
+    );
+    assert!(
+        gaps[0] < 0.2 * gaps[1],
+        "the hazed blade stands out: {}",
+        gaps[0]
+    );
+    finish(gpu);
+}
+
 // Light in the canopy as glsl/common/canopy.glsl writes it.
 fn leaf_projection(cos_theta: f64, cos_theta_l: f64) -> f64 {
     let (c, cl) = (cos_theta.clamp(0.0, 1.0), cos_theta_l.clamp(0.0, 1.0));

@@ -7,7 +7,9 @@
 // side, diffuse transmission through to the other, and the cuticle's
 // sheen, all on the normal of the deformed curve (bend, swing and twist
 // turn it), so a bending blade turns its sheen toward or away from the eye.
-// The canopy above a point shades it (glsl/common/canopy.glsl).
+// The canopy above a point shades it (glsl/common/canopy.glsl); far over
+// the clear ground the haze veils it as it does the ground
+// (glsl/common/haze.glsl).
 #include "frame.glsl"
 #include "hash.glsl"
 #include "shadow.glsl"
@@ -15,6 +17,8 @@
 #include "canopy.glsl"
 #include "leaf_optics.glsl"
 #include "grass_color.glsl"
+#include "sky.glsl"
+#include "haze.glsl"
 
 layout(location = 0) in vec3 g_world;
 layout(location = 1) in vec3 g_normal;
@@ -99,5 +103,6 @@ void main() {
     color += sheen * light * cuticle_sheen(ns, v, l, alpha) * sun;
     // (The sky it mirrors, smooth over the blade, is the geometry stage's.)
     color += sheen * cuticle_sky_albedo(n_v, alpha) * g_sky * reach.y;
-    out_color = vec4(color, 1.0);
+    // Far over the clear ground, the haze the ground fades into.
+    out_color = vec4(hazed(color, g_world), 1.0);
 }

@@ -3,13 +3,15 @@
 // texture, tiled, with a slow brightness variation so the tiling does not
 // show, lit by the sun (`lambert`: the cosine to it) and darkened where the
 // shadow map says the sun is hidden; beyond frame.ground.z metres from
-// the grass it fades into the sky's horizon colour (in its direction from
-// the camera), so the ground meets the sky without a band. Where grass
+// the grass it fades into the sky's horizon colour (glsl/common/haze.glsl),
+// so the ground meets the sky without a band. Where grass
 // grows (glsl/common/canopy.glsl) the ground is the sward's floor, not
 // bare soil. Needs frame.glsl, shadow.glsl, sky.glsl, surfaces.glsl and
 // canopy.glsl included first.
 #ifndef MEADOW_SOIL_GLSL
 #define MEADOW_SOIL_GLSL
+
+#include "haze.glsl"
 
 float hash(vec2 p) {
     return fract(sin(dot(p, vec2(127.1, 311.7))) * 43758.5453);
@@ -43,11 +45,7 @@ vec3 soil_lit(vec3 world, float lambert) {
     // inclination of a spherical distribution).
     vec2 reach = exp(-lai.y * canopy_extinction(0.0, 0.5, max(frame.light_dir.y, 0.0)));
     vec3 lit = albedo * (frame.light_dir.w * reach.y + frame.light_color.rgb * lambert * sun_visibility(world) * reach.x);
-    float clear = frame.ground.z;
-    float beyond = max(distance(world.xz, frame.ground.xy) - clear, 0.0);
-    float haze = 1.0 - exp(-beyond / (0.25 * clear + 10.0));
-    vec3 horizon = sky_horizon(world - frame.camera_pos.xyz, frame.light_dir.xyz);
-    return mix(lit, horizon, haze);
+    return hazed(lit, world);
 }
 
 #endif
