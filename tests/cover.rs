@@ -690,7 +690,9 @@ fn a_cover_refuses_what_it_cannot_do_yet_in_one_line() {
     // Colliders and wind sources stand in the world; over terrain the
     // window takes them above the ground (`WindField::world_point`).
     for extra in [
-        "\n[[collider]]\nkind = \"sphere\"\nradius = 0.2\nposition = [0.0, 0.5, 0.0]\n",
+        // Over the ridge's crest (the ground 2.4 m up there: a ball lower
+        // would be in the hill, refused by `check::above_ground`).
+        "\n[[collider]]\nkind = \"sphere\"\nradius = 0.2\nposition = [0.0, 3.0, 0.0]\n",
         "\n[[wind.source]]\nposition = [0.0, 0.5, 0.0]\ndirection = [1.0, 0.0, 0.0]\nstrength = 2.0\nradius = 1.0\n",
     ] {
         let scene = meadow::scene::file::parse(&(text.clone() + extra), "hills-covered.toml")
