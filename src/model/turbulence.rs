@@ -477,6 +477,20 @@ impl TurbulenceField {
     }
 }
 
+/// Mode `m`'s wavenumber, and its phase at `x` along the axes it is not
+/// mirrored across (theta' of `component_at` and `potential_at`).
+fn free_phase(m: &TurbulenceMode, x: Vec3) -> ([f32; 3], f32) {
+    let [kx, ky, kz, phase] = m.wavenumber_phase;
+    let k = [kx, ky, kz];
+    let mut theta = phase;
+    for a in 0..3 {
+        if m.mirrored & (1 << a) == 0 {
+            theta += k[a] * x[a];
+        }
+    }
+    (k, theta)
+}
+
 /// Component `axis` of the field `records` describe at `x` (m from the
 /// grid's minimum corner), as glsl/common/turbulence.glsl sums it. A mode
 /// a cos(k . x + theta) paired with its mirror images across the walls of
@@ -488,14 +502,7 @@ impl TurbulenceField {
 pub fn component_at(records: &[TurbulenceMode], axis: usize, x: Vec3) -> f32 {
     let mut u = 0.0;
     for m in records {
-        let [kx, ky, kz, phase] = m.wavenumber_phase;
-        let k = [kx, ky, kz];
-        let mut theta = phase;
-        for a in 0..3 {
-            if m.mirrored & (1 << a) == 0 {
-                theta += k[a] * x[a];
-            }
-        }
+        let (k, theta) = free_phase(m, x);
         let mut f = if m.mirrored & (1 << axis) != 0 {
             -theta.sin()
         } else {
@@ -527,14 +534,7 @@ pub fn component_at(records: &[TurbulenceMode], axis: usize, x: Vec3) -> f32 {
 pub fn potential_at(records: &[TurbulenceMode], axis: usize, x: Vec3) -> f32 {
     let mut psi = 0.0;
     for m in records {
-        let [kx, ky, kz, phase] = m.wavenumber_phase;
-        let k = [kx, ky, kz];
-        let mut theta = phase;
-        for a in 0..3 {
-            if m.mirrored & (1 << a) == 0 {
-                theta += k[a] * x[a];
-            }
-        }
+        let (k, theta) = free_phase(m, x);
         let turns = (0..3)
             .filter(|&a| a != axis && m.mirrored & (1 << a) != 0)
             .count();
