@@ -52,6 +52,19 @@ fn upright_blade(root: Vec3, facing: Vec3, height: f32, half_width: f32) -> Blad
     )
 }
 
+/// A scene whose grass is one bunch of one blade at the origin (the tests
+/// render blades of their own in it; its patch places the clear ground).
+fn lone_blade_scene() -> Scene {
+    let mut scene = Scene::builtin("fig10-few-bunches").unwrap();
+    scene.grass.bunch = vec![Bunch {
+        center: [0.0, 0.0],
+        radius: 0.05,
+        count: 1,
+    }];
+    scene.grass.meadow.clear();
+    scene
+}
+
 // The cuticle's sheen as glsl/common/leaf_optics.glsl writes it, here in
 // closed form: GGX, Smith's height-correlated visibility, Schlick's
 // Fresnel with the wax's F0.
@@ -77,13 +90,7 @@ fn sheen_closed_form(n: glam::DVec3, v: glam::DVec3, l: glam::DVec3) -> f64 {
 #[test]
 fn the_sheen_at_a_blade_facing_the_half_vector_is_the_closed_form() {
     let gpu = strict_gpu();
-    let mut scene = Scene::builtin("fig10-few-bunches").unwrap();
-    scene.grass.bunch = vec![Bunch {
-        center: [0.0, 0.0],
-        radius: 0.05,
-        count: 1,
-    }];
-    scene.grass.meadow.clear();
+    let mut scene = lone_blade_scene();
     // The blade's own texture, lit without shadows or the canopy's shade:
     // only the sheen differs between the two frames.
     scene.light.shadow_map = 0;
@@ -142,13 +149,7 @@ fn the_sheen_at_a_blade_facing_the_half_vector_is_the_closed_form() {
 #[test]
 fn far_over_the_clear_ground_the_grass_fades_into_the_haze_as_the_ground_does() {
     let gpu = strict_gpu();
-    let mut scene = Scene::builtin("fig10-few-bunches").unwrap();
-    scene.grass.bunch = vec![Bunch {
-        center: [0.0, 0.0],
-        radius: 0.05,
-        count: 1,
-    }];
-    scene.grass.meadow.clear();
+    let mut scene = lone_blade_scene();
     scene.light.shadow_map = 0;
     scene.camera.position = [0.0, 1.0, -36.0];
     scene.camera.target = [0.0, 0.5, -40.0];
