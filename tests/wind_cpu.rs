@@ -6,7 +6,7 @@ mod common;
 use common::mean_spread;
 use common::wind_scenes::{self, behaviour_grid, blowing_source};
 use glam::{DVec3, UVec3, Vec3};
-use meadow::analysis::stats::lagged_correlation;
+use meadow::analysis::stats::{lagged_correlation, rms_over_fluid};
 use meadow::interface::TurbulenceMode;
 use meadow::model::contact::{Collider, ColliderKind};
 use meadow::model::turbulence::{Turbulence, TurbulenceField};
@@ -544,12 +544,7 @@ fn turbulence_over_a_hill_leaves_no_divergence_beside_the_ground() {
     for _ in 0..20 {
         field.step(&settings, 1.0 / 30.0);
     }
-    let fluid: Vec<f32> = (0..field.solid.len())
-        .filter(|&c| !field.solid[c])
-        .map(|c| field.divergence[c])
-        .collect();
-    let before =
-        (fluid.iter().map(|d| (*d as f64).powi(2)).sum::<f64>() / fluid.len() as f64).sqrt() as f32;
+    let before = rms_over_fluid(&field.divergence, &field.solid) as f32;
     let after = field.rms_divergence();
     eprintln!(
         "rms divergence before the projection {before:.3e} 1/s, after the step (its turbulence added) {after:.3e} 1/s ({:.2e} of before)",

@@ -6,7 +6,7 @@ mod common;
 use common::wind_scenes::{self, behaviour_grid, blowing_source};
 use common::{finish, strict_gpu};
 use glam::{UVec3, Vec3};
-use meadow::analysis::stats::lagged_correlation;
+use meadow::analysis::stats::{lagged_correlation, rms_over_fluid};
 use meadow::compute::WindPass;
 use meadow::gpu::CommandPool;
 use meadow::model::contact::{Collider, ColliderKind};
@@ -341,11 +341,7 @@ fn gpu_matches_the_cpu_reference_over_terrain(turbulence: Option<Turbulence>) {
         // potential held at zero there: the GPU's field leaves no more
         // divergence in the air than rounding, against what its last
         // projection began with (the CPU's).
-        let fluid: Vec<f64> = (0..cpu.solid.len())
-            .filter(|&c| !cpu.solid[c])
-            .map(|c| cpu.divergence[c] as f64)
-            .collect();
-        let before = (fluid.iter().map(|d| d * d).sum::<f64>() / fluid.len() as f64).sqrt();
+        let before = rms_over_fluid(&cpu.divergence, &cpu.solid);
         let mut on_gpu = cpu.clone();
         on_gpu.vel = gpu_vel.clone();
         let after = on_gpu.rms_divergence() as f64;
@@ -609,17 +605,6 @@ fn gpu_field_decays_after_its_source_switches_off() {
         last < 0.5 * at_off,
         "GPU: barely decayed: {at_off} -> {last}"
     );
-}
-
-/// Root mean square over the fluid cells.
-fn rms_over_fluid(values: &[f32], solid: &[bool]) -> f64 {
-    let fluid: Vec<f64> = values
-        .iter()
-        .zip(solid)
-        .filter(|(_, &s)| !s)
-        .map(|(v, _)| (*v as f64).powi(2))
-        .collect();
-    (fluid.iter().sum::<f64>() / fluid.len().max(1) as f64).sqrt()
 }
 
 /// The multigrid solve on every shipped scene (the paper's 60 x 20 x 60

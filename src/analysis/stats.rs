@@ -1,5 +1,17 @@
-//! Correlations and quantiles of plain series, shared by `meadow trace`'s
-//! analysis and the waves of light.
+//! Correlations, quantiles and a masked rms of plain series, shared by
+//! `meadow trace`'s analysis, the waves of light and `meadow wind`.
+
+/// The root mean square of `values` where `solid` is false (a wind
+/// field's cells of air), in f64; 0 with none.
+pub fn rms_over_fluid(values: &[f32], solid: &[bool]) -> f64 {
+    let fluid: Vec<f64> = values
+        .iter()
+        .zip(solid)
+        .filter(|(_, &s)| !s)
+        .map(|(v, _)| (*v as f64).powi(2))
+        .collect();
+    (fluid.iter().sum::<f64>() / fluid.len().max(1) as f64).sqrt()
+}
 
 /// Pearson correlation of a[i] with b[i + lag] over the samples both have;
 /// 0 where either is constant or fewer than two samples overlap.

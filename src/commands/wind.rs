@@ -8,6 +8,7 @@ use std::path::Path;
 
 use glam::{UVec3, Vec3};
 
+use crate::analysis::stats::rms_over_fluid;
 use crate::commands::on_gpu;
 use crate::compute::{Simulation, WindPass};
 use crate::error::Result;
@@ -263,17 +264,6 @@ fn run_steps(
     })
 }
 
-/// RMS of a cell field over the fluid cells.
-fn rms_over_fluid(values: &[f32], solid: &[bool]) -> f32 {
-    let fluid: Vec<f64> = values
-        .iter()
-        .zip(solid)
-        .filter(|(_, &solid)| !solid)
-        .map(|(d, _)| (*d as f64).powi(2))
-        .collect();
-    (fluid.iter().sum::<f64>() / fluid.len().max(1) as f64).sqrt() as f32
-}
-
 /// The scene's wind run `steps` steps with each solver (its V-cycles, its
 /// Jacobi iterations), multigrid first; `progress` hears of the steps.
 pub fn compare_solvers(
@@ -299,7 +289,7 @@ pub fn compare_solvers(
             steps,
             step_ms_median: timing.map(|t| t.0),
             step_ms_p95: timing.map(|t| t.1),
-            rms_divergence_before: rms_over_fluid(&run.before, &run.field.solid),
+            rms_divergence_before: rms_over_fluid(&run.before, &run.field.solid) as f32,
             rms_divergence_after: run.field.rms_divergence(),
         });
     }
@@ -373,7 +363,7 @@ fn run(
         before,
     } = run_steps(gpu, &commands, scene, steps, progress)?;
     let max_divergence_before = before.iter().fold(0.0f32, |m, d| m.max(d.abs()));
-    let rms_divergence_before = rms_over_fluid(&before, &field.solid);
+    let rms_divergence_before = rms_over_fluid(&before, &field.solid) as f32;
     let max_speed = max_speed(&field);
     let grass_height = scene.grass.shape.height[1];
     let center = grid.origin + grid.size() / 2.0;
