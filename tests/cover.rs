@@ -571,8 +571,8 @@ fn hilly() -> Terrain {
 /// (`Terrain::root`): x and z bit for bit, the heights to the divisions'
 /// rounding (a device's division may round otherwise than the CPU's;
 /// lavapipe's does not), and poses it in the wind at its raised tip as
-/// the CPU reference does, to the solves' rounding, in a wind window that
-/// follows the ground (glsl/common/wind_felt.glsl).
+/// the CPU reference does, to the solves' rounding, in a wind window over
+/// the hills.
 #[test]
 fn on_terrain_the_gpu_roots_and_poses_the_cover_where_the_cpu_does() {
     let terrain = hilly();
@@ -588,8 +588,8 @@ fn on_terrain_the_gpu_roots_and_poses_the_cover_where_the_cpu_does() {
         center: None,
     };
     let grass = Grass::default();
-    // A wind window that follows the ground: each blade feels the wind
-    // at its height above it.
+    // A wind window over the hills: each blade feels the wind where it
+    // stands.
     let (grid, field, recorded) = steady_wind_over(&terrain, Vec3::new(-14.0, 0.0, -14.0), 28.0);
     let posed_tiles = CoverTiles::around(&pose_cover, Vec2::ZERO);
 
@@ -746,13 +746,19 @@ fn steady_wind(corner: Vec3, side: f32) -> (WindGrid, WindField, Vec<f32>) {
     steady_wind_over(&FLAT, corner, side)
 }
 
-/// `steady_wind` over `terrain`: on terrain, a grid that follows the
-/// ground, its heights above it (a cover's wind window).
+/// `steady_wind` over `terrain`: from the lowest ground under the square
+/// to 2 m over the highest, in the world's heights as a cover's window
+/// over terrain stands (on terrain, 8 layers more).
 fn steady_wind_over(terrain: &Terrain, corner: Vec3, side: f32) -> (WindGrid, WindField, Vec<f32>) {
-    let mut grid = WindGrid::new(UVec3::new(8, 4, 8), corner, Vec3::new(side, 2.0, side)).unwrap();
-    if !terrain.is_flat() {
-        grid = grid.following_ground();
-    }
+    let (lo, hi) = ([corner.x, corner.z], [corner.x + side, corner.z + side]);
+    let (low, high) = terrain.range_over(lo, hi, 0.25);
+    let layers = if terrain.is_flat() { 4 } else { 12 };
+    let grid = WindGrid::new(
+        UVec3::new(8, layers, 8),
+        Vec3::new(corner.x, corner.y + low, corner.z),
+        Vec3::new(side, high - low + 2.0, side),
+    )
+    .unwrap();
     let settings = WindSettings {
         terrain: terrain.clone(),
         ..WindSettings::default()
@@ -1050,13 +1056,11 @@ fn near_the_camera_the_cover_runs_the_papers_dynamics_as_the_cpu() {
     kept_dynamics_against_the_cpu(&FLAT, &[]);
 }
 
-/// The same on hills, a ridge and a height map in a wind window that
-/// follows the ground: the kept blades rooted on it (and held over it by
-/// ground contact), each feeling the wind at its height above the ground
-/// (`WindField::window_point`; glsl/common/wind_felt.glsl in the grass
-/// step, the enter and the tile kernels).
+/// The same on hills, a ridge and a height map in a wind window over
+/// them: the kept blades rooted on the ground (and held over it by ground
+/// contact), each feeling the wind where it stands in the world.
 #[test]
-fn on_terrain_the_kept_blades_feel_a_wind_that_follows_the_ground_as_the_cpu() {
+fn on_terrain_the_kept_blades_feel_the_wind_where_they_stand_as_the_cpu() {
     kept_dynamics_against_the_cpu(&hilly(), &[]);
 }
 
@@ -1127,12 +1131,10 @@ fn kept_dynamics_against_the_cpu(
     let gpu = strict_gpu_with(None);
     let commands = CommandPool::new(&gpu, "cover dynamics commands").unwrap();
     let velocity = wind_buffer(&gpu, &commands, &calm);
-    let ground = meadow::compute::terrain_buffer(&gpu, &commands, terrain, "test ground").unwrap();
     let input = WindInput {
         grid,
         velocity: &velocity,
         canopy: None,
-        ground: &ground,
         subgrid: None,
     };
     let setup = meadow::compute::cover_dynamics::CoverDynamicsSetup {
@@ -1207,7 +1209,7 @@ fn kept_dynamics_against_the_cpu(
     let posed: Vec<BladeVertex> = vertices
         .read_back(&gpu, &commands, tiles.blade_count() as usize * 4)
         .unwrap();
-    drop((pass, vertices, frame, dynamics, velocity, ground, commands));
+    drop((pass, vertices, frame, dynamics, velocity, commands));
     finish(gpu);
 
     // The CPU: the same slots, tiles coming in started at their
@@ -1603,12 +1605,10 @@ fn a_stiffer_blade_coming_in_raises_the_substeps() {
     let gpu = strict_gpu_with(None);
     let commands = CommandPool::new(&gpu, "cover substeps commands").unwrap();
     let velocity = wind_buffer(&gpu, &commands, &calm);
-    let ground = meadow::compute::terrain_buffer(&gpu, &commands, &FLAT, "test ground").unwrap();
     let input = WindInput {
         grid,
         velocity: &velocity,
         canopy: None,
-        ground: &ground,
         subgrid: None,
     };
     let eye = |n: usize| Vec2::new(0.5 + 4.0 * n as f32, 0.5);
@@ -1643,7 +1643,7 @@ fn a_stiffer_blade_coming_in_raises_the_substeps() {
     }
     rec.submit_and_wait("cover flight").unwrap();
     let states = dynamics.grass().read_states(&gpu, &commands).unwrap();
-    drop((dynamics, velocity, ground, commands));
+    drop((dynamics, velocity, commands));
     finish(gpu);
     eprintln!("substeps: {first} for the first square, {expected} after the flight");
     assert!(

@@ -72,11 +72,9 @@ impl Differences {
     }
 }
 
-/// A recorded wind velocity on the GPU, for the grass step to sample, on
-/// a grid of the world's heights (its ground a flat placeholder).
+/// A recorded wind velocity on the GPU, for the grass step to sample.
 struct RecordedWind {
     velocity: Buffer,
-    ground: Buffer,
 }
 
 fn recorded_wind(gpu: &Gpu, commands: &CommandPool, name: &str, recorded: &[f32]) -> RecordedWind {
@@ -89,9 +87,7 @@ fn recorded_wind(gpu: &Gpu, commands: &CommandPool, name: &str, recorded: &[f32]
         Access::COMPUTE_READ,
     )
     .unwrap();
-    let flat = meadow::model::terrain::Terrain::default();
-    let ground = meadow::compute::terrain_buffer(gpu, commands, &flat, "flat ground").unwrap();
-    RecordedWind { velocity, ground }
+    RecordedWind { velocity }
 }
 
 impl RecordedWind {
@@ -101,7 +97,6 @@ impl RecordedWind {
             grid,
             velocity: &self.velocity,
             canopy: None,
-            ground: &self.ground,
             subgrid: None,
         }
     }

@@ -168,6 +168,46 @@ fn wind_over_a_ridge_speeds_up_over_the_crest_as_potential_flow_does() {
     );
 }
 
+/// A cover's wind window over the same ridge: the window starts 8 m
+/// upwind (its downwind fifth over the crest), moves downwind a cell at a
+/// time as a camera flying at the wind's speed would have it, bringing the
+/// ridge's staircase in (`WindField::shift_window` voxelises what comes
+/// in), and stops over the crest; 60 steps later the crest speeds the wind
+/// up as on the bounded grid: within 25% of the closed form under the lid
+/// from z = L/4 to L. A window whose classification stayed as it started
+/// (the ground under the crest left air) leaves no speed-up there and
+/// fails.
+#[test]
+fn a_wind_window_moving_over_a_ridge_speeds_up_the_wind_over_its_crest() {
+    let mut r = ridge(0.4, 4.0, 0.4, 0.1, true);
+    r.settings.moving_window = true;
+    let start = r.field.grid.shifted(glam::IVec2::new(-20, 0));
+    r.field = WindField::new(start, &r.settings);
+    let dt = r.field.grid.cell.x / r.speed;
+    for _ in 0..20 {
+        r.field.shift_window(&r.settings, glam::IVec2::new(1, 0));
+        r.field.step(&r.settings, dt);
+    }
+    assert!((r.field.grid.origin.x + 5.0 * r.half_width).abs() < 1e-3);
+    r.run(60);
+    let (l, lid) = (r.half_width, r.field.grid.size().y);
+    eprintln!("| z / L | under the lid | moved window | |");
+    for z in [0.25, 0.5, 0.75, 1.0].map(|f| f * l) {
+        let closed = speed_up_under_lid(r.height, l, z, lid);
+        let crest = r.speed_up(0.0, z);
+        eprintln!(
+            "| {:.3} | {closed:.4} | {crest:.4} | {:+.0}% |",
+            z / l,
+            100.0 * (crest / closed - 1.0)
+        );
+        assert!(
+            (crest / closed - 1.0).abs() <= 0.25,
+            "z {:.2} L: speed-up {crest:.4} over the crest against {closed:.4}",
+            z / l
+        );
+    }
+}
+
 /// A round meadow (a tuft 2.5 m across, centred on the origin, on a square
 /// wind grid centred on it) in a gusting inflow towards `heading`.
 fn round_meadow(heading: f32) -> meadow::scene::Scene {

@@ -28,29 +28,6 @@ float turbulence_component(TurbulenceMode m, uint axis, vec3 x) {
     return m.amplitude[axis] * value;
 }
 
-// Component `axis` of mode m's vector potential at x (`potential_at`):
-// per mirrored axis cos (the component across it) or sin, the phase's sine
-// turned a quarter for each mirrored axis other than `axis`.
-float turbulence_potential(TurbulenceMode m, uint axis, vec3 x) {
-    vec4 k = m.wavenumber_phase;
-    float theta = k.w;
-    uint turns = 0u;
-    for (uint a = 0u; a < 3u; ++a) {
-        if ((m.mirrored & (1u << a)) == 0u) {
-            theta += k[a] * x[a];
-        } else if (a != axis) {
-            turns += 1u;
-        }
-    }
-    float value = turns == 0u ? sin(theta) : (turns == 1u ? cos(theta) : -sin(theta));
-    for (uint a = 0u; a < 3u; ++a) {
-        if ((m.mirrored & (1u << a)) != 0u) {
-            value *= a == axis ? cos(k[a] * x[a]) : sin(k[a] * x[a]);
-        }
-    }
-    return m.potential[axis] * value;
-}
-
 // All three components of mode m at x.
 vec3 turbulence_velocity(TurbulenceMode m, vec3 x) {
     return vec3(turbulence_component(m, 0u, x), turbulence_component(m, 1u, x),

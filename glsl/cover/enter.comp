@@ -23,13 +23,6 @@ layout(set = 0, binding = 1, std430) buffer States { GrassState states[]; };
 layout(set = 0, binding = 2, std430) readonly buffer Wind { float wind_velocity[]; };
 #define WIND_VELOCITY(i) wind_velocity[i]
 #include "wind_sample.glsl"
-// On a wind grid that follows the ground, the ground its heights are
-// measured from; else a placeholder never read.
-layout(set = 0, binding = 3, std430) readonly buffer Terrain {
-    TerrainHeader terrain;
-    float terrain_words[];
-};
-#include "wind_felt.glsl"
 
 void main() {
     if (gl_GlobalInvocationID.x >= pc.count) {
@@ -37,6 +30,6 @@ void main() {
     }
     uint id = pc.first + gl_GlobalInvocationID.x;
     GrassBlade b = blades[id];
-    vec4 angle = quasi_static_angles(b, wind_felt(pc.grid, b.rest[3].xyz));
+    vec4 angle = quasi_static_angles(b, sample_wind(pc.grid, b.rest[3].xyz));
     states[id] = GrassState(angle, vec4(0.0));
 }

@@ -41,12 +41,12 @@ layout(set = 0, binding = 6, std430) readonly buffer Terrain {
     TerrainHeader terrain;
     float terrain_words[];
 };
+#include "terrain.glsl"
 // The kept blades' pressed states (`CoverDynamics::presses`; a placeholder
 // with `params.pressed_states` 0): a ball's trail through them.
 layout(set = 0, binding = 7, std430) readonly buffer Presses { Press presses[]; };
 #define WIND_VELOCITY(i) wind_velocity[i]
 #include "wind_sample.glsl"
-#include "wind_felt.glsl"
 
 // `cover::hash`: lowbias32 (hash.glsl, through cull.glsl).
 uint hash(uint x) {
@@ -257,7 +257,7 @@ void main() {
         atomicAdd(from_state, 1u);
     } else {
         atomicAdd(posed, 1u);
-        vec4 still = quasi_static_angles(b, wind_felt(params.grid, rest[3]));
+        vec4 still = quasi_static_angles(b, sample_wind(params.grid, rest[3]));
         angle = weight > 0.0 ? mix(still, kept_angle, weight) : still;
     }
     // Pressed as the dynamics left it, faded out over the band as its

@@ -67,25 +67,18 @@ uint bin_of(vec3 root) {
 
 #define WIND_VELOCITY(i) wind_velocity[pc.wind_offset + (i)]
 #include "wind_sample.glsl"
-// On a wind grid that follows the ground, the ground its heights are
-// measured from (`Terrain::gpu_words`); else a placeholder never read.
-layout(set = 0, binding = 11, std430) readonly buffer Terrain {
-    TerrainHeader terrain;
-    float terrain_words[];
-};
-#include "wind_felt.glsl"
 #include "turbulence.glsl"
 
 // The turbulence's modes finer than the wind grid as the wind step left
 // them (`TurbulenceField::subgrid_records`; pc.subgrid_modes of them), or
 // a placeholder never read.
-layout(set = 0, binding = 12, std430) readonly buffer SubgridModes { TurbulenceMode subgrid_modes[]; };
+layout(set = 0, binding = 11, std430) readonly buffer SubgridModes { TurbulenceMode subgrid_modes[]; };
 
 // The wind the tip at `tip` feels (`WindField::felt`): the grid's, and the
 // modes finer than it summed there.
 vec3 felt_at(vec3 tip) {
-    vec3 felt = wind_felt(pc.grid, tip);
-    vec3 x = window_point(pc.grid, tip) - pc.grid.origin.xyz;
+    vec3 felt = sample_wind(pc.grid, tip);
+    vec3 x = tip - pc.grid.origin.xyz;
     for (uint n = 0u; n < pc.subgrid_modes; ++n) {
         felt += turbulence_velocity(subgrid_modes[n], x);
     }
@@ -107,7 +100,7 @@ void lay_frontal_area(GrassBlade b, Pose p, vec3 wind) {
         float facing = n_len > 1e-12 ? abs(dot(n, along) / n_len) : 0.0;
         float area = length(rest_point(b, i + 1) - rest_point(b, i)) * 2.0 * b.width.w * facing;
         vec3 mid = (p.points[i] + p.points[i + 1]) * 0.5;
-        vec3 g = floor((window_point(pc.grid, mid) - pc.grid.origin.xyz) / pc.grid.cell_size.xyz);
+        vec3 g = floor((mid - pc.grid.origin.xyz) / pc.grid.cell_size.xyz);
         if (all(greaterThanEqual(g, vec3(0.0))) && all(lessThan(g, vec3(pc.grid.cells.xyz)))) {
             atomicAdd(canopy[cell_index(pc.grid, uvec3(g))], uint(area / pc.canopy_unit + 0.5));
         }

@@ -4,30 +4,11 @@
 // every wind source; inflow faces take the inflow velocity; walls hold zero.
 // Free and buried faces first lose the turbulence the last step added.
 // The colliders are moving obstacles (ours, `WindField::add_forces`): a free
-// face inside one takes its velocity. On a grid that follows the ground a
-// face stands at its height above it: sources and colliders reach the
-// faces whose world points (`WindField::world_point`) they hold.
+// face inside one takes its velocity.
 #include "wind_kernel.glsl"
 #include "collider.glsl"
 
 layout(set = 0, binding = 10, std430) readonly buffer Colliders { GpuCollider colliders[]; };
-// On a grid that follows the ground, the ground (`Terrain::gpu_words`);
-// else a placeholder never read.
-layout(set = 0, binding = 13, std430) readonly buffer Terrain {
-    TerrainHeader terrain;
-    float terrain_words[];
-};
-#include "terrain.glsl"
-
-// The point of the world face point `x` stands for (`WindField::world_point`).
-vec3 world_point(vec3 x) {
-    if (pc.grid.follows_ground == 0u) {
-        return x;
-    }
-    precise float y = x.y + terrain_height(x.x, x.z);
-    return vec3(x.x, y, x.z);
-}
-
 // Every collider where it is at this step's time, once per workgroup.
 shared GpuColliderState moving[MAX_COLLIDERS];
 
@@ -80,7 +61,6 @@ void main() {
         vel[id] = inflow_velocity(axis, x, t);
         return;
     }
-    x = world_point(x);
     float a = 0.0;
     for (uint i = 0u; i < pc.source_count; ++i) {
         GpuWindSource s = sources[i];

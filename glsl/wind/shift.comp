@@ -4,10 +4,13 @@
 // src/model/wind_window.rs), in two phases with a barrier between:
 // 0 gathers, into copy B, what the face at each face's world position held
 // (the turbulence the last step added taken off; a new face, or one whose
-// source was a wall, takes the inflow's mean velocity; walls zero), and
-// into the divergence buffer the canopy of the cell there; 1 copies both
-// back and clears the pressure. The turbulence kernel then adds the
-// field where the faces now are.
+// source was a wall, takes the inflow's mean velocity), and into the
+// divergence buffer the canopy of the cell there; 1 copies both back,
+// zero on the faces that are walls now, and clears the pressure. Over
+// terrain the moved grid's face kinds are written between the phases
+// (`WindPass::record_shift`): phase 0 reads the kinds the air had, phase
+// 1 those it has. The turbulence kernel then adds the field where the
+// faces now are.
 #include "wind_grid.glsl"
 
 layout(local_size_x = WIND_GROUP) in;
@@ -44,7 +47,7 @@ void main() {
     uint cells = n.x * n.y * n.z;
     if (pc.phase == 1u) {
         if (id < faces) {
-            vel[id] = vel[faces + id];
+            vel[id] = face_kind[id] == FACE_WALL ? 0.0 : vel[faces + id];
         }
         if (id < cells) {
             canopy[id] = canopy_moved[id];
@@ -57,17 +60,13 @@ void main() {
         uint axis;
         uvec3 f;
         face_of(pc.grid, id, axis, f);
-        float value = 0.0;
-        if (face_kind[id] != FACE_WALL) {
-            uvec3 s;
-            uint src = moved(f, face_dims(pc.grid, axis), s) ? face_index(pc.grid, axis, s) : faces;
-            // Without turbulence its buffer holds one word (zero): read
-            // only where it was added.
-            bool kept = src < faces && face_kind[src] != FACE_WALL;
-            value = kept ? vel[src] - (src < uint(turbulence_added.length()) ? turbulence_added[src] : 0.0)
-                         : pc.fill[axis];
-        }
-        vel[faces + id] = value;
+        uvec3 s;
+        uint src = moved(f, face_dims(pc.grid, axis), s) ? face_index(pc.grid, axis, s) : faces;
+        // Without turbulence its buffer holds one word (zero): read only
+        // where it was added.
+        bool kept = src < faces && face_kind[src] != FACE_WALL;
+        vel[faces + id] = kept ? vel[src] - (src < uint(turbulence_added.length()) ? turbulence_added[src] : 0.0)
+                               : pc.fill[axis];
     }
     if (id < cells) {
         uvec3 c = uvec3(id % n.x, (id / n.x) % n.y, id / (n.x * n.y));

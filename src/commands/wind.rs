@@ -6,7 +6,7 @@
 
 use std::path::Path;
 
-use glam::{UVec3, Vec3};
+use glam::Vec3;
 
 use crate::analysis::stats::rms_over_fluid;
 use crate::commands::on_gpu;
@@ -16,7 +16,6 @@ use crate::frame::timing::median_p95;
 use crate::frame::BladeBuffer;
 use crate::gpu::query::TimestampQueries;
 use crate::gpu::{CommandPool, DeviceMemory, Gpu, GpuOptions, ValidationReport};
-use crate::model::terrain::Terrain;
 use crate::model::wind::{Advection, Coupling, PressureSolver, WindField, WindGrid, WindSettings};
 use crate::report::claim::OutputClaim;
 use crate::report::files;
@@ -45,8 +44,7 @@ pub struct WindReport {
     pub device_memory: DeviceMemory,
     pub cells: [u32; 3],
     /// The grid wind_field.npy is sampled on, in the world's coordinates
-    /// (`world_grid`: a cover's window over terrain, its columns from the
-    /// lowest ground under it to its lid over the highest).
+    /// (a cover's window where the run's last step left it).
     pub grid: GridReport,
     /// How the pressure was solved, and with how many iterations or cycles.
     pub solver: PressureSolver,
@@ -117,9 +115,8 @@ pub fn wind_to_dir(
     files::ensure_dir(out_dir)?;
     let planned: Vec<String> = WIND_OUTPUTS.iter().map(|s| s.to_string()).collect();
     let claim = OutputClaim::new(out_dir, &planned, overwrite)?;
-    // wind_field.npy: three float32s per cell of the world's grid.
-    let world = world_grid(&grid, &settings.terrain);
-    let cells = world.cells.x as u64 * world.cells.y as u64 * world.cells.z as u64;
+    // wind_field.npy: three float32s per cell.
+    let cells = grid.cells.x as u64 * grid.cells.y as u64 * grid.cells.z as u64;
     claim.ensure_room(
         cells * 12,
         &format!("the wind field of {cells} cells (wind_field.npy)"),
@@ -367,7 +364,6 @@ fn run(
     let max_speed = max_speed(&field);
     let grass_height = scene.grass.shape.height[1];
     let center = grid.origin + grid.size() / 2.0;
-    let world = world_grid(&grid, &settings.terrain);
     let patches = scene.grass.patches();
     let outlines = Outlines {
         ground: &settings.terrain,
@@ -400,17 +396,14 @@ fn run(
             wind_slices::plane_name(slice, &settings.terrain),
             steps as f32 * dt
         );
-        let svg = wind_slices::svg(&field, &world, slice, max_speed, &outlines, &title)?;
+        let svg = wind_slices::svg(&field, slice, max_speed, &outlines, &title)?;
         if name == "wind_horizontal.svg" {
             // The work is done: the last run's files go.
             claim.begin()?;
         }
         claim.write(name, svg.as_bytes())?;
     }
-    claim.write(
-        "wind_field.npy",
-        &field_npy(&field, &world, &settings.terrain),
-    )?;
+    claim.write("wind_field.npy", &field_npy(&field))?;
     let timing = median_p95(&times);
     Ok(WindReport {
         scene: scene.name.clone(),
@@ -418,9 +411,9 @@ fn run(
         device_memory: gpu.device_memory(),
         cells: grid.cells.to_array(),
         grid: GridReport {
-            origin: world.origin.to_array(),
-            cell_size: world.cell.to_array(),
-            cells: world.cells.to_array(),
+            origin: field.grid.origin.to_array(),
+            cell_size: field.grid.cell.to_array(),
+            cells: field.grid.cells.to_array(),
         },
         solver: settings.solver,
         jacobi_iterations: settings.jacobi_iterations,
@@ -444,68 +437,25 @@ fn run(
     })
 }
 
-/// The grid wind_field.npy is written on, in the world's coordinates: the
-/// solver's own, or for a window that follows the ground (a cover's over
-/// terrain, whose heights are above the ground) one of its columns and
-/// cell size from the lowest ground under it up to its lid over the
-/// highest, whole cells from y = 0.
-pub fn world_grid(grid: &WindGrid, ground: &Terrain) -> WindGrid {
-    if !grid.follows_ground || ground.is_flat() {
-        return WindGrid {
-            follows_ground: false,
-            ..*grid
-        };
-    }
-    let (lo, hi) = (grid.origin, grid.origin + grid.size());
-    let step = grid.cell.x.min(grid.cell.z);
-    let (low, high) = ground.range_over([lo.x, lo.z], [hi.x, hi.z], step);
-    let h = grid.cell.y;
-    let bottom = (low / h).floor();
-    let top = ((high + grid.size().y) / h).ceil();
-    WindGrid {
-        cells: UVec3::new(grid.cells.x, (top - bottom).max(1.0) as u32, grid.cells.z),
-        origin: Vec3::new(lo.x, bottom * h, lo.z),
-        cell: grid.cell,
-        follows_ground: false,
-    }
-}
-
-/// wind_field.npy: float32 of shape (nx, ny, nz, 3) on `world`
-/// (`world_grid`), the velocity at each cell's centre (m/s), NaN in the
-/// solid cells (obstacles, and the cells under the ground) and, on a
-/// window that follows the ground, above its lid.
-fn field_npy(field: &WindField, world: &WindGrid, ground: &Terrain) -> Vec<u8> {
-    let n = world.cells;
-    let mut values = Vec::with_capacity(3 * world.cell_count());
+/// wind_field.npy: float32 of shape (nx, ny, nz, 3), the velocity at
+/// each cell's centre (m/s), NaN in the solid cells (obstacles, and the
+/// cells under the ground).
+fn field_npy(field: &WindField) -> Vec<u8> {
+    let n = field.grid.cells;
+    let mut values = Vec::with_capacity(3 * field.grid.cell_count());
     for i in 0..n.x {
         for j in 0..n.y {
             for k in 0..n.z {
-                values.extend(world_velocity(field, world, ground, [i, j, k]).to_array());
+                let v = if field.solid[field.grid.cell_index(i, j, k)] {
+                    Vec3::NAN
+                } else {
+                    field.cell_velocity(i, j, k)
+                };
+                values.extend(v.to_array());
             }
         }
     }
     crate::report::npy::f32_array(&[n.x as usize, n.y as usize, n.z as usize, 3], &values)
-}
-
-/// The velocity at the centre of cell `c` of `world`: on the solver's own
-/// grid its cell's (the mean of its faces), NaN where solid; on a world
-/// grid over a window, the field sampled there, NaN under the ground and
-/// above the window's lid.
-fn world_velocity(field: &WindField, world: &WindGrid, ground: &Terrain, c: [u32; 3]) -> Vec3 {
-    let [i, j, k] = c;
-    if !field.grid.follows_ground {
-        return if field.solid[field.grid.cell_index(i, j, k)] {
-            Vec3::NAN
-        } else {
-            field.cell_velocity(i, j, k)
-        };
-    }
-    let x = world.cell_center(i, j, k);
-    let above = field.window_point(x).y - field.grid.origin.y;
-    if x.y < ground.height(x.x, x.z) || above > field.grid.size().y {
-        return Vec3::NAN;
-    }
-    field.sample(x)
 }
 
 /// Largest speed at any cell centre.
@@ -515,64 +465,4 @@ fn max_speed(field: &WindField) -> f32 {
         .each_cell()
         .map(|(_, [i, j, k])| field.sample(field.grid.cell_center(i, j, k)).length())
         .fold(0.0, f32::max)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::model::terrain::Ridge;
-
-    /// A cover's window over a ridge writes its field on a world grid: from
-    /// below the lowest ground to its lid over the highest, NaN exactly
-    /// under the ground and above the lid, the field's own wind between
-    /// (a window written in its own coordinates says the air 1 m up is 1 m
-    /// above the ground everywhere). A bounded grid is written as it is.
-    #[test]
-    fn a_window_over_terrain_is_written_on_a_world_grid() {
-        let ground = Terrain {
-            ridges: vec![Ridge {
-                center: [0.0, 0.0],
-                height: 2.0,
-                half_width: 3.0,
-                heading: 90.0,
-            }],
-            ..Terrain::default()
-        };
-        let window = WindGrid::new(
-            UVec3::new(24, 8, 4),
-            Vec3::new(-12.0, 0.0, -2.0),
-            Vec3::new(24.0, 4.0, 4.0),
-        )
-        .unwrap()
-        .following_ground();
-        let settings = WindSettings {
-            terrain: ground.clone(),
-            ..WindSettings::default()
-        };
-        let mut field = WindField::new(window, &settings);
-        field.vel[0].fill(2.0);
-        let world = world_grid(&window, &ground);
-        assert!(!world.follows_ground);
-        let top = world.origin.y + world.size().y;
-        assert!(world.origin.y <= 0.0 && top >= 2.0 + 4.0, "{world:?}");
-        let (mut under, mut over, mut air) = (0, 0, 0);
-        for (_, [i, j, k]) in world.each_cell() {
-            let c = world.cell_center(i, j, k);
-            let v = world_velocity(&field, &world, &ground, [i, j, k]);
-            let ground_there = ground.height(c.x, c.z);
-            if c.y < ground_there {
-                assert!(v.is_nan(), "{c} under the ground");
-                under += 1;
-            } else if c.y > ground_there + 4.0 {
-                assert!(v.is_nan(), "{c} above the lid");
-                over += 1;
-            } else {
-                assert!((v - Vec3::new(2.0, 0.0, 0.0)).length() < 1e-5, "{c}: {v}");
-                air += 1;
-            }
-        }
-        assert!(under > 50 && over > 50 && air > 500, "{under} {over} {air}");
-        let bounded = WindGrid::new(UVec3::new(4, 4, 4), Vec3::ZERO, Vec3::splat(4.0)).unwrap();
-        assert_eq!(world_grid(&bounded, &ground), bounded);
-    }
 }

@@ -36,7 +36,6 @@ pub const COVER_ENTER_SET: &[LayoutBinding] = &[
     LayoutBinding::compute_storage(0), // the dynamics' blades
     LayoutBinding::compute_storage(1), // their states
     LayoutBinding::compute_storage(2), // the wind velocity
-    LayoutBinding::compute_storage(3), // the ground the wind grid's heights follow (or a placeholder)
 ];
 
 pub struct CoverDynamics {
@@ -153,7 +152,6 @@ impl CoverDynamics {
                 Bound::Buffer(grass_pass.blades()),
                 Bound::Buffer(grass_pass.states()),
                 Bound::Buffer(wind.velocity),
-                Bound::Buffer(wind.ground),
             ],
             "cover enter set",
         )?;

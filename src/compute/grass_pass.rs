@@ -59,8 +59,7 @@ pub const GRASS_SET: &[LayoutBinding] = &[
     LayoutBinding::compute_storage(8), // collider bins
     LayoutBinding::compute_storage(9), // the batch's blades near a collider or pressed
     LayoutBinding::compute_storage(10), // each slot's blade, whose control points it writes
-    LayoutBinding::compute_storage(11), // the ground a wind grid's heights follow (or a placeholder)
-    LayoutBinding::compute_storage(12), // the turbulence's modes finer than the wind grid (or a placeholder)
+    LayoutBinding::compute_storage(11), // the turbulence's modes finer than the wind grid (or a placeholder)
 ];
 
 /// Words each batch's list of touching blades has beyond one per blade:
@@ -269,7 +268,6 @@ impl GrassPass {
                         Bound::Buffer(&touching)
                     },
                     part(&b.vertex_slots, blades, size_of::<u32>()),
-                    Bound::Buffer(wind.ground),
                     Bound::Buffer(subgrid_modes),
                 ]
             },

@@ -19,10 +19,10 @@ use crate::gpu::{
 };
 use crate::model::contact::{Collider, GpuCollider};
 use crate::model::multigrid::{self, Multigrid};
-use crate::model::terrain::Terrain;
 use crate::model::turbulence::{self, TurbulenceField};
 use crate::model::wind::{
-    Advection, FaceKind, Inflow, PressureSolver, WindField, WindGrid, WindSettings, WindSource,
+    Advection, Classification, FaceKind, Inflow, PressureSolver, WindField, WindGrid, WindSettings,
+    WindSource,
 };
 use crate::shaders::{self, Spirv};
 
@@ -81,7 +81,6 @@ pub const WIND_SET: &[LayoutBinding] = &[
     LayoutBinding::compute_storage(10), // colliders: moving obstacles (forces kernel)
     LayoutBinding::compute_storage(11), // what the last step's turbulence added to each face
     LayoutBinding::compute_storage(12), // the turbulence's modes, written before each step
-    LayoutBinding::compute_storage(13), // the ground a grid that follows it stands on (forces kernel)
 ];
 
 /// The kernels in the order a step runs them (Jacobi or the five multigrid
@@ -157,6 +156,16 @@ fn multigrid_tables(mg: &Multigrid) -> (Vec<MgLevel>, Vec<f32>) {
     (table, conductance)
 }
 
+/// A face's kind as the kernels read it.
+fn face_kind_word(kind: FaceKind) -> u32 {
+    match kind {
+        FaceKind::Free => FACE_FREE,
+        FaceKind::Wall => FACE_WALL,
+        FaceKind::Inflow => FACE_INFLOW,
+        FaceKind::Buried => FACE_BURIED,
+    }
+}
+
 /// The solver's buffers, made once.
 struct WindBuffers {
     /// Velocity, two or three copies of every face: A (state), B
@@ -186,9 +195,6 @@ struct WindBuffers {
     /// which the grass step sums at its tips (room for
     /// `turbulence::SUBGRID_MODES`; not in the wind's set).
     subgrid_modes: Buffer,
-    /// The ground the grid stands on where it follows it (a flat
-    /// placeholder, never read, where it does not).
-    ground: Buffer,
 }
 
 impl WindBuffers {
@@ -210,8 +216,18 @@ impl WindBuffers {
         let device_buffer = |name: &str, floats: u64| {
             Buffer::new(gpu, name, 4 * floats, rw, MemoryLocation::GpuOnly)
         };
+        // The classification's buffers are written again when a window
+        // over terrain moves (`record_classification`).
+        let classification = storage | vk::BufferUsageFlags::TRANSFER_DST;
         let uploaded = |name: &str, bytes: &[u8]| {
-            Buffer::with_data(gpu, commands, name, bytes, storage, Access::COMPUTE_READ)
+            Buffer::with_data(
+                gpu,
+                commands,
+                name,
+                bytes,
+                classification,
+                Access::COMPUTE_READ,
+            )
         };
         let coarse_cells = field.multigrid.coarse_cell_count().max(1) as u64;
         let copies = velocity_copies(settings);
@@ -272,23 +288,6 @@ impl WindBuffers {
                 storage | vk::BufferUsageFlags::TRANSFER_DST,
                 MemoryLocation::GpuOnly,
             )?,
-            ground: if field.grid.follows_ground {
-                super::terrain_buffer(
-                    gpu,
-                    commands,
-                    &settings.terrain,
-                    "wind window's ground (height map, hills, ridges)",
-                )?
-            } else {
-                // Also what the grass step and the cover's enter kernel
-                // bind for the ground (`WindInput::ground`).
-                super::terrain_buffer(
-                    gpu,
-                    commands,
-                    &Terrain::default(),
-                    "wind ground placeholder (the grid's heights are the world's)",
-                )?
-            },
         };
         let rec = commands.begin()?;
         if field.vel.iter().flatten().all(|&v| v == 0.0) {
@@ -314,16 +313,11 @@ impl WindBuffers {
                 commands,
                 name,
                 bytes,
-                vk::BufferUsageFlags::STORAGE_BUFFER,
+                vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
                 Access::COMPUTE_READ,
             )
         };
-        let kinds = field.faces.iter().flatten().map(|k| match k {
-            FaceKind::Free => FACE_FREE,
-            FaceKind::Wall => FACE_WALL,
-            FaceKind::Inflow => FACE_INFLOW,
-            FaceKind::Buried => FACE_BURIED,
-        });
+        let kinds = field.faces.iter().flatten().map(|&k| face_kind_word(k));
         let (table, conductance) = multigrid_tables(&field.multigrid);
         Ok([
             uploaded("wind face kinds", &u32_bytes(kinds))?,
@@ -333,6 +327,53 @@ impl WindBuffers {
             )?,
             uploaded("wind multigrid levels", bytemuck::cast_slice(&table))?,
         ])
+    }
+
+    /// Writes `classification` (of a moved window over terrain) over the
+    /// face kinds, solid cells and multigrid tables in the command buffer:
+    /// the same grid's sizes, so the same buffers' lengths.
+    fn record_classification(
+        &self,
+        rec: &Recording,
+        classification: &Classification,
+    ) -> Result<()> {
+        let kinds: Vec<u32> = classification
+            .faces
+            .iter()
+            .flatten()
+            .map(|&k| face_kind_word(k))
+            .collect();
+        let solid: Vec<u32> = classification.solid.iter().map(|&s| s as u32).collect();
+        let (table, conductance) = multigrid_tables(&classification.multigrid);
+        let writes: [(&str, &Buffer, &[u32]); 4] = [
+            ("face kinds", &self.faces, &kinds),
+            ("solid cells", &self.solid, &solid),
+            (
+                "multigrid conductances",
+                &self.conductance,
+                bytemuck::cast_slice(&conductance),
+            ),
+            (
+                "multigrid levels",
+                &self.levels,
+                bytemuck::cast_slice(&table),
+            ),
+        ];
+        for (name, buffer, words) in writes {
+            if 4 * words.len() as u64 != buffer.size {
+                return Err(Error::InvalidInput(format!(
+                    "the moved wind window's {name} take {} bytes where the buffer holds {}; the window's classification must keep its grid's sizes",
+                    4 * words.len(),
+                    buffer.size
+                )));
+            }
+            rec.uses(&[BufferUse::new(buffer, Access::TRANSFER_WRITE)]);
+            // vkCmdUpdateBuffer carries at most 64 KiB.
+            for (n, chunk) in words.chunks(16384).enumerate() {
+                rec.update_buffer(buffer, n as u64 * 65536, chunk);
+            }
+        }
+        Ok(())
     }
 
     /// The sources as the kernels read them, uploaded; at least one
@@ -356,7 +397,7 @@ impl WindBuffers {
     }
 
     /// In the order of `WIND_SET`.
-    fn bound(&self) -> [Bound<'_>; 14] {
+    fn bound(&self) -> [Bound<'_>; 13] {
         [
             Bound::Buffer(&self.velocity),
             Bound::Buffer(&self.faces),
@@ -371,7 +412,6 @@ impl WindBuffers {
             Bound::Buffer(&self.colliders),
             Bound::Buffer(&self.turbulence_added),
             Bound::Buffer(&self.modes),
-            Bound::Buffer(&self.ground),
         ]
     }
 }
@@ -382,6 +422,9 @@ pub struct WindPass {
     set: DescriptorSet,
     /// The kernels in `WIND_KERNELS` order, sharing one layout.
     kernels: Vec<Pipeline>,
+    /// The turbulence kernel adding to the advected copy B, which the
+    /// projection reads: among solid cells (`record_step`).
+    turbulence_before_projection: Pipeline,
     layout: Arc<PipelineLayout>,
     buffers: WindBuffers,
     face_count: u32,
@@ -401,6 +444,9 @@ pub struct WindPass {
     /// Whether any face lies between two cells under the ground (then
     /// each step ends with glsl/wind/under_ground.comp).
     buried: bool,
+    /// Whether any cell is solid (the ground, an obstacle): then the
+    /// turbulence is added before the projection (`record_step`).
+    among_solids: bool,
     /// The colliders as forces.comp reads them, written before each step.
     collider_records: Vec<GpuCollider>,
     /// The turbulence's modes and how far they have gone (None: no
@@ -419,10 +465,6 @@ pub struct WindInput<'a> {
     pub velocity: &'a Buffer,
     /// None: one-way coupling, the grass lays nothing.
     pub canopy: Option<(&'a Buffer, f32)>,
-    /// On a grid that follows the ground, the terrain its heights are
-    /// measured from (glsl/common/terrain.glsl's buffer); where the grid's
-    /// heights are the world's, a flat placeholder never read.
-    pub ground: &'a Buffer,
     /// The turbulence's modes finer than the grid, which the tips sum, and
     /// how many (`WindPass::subgrid_records`); None: none.
     pub subgrid: Option<(&'a Buffer, u32)>,
@@ -501,6 +543,8 @@ impl WindPass {
                 _ => Pipeline::compute(gpu, &layout, spirv),
             })
             .collect::<Result<Vec<_>>>()?;
+        let turbulence_before_projection =
+            Pipeline::compute_specialized(gpu, &layout, WIND_KERNELS[TURBULENCE], &[1])?;
         let set = DescriptorSet::new(
             gpu,
             &layout,
@@ -526,6 +570,7 @@ impl WindPass {
             settings: settings.clone(),
             set,
             kernels,
+            turbulence_before_projection,
             layout,
             buffers,
             face_count,
@@ -546,6 +591,7 @@ impl WindPass {
             tail_level: tail_level as u32,
             canopy_unit,
             buried: field.faces.iter().flatten().any(|&k| k == FaceKind::Buried),
+            among_solids: field.solid.contains(&true),
             collider_records: super::colliders::records(&settings.colliders)?,
             turbulence: field.turbulence,
             shift,
@@ -658,7 +704,6 @@ impl WindPass {
             canopy: self
                 .coupled()
                 .then_some((&self.buffers.canopy, self.canopy_unit)),
-            ground: &self.buffers.ground,
             subgrid: (subgrid > 0).then_some((&self.buffers.subgrid_modes, subgrid)),
         }
     }
@@ -738,16 +783,18 @@ impl WindPass {
                 BufferUse::new(&b.sources, read),
                 BufferUse::new(&b.colliders, read),
                 BufferUse::new(&b.turbulence_added, read),
-                BufferUse::new(&b.ground, read),
             ]),
             ADVECT | ADVECT_PREDICT | ADVECT_CORRECT => uses.extend([
                 BufferUse::new(&b.velocity, read_write),
                 BufferUse::new(&b.canopy, read),
             ]),
+            // The solid flags: a moving window's open sides gain the modes
+            // where a cell of air lies behind them.
             TURBULENCE => uses.extend([
                 BufferUse::new(&b.velocity, read_write),
                 BufferUse::new(&b.turbulence_added, read_write),
                 BufferUse::new(&b.modes, read),
+                BufferUse::new(&b.solid, read),
             ]),
             DIVERGENCE => uses.extend([
                 BufferUse::new(&b.velocity, read),
@@ -828,6 +875,11 @@ impl WindPass {
             rec.uses(&[BufferUse::new(&self.buffers.canopy, Access::TRANSFER_WRITE)]);
             rec.fill_buffer(&self.buffers.canopy, 0);
         }
+        // Among solids the projection turns the modes' flow around them
+        // (`WindField::step`); without, they are added after it.
+        if let (true, Some(modes)) = (self.among_solids, &modes) {
+            self.record_turbulence(rec, modes, &step, true);
+        }
         dispatch(DIVERGENCE, cell_groups, 0, [0; 3]);
         if multigrid {
             let groups = |l: usize| self.level_cells[l].div_ceil(WIND_GROUP);
@@ -863,15 +915,21 @@ impl WindPass {
         if self.buried {
             dispatch(UNDER_GROUND, face_groups, 0, [0; 3]);
         }
-        if let Some(modes) = modes {
-            self.record_turbulence(rec, &modes, &step);
+        if let (false, Some(modes)) = (self.among_solids, &modes) {
+            self.record_turbulence(rec, modes, &step, false);
         }
     }
 
     /// The turbulence kernel with `modes`: every face not a wall gains
     /// the field (the wind set bound); the modes finer than the grid
     /// written for the grass step.
-    fn record_turbulence(&self, rec: &Recording, modes: &Modes, push: &WindPush) {
+    fn record_turbulence(
+        &self,
+        rec: &Recording,
+        modes: &Modes,
+        push: &WindPush,
+        into_advected: bool,
+    ) {
         rec.uses(&[BufferUse::new(&self.buffers.modes, Access::TRANSFER_WRITE)]);
         rec.update_buffer(&self.buffers.modes, 0, bytemuck::cast_slice(&modes.grid));
         if !modes.subgrid.is_empty() {
@@ -879,7 +937,11 @@ impl WindPass {
             rec.uses(&[BufferUse::new(subgrid, Access::TRANSFER_WRITE)]);
             rec.update_buffer(subgrid, 0, bytemuck::cast_slice(&modes.subgrid));
         }
-        let pipeline = &self.kernels[TURBULENCE];
+        let pipeline = if into_advected {
+            &self.turbulence_before_projection
+        } else {
+            &self.kernels[TURBULENCE]
+        };
         rec.uses(&self.kernel_uses(TURBULENCE));
         rec.bind_pipeline(pipeline);
         rec.push_constants(pipeline, push);
@@ -889,8 +951,12 @@ impl WindPass {
     /// Records the window's move by `by` whole cells (x, z) before the
     /// next step, as `WindField::shift_window` makes it: the air shifted
     /// with the grid (glsl/wind/shift.comp), the turbulence added where
-    /// the faces now are; `grid` is the moved grid from then on. Refused
-    /// on a grid that does not follow the camera.
+    /// the faces now are; `grid` is the moved grid from then on. Over
+    /// terrain the moved grid's classification (its solid cells, face
+    /// kinds and multigrid tables, `Classification::of`) is written in the
+    /// command buffer between the shift's two phases, the second zeroing
+    /// the faces that are walls now. Refused on a grid that does not
+    /// follow the camera.
     pub fn record_shift(&mut self, rec: &Recording, by: glam::IVec2) -> Result<()> {
         let Some(shift) = &self.shift else {
             return Err(Error::InvalidInput(
@@ -914,9 +980,22 @@ impl WindPass {
             .settings
             .inflow
             .map_or(glam::Vec3::ZERO, |i| i.mean_velocity());
-        rec.bind_pipeline(shift);
-        rec.bind_set(shift, &self.set);
+        let before = self.grid;
+        let moved = before.shifted(by);
+        let reclassified =
+            (!self.settings.terrain.is_flat()).then(|| Classification::of(&moved, &self.settings));
         for phase in 0..2 {
+            if let (1, Some(classification)) = (phase, &reclassified) {
+                self.buffers.record_classification(rec, classification)?;
+                self.buried = classification
+                    .faces
+                    .iter()
+                    .flatten()
+                    .any(|&k| k == FaceKind::Buried);
+                self.among_solids = classification.solid.contains(&true);
+            }
+            rec.bind_pipeline(shift);
+            rec.bind_set(shift, &self.set);
             rec.uses(&uses);
             rec.push_constants(
                 shift,
@@ -930,13 +1009,12 @@ impl WindPass {
             );
             rec.dispatch(self.face_count.max(self.cell_count).div_ceil(WIND_GROUP));
         }
-        let before = self.grid;
-        self.grid = before.shifted(by);
+        self.grid = moved;
         if let Some(field) = &mut self.turbulence {
             field.move_corner(self.grid.origin - before.origin);
             let modes = Modes::of(field, self.settings.turbulence_sigma());
             rec.bind_set(&self.kernels[TURBULENCE], &self.set);
-            self.record_turbulence(rec, &modes, &self.push(0.0, 0.0));
+            self.record_turbulence(rec, &modes, &self.push(0.0, 0.0), false);
         }
         Ok(())
     }
@@ -1016,7 +1094,6 @@ pub fn grid_params(grid: &WindGrid, faces: u32) -> WindGridParams {
         cells: grid.cells.to_array(),
         faces,
         origin: grid.origin.to_array(),
-        follows_ground: grid.follows_ground as u32,
         cell_size: grid.cell.to_array(),
         ..WindGridParams::default()
     }

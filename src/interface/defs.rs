@@ -158,7 +158,7 @@ gpu_interface! {
     }
 
     /// One wind source as the wind kernels read it
-    /// (glsl/wind/wind_kernel.glsl; `WindSource` in src/model/wind.rs).
+    /// (glsl/wind/wind_kernel.glsl; `WindSource` in src/model/wind/mod.rs).
     pub struct GpuWindSource {
         /// xyz: position at t = 0; w: radius (m).
         pub position_radius: [f32; 4],
@@ -189,13 +189,6 @@ gpu_interface! {
         /// Bit a: the mode is paired with its mirror images across the
         /// grid's two sides across axis a (`model::turbulence::at`).
         pub mirrored: u32,
-        /// The amplitude of the mode's vector potential at phase 0 (m^2/s;
-        /// the faces' `amplitude` is its discrete curl): a face beside a
-        /// solid cell takes the curl of the potential held at zero on the
-        /// edges that touch one (`model::turbulence::potential_at`). Zero
-        /// for a mode finer than the grid.
-        pub potential: [f32; 3],
-        pub _pad0: u32,
     }
 
     /// One multigrid level as the kernels read it (glsl/wind/multigrid.glsl;
@@ -219,10 +212,7 @@ gpu_interface! {
         pub faces: u32,
         /// World position of the grid's minimum corner (m).
         pub origin: [f32; 3],
-        /// 1: the grid's heights are heights above the ground under each
-        /// point (a cover's wind window over terrain;
-        /// glsl/common/wind_felt.glsl); 0: world heights.
-        pub follows_ground: u32,
+        pub _pad0: u32,
         /// Cell size along each axis (m).
         pub cell_size: [f32; 3],
         pub _pad1: f32,

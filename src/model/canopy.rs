@@ -107,9 +107,7 @@ pub fn coupled_step(wind: &mut WindField, settings: &WindSettings, grass: &mut G
         |x| wind.felt(x),
         |blade, state, felt| {
             let pose = pose(blade, state.angle);
-            // The cell a point of the world lies in: on a window that
-            // follows the ground, by its height above it.
-            let cell_at = |x| cell_of(&grid, wind.window_point(x));
+            let cell_at = |x| cell_of(&grid, x);
             deposit(&mut counts, cell_at, unit, blade, &pose, guard_wind(felt));
         },
     );

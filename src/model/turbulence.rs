@@ -109,10 +109,6 @@ struct Mode {
     /// What the mode adds to a face of each axis at phase 0 (m/s); a
     /// sub-grid mode's own velocity amplitude.
     amplitude: DVec3,
-    /// A grid mode's vector potential, -(k x a) / |k|^2 (its faces'
-    /// `amplitude` is the potential's discrete curl); zero for a
-    /// sub-grid mode.
-    potential: DVec3,
     /// Phase at t = 0 at the grid's corner (rad).
     phase: f64,
     /// Its own rate (rad per metre of `clock`).
@@ -351,18 +347,14 @@ impl TurbulenceField {
         let phase = rng.random::<f64>() * std::f64::consts::TAU;
         // The grid's modes as its faces hold them; the sub-grid's as they
         // are, summed at a point (`velocity_at`).
-        let (amplitude, potential) = if slot < MODES {
-            (
-                face_amplitude(wavenumber, a, self.cell.as_dvec3()),
-                -wavenumber.cross(a) / wavenumber.length_squared().max(f64::MIN_POSITIVE),
-            )
+        let amplitude = if slot < MODES {
+            face_amplitude(wavenumber, a, self.cell.as_dvec3())
         } else {
-            (a, DVec3::ZERO)
+            a
         };
         Mode {
             k: wavenumber,
             amplitude,
-            potential,
             phase,
             omega: self.spectrum.rate(k),
         }
@@ -393,35 +385,6 @@ impl TurbulenceField {
     /// glsl/wind/turbulence.comp sums it (`component_at`).
     pub fn at(&self, records: &[TurbulenceMode], axis: usize, q: UVec3) -> f32 {
         component_at(records, axis, q.as_vec3() * 0.5 * self.cell)
-    }
-
-    /// Component `axis` at the face of half-cell point `q` as the discrete
-    /// curl of the modes' vector potential (`potential_at`) on the face's
-    /// four edges, those `held(component, edge point)` says held at zero:
-    /// u_a = d_b psi_c - d_c psi_b ((a, b, c) in turn), each difference
-    /// over one cell. With no edge held it is `at`, to rounding; whatever
-    /// is held, the cells' divergence stays zero (a discrete curl's), and
-    /// a face whose four edges are all held gains nothing. So the faces
-    /// beside a solid cell, whose edges touching it are held, leave no
-    /// flow through its walls and no divergence beside them.
-    pub fn curl_at(
-        &self,
-        records: &[TurbulenceMode],
-        axis: usize,
-        q: UVec3,
-        held: impl Fn(usize, UVec3) -> bool,
-    ) -> f32 {
-        let (b, c) = ((axis + 1) % 3, (axis + 2) % 3);
-        let psi = |component: usize, p: UVec3| {
-            if held(component, p) {
-                0.0
-            } else {
-                potential_at(records, component, p.as_vec3() * 0.5 * self.cell)
-            }
-        };
-        let unit = |d: usize| UVec3::from(std::array::from_fn(|i| (i == d) as u32));
-        (psi(c, q + unit(b)) - psi(c, q - unit(b))) / self.cell[b]
-            - (psi(b, q + unit(c)) - psi(b, q - unit(c))) / self.cell[c]
     }
 
     /// One step of `dt` (s): the modes carried with `convection` (m/s)
@@ -469,16 +432,12 @@ impl TurbulenceField {
                 .as_vec3()
                 .to_array(),
             mirrored: self.mirrored,
-            potential: (m.potential * self.scale * weight * sigma as f64)
-                .as_vec3()
-                .to_array(),
-            _pad0: 0,
         }
     }
 }
 
 /// Mode `m`'s wavenumber, and its phase at `x` along the axes it is not
-/// mirrored across (theta' of `component_at` and `potential_at`).
+/// mirrored across (theta' of `component_at`).
 fn free_phase(m: &TurbulenceMode, x: Vec3) -> ([f32; 3], f32) {
     let [kx, ky, kz, phase] = m.wavenumber_phase;
     let k = [kx, ky, kz];
@@ -522,41 +481,6 @@ pub fn component_at(records: &[TurbulenceMode], axis: usize, x: Vec3) -> f32 {
     u
 }
 
-/// Component `axis` of the vector potential of the modes `records` at `x`
-/// (m from the grid's minimum corner), whose discrete curl on the faces
-/// is `component_at` (`TurbulenceField::curl_at`): a mode's potential b
-/// sin(k . x + theta) (its record's `potential`), paired with its mirror
-/// images as the velocity is (an image's potential is -R psi(R x), R the
-/// reflection): per mirrored axis m, cos(k_m x_m) for the component across
-/// it and sin(k_m x_m) for the others, and the phase's sine turned a
-/// quarter (to its derivative) for each mirrored axis other than `axis`.
-/// As glsl/common/turbulence.glsl sums it.
-pub fn potential_at(records: &[TurbulenceMode], axis: usize, x: Vec3) -> f32 {
-    let mut psi = 0.0;
-    for m in records {
-        let (k, theta) = free_phase(m, x);
-        let turns = (0..3)
-            .filter(|&a| a != axis && m.mirrored & (1 << a) != 0)
-            .count();
-        let mut f = match turns {
-            0 => theta.sin(),
-            1 => theta.cos(),
-            _ => -theta.sin(),
-        };
-        for a in 0..3 {
-            if m.mirrored & (1 << a) != 0 {
-                f *= if a == axis {
-                    (k[a] * x[a]).cos()
-                } else {
-                    (k[a] * x[a]).sin()
-                };
-            }
-        }
-        psi += m.potential[axis] * f;
-    }
-    psi
-}
-
 /// The velocity the modes `records` describe at `x` (m from the grid's
 /// minimum corner): what the sub-grid modes add to the wind a blade's tip
 /// feels (`WindField::felt`; glsl/grass/step.glsl).
@@ -589,54 +513,4 @@ fn face_amplitude(k: DVec3, a: DVec3, h: DVec3) -> DVec3 {
         2.0 * (0.5 * k.z * h.z).sin() / h.z,
     );
     -modified.cross(k.cross(a)) / k.length_squared()
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// The potential's discrete curl is the faces' field for every pairing
-    /// with mirror images: with no edge held, `curl_at` gives `at` at
-    /// every face of a grid, to rounding. A potential mirrored the way
-    /// the velocity is (cos for the components across a mirrored axis
-    /// turned to sin) fails it by the field's own size.
-    #[test]
-    fn the_potentials_curl_is_the_faces_field_under_every_mirroring() {
-        let turbulence = Turbulence {
-            intensity: 0.3,
-            length_scale: 3.0,
-            seed: 5,
-            speed: Some(4.0),
-            finest_wavelength: None,
-        };
-        let cells = UVec3::new(10, 6, 8);
-        let cell = Vec3::new(0.5, 0.25, 0.4);
-        // Every pairing but walls on all six sides, which no wind makes
-        // (the floor and lid always, and the sides along the inflow).
-        for mirrored in 0..7u32 {
-            let walls = [0, 1, 2].map(|a| mirrored & (1 << a) != 0);
-            let field = TurbulenceField::new(&turbulence, cells, cell, walls);
-            let records = field.records(1.2);
-            let (mut worst, mut largest) = (0.0f32, 0.0f32);
-            for axis in 0..3 {
-                let mut dims = cells;
-                dims[axis] += 1;
-                for i in 0..dims.x {
-                    for j in 0..dims.y {
-                        for k in 0..dims.z {
-                            let q = TurbulenceField::face_point(axis, [i, j, k]);
-                            let at = field.at(&records, axis, q);
-                            let curl = field.curl_at(&records, axis, q, |_, _| false);
-                            worst = worst.max((at - curl).abs());
-                            largest = largest.max(at.abs());
-                        }
-                    }
-                }
-            }
-            assert!(
-                largest > 0.3 && worst < 1e-4 * largest,
-                "walls {walls:?}: the curl differs from the faces' field by {worst} m/s (largest {largest} m/s)"
-            );
-        }
-    }
 }

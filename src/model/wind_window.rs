@@ -3,11 +3,14 @@
 //! under the camera that moves in whole cells. A move shifts the air with
 //! it, so that a point of the world keeps its wind, and fills the cells
 //! that come in from the inflow's mean velocity and the turbulence there;
-//! glsl/wind/shift.comp does the same on the GPU.
+//! glsl/wind/shift.comp does the same on the GPU. Over terrain the window
+//! stands in the world's heights, its floor and lid fixed (`Scene::
+//! wind_grid`), and carries the ground's staircase with it: the cells
+//! that come in are voxelised and every face classified again.
 
 use glam::{IVec2, Vec2, Vec3};
 
-use super::wind::{FaceKind, WindField, WindGrid, WindSettings};
+use super::wind::{voxelised, FaceKind, WindField, WindGrid, WindSettings};
 
 impl WindGrid {
     /// The whole cells (x, z) the window must move by to stay under a
@@ -60,16 +63,26 @@ impl WindField {
     /// corner, and every face not a wall gains it where the face now is,
     /// as a step's end does. The canopy the grass laid moves with the
     /// cells; the pressure restarts from zero (the multigrid solves from
-    /// zero every step anyway). The face kinds do not change: a window
-    /// moves only over flat ground without obstacles (`scene::check`).
+    /// zero every step anyway). Over terrain the moved grid's cells are
+    /// voxelised and its faces classified again (the multigrid's levels
+    /// with them): a point of the world keeps its kind, the sides' faces
+    /// take theirs where they now are. Obstacles, fixed in the window,
+    /// are refused with a cover (`scene::check`).
     pub fn shift_window(&mut self, settings: &WindSettings, by: IVec2) {
         if by == IVec2::ZERO {
             return;
         }
         let grid = self.grid;
+        let before = self.faces.clone();
+        if !settings.terrain.is_flat() {
+            let moved = grid.shifted(by);
+            (self.ground, self.solid) = voxelised(&moved, settings);
+            self.grid = moved;
+            self.classify_faces(settings.inflow.as_ref());
+        }
         let fill = settings.inflow.map_or(Vec3::ZERO, |i| i.mean_velocity());
         for axis in 0..3 {
-            let kinds = &self.faces[axis];
+            let (was, kinds) = (&before[axis], &self.faces[axis]);
             let (vel, added) = (&self.vel[axis], &self.turbulence_added[axis]);
             let moved: Vec<f32> = grid
                 .each_face(axis)
@@ -78,7 +91,7 @@ impl WindField {
                         return 0.0;
                     }
                     match source_face(&grid, axis, f, by) {
-                        Some(src) if kinds[src] != FaceKind::Wall => vel[src] - added[src],
+                        Some(src) if was[src] != FaceKind::Wall => vel[src] - added[src],
                         _ => fill[axis],
                     }
                 })

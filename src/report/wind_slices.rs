@@ -11,7 +11,7 @@ use plotters::prelude::*;
 
 use crate::error::{Error, Result};
 use crate::model::terrain::Terrain;
-use crate::model::wind::{Obstacle, WindField, WindGrid};
+use crate::model::wind::{Obstacle, WindField};
 use crate::scene::GrassPatch;
 
 /// Which plane to cut.
@@ -183,21 +183,17 @@ fn outline_paths(slice: Slice, outlines: &Outlines) -> (Vec<Vec<Vec2>>, Vec<Vec<
     (solids, grass)
 }
 
-/// `slice` of `field` over `extent` (its grid in the world's coordinates:
-/// `commands::wind::world_grid`) as SVG, titled `title`; speed coloured
-/// from 0 to `max_speed` m/s (the field's maximum gives the most
-/// contrast). On a window that follows the ground, what lies above its lid
-/// is left white.
+/// `slice` of `field` as SVG, titled `title`; speed coloured from 0 to
+/// `max_speed` m/s (the field's maximum gives the most contrast).
 pub fn svg(
     field: &WindField,
-    extent: &WindGrid,
     slice: Slice,
     max_speed: f32,
     outlines: &Outlines,
     title: &str,
 ) -> Result<String> {
     let err = |e: String| Error::InvalidInput(format!("drawing the wind slice: {e}"));
-    let g = *extent;
+    let g = field.grid;
     let (lo, size, cells) = match slice {
         Slice::Horizontal { .. } => (g.origin.xz(), g.size().xz(), [g.cells.x, g.cells.z]),
         Slice::Vertical { .. } => (g.origin.xy(), g.size().xy(), [g.cells.x, g.cells.y]),
@@ -233,18 +229,12 @@ pub fn svg(
         let solid = |x: Vec3| {
             x.y < ground.height(x.x, x.z) || field.cell_at(x).is_some_and(|c| field.solid[c])
         };
-        let above_lid = |x: Vec3| {
-            field.grid.follows_ground
-                && field.window_point(x).y - field.grid.origin.y > field.grid.size().y
-        };
         let colour_cells = (0..across[1]).flat_map(|j| {
             (0..across[0]).map(move |i| {
                 let a = lo + step * Vec2::new(i as f32, j as f32);
                 let x = slice.world(a + step / 2.0, ground);
                 let colour = if solid(x) {
                     EARTH
-                } else if above_lid(x) {
-                    WHITE
                 } else {
                     ramp(field.sample(x).length() / scale)
                 };
@@ -262,7 +252,7 @@ pub fn svg(
             for i in 0..counts.x as u32 {
                 let p = lo + (Vec2::new(i as f32, j as f32) + 0.5) * (size / counts);
                 let x = slice.world(p, ground);
-                if solid(x) || above_lid(x) {
+                if solid(x) {
                     continue;
                 }
                 let d = slice.planar(field.sample(x));
@@ -354,7 +344,7 @@ pub fn plane_name(slice: Slice, ground: &Terrain) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::wind::WindSettings;
+    use crate::model::wind::{WindGrid, WindSettings};
     use glam::UVec3;
 
     #[test]
@@ -384,15 +374,7 @@ mod tests {
             grass_height: 0.7,
         };
         let slice = Slice::Horizontal { height: 0.5 };
-        let svg = svg(
-            &field,
-            &grid,
-            slice,
-            2.0,
-            &outlines,
-            &plane_name(slice, &flat),
-        )
-        .unwrap();
+        let svg = svg(&field, slice, 2.0, &outlines, &plane_name(slice, &flat)).unwrap();
         assert!(svg.starts_with("<svg"));
         for text in ["x (m)", "z (m)", "wind speed (m/s)", "height y = 0.50 m"] {
             assert!(svg.contains(text), "no {text:?}");
@@ -454,18 +436,10 @@ mod tests {
         let above = Slice::Horizontal { height: 0.3 };
         let name = plane_name(above, &ground);
         assert_eq!(name, "slice 0.30 m above the ground");
-        let picture = svg(&field, &grid, above, 2.0, &outlines, &name).unwrap();
+        let picture = svg(&field, above, 2.0, &outlines, &name).unwrap();
         assert_eq!(earth(&picture), 0);
         let cut = Slice::Vertical { depth: 0.0 };
-        let picture = svg(
-            &field,
-            &grid,
-            cut,
-            2.0,
-            &outlines,
-            &plane_name(cut, &ground),
-        )
-        .unwrap();
+        let picture = svg(&field, cut, 2.0, &outlines, &plane_name(cut, &ground)).unwrap();
         // The ground's area over the grid's 20 x 3 m: the ridge's profile
         // integrated, pi H L (less its tails beyond 10 m).
         let under = (0..400)

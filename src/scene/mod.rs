@@ -1134,15 +1134,16 @@ impl Scene {
                 )
             }
         };
-        let span = [hi[0] - lo[0], hi[1] - lo[1]];
         let terrain = self.ground.terrain();
         let (grid, size) = if self.cover_on_terrain() {
-            // A window over terrain stands on the ground wherever it goes:
-            // its heights are heights above it, `wind.height` of air.
-            let size = Vec3::new(span[0], w.height, span[1]);
-            let origin = Vec3::new(lo[0], 0.0, lo[1]);
-            let grid = WindGrid::new(glam::UVec3::from(w.cells), origin, size)?;
-            (grid.following_ground(), size)
+            // A window over terrain stands in the world's heights, its
+            // floor and lid fixed for every place the camera's path takes
+            // it (the ground's staircase moves through it).
+            let (reach_lo, reach_hi) = self.window_reach();
+            let (reach, size) = self.grid_over_ground(&terrain, reach_lo, reach_hi)?;
+            let size = Vec3::new(hi[0] - lo[0], size.y, hi[1] - lo[1]);
+            let origin = Vec3::new(lo[0], reach.origin.y, lo[1]);
+            (WindGrid::new(reach.cells, origin, size)?, size)
         } else {
             self.grid_over_ground(&terrain, lo, hi)?
         };
@@ -1185,9 +1186,24 @@ impl Scene {
         Ok((grid, size))
     }
 
+    /// The rectangle (x, z) a cover's wind window may cover: `wind.window`
+    /// around every place the camera is and its path goes (straight
+    /// between its keys).
+    fn window_reach(&self) -> ([f32; 2], [f32; 2]) {
+        let half = [0.5 * self.wind.window[0], 0.5 * self.wind.window[1]];
+        let (mut lo, mut hi) = ([f32::MAX; 2], [f32::MIN; 2]);
+        for p in self.camera_positions() {
+            for (axis, v) in [p.x, p.z].into_iter().enumerate() {
+                lo[axis] = lo[axis].min(v - half[axis]);
+                hi[axis] = hi[axis].max(v + half[axis]);
+            }
+        }
+        (lo, hi)
+    }
+
     /// Whether the scene's grass is a `[grass.cover]` over terrain: its
-    /// wind window then follows the ground, and its terrain mesh the
-    /// camera.
+    /// wind window's floor and lid then hold the ground along the camera's
+    /// path, and its terrain mesh follows the camera.
     pub fn cover_on_terrain(&self) -> bool {
         self.grass.cover.is_some() && !self.ground.terrain().is_flat()
     }
@@ -1207,6 +1223,40 @@ impl Scene {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A cover's window over terrain stands in the world's heights: its
+    /// floor under the lowest ground and its lid `wind.height` over the
+    /// highest wherever the camera's path takes it (steppe's kilometre:
+    /// hills, ridges and a hollow), centred under the camera where it
+    /// starts. Its cells keep `wind.cells`.
+    #[test]
+    fn a_covers_window_over_terrain_holds_the_ground_along_the_cameras_path() {
+        let scene = Scene::builtin("steppe").unwrap();
+        let grid = scene.wind_grid().unwrap();
+        let terrain = scene.ground.terrain();
+        let (floor, lid) = (grid.origin.y, grid.origin.y + grid.size().y);
+        let half = grid.size() / 2.0;
+        let (eye, _) = scene.camera.at(0.0);
+        assert!((grid.origin.x + half.x - eye.x).abs() < 1e-3, "{grid:?}");
+        assert!((grid.origin.z + half.z - eye.z).abs() < 1e-3, "{grid:?}");
+        assert_eq!(grid.cells.to_array(), scene.wind.cells);
+        for p in scene.camera_positions() {
+            let (low, high) = terrain.range_over(
+                [p.x - half.x, p.z - half.z],
+                [p.x + half.x, p.z + half.z],
+                0.5,
+            );
+            assert!(
+                floor <= low + 1e-3,
+                "at {p}: the ground at {low} under the floor {floor}"
+            );
+            assert!(
+                lid + 1e-3 >= high + scene.wind.height,
+                "at {p}: the lid {lid} less than wind.height over the ground's {high}"
+            );
+        }
+        eprintln!("steppe's window: {grid:?}");
+    }
 
     #[test]
     fn blades_under_obstacles_are_counted() {

@@ -24,6 +24,8 @@
 
 use glam::{UVec3, Vec3};
 
+mod faces;
+
 use super::contact::{Collider, ColliderState};
 use super::multigrid::{Multigrid, Work};
 pub use super::path::{along_path, MAX_PATH_POINTS};
@@ -32,6 +34,8 @@ pub use super::turbulence::Turbulence;
 use super::turbulence::TurbulenceField;
 use crate::error::{Error, Result};
 use crate::interface::TurbulenceMode;
+use faces::multigrid_of;
+pub use faces::{voxelised, Cells, Classification, FaceKind};
 
 /// The grid: `cells` = (nx, ny, nz), x and z horizontal, y up.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -41,10 +45,6 @@ pub struct WindGrid {
     pub origin: Vec3,
     /// Size of one cell along x, y, z (metres).
     pub cell: Vec3,
-    /// The grid's heights are heights above the ground under each point,
-    /// not the world's (a cover's wind window over terrain: its cells
-    /// stand on the ground; `WindField::window_point`).
-    pub follows_ground: bool,
 }
 
 /// The most cells one grid may have (the paper's is 72,000).
@@ -68,16 +68,7 @@ impl WindGrid {
             cells,
             origin,
             cell: size / cells.as_vec3(),
-            follows_ground: false,
         })
-    }
-
-    /// The same grid with its heights measured from the ground.
-    pub fn following_ground(self) -> Self {
-        Self {
-            follows_ground: true,
-            ..self
-        }
     }
 
     /// The divergence f32 arithmetic leaves in any field whose faces reach
@@ -347,9 +338,8 @@ impl WindSource {
     }
 
     /// Refuses what cannot be simulated; warns where the source lies
-    /// outside `grid` (on a grid that follows the ground, its height
-    /// above `ground` taken).
-    pub fn validate(&self, grid: &WindGrid, ground: &Terrain) -> Result<Vec<String>> {
+    /// outside `grid`.
+    pub fn validate(&self, grid: &WindGrid) -> Result<Vec<String>> {
         let finite = self.position.is_finite()
             && self.direction.is_finite()
             && self.strength.is_finite()
@@ -374,19 +364,9 @@ impl WindSource {
         let lo = grid.origin;
         let hi = grid.origin + grid.size();
         let p = self.position;
-        let at = if grid.follows_ground {
-            Vec3::new(p.x, p.y - ground.height(p.x, p.z), p.z)
-        } else {
-            p
-        };
-        if at.cmplt(lo).any() || at.cmpgt(hi).any() {
-            let heights = if grid.follows_ground {
-                " (its heights above the ground)"
-            } else {
-                ""
-            };
+        if p.cmplt(lo).any() || p.cmpgt(hi).any() {
             warnings.push(format!(
-                "wind source at {} lies outside the wind domain {lo}..{hi}{heights}; only its reach inside counts",
+                "wind source at {} lies outside the wind domain {lo}..{hi}; only its reach inside counts",
                 self.position
             ));
         }
@@ -726,7 +706,7 @@ impl WindSettings {
     pub fn check(&self, grid: &WindGrid) -> Result<Vec<String>> {
         let mut warnings = Vec::new();
         for source in &self.sources {
-            warnings.extend(source.validate(grid, &self.terrain)?);
+            warnings.extend(source.validate(grid)?);
         }
         for (i, obstacle) in self.obstacles.iter().enumerate() {
             let solid = grid
@@ -776,43 +756,7 @@ pub struct WindField {
     /// blade's tip; empty without.
     pub subgrid_turbulence: Vec<TurbulenceMode>,
     multigrid_work: Work,
-    /// On a grid that follows the ground, the ground its heights are
-    /// measured from.
-    followed: Option<Terrain>,
     pub time: f32,
-}
-
-/// The four edges around the face of component `axis` at half-cell point
-/// `q` (`TurbulenceField::face_point`), each as (the potential's component
-/// along it, its half-cell point): the two along c a step along b either
-/// side, the two along b a step along c, (a, b, c) the axes in turn.
-fn face_edges(axis: usize, q: UVec3) -> impl Iterator<Item = (usize, UVec3)> {
-    let (b, c) = ((axis + 1) % 3, (axis + 2) % 3);
-    let unit = |d: usize| UVec3::from(std::array::from_fn(|i| (i == d) as u32));
-    [
-        (c, q + unit(b)),
-        (c, q - unit(b)),
-        (b, q + unit(c)),
-        (b, q - unit(c)),
-    ]
-    .into_iter()
-}
-
-/// Whether the edge along `component` at half-cell point `p` (odd along
-/// it, even across) touches a solid cell of the grid: the cell it runs
-/// through along its axis, and those either side across each other axis.
-fn edge_touches_solid(grid: &WindGrid, solid: &[bool], component: usize, p: UVec3) -> bool {
-    let n = grid.cells;
-    let span = |d: usize| {
-        if d == component {
-            let c = (p[d] - 1) / 2;
-            c..c + 1
-        } else {
-            let g = p[d] / 2;
-            g.saturating_sub(1)..g.min(n[d] - 1) + 1
-        }
-    };
-    span(0).any(|i| span(1).any(|j| span(2).any(|k| solid[grid.cell_index(i, j, k)])))
 }
 
 impl WindField {
@@ -821,30 +765,7 @@ impl WindField {
     /// under the ground (a staircase whose treads lie at the ground's
     /// height rounded to the nearest face; docs/method.md).
     pub fn new(grid: WindGrid, settings: &WindSettings) -> Self {
-        // A grid that follows the ground stands on it: no cell lies under
-        // it, and its floor is the ground.
-        let flat = Terrain::default();
-        let terrain = if grid.follows_ground {
-            &flat
-        } else {
-            &settings.terrain
-        };
-        let ground: Vec<bool> = grid
-            .each_cell()
-            .map(|(_, [i, j, k])| {
-                let c = grid.cell_center(i, j, k);
-                !terrain.is_flat() && c.y < terrain.height(c.x, c.z)
-            })
-            .collect();
-        let solid = grid
-            .each_cell()
-            .map(|(c, [i, j, k])| {
-                ground[c] || {
-                    let c = grid.cell_center(i, j, k);
-                    settings.obstacles.iter().any(|o| o.contains(c))
-                }
-            })
-            .collect();
+        let (ground, solid) = voxelised(&grid, settings);
         let mut field = Self {
             vel: [0, 1, 2].map(|a| {
                 let d = grid.face_dims(a);
@@ -867,7 +788,6 @@ impl WindField {
                 vec![0.0; (d.x * d.y * d.z) as usize]
             }),
             subgrid_turbulence: Vec::new(),
-            followed: grid.follows_ground.then(|| settings.terrain.clone()),
             grid,
             time: 0.0,
         };
@@ -880,7 +800,7 @@ impl WindField {
         }
         if let Some(inflow) = settings
             .inflow
-            .filter(|i| i.is_oblique() || !terrain.is_flat())
+            .filter(|i| i.is_oblique() || !settings.terrain.is_flat())
         {
             field.start_with(&inflow);
         }
@@ -912,77 +832,19 @@ impl WindField {
     /// wind whose inflow turns calls it again (the viewer's arrows).
     /// Returns whether any face changed its kind.
     pub fn classify_faces(&mut self, inflow: Option<&Inflow>) -> bool {
-        let faces = [0, 1, 2].map(|axis| {
-            self.grid
-                .each_face(axis)
-                .map(|(_, f)| self.classify(axis, f, inflow))
-                .collect::<Vec<_>>()
-        });
+        let cells = Cells {
+            grid: &self.grid,
+            solid: &self.solid,
+            ground: &self.ground,
+        };
+        let faces = cells.face_kinds(inflow);
         if faces == self.faces && !self.multigrid.levels.is_empty() {
             return false;
         }
+        self.multigrid = multigrid_of(&self.grid, &faces);
         self.faces = faces;
-        let free = self
-            .faces
-            .each_ref()
-            .map(|kinds| kinds.iter().map(|&k| k == FaceKind::Free).collect());
-        self.multigrid = Multigrid::new(self.grid.cells, self.grid.cell, &free);
         self.multigrid_work = Work::default();
         true
-    }
-
-    fn is_solid(&self, c: [i64; 3]) -> bool {
-        let n = self.grid.cells;
-        if c[0] < 0
-            || c[1] < 0
-            || c[2] < 0
-            || c[0] >= n.x as i64
-            || c[1] >= n.y as i64
-            || c[2] >= n.z as i64
-        {
-            return false;
-        }
-        self.solid[self.grid.cell_index(c[0] as u32, c[1] as u32, c[2] as u32)]
-    }
-
-    /// Whether cell `c` lies under the ground; a cell beyond the grid's
-    /// side across `axis` counts as the one inside.
-    fn is_ground(&self, mut c: [i64; 3], axis: usize) -> bool {
-        let n = self.grid.cells[axis] as i64;
-        c[axis] = c[axis].clamp(0, n - 1);
-        self.ground[self.grid.cell_index(c[0] as u32, c[1] as u32, c[2] as u32)]
-    }
-
-    /// How a face behaves: its value is fixed (no-through walls, solids,
-    /// inflow) or free (moved by advection, forces and projection).
-    fn classify(&self, axis: usize, f: [u32; 3], inflow: Option<&Inflow>) -> FaceKind {
-        let n = self.grid.cells;
-        let lo = [f[0] as i64, f[1] as i64, f[2] as i64];
-        let mut left = lo;
-        left[axis] -= 1;
-        if self.is_ground(lo, axis) && self.is_ground(left, axis) && axis != 1 {
-            return FaceKind::Buried;
-        }
-        if self.is_solid(lo) || self.is_solid(left) {
-            return FaceKind::Wall;
-        }
-        if axis == 1 && (f[1] == 0 || f[1] == n.y) {
-            return FaceKind::Wall; // ground and top: nothing passes through
-        }
-        if let Some(inflow) = inflow {
-            if axis != 1 && (f[axis] == 0 || f[axis] == n[axis]) {
-                // The sides along the inflow are free-slip, as a wind
-                // tunnel's: open, they let the incoming air leave sideways
-                // before it crosses the field (on a 7 m wide strip it died
-                // out within 20 m), where in a wide field it would go on.
-                return match inflow.side(axis, (f[axis] > 0) as u32) {
-                    Side::Entry => FaceKind::Inflow,
-                    Side::Along => FaceKind::Wall,
-                    Side::Exit => FaceKind::Free,
-                };
-            }
-        }
-        FaceKind::Free
     }
 
     /// Whether grass slows this wind: two-way coupling with a drag, and
@@ -1003,6 +865,13 @@ impl WindField {
             0.0
         };
         self.advect(dt, drag, settings.inflow.as_ref(), settings.advection);
+        // Among solids the modes' flow runs into them: the projection
+        // turns it around them as it turns the mean wind. Without, the
+        // modes are divergence-free as they are, and added after it.
+        let among_solids = self.solid.contains(&true);
+        if among_solids {
+            self.add_turbulence(settings, dt);
+        }
         self.compute_divergence();
         match settings.solver {
             PressureSolver::Jacobi => self.solve_pressure(settings.jacobi_iterations),
@@ -1010,7 +879,9 @@ impl WindField {
         }
         self.subtract_gradient();
         self.free_slip_under_ground();
-        self.add_turbulence(settings, dt);
+        if !among_solids {
+            self.add_turbulence(settings, dt);
+        }
         self.time += dt;
     }
 
@@ -1027,9 +898,10 @@ impl WindField {
     }
 
     /// Kernel 7, with turbulence (src/model/turbulence.rs): the modes
-    /// carried on by this step, every free, buried and inflow face gains
-    /// the field at the step's end, and keeps what it gained (an inflow
-    /// face is set anew by the next step's forces).
+    /// carried on by this step, every free and inflow face gains the
+    /// field at the step's end, and keeps what it gained (an inflow face
+    /// is set anew by the next step's forces). A buried face holds the air
+    /// above's value, turbulence and all (`free_slip_under_ground`).
     pub fn add_turbulence(&mut self, settings: &WindSettings, dt: f32) {
         let (Some(field), Some(_)) = (&mut self.turbulence, &settings.turbulence) else {
             return;
@@ -1071,23 +943,12 @@ impl WindField {
             };
             for (idx, f) in self.grid.each_face(axis) {
                 let kind = self.faces[axis][idx];
-                if kind == FaceKind::Wall && !open_side(f) {
+                if kind == FaceKind::Buried || (kind == FaceKind::Wall && !open_side(f)) {
+                    self.turbulence_added[axis][idx] = 0.0;
                     continue;
                 }
                 let q = TurbulenceField::face_point(axis, f);
-                // Beside a solid cell, the curl of the potential held at
-                // zero on its edges: no flow into the solid, no
-                // divergence beside it. A buried face, between two cells
-                // under the ground, is only the samplers' ghost value.
-                let held =
-                    |component: usize, p: UVec3| edge_touches_solid(grid, solid, component, p);
-                let beside_solid =
-                    kind != FaceKind::Buried && face_edges(axis, q).any(|(c, p)| held(c, p));
-                let u = if beside_solid {
-                    field.curl_at(&records, axis, q, held)
-                } else {
-                    field.at(&records, axis, q)
-                };
+                let u = field.at(&records, axis, q);
                 self.vel[axis][idx] += u;
                 self.turbulence_added[axis][idx] = u;
             }
@@ -1125,10 +986,6 @@ impl WindField {
     /// the fixed solids; unlike theirs, these faces stay free, so the
     /// multigrid hierarchy is built once. What is left flowing through a
     /// collider is measured in tests/wind_cpu.rs (docs/physics.md).
-    ///
-    /// On a grid that follows the ground a face stands at its height above
-    /// the ground: sources and colliders, placed in the world, push the
-    /// faces whose world points (`world_point`) they reach.
     pub fn add_forces(&mut self, settings: &WindSettings, dt: f32) {
         let t = self.time;
         let moving: Vec<ColliderState> = settings.colliders.iter().map(|c| c.at(t)).collect();
@@ -1153,7 +1010,7 @@ impl WindField {
                         self.vel[axis][idx] = inflow.velocity_at(axis, &self.grid, x, t);
                     }
                     FaceKind::Free => {
-                        let x = self.world_point(self.grid.face_position(axis, i, j, k));
+                        let x = self.grid.face_position(axis, i, j, k);
                         let mut a = 0.0;
                         for &(p, dir, strength, radius) in &sources {
                             a += strength * dir[axis] * falloff(x.distance(p), radius);
@@ -1252,30 +1109,9 @@ impl WindField {
         Vec3::new(mean(0), mean(1), mean(2))
     }
 
-    /// Where a point of the world lies in the grid: the point itself, or
-    /// on a grid that follows the ground, the point with its height taken
-    /// above the ground under it (glsl/common/wind_felt.glsl the same).
-    pub fn window_point(&self, x: Vec3) -> Vec3 {
-        match &self.followed {
-            Some(ground) => Vec3::new(x.x, x.y - ground.height(x.x, x.z), x.z),
-            None => x,
-        }
-    }
-
-    /// The point of the world a point of the grid stands for: itself, or on
-    /// a grid that follows the ground, raised by the ground under it
-    /// (`window_point` undone; glsl/wind/forces.comp the same).
-    pub fn world_point(&self, x: Vec3) -> Vec3 {
-        match &self.followed {
-            Some(ground) => Vec3::new(x.x, x.y + ground.height(x.x, x.z), x.z),
-            None => x,
-        }
-    }
-
-    /// The cell holding the world point `x` (`window_point`), or None
-    /// outside the grid.
+    /// The cell holding the world point `x`, or None outside the grid.
     pub fn cell_at(&self, x: Vec3) -> Option<usize> {
-        let g = ((self.window_point(x) - self.grid.origin) / self.grid.cell).floor();
+        let g = ((x - self.grid.origin) / self.grid.cell).floor();
         let inside = g.cmpge(Vec3::ZERO).all() && g.cmplt(self.grid.cells.as_vec3()).all();
         inside.then(|| {
             let g = g.as_uvec3();
@@ -1285,7 +1121,6 @@ impl WindField {
 
     /// Wind velocity at a world position (what a blade tip samples).
     pub fn sample(&self, x: Vec3) -> Vec3 {
-        let x = self.window_point(x);
         Vec3::new(
             self.sample_component(&self.vel[0], 0, x),
             self.sample_component(&self.vel[1], 1, x),
@@ -1301,7 +1136,7 @@ impl WindField {
         if self.subgrid_turbulence.is_empty() {
             return wind;
         }
-        let at = self.window_point(x) - self.grid.origin;
+        let at = x - self.grid.origin;
         wind + super::turbulence::velocity_at(&self.subgrid_turbulence, at)
     }
 
@@ -1534,18 +1369,6 @@ impl WindField {
             }
         }
     }
-}
-
-/// How a velocity sample behaves at a boundary.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum FaceKind {
-    Free,
-    Wall,
-    Inflow,
-    /// A horizontal component between two cells under the ground: fixed
-    /// for the solver, holding the free-slip ghost value of the air above
-    /// for the samplers (`WindField::free_slip_under_ground`).
-    Buried,
 }
 
 #[cfg(test)]
