@@ -18,7 +18,7 @@ use crate::gpu::{
     MemoryLocation, Pipeline, PipelineLayout, Recording,
 };
 use crate::model::contact::{Collider, GpuCollider};
-use crate::model::multigrid::{self, Multigrid};
+use crate::model::multigrid::{self, Level};
 use crate::model::turbulence::{self, TurbulenceField};
 use crate::model::wind::{
     Advection, Classification, FaceKind, Inflow, PressureSolver, WindField, WindGrid, WindSettings,
@@ -130,11 +130,11 @@ const _: () = assert!(TAIL_TABLE_BYTES + 4 * MG_TAIL_FLOATS as usize <= 16 * 102
 const _: () = assert!(TAIL_TABLE_BYTES + 4 * MG_TAIL_FLOATS_LARGE as usize <= 48 * 1024);
 
 /// The level table and every level's conductances, concatenated.
-fn multigrid_tables(mg: &Multigrid) -> (Vec<MgLevel>, Vec<f32>) {
+fn multigrid_tables(levels: &[Level]) -> (Vec<MgLevel>, Vec<f32>) {
     let mut table = Vec::new();
     let mut conductance = Vec::new();
     let mut coarse_offset = 0u32;
-    for level in &mg.levels {
+    for level in levels {
         let mut offsets = [0u32; 4];
         for (axis, k) in level.conductance.iter().enumerate() {
             offsets[axis] = conductance.len() as u32;
@@ -318,7 +318,7 @@ impl WindBuffers {
             )
         };
         let kinds = field.faces.iter().flatten().map(|&k| face_kind_word(k));
-        let (table, conductance) = multigrid_tables(&field.multigrid);
+        let (table, conductance) = multigrid_tables(&field.multigrid.levels);
         Ok([
             uploaded("wind face kinds", &u32_bytes(kinds))?,
             uploaded(
@@ -344,7 +344,7 @@ impl WindBuffers {
             .map(|&k| face_kind_word(k))
             .collect();
         let solid: Vec<u32> = classification.solid.iter().map(|&s| s as u32).collect();
-        let (table, conductance) = multigrid_tables(&classification.multigrid);
+        let (table, conductance) = multigrid_tables(&classification.levels);
         let writes: [(&str, &Buffer, &[u32]); 4] = [
             ("face kinds", &self.faces, &kinds),
             ("solid cells", &self.solid, &solid),

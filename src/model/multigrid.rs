@@ -339,6 +339,17 @@ impl Multigrid {
     /// `cells` and `h` are the wind grid's cells and cell size; `free[axis]`
     /// says for each face, in the velocity's layout, whether air may cross it.
     pub fn new(cells: UVec3, h: Vec3, free: &[Vec<bool>; 3]) -> Self {
+        let levels = Self::levels_of(cells, h, free);
+        let operators = (0..levels.len())
+            .map(|l| Operators::of(&levels[l], levels.get(l + 1)))
+            .collect();
+        Self { levels, operators }
+    }
+
+    /// The hierarchy's levels alone, without the CPU's operators: what
+    /// the GPU's kernels read (a moved wind window's, rebuilt at each
+    /// move, costs a tenth of `new`).
+    pub fn levels_of(cells: UVec3, h: Vec3, free: &[Vec<bool>; 3]) -> Vec<Level> {
         let conductance = std::array::from_fn(|axis| {
             let area_over_distance = h.x * h.y * h.z / (h[axis] * h[axis]);
             free[axis]
@@ -365,10 +376,7 @@ impl Multigrid {
             let coarse = coarsen(fine);
             levels.push(coarse);
         }
-        let operators = (0..levels.len())
-            .map(|l| Operators::of(&levels[l], levels.get(l + 1)))
-            .collect();
-        Self { levels, operators }
+        levels
     }
 
     /// Level 0's right-hand side: b = -div * cell volume (`h`: cell size).

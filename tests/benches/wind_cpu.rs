@@ -1,12 +1,14 @@
 //! Criterion bench of the wind solver's CPU reference: one step on the
 //! paper's 60 x 20 x 60 grid, with 30 Jacobi iterations and with the
-//! default multigrid solve. Run with
+//! default multigrid solve; and what a cover's wind window over terrain
+//! does on the CPU at each move (steppe's: the moved grid voxelised, its
+//! faces classified, the multigrid's hierarchy built). Run with
 //! `cargo bench --bench wind_cpu`; results go in docs/perf.md.
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use glam::{UVec3, Vec3};
 use meadow::model::wind::{
-    Gust, Inflow, PressureSolver, WindField, WindGrid, WindSettings, WindSource,
+    Classification, Gust, Inflow, PressureSolver, WindField, WindGrid, WindSettings, WindSource,
 };
 
 fn wind_step(c: &mut Criterion) {
@@ -54,5 +56,18 @@ fn wind_step(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, wind_step);
+fn window_move(c: &mut Criterion) {
+    let scene = meadow::scene::Scene::builtin("steppe").unwrap();
+    let grid = scene.wind_grid().unwrap();
+    let settings = scene.wind_settings();
+    let moved = grid.shifted(glam::IVec2::new(1, 0));
+    let mut group = c.benchmark_group("wind window over terrain");
+    group.sample_size(20);
+    group.bench_function("steppe's move (40x24x40): Classification::of", |b| {
+        b.iter(|| Classification::of(&moved, &settings))
+    });
+    group.finish();
+}
+
+criterion_group!(benches, wind_step, window_move);
 criterion_main!(benches);

@@ -7,7 +7,7 @@
 //! the grid, its settings and the multigrid.
 
 use super::{Inflow, Side, WindGrid, WindSettings};
-use crate::model::multigrid::Multigrid;
+use crate::model::multigrid::{Level, Multigrid};
 
 /// How a velocity sample behaves at a boundary.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -118,21 +118,26 @@ impl Cells<'_> {
     }
 }
 
+/// Which faces are free, per axis: what the multigrid's conductances
+/// follow.
+fn free_faces(faces: &[Vec<FaceKind>; 3]) -> [Vec<bool>; 3] {
+    faces
+        .each_ref()
+        .map(|kinds| kinds.iter().map(|&k| k == FaceKind::Free).collect())
+}
+
 /// The multigrid hierarchy of a grid's free faces.
 pub fn multigrid_of(grid: &WindGrid, faces: &[Vec<FaceKind>; 3]) -> Multigrid {
-    let free = faces
-        .each_ref()
-        .map(|kinds| kinds.iter().map(|&k| k == FaceKind::Free).collect());
-    Multigrid::new(grid.cells, grid.cell, &free)
+    Multigrid::new(grid.cells, grid.cell, &free_faces(faces))
 }
 
 /// A grid's cells and faces over the scene's ground and obstacles for its
 /// inflow, as `WindField::new` classifies them, with the multigrid's
-/// hierarchy over them.
+/// levels over them (not the CPU's operators: what the GPU reads).
 pub struct Classification {
     pub solid: Vec<bool>,
     pub faces: [Vec<FaceKind>; 3],
-    pub multigrid: Multigrid,
+    pub levels: Vec<Level>,
 }
 
 impl Classification {
@@ -144,11 +149,11 @@ impl Classification {
             ground: &ground,
         };
         let faces = cells.face_kinds(settings.inflow.as_ref());
-        let multigrid = multigrid_of(grid, &faces);
+        let levels = Multigrid::levels_of(grid.cells, grid.cell, &free_faces(&faces));
         Self {
             solid,
             faces,
-            multigrid,
+            levels,
         }
     }
 }
