@@ -953,7 +953,7 @@ fn gpu_turbulence_makes_patches_carried_by_the_wind() {
 /// A wind window that follows the camera (`[grass.cover]`), moved by
 /// whole cells between steps (glsl/wind/shift.comp, then the turbulence
 /// added where the faces now are): the GPU follows the CPU reference
-/// moved the same way (src/model/wind_window.rs), and the moves matter
+/// moved the same way (src/model/wind/window.rs), and the moves matter
 /// (the field of a window that stayed differs by far more).
 #[test]
 fn gpu_moves_the_wind_window_as_the_cpu_reference() {

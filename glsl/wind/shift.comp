@@ -1,7 +1,7 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 // The wind window moved by whole cells (`WindField::shift_window`,
-// src/model/wind_window.rs), in two phases with a barrier between:
+// src/model/wind/window.rs), in two phases with a barrier between:
 // 0 gathers, into copy B, what the face at each face's world position held
 // (the turbulence the last step added taken off; a new face, or one whose
 // source was a wall, takes the inflow's mean velocity), and into the

@@ -264,7 +264,7 @@ gpu_interface! {
     }
 
     /// Push constants of the wind window's shift (glsl/wind/shift.comp;
-    /// src/model/wind_window.rs): the wind kernels' set, its own push.
+    /// src/model/wind/window.rs): the wind kernels' set, its own push.
     pub struct WindShiftPush {
         /// The grid before the shift (only its cells and faces are read).
         pub grid: WindGridParams,

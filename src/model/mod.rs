@@ -19,4 +19,3 @@ pub mod quasi_static;
 pub mod terrain;
 pub mod turbulence;
 pub mod wind;
-pub mod wind_window;

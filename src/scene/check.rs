@@ -175,7 +175,7 @@ pub fn scene(s: &Scene) -> Check {
 }
 
 /// With `[grass.cover]` the wind grid is a window that follows the camera
-/// in whole cells, its air shifted with it (src/model/wind_window.rs):
+/// in whole cells, its air shifted with it (src/model/wind/window.rs):
 /// what is fixed to the grid's sides or cells would move with it.
 fn moving_wind_window(w: &super::WindConfig) -> Check {
     if w.inflow.is_some_and(|i| i.gust.amplitude != 0.0) {

@@ -4,7 +4,13 @@
 //! semi-Lagrangian step by default, or that step alone) -> divergence ->
 //! pressure (multigrid V-cycles by default, src/model/multigrid.rs, or the
 //! paper's Jacobi iterations) -> subtract the pressure gradient; with
-//! turbulence (src/model/turbulence.rs) its field is added on top.
+//! turbulence (src/model/turbulence.rs) its field is added on top (before
+//! the projection among solid cells).
+//!
+//! Its children: `faces.rs`, what each cell and face is (solid, ground,
+//! free, wall, inflow, buried) and the classification a grid alone gets;
+//! `window.rs`, the window that follows a cover's camera. They use this
+//! file's grid, settings and field.
 //!
 //! A staggered (MAC) grid: the x component lives on the cells' x faces, y on
 //! y faces, z on z faces, pressure at cell centres. Divergence and gradient
@@ -25,6 +31,7 @@
 use glam::{UVec3, Vec3};
 
 mod faces;
+mod window;
 
 use super::contact::{Collider, ColliderState};
 use super::multigrid::{Multigrid, Work};
@@ -634,7 +641,7 @@ pub struct WindSettings {
     #[serde(skip)]
     pub terrain: Terrain,
     /// The grid is a window that follows the camera (`wind.window` with
-    /// `[grass.cover]`; src/model/wind_window.rs).
+    /// `[grass.cover]`; src/model/wind/window.rs).
     #[serde(skip)]
     pub moving_window: bool,
 }

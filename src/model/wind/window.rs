@@ -10,7 +10,7 @@
 
 use glam::{IVec2, Vec2, Vec3};
 
-use super::wind::{voxelised, FaceKind, WindField, WindGrid, WindSettings};
+use super::{voxelised, FaceKind, WindField, WindGrid, WindSettings};
 
 impl WindGrid {
     /// The whole cells (x, z) the window must move by to stay under a
