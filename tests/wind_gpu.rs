@@ -15,6 +15,18 @@ use meadow::model::wind::{
     WindSettings, WindSource,
 };
 
+/// Turbulence of intensity 0.3 and a 2 m length scale, drawn from `seed`:
+/// what the GPU-against-CPU tests step with.
+fn turbulence_2m(seed: u32) -> Turbulence {
+    Turbulence {
+        intensity: 0.3,
+        length_scale: 2.0,
+        seed,
+        speed: None,
+        finest_wavelength: None,
+    }
+}
+
 fn grid(cells: UVec3) -> WindGrid {
     WindGrid::new(
         cells,
@@ -249,13 +261,7 @@ fn gpu_matches_the_cpu_reference_over_terrain_from_any_heading() {
 /// check), and the GPU's field leaves no divergence beside the ground.
 #[test]
 fn gpu_turbulence_matches_the_cpu_reference_over_terrain() {
-    gpu_matches_the_cpu_reference_over_terrain(Some(Turbulence {
-        intensity: 0.3,
-        length_scale: 2.0,
-        seed: 5,
-        speed: None,
-        finest_wavelength: None,
-    }));
+    gpu_matches_the_cpu_reference_over_terrain(Some(turbulence_2m(5)));
 }
 
 fn gpu_matches_the_cpu_reference_over_terrain(turbulence: Option<Turbulence>) {
@@ -969,13 +975,7 @@ fn gpu_moves_the_wind_window_as_the_cpu_reference() {
                 heading,
                 gust: Gust::default(),
             }),
-            turbulence: Some(Turbulence {
-                intensity: 0.3,
-                length_scale: 2.0,
-                seed: 9,
-                speed: None,
-                finest_wavelength: None,
-            }),
+            turbulence: Some(turbulence_2m(9)),
             moving_window: true,
             ..Default::default()
         };
@@ -1029,13 +1029,7 @@ fn gpu_moves_the_wind_window_as_the_cpu_reference() {
     }
     // A grid fixed over a field does not move.
     let fixed = WindSettings {
-        turbulence: Some(Turbulence {
-            intensity: 0.3,
-            length_scale: 2.0,
-            seed: 9,
-            speed: None,
-            finest_wavelength: None,
-        }),
+        turbulence: Some(turbulence_2m(9)),
         ..Default::default()
     };
     let mut fixed_pass = WindPass::new(&gpu, &commands, grid, &fixed, 0.0).unwrap();
@@ -1107,13 +1101,7 @@ fn gpu_moves_a_wind_window_over_terrain_as_the_cpu_reference() {
         sources: vec![WindSource::fixed(source_at, Vec3::Z, 30.0, 1.2)],
         colliders: vec![still, rolling],
         terrain: terrain.clone(),
-        turbulence: Some(Turbulence {
-            intensity: 0.3,
-            length_scale: 2.0,
-            seed: 9,
-            speed: None,
-            finest_wavelength: None,
-        }),
+        turbulence: Some(turbulence_2m(9)),
         moving_window: true,
         ..Default::default()
     };
