@@ -422,9 +422,9 @@ pub struct WindPass {
     set: DescriptorSet,
     /// The kernels in `WIND_KERNELS` order, sharing one layout.
     kernels: Vec<Pipeline>,
-    /// The turbulence kernel adding to the advected copy B, which the
-    /// projection reads: among solid cells (`record_step`).
-    turbulence_before_projection: Pipeline,
+    /// With turbulence, its kernel adding to the advected copy B, which
+    /// the projection reads: among solid cells (`record_step`).
+    turbulence_before_projection: Option<Pipeline>,
     layout: Arc<PipelineLayout>,
     buffers: WindBuffers,
     face_count: u32,
@@ -543,8 +543,10 @@ impl WindPass {
                 _ => Pipeline::compute(gpu, &layout, spirv),
             })
             .collect::<Result<Vec<_>>>()?;
-        let turbulence_before_projection =
-            Pipeline::compute_specialized(gpu, &layout, WIND_KERNELS[TURBULENCE], &[1])?;
+        let turbulence_before_projection = settings
+            .turbulence
+            .map(|_| Pipeline::compute_specialized(gpu, &layout, WIND_KERNELS[TURBULENCE], &[1]))
+            .transpose()?;
         let set = DescriptorSet::new(
             gpu,
             &layout,
@@ -937,10 +939,10 @@ impl WindPass {
             rec.uses(&[BufferUse::new(subgrid, Access::TRANSFER_WRITE)]);
             rec.update_buffer(subgrid, 0, bytemuck::cast_slice(&modes.subgrid));
         }
-        let pipeline = if into_advected {
-            &self.turbulence_before_projection
-        } else {
-            &self.kernels[TURBULENCE]
+        // Modes are recorded only with turbulence, which made both.
+        let pipeline = match (&self.turbulence_before_projection, into_advected) {
+            (Some(before), true) => before,
+            _ => &self.kernels[TURBULENCE],
         };
         rec.uses(&self.kernel_uses(TURBULENCE));
         rec.bind_pipeline(pipeline);
