@@ -44,7 +44,7 @@ pub struct WindReport {
     pub device_memory: DeviceMemory,
     pub cells: [u32; 3],
     /// The grid wind_field.npy is sampled on, in the world's coordinates
-    /// (a cover's window where the run's last step left it).
+    /// (a cover's window under the camera where the scene starts).
     pub grid: GridReport,
     /// How the pressure was solved, and with how many iterations or cycles.
     pub solver: PressureSolver,
