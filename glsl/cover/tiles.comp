@@ -29,10 +29,14 @@ layout(set = 0, binding = 1, std430) buffer Vertices { BladeVertex vertices[]; }
 layout(set = 0, binding = 2, std430) readonly buffer Params { CoverParams params; };
 // The wind the blades are posed in (a placeholder with `params.pose` 0).
 layout(set = 0, binding = 3, std430) readonly buffer Wind { float wind_velocity[]; };
-// How many blades this pass posed quasi-statically (those blended
-// included), from their state alone, and left out beyond the cover's
-// bounds (cleared before it).
-layout(set = 0, binding = 4, std430) buffer Posed { uint posed; uint from_state; uint outside; };
+// How many blades this pass posed quasi-statically, from their dynamics'
+// state, and left out beyond the cover's bounds; the largest distance a
+// tip posed both frames moved since the last pass, over the blades posed
+// quasi-statically and over all (a
+// positive float's bits, which order as the float does; cleared before it).
+layout(set = 0, binding = 4, std430) buffer Posed {
+    uint posed; uint from_state; uint outside; uint far_tip_jump; uint tip_jump;
+};
 // The kept blades' states (`compute::CoverDynamics`; a placeholder with
 // `params.dynamic` 0): the paper's dynamics near the camera.
 layout(set = 0, binding = 5, std430) readonly buffer States { GrassState states[]; };
@@ -45,6 +49,9 @@ layout(set = 0, binding = 6, std430) readonly buffer Terrain {
 // The kept blades' pressed states (`CoverDynamics::presses`; a placeholder
 // with `params.pressed_states` 0): a ball's trail through them.
 layout(set = 0, binding = 7, std430) readonly buffer Presses { Press presses[]; };
+// Each blade's pose the frame before (`FarPose`, src/interface/defs.rs),
+// in the slot its tile wraps to over the whole square.
+layout(set = 0, binding = 8, std430) buffer FarPoses { FarPose far_poses[]; };
 #define WIND_VELOCITY(i) wind_velocity[i]
 #include "wind_sample.glsl"
 
@@ -99,11 +106,13 @@ vec2[4] profile(uint kind, float c) {
 // k_i = k_tip r^((2 - i) / 2), the bending groups split where the slope's
 // sign turns, the drag S sigma per motion; its inertia and damping play no
 // part at rest.
+// The inertia per motion as `GrassBlade::new` makes it from the edge mass
+// m (what `far_frequencies` reads; the balance does not).
 // The ground's normal and contact's c (the w of P1, P2 and P3) are left
 // at 0: no pose reads them (blades grow and swing upright on a slope; only
 // ground contact reads them, and no posed blade is in contact).
 GrassBlade cover_grass_blade(vec3 p[4], vec3 width_dir, float half_width, float rand,
-                             float k_tip, float ratio, float sigma) {
+                             float k_tip, float ratio, float sigma, float m) {
     GrassBlade b;
     b.rest[0] = vec4(p[0], rand);
     b.rest[1] = vec4(p[1], 0.0);
@@ -130,7 +139,20 @@ GrassBlade cover_grass_blade(vec3 p[4], vec3 width_dir, float half_width, float 
     float area = 2.0 * half_width;
     b.drag = vec4(sigma * all * area, sigma * a * area,
                   split < 3 ? sigma * (all - a) * area : 0.0, sigma * all * area);
-    b.inertia = vec4(1.0);
+    // `swing_inertia`: each edge a plate swung by its eq. 12 share.
+    vec3 below = vec3(0.0);
+    float swing = 0.0;
+    for (int i = 0; i < 3; ++i) {
+        float share = b.stiffness[2] / b.stiffness[i];
+        vec3 h = (p[i + 1] - p[i]) * vec3(share, 0.0, share);
+        swing += m * (dot(below, below) + dot(below, h) + dot(h, h) / 3.0)
+            + m * share * share * half_width * half_width / 3.0;
+        below += h;
+    }
+    int tip_a = split - 1;
+    b.inertia = vec4(swing, float(split) * m * len[tip_a] * len[tip_a],
+                     split < 3 ? float(3 - split) * m * len[2] * len[2] : 1.0,
+                     3.0 * m * half_width * half_width);
     b.damping = vec4(0.0);
     return b;
 }
@@ -153,10 +175,10 @@ bool may_be_drawn(vec3 root, float rand, float reach, float half_width) {
     return (kept & (in_view | caster)) != 0u;
 }
 
-// `cover::dynamic_weight`: 1 within the radius less the band, 0 from the
+// `cover::pressed_fade`: 1 within the radius less the band, 0 from the
 // radius on, smoothstep between.
-float dynamic_weight(float radius, float d) {
-    float band = min(COVER_BLEND_BAND_M, radius);
+float pressed_fade(float radius, float d) {
+    float band = min(COVER_PRESS_FADE_M, radius);
     if (band <= 0.0) {
         return 0.0;
     }
@@ -176,6 +198,12 @@ uint state_slot(ivec2 tile, uint side) {
     return wrap(tile.x, side) + side * wrap(tile.y, side);
 }
 
+// `cover::far_tag`.
+uint far_tag(ivec2 tile) {
+    return (1u << 30) | (uint(tile.x) & 0x7fffu) | ((uint(tile.y) & 0x7fffu) << 15);
+}
+
+
 void main() {
     if (gl_GlobalInvocationID.x >= pc.count) {
         return;
@@ -187,6 +215,7 @@ void main() {
     uint index = blade - slot * pc.per_tile;
     ivec2 tile = pc.origin + ivec2(int(slot % pc.side), int(slot / pc.side));
     uint key = hash(pc.seed ^ hash(uint(tile.x) ^ hash(uint(tile.y) ^ hash(index))));
+    uint far_slot = state_slot(tile, pc.side) * pc.per_tile + index;
 
     precise vec2 root = (vec2(tile) + vec2(draw(key, 0u), draw(key, 1u))) * pc.tile_m;
     vec2 f = facing(draw(key, 2u), draw_bits(key, 3u));
@@ -219,6 +248,9 @@ void main() {
     if (!(root.x >= pc.bounds.x && root.x < pc.bounds.z && root.y >= pc.bounds.y
           && root.y < pc.bounds.w)) {
         atomicAdd(outside, 1u);
+        if (params.far_kept != 0u) {
+            far_poses[far_slot].tile = 0u;
+        }
         for (int i = 0; i < 4; ++i) {
             vertices[4u * local + uint(i)] = BladeVertex(vec4(rest[i], rand), vec4(0.0));
         }
@@ -227,6 +259,9 @@ void main() {
     float reach = distance(rest[0], rest[1]) + distance(rest[1], rest[2]) + distance(rest[2], rest[3]);
     if (params.pose == 0u
         || (params.pose_drawn_only != 0u && !may_be_drawn(rest[0], rand, reach, hw))) {
+        if (params.far_kept != 0u) {
+            far_poses[far_slot].tile = 0u;
+        }
         for (int i = 0; i < 4; ++i) {
             vertices[4u * local + uint(i)] = BladeVertex(vec4(rest[i], rand), vec4(half_width, 0.0));
         }
@@ -234,37 +269,79 @@ void main() {
     }
     // The quasi-static pose in the wind at the rest tip (`cover::posed_vertices`),
     // written as the grass step writes a blade (`write_blade` in step.glsl);
-    // near the camera the dynamics' angles, blended into it over the band.
+    // near the camera the dynamics' angles.
     float between_tip = params.tip_stiffness.x + (params.tip_stiffness.y - params.tip_stiffness.x) * draw(key, 9u);
     float ratio = params.stiffness_ratio.x + (params.stiffness_ratio.y - params.stiffness_ratio.x) * draw(key, 10u);
     float sigma = params.sigma.x + (params.sigma.y - params.sigma.x) * draw(key, 11u);
-    GrassBlade b = cover_grass_blade(rest, vec3(f.y, 0.0, -f.x), hw, rand, between_tip, ratio, sigma);
-    float weight = 0.0;
+    float edge_mass = params.edge_mass.x + (params.edge_mass.y - params.edge_mass.x) * draw(key, 12u);
+    GrassBlade b = cover_grass_blade(rest, vec3(f.y, 0.0, -f.x), hw, rand, between_tip, ratio,
+                                     sigma, edge_mass);
+    // A blade of the simulated square's tiles shows its dynamics' state;
+    // the square's edge is crossed without a jump because a tile coming in
+    // starts its dynamics from the pose shown the frame before
+    // (glsl/cover/enter.comp) and a blade leaving goes on from its state.
+    bool kept_blade = false;
     vec4 kept_angle = vec4(0.0);
-    float kept_pressed = 0.0;
+    vec4 kept_velocity = vec4(0.0);
+    float pressed = 0.0;
     ivec2 k = tile - params.kept_origin;
     if (params.dynamic != 0u && all(greaterThanEqual(k, ivec2(0)))
         && all(lessThan(k, ivec2(int(params.kept_side))))) {
-        weight = dynamic_weight(params.simulate_radius, distance(root, params.eye));
+        kept_blade = true;
         uint kept = state_slot(tile, params.kept_side) * pc.per_tile + index;
         kept_angle = states[kept].angle;
+        kept_velocity = states[kept].velocity;
+        // Pressed as the dynamics left it, faded out over the band inside
+        // the radius: beyond it no collider presses the far field.
         if (params.pressed_states != 0u) {
-            kept_pressed = presses[kept].pressed;
+            pressed = presses[kept].pressed
+                * pressed_fade(params.simulate_radius, distance(root, params.eye));
         }
     }
+    // The pose the blade showed the frame before, if it was posed then.
+    uint tag = far_tag(tile);
+    FarPose last = FarPose(vec4(0.0), vec4(0.0), vec3(0.0), 0u);
+    if (params.far_kept != 0u) {
+        last = far_poses[far_slot];
+    }
+    bool had_pose = last.tile == tag;
     vec4 angle = kept_angle;
-    if (weight >= 1.0) {
+    vec4 velocity = kept_velocity;
+    if (kept_blade) {
         atomicAdd(from_state, 1u);
     } else {
         atomicAdd(posed, 1u);
-        vec4 still = quasi_static_angles(b, sample_wind(params.grid, rest[3]));
-        angle = weight > 0.0 ? mix(still, kept_angle, weight) : still;
+        // The balance the blade gives into from where it stands: from
+        // last frame's pose (the side it was on), else from rest
+        // (`quasi_static_angles_from`).
+        bool tracked = had_pose && params.far_tracking != 0u;
+        angle = quasi_static_angles_from(b, sample_wind(params.grid, rest[3]),
+                                         tracked ? last.angle : vec4(0.0));
+        velocity = vec4(0.0);
+        // Towards the balance from where it was, as its dynamics could go
+        // in the frame's time (`quasi_static::far_tracked`): no jump where
+        // the balance moves faster than the blade could follow.
+        if (tracked) {
+            vec4 target = angle;
+            angle = last.angle;
+            velocity = last.velocity;
+            far_tracked(angle, velocity, target, far_frequency(b), params.elapsed);
+        }
     }
-    // Pressed as the dynamics left it, faded out over the band as its
-    // angles are.
-    Pose p = blade_pose(b, angle, weight * kept_pressed);
+    Pose p = blade_pose(b, angle, pressed);
     vec3 rest_tip = normalize_or(rest[3] - rest[2], UP);
     float displacement = atan(length(cross(rest_tip, p.e[2])), dot(rest_tip, p.e[2]));
+    vec3 tip = p.points[BLADE_CONTROL_POINTS - 1];
+    if (had_pose) {
+        uint jump = floatBitsToUint(distance(tip, last.tip));
+        atomicMax(tip_jump, jump);
+        if (!kept_blade) {
+            atomicMax(far_tip_jump, jump);
+        }
+    }
+    if (params.far_kept != 0u) {
+        far_poses[far_slot] = FarPose(angle, velocity, tip, tag);
+    }
     for (int i = 0; i < BLADE_CONTROL_POINTS; ++i) {
         int edge = max(i, 1) - 1;
         vertices[4u * local + uint(i)] = BladeVertex(vec4(p.points[i], rand),

@@ -92,12 +92,14 @@ float qs_norm(vec4 t, vec4 used) {
     return length(t * used);
 }
 
-// The balance's angles (swing, bend A, bend B, twist) for `wind` at the tip.
-vec4 quasi_static_angles(GrassBlade b, vec3 wind) {
+// The balance's angles (swing, bend A, bend B, twist) for `wind` at the
+// tip, continued from `start` (`quasi_static_angles_from`; from rest:
+// `quasi_static_angles_within`).
+vec4 quasi_static_angles_from(GrassBlade b, vec3 wind, vec4 start) {
     wind = guard_wind(wind);
     vec4 used = qs_motions(b);
-    vec4 angle = vec4(0.0);
-    mat4 still = qs_jacobian(b, angle, vec3(0.0), used);
+    mat4 still = qs_jacobian(b, vec4(0.0), vec3(0.0), used);
+    vec4 angle = start * used;
     vec4 stiffness = vec4(1.0);
     for (int m = 0; m < 4; ++m) {
         stiffness[m] = max(-still[m][m], 1e-12);
@@ -127,6 +129,36 @@ vec4 quasi_static_angles(GrassBlade b, vec3 wind) {
         }
     }
     return angle;
+}
+
+vec4 quasi_static_angles(GrassBlade b, vec3 wind) {
+    return quasi_static_angles_from(b, wind, vec4(0.0));
+}
+
+// `quasi_static::far_frequency`: the slowest of the blade's motions'
+// sqrt(k_eff / I) (`GrassBlade::k_eff`; its inertia as `GrassBlade::new`
+// makes it).
+float far_frequency(GrassBlade b) {
+    int split = split_edge(b);
+    int tip_a = split - 1;
+    vec4 k_eff = vec4(
+        length(swing_lever(b, 0.0)) * b.stiffness[2],
+        distance(rest_point(b, tip_a + 1), rest_point(b, tip_a)) * b.stiffness[tip_a],
+        split < 3 ? distance(rest_point(b, 3), rest_point(b, 2)) * b.stiffness[2] : 0.0,
+        b.width.w * b.stiffness[2]);
+    vec4 w = sqrt(max(k_eff / b.inertia, vec4(0.0)));
+    return min(min(w.x, w.y), min(split < 3 ? w.z : w.x, w.w));
+}
+
+// `quasi_static::far_tracked`: angles and rates `elapsed` seconds on, from
+// `angle`, `velocity` towards the balance `target` as a critically damped
+// blade of natural frequency `omega` (rad/s) goes, solved exactly.
+void far_tracked(inout vec4 angle, inout vec4 velocity, vec4 target, float omega, float elapsed) {
+    float fade = exp(-omega * elapsed);
+    vec4 e0 = angle - target;
+    vec4 c = velocity + omega * e0;
+    angle = clamp(target + (e0 + c * elapsed) * fade, vec4(-MAX_ANGLE), vec4(MAX_ANGLE));
+    velocity = (velocity - omega * c * elapsed) * fade;
 }
 
 #endif

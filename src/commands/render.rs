@@ -275,7 +275,12 @@ fn render_with(
     observer: &mut dyn FnMut(FrameProgress) -> bool,
 ) -> Result<Vec<RenderReport>> {
     let scene = &request.scene;
-    let warnings = scene.wind_settings().check(&scene.wind_grid()?)?;
+    let mut warnings = scene.wind_settings().check(&scene.wind_grid()?)?;
+    if let Some(cover) = &scene.grass.cover {
+        warnings.extend(crate::compute::cover_dynamics::far_poses_missing(
+            gpu, cover,
+        ));
+    }
     crate::frame::check_fits(gpu, scene, request.width, request.height, request.msaa)?;
     let Planted {
         blades,
@@ -310,6 +315,8 @@ fn render_with(
     let generated = recorder.cover_blades();
     let posed = recorder.cover_posed();
     let from_state = recorder.cover_from_state();
+    let (far_jump, jump) = recorder.cover_tip_jumps();
+    let covered = scene.grass.cover.is_some();
     let patches = if simulation.grass().is_some() {
         blades.len() as u64
     } else {
@@ -358,6 +365,8 @@ fn render_with(
                     drawn,
                 }
             },
+            cover_largest_tip_jump_m: covered.then_some(jump),
+            cover_largest_far_tip_jump_m: covered.then_some(far_jump),
             blades_under_obstacles: under_obstacles,
             width: request.width,
             height: request.height,

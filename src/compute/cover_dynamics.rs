@@ -6,10 +6,12 @@
 //! stays in the simulated square, and a tile coming in takes the slot of
 //! the one leaving: its blades are made on the CPU (`cover::grass_blade`,
 //! the same blades the tile kernel makes) and written in the command
-//! buffer, and glsl/cover/enter.comp starts them at their quasi-static
-//! pose, still. The tile kernel poses the kept blades from their state,
-//! blended into the quasi-static pose over the band inside the radius
-//! (`cover::dynamic_weight`).
+//! buffer, and glsl/cover/enter.comp starts them where the tile kernel
+//! showed them the frame before (its last poses, which this pass keeps
+//! for it: `far_poses`), or at their quasi-static pose, still. The tile
+//! kernel poses the kept blades from their state (their pressing faded
+//! out over the band inside the radius: `cover::pressed_fade`), and a
+//! blade leaving the square goes on from it.
 
 use ash::vk;
 use glam::Vec2;
@@ -22,7 +24,7 @@ use crate::gpu::{
     Access, Bound, Buffer, BufferId, BufferUse, CommandPool, DescriptorSet, Gpu, LayoutBinding,
     MemoryLocation, Pipeline, PipelineLayout, Recording,
 };
-use crate::interface::{CoverEnterPush, COVER_GROUP};
+use crate::interface::{CoverEnterPush, FarPose, COVER_GROUP};
 use crate::model::contact::Collider;
 use crate::model::grass::GrassBlade;
 use crate::model::terrain::Terrain;
@@ -36,6 +38,7 @@ pub const COVER_ENTER_SET: &[LayoutBinding] = &[
     LayoutBinding::compute_storage(0), // the dynamics' blades
     LayoutBinding::compute_storage(1), // their states
     LayoutBinding::compute_storage(2), // the wind velocity
+    LayoutBinding::compute_storage(3), // the tile kernel's last poses (FarPose)
 ];
 
 pub struct CoverDynamics {
@@ -45,6 +48,13 @@ pub struct CoverDynamics {
     grass: GrassPass,
     enter: Pipeline,
     enter_set: DescriptorSet,
+    /// The tile kernel's last pose of every cover blade
+    /// (`CoverTilePass`'s, kept here so that a tile coming in starts
+    /// from it; a placeholder where the device cannot bind them whole:
+    /// `far_kept` false), and the whole square's side it is laid out by.
+    far_poses: Buffer,
+    far_kept: bool,
+    far_side: u32,
     _stepped: Buffer,
     wind: BufferId,
     grid: WindGrid,
@@ -144,6 +154,19 @@ impl CoverDynamics {
             "cover enter",
         )?;
         let enter = Pipeline::compute(gpu, &layout, &crate::shaders::COVER_ENTER_COMP)?;
+        let (far_poses, far_kept) = match far_poses_buffer(gpu, commands, cover)? {
+            Some(b) => (b, true),
+            None => (
+                Buffer::new(
+                    gpu,
+                    "cover enter placeholder (no last poses kept)",
+                    std::mem::size_of::<FarPose>() as u64,
+                    vk::BufferUsageFlags::STORAGE_BUFFER,
+                    MemoryLocation::GpuOnly,
+                )?,
+                false,
+            ),
+        };
         let enter_set = DescriptorSet::new(
             gpu,
             &layout,
@@ -152,6 +175,7 @@ impl CoverDynamics {
                 Bound::Buffer(grass_pass.blades()),
                 Bound::Buffer(grass_pass.states()),
                 Bound::Buffer(wind.velocity),
+                Bound::Buffer(&far_poses),
             ],
             "cover enter set",
         )?;
@@ -159,6 +183,9 @@ impl CoverDynamics {
             grass: grass_pass,
             enter,
             enter_set,
+            far_poses,
+            far_kept,
+            far_side: CoverTiles::around(cover, camera).side,
             _stepped: stepped,
             wind: wind.velocity.into(),
             grid: wind.grid,
@@ -216,30 +243,38 @@ impl CoverDynamics {
         let per_tile = self.square.per_tile;
         rec.bind_pipeline(&self.enter);
         rec.bind_set(&self.enter, &self.enter_set);
-        // Runs of neighbouring slots in one dispatch each.
-        let mut runs: Vec<(u32, u32)> = Vec::new();
+        // One dispatch a tile: each finds its blades' last poses by its
+        // own coordinates.
         for &slot in &self.entering {
-            match runs.last_mut() {
-                Some((first, count)) if *first + *count == slot => *count += 1,
-                _ => runs.push((slot, 1)),
-            }
-        }
-        for (first, count) in runs {
+            let tile = self.kept[slot as usize];
             rec.uses(&[
                 BufferUse::new(self.grass.blades(), Access::COMPUTE_READ),
                 BufferUse::new(self.grass.states(), Access::COMPUTE_READ_WRITE),
                 BufferUse::new(self.wind, Access::COMPUTE_READ),
+                BufferUse::new(&self.far_poses, Access::COMPUTE_READ),
             ]);
             let push = CoverEnterPush {
                 grid: grid_params(&self.grid, self.grid.face_count() as u32),
-                first: first * per_tile,
-                count: count * per_tile,
-                ..CoverEnterPush::default()
+                first: slot * per_tile,
+                count: per_tile,
+                far_first: cover::state_slot(tile, self.far_side) * per_tile,
+                far_tag: if self.far_kept {
+                    cover::far_tag(tile)
+                } else {
+                    0
+                },
             };
             rec.push_constants(&self.enter, &push);
-            rec.dispatch((count * per_tile).div_ceil(COVER_GROUP));
+            rec.dispatch(per_tile.div_ceil(COVER_GROUP));
         }
         self.entering.clear();
+    }
+
+    /// The tile kernel's last pose of every cover blade, which a tile
+    /// coming in starts from (for `CoverSetup::far_poses`); None where the
+    /// device cannot bind them whole.
+    pub fn far_poses(&self) -> Option<&Buffer> {
+        self.far_kept.then_some(&self.far_poses)
     }
 
     /// The colliders from the next recorded step on (the viewer's ball).
@@ -307,4 +342,47 @@ impl TileMaker {
             })
             .collect()
     }
+}
+
+/// The tile kernel's last poses (`FarPose`) for the whole square of
+/// `cover`'s tiles, cleared: no blade has been posed yet. None where one
+/// storage binding of the device cannot hold them (the Vulkan minimum,
+/// 128 MiB, holds 2.8 million blades'): the far field is then posed
+/// without them (`far_poses_missing` says so).
+pub fn far_poses_buffer(
+    gpu: &Gpu,
+    commands: &CommandPool,
+    cover: &Cover,
+) -> Result<Option<Buffer>> {
+    if far_poses_missing(gpu, cover).is_some() {
+        return Ok(None);
+    }
+    let bytes = cover::most_blades(cover) * std::mem::size_of::<FarPose>() as u64;
+    let far_poses = Buffer::new(
+        gpu,
+        "cover blades' last poses (FarPose)",
+        bytes,
+        vk::BufferUsageFlags::STORAGE_BUFFER
+            | vk::BufferUsageFlags::TRANSFER_DST
+            | vk::BufferUsageFlags::TRANSFER_SRC,
+        MemoryLocation::GpuOnly,
+    )?;
+    let rec = commands.begin()?;
+    rec.uses(&[BufferUse::new(&far_poses, Access::TRANSFER_WRITE)]);
+    rec.fill_buffer(&far_poses, 0);
+    rec.submit_and_wait("clearing the cover's last poses")?;
+    Ok(Some(far_poses))
+}
+
+/// Why the cover's far field cannot keep its blades' last poses on this
+/// device (None: it can): the warning a render reports.
+pub fn far_poses_missing(gpu: &Gpu, cover: &Cover) -> Option<String> {
+    let most = cover::most_blades(cover);
+    let bytes = most.saturating_mul(std::mem::size_of::<FarPose>() as u64);
+    let range = gpu.limits().max_storage_buffer_range as u64;
+    (bytes > range).then(|| {
+        format!(
+            "grass.cover: the last poses of {most} blades take {bytes} bytes, more than one storage binding of this device holds ({range}): far blades show their balance at once and may jump between frames; lower density or view_distance to keep them"
+        )
+    })
 }

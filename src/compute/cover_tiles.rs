@@ -1,8 +1,10 @@
 //! The cover's tile pass (glsl/cover/tiles.comp; `[grass.cover]`): makes
 //! the blades of the tiles around the camera in the blade buffer, from the
 //! cover's seed and each tile's coordinates, as `scene::cover` does on the
-//! CPU. Nothing is kept between frames: the pass makes every tile each
-//! time it is recorded, so a tile that comes back holds the same blades.
+//! CPU. The blades are made afresh each time the pass is recorded, so a
+//! tile that comes back holds the same blades; what is kept between
+//! frames is each posed blade's last pose (`FarPose`), which its
+//! quasi-static pose goes on from without jumping.
 
 use std::ops::Range;
 
@@ -37,6 +39,7 @@ pub const COVER_SET: &[LayoutBinding] = &[
     LayoutBinding::compute_storage(5), // the kept blades' states (or a placeholder)
     LayoutBinding::compute_storage(6), // the terrain (TerrainHeader and its words)
     LayoutBinding::compute_storage(7), // the kept blades' pressed states (or a placeholder)
+    LayoutBinding::compute_storage(8), // each blade's pose the frame before (FarPose)
 ];
 
 /// The wind the cover's blades are posed in: the solver's velocity (one
@@ -74,6 +77,10 @@ pub struct CoverSetup<'a> {
     pub presses: Option<&'a Buffer>,
     /// The ground the blades are rooted on.
     pub terrain: &'a Terrain,
+    /// Where the pass keeps each blade's last pose (`FarPose`):
+    /// `CoverDynamics::far_poses`, whose tiles coming in start from it
+    /// (None: the pass keeps its own).
+    pub far_poses: Option<&'a Buffer>,
 }
 
 /// One blade's control points in the blade buffer.
@@ -98,6 +105,13 @@ pub struct CoverTilePass {
     _placeholder: Option<Buffer>,
     /// The ground's height field (glsl/common/terrain.glsl), written once.
     terrain: Buffer,
+    /// Each blade's pose the frame before, in its tile's slot of the
+    /// square (`cover::state_slot`): what its quasi-static pose goes on
+    /// from (`CoverDynamics::far_poses`, or the pass's own without
+    /// dynamics, or a placeholder where the device cannot bind them whole:
+    /// `CoverParams::far_kept` 0). Cleared: no blade has a past at first.
+    far_poses: BufferId,
+    _own_far_poses: Option<Buffer>,
     /// One set per batch of the blade buffer, with its blades.
     sets: Vec<(DescriptorSet, Range<u32>)>,
     /// The buffer's blade the cover starts at, and how many blades it
@@ -127,6 +141,7 @@ impl CoverTilePass {
             states,
             presses,
             terrain,
+            far_poses,
         } = setup;
         let presses = presses.filter(|_| states.is_some());
         let most = cover::most_blades(cover);
@@ -145,7 +160,7 @@ impl CoverTilePass {
             )));
         }
         let d = &grass.dynamics;
-        let record = CoverParams {
+        let mut record = CoverParams {
             grid: match &wind {
                 Some(w) => super::wind_pass::grid_params(&w.grid, w.grid.face_count() as u32),
                 None => bytemuck::Zeroable::zeroed(),
@@ -157,6 +172,8 @@ impl CoverTilePass {
             pose_drawn_only: pose_drawn_only as u32,
             simulate_radius: cover.simulate_radius(),
             pressed_states: presses.is_some() as u32,
+            edge_mass: d.edge_mass,
+            far_tracking: 1,
             ..bytemuck::Zeroable::zeroed()
         };
         let params = Buffer::with_data(
@@ -173,10 +190,32 @@ impl CoverTilePass {
             terrain,
             "cover terrain (height map, hills, ridges)",
         )?;
+        // The last poses: the dynamics' (whose tiles coming in start
+        // from them), else the pass's own; none where the device cannot
+        // bind them whole.
+        let own_far_poses = match far_poses {
+            Some(_) => None,
+            None => super::cover_dynamics::far_poses_buffer(gpu, commands, cover)?,
+        };
+        record.far_kept = (far_poses.is_some() || own_far_poses.is_some()) as u32;
+        // Its own placeholder: the kernel's binding is read and written.
+        let own_far_poses = match own_far_poses {
+            None if far_poses.is_none() => Some(Buffer::new(
+                gpu,
+                "cover last poses placeholder (the device cannot bind them whole)",
+                std::mem::size_of::<crate::interface::FarPose>() as u64,
+                vk::BufferUsageFlags::STORAGE_BUFFER,
+                MemoryLocation::GpuOnly,
+            )?),
+            own => own,
+        };
+        let far_poses = far_poses
+            .or(own_far_poses.as_ref())
+            .expect("the dynamics', the pass's own or a placeholder");
         let posed = Buffer::new(
             gpu,
-            "cover blades posed (quasi-static, from their state) and left out",
-            12,
+            "cover blades posed (quasi-static, from their state), left out, and the largest tip moves",
+            20,
             vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::GpuToCpu,
         )?;
@@ -228,6 +267,7 @@ impl CoverTilePass {
                     Bound::Buffer(states_buffer),
                     Bound::Buffer(&terrain),
                     Bound::Buffer(presses_buffer),
+                    Bound::Buffer(far_poses),
                 ]
             },
         )?
@@ -247,6 +287,8 @@ impl CoverTilePass {
             presses,
             _placeholder: placeholder,
             terrain,
+            far_poses: BufferId::from(far_poses),
+            _own_far_poses: own_far_poses,
             sets,
             base,
             capacity,
@@ -282,6 +324,19 @@ impl CoverTilePass {
         }
     }
 
+    /// Simulated seconds between the last recorded pass and the next:
+    /// how far a blade posed in both goes towards its new balance.
+    pub fn set_elapsed(&mut self, seconds: f32) {
+        self.record.elapsed = seconds;
+    }
+
+    /// false: every blade shows its balance at once, as if it had no past
+    /// (what the far field did before its poses were kept; for measuring
+    /// the difference).
+    pub fn set_far_tracking(&mut self, on: bool) {
+        self.record.far_tracking = on as u32;
+    }
+
     /// The buffer's blade the cover's first blade is.
     pub fn base(&self) -> u32 {
         self.base
@@ -309,6 +364,7 @@ impl CoverTilePass {
             BufferUse::new(vertices, Access::COMPUTE_WRITE),
             BufferUse::new(&self.params, Access::COMPUTE_READ),
             BufferUse::new(&self.terrain, Access::COMPUTE_READ),
+            BufferUse::new(self.far_poses, Access::COMPUTE_READ_WRITE),
         ];
         if let Some(wind) = self.wind {
             uses.push(BufferUse::new(wind, Access::COMPUTE_READ));
@@ -359,14 +415,14 @@ impl CoverTilePass {
     }
 
     /// How many blades the last recorded pass, run and waited for, posed
-    /// quasi-statically, those in the blend band included (the others
-    /// stand at rest or take their dynamics' state).
+    /// quasi-statically (the others stand at rest or take their dynamics'
+    /// state).
     pub fn posed(&self) -> u32 {
         self.counter(0)
     }
 
     /// How many blades the last pass, run and waited for, posed from their
-    /// dynamics' state alone (within `simulate_radius` less the band).
+    /// dynamics' state (the simulated square's tiles).
     pub fn from_state(&self) -> u32 {
         self.counter(1)
     }
@@ -375,6 +431,16 @@ impl CoverTilePass {
     /// beyond the cover's bounds.
     pub fn outside(&self) -> u32 {
         self.counter(2)
+    }
+
+    /// The largest distance (m) a tip posed by both the last pass, run and
+    /// waited for, and the one before it moved between them: over the
+    /// blades posed quasi-statically, and over all.
+    pub fn tip_jumps(&self) -> (f32, f32) {
+        (
+            f32::from_bits(self.counter(3)),
+            f32::from_bits(self.counter(4)),
+        )
     }
 
     fn counter(&self, word: usize) -> u32 {

@@ -100,6 +100,10 @@ pub struct FrameRecorder {
     draw_timing_unavailable: Option<String>,
     /// A cover on terrain: its mesh follows the camera.
     ground_follow: Option<GroundFollow>,
+    /// The largest move (m) of a cover blade's tip between two frames
+    /// since the recorder was made: over the blades posed quasi-statically,
+    /// and over all.
+    cover_tip_jumps: (f32, f32),
 }
 
 /// A cover's ground over terrain: the terrain mesh remade about the
@@ -176,6 +180,7 @@ impl FrameRecorder {
                 scene: Box::new(scene.clone()),
                 centre: terrain::mesh_centre(scene, eye),
             }),
+            cover_tip_jumps: (0.0, 0.0),
         })
     }
 
@@ -284,6 +289,9 @@ impl FrameRecorder {
                 .and_then(Simulation::cover_dynamics)
                 .and_then(|d| d.presses()),
             terrain: &scene.ground.terrain(),
+            far_poses: simulation
+                .and_then(Simulation::cover_dynamics)
+                .and_then(|d| d.far_poses()),
         };
         let pass = CoverTilePass::new(gpu, commands, setup)?;
         Ok(Some((pass, cover.clone())))
@@ -386,18 +394,27 @@ impl FrameRecorder {
     }
 
     /// Of those, how many the last frame posed quasi-statically (the ones
-    /// it may draw, those blended into their dynamics included; the others
-    /// stand at rest or take their state).
+    /// it may draw beyond the simulated square; the others stand at rest
+    /// or take their state).
     pub fn cover_posed(&self) -> u64 {
         self.cover.as_ref().map_or(0, |(p, _)| p.posed() as u64)
     }
 
     /// Of those, how many the last frame posed from their dynamics' state
-    /// alone (within `simulate_radius` less the blend band).
+    /// (the simulated square's tiles).
     pub fn cover_from_state(&self) -> u64 {
         self.cover
             .as_ref()
             .map_or(0, |(p, _)| p.from_state() as u64)
+    }
+
+    /// The largest move (m) of a cover blade's tip from one frame to the
+    /// next, over every pair of frames this recorder drew: over the blades
+    /// posed quasi-statically (the far field), and over
+    /// every posed blade (those from their dynamics' state too). A blade
+    /// counts where both frames posed it. (0, 0) without a cover.
+    pub fn cover_tip_jumps(&self) -> (f32, f32) {
+        self.cover_tip_jumps
     }
 
     /// The cull pass (None with culling off).
@@ -563,6 +580,7 @@ impl FrameRecorder {
                 .and_then(|s| s.cover_dynamics())
                 .map(|d| *d.square());
             pass.set_dynamics(kept.as_ref(), *camera_xz);
+            pass.set_elapsed(simulation.as_ref().map_or(0.0, |s| steps as f32 * s.dt()));
             let mut made = Ok(());
             t.span(&rec, Phase::Cover, |rec| {
                 made = pass.record(rec, buffer, &tiles);
@@ -623,6 +641,11 @@ impl FrameRecorder {
         let ended = end(rec, renderer, &mut t);
         renderer.end_frame(ended.is_ok());
         let ended = ended?;
+        if let Some((pass, _)) = &self.cover {
+            let (far, all) = pass.tip_jumps();
+            let (old_far, old_all) = self.cover_tip_jumps;
+            self.cover_tip_jumps = (old_far.max(far), old_all.max(all));
+        }
         Ok(Some((ended, self.read_stats()?)))
     }
 

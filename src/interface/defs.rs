@@ -39,10 +39,10 @@ gpu_interface! {
     /// Invocations per workgroup of the cover's tile kernel
     /// (glsl/cover/tiles.comp): one blade each.
     pub const COVER_GROUP: u32 = 64;
-    /// The band (m) inside `simulate_radius` over which a cover blade's
-    /// pose goes from its dynamics' to the quasi-static one
-    /// (`cover::BLEND_BAND_M`).
-    pub const COVER_BLEND_BAND_M: f32 = 4.0;
+    /// The band (m) inside `simulate_radius` over which a kept cover
+    /// blade's pressing fades out (`cover::PRESS_FADE_M`): beyond the
+    /// radius no collider presses the far field.
+    pub const COVER_PRESS_FADE_M: f32 = 4.0;
     /// Blades per workgroup of the cull pass's flag and compaction kernels:
     /// one blade per invocation (glsl/cull/).
     pub const CULL_GROUP: u32 = 256;
@@ -447,16 +447,50 @@ gpu_interface! {
         /// blade's state at `cover::state_slot` x blades a tile + its index.
         pub kept_origin: [i32; 2],
         pub kept_side: u32,
-        /// `simulate_radius` (m): the blend band lies inside it.
+        /// `simulate_radius` (m): the pressing fades out over the band
+        /// inside it.
         pub simulate_radius: f32,
         /// The camera's x and z, which the radius is measured from.
         pub eye: [f32; 2],
-        /// 1: the kept tiles' states are posed, blended with the
-        /// quasi-static pose over the band; 0: every blade quasi-static.
+        /// 1: the kept tiles' blades are posed from their states; 0: every
+        /// blade quasi-static.
         pub dynamic: u32,
         /// 1: the kept blades keep pressed states (their dynamics were made
         /// with colliders), and their poses show them; 0: none kept.
         pub pressed_states: u32,
+        /// [min, max] of the edge mass (kg, `[grass.dynamics]`): the far
+        /// blades' natural frequency (`quasi_static::far_frequency`).
+        pub edge_mass: [f32; 2],
+        /// Simulated seconds since the last pass: how far a far blade goes
+        /// towards its balance this frame (`quasi_static::far_tracked`).
+        pub elapsed: f32,
+        /// 1: a blade posed the frame before goes from that pose towards
+        /// its balance as its dynamics could (`FarPose`); 0: it shows its
+        /// balance at once, as if it had no past.
+        pub far_tracking: u32,
+        /// 1: the last poses are kept (binding 8 holds them); 0: the device
+        /// cannot bind them whole, a placeholder stands there, and every
+        /// blade shows its balance at once.
+        pub far_kept: u32,
+        pub _pad0: u32,
+        pub _pad1: u32,
+        pub _pad2: u32,
+    }
+
+    /// A cover blade's pose the frame before, kept by the tile kernel in
+    /// the slot its tile wraps to (`cover::state_slot` over the whole
+    /// square; `CoverTilePass::far_poses`): what its quasi-static pose goes
+    /// on from (`quasi_static::far_tracked`) and where its tip was.
+    pub struct FarPose {
+        /// The quasi-static part's angles (rad) and their rates (rad/s) as
+        /// the tracking left them (a kept blade: its state's).
+        pub angle: [f32; 4],
+        pub velocity: [f32; 4],
+        /// The drawn tip (m).
+        pub tip: [f32; 3],
+        /// Whose pose it is: `cover::far_tag` of the blade's tile (0: none,
+        /// the blade was not posed).
+        pub tile: u32,
     }
 
     /// The ground's height field as the GPU reads it
@@ -480,11 +514,16 @@ gpu_interface! {
     /// (glsl/cover/enter.comp).
     pub struct CoverEnterPush {
         pub grid: WindGridParams,
-        /// The first blade (in the dynamics' slot order) and how many.
+        /// The first blade (in the dynamics' slot order) and how many: one
+        /// tile's.
         pub first: u32,
         pub count: u32,
-        pub _pad0: u32,
-        pub _pad1: u32,
+        /// The tile's first blade among the tile kernel's last poses
+        /// (`FarPose`; `cover::state_slot` over the whole square x blades
+        /// a tile), and the tag a pose of this tile carries
+        /// (`cover::far_tag`).
+        pub far_first: u32,
+        pub far_tag: u32,
     }
 
     /// Push constants of the bench's floor (glsl/bench/floor.vert).

@@ -25,10 +25,6 @@ use crate::model::grass::{self, GrassBlade, GrassState, BEND_B, MAX_ANGLE};
 
 /// Iterations at most (table1's blades in 1-6 m/s balance in at most 16).
 pub const MAX_ITERATIONS: usize = 100;
-/// The band (m) inside a cover's `simulate_radius` over which a blade's
-/// pose goes from its dynamics' to the quasi-static one
-/// (`scene::cover::dynamic_weight`; glsl/cover/tiles.comp reads the same).
-pub use crate::interface::COVER_BLEND_BAND_M as BLEND_BAND_M;
 /// Iterations the far field's pose takes at most (the cover's, on the GPU
 /// and in its CPU reference): table1's blades in 1-6 m/s are within 3.2e-5
 /// of the settled angles after 12, within 9% after 10.
@@ -60,6 +56,19 @@ pub fn quasi_static_angles(blade: &GrassBlade, wind: Vec3) -> ([f32; 4], usize) 
 pub fn quasi_static_angles_within(
     blade: &GrassBlade,
     wind: Vec3,
+    iterations: usize,
+) -> ([f32; 4], usize) {
+    quasi_static_angles_from(blade, wind, [0.0; 4], iterations)
+}
+
+/// `quasi_static_angles_within` continued from `start` rather than from
+/// rest: the balance the blade gives into from there, on the side it
+/// stands (a far blade from last frame's pose: in a strong wind the side
+/// it was on, not the other side's).
+pub fn quasi_static_angles_from(
+    blade: &GrassBlade,
+    wind: Vec3,
+    start: [f32; 4],
     iterations: usize,
 ) -> ([f32; 4], usize) {
     let wind = grass::guard_wind(wind);
@@ -96,12 +105,15 @@ pub fn quasi_static_angles_within(
             .sum::<f64>()
             .sqrt()
     };
-    let mut angle = [0.0f32; 4];
     // Each motion's restoring stiffness at rest in still air (-J's
     // diagonal there), the scale of the pseudo-time term. The wind can
     // make a motion unstable at rest (its torque growing with the angle),
     // so the term starts well above what the wind adds.
-    let still = jacobian_in(angle, Vec3::ZERO);
+    let still = jacobian_in([0.0; 4], Vec3::ZERO);
+    let mut angle = start;
+    if blade.split() >= 3 {
+        angle[BEND_B] = 0.0;
+    }
     let stiffness: Vec<f64> = (0..n).map(|i| (-still[i][i]).max(1e-12)).collect();
     let mut relax = START_RELAXATION;
     let mut last_norm = norm(torque(angle));
@@ -138,6 +150,50 @@ pub fn quasi_static_angles_within(
     (angle, iterations)
 }
 
+/// The natural frequency (rad/s) a far blade goes towards its balance at
+/// (`far_tracked`): the slowest of its motions' sqrt(k_eff / I) in still
+/// air (`GrassBlade::k_eff`, `inertia`), as a flip to the other side
+/// moves them all together and takes as long as the slowest.
+pub fn far_frequency(blade: &GrassBlade) -> f32 {
+    let k = blade.k_eff();
+    (0..4)
+        .filter(|&m| m != BEND_B || blade.split() < 3)
+        .map(|m| (k[m] / blade.inertia[m]).max(0.0).sqrt())
+        .fold(f32::INFINITY, f32::min)
+}
+
+/// A far blade's angles and rates `elapsed` seconds on (issue 65, item 7:
+/// no popping). A stateless balance jumps where a strong wind's two
+/// balances trade places (the continuation lands on the other side's), so
+/// each frame the far blade goes from last frame's pose towards this
+/// frame's balance `target` as a critically damped blade of natural
+/// frequency `omega` would (`far_frequency`), the balance held over the
+/// frame: theta'' =
+/// omega^2 (target - theta) - 2 omega theta', solved exactly (e = theta -
+/// target: e(t) = (e0 + (v0 + omega e0) t) e^(-omega t)), so any frame
+/// time is stable and the same time in more frames ends nearly where it
+/// does in fewer. Critically damped: it adds no sway of its own (the far
+/// field keeps showing the wind), and a flip of D takes about 2 / omega
+/// seconds, its tip moving at most omega D / e.
+pub fn far_tracked(
+    from: ([f32; 4], [f32; 4]),
+    target: [f32; 4],
+    omega: f32,
+    elapsed: f32,
+) -> ([f32; 4], [f32; 4]) {
+    let (angle, velocity) = from;
+    let fade = (-omega * elapsed).exp();
+    let mut out = ([0.0f32; 4], [0.0f32; 4]);
+    for m in 0..4 {
+        let e0 = angle[m] - target[m];
+        let c = velocity[m] + omega * e0;
+        let e = (e0 + c * elapsed) * fade;
+        out.0[m] = (target[m] + e).clamp(-MAX_ANGLE, MAX_ANGLE);
+        out.1[m] = (velocity[m] - omega * c * elapsed) * fade;
+    }
+    out
+}
+
 /// `a x = b` by Gaussian elimination with partial pivoting; None when `a`
 /// is singular (a blade the wind cannot move in some motion).
 fn solve(mut a: Vec<Vec<f64>>, mut b: Vec<f64>) -> Option<Vec<f64>> {
@@ -169,7 +225,67 @@ fn solve(mut a: Vec<Vec<f64>>, mut b: Vec<f64>) -> Option<Vec<f64>> {
 
 #[cfg(test)]
 mod tests {
-    use super::solve;
+    use super::{far_tracked, solve};
+
+    /// `far_tracked` solves theta'' = omega^2 (target - theta) - 2 omega
+    /// theta' (its second difference against the right side), steps of any
+    /// length compose (one frame of 2 dt is two of dt), and a flip of D
+    /// goes over without overshooting, its rate at most omega D / e.
+    #[test]
+    fn a_far_blade_goes_to_its_balance_as_a_critically_damped_blade() {
+        let (omega, target) = (6.0f32, [0.4f32, -1.2, 0.0, 0.3]);
+        let start = ([-0.6f32, 0.9, 0.0, 0.0], [0.0f32; 4]);
+        let at = |t: f32| far_tracked(start, target, omega, t);
+        let h = 1e-2f32;
+        for t in [0.05f32, 0.2, 0.5] {
+            let (before, now, after) = (at(t - h).0, at(t), at(t + h).0);
+            for m in 0..4 {
+                let second = (after[m] - 2.0 * now.0[m] + before[m]) / (h * h);
+                let wanted = omega * omega * (target[m] - now.0[m]) - 2.0 * omega * now.1[m];
+                let rate = (after[m] - before[m]) / (2.0 * h);
+                assert!(
+                    (second - wanted).abs() < 2e-2 * (1.0 + wanted.abs()),
+                    "t {t} motion {m}: theta'' {second}, the equation {wanted}"
+                );
+                assert!(
+                    (rate - now.1[m]).abs() < 1e-2 * (1.0 + now.1[m].abs()),
+                    "t {t}: rate {rate} against {}",
+                    now.1[m]
+                );
+            }
+        }
+        let (dt, mut twice) = (1.0 / 30.0, start);
+        for _ in 0..2 {
+            twice = far_tracked(twice, target, omega, dt);
+        }
+        let once = at(2.0 * dt);
+        for m in 0..4 {
+            assert!(
+                (twice.0[m] - once.0[m]).abs() < 1e-6,
+                "{twice:?} against {once:?}"
+            );
+        }
+        // The flip of bend A, 2.1 rad: no overshoot, its rate at most
+        // omega D / e, and settled within 1e-4 rad after 3 s.
+        let d = target[1] - start.0[1];
+        let mut fastest = 0.0f32;
+        let mut state = start;
+        for _ in 0..90 {
+            state = far_tracked(state, target, omega, 1.0 / 30.0);
+            assert!(state.0[1] >= target[1] - 1e-6, "overshot: {}", state.0[1]);
+            fastest = fastest.max(state.1[1].abs());
+        }
+        let bound = omega * d.abs() / std::f32::consts::E;
+        assert!(fastest <= bound * 1.0001, "{fastest} rad/s against {bound}");
+        assert!(fastest > 0.9 * bound, "{fastest} rad/s against {bound}");
+        assert!((state.0[1] - target[1]).abs() < 1e-4, "{}", state.0[1]);
+        // No time, no move (to the sum's rounding).
+        let still = far_tracked(start, target, omega, 0.0);
+        for m in 0..4 {
+            assert!((still.0[m] - start.0[m]).abs() < 1e-6, "{still:?}");
+            assert_eq!(still.1[m], start.1[m]);
+        }
+    }
 
     #[test]
     fn solves_a_small_system_and_refuses_a_singular_one() {

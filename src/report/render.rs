@@ -40,6 +40,15 @@ pub struct RenderReport {
     pub blades_under_obstacles: usize,
     /// The last frame's blades by what happened to them.
     pub blade_counts: BladeCounts,
+    /// With `[grass.cover]`: the largest distance (m) a cover blade's tip
+    /// moved from one drawn frame to the next over the whole render
+    /// (blades posed in both), over every posed blade and over those posed
+    /// quasi-statically (the far field): how much the far field pops.
+    /// Absent without a cover.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cover_largest_tip_jump_m: Option<f32>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cover_largest_far_tip_jump_m: Option<f32>,
     pub width: u32,
     pub height: u32,
     pub lod: bool,
@@ -93,13 +102,12 @@ pub struct RenderReport {
 
 /// The last frame's blades by what happened to them: made by the cover's
 /// tile pass, stepped by the paper's dynamics (the patches' and the
-/// cover's tiles within its `simulate_radius`), posed quasi-statically in
-/// the wind (the cover's the frame may draw beyond the radius less the
-/// blend band, the band's blended with their state) or left in their rest
-/// shape (the cover's it cannot draw), in view (with culling; else every
-/// blade) and drawn by the colour pass. The cover's drawable blades within
-/// the radius less the band take their state alone: generated - at_rest -
-/// quasi_static of them.
+/// cover's tiles reaching within its `simulate_radius`), posed
+/// quasi-statically in the wind (the cover's the frame may draw beyond
+/// those tiles) or left in their rest shape (the cover's it cannot draw),
+/// in view (with culling; else every blade) and drawn by the colour pass.
+/// The cover's drawable blades of the simulated tiles take their state:
+/// generated - at_rest - quasi_static of them.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
 pub struct BladeCounts {
     pub generated: u64,
@@ -165,12 +173,21 @@ pub fn summary(report: &RenderReport, out: &Path) -> String {
     let b = &report.blade_counts;
     if b.generated > 0 {
         text += &format!(
-            "cover: {} blades made around the camera each frame: {} posed from the paper's dynamics, {} quasi-statically in the wind (those the frame may draw; the blend band's mixed with their dynamics), {} at rest; {} blades simulated\n",
+            "cover: {} blades made around the camera each frame: {} posed from the paper's dynamics, {} quasi-statically in the wind (those the frame may draw), {} at rest; {} blades simulated\n",
             b.generated,
             b.generated - b.quasi_static - b.at_rest,
             b.quasi_static,
             b.at_rest,
             b.simulated
+        );
+    }
+    if let (Some(all), Some(far)) = (
+        report.cover_largest_tip_jump_m,
+        report.cover_largest_far_tip_jump_m,
+    ) {
+        text += &format!(
+            "cover: a tip moved at most {:.3} m between frames ({:.3} m posed quasi-statically)\n",
+            all, far
         );
     }
     if let Some(w) = &report.light_waves {

@@ -319,16 +319,16 @@ pub fn vertices(
         .collect()
 }
 
-/// The band (m) inside `simulate_radius` over which a cover blade's pose
-/// goes from its dynamics' to the quasi-static one, so that nothing pops
-/// where a blade crosses the radius.
-pub use crate::model::quasi_static::BLEND_BAND_M;
+/// The band (m) inside `simulate_radius` over which a kept blade's
+/// pressing fades out: beyond the radius no collider presses the far
+/// field, so a pressed blade leaving the simulated square shows no jump.
+pub use crate::interface::COVER_PRESS_FADE_M as PRESS_FADE_M;
 
-/// How much of a blade's pose is its dynamics' at `distance` (m, along the
+/// How much of a kept blade's pressing shows at `distance` (m, along the
 /// ground) from the camera: 1 within `radius` less the band, 0 from the
 /// radius on, smooth between (smoothstep: no kink either).
-pub fn dynamic_weight(radius: f32, distance: f32) -> f32 {
-    let band = BLEND_BAND_M.min(radius);
+pub fn pressed_fade(radius: f32, distance: f32) -> f32 {
+    let band = PRESS_FADE_M.min(radius);
     if band <= 0.0 {
         return 0.0;
     }
@@ -353,6 +353,17 @@ pub fn kept_tiles(cover: &Cover, camera: Vec2) -> CoverTiles {
 pub fn state_slot(tile: [i32; 2], side: u32) -> u32 {
     let s = side as i32;
     (tile[0].rem_euclid(s) + s * tile[1].rem_euclid(s)) as u32
+}
+
+/// Whose pose a far blade's slot holds (`FarPose::tile`): the tile's
+/// coordinates, 15 bits each, over a bit that no slot left unposed has
+/// (0). Two tiles sharing a slot differ by a multiple of the square's side
+/// in x or z, so they share a tag only 2^15 tiles (131 km) apart: a camera
+/// that jumps that far between frames finds its blades' last poses taken
+/// for theirs, for one frame.
+pub fn far_tag(tile: [i32; 2]) -> u32 {
+    const BITS: u32 = 0x7fff;
+    (1 << 30) | (tile[0] as u32 & BITS) | ((tile[1] as u32 & BITS) << 15)
 }
 
 /// The `index`th blade of `tile` as the dynamics step it (its physics
@@ -425,22 +436,22 @@ mod tests {
     }
 
     #[test]
-    fn the_dynamics_weigh_in_smoothly_over_the_band() {
+    fn a_kept_blades_pressing_fades_out_smoothly_over_the_band() {
         let r = 30.0;
-        assert_eq!(dynamic_weight(r, 0.0), 1.0);
-        assert_eq!(dynamic_weight(r, r - BLEND_BAND_M), 1.0);
-        assert_eq!(dynamic_weight(r, r), 0.0);
-        assert_eq!(dynamic_weight(r, 100.0), 0.0);
-        assert_eq!(dynamic_weight(r, r - 0.5 * BLEND_BAND_M), 0.5);
+        assert_eq!(pressed_fade(r, 0.0), 1.0);
+        assert_eq!(pressed_fade(r, r - PRESS_FADE_M), 1.0);
+        assert_eq!(pressed_fade(r, r), 0.0);
+        assert_eq!(pressed_fade(r, 100.0), 0.0);
+        assert_eq!(pressed_fade(r, r - 0.5 * PRESS_FADE_M), 0.5);
         let mut last = 1.0;
         for n in 0..=400 {
-            let w = dynamic_weight(r, 25.0 + n as f32 * 0.0125);
+            let w = pressed_fade(r, 25.0 + n as f32 * 0.0125);
             assert!(w <= last && last - w < 0.01, "{w} after {last}");
             last = w;
         }
         // A radius inside the band: the band shrinks to it.
-        assert_eq!(dynamic_weight(2.0, 0.0), 1.0);
-        assert_eq!(dynamic_weight(0.0, 0.0), 0.0);
+        assert_eq!(pressed_fade(2.0, 0.0), 1.0);
+        assert_eq!(pressed_fade(0.0, 0.0), 0.0);
     }
 
     #[test]
