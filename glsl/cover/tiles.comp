@@ -203,7 +203,6 @@ uint far_tag(ivec2 tile) {
     return (1u << 30) | (uint(tile.x) & 0x7fffu) | ((uint(tile.y) & 0x7fffu) << 15);
 }
 
-
 void main() {
     if (gl_GlobalInvocationID.x >= pc.count) {
         return;

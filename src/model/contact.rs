@@ -29,6 +29,11 @@
 
 use glam::Vec3;
 
+/// The band (m) inside a cover's `simulate_radius` over which a kept
+/// blade's pressing fades out (`scene::cover::pressed_fade`;
+/// glsl/cover/tiles.comp reads the same).
+pub use crate::interface::COVER_PRESS_FADE_M as PRESS_FADE_M;
+
 use crate::model::grass::{
     bend_share, pressed_pose, step_with, GrassBlade, GrassState, Pose, BEND_A, BEND_B, MAX_ANGLE,
     SWING,

@@ -322,7 +322,7 @@ pub fn vertices(
 /// The band (m) inside `simulate_radius` over which a kept blade's
 /// pressing fades out: beyond the radius no collider presses the far
 /// field, so a pressed blade leaving the simulated square shows no jump.
-pub use crate::interface::COVER_PRESS_FADE_M as PRESS_FADE_M;
+pub use crate::model::contact::PRESS_FADE_M;
 
 /// How much of a kept blade's pressing shows at `distance` (m, along the
 /// ground) from the camera: 1 within `radius` less the band, 0 from the
