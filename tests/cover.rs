@@ -492,20 +492,26 @@ fn a_bounded_cover_grows_and_draws_only_within_its_rectangle() {
     }
 }
 
-/// In a steady wind the tile kernel poses each blade where its torques
-/// balance, as the CPU reference does (`cover::posed_vertices`, the
-/// quasi-static solve of src/model/quasi_static.rs), to the two solves'
-/// rounding: the GPU's in f32, the CPU's small system in f64.
-#[test]
-fn in_a_steady_wind_the_gpu_poses_the_cover_where_its_torques_balance_as_the_cpu() {
-    let cover = Cover {
+/// 3 x 3 tiles of 16 blades around the origin, every one posed
+/// quasi-statically (no simulated square).
+fn small_quasi_static_cover() -> Cover {
+    Cover {
         density: Some(1.0),
         view_distance: 4.0,
         seed: Some(3),
         simulate_radius: Some(0.0),
         size: None,
         center: None,
-    };
+    }
+}
+
+/// In a steady wind the tile kernel poses each blade where its torques
+/// balance, as the CPU reference does (`cover::posed_vertices`, the
+/// quasi-static solve of src/model/quasi_static.rs), to the two solves'
+/// rounding: the GPU's in f32, the CPU's small system in f64.
+#[test]
+fn in_a_steady_wind_the_gpu_poses_the_cover_where_its_torques_balance_as_the_cpu() {
+    let cover = small_quasi_static_cover();
     let grass = Grass::default();
     let (grid, field, recorded) = steady_wind(Vec3::new(-8.0, 0.0, -8.0), 16.0);
     // 3 x 3 tiles of 16 blades around the origin.
@@ -553,14 +559,7 @@ fn a_far_blade_goes_towards_a_new_balance_as_the_cpu_without_jumping() {
         far_frequency, far_tracked, quasi_static_angles_from, quasi_static_angles_within,
         FAR_ITERATIONS,
     };
-    let cover = Cover {
-        density: Some(1.0),
-        view_distance: 4.0,
-        seed: Some(3),
-        simulate_radius: Some(0.0),
-        size: None,
-        center: None,
-    };
+    let cover = small_quasi_static_cover();
     let grass = Grass::default();
     let (grid, field, recorded) = steady_wind(Vec3::new(-8.0, 0.0, -8.0), 16.0);
     let reversed: Vec<f32> = recorded.iter().map(|v| -v).collect();
