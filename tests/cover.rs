@@ -570,14 +570,7 @@ fn a_far_blade_goes_towards_a_new_balance_as_the_cpu_without_jumping() {
     let gpu = strict_gpu_with(None);
     let commands = CommandPool::new(&gpu, "cover tracking commands").unwrap();
     let velocity = wind_buffer(&gpu, &commands, &recorded);
-    let vertices = Buffer::new(
-        &gpu,
-        "tracked cover",
-        (blades * 4 * std::mem::size_of::<BladeVertex>()) as u64,
-        vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC,
-        meadow::gpu::MemoryLocation::GpuOnly,
-    )
-    .unwrap();
+    let vertices = cover_vertices(&gpu, "tracked cover", blades);
     let frame = unused_frame_uniforms(&gpu);
     let mut pass = CoverTilePass::new(
         &gpu,
@@ -930,6 +923,19 @@ fn steady_wind_over(terrain: &Terrain, corner: Vec3, side: f32) -> (WindGrid, Wi
     (grid, field, recorded)
 }
 
+/// A blade buffer for `blades` cover blades that the tile pass writes and
+/// a test reads back.
+fn cover_vertices(gpu: &Gpu, name: &str, blades: usize) -> Buffer {
+    Buffer::new(
+        gpu,
+        name,
+        (blades * 4 * std::mem::size_of::<BladeVertex>()) as u64,
+        vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC,
+        meadow::gpu::MemoryLocation::GpuOnly,
+    )
+    .unwrap()
+}
+
 /// `tiles` made and posed on the GPU in the recorded wind (its grid and
 /// velocity): every blade, or with `seen` (the frame's uniforms) only
 /// those the frame may draw.
@@ -945,14 +951,7 @@ fn posed_on_the_gpu(
     let blades = tiles.blade_count() as usize;
     let commands = CommandPool::new(gpu, "cover pose commands").unwrap();
     let velocity = wind_buffer(gpu, &commands, recorded);
-    let vertices = Buffer::new(
-        gpu,
-        "posed cover",
-        (blades * 4 * std::mem::size_of::<BladeVertex>()) as u64,
-        vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC,
-        meadow::gpu::MemoryLocation::GpuOnly,
-    )
-    .unwrap();
+    let vertices = cover_vertices(gpu, "posed cover", blades);
     let frame = match seen {
         Some(u) => frame_uniforms(gpu, u),
         None => unused_frame_uniforms(gpu),
@@ -1329,14 +1328,7 @@ fn kept_dynamics_against_the_cpu(
 
     // The tile pass poses the cover around the last eye from those states.
     let tiles = CoverTiles::around(&cover, eyes[1]);
-    let vertices = Buffer::new(
-        &gpu,
-        "posed cover",
-        tiles.blade_count() * 4 * std::mem::size_of::<BladeVertex>() as u64,
-        vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC,
-        meadow::gpu::MemoryLocation::GpuOnly,
-    )
-    .unwrap();
+    let vertices = cover_vertices(&gpu, "posed cover", tiles.blade_count() as usize);
     let frame = unused_frame_uniforms(&gpu);
     let mut pass = CoverTilePass::new(
         &gpu,
