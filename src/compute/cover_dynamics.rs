@@ -154,19 +154,7 @@ impl CoverDynamics {
             "cover enter",
         )?;
         let enter = Pipeline::compute(gpu, &layout, &crate::shaders::COVER_ENTER_COMP)?;
-        let (far_poses, far_kept) = match far_poses_buffer(gpu, commands, cover)? {
-            Some(b) => (b, true),
-            None => (
-                Buffer::new(
-                    gpu,
-                    "cover enter placeholder (no last poses kept)",
-                    std::mem::size_of::<FarPose>() as u64,
-                    vk::BufferUsageFlags::STORAGE_BUFFER,
-                    MemoryLocation::GpuOnly,
-                )?,
-                false,
-            ),
-        };
+        let (far_poses, far_kept) = far_poses_buffer(gpu, commands, cover)?;
         let enter_set = DescriptorSet::new(
             gpu,
             &layout,
@@ -345,33 +333,39 @@ impl TileMaker {
 }
 
 /// The tile kernel's last poses (`FarPose`) for the whole square of
-/// `cover`'s tiles, cleared: no blade has been posed yet. None where one
-/// storage binding of the device cannot hold them (the Vulkan minimum,
-/// 128 MiB, holds 2.8 million blades'): the far field is then posed
-/// without them (`far_poses_missing` says so).
+/// `cover`'s tiles, cleared: no blade has been posed yet; and true. Where
+/// one storage binding of the device cannot hold them (the Vulkan
+/// minimum, 128 MiB, holds 2.8 million blades'), a one-pose placeholder
+/// and false: the far field is then posed without them
+/// (`far_poses_missing` says so).
 pub fn far_poses_buffer(
     gpu: &Gpu,
     commands: &CommandPool,
     cover: &Cover,
-) -> Result<Option<Buffer>> {
+) -> Result<(Buffer, bool)> {
+    let pose = std::mem::size_of::<FarPose>() as u64;
     if far_poses_missing(gpu, cover).is_some() {
-        return Ok(None);
+        let placeholder = Buffer::new(
+            gpu,
+            "cover last poses placeholder (the device cannot bind them whole)",
+            pose,
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+            MemoryLocation::GpuOnly,
+        )?;
+        return Ok((placeholder, false));
     }
-    let bytes = cover::most_blades(cover) * std::mem::size_of::<FarPose>() as u64;
     let far_poses = Buffer::new(
         gpu,
         "cover blades' last poses (FarPose)",
-        bytes,
-        vk::BufferUsageFlags::STORAGE_BUFFER
-            | vk::BufferUsageFlags::TRANSFER_DST
-            | vk::BufferUsageFlags::TRANSFER_SRC,
+        cover::most_blades(cover) * pose,
+        vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
         MemoryLocation::GpuOnly,
     )?;
     let rec = commands.begin()?;
     rec.uses(&[BufferUse::new(&far_poses, Access::TRANSFER_WRITE)]);
     rec.fill_buffer(&far_poses, 0);
     rec.submit_and_wait("clearing the cover's last poses")?;
-    Ok(Some(far_poses))
+    Ok((far_poses, true))
 }
 
 /// Why the cover's far field cannot keep its blades' last poses on this

@@ -193,25 +193,19 @@ impl CoverTilePass {
         // The last poses: the dynamics' (whose tiles coming in start
         // from them), else the pass's own; none where the device cannot
         // bind them whole.
-        let own_far_poses = match far_poses {
-            Some(_) => None,
-            None => super::cover_dynamics::far_poses_buffer(gpu, commands, cover)?,
+        // (A placeholder of its own: the kernel's binding is read and
+        // written.)
+        let (own_far_poses, far_kept) = match far_poses {
+            Some(_) => (None, true),
+            None => {
+                let (own, kept) = super::cover_dynamics::far_poses_buffer(gpu, commands, cover)?;
+                (Some(own), kept)
+            }
         };
-        record.far_kept = (far_poses.is_some() || own_far_poses.is_some()) as u32;
-        // Its own placeholder: the kernel's binding is read and written.
-        let own_far_poses = match own_far_poses {
-            None if far_poses.is_none() => Some(Buffer::new(
-                gpu,
-                "cover last poses placeholder (the device cannot bind them whole)",
-                std::mem::size_of::<crate::interface::FarPose>() as u64,
-                vk::BufferUsageFlags::STORAGE_BUFFER,
-                MemoryLocation::GpuOnly,
-            )?),
-            own => own,
-        };
+        record.far_kept = far_kept as u32;
         let far_poses = far_poses
             .or(own_far_poses.as_ref())
-            .expect("the dynamics', the pass's own or a placeholder");
+            .expect("the dynamics' or the pass's own");
         let posed = Buffer::new(
             gpu,
             "cover blades posed (quasi-static, from their state), left out, and the largest tip moves",
