@@ -706,6 +706,13 @@ fn hilly() -> Terrain {
                 height: -1.5,
                 half_width: 3.0,
             },
+            // Steep (flanks to 39 degrees): blades leaning into it are
+            // fitted (`cover::fitted`).
+            Hill {
+                center: [-2.0, -1.0],
+                height: 1.5,
+                half_width: 1.2,
+            },
         ],
         ridges: vec![Ridge {
             center: [0.0, 5.0],
@@ -725,11 +732,14 @@ fn hilly() -> Terrain {
 #[test]
 fn on_terrain_the_gpu_roots_and_poses_the_cover_where_the_cpu_does() {
     let terrain = hilly();
-    let cover = cover();
+    let cover = Cover {
+        density: Some(12.0),
+        ..cover()
+    };
     let shape = BladeShape::default();
     let cameras = [Vec2::new(0.5, 0.5), Vec2::new(-3.0, 7.0)];
     let pose_cover = Cover {
-        density: Some(1.0),
+        density: Some(12.0),
         view_distance: 8.0,
         seed: Some(3),
         simulate_radius: Some(0.0),
@@ -781,10 +791,21 @@ fn on_terrain_the_gpu_roots_and_poses_the_cover_where_the_cpu_does() {
         }
     }
     let points = 4 * made.iter().map(|(v, _)| v.len() / 4).sum::<usize>();
+    // The blades the fit turned or shrank (`cover::fitted`), which the
+    // GPU must have fitted alike to match above.
+    let fitted = cameras
+        .iter()
+        .flat_map(|camera| CoverTiles::around(&cover, *camera).blades().collect::<Vec<_>>())
+        .filter(|&(tile, index)| {
+            let made = terrain.lifted(cover::blade(seed, &shape, tile, index));
+            cover::blade_on(&terrain, seed, &shape, tile, index).rest != made.rest
+        })
+        .count();
     eprintln!(
         "on terrain: heights {lowest:.2} to {highest:.2} m, {same_height} of {points} bit for bit, \
-         the rest within {most:e} of their size"
+         the rest within {most:e} of their size; {fitted} blades fitted to the ground"
     );
+    assert!(fitted >= 10, "only {fitted} blades were fitted to the ground");
     assert!(
         highest - lowest > 3.0,
         "the terrain barely raised the blades"
@@ -810,8 +831,29 @@ fn on_terrain_the_gpu_roots_and_poses_the_cover_where_the_cpu_does() {
         differs = differs.max(at(g).distance(at(c)));
         moved = moved.max(at(c).distance(at(r)));
     }
-    eprintln!("posed on terrain: GPU and CPU within {differs:e} m; tips moved up to {moved} m");
+    // The blades the ground held (`cover::held_above_ground`), which the
+    // GPU must have held alike to match.
+    let held = posed_tiles
+        .blades()
+        .filter(|&(tile, index)| {
+            let seed = cover::seed32(3);
+            let b = cover::grass_blade(&terrain, seed, &grass.shape, &grass.dynamics, tile, index)
+                .unwrap();
+            let root = Vec2::new(b.rest[0][0], b.rest[0][2]);
+            let (balance, _) = meadow::model::quasi_static::quasi_static_angles_within(
+                &b,
+                field.sample(b.rest_point(3)),
+                meadow::model::quasi_static::FAR_ITERATIONS,
+            );
+            posed_tiles.grows_at(root) && cover::held_above_ground(&terrain, &b, balance).1
+        })
+        .count();
+    eprintln!(
+        "posed on terrain: GPU and CPU within {differs:e} m; tips moved up to {moved} m; \
+         {held} held above the ground"
+    );
     assert!(moved > 0.1, "the wind barely posed the blades: {moved} m");
+    assert!(held >= 3, "only {held} blades were held above the ground");
     assert!(differs < 1e-4, "GPU and CPU poses differ by {differs} m");
 }
 
@@ -1489,8 +1531,9 @@ fn kept_dynamics_against_the_cpu(
                 1 + (fade >= 1.0) as usize,
             )
         } else {
-            let (still, _) =
+            let (balance, _) =
                 quasi_static_angles_within(&b, field.sample(b.rest_point(3)), FAR_ITERATIONS);
+            let (still, _) = cover::held_above_ground(terrain, &b, balance);
             (still, 0.0, 0)
         };
         counts[kind] += 1;

@@ -175,6 +175,125 @@ bool may_be_drawn(vec3 root, float rand, float reach, float half_width) {
     return (kept & (in_view | caster)) != 0u;
 }
 
+// `cover::fit_clearance`: how far the curve keeps above the ground at its
+// worst over t = 1/8 .. 1, less COVER_FIT_ROOM a metre from the root.
+float fit_clearance(vec3 p[4]) {
+    float worst = uintBitsToFloat(0x7F7FFFFFu); // f32::MAX
+    for (uint k = 1u; k <= COVER_FIT_SAMPLES; ++k) {
+        precise float t = float(k) / float(COVER_FIT_SAMPLES);
+        precise float s = 1.0 - t;
+        precise vec3 q = p[0] * (s * s * s) + p[1] * (3.0 * s * s * t)
+            + p[2] * (3.0 * s * t * t) + p[3] * (t * t * t);
+        float above = q.y - terrain_height(q.x, q.z);
+        worst = min(worst, above - COVER_FIT_ROOM * distance(q, p[0]));
+    }
+    return worst;
+}
+
+// `cover::fit_turn`: (cos, sin) of k pi / COVER_FIT_TURNS by the facing's
+// polynomials, from arguments that are exact.
+vec2 fit_turn(int k) {
+    int quarter = int(COVER_FIT_TURNS / 2u);
+    // Floor division (GLSL's / of a negative int is undefined): exact in
+    // floats for these small integers.
+    int quadrant = int(floor(float(k + quarter / 2) / float(quarter)));
+    float u = 0.5 + float(k - quarter * quadrant) / float(quarter);
+    return facing(u, uint(quadrant));
+}
+
+// `cover::turned`: about the vertical through the root, never fused.
+void fit_turned(inout vec3 p[4], inout vec3 w, vec2 turn) {
+    float c = turn.x, s = turn.y;
+    vec3 root = p[0];
+    for (int i = 0; i < 4; ++i) {
+        precise float dx = p[i].x - root.x, dz = p[i].z - root.z;
+        precise float x = root.x + (c * dx + s * dz);
+        precise float z = root.z + (c * dz - s * dx);
+        p[i] = vec3(x, p[i].y, z);
+    }
+    precise float wx = c * w.x + s * w.z;
+    precise float wz = c * w.z - s * w.x;
+    w = vec3(wx, w.y, wz);
+}
+
+// `cover::shrunk`: the lean toward upright to t of itself.
+void fit_shrunk(inout vec3 p[4], float t) {
+    vec3 root = p[0];
+    for (int i = 0; i < 4; ++i) {
+        precise float x = root.x + (p[i].x - root.x) * t;
+        precise float z = root.z + (p[i].z - root.z) * t;
+        p[i] = vec3(x, p[i].y, z);
+    }
+}
+
+// `cover::fitted`: a blade with a point of its curve under the ground (or
+// nearer it than COVER_FIT_ROOM) turned about its root's vertical as
+// little as clears it, each way in turn; where none does, turned where it
+// keeps highest and its lean shrunk toward upright as far as needed.
+void fit_to_ground(inout vec3 p[4], inout vec3 w) {
+    if (fit_clearance(p) >= 0.0) {
+        return;
+    }
+    int turns = int(COVER_FIT_TURNS);
+    for (int k = 1; k <= turns; ++k) {
+        for (int sign = 1; sign >= -1; sign -= 2) {
+            vec3 q[4] = p;
+            vec3 v = w;
+            fit_turned(q, v, fit_turn(sign * k));
+            if (fit_clearance(q) >= 0.0) {
+                p = q;
+                w = v;
+                return;
+            }
+        }
+    }
+    vec3 best[4] = p;
+    vec3 best_w = w;
+    float highest = fit_clearance(p);
+    for (int k = 1; k < 2 * turns; ++k) {
+        vec3 q[4] = p;
+        vec3 v = w;
+        fit_turned(q, v, fit_turn(k));
+        float clearance = fit_clearance(q);
+        if (clearance > highest) {
+            best = q;
+            best_w = v;
+            highest = clearance;
+        }
+    }
+    p = best;
+    w = best_w;
+    for (uint j = 1u; j < COVER_FIT_SHRINKS; ++j) {
+        vec3 q[4] = best;
+        fit_shrunk(q, 1.0 - float(j) / float(COVER_FIT_SHRINKS));
+        if (fit_clearance(q) >= 0.0) {
+            p = q;
+            return;
+        }
+    }
+    fit_shrunk(p, 0.0);
+}
+
+// `cover::held_above_ground`: a far blade's angles scaled toward rest
+// (which the fit keeps clear) as far as its curve needs to clear the
+// ground, by halvings; whether they were.
+bool held_above_ground(GrassBlade b, inout vec4 angle) {
+    if (fit_clearance(blade_pose(b, angle, 0.0).points) >= 0.0) {
+        return false;
+    }
+    float lo = 0.0, hi = 1.0;
+    for (uint i = 0u; i < COVER_HOLD_HALVINGS; ++i) {
+        float mid = 0.5 * (lo + hi);
+        if (fit_clearance(blade_pose(b, angle * mid, 0.0).points) >= 0.0) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    angle *= lo;
+    return true;
+}
+
 // `cover::pressed_fade`: 1 within the radius less the band, 0 from the
 // radius on, smoothstep between.
 float pressed_fade(float radius, float d) {
@@ -225,7 +344,8 @@ void main() {
     vec2 unit[4] = profile(kind, draw(key, 7u));
     float rand = draw(key, 8u);
     precise float hw = 0.5 * width;
-    precise vec3 half_width = vec3(f.y, 0.0, -f.x) * hw;
+    // UP x facing, as `cover::blade` leaves it (turned by the fit below).
+    vec3 width_dir = vec3(f.y, 0.0, -f.x);
     vec3 rest[4];
     for (int i = 0; i < 4; ++i) {
         // root + facing x + up y, as `Blade`'s rest points are summed.
@@ -233,7 +353,7 @@ void main() {
             + vec3(0.0, 1.0, 0.0) * (unit[i].y * h);
         rest[i] = p;
     }
-    // Rooted on the ground (`Terrain::root`): raised to its height under
+    // Rooted on the ground (`Terrain::lifted`): raised to its height under
     // the root, upright as grass grows on a slope.
     if (!terrain_is_flat()) {
         float lift = terrain_height(root.x, root.y);
@@ -255,9 +375,17 @@ void main() {
         }
         return;
     }
+    // The box the reach allows around the root holds the blade however
+    // the fit turns or shrinks it.
     float reach = distance(rest[0], rest[1]) + distance(rest[1], rest[2]) + distance(rest[2], rest[3]);
-    if (params.pose == 0u
-        || (params.pose_drawn_only != 0u && !may_be_drawn(rest[0], rand, reach, hw))) {
+    bool drawn = params.pose_drawn_only == 0u || may_be_drawn(rest[0], rand, reach, hw);
+    // Fitted to the ground (`cover::fitted`): a blade leaning into a
+    // slope turned away from it. Not a blade this frame cannot draw.
+    if ((drawn || params.pose == 0u) && !terrain_is_flat()) {
+        fit_to_ground(rest, width_dir);
+    }
+    precise vec3 half_width = width_dir * hw;
+    if (params.pose == 0u || !drawn) {
         if (params.far_kept != 0u) {
             far_poses[far_slot].tile = 0u;
         }
@@ -273,7 +401,7 @@ void main() {
     float ratio = params.stiffness_ratio.x + (params.stiffness_ratio.y - params.stiffness_ratio.x) * draw(key, 10u);
     float sigma = params.sigma.x + (params.sigma.y - params.sigma.x) * draw(key, 11u);
     float edge_mass = params.edge_mass.x + (params.edge_mass.y - params.edge_mass.x) * draw(key, 12u);
-    GrassBlade b = cover_grass_blade(rest, vec3(f.y, 0.0, -f.x), hw, rand, between_tip, ratio,
+    GrassBlade b = cover_grass_blade(rest, width_dir, hw, rand, between_tip, ratio,
                                      sigma, edge_mass);
     // A blade of the simulated square's tiles shows its dynamics' state;
     // the square's edge is crossed without a jump because a tile coming in
@@ -325,6 +453,11 @@ void main() {
             angle = last.angle;
             velocity = last.velocity;
             far_tracked(angle, velocity, target, far_frequency(b), params.elapsed);
+        }
+        // The far field has no contact: where the pose would press the
+        // blade into the ground, the ground holds it, and stops it.
+        if (!terrain_is_flat() && held_above_ground(b, angle)) {
+            velocity = vec4(0.0);
         }
     }
     Pose p = blade_pose(b, angle, pressed);

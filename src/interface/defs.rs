@@ -43,6 +43,23 @@ gpu_interface! {
     /// blade's pressing fades out (`cover::PRESS_FADE_M`): beyond the
     /// radius no collider presses the far field.
     pub const COVER_PRESS_FADE_M: f32 = 4.0;
+    /// The cover's fit of a blade's rest shape to the ground
+    /// (`cover::fitted`, glsl/cover/tiles.comp): the points of its curve
+    /// tested against the ground's height (at t = 1/8, 2/8 .. 1), ...
+    pub const COVER_FIT_SAMPLES: u32 = 8;
+    /// ... each kept this far above it per metre from the root (about
+    /// half a degree of lean, as `blade::FIT_ROOM` keeps a patch's blade
+    /// inside contact's region) ...
+    pub const COVER_FIT_ROOM: f32 = 0.01;
+    /// ... turning the blade about the vertical through its root by
+    /// multiples of pi / COVER_FIT_TURNS each way, then, where no turn
+    /// fits, shrinking its lean in COVER_FIT_SHRINKS steps.
+    pub const COVER_FIT_TURNS: u32 = 32;
+    pub const COVER_FIT_SHRINKS: u32 = 16;
+    /// Halvings of the search for how far toward rest the ground holds a
+    /// far blade the wind's balance would press into it
+    /// (`cover::held_above_ground`): to 1/256 of its angles.
+    pub const COVER_HOLD_HALVINGS: u32 = 8;
     /// Blades per workgroup of the cull pass's flag and compaction kernels:
     /// one blade per invocation (glsl/cull/).
     pub const CULL_GROUP: u32 = 256;

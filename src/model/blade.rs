@@ -13,6 +13,12 @@ pub const UP: Vec3 = Vec3::Y;
 /// half a degree of lean.
 pub const FIT_ROOM: f32 = 0.01;
 
+/// The cover's fit to the ground's heights (`scene::cover::fitted`), which
+/// its tile kernel does alike.
+pub use crate::interface::{
+    COVER_FIT_ROOM, COVER_FIT_SAMPLES, COVER_FIT_SHRINKS, COVER_FIT_TURNS, COVER_HOLD_HALVINGS,
+};
+
 /// The three shapes one cubic with one inflection point covers.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "lowercase")]

@@ -138,8 +138,9 @@ impl Terrain {
     /// `root`, its rest shape then fitted to the ground (`Blade::fitted`:
     /// a blade leaning or drooping into a slope turned away from it), so
     /// that no point of it is under the ground at rest. The patches'
-    /// blades are; the cover's, whose tile kernel makes them without the
-    /// ground's rise, are rooted only.
+    /// blades are; the cover's, whose tile kernel cannot afford the
+    /// ground's rise for every blade every frame, are fitted to the
+    /// ground's heights under their curves (`scene::cover::fitted`).
     pub fn root_fitted(&self, blade: Blade) -> Blade {
         if self.is_flat() {
             return blade;
@@ -150,13 +151,40 @@ impl Terrain {
 
     /// `root`, and the ground's rise bound c there.
     fn rooted(&self, blade: Blade) -> (Blade, f32) {
+        self.grounded_with_rise(self.lifted(blade))
+    }
+
+    /// `blade` (made on flat ground) raised by the ground's height under
+    /// its root, each rest point's y plus that height as the cover's tile
+    /// kernel adds it; its frame and contact as they were.
+    pub fn lifted(&self, blade: Blade) -> Blade {
+        if self.is_flat() {
+            return blade;
+        }
+        let root = blade.rest[0];
+        let lift = self.height(root.x, root.z);
+        Blade {
+            rest: blade.rest.map(|p| Vec3::new(p.x, p.y + lift, p.z)),
+            ..blade
+        }
+    }
+
+    /// `blade`, its root already on the ground (`lifted`), swinging about
+    /// the ground's normal at its root, with contact's paraboloid over the
+    /// ground within its reach (`Blade::raised` by nothing).
+    pub fn grounded(&self, blade: Blade) -> Blade {
+        self.grounded_with_rise(blade).0
+    }
+
+    /// `grounded`, and the ground's rise bound c there.
+    fn grounded_with_rise(&self, blade: Blade) -> (Blade, f32) {
         if self.is_flat() {
             return (blade, 0.0);
         }
         let root = blade.rest[0];
         let normal = self.normal(root.x, root.z, NORMAL_STEP_M);
         let c = self.rise_bound(root.x, root.z, normal, blade.reach());
-        (blade.raised(self.height(root.x, root.z), normal, c), c)
+        (blade.raised(0.0, normal, c), c)
     }
 
     /// The terrain as glsl/common/terrain.glsl reads it: the header, then

@@ -18,6 +18,9 @@ use crate::error::Result;
 use crate::model::grass::{self, GrassBlade};
 use crate::model::quasi_static::{quasi_static_angles_within, FAR_ITERATIONS};
 use crate::model::terrain::Terrain;
+use crate::model::blade::{
+    bezier, COVER_FIT_ROOM, COVER_FIT_SAMPLES, COVER_FIT_SHRINKS, COVER_FIT_TURNS, COVER_HOLD_HALVINGS,
+};
 use crate::model::{Blade, BladeKind, BladePhysics, BladeVertex};
 
 /// A tile's side (m).
@@ -220,10 +223,12 @@ pub fn blade(seed: u32, shape: &BladeShape, tile: [i32; 2], index: u32) -> Blade
     }
 }
 
-/// The `index`th blade of `tile` rooted on `terrain` (`Terrain::root`):
-/// raised to the ground's height at its root, which the tile kernel
-/// computes to its division's rounding, and swinging about the ground's
-/// normal there. On flat ground, `blade` itself.
+/// The `index`th blade of `tile` rooted on `terrain`: raised to the
+/// ground's height at its root (`Terrain::lifted`, which the tile kernel
+/// computes to its division's rounding), its rest shape fitted to the
+/// ground (`fitted`), and swinging about the ground's normal at its root
+/// with contact's paraboloid over the ground its rest shape keeps
+/// (`Terrain::grounded`). On flat ground, `blade` itself.
 pub fn blade_on(
     terrain: &Terrain,
     seed: u32,
@@ -231,7 +236,109 @@ pub fn blade_on(
     tile: [i32; 2],
     index: u32,
 ) -> Blade {
-    terrain.root(blade(seed, shape, tile, index))
+    if terrain.is_flat() {
+        return blade(seed, shape, tile, index);
+    }
+    let lifted = terrain.lifted(blade(seed, shape, tile, index));
+    terrain.grounded(fitted(lifted, terrain))
+}
+
+/// How far the blade's curve keeps above the ground at its worst: over
+/// its points at t = 1/8 .. 1 (`COVER_FIT_SAMPLES`), the height above the
+/// ground under the point less `COVER_FIT_ROOM` times its distance from
+/// the root (m). Summed as glsl/cover/tiles.comp's `fit_clearance` does.
+pub fn fit_clearance(rest: &[Vec3; 4], terrain: &Terrain) -> f32 {
+    let mut worst = f32::MAX;
+    for k in 1..=COVER_FIT_SAMPLES {
+        let p = bezier(rest, k as f32 / COVER_FIT_SAMPLES as f32);
+        let above = p.y - terrain.height(p.x, p.z);
+        worst = worst.min(above - COVER_FIT_ROOM * (p - rest[0]).length());
+    }
+    worst
+}
+
+/// (cos, sin) of k pi / COVER_FIT_TURNS by the facing's polynomials
+/// (`facing`): exact in its arguments, so the tile kernel turns a blade
+/// bit for bit as this does.
+fn fit_turn(k: i32) -> Vec2 {
+    let quarter = (COVER_FIT_TURNS / 2) as i32;
+    let quadrant = (k + quarter / 2).div_euclid(quarter);
+    let u = 0.5 + (k - quarter * quadrant) as f32 / quarter as f32;
+    facing(u, quadrant as u32)
+}
+
+/// `blade` turned about the vertical through its root by the angle whose
+/// (cos, sin) is `turn` (x' = c x + s z, z' = c z - s x), never fused.
+fn turned(blade: &Blade, turn: Vec2) -> Blade {
+    let (c, s) = (turn.x, turn.y);
+    let root = blade.rest[0];
+    let spin = |d: Vec3| Vec3::new(c * d.x + s * d.z, d.y, c * d.z - s * d.x);
+    Blade {
+        rest: blade.rest.map(|p| {
+            let d = spin(p - root);
+            Vec3::new(root.x + d.x, p.y, root.z + d.z)
+        }),
+        width_dir: spin(blade.width_dir),
+        ..*blade
+    }
+}
+
+/// `blade`'s lean shrunk toward upright to `t` of itself.
+fn shrunk(blade: &Blade, t: f32) -> Blade {
+    let root = blade.rest[0];
+    Blade {
+        rest: blade.rest.map(|p| {
+            Vec3::new(
+                root.x + (p.x - root.x) * t,
+                p.y,
+                root.z + (p.z - root.z) * t,
+            )
+        }),
+        ..*blade
+    }
+}
+
+/// The cover's fit of a lifted blade's rest shape to the ground (the
+/// patches' is `Blade::fitted`, which needs the ground's rise around
+/// every root, more than the tile kernel can afford for every blade
+/// every frame): where a point of its curve is under the ground, or
+/// nearer it than `COVER_FIT_ROOM` allows (a blade leaning or drooping
+/// into a slope, which would stand in the hill), it is turned about the
+/// vertical through its root as little as clears it, by multiples of
+/// pi / COVER_FIT_TURNS, each way in turn; where no turn clears it (a
+/// hollow tighter than the blade), turned where it keeps highest and its
+/// lean shrunk toward upright as far as needed, upright at worst. Its
+/// heights and edge lengths as they were but for the shrink; its width
+/// stays horizontal. A blade that clears is returned as it is, and
+/// glsl/cover/tiles.comp does the same arithmetic.
+pub fn fitted(blade: Blade, terrain: &Terrain) -> Blade {
+    if fit_clearance(&blade.rest, terrain) >= 0.0 {
+        return blade;
+    }
+    let turns = COVER_FIT_TURNS as i32;
+    for k in 1..=turns {
+        for turn in [k, -k] {
+            let b = turned(&blade, fit_turn(turn));
+            if fit_clearance(&b.rest, terrain) >= 0.0 {
+                return b;
+            }
+        }
+    }
+    let (mut best, mut highest) = (blade, fit_clearance(&blade.rest, terrain));
+    for k in 1..2 * turns {
+        let b = turned(&blade, fit_turn(k));
+        let clearance = fit_clearance(&b.rest, terrain);
+        if clearance > highest {
+            (best, highest) = (b, clearance);
+        }
+    }
+    for j in 1..COVER_FIT_SHRINKS {
+        let b = shrunk(&best, 1.0 - j as f32 / COVER_FIT_SHRINKS as f32);
+        if fit_clearance(&b.rest, terrain) >= 0.0 {
+            return b;
+        }
+    }
+    shrunk(&best, 0.0)
 }
 
 /// The physics draws: k_tip, k_root / k_tip and sigma (what the
@@ -273,7 +380,7 @@ pub fn left_out(blade: &Blade) -> [BladeVertex; 4] {
 
 /// The control points of every blade of `tiles` in its quasi-static pose
 /// (src/model/quasi_static.rs) for the wind `wind_at` gives at its rest
-/// tip, in the blade buffer's order: what the tile kernel writes with a
+/// tip, held above the ground (`held_above_ground`), in the blade buffer's order: what the tile kernel writes with a
 /// wind to pose them in (to the solve's tolerance, not bit for bit).
 pub fn posed_vertices(
     terrain: &Terrain,
@@ -285,13 +392,15 @@ pub fn posed_vertices(
 ) -> Result<Vec<BladeVertex>> {
     let mut out = Vec::with_capacity(tiles.blade_count() as usize * 4);
     for (tile, index) in tiles.blades() {
-        let rest = blade_on(terrain, seed, shape, tile, index);
-        if !tiles.grows_at(root_xz(&rest)) {
-            out.extend(left_out(&rest));
+        let made = terrain.lifted(blade(seed, shape, tile, index));
+        if !tiles.grows_at(root_xz(&made)) {
+            out.extend(left_out(&made));
             continue;
         }
+        let rest = blade_on(terrain, seed, shape, tile, index);
         let b = GrassBlade::new(&rest, &physics(seed, dynamics, tile, index))?;
-        let (angles, _) = quasi_static_angles_within(&b, wind_at(rest.rest[3]), FAR_ITERATIONS);
+        let (balance, _) = quasi_static_angles_within(&b, wind_at(rest.rest[3]), FAR_ITERATIONS);
+        let (angles, _) = held_above_ground(terrain, &b, balance);
         out.extend(grass::vertices(&b, &grass::pose(&b, angles)));
     }
     Ok(out)
@@ -309,11 +418,13 @@ pub fn vertices(
     tiles
         .blades()
         .flat_map(|(tile, index)| {
-            let b = blade_on(terrain, seed, shape, tile, index);
-            if tiles.grows_at(root_xz(&b)) {
-                b.vertices()
+            // Left out as made, not fitted (the tile kernel fits only
+            // what grows).
+            let made = terrain.lifted(blade(seed, shape, tile, index));
+            if tiles.grows_at(root_xz(&made)) {
+                blade_on(terrain, seed, shape, tile, index).vertices()
             } else {
-                left_out(&b)
+                left_out(&made)
             }
         })
         .collect()
@@ -364,6 +475,37 @@ pub fn state_slot(tile: [i32; 2], side: u32) -> u32 {
 pub fn far_tag(tile: [i32; 2]) -> u32 {
     const BITS: u32 = 0x7fff;
     (1 << 30) | (tile[0] as u32 & BITS) | ((tile[1] as u32 & BITS) << 15)
+}
+
+/// A far blade's angles held above the ground (the far field has no
+/// contact; the simulated square's dynamics do): where the pose at
+/// `angles` would put a point of its curve under the ground, or nearer it
+/// than `COVER_FIT_ROOM` allows (the wind's balance pressing a blade down
+/// a slope), the angles scaled toward rest, which the fit keeps clear, as
+/// far as needed to `COVER_HOLD_HALVINGS` halvings; with whether they were.
+/// On flat ground, or where the pose clears, `angles` as they are.
+/// glsl/cover/tiles.comp does the same.
+pub fn held_above_ground(terrain: &Terrain, b: &GrassBlade, angles: [f32; 4]) -> ([f32; 4], bool) {
+    if terrain.is_flat() {
+        return (angles, false);
+    }
+    let clears = |s: f32| {
+        let points = grass::pose(b, angles.map(|a| a * s)).points;
+        fit_clearance(&points, terrain) >= 0.0
+    };
+    if clears(1.0) {
+        return (angles, false);
+    }
+    let (mut lo, mut hi) = (0.0f32, 1.0f32);
+    for _ in 0..COVER_HOLD_HALVINGS {
+        let mid = 0.5 * (lo + hi);
+        if clears(mid) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    (angles.map(|a| a * lo), true)
 }
 
 /// The `index`th blade of `tile` as the dynamics step it (its physics
@@ -618,5 +760,164 @@ mod tests {
             assert_eq!(b.rest[0].y, 0.0);
             assert!((b.width_dir.length() - 1.0).abs() < 1e-6);
         }
+    }
+
+    /// The deepest any point of the blade's curve (sampled at 64 points)
+    /// is under the ground (m; negative: above it).
+    fn depth(rest: &[Vec3; 4], terrain: &Terrain) -> f32 {
+        (0..=64)
+            .map(|k| {
+                let p = bezier(rest, k as f32 / 64.0);
+                terrain.height(p.x, p.z) - p.y
+            })
+            .fold(f32::MIN, f32::max)
+    }
+
+    /// A round hill 2 m high and 2.5 m in half-width (flanks up to 27
+    /// degrees) and a hollow 1 m deep, under
+    /// 24,000 cover blades: fitted
+    /// (`fitted`), no point of any blade's curve is under the ground, and
+    /// a turned blade keeps its heights, its edges' lengths and a
+    /// horizontal unit width. Rooted only (the fit undone), drooping
+    /// blades hang into the rising ground.
+    /// A round hill 2 m high and 2.5 m in half-width (flanks up to 27
+    /// degrees) and a hollow 1 m deep.
+    fn steep_hill() -> Terrain {
+        Terrain {
+            hills: vec![
+                crate::model::terrain::Hill {
+                    center: [0.0, 0.0],
+                    height: 2.0,
+                    half_width: 2.5,
+                },
+                crate::model::terrain::Hill {
+                    center: [6.0, -5.0],
+                    height: -1.0,
+                    half_width: 1.0,
+                },
+            ],
+            ..Terrain::default()
+        }
+    }
+
+    #[test]
+    fn on_a_steep_hill_no_cover_blade_stands_in_the_ground() {
+        let terrain = steep_hill();
+        let shape = BladeShape::default();
+        let tiles = CoverTiles::around(&cover(60.0, 8.0), Vec2::ZERO);
+        let (mut deepest, mut unfitted_deepest) = (f32::MIN, f32::MIN);
+        let (mut under_unfitted, mut turned_blades, mut shrunk_blades) = (0, 0, 0);
+        for (tile, index) in tiles.blades() {
+            let made = terrain.lifted(blade(7, &shape, tile, index));
+            let rooted = terrain.grounded(made);
+            let fitted = blade_on(&terrain, 7, &shape, tile, index);
+            let d = depth(&rooted.rest, &terrain);
+            unfitted_deepest = unfitted_deepest.max(d);
+            under_unfitted += (d > 0.0) as u32;
+            deepest = deepest.max(depth(&fitted.rest, &terrain));
+            if fitted.rest != rooted.rest {
+                let lengths = |b: &Blade| b.edge_lengths();
+                let shrank = lengths(&fitted)
+                    .iter()
+                    .zip(lengths(&rooted))
+                    .any(|(a, b)| (a - b).abs() > 1e-5 * b);
+                turned_blades += !shrank as u32;
+                shrunk_blades += shrank as u32;
+                for (a, b) in fitted.rest.iter().zip(&rooted.rest) {
+                    assert_eq!(a.y, b.y);
+                }
+                assert_eq!(fitted.rest[0], rooted.rest[0]);
+                assert!(fitted.width_dir.y == 0.0);
+                assert!((fitted.width_dir.length() - 1.0).abs() < 1e-5);
+            }
+        }
+        eprintln!(
+            "{} cover blades: rooted only, {under_unfitted} with a point under the ground, \
+             {:.1} mm at most; fitted ({turned_blades} turned, {shrunk_blades} shrunk), \
+             the deepest point {:.2} mm",
+            tiles.blade_count(),
+            1e3 * unfitted_deepest,
+            1e3 * deepest
+        );
+        assert!(
+            under_unfitted > 5 && unfitted_deepest > 0.01,
+            "the hill is too gentle to test the fit: {under_unfitted}, {unfitted_deepest}"
+        );
+        assert!(turned_blades > 5, "{turned_blades}");
+        assert!(deepest <= 0.0, "a fitted blade is {:.2} mm in the ground", 1e3 * deepest);
+
+        // At the bottom of a pit tighter than itself no turn clears a
+        // drooping blade: its lean shrinks toward upright.
+        let (tile, index) = tiles
+            .blades()
+            .find(|&(t, i)| blade(7, &shape, t, i).kind == BladeKind::Drooping)
+            .unwrap();
+        let made = blade(7, &shape, tile, index);
+        let root = made.rest[0];
+        let pit = Terrain {
+            hills: vec![crate::model::terrain::Hill {
+                center: [root.x, root.z],
+                height: -3.0,
+                half_width: 0.15,
+            }],
+            ..Terrain::default()
+        };
+        let rooted = pit.grounded(pit.lifted(made));
+        let fitted = blade_on(&pit, 7, &shape, tile, index);
+        let lean = |b: &Blade| Vec2::new(b.rest[3].x - root.x, b.rest[3].z - root.z).length();
+        eprintln!(
+            "in a pit: rooted only {:.0} mm in the ground, its tip {:.0} mm out; fitted \
+             {:.2} mm, {:.0} mm out",
+            1e3 * depth(&rooted.rest, &pit),
+            1e3 * lean(&rooted),
+            1e3 * depth(&fitted.rest, &pit),
+            1e3 * lean(&fitted)
+        );
+        assert!(depth(&rooted.rest, &pit) > 0.1);
+        assert!(depth(&fitted.rest, &pit) <= 0.0);
+        assert!(lean(&fitted) < 0.5 * lean(&rooted));
+    }
+
+    /// In a 7 m/s wind from four headings over the steep hill, the far
+    /// field's quasi-static poses (`posed_vertices`) keep every point of
+    /// every blade's curve above the ground, and the blades the ground
+    /// holds still bend: none is held at rest. Posed at the wind's balance
+    /// alone (no hold), blades bent down the slopes go into it.
+    #[test]
+    fn in_a_wind_the_ground_holds_the_far_blades_out_of_it() {
+        let terrain = steep_hill();
+        let shape = BladeShape::default();
+        let dynamics = GrassDynamics::default();
+        let tiles = CoverTiles::around(&cover(30.0, 8.0), Vec2::ZERO);
+        let (mut deepest, mut unheld_deepest, mut unheld_under) = (f32::MIN, f32::MIN, 0);
+        let (mut held, mut held_at_rest) = (0, 0);
+        for heading in 0..4 {
+            let a = heading as f32 * std::f32::consts::FRAC_PI_2 + 0.3;
+            let wind = Vec3::new(7.0 * a.cos(), 0.0, 7.0 * a.sin());
+            let posed = posed_vertices(&terrain, 7, &shape, &dynamics, &tiles, |_| wind).unwrap();
+            for ((tile, index), v) in tiles.blades().zip(posed.chunks(4)) {
+                let p: [Vec3; 4] = std::array::from_fn(|i| Vec3::from_slice(&v[i].position[..3]));
+                deepest = deepest.max(depth(&p, &terrain));
+                let b = grass_blade(&terrain, 7, &shape, &dynamics, tile, index).unwrap();
+                let (balance, _) = quasi_static_angles_within(&b, wind, FAR_ITERATIONS);
+                let d = depth(&grass::pose(&b, balance).points, &terrain);
+                unheld_deepest = unheld_deepest.max(d);
+                unheld_under += (d > 0.01) as u32;
+                let (angles, was_held) = held_above_ground(&terrain, &b, balance);
+                held += was_held as u32;
+                held_at_rest += (was_held && angles == [0.0; 4]) as u32;
+            }
+        }
+        eprintln!(
+            "{} blades, 4 headings: at the balance alone {unheld_under} poses more than 1 cm \
+             under the ground, {:.0} mm at most; held ({held}, {held_at_rest} of them at rest), \
+             the deepest point {:.2} mm",
+            tiles.blade_count(),
+            1e3 * unheld_deepest,
+            1e3 * deepest
+        );
+        assert!(unheld_under > 5 && unheld_deepest > 0.03, "{unheld_under} {unheld_deepest}");
+        assert!(deepest <= 0.0, "a far blade is {:.2} mm in the ground", 1e3 * deepest);
+        assert!(held >= unheld_under && held_at_rest == 0, "{held} {held_at_rest}");
     }
 }
