@@ -795,7 +795,11 @@ fn on_terrain_the_gpu_roots_and_poses_the_cover_where_the_cpu_does() {
     // GPU must have fitted alike to match above.
     let fitted = cameras
         .iter()
-        .flat_map(|camera| CoverTiles::around(&cover, *camera).blades().collect::<Vec<_>>())
+        .flat_map(|camera| {
+            CoverTiles::around(&cover, *camera)
+                .blades()
+                .collect::<Vec<_>>()
+        })
         .filter(|&(tile, index)| {
             let made = terrain.lifted(cover::blade(seed, &shape, tile, index));
             cover::blade_on(&terrain, seed, &shape, tile, index).rest != made.rest
@@ -805,7 +809,10 @@ fn on_terrain_the_gpu_roots_and_poses_the_cover_where_the_cpu_does() {
         "on terrain: heights {lowest:.2} to {highest:.2} m, {same_height} of {points} bit for bit, \
          the rest within {most:e} of their size; {fitted} blades fitted to the ground"
     );
-    assert!(fitted >= 10, "only {fitted} blades were fitted to the ground");
+    assert!(
+        fitted >= 10,
+        "only {fitted} blades were fitted to the ground"
+    );
     assert!(
         highest - lowest > 3.0,
         "the terrain barely raised the blades"

@@ -55,3 +55,14 @@ float terrain_height(float x, float z) {
     }
     return h;
 }
+
+// The upward unit normal at (x, z) from central differences over `step`
+// metres (`Terrain::normal`); straight up where the terrain is flat.
+vec3 terrain_normal(float x, float z, float step) {
+    if (terrain_is_flat()) {
+        return vec3(0.0, 1.0, 0.0);
+    }
+    float dx = (terrain_height(x + step, z) - terrain_height(x - step, z)) / (2.0 * step);
+    float dz = (terrain_height(x, z + step) - terrain_height(x, z - step)) / (2.0 * step);
+    return normalize(vec3(-dx, 1.0, -dz));
+}

@@ -175,9 +175,9 @@ bool may_be_drawn(vec3 root, float rand, float reach, float half_width) {
     return (kept & (in_view | caster)) != 0u;
 }
 
-// `cover::fit_clearance`: how far the curve keeps above the ground at its
-// worst over t = 1/8 .. 1, less COVER_FIT_ROOM a metre from the root.
-float fit_clearance(vec3 p[4]) {
+// `cover::ground_clearance`: how far the curve keeps above the ground at
+// its worst over t = 1/8 .. 1, less COVER_FIT_ROOM a metre from the root.
+float ground_clearance(vec3 p[4]) {
     float worst = uintBitsToFloat(0x7F7FFFFFu); // f32::MAX
     for (uint k = 1u; k <= COVER_FIT_SAMPLES; ++k) {
         precise float t = float(k) / float(COVER_FIT_SAMPLES);
@@ -186,6 +186,18 @@ float fit_clearance(vec3 p[4]) {
             + p[2] * (3.0 * s * t * t) + p[3] * (t * t * t);
         float above = q.y - terrain_height(q.x, q.z);
         worst = min(worst, above - COVER_FIT_ROOM * distance(q, p[0]));
+    }
+    return worst;
+}
+
+// `cover::fit_clearance`: the curve clear of the ground, and each control
+// point COVER_FIT_ROOM a metre above the tangent plane at the root (of
+// upward normal n).
+float fit_clearance(vec3 p[4], vec3 n) {
+    float worst = ground_clearance(p);
+    for (int i = 1; i < 4; ++i) {
+        vec3 d = p[i] - p[0];
+        worst = min(worst, dot(n, d) - COVER_FIT_ROOM * length(d));
     }
     return worst;
 }
@@ -231,7 +243,8 @@ void fit_shrunk(inout vec3 p[4], float t) {
 // little as clears it, each way in turn; where none does, turned where it
 // keeps highest and its lean shrunk toward upright as far as needed.
 void fit_to_ground(inout vec3 p[4], inout vec3 w) {
-    if (fit_clearance(p) >= 0.0) {
+    vec3 n = terrain_normal(p[0].x, p[0].z, TERRAIN_NORMAL_STEP_M);
+    if (fit_clearance(p, n) >= 0.0) {
         return;
     }
     int turns = int(COVER_FIT_TURNS);
@@ -240,7 +253,7 @@ void fit_to_ground(inout vec3 p[4], inout vec3 w) {
             vec3 q[4] = p;
             vec3 v = w;
             fit_turned(q, v, fit_turn(sign * k));
-            if (fit_clearance(q) >= 0.0) {
+            if (fit_clearance(q, n) >= 0.0) {
                 p = q;
                 w = v;
                 return;
@@ -249,12 +262,12 @@ void fit_to_ground(inout vec3 p[4], inout vec3 w) {
     }
     vec3 best[4] = p;
     vec3 best_w = w;
-    float highest = fit_clearance(p);
+    float highest = fit_clearance(p, n);
     for (int k = 1; k < 2 * turns; ++k) {
         vec3 q[4] = p;
         vec3 v = w;
         fit_turned(q, v, fit_turn(k));
-        float clearance = fit_clearance(q);
+        float clearance = fit_clearance(q, n);
         if (clearance > highest) {
             best = q;
             best_w = v;
@@ -266,7 +279,7 @@ void fit_to_ground(inout vec3 p[4], inout vec3 w) {
     for (uint j = 1u; j < COVER_FIT_SHRINKS; ++j) {
         vec3 q[4] = best;
         fit_shrunk(q, 1.0 - float(j) / float(COVER_FIT_SHRINKS));
-        if (fit_clearance(q) >= 0.0) {
+        if (fit_clearance(q, n) >= 0.0) {
             p = q;
             return;
         }
@@ -278,13 +291,13 @@ void fit_to_ground(inout vec3 p[4], inout vec3 w) {
 // (which the fit keeps clear) as far as its curve needs to clear the
 // ground, by halvings; whether they were.
 bool held_above_ground(GrassBlade b, inout vec4 angle) {
-    if (fit_clearance(blade_pose(b, angle, 0.0).points) >= 0.0) {
+    if (ground_clearance(blade_pose(b, angle, 0.0).points) >= 0.0) {
         return false;
     }
     float lo = 0.0, hi = 1.0;
     for (uint i = 0u; i < COVER_HOLD_HALVINGS; ++i) {
         float mid = 0.5 * (lo + hi);
-        if (fit_clearance(blade_pose(b, angle * mid, 0.0).points) >= 0.0) {
+        if (ground_clearance(blade_pose(b, angle * mid, 0.0).points) >= 0.0) {
             lo = mid;
         } else {
             hi = mid;

@@ -43,6 +43,9 @@ gpu_interface! {
     /// blade's pressing fades out (`cover::PRESS_FADE_M`): beyond the
     /// radius no collider presses the far field.
     pub const COVER_PRESS_FADE_M: f32 = 4.0;
+    /// The central differences a root's ground normal is taken over (m)
+    /// (`terrain::NORMAL_STEP_M`).
+    pub const TERRAIN_NORMAL_STEP_M: f32 = 0.01;
     /// The cover's fit of a blade's rest shape to the ground
     /// (`cover::fitted`, glsl/cover/tiles.comp): the points of its curve
     /// tested against the ground's height (at t = 1/8, 2/8 .. 1), ...

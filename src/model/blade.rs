@@ -91,8 +91,10 @@ impl Blade {
     /// upright as grass does on a slope) over ground of upward unit normal
     /// `ground` whose rise over its tangent plane within the blade's reach
     /// is at most `curvature` times the distance squared (`ground_curvature`;
-    /// held to what the rest shape keeps, so a blade is never in contact
-    /// at rest).
+    /// held to what leaves each rest point `FIT_ROOM` a metre inside
+    /// contact's region, so a blade is never in contact at rest, nor on
+    /// the region's boundary, where a wind pressing it toward the ground
+    /// would hold it still).
     pub fn raised(mut self, height: f32, ground: Vec3, curvature: f32) -> Self {
         for p in &mut self.rest {
             p.y += height;
@@ -101,7 +103,10 @@ impl Blade {
         let root = self.rest[0];
         let rest_room = self.rest[1..]
             .iter()
-            .map(|&p| (p - root).dot(ground) / (p - root).length_squared().max(1e-12))
+            .map(|&p| {
+                let d = p - root;
+                (d.dot(ground) - FIT_ROOM * d.length()) / d.length_squared().max(1e-12)
+            })
             .fold(f32::MAX, f32::min);
         self.ground_curvature = curvature.min(rest_room).max(0.0);
         self

@@ -16,8 +16,9 @@ use super::Blade;
 use crate::interface::TerrainHeader;
 
 /// The central differences a root's ground normal is taken over (m): its
-/// tangent plane, for contact's paraboloid over it (`Terrain::root`).
-pub const NORMAL_STEP_M: f32 = 0.01;
+/// tangent plane, for contact's paraboloid over it (`Terrain::root`) and
+/// the cover's fit (glsl/common/terrain.glsl's `terrain_normal` alike).
+pub use crate::interface::TERRAIN_NORMAL_STEP_M as NORMAL_STEP_M;
 
 /// A round hill: H / (1 + (r/L)^2), r the distance from `center` (x, z).
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]

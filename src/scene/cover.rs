@@ -15,12 +15,13 @@ use glam::{Vec2, Vec3};
 
 use super::{BladeShape, Cover, GrassDynamics};
 use crate::error::Result;
+use crate::model::blade::{
+    bezier, COVER_FIT_ROOM, COVER_FIT_SAMPLES, COVER_FIT_SHRINKS, COVER_FIT_TURNS,
+    COVER_HOLD_HALVINGS,
+};
 use crate::model::grass::{self, GrassBlade};
 use crate::model::quasi_static::{quasi_static_angles_within, FAR_ITERATIONS};
-use crate::model::terrain::Terrain;
-use crate::model::blade::{
-    bezier, COVER_FIT_ROOM, COVER_FIT_SAMPLES, COVER_FIT_SHRINKS, COVER_FIT_TURNS, COVER_HOLD_HALVINGS,
-};
+use crate::model::terrain::{Terrain, NORMAL_STEP_M};
 use crate::model::{Blade, BladeKind, BladePhysics, BladeVertex};
 
 /// A tile's side (m).
@@ -243,16 +244,32 @@ pub fn blade_on(
     terrain.grounded(fitted(lifted, terrain))
 }
 
-/// How far the blade's curve keeps above the ground at its worst: over
-/// its points at t = 1/8 .. 1 (`COVER_FIT_SAMPLES`), the height above the
-/// ground under the point less `COVER_FIT_ROOM` times its distance from
-/// the root (m). Summed as glsl/cover/tiles.comp's `fit_clearance` does.
-pub fn fit_clearance(rest: &[Vec3; 4], terrain: &Terrain) -> f32 {
+/// How far a blade's curve (`points`, P0 its root) keeps above the
+/// ground at its worst: over its points at t = 1/8 .. 1
+/// (`COVER_FIT_SAMPLES`), the height above the ground under the point
+/// less `COVER_FIT_ROOM` times its distance from the root (m). Summed as
+/// glsl/cover/tiles.comp's `ground_clearance` does.
+pub fn ground_clearance(points: &[Vec3; 4], terrain: &Terrain) -> f32 {
     let mut worst = f32::MAX;
     for k in 1..=COVER_FIT_SAMPLES {
-        let p = bezier(rest, k as f32 / COVER_FIT_SAMPLES as f32);
+        let p = bezier(points, k as f32 / COVER_FIT_SAMPLES as f32);
         let above = p.y - terrain.height(p.x, p.z);
-        worst = worst.min(above - COVER_FIT_ROOM * (p - rest[0]).length());
+        worst = worst.min(above - COVER_FIT_ROOM * (p - points[0]).length());
+    }
+    worst
+}
+
+/// What the fit asks of a rest shape (m; at least 0 where it fits): its
+/// curve clear of the ground (`ground_clearance`), and each control point
+/// `COVER_FIT_ROOM` a metre above the tangent plane at the root, of
+/// upward normal `n`, so that contact's region keeps it inside
+/// (`Blade::raised`) and no blade rests against the ground it stands on,
+/// held there, as one drooping into a hollow would.
+pub fn fit_clearance(rest: &[Vec3; 4], n: Vec3, terrain: &Terrain) -> f32 {
+    let mut worst = ground_clearance(rest, terrain);
+    for p in &rest[1..] {
+        let d = *p - rest[0];
+        worst = worst.min(n.dot(d) - COVER_FIT_ROOM * d.length());
     }
     worst
 }
@@ -303,7 +320,8 @@ fn shrunk(blade: &Blade, t: f32) -> Blade {
 /// every root, more than the tile kernel can afford for every blade
 /// every frame): where a point of its curve is under the ground, or
 /// nearer it than `COVER_FIT_ROOM` allows (a blade leaning or drooping
-/// into a slope, which would stand in the hill), it is turned about the
+/// into a slope, which would stand in the hill), or a control point is
+/// not above the tangent plane at its root (`fit_clearance`), it is turned about the
 /// vertical through its root as little as clears it, by multiples of
 /// pi / COVER_FIT_TURNS, each way in turn; where no turn clears it (a
 /// hollow tighter than the blade), turned where it keeps highest and its
@@ -312,29 +330,31 @@ fn shrunk(blade: &Blade, t: f32) -> Blade {
 /// stays horizontal. A blade that clears is returned as it is, and
 /// glsl/cover/tiles.comp does the same arithmetic.
 pub fn fitted(blade: Blade, terrain: &Terrain) -> Blade {
-    if fit_clearance(&blade.rest, terrain) >= 0.0 {
+    let root = blade.rest[0];
+    let n = terrain.normal(root.x, root.z, NORMAL_STEP_M);
+    if fit_clearance(&blade.rest, n, terrain) >= 0.0 {
         return blade;
     }
     let turns = COVER_FIT_TURNS as i32;
     for k in 1..=turns {
         for turn in [k, -k] {
             let b = turned(&blade, fit_turn(turn));
-            if fit_clearance(&b.rest, terrain) >= 0.0 {
+            if fit_clearance(&b.rest, n, terrain) >= 0.0 {
                 return b;
             }
         }
     }
-    let (mut best, mut highest) = (blade, fit_clearance(&blade.rest, terrain));
+    let (mut best, mut highest) = (blade, fit_clearance(&blade.rest, n, terrain));
     for k in 1..2 * turns {
         let b = turned(&blade, fit_turn(k));
-        let clearance = fit_clearance(&b.rest, terrain);
+        let clearance = fit_clearance(&b.rest, n, terrain);
         if clearance > highest {
             (best, highest) = (b, clearance);
         }
     }
     for j in 1..COVER_FIT_SHRINKS {
         let b = shrunk(&best, 1.0 - j as f32 / COVER_FIT_SHRINKS as f32);
-        if fit_clearance(&b.rest, terrain) >= 0.0 {
+        if fit_clearance(&b.rest, n, terrain) >= 0.0 {
             return b;
         }
     }
@@ -491,7 +511,7 @@ pub fn held_above_ground(terrain: &Terrain, b: &GrassBlade, angles: [f32; 4]) ->
     }
     let clears = |s: f32| {
         let points = grass::pose(b, angles.map(|a| a * s)).points;
-        fit_clearance(&points, terrain) >= 0.0
+        ground_clearance(&points, terrain) >= 0.0
     };
     if clears(1.0) {
         return (angles, false);
@@ -844,7 +864,11 @@ mod tests {
             "the hill is too gentle to test the fit: {under_unfitted}, {unfitted_deepest}"
         );
         assert!(turned_blades > 5, "{turned_blades}");
-        assert!(deepest <= 0.0, "a fitted blade is {:.2} mm in the ground", 1e3 * deepest);
+        assert!(
+            deepest <= 0.0,
+            "a fitted blade is {:.2} mm in the ground",
+            1e3 * deepest
+        );
 
         // At the bottom of a pit tighter than itself no turn clears a
         // drooping blade: its lean shrinks toward upright.
@@ -916,8 +940,85 @@ mod tests {
             1e3 * unheld_deepest,
             1e3 * deepest
         );
-        assert!(unheld_under > 5 && unheld_deepest > 0.03, "{unheld_under} {unheld_deepest}");
-        assert!(deepest <= 0.0, "a far blade is {:.2} mm in the ground", 1e3 * deepest);
-        assert!(held >= unheld_under && held_at_rest == 0, "{held} {held_at_rest}");
+        assert!(
+            unheld_under > 5 && unheld_deepest > 0.03,
+            "{unheld_under} {unheld_deepest}"
+        );
+        assert!(
+            deepest <= 0.0,
+            "a far blade is {:.2} mm in the ground",
+            1e3 * deepest
+        );
+        assert!(
+            held >= unheld_under && held_at_rest == 0,
+            "{held} {held_at_rest}"
+        );
+    }
+
+    /// The simulated square's blades over the steep hill in a 7 m/s wind
+    /// from two headings, 4 s of the paper's dynamics from rest on the CPU
+    /// reference (ground contact on): no point of any blade's curve under
+    /// the ground, and every blade moving (its tip at least 1 mm from
+    /// rest). Rooted only (the fit undone), blades drooping into the
+    /// hollow rest on contact's boundary and never move.
+    #[test]
+    fn near_the_camera_no_cover_blade_is_in_the_ground_or_still() {
+        let terrain = steep_hill();
+        let shape = BladeShape::default();
+        let dynamics = GrassDynamics::default();
+        let tiles = CoverTiles::around(&cover(20.0, 8.0), Vec2::ZERO);
+        let mut fitted = Vec::new();
+        let mut rooted_only = Vec::new();
+        for (tile, index) in tiles.blades() {
+            let b = grass_blade(&terrain, 7, &shape, &dynamics, tile, index).unwrap();
+            let made = terrain.lifted(blade(7, &shape, tile, index));
+            let rooted = terrain.grounded(made);
+            if blade_on(&terrain, 7, &shape, tile, index).rest != rooted.rest {
+                let physics = physics(7, &dynamics, tile, index);
+                rooted_only.push(GrassBlade::new(&rooted, &physics).unwrap());
+            }
+            fitted.push(b);
+        }
+        let dt = 1.0 / 60.0;
+        let substeps = grass::substeps(&fitted, dt).unwrap();
+        // The deepest any blade went under the ground (m) and how many never
+        // moved, over 4 s in each wind.
+        let run = |blades: &[GrassBlade]| {
+            let (mut deepest, mut still) = (f32::MIN, 0);
+            for heading in [0.3f32, 0.3 + std::f32::consts::PI] {
+                let wind = Vec3::new(7.0 * heading.cos(), 0.0, 7.0 * heading.sin());
+                for b in blades {
+                    let mut state = grass::GrassState::default();
+                    let tip = grass::pose(b, [0.0; 4]).points[3];
+                    let mut moved = 0f32;
+                    for step in 0..240 {
+                        grass::step(b, &mut state, wind, dt, substeps);
+                        if step % 4 == 3 {
+                            let p = grass::pose(b, state.angle).points;
+                            moved = moved.max(p[3].distance(tip));
+                            deepest = deepest.max(depth(&p, &terrain));
+                        }
+                    }
+                    still += (moved < 1e-3) as u32;
+                }
+            }
+            (deepest, still)
+        };
+        let (deepest, still) = run(&fitted);
+        let (_, still_unfitted) = run(&rooted_only);
+        eprintln!(
+            "{} kept blades, 2 winds, 4 s: deepest point {:.2} mm under the ground, {still} \
+             still; the {} the fit changed, rooted only: {still_unfitted} still",
+            fitted.len(),
+            1e3 * deepest,
+            rooted_only.len()
+        );
+        assert!(
+            deepest <= 0.01,
+            "a blade went {:.1} mm into the ground",
+            1e3 * deepest
+        );
+        assert_eq!(still, 0);
+        assert!(still_unfitted > 0, "nothing to fit: the test shows nothing");
     }
 }
