@@ -724,7 +724,7 @@ fn hilly() -> Terrain {
 }
 
 /// On terrain the tile kernel roots each blade where the CPU does
-/// (`Terrain::root`): x and z bit for bit, the heights to the divisions'
+/// (`Terrain::lifted`, `cover::fitted`): x and z bit for bit, the heights to the divisions'
 /// rounding (a device's division may round otherwise than the CPU's;
 /// lavapipe's does not), and poses it in the wind at its raised tip as
 /// the CPU reference does, to the solves' rounding, in a wind window over

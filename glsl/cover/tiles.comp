@@ -202,6 +202,35 @@ float fit_clearance(vec3 p[4], vec3 n) {
     return worst;
 }
 
+// Whether no ground as steep as the terrain's steepest could bring the
+// blade under `fit_clearance`'s 0, so the fit may skip it without
+// changing any answer (the CPU reference has no such shortcut): with g
+// an upper bound of the slope, every point q of the curve and every
+// control point, dy above the root and r from it horizontally, has
+// dy - g r >= COVER_FIT_ROOM |q - P0| sqrt(1 + g^2) + 0.1 mm. The ground
+// under q is at most g r over the root's, and the tangent plane's normal
+// from central differences tilts at most as far, its two differences
+// each at most the slope bound, hence sqrt(2) times it for g; the 0.1 mm
+// covers the two sides' rounding.
+bool surely_clear(vec3 p[4]) {
+    float g = 1.4143 * params.max_slope;
+    float room = COVER_FIT_ROOM * sqrt(1.0 + g * g);
+    bool clear = true;
+    for (uint k = 1u; k <= COVER_FIT_SAMPLES; ++k) {
+        float t = float(k) / float(COVER_FIT_SAMPLES);
+        float s = 1.0 - t;
+        vec3 q = p[0] * (s * s * s) + p[1] * (3.0 * s * s * t) + p[2] * (3.0 * s * t * t)
+            + p[3] * (t * t * t);
+        vec3 d = q - p[0];
+        clear = clear && d.y - g * length(d.xz) >= room * length(d) + 1e-4;
+    }
+    for (int i = 1; i < 4; ++i) {
+        vec3 d = p[i] - p[0];
+        clear = clear && d.y - g * length(d.xz) >= room * length(d) + 1e-4;
+    }
+    return clear;
+}
+
 // `cover::fit_turn`: (cos, sin) of k pi / COVER_FIT_TURNS by the facing's
 // polynomials, from arguments that are exact.
 vec2 fit_turn(int k) {
@@ -243,6 +272,9 @@ void fit_shrunk(inout vec3 p[4], float t) {
 // little as clears it, each way in turn; where none does, turned where it
 // keeps highest and its lean shrunk toward upright as far as needed.
 void fit_to_ground(inout vec3 p[4], inout vec3 w) {
+    if (surely_clear(p)) {
+        return;
+    }
     vec3 n = terrain_normal(p[0].x, p[0].z, TERRAIN_NORMAL_STEP_M);
     if (fit_clearance(p, n) >= 0.0) {
         return;
@@ -287,13 +319,10 @@ void fit_to_ground(inout vec3 p[4], inout vec3 w) {
     fit_shrunk(p, 0.0);
 }
 
-// `cover::held_above_ground`: a far blade's angles scaled toward rest
-// (which the fit keeps clear) as far as its curve needs to clear the
-// ground, by halvings; whether they were.
-bool held_above_ground(GrassBlade b, inout vec4 angle) {
-    if (ground_clearance(blade_pose(b, angle, 0.0).points) >= 0.0) {
-        return false;
-    }
+// `cover::held_above_ground` for a far blade whose pose at `angle` does
+// not clear the ground: its angles scaled toward rest (which the fit
+// keeps clear) as far as its curve needs to clear it, by halvings.
+void held_above_ground(GrassBlade b, inout vec4 angle) {
     float lo = 0.0, hi = 1.0;
     for (uint i = 0u; i < COVER_HOLD_HALVINGS; ++i) {
         float mid = 0.5 * (lo + hi);
@@ -304,7 +333,6 @@ bool held_above_ground(GrassBlade b, inout vec4 angle) {
         }
     }
     angle *= lo;
-    return true;
 }
 
 // `cover::pressed_fade`: 1 within the radius less the band, 0 from the
@@ -467,13 +495,15 @@ void main() {
             velocity = last.velocity;
             far_tracked(angle, velocity, target, far_frequency(b), params.elapsed);
         }
-        // The far field has no contact: where the pose would press the
-        // blade into the ground, the ground holds it, and stops it.
-        if (!terrain_is_flat() && held_above_ground(b, angle)) {
-            velocity = vec4(0.0);
-        }
     }
     Pose p = blade_pose(b, angle, pressed);
+    // The far field has no contact: where the pose would press the blade
+    // into the ground, the ground holds it, and stops it.
+    if (!kept_blade && !terrain_is_flat() && ground_clearance(p.points) < 0.0) {
+        held_above_ground(b, angle);
+        velocity = vec4(0.0);
+        p = blade_pose(b, angle, pressed);
+    }
     vec3 rest_tip = normalize_or(rest[3] - rest[2], UP);
     float displacement = atan(length(cross(rest_tip, p.e[2])), dot(rest_tip, p.e[2]));
     vec3 tip = p.points[BLADE_CONTROL_POINTS - 1];

@@ -174,6 +174,7 @@ impl CoverTilePass {
             pressed_states: presses.is_some() as u32,
             edge_mass: d.edge_mass,
             far_tracking: 1,
+            max_slope: terrain.max_slope(),
             ..bytemuck::Zeroable::zeroed()
         };
         let params = Buffer::with_data(

@@ -492,9 +492,12 @@ gpu_interface! {
         /// cannot bind them whole, a placeholder stands there, and every
         /// blade shows its balance at once.
         pub far_kept: u32,
+        /// An upper bound of the ground's slope |grad h| anywhere
+        /// (`Terrain::max_slope`): blades whose every point the ground
+        /// could not reach at that slope skip the fit's search.
+        pub max_slope: f32,
         pub _pad0: u32,
         pub _pad1: u32,
-        pub _pad2: u32,
     }
 
     /// A cover blade's pose the frame before, kept by the tile kernel in

@@ -16,7 +16,7 @@ use super::Blade;
 use crate::interface::TerrainHeader;
 
 /// The central differences a root's ground normal is taken over (m): its
-/// tangent plane, for contact's paraboloid over it (`Terrain::root`) and
+/// tangent plane, for contact's paraboloid over it (`Terrain::grounded`) and
 /// the cover's fit (glsl/common/terrain.glsl's `terrain_normal` alike).
 pub use crate::interface::TERRAIN_NORMAL_STEP_M as NORMAL_STEP_M;
 
@@ -108,6 +108,37 @@ impl Terrain {
         self.map.is_none() && self.hills.is_empty() && self.ridges.is_empty()
     }
 
+    /// An upper bound of the ground's slope |grad h| anywhere: each hill's
+    /// and ridge's steepest, 3 sqrt(3) / 8 |H| / L (at d = L / sqrt(3)),
+    /// summed with the height map's (a bilinear patch is no steeper along
+    /// an axis than its steepest sample step that way), a thousandth over
+    /// for rounding; 0 where the terrain is flat.
+    pub fn max_slope(&self) -> f32 {
+        let agnesi = |height: f32, half_width: f32| 0.649_519 * height.abs() / half_width;
+        let features: f32 = self
+            .hills
+            .iter()
+            .map(|h| agnesi(h.height, h.half_width))
+            .chain(self.ridges.iter().map(|r| agnesi(r.height, r.half_width)))
+            .sum();
+        let map = self.map.as_deref().map_or(0.0, |m| {
+            let (columns, rows) = (m.columns as usize, m.rows as usize);
+            let at = |i: usize, j: usize| m.heights[i + columns * j];
+            let steepest = |steps: &mut dyn Iterator<Item = f32>| steps.fold(0f32, f32::max);
+            let along_x = steepest(
+                &mut (0..rows)
+                    .flat_map(|j| (1..columns).map(move |i| (at(i, j) - at(i - 1, j)).abs())),
+            );
+            let along_z = steepest(
+                &mut (1..rows)
+                    .flat_map(|j| (0..columns).map(move |i| (at(i, j) - at(i, j - 1)).abs())),
+            );
+            let cell = |extent: f32, n: usize| extent / (n.max(2) - 1) as f32;
+            (along_x / cell(m.extent[0], columns)).hypot(along_z / cell(m.extent[1], rows))
+        });
+        (features + map) * 1.001
+    }
+
     /// The ground's height at (x, z); exactly 0 where the terrain is flat.
     pub fn height(&self, x: f32, z: f32) -> f32 {
         if self.is_flat() {
@@ -128,17 +159,13 @@ impl Terrain {
         h
     }
 
-    /// `blade` (made on flat ground) rooted on the ground: raised to the
+    /// `blade` (made on flat ground) rooted on the ground, raised to the
     /// height under its root, growing upright as grass does on a slope,
     /// with contact's paraboloid over the ground within its reach
-    /// (`Blade::raised`). A flat terrain leaves it as it is.
-    pub fn root(&self, blade: Blade) -> Blade {
-        self.rooted(blade).0
-    }
-
-    /// `root`, its rest shape then fitted to the ground (`Blade::fitted`:
-    /// a blade leaning or drooping into a slope turned away from it), so
-    /// that no point of it is under the ground at rest. The patches'
+    /// (`lifted`, then `grounded`), its rest shape then fitted to the
+    /// ground (`Blade::fitted`: a blade leaning or drooping into a slope
+    /// turned away from it), so that no point of it is under the ground at
+    /// rest. The patches'
     /// blades are; the cover's, whose tile kernel cannot afford the
     /// ground's rise for every blade every frame, are fitted to the
     /// ground's heights under their curves (`scene::cover::fitted`).
@@ -150,7 +177,7 @@ impl Terrain {
         rooted.fitted(rise)
     }
 
-    /// `root`, and the ground's rise bound c there.
+    /// `blade` lifted and grounded, and the ground's rise bound c there.
     fn rooted(&self, blade: Blade) -> (Blade, f32) {
         self.grounded_with_rise(self.lifted(blade))
     }
@@ -296,6 +323,72 @@ impl Terrain {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The steepest |grad h| found by central differences of 1 cm on a
+    /// lattice of `step` metres over the square of side 2 `half` about
+    /// the origin.
+    fn steepest_sampled(t: &Terrain, half: f32, step: f32) -> f32 {
+        let n = (2.0 * half / step) as i32;
+        let mut most = 0f32;
+        for i in 0..=n {
+            for j in 0..=n {
+                let (x, z) = (-half + i as f32 * step, -half + j as f32 * step);
+                let dx = (t.height(x + 0.01, z) - t.height(x - 0.01, z)) / 0.02;
+                let dz = (t.height(x, z + 0.01) - t.height(x, z - 0.01)) / 0.02;
+                most = most.max(dx.hypot(dz));
+            }
+        }
+        most
+    }
+
+    /// `max_slope` bounds the slope found anywhere, and is the slope
+    /// itself for one hill (the fit's shortcut in glsl/cover/tiles.comp
+    /// relies on the bound; a loose one only costs the shortcut).
+    #[test]
+    fn the_slope_bound_holds_and_is_tight_for_one_hill() {
+        let hill = Terrain {
+            hills: vec![Hill {
+                center: [1.0, -2.0],
+                height: -2.0,
+                half_width: 2.5,
+            }],
+            ..Terrain::default()
+        };
+        let sampled = steepest_sampled(&hill, 8.0, 0.05);
+        assert!(
+            hill.max_slope() >= sampled,
+            "{} {sampled}",
+            hill.max_slope()
+        );
+        assert!(
+            hill.max_slope() < 1.01 * sampled,
+            "{} {sampled}",
+            hill.max_slope()
+        );
+        let mixed = Terrain {
+            map: Some(Arc::new(HeightMap {
+                columns: 3,
+                rows: 4,
+                heights: vec![0.0, 0.5, 1.5, 0.2, 1.0, 0.0, 2.0, 0.3, 0.7, 0.0, 1.2, 0.4],
+                extent: [8.0, 9.0],
+                center: [1.0, 0.0],
+            })),
+            ridges: vec![Ridge {
+                center: [0.0, 1.0],
+                height: 1.5,
+                half_width: 1.5,
+                heading: 30.0,
+            }],
+            ..hill
+        };
+        let sampled = steepest_sampled(&mixed, 6.0, 0.05);
+        assert!(
+            mixed.max_slope() >= sampled,
+            "{} {sampled}",
+            mixed.max_slope()
+        );
+        assert_eq!(Terrain::default().max_slope(), 0.0);
+    }
 
     #[test]
     fn features_follow_their_profiles() {

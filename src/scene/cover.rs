@@ -321,9 +321,9 @@ fn shrunk(blade: &Blade, t: f32) -> Blade {
 /// every frame): where a point of its curve is under the ground, or
 /// nearer it than `COVER_FIT_ROOM` allows (a blade leaning or drooping
 /// into a slope, which would stand in the hill), or a control point is
-/// not above the tangent plane at its root (`fit_clearance`), it is turned about the
-/// vertical through its root as little as clears it, by multiples of
-/// pi / COVER_FIT_TURNS, each way in turn; where no turn clears it (a
+/// not above the tangent plane at its root (`fit_clearance`), it is
+/// turned about the vertical through its root as little as clears it, by
+/// multiples of pi / COVER_FIT_TURNS, each way in turn; where no turn clears it (a
 /// hollow tighter than the blade), turned where it keeps highest and its
 /// lean shrunk toward upright as far as needed, upright at worst. Its
 /// heights and edge lengths as they were but for the shrink; its width
@@ -400,8 +400,9 @@ pub fn left_out(blade: &Blade) -> [BladeVertex; 4] {
 
 /// The control points of every blade of `tiles` in its quasi-static pose
 /// (src/model/quasi_static.rs) for the wind `wind_at` gives at its rest
-/// tip, held above the ground (`held_above_ground`), in the blade buffer's order: what the tile kernel writes with a
-/// wind to pose them in (to the solve's tolerance, not bit for bit).
+/// tip, held above the ground (`held_above_ground`), in the blade
+/// buffer's order: what the tile kernel writes with a wind to pose them in
+/// (to the solve's tolerance, not bit for bit).
 pub fn posed_vertices(
     terrain: &Terrain,
     seed: u32,
