@@ -271,68 +271,80 @@ void fit_shrunk(inout vec3 p[4], float t) {
 // nearer it than COVER_FIT_ROOM) turned about its root's vertical as
 // little as clears it, each way in turn; where none does, turned where it
 // keeps highest and its lean shrunk toward upright as far as needed.
+// `cover::fit_turn_of`: 0, then 1, -1, 2, -2 ..
+int fit_turn_of(int c) {
+    int k = (c + 1) / 2;
+    return (c & 1) == 1 ? k : -k;
+}
+
+// The blade as made turned by `k` (none for 0), then its lean shrunk to
+// `t` of itself (none for 1).
+void fit_candidate(inout vec3 p[4], inout vec3 w, int k, float t) {
+    if (k != 0) {
+        fit_turned(p, w, fit_turn(k));
+    }
+    if (t < 1.0) {
+        fit_shrunk(p, t);
+    }
+}
+
 void fit_to_ground(inout vec3 p[4], inout vec3 w) {
     if (surely_clear(p)) {
         return;
     }
     vec3 n = terrain_normal(p[0].x, p[0].z, TERRAIN_NORMAL_STEP_M);
-    if (fit_clearance(p, n) >= 0.0) {
-        return;
-    }
+    // The candidates in one sequence, as `cover::fitted` tries them: the
+    // blade as made, the turns, then the best turn's shrinks.
     int turns = int(COVER_FIT_TURNS);
-    for (int k = 1; k <= turns; ++k) {
-        for (int sign = 1; sign >= -1; sign -= 2) {
-            vec3 q[4] = p;
-            vec3 v = w;
-            fit_turned(q, v, fit_turn(sign * k));
-            if (fit_clearance(q, n) >= 0.0) {
-                p = q;
-                w = v;
-                return;
-            }
-        }
-    }
-    vec3 best[4] = p;
-    vec3 best_w = w;
-    float highest = fit_clearance(p, n);
-    for (int k = 1; k < 2 * turns; ++k) {
+    int best = 0;
+    float highest = -uintBitsToFloat(0x7F7FFFFFu);
+    for (int c = 0; c <= 2 * turns + int(COVER_FIT_SHRINKS) - 1; ++c) {
+        bool turning = c <= 2 * turns;
+        int k = turning ? fit_turn_of(c) : best;
+        float t = turning ? 1.0 : 1.0 - float(c - 2 * turns) / float(COVER_FIT_SHRINKS);
         vec3 q[4] = p;
         vec3 v = w;
-        fit_turned(q, v, fit_turn(k));
+        fit_candidate(q, v, k, t);
         float clearance = fit_clearance(q, n);
-        if (clearance > highest) {
-            best = q;
-            best_w = v;
+        if (clearance >= 0.0) {
+            p = q;
+            w = v;
+            return;
+        }
+        if (turning && clearance > highest) {
+            best = k;
             highest = clearance;
         }
     }
-    p = best;
-    w = best_w;
-    for (uint j = 1u; j < COVER_FIT_SHRINKS; ++j) {
-        vec3 q[4] = best;
-        fit_shrunk(q, 1.0 - float(j) / float(COVER_FIT_SHRINKS));
-        if (fit_clearance(q, n) >= 0.0) {
-            p = q;
-            return;
-        }
-    }
-    fit_shrunk(p, 0.0);
+    fit_candidate(p, w, best, 0.0);
 }
 
-// `cover::held_above_ground` for a far blade whose pose at `angle` does
-// not clear the ground: its angles scaled toward rest (which the fit
-// keeps clear) as far as its curve needs to clear it, by halvings.
-void held_above_ground(GrassBlade b, inout vec4 angle) {
+// `cover::held_above_ground` for a far blade posed `p` at `angle`: where
+// its curve does not clear the ground, its angles scaled toward rest
+// (which the fit keeps clear) as far as it needs, by halvings, and its
+// pose made again; whether it was. One sequence of tries (the pose as
+// solved, then each halving), so the kernel holds one copy of the test.
+bool held_above_ground(GrassBlade b, inout vec4 angle, inout Pose p) {
     float lo = 0.0, hi = 1.0;
-    for (uint i = 0u; i < COVER_HOLD_HALVINGS; ++i) {
+    Pose tried = p;
+    for (uint i = 0u; i <= COVER_HOLD_HALVINGS; ++i) {
         float mid = 0.5 * (lo + hi);
-        if (ground_clearance(blade_pose(b, angle * mid, 0.0).points) >= 0.0) {
+        if (i > 0u) {
+            tried = blade_pose(b, angle * mid, 0.0);
+        }
+        bool clear = ground_clearance(tried.points) >= 0.0;
+        if (i == 0u && clear) {
+            return false;
+        }
+        if (i > 0u && clear) {
             lo = mid;
-        } else {
+        } else if (i > 0u) {
             hi = mid;
         }
     }
     angle *= lo;
+    p = blade_pose(b, angle, 0.0);
+    return true;
 }
 
 // `cover::pressed_fade`: 1 within the radius less the band, 0 from the
@@ -499,10 +511,8 @@ void main() {
     Pose p = blade_pose(b, angle, pressed);
     // The far field has no contact: where the pose would press the blade
     // into the ground, the ground holds it, and stops it.
-    if (!kept_blade && !terrain_is_flat() && ground_clearance(p.points) < 0.0) {
-        held_above_ground(b, angle);
+    if (!kept_blade && !terrain_is_flat() && held_above_ground(b, angle, p)) {
         velocity = vec4(0.0);
-        p = blade_pose(b, angle, pressed);
     }
     vec3 rest_tip = normalize_or(rest[3] - rest[2], UP);
     float displacement = atan(length(cross(rest_tip, p.e[2])), dot(rest_tip, p.e[2]));

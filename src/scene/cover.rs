@@ -332,33 +332,41 @@ fn shrunk(blade: &Blade, t: f32) -> Blade {
 pub fn fitted(blade: Blade, terrain: &Terrain) -> Blade {
     let root = blade.rest[0];
     let n = terrain.normal(root.x, root.z, NORMAL_STEP_M);
-    if fit_clearance(&blade.rest, n, terrain) >= 0.0 {
-        return blade;
-    }
+    // The candidates in one sequence, as the tile kernel tries them:
+    // the blade as made, the turns, then the best turn's shrinks.
     let turns = COVER_FIT_TURNS as i32;
-    for k in 1..=turns {
-        for turn in [k, -k] {
-            let b = turned(&blade, fit_turn(turn));
-            if fit_clearance(&b.rest, n, terrain) >= 0.0 {
-                return b;
-            }
+    let turn = |k: i32| match k {
+        0 => blade,
+        _ => turned(&blade, fit_turn(k)),
+    };
+    let (mut best, mut highest) = (0, f32::MIN);
+    for c in 0..=2 * turns + COVER_FIT_SHRINKS as i32 - 1 {
+        let candidate = if c <= 2 * turns {
+            turn(fit_turn_of(c))
+        } else {
+            let j = (c - 2 * turns) as f32;
+            shrunk(&turn(best), 1.0 - j / COVER_FIT_SHRINKS as f32)
+        };
+        let clearance = fit_clearance(&candidate.rest, n, terrain);
+        if clearance >= 0.0 {
+            return candidate;
+        }
+        if c <= 2 * turns && clearance > highest {
+            (best, highest) = (fit_turn_of(c), clearance);
         }
     }
-    let (mut best, mut highest) = (blade, fit_clearance(&blade.rest, n, terrain));
-    for k in 1..2 * turns {
-        let b = turned(&blade, fit_turn(k));
-        let clearance = fit_clearance(&b.rest, n, terrain);
-        if clearance > highest {
-            (best, highest) = (b, clearance);
-        }
+    shrunk(&turn(best), 0.0)
+}
+
+/// The turn (in multiples of pi / COVER_FIT_TURNS) of the fit's `c`th
+/// candidate: 0, then 1, -1, 2, -2 ..
+fn fit_turn_of(c: i32) -> i32 {
+    let k = (c + 1) / 2;
+    if c % 2 == 1 {
+        k
+    } else {
+        -k
     }
-    for j in 1..COVER_FIT_SHRINKS {
-        let b = shrunk(&best, 1.0 - j as f32 / COVER_FIT_SHRINKS as f32);
-        if fit_clearance(&b.rest, n, terrain) >= 0.0 {
-            return b;
-        }
-    }
-    shrunk(&best, 0.0)
 }
 
 /// The physics draws: k_tip, k_root / k_tip and sigma (what the
