@@ -1,6 +1,6 @@
 //! The cover (`[grass.cover]`): tiles of blades made on the GPU around the
 //! camera (glsl/cover/tiles.comp) against the CPU reference
-//! (src/scene/cover.rs), bit for bit, on the default device with
+//! (src/scene/cover/), bit for bit, on the default device with
 //! validation on.
 
 mod common;

@@ -1,6 +1,6 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// The cover's tiles (ours; `[grass.cover]`, src/scene/cover.rs): one
+// The cover's tiles (ours; `[grass.cover]`, src/scene/cover/): one
 // invocation per blade makes its four control points at rest from the
 // cover's seed, its tile's coordinates and its index in the tile alone,
 // bit for bit as `cover::blade` does on the CPU. Hence integer hashing,

@@ -409,7 +409,7 @@ gpu_interface! {
     }
 
     /// Push constants of the cover's tile kernel (glsl/cover/tiles.comp;
-    /// src/scene/cover.rs makes the same blades on the CPU).
+    /// src/scene/cover/ makes the same blades on the CPU).
     pub struct CoverPush {
         /// Tile coordinates of the blade buffer's first tile.
         pub origin: [i32; 2],
