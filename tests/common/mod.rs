@@ -5,6 +5,7 @@
 #![allow(dead_code)]
 
 pub mod binary;
+pub mod cover;
 pub mod reflect;
 pub mod scene_property;
 pub mod sim;
