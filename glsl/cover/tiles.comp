@@ -175,29 +175,36 @@ bool may_be_drawn(vec3 root, float rand, float reach, float half_width) {
     return (kept & (in_view | caster)) != 0u;
 }
 
+// The curve's point at t = k / COVER_FIT_SAMPLES (eq. 1, as `bezier` sums
+// it), never fused.
+vec3 fit_sample(vec3 p[4], uint k) {
+    precise float t = float(k) / float(COVER_FIT_SAMPLES);
+    precise float s = 1.0 - t;
+    precise vec3 q = p[0] * (s * s * s) + p[1] * (3.0 * s * s * t)
+        + p[2] * (3.0 * s * t * t) + p[3] * (t * t * t);
+    return q;
+}
+
 // `cover::ground_clearance`: how far the curve keeps above the ground at
-// its worst over t = 1/8 .. 1, less COVER_FIT_ROOM a metre from the root.
+// its worst over t = 1/8 .. 1, less FIT_ROOM a metre from the root.
 float ground_clearance(vec3 p[4]) {
     float worst = uintBitsToFloat(0x7F7FFFFFu); // f32::MAX
     for (uint k = 1u; k <= COVER_FIT_SAMPLES; ++k) {
-        precise float t = float(k) / float(COVER_FIT_SAMPLES);
-        precise float s = 1.0 - t;
-        precise vec3 q = p[0] * (s * s * s) + p[1] * (3.0 * s * s * t)
-            + p[2] * (3.0 * s * t * t) + p[3] * (t * t * t);
+        vec3 q = fit_sample(p, k);
         float above = q.y - terrain_height(q.x, q.z);
-        worst = min(worst, above - COVER_FIT_ROOM * distance(q, p[0]));
+        worst = min(worst, above - FIT_ROOM * distance(q, p[0]));
     }
     return worst;
 }
 
 // `cover::fit_clearance`: the curve clear of the ground, and each control
-// point COVER_FIT_ROOM a metre above the tangent plane at the root (of
+// point FIT_ROOM a metre above the tangent plane at the root (of
 // upward normal n).
 float fit_clearance(vec3 p[4], vec3 n) {
     float worst = ground_clearance(p);
     for (int i = 1; i < 4; ++i) {
         vec3 d = p[i] - p[0];
-        worst = min(worst, dot(n, d) - COVER_FIT_ROOM * length(d));
+        worst = min(worst, dot(n, d) - FIT_ROOM * length(d));
     }
     return worst;
 }
@@ -207,21 +214,17 @@ float fit_clearance(vec3 p[4], vec3 n) {
 // changing any answer (the CPU reference has no such shortcut): with g
 // an upper bound of the slope, every point q of the curve and every
 // control point, dy above the root and r from it horizontally, has
-// dy - g r >= COVER_FIT_ROOM |q - P0| sqrt(1 + g^2) + 0.1 mm. The ground
+// dy - g r >= FIT_ROOM |q - P0| sqrt(1 + g^2) + 0.1 mm. The ground
 // under q is at most g r over the root's, and the tangent plane's normal
 // from central differences tilts at most as far, its two differences
 // each at most the slope bound, hence sqrt(2) times it for g; the 0.1 mm
 // covers the two sides' rounding.
 bool surely_clear(vec3 p[4]) {
     float g = 1.4143 * params.max_slope;
-    float room = COVER_FIT_ROOM * sqrt(1.0 + g * g);
+    float room = FIT_ROOM * sqrt(1.0 + g * g);
     bool clear = true;
     for (uint k = 1u; k <= COVER_FIT_SAMPLES; ++k) {
-        float t = float(k) / float(COVER_FIT_SAMPLES);
-        float s = 1.0 - t;
-        vec3 q = p[0] * (s * s * s) + p[1] * (3.0 * s * s * t) + p[2] * (3.0 * s * t * t)
-            + p[3] * (t * t * t);
-        vec3 d = q - p[0];
+        vec3 d = fit_sample(p, k) - p[0];
         clear = clear && d.y - g * length(d.xz) >= room * length(d) + 1e-4;
     }
     for (int i = 1; i < 4; ++i) {
@@ -267,10 +270,6 @@ void fit_shrunk(inout vec3 p[4], float t) {
     }
 }
 
-// `cover::fitted`: a blade with a point of its curve under the ground (or
-// nearer it than COVER_FIT_ROOM) turned about its root's vertical as
-// little as clears it, each way in turn; where none does, turned where it
-// keeps highest and its lean shrunk toward upright as far as needed.
 // `cover::fit_turn_of`: 0, then 1, -1, 2, -2 ..
 int fit_turn_of(int c) {
     int k = (c + 1) / 2;
@@ -288,6 +287,11 @@ void fit_candidate(inout vec3 p[4], inout vec3 w, int k, float t) {
     }
 }
 
+// `cover::fitted`: a blade with a point of its curve under the ground (or
+// nearer it than FIT_ROOM), or a control point not above the tangent
+// plane at its root, turned about its root's vertical as
+// little as clears it, each way in turn; where none does, turned where it
+// keeps highest and its lean shrunk toward upright as far as needed.
 void fit_to_ground(inout vec3 p[4], inout vec3 w) {
     if (surely_clear(p)) {
         return;

@@ -50,10 +50,12 @@ gpu_interface! {
     /// (`cover::fitted`, glsl/cover/tiles.comp): the points of its curve
     /// tested against the ground's height (at t = 1/8, 2/8 .. 1), ...
     pub const COVER_FIT_SAMPLES: u32 = 8;
-    /// ... each kept this far above it per metre from the root (about
-    /// half a degree of lean, as `blade::FIT_ROOM` keeps a patch's blade
-    /// inside contact's region) ...
-    pub const COVER_FIT_ROOM: f32 = 0.01;
+    /// ... each kept this far above it per metre from the root
+    /// (`blade::FIT_ROOM`: the room a patch's fitted blade keeps inside
+    /// contact's region, and every rest shape at rest, about half a
+    /// degree of lean; the cover's fit keeps its control points so far
+    /// over the tangent plane, so that contact's region holds them) ...
+    pub const FIT_ROOM: f32 = 0.01;
     /// ... turning the blade about the vertical through its root by
     /// multiples of pi / COVER_FIT_TURNS each way, then, where no turn
     /// fits, shrinking its lean in COVER_FIT_SHRINKS steps.

@@ -10,13 +10,11 @@ pub const UP: Vec3 = Vec3::Y;
 
 /// How far inside contact's region a fitted rest shape keeps each control
 /// point (`Blade::fitted`): n . d - c |d|^2 at least this times |d|, about
-/// half a degree of lean.
-pub const FIT_ROOM: f32 = 0.01;
-
-/// The cover's fit to the ground's heights (`scene::cover::fitted`), which
-/// its tile kernel does alike.
+/// half a degree of lean; the cover's fit to the ground's heights
+/// (`scene::cover::fitted`, which its tile kernel does alike) keeps the
+/// same room.
 pub use crate::interface::{
-    COVER_FIT_ROOM, COVER_FIT_SAMPLES, COVER_FIT_SHRINKS, COVER_FIT_TURNS, COVER_HOLD_HALVINGS,
+    COVER_FIT_SAMPLES, COVER_FIT_SHRINKS, COVER_FIT_TURNS, COVER_HOLD_HALVINGS, FIT_ROOM,
 };
 
 /// The three shapes one cubic with one inflection point covers.

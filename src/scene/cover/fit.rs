@@ -9,8 +9,7 @@ use glam::{Vec2, Vec3};
 
 use super::facing;
 use crate::model::blade::{
-    bezier, COVER_FIT_ROOM, COVER_FIT_SAMPLES, COVER_FIT_SHRINKS, COVER_FIT_TURNS,
-    COVER_HOLD_HALVINGS,
+    bezier, COVER_FIT_SAMPLES, COVER_FIT_SHRINKS, COVER_FIT_TURNS, COVER_HOLD_HALVINGS, FIT_ROOM,
 };
 use crate::model::grass::{self, GrassBlade};
 use crate::model::terrain::{Terrain, NORMAL_STEP_M};
@@ -19,21 +18,21 @@ use crate::model::Blade;
 /// How far a blade's curve (`points`, P0 its root) keeps above the
 /// ground at its worst: over its points at t = 1/8 .. 1
 /// (`COVER_FIT_SAMPLES`), the height above the ground under the point
-/// less `COVER_FIT_ROOM` times its distance from the root (m). Summed as
+/// less `FIT_ROOM` times its distance from the root (m). Summed as
 /// glsl/cover/tiles.comp's `ground_clearance` does.
 pub fn ground_clearance(points: &[Vec3; 4], terrain: &Terrain) -> f32 {
     let mut worst = f32::MAX;
     for k in 1..=COVER_FIT_SAMPLES {
         let p = bezier(points, k as f32 / COVER_FIT_SAMPLES as f32);
         let above = p.y - terrain.height(p.x, p.z);
-        worst = worst.min(above - COVER_FIT_ROOM * (p - points[0]).length());
+        worst = worst.min(above - FIT_ROOM * (p - points[0]).length());
     }
     worst
 }
 
 /// What the fit asks of a rest shape (m; at least 0 where it fits): its
 /// curve clear of the ground (`ground_clearance`), and each control point
-/// `COVER_FIT_ROOM` a metre above the tangent plane at the root, of
+/// `FIT_ROOM` a metre above the tangent plane at the root, of
 /// upward normal `n`, so that contact's region keeps it inside
 /// (`Blade::raised`) and no blade rests against the ground it stands on,
 /// held there, as one drooping into a hollow would.
@@ -41,7 +40,7 @@ pub fn fit_clearance(rest: &[Vec3; 4], n: Vec3, terrain: &Terrain) -> f32 {
     let mut worst = ground_clearance(rest, terrain);
     for p in &rest[1..] {
         let d = *p - rest[0];
-        worst = worst.min(n.dot(d) - COVER_FIT_ROOM * d.length());
+        worst = worst.min(n.dot(d) - FIT_ROOM * d.length());
     }
     worst
 }
@@ -91,7 +90,7 @@ fn shrunk(blade: &Blade, t: f32) -> Blade {
 /// patches' is `Blade::fitted`, which needs the ground's rise around
 /// every root, more than the tile kernel can afford for every blade
 /// every frame): where a point of its curve is under the ground, or
-/// nearer it than `COVER_FIT_ROOM` allows (a blade leaning or drooping
+/// nearer it than `FIT_ROOM` allows (a blade leaning or drooping
 /// into a slope, which would stand in the hill), or a control point is
 /// not above the tangent plane at its root (`fit_clearance`), it is
 /// turned about the vertical through its root as little as clears it, by
@@ -144,7 +143,7 @@ fn fit_turn_of(c: i32) -> i32 {
 /// A far blade's angles held above the ground (the far field has no
 /// contact; the simulated square's dynamics do): where the pose at
 /// `angles` would put a point of its curve under the ground, or nearer it
-/// than `COVER_FIT_ROOM` allows (the wind's balance pressing a blade down
+/// than `FIT_ROOM` allows (the wind's balance pressing a blade down
 /// a slope), the angles scaled toward rest, which the fit keeps clear, as
 /// far as needed to `COVER_HOLD_HALVINGS` halvings; with whether they were.
 /// On flat ground, or where the pose clears, `angles` as they are.
