@@ -1,5 +1,5 @@
 // Motion along waypoints: a wind source's (always closed) and a collider's.
-// Mirrors `along_path` in src/model/wind/mod.rs.
+// Mirrors `along_path` in src/model/path.rs.
 #ifndef MEADOW_PATH_GLSL
 #define MEADOW_PATH_GLSL
 

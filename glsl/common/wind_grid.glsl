@@ -1,4 +1,4 @@
-// The wind grid as every wind kernel sees it (mirrors src/model/wind/mod.rs, the
+// The wind grid as every wind kernel sees it (mirrors src/model/wind/, the
 // CPU reference, kernel by kernel). Staggered (MAC) layout: component a of
 // the velocity lives on the cells' a-faces, so component a has one more
 // sample along axis a. The three components are stored one after another;

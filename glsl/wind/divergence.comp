@@ -3,7 +3,7 @@
 // Kernel 3, divergence of each fluid cell of the advected field B:
 // sum over axes of (outgoing face - incoming face) / h. It also carries
 // the last step's pressure into copy 0, the Jacobi iterations' start
-// (warm start; src/model/wind/mod.rs `solve_pressure`), or clears it for
+// (warm start; src/model/wind/projection.rs `solve_pressure`), or clears it for
 // multigrid, whose V-cycles start from zero.
 #include "wind_kernel.glsl"
 

@@ -14,7 +14,7 @@
 #include "wind_kernel.glsl"
 
 // The coarsest level's number, specialised at pipeline creation
-// (src/compute/wind_pass.rs). The shared array's size, TAIL_CAPACITY, is
+// (src/compute/wind_pass/). The shared array's size, TAIL_CAPACITY, is
 // the including kernel's: mg_tail.comp fits the 16 KiB every device
 // offers, mg_tail_large.comp 48 KiB.
 layout(constant_id = 0) const uint MG_LAST_LEVEL = 0u;

@@ -46,7 +46,7 @@ float gust_signal(float frequency, vec3 phases, float t, vec3 delay) {
          + 0.2 * sin(TAU * frequency * 4.73 * (t - delay.z) + phases.z);
 }
 
-// Strength factor over time (src/model/wind/mod.rs `Gust::factor`).
+// Strength factor over time (src/model/wind/drive.rs `Gust::factor`).
 float gust_factor(float amplitude, float frequency, vec3 phases, float t) {
     if (amplitude == 0.0) {
         return 1.0;
@@ -54,7 +54,7 @@ float gust_factor(float amplitude, float frequency, vec3 phases, float t) {
     return max(1.0 + amplitude * gust_signal(frequency, phases, t, vec3(0.0)), 0.0);
 }
 
-// `INFLOW_GUST_LEAN` and its signs in src/model/wind/mod.rs.
+// `INFLOW_GUST_LEAN` and its signs in src/model/wind/drive.rs.
 const float INFLOW_GUST_LEAN = 0.5;
 const vec3 INFLOW_GUST_LEAN_SIGN = vec3(1.0, -1.0, 1.0);
 

@@ -1,5 +1,5 @@
 //! `meadow gpu-report`: its arguments, and what it prints of the library's
-//! work (src/commands/gpu_report.rs).
+//! work (src/commands/gpu_report/).
 
 use std::path::PathBuf;
 

@@ -81,7 +81,8 @@ impl BenchRequest {
             msaa: self.msaa,
             ..self.scene.render.clone()
         };
-        crate::scene::check::render(&settings)
+        settings
+            .check()
             .map_err(|e| Error::InvalidInput(format!("--{} {}", e.path, e.message)))?;
         self.scene.validate()?;
         self.scene.wind_grid()?;

@@ -111,7 +111,8 @@ impl RenderRequest {
     /// Checks what can be checked without a GPU; one line per problem. The
     /// request's own settings are named as the command line gives them.
     pub fn validate(&self) -> Result<()> {
-        crate::scene::check::render(&self.render_settings())
+        self.render_settings()
+            .check()
             .map_err(|e| Error::InvalidInput(format!("--{} {}", e.path, e.message)))?;
         if !(1..=MAX_FRAMES).contains(&self.every) {
             return Err(Error::InvalidInput(format!(

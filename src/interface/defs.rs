@@ -180,7 +180,7 @@ gpu_interface! {
     }
 
     /// One wind source as the wind kernels read it
-    /// (glsl/wind/wind_kernel.glsl; `WindSource` in src/model/wind/mod.rs).
+    /// (glsl/wind/wind_kernel.glsl; `WindSource` in src/model/wind/drive.rs).
     pub struct GpuWindSource {
         /// xyz: position at t = 0; w: radius (m).
         pub position_radius: [f32; 4],

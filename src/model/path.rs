@@ -1,5 +1,5 @@
 //! Motion along waypoints, shared by what moves through the meadow: a
-//! wind source (src/model/wind/mod.rs) and a collider (src/model/contact.rs). The
+//! wind source (src/model/wind/drive.rs) and a collider (src/model/contact.rs). The
 //! GPU's twin is glsl/common/path.glsl.
 
 use glam::Vec3;

@@ -7,14 +7,10 @@ use std::ops::RangeInclusive;
 
 use glam::Vec3;
 
-use super::{
-    Camera, Cover, Cull, Grass, GrassDynamics, Light, Lod, RenderSettings, Scene, MAX_BLADES,
-};
+use super::{Camera, Cover, Scene};
 use crate::error::Error;
 use crate::model::contact::{Collider, ColliderKind, MAX_COLLIDERS};
 use crate::model::terrain::Terrain;
-use crate::model::wind::{Obstacle, WindSource, MAX_CELLS};
-use crate::model::BladePhysics;
 
 /// The most frames one run may write.
 pub const MAX_FRAMES: u32 = 100_000;
@@ -122,7 +118,7 @@ pub fn finite(name: &str, values: &[f32]) -> Check {
 }
 
 /// A [min, max] range inside `allowed`, not reversed.
-fn range_within(name: &str, [lo, hi]: [f32; 2], allowed: RangeInclusive<f32>) -> Check {
+pub(super) fn range_within(name: &str, [lo, hi]: [f32; 2], allowed: RangeInclusive<f32>) -> Check {
     finite(name, &[lo, hi])?;
     if lo > hi {
         return Err(FieldError::new(
@@ -147,17 +143,17 @@ pub fn scene(s: &Scene) -> Check {
     if s.name.trim().is_empty() {
         return Err(FieldError::new("name", "is empty, give the scene a name"));
     }
-    render(&s.render).map_err(|e| e.at("render"))?;
-    camera(&s.camera).map_err(|e| e.at("camera"))?;
-    light(&s.light).map_err(|e| e.at("light"))?;
-    lod(&s.lod).map_err(|e| e.at("lod"))?;
-    cull(&s.cull).map_err(|e| e.at("cull"))?;
+    s.render.check().map_err(|e| e.at("render"))?;
+    s.camera.check().map_err(|e| e.at("camera"))?;
+    s.light.check().map_err(|e| e.at("light"))?;
+    s.lod.check().map_err(|e| e.at("lod"))?;
+    s.cull.check().map_err(|e| e.at("cull"))?;
     s.ground.check().map_err(|e| e.at("ground"))?;
-    grass(&s.grass).map_err(|e| e.at("grass"))?;
+    s.grass.check().map_err(|e| e.at("grass"))?;
     camera_reaches_grass(s).map_err(|e| e.at("camera"))?;
-    wind(&s.wind).map_err(|e| e.at("wind"))?;
+    s.wind.check().map_err(|e| e.at("wind"))?;
     if s.grass.cover.is_some() {
-        moving_wind_window(&s.wind).map_err(|e| e.at("wind"))?;
+        s.wind.check_moving_window().map_err(|e| e.at("wind"))?;
     }
     if s.colliders.len() > MAX_COLLIDERS {
         return Err(FieldError::new(
@@ -172,28 +168,6 @@ pub fn scene(s: &Scene) -> Check {
         collider(c).map_err(|e| e.at(&format!("collider[{i}]")))?;
     }
     above_ground(s)
-}
-
-/// With `[grass.cover]` the wind grid is a window that follows the camera
-/// in whole cells, its air shifted with it (src/model/wind/window.rs):
-/// what is fixed to the grid's sides or cells would move with it.
-fn moving_wind_window(w: &super::WindConfig) -> Check {
-    if w.inflow.is_some_and(|i| i.gust.amplitude != 0.0) {
-        return Err(FieldError::new(
-            "inflow.gust",
-            "enters at the wind window's upwind side, which follows the camera with [grass.cover]; remove the gust and use wind.turbulence, which is alive everywhere",
-        ));
-    }
-    if !w.obstacles.is_empty() {
-        return Err(FieldError::new(
-            "obstacle",
-            format!(
-                "{} obstacles with [grass.cover]: its wind window follows the camera and holds no fixed solid cells yet; remove the [[wind.obstacle]] or the cover",
-                w.obstacles.len()
-            ),
-        ));
-    }
-    Ok(())
 }
 
 /// The camera (its position, its path's keys and the lines between them)
@@ -380,473 +354,6 @@ fn camera_reaches_cover(s: &Scene, c: &Cover) -> Check {
     Ok(())
 }
 
-pub fn render(r: &RenderSettings) -> Check {
-    in_range("width", r.width, 1..=MAX_IMAGE_SIDE)?;
-    in_range("height", r.height, 1..=MAX_IMAGE_SIDE)?;
-    if !r.msaa.is_power_of_two() || r.msaa > 64 {
-        return Err(FieldError::new(
-            "msaa",
-            format!(
-                "{} is not a sample count, use 1, 2, 4, 8, 16, 32 or 64",
-                r.msaa
-            ),
-        ));
-    }
-    in_range("frames", r.frames, 1..=MAX_FRAMES)?;
-    positive("fps", r.fps, 1000.0)?;
-    within("start", r.start, 0.0..=86_400.0, "0..=86400 seconds")?;
-    Ok(())
-}
-
-pub fn camera(c: &Camera) -> Check {
-    let points = std::iter::once((c.position, c.target))
-        .chain(c.path.iter().map(|k| (k.position, k.target)));
-    for (i, (position, target)) in points.enumerate() {
-        let at = |name: &str| {
-            if i == 0 {
-                name.to_string()
-            } else {
-                format!("path[{}].{name}", i - 1)
-            }
-        };
-        finite(&at("position"), &position)?;
-        finite(&at("target"), &target)?;
-        if position == target {
-            return Err(FieldError::new(
-                at("target"),
-                "equals the position; the camera must look somewhere",
-            ));
-        }
-    }
-    if !(c.fov_y.is_finite() && c.fov_y > 1.0 && c.fov_y < 170.0) {
-        return Err(FieldError::new(
-            "fov_y",
-            format!("{} is not allowed, use 1 < fov_y < 170 degrees", c.fov_y),
-        ));
-    }
-    for (i, k) in c.path.iter().enumerate() {
-        finite(&format!("path[{i}].time"), &[k.time])?;
-    }
-    for (i, pair) in c.path.windows(2).enumerate() {
-        if pair[1].time <= pair[0].time {
-            return Err(FieldError::new(
-                format!("path[{}].time", i + 1),
-                format!(
-                    "{} is not after the previous key's {}; keyframe times must increase",
-                    pair[1].time, pair[0].time
-                ),
-            ));
-        }
-    }
-    Ok(())
-}
-
-pub fn light(l: &Light) -> Check {
-    finite("direction", &l.direction)?;
-    if Vec3::from(l.direction).length() < 1e-6 {
-        return Err(FieldError::new(
-            "direction",
-            "is zero, give the direction toward the light",
-        ));
-    }
-    if l.direction[1] < 0.0 {
-        return Err(FieldError::new(
-            "direction",
-            format!(
-                "{:?} points below the horizon (y < 0): the light would shine up through the ground; give the direction toward the sun, y >= 0",
-                l.direction
-            ),
-        ));
-    }
-    finite("color", &l.color)?;
-    if l.color.iter().any(|&c| !(0.0..=100.0).contains(&c)) {
-        return Err(FieldError::new(
-            "color",
-            format!("{:?} is not allowed, use values in 0..=100", l.color),
-        ));
-    }
-    in_range("shadow_map", l.shadow_map, 0..=MAX_IMAGE_SIDE)?;
-    if !(0.0..=1.0).contains(&l.ambient) {
-        return Err(FieldError::new(
-            "ambient",
-            format!("{} is not allowed, use 0..=1", l.ambient),
-        ));
-    }
-    Ok(())
-}
-
-pub fn lod(l: &Lod) -> Check {
-    positive("close_distance", l.close_distance, 1e6)?;
-    positive("far_distance", l.far_distance, 1e6)?;
-    if l.far_distance < l.close_distance {
-        return Err(FieldError::new(
-            "far_distance",
-            format!(
-                "{} is nearer than close_distance {}; use close <= far",
-                l.far_distance, l.close_distance
-            ),
-        ));
-    }
-    for (i, &level) in l.levels.iter().enumerate() {
-        in_range(&format!("levels[{i}]"), level, 1..=64)?;
-    }
-    for (i, &level) in l.shadow_levels.iter().enumerate() {
-        in_range(&format!("shadow_levels[{i}]"), level, 1..=64)?;
-    }
-    Ok(())
-}
-
-pub fn cull(c: &Cull) -> Check {
-    within(
-        "thin_from",
-        c.thin_from,
-        0.0..=1e6,
-        "0 (no thinning) or a distance up to 1e6 m",
-    )?;
-    within(
-        "thin_least",
-        c.thin_least,
-        0.01..=1.0,
-        "a share in 0.01..=1 (1 keeps every blade)",
-    )?;
-    positive("thin_band", c.thin_band, 1.0)?;
-    within(
-        "edge_on",
-        c.edge_on,
-        0.5..=1.0,
-        "a cosine in 0.5..=1 (1 keeps blades seen edge-on)",
-    )?;
-    Ok(())
-}
-
-pub fn grass(g: &Grass) -> Check {
-    if g.bunch.is_empty() && g.meadow.is_empty() && g.cover.is_none() {
-        return Err(FieldError::new(
-            "",
-            "the scene has no grass; add a [[grass.bunch]], a [[grass.meadow]] or a [grass.cover]",
-        ));
-    }
-    let shape = &g.shape;
-    let weights = [shape.upright, shape.curved, shape.drooping];
-    for (name, w) in ["upright", "curved", "drooping"].into_iter().zip(weights) {
-        if !(w.is_finite() && w >= 0.0) {
-            return Err(FieldError::new(
-                format!("shape.{name}"),
-                format!("{w} is not allowed, use a weight >= 0"),
-            ));
-        }
-    }
-    if weights.iter().sum::<f32>() <= 0.0 {
-        return Err(FieldError::new(
-            "shape",
-            "the weights upright, curved and drooping are all zero; make one positive",
-        ));
-    }
-    range_within("shape.height", shape.height, 0.01..=10.0)?;
-    range_within("shape.width", shape.width, 0.0005..=1.0)?;
-    dynamics(&g.dynamics).map_err(|e| e.at("dynamics"))?;
-    look(&g.look).map_err(|e| e.at("look"))?;
-
-    for (i, b) in g.bunch.iter().enumerate() {
-        let at = format!("bunch[{i}]");
-        finite(&format!("{at}.center"), &b.center)?;
-        positive(&format!("{at}.radius"), b.radius, 10_000.0)?;
-        in_range(&format!("{at}.count"), b.count, 1..=MAX_BLADES)?;
-    }
-    for (i, m) in g.meadow.iter().enumerate() {
-        let at = format!("meadow[{i}]");
-        finite(&format!("{at}.center"), &m.center)?;
-        positive(&format!("{at}.size[0]"), m.size[0], 10_000.0)?;
-        positive(&format!("{at}.size[1]"), m.size[1], 10_000.0)?;
-        match (m.count, m.density) {
-            (Some(n), None) => in_range(&format!("{at}.count"), n, 1..=MAX_BLADES)?,
-            (None, Some(d)) => {
-                positive(&format!("{at}.density"), d, 1e6)?;
-                in_range(&format!("{at}.density"), m.blades(), 1..=MAX_BLADES).map_err(
-                    |_| {
-                        FieldError::new(
-                            format!("{at}.density"),
-                            format!(
-                                "{d} per square metre gives {} blades, use a density giving 1..={MAX_BLADES}",
-                                m.blades()
-                            ),
-                        )
-                    },
-                )?
-            }
-            (Some(_), Some(_)) => {
-                return Err(FieldError::new(
-                    at,
-                    "has both count and density; give one of them",
-                ))
-            }
-            (None, None) => {
-                return Err(FieldError::new(
-                    at,
-                    "has neither count nor density; give one of them",
-                ))
-            }
-        }
-        if m.mask
-            .as_ref()
-            .is_some_and(|name| name.written.trim().is_empty())
-        {
-            return Err(FieldError::new(
-                format!("{at}.mask"),
-                "is empty; name a grey PNG relative to the scene file",
-            ));
-        }
-    }
-    let total = g.blade_count();
-    if total > MAX_BLADES {
-        return Err(FieldError::new(
-            "",
-            format!("{total} blades in all is not allowed, use at most {MAX_BLADES}"),
-        ));
-    }
-    if let Some(c) = &g.cover {
-        cover(c, MAX_BLADES - total).map_err(|e| e.at("cover"))?;
-    }
-    Ok(())
-}
-
-/// `[grass.look]`'s values, each in its range.
-fn look(l: &crate::scene::Look) -> Check {
-    let unit = "a number from 0 to 1";
-    within("hue", l.hue, 0.0..=1.0, unit)?;
-    within("dryness", l.dryness, 0.0..=1.0, unit)?;
-    within("tip", l.tip, 0.0..=1.0, unit)?;
-    within(
-        "clump_size",
-        l.clump_size,
-        0.0..=10.0,
-        "metres from 0 (no clumps) to 10",
-    )?;
-    within("clump_variation", l.clump_variation, 0.0..=1.0, unit)?;
-    within(
-        "sheen",
-        l.sheen,
-        0.0..=4.0,
-        "a number from 0 (none) to 4 (1: a leaf's)",
-    )?;
-    within(
-        "translucency",
-        l.translucency,
-        0.0..=4.0,
-        "a number from 0 (none) to 4 (1: a leaf's)",
-    )
-}
-
-/// The widest bounded cover (m) and the farthest its centre lies from
-/// the origin: 100 km, where f32 roots still fall within 8 mm of where
-/// the draws put them.
-pub const MAX_COVER_SIZE: f32 = 100_000.0;
-
-/// The cover's values, and the blades it makes around the camera within
-/// the `room` the patches leave of `MAX_BLADES`.
-pub fn cover(c: &Cover, room: usize) -> Check {
-    positive("density", c.density(), 10_000.0)?;
-    positive("view_distance", c.view_distance, VIEW_DISTANCE)?;
-    within(
-        "simulate_radius",
-        c.simulate_radius(),
-        0.0..=c.view_distance,
-        &format!(
-            "a distance in 0..={} m (the view distance)",
-            c.view_distance
-        ),
-    )?;
-    match (c.size, c.center) {
-        (Some([w, d]), center) => {
-            positive("size[0]", w, MAX_COVER_SIZE)?;
-            positive("size[1]", d, MAX_COVER_SIZE)?;
-            if let Some(center) = center {
-                finite("center", &center)?;
-                within(
-                    "center",
-                    center[0].abs().max(center[1].abs()),
-                    0.0..=MAX_COVER_SIZE,
-                    &format!("a centre within {MAX_COVER_SIZE} m of the origin"),
-                )?;
-            }
-        }
-        (None, Some(_)) => {
-            return Err(FieldError::new(
-                "center",
-                "is the centre of the cover's rectangle, which has no size; add size = [w, d] (m) or remove center",
-            ))
-        }
-        (None, None) => {}
-    }
-    let blades = super::cover::most_blades(c);
-    if blades > room as u64 {
-        let side = 2 * super::cover::tiles_reached(c.view_distance) + 1;
-        return Err(FieldError::new(
-            "view_distance",
-            format!(
-                "{} m at {} blades a square metre makes {side} x {side} tiles of {} blades, {blades} blades ({:.1} GB of control points), over the {room} allowed; lower view_distance or density",
-                c.view_distance,
-                c.density(),
-                super::cover::per_tile(c.density()),
-                blades as f64 * 128.0 / 1e9
-            ),
-        ));
-    }
-    Ok(())
-}
-
-pub fn dynamics(d: &GrassDynamics) -> Check {
-    for (name, range) in d.ranges() {
-        range_within(name, range, f32::MIN..=f32::MAX)?;
-    }
-    for corner in d.corners() {
-        blade_physics(&corner)?;
-    }
-    Ok(())
-}
-
-/// One blade's parameters, named as in `[grass.dynamics]`.
-fn blade_physics(p: &BladePhysics) -> Check {
-    match p.first_invalid() {
-        Some((name, value, allowed)) => Err(FieldError::new(
-            name,
-            format!("a range reaching {value} is not allowed, use {allowed}"),
-        )),
-        None => Ok(()),
-    }
-}
-
-pub fn wind(w: &super::WindConfig) -> Check {
-    for (a, &n) in w.cells.iter().enumerate() {
-        in_range(&format!("cells[{a}]"), n, 1..=4096)?;
-    }
-    let cells: u64 = w.cells.iter().map(|&n| n as u64).product();
-    if cells > MAX_CELLS {
-        return Err(FieldError::new(
-            "cells",
-            format!("{cells} cells is not allowed, use at most {MAX_CELLS}"),
-        ));
-    }
-    positive("height", w.height, 1000.0)?;
-    within("margin", w.margin, 0.0..=1000.0, "0..=1000 m")?;
-    positive("window[0]", w.window[0], 10_000.0)?;
-    positive("window[1]", w.window[1], 10_000.0)?;
-    in_range("jacobi_iterations", w.jacobi_iterations, 0..=10_000)?;
-    in_range("v_cycles", w.v_cycles, 1..=MAX_V_CYCLES)?;
-    within("canopy_drag", w.canopy_drag, 0.0..=10.0, "0..=10")?;
-    positive("dt", w.dt, 0.1)?;
-    for (i, s) in w.sources.iter().enumerate() {
-        source(s).map_err(|e| e.at(&format!("source[{i}]")))?;
-    }
-    if let Some(inflow) = &w.inflow {
-        finite("inflow.speed", &[inflow.speed])?;
-        within(
-            "inflow.heading",
-            inflow.heading,
-            -360.0..=360.0,
-            "-360..=360 degrees (0 blows towards +x, 90 towards +z)",
-        )?;
-        if inflow.speed.abs() > 100.0 {
-            return Err(FieldError::new(
-                "inflow.speed",
-                format!("{} is not allowed, use -100..=100 m/s", inflow.speed),
-            ));
-        }
-        gust(&inflow.gust).map_err(|e| e.at("inflow.gust"))?;
-    }
-    for (i, o) in w.obstacles.iter().enumerate() {
-        obstacle(o).map_err(|e| e.at(&format!("obstacle[{i}]")))?;
-    }
-    if let Some(t) = &w.turbulence {
-        turbulence(t, w.inflow.is_some()).map_err(|e| e.at("turbulence"))?;
-    }
-    Ok(())
-}
-
-/// What can be checked without the grid (the length scale against the
-/// cells: `Scene::wind_grid`).
-fn turbulence(t: &crate::model::wind::Turbulence, inflow: bool) -> Check {
-    positive("intensity", t.intensity, 2.0)?;
-    positive("length_scale", t.length_scale, 100_000.0)?;
-    if let Some(finest) = t.finest_wavelength {
-        positive("finest_wavelength", finest, 100_000.0)?;
-    }
-    match t.speed {
-        Some(speed) => positive("speed", speed, 100.0),
-        None if inflow => Ok(()),
-        None => Err(FieldError::new(
-            "speed",
-            "missing: without an inflow it is needed, as the intensity is sigma_u over this speed; give it in m/s (above 0 and at most 100)",
-        )),
-    }
-}
-
-fn gust(g: &crate::model::wind::Gust) -> Check {
-    within("amplitude", g.amplitude, 0.0..=10.0, "0..=10")?;
-    within("frequency", g.frequency, 0.0..=100.0, "0..=100 Hz")?;
-    Ok(())
-}
-
-fn source(s: &WindSource) -> Check {
-    finite("position", &s.position.to_array())?;
-    finite("direction", &s.direction.to_array())?;
-    if s.direction.length() < 1e-6 {
-        return Err(FieldError::new(
-            "direction",
-            "is zero, give the direction the source pushes the air",
-        ));
-    }
-    finite("strength", &[s.strength])?;
-    if s.strength.abs() > 1000.0 {
-        return Err(FieldError::new(
-            "strength",
-            format!("{} is not allowed, use -1000..=1000 m/s^2", s.strength),
-        ));
-    }
-    positive("radius", s.radius, 10_000.0)?;
-    finite("rotation_speed", &[s.rotation_speed])?;
-    path(&s.path, s.path_speed)?;
-    gust(&s.gust).map_err(|e| e.at("gust"))?;
-    if let Some(off) = s.off_after {
-        if !(off.is_finite() && off >= 0.0) {
-            return Err(FieldError::new(
-                "off_after",
-                format!("{off} is not allowed, use a time of 0 s or more"),
-            ));
-        }
-    }
-    Ok(())
-}
-
-fn obstacle(o: &Obstacle) -> Check {
-    match *o {
-        Obstacle::Box { min, max } => {
-            finite("min", &min.to_array())?;
-            finite("max", &max.to_array())?;
-            if min.cmpge(max).any() {
-                return Err(FieldError::new(
-                    "max",
-                    format!("{max} is not above min {min} on every axis"),
-                ));
-            }
-        }
-        Obstacle::Sphere { center, radius } => {
-            finite("center", &center.to_array())?;
-            positive("radius", radius, 10_000.0)?;
-        }
-        Obstacle::Cylinder {
-            base,
-            radius,
-            height,
-        } => {
-            finite("base", &base.to_array())?;
-            positive("radius", radius, 10_000.0)?;
-            positive("height", height, 10_000.0)?;
-        }
-    }
-    Ok(())
-}
-
 fn collider(c: &Collider) -> Check {
     positive("radius", c.radius, 100.0)?;
     match c.kind {
@@ -896,7 +403,7 @@ fn collider(c: &Collider) -> Check {
 }
 
 /// Waypoints and the speed along them, as a wind source or a collider has.
-fn path(points: &[glam::Vec3], speed: f32) -> Check {
+pub(super) fn path(points: &[glam::Vec3], speed: f32) -> Check {
     for (i, p) in points.iter().enumerate() {
         finite(&format!("path[{i}]"), &p.to_array())?;
     }

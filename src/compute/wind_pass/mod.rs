@@ -1,0 +1,498 @@
+//! The wind solver on GPU compute (paper section 3.2): five kernels in
+//! glsl/wind/, recorded into the frame's command buffer with a barrier
+//! between each. All buffers are made once; a step allocates and uploads
+//! nothing (the time and Jacobi parity travel as push constants).
+//!
+//! Obstacle voxelisation and the classification of every face (free, wall,
+//! inflow) happen once on the CPU through `model::wind::WindField`, the same
+//! code the CPU reference steps with, and are uploaded.
+//!
+//! This file holds the pass, its kernels and the drive it is given; its
+//! children, which use only this file and the layers below: `buffers.rs`
+//! (the buffers and their set), `record.rs` (a step and a shift recorded).
+
+use std::sync::Arc;
+
+use ash::vk;
+use bytemuck::Zeroable;
+
+use crate::error::{Error, Result};
+use crate::gpu::{
+    Access, Bound, Buffer, BufferUse, CommandPool, DescriptorSet, Gpu, LayoutBinding,
+    MemoryLocation, Pipeline, PipelineLayout, Recording,
+};
+use crate::model::contact::{Collider, GpuCollider};
+use crate::model::multigrid::{self, Level};
+use crate::model::turbulence::{self, TurbulenceField};
+use crate::model::wind::{
+    Advection, Classification, FaceKind, Inflow, PressureSolver, WindField, WindGrid, WindSettings,
+    WindSource,
+};
+use crate::shaders::{self, Spirv};
+
+mod buffers;
+mod record;
+
+use buffers::WindBuffers;
+
+use crate::interface::{
+    MgLevel, TurbulenceMode, WindGridParams, WindPush, WindShiftPush, FACE_BURIED, FACE_FREE,
+    FACE_INFLOW, FACE_WALL, MG_MAX_LEVELS, MG_TAIL_FLOATS, MG_TAIL_FLOATS_LARGE, WIND_GROUP,
+};
+/// Waypoints a source's path may have on the GPU.
+pub use crate::model::wind::MAX_PATH_POINTS;
+
+/// One wind source as the kernels read it (src/interface/defs.rs).
+pub use crate::interface::GpuWindSource;
+
+impl GpuWindSource {
+    pub fn from_source(s: &WindSource) -> Result<Self> {
+        if s.path.len() > MAX_PATH_POINTS {
+            return Err(Error::InvalidInput(format!(
+                "a wind source path has {} points, use at most {MAX_PATH_POINTS}",
+                s.path.len()
+            )));
+        }
+        let mut path = [[0.0; 4]; MAX_PATH_POINTS];
+        for (dst, p) in path.iter_mut().zip(&s.path) {
+            *dst = p.extend(0.0).to_array();
+        }
+        let dir = s.direction.try_normalize().unwrap_or(glam::Vec3::X);
+        let p = s.gust.phases();
+        Ok(Self {
+            position_radius: s.position.extend(s.radius).to_array(),
+            direction_strength: dir.extend(s.strength).to_array(),
+            motion: [
+                s.rotation_speed,
+                s.path_speed,
+                s.path.len() as f32,
+                s.off_after.unwrap_or(f32::INFINITY),
+            ],
+            gust: [s.gust.amplitude, s.gust.frequency, 0.0, 0.0],
+            gust_phases: [p[0], p[1], p[2], 0.0],
+            path,
+        })
+    }
+}
+
+/// Set 0 of the wind kernels.
+pub const WIND_SET: &[LayoutBinding] = &[
+    LayoutBinding::compute_storage(0),  // velocity (two copies)
+    LayoutBinding::compute_storage(1),  // face kinds
+    LayoutBinding::compute_storage(2),  // solid cells
+    LayoutBinding::compute_storage(3),  // pressure (two copies)
+    LayoutBinding::compute_storage(4),  // divergence
+    LayoutBinding::compute_storage(5),  // sources
+    LayoutBinding::compute_storage(6),  // multigrid face conductances
+    LayoutBinding::compute_storage(7),  // multigrid coarse pressure, right-hand side
+    LayoutBinding::compute_storage(8),  // multigrid level table
+    LayoutBinding::compute_storage(9), // canopy: the grass's frontal area per cell (two-way coupling)
+    LayoutBinding::compute_storage(10), // colliders: moving obstacles (forces kernel)
+    LayoutBinding::compute_storage(11), // what the last step's turbulence added to each face
+    LayoutBinding::compute_storage(12), // the turbulence's modes, written before each step
+];
+
+/// The kernels in the order a step runs them (Jacobi or the five multigrid
+/// kernels solve for the pressure).
+pub const WIND_KERNELS: [&Spirv; 14] = [
+    &shaders::WIND_FORCES_COMP,
+    &shaders::WIND_ADVECT_COMP,
+    &shaders::WIND_ADVECT_PREDICT_COMP,
+    &shaders::WIND_ADVECT_CORRECT_COMP,
+    &shaders::WIND_DIVERGENCE_COMP,
+    &shaders::WIND_JACOBI_COMP,
+    &shaders::WIND_MG_SMOOTH_COMP,
+    &shaders::WIND_MG_RESIDUAL_COMP,
+    &shaders::WIND_MG_RESTRICT_COMP,
+    &shaders::WIND_MG_TAIL_COMP,
+    &shaders::WIND_MG_PROLONG_COMP,
+    &shaders::WIND_PROJECT_COMP,
+    &shaders::WIND_UNDER_GROUND_COMP,
+    &shaders::WIND_TURBULENCE_COMP,
+];
+const FORCES: usize = 0;
+const ADVECT: usize = 1;
+const ADVECT_PREDICT: usize = 2;
+const ADVECT_CORRECT: usize = 3;
+const DIVERGENCE: usize = 4;
+const JACOBI: usize = 5;
+/// The wind window's shift (`WindPass::record_shift`): the wind kernels'
+/// set, its own push constants (`WindShiftPush`).
+pub const WIND_SHIFT_KERNEL: &Spirv = &shaders::WIND_SHIFT_COMP;
+/// Kernels that stand in for one of `WIND_KERNELS` on some devices, on the
+/// same layout and push constants: the tail with its 48 KiB shared array.
+pub const WIND_KERNEL_VARIANTS: [&Spirv; 1] = [&shaders::WIND_MG_TAIL_LARGE_COMP];
+const MG_SMOOTH: usize = 6;
+const MG_RESIDUAL: usize = 7;
+const MG_RESTRICT: usize = 8;
+const MG_TAIL: usize = 9;
+const MG_PROLONG: usize = 10;
+const PROJECT: usize = 11;
+const UNDER_GROUND: usize = 12;
+const TURBULENCE: usize = 13;
+
+pub struct WindPass {
+    pub grid: WindGrid,
+    settings: WindSettings,
+    set: DescriptorSet,
+    /// The kernels in `WIND_KERNELS` order, sharing one layout.
+    kernels: Vec<Pipeline>,
+    /// With turbulence, its kernel adding to the advected copy B, which
+    /// the projection reads: among solid cells (`record_step`).
+    turbulence_before_projection: Option<Pipeline>,
+    layout: Arc<PipelineLayout>,
+    buffers: WindBuffers,
+    face_count: u32,
+    cell_count: u32,
+    /// Cells of each multigrid level, finest first.
+    level_cells: Vec<u32>,
+    /// Cells of one colour, counted as the smoother's threads are: half
+    /// of each row along x, rounded up.
+    level_color_cells: Vec<u32>,
+    coarse_cells: u32,
+    /// The finest multigrid level the tail kernel runs (mg_tail.glsl):
+    /// the finest whose tail fits its shared array.
+    tail_level: u32,
+    /// m^2 per count of the canopy buffer (`model::canopy::unit` of the
+    /// grass coupled to this wind; 0 with no grass).
+    canopy_unit: f32,
+    /// Whether any face lies between two cells under the ground (then
+    /// each step ends with glsl/wind/under_ground.comp).
+    buried: bool,
+    /// Whether any cell is solid (the ground, an obstacle): then the
+    /// turbulence is added before the projection (`record_step`).
+    among_solids: bool,
+    /// The colliders as forces.comp reads them, written before each step.
+    collider_records: Vec<GpuCollider>,
+    /// The turbulence's modes and how far they have gone (None: no
+    /// turbulence), stepped as the CPU reference steps them.
+    turbulence: Option<TurbulenceField>,
+    /// The window's shift kernel, where the grid follows the camera
+    /// (`WindSettings::moving_window`).
+    shift: Option<Pipeline>,
+}
+
+/// The wind as the grass step sees it: the velocity it samples and, with
+/// two-way coupling, the buffer it lays its frontal area into and that
+/// buffer's unit (m^2 per count). Owned by the wind solver, or a test.
+pub struct WindInput<'a> {
+    pub grid: WindGrid,
+    pub velocity: &'a Buffer,
+    /// None: one-way coupling, the grass lays nothing.
+    pub canopy: Option<(&'a Buffer, f32)>,
+    /// The turbulence's modes finer than the grid, which the tips sum, and
+    /// how many (`WindPass::subgrid_records`); None: none.
+    pub subgrid: Option<(&'a Buffer, u32)>,
+}
+
+fn u32_bytes(values: impl Iterator<Item = u32>) -> Vec<u8> {
+    values.flat_map(u32::to_le_bytes).collect()
+}
+
+impl WindPass {
+    /// The solver for `settings` on `grid`. `canopy_unit` is the m^2 per
+    /// count of the frontal area the coupled grass lays
+    /// (`model::canopy::unit` of its blades; 0 with no grass).
+    pub fn new(
+        gpu: &Gpu,
+        commands: &CommandPool,
+        grid: WindGrid,
+        settings: &WindSettings,
+        canopy_unit: f32,
+    ) -> Result<Self> {
+        let face_count = grid.face_count();
+        let cell_count = grid.cell_count() as u64;
+        // Velocity x2 or x3, face kinds, with turbulence what it added,
+        // pressure x2, divergence, solid cells, canopy: 4 bytes each.
+        gpu.check_fits(
+            &format!(
+                "the {}x{}x{} wind grid",
+                grid.cells.x, grid.cells.y, grid.cells.z
+            ),
+            4 * ((velocity_copies(settings) + 1 + settings.turbulence.is_some() as u64)
+                * face_count
+                + 5 * cell_count),
+        )?;
+        let (face_count, cell_count) = match (u32::try_from(face_count), u32::try_from(cell_count))
+        {
+            (Ok(f), Ok(c)) => (f, c),
+            _ => {
+                return Err(Error::InvalidInput(
+                    "wind grid too large for 32-bit indices".into(),
+                ))
+            }
+        };
+        let field = WindField::new(grid, settings);
+        let buffers = WindBuffers::new(gpu, commands, &field, settings, face_count, cell_count)?;
+        let layout: Arc<PipelineLayout> =
+            PipelineLayout::new::<WindPush>(gpu, WIND_SET, vk::ShaderStageFlags::COMPUTE, "wind")?;
+        // The tail kernel: the variant with the larger shared array where
+        // the device offers it, from the finest level that fits it, and
+        // specialised to this grid's coarsest level.
+        let large = gpu.limits().max_compute_shared_memory_size as usize >= 48 * 1024;
+        let (tail_spirv, tail_floats) = if large {
+            (WIND_KERNEL_VARIANTS[0], MG_TAIL_FLOATS_LARGE)
+        } else {
+            (WIND_KERNELS[MG_TAIL], MG_TAIL_FLOATS)
+        };
+        let last_level = field.multigrid.levels.len() - 1;
+        // The coarsest level (at most `MAX_COARSEST_CELLS` cells) always
+        // fits: this cannot fail on any grid `Multigrid::new` makes.
+        let tail_level = field
+            .multigrid
+            .tail_level(tail_floats as usize)
+            .ok_or_else(|| {
+                Error::InvalidInput(format!(
+                    "the multigrid's coarsest level needs {} floats, more than the tail \
+                     kernel's {tail_floats}; set wind.solver = \"jacobi\"",
+                    field.multigrid.tail_footprint(last_level)
+                ))
+            })?;
+        let kernels = WIND_KERNELS
+            .iter()
+            .enumerate()
+            .map(|(kernel, spirv)| match kernel {
+                MG_TAIL => {
+                    Pipeline::compute_specialized(gpu, &layout, tail_spirv, &[last_level as u32])
+                }
+                _ => Pipeline::compute(gpu, &layout, spirv),
+            })
+            .collect::<Result<Vec<_>>>()?;
+        let turbulence_before_projection = settings
+            .turbulence
+            .map(|_| Pipeline::compute_specialized(gpu, &layout, WIND_KERNELS[TURBULENCE], &[1]))
+            .transpose()?;
+        let set = DescriptorSet::new(
+            gpu,
+            &layout,
+            WIND_SET,
+            &buffers.bound(),
+            "wind descriptor set",
+        )?;
+        // Its set layout is the kernels' own, so their set binds to it.
+        let shift = settings
+            .moving_window
+            .then(|| {
+                let layout = PipelineLayout::new::<WindShiftPush>(
+                    gpu,
+                    WIND_SET,
+                    vk::ShaderStageFlags::COMPUTE,
+                    "wind window shift",
+                )?;
+                Pipeline::compute(gpu, &layout, WIND_SHIFT_KERNEL)
+            })
+            .transpose()?;
+        Ok(Self {
+            grid,
+            settings: settings.clone(),
+            set,
+            kernels,
+            turbulence_before_projection,
+            layout,
+            buffers,
+            face_count,
+            cell_count,
+            level_cells: field
+                .multigrid
+                .levels
+                .iter()
+                .map(|l| l.cell_count() as u32)
+                .collect(),
+            level_color_cells: field
+                .multigrid
+                .levels
+                .iter()
+                .map(|l| l.cells.x.div_ceil(2) * l.cells.y * l.cells.z)
+                .collect(),
+            coarse_cells: field.multigrid.coarse_cell_count() as u32,
+            tail_level: tail_level as u32,
+            canopy_unit,
+            buried: field.faces.iter().flatten().any(|&k| k == FaceKind::Buried),
+            among_solids: field.solid.contains(&true),
+            collider_records: super::colliders::records(&settings.colliders)?,
+            turbulence: field.turbulence,
+            shift,
+        })
+    }
+
+    /// The finest multigrid level whose part of each V-cycle runs in the
+    /// one-workgroup tail kernel (glsl/wind/mg_tail.glsl); the levels
+    /// above it run kernel by kernel.
+    pub fn tail_level(&self) -> u32 {
+        self.tail_level
+    }
+
+    /// Whether the grid is a window that follows the camera
+    /// (`record_shift`).
+    pub fn follows_camera(&self) -> bool {
+        self.shift.is_some()
+    }
+
+    /// What drives the wind now: the scene's settings, as `set_drive`
+    /// last changed them.
+    pub fn settings(&self) -> &WindSettings {
+        &self.settings
+    }
+
+    /// Changes what drives the wind from the next step on (the viewer's
+    /// wind keys and dropped gusts): the inflow (its speed and heading)
+    /// and the sources. An inflow that enters or leaves by other sides
+    /// than before reclassifies the faces (`WindField::classify_faces`)
+    /// and uploads them with their multigrid tables; the air keeps its
+    /// velocity. Uploads and waits: call between submissions.
+    pub fn set_drive(
+        &mut self,
+        gpu: &Gpu,
+        commands: &CommandPool,
+        inflow: Option<Inflow>,
+        sources: &[WindSource],
+    ) -> Result<()> {
+        if let Some(i) = &inflow {
+            if !(i.speed.is_finite() && i.heading.is_finite()) {
+                return Err(Error::InvalidInput(format!(
+                    "an inflow of {} m/s towards {} degrees is not allowed, use finite numbers",
+                    i.speed, i.heading
+                )));
+            }
+        }
+        let mut replaced = Vec::new();
+        let sides = |i: Option<&Inflow>| {
+            i.map(|i| [(0, 0), (0, 1), (2, 0), (2, 1)].map(|(a, e)| i.side(a, e)))
+        };
+        if sides(inflow.as_ref()) != sides(self.settings.inflow.as_ref()) {
+            let next = WindSettings {
+                inflow,
+                ..self.settings.clone()
+            };
+            let field = WindField::new(self.grid, &next);
+            let [faces, conductance, levels] = WindBuffers::classified(gpu, commands, &field)?;
+            replaced.push(std::mem::replace(&mut self.buffers.faces, faces));
+            replaced.push(std::mem::replace(
+                &mut self.buffers.conductance,
+                conductance,
+            ));
+            replaced.push(std::mem::replace(&mut self.buffers.levels, levels));
+        }
+        self.settings.inflow = inflow;
+        if sources != self.settings.sources.as_slice() {
+            let buffer = WindBuffers::sources(gpu, commands, sources)?;
+            replaced.push(std::mem::replace(&mut self.buffers.sources, buffer));
+            self.settings.sources = sources.to_vec();
+        }
+        if !replaced.is_empty() {
+            // The new set replaces (and drops) the old one before the old
+            // buffers it named go; no submission is in flight.
+            self.set = DescriptorSet::new(
+                gpu,
+                &self.layout,
+                WIND_SET,
+                &self.buffers.bound(),
+                "wind descriptor set",
+            )?;
+            drop(replaced);
+        }
+        Ok(())
+    }
+
+    /// The colliders pushing the air from the next recorded step on (the
+    /// viewer's ball): written in the command buffer, no upload.
+    pub fn set_colliders(&mut self, colliders: &[Collider]) -> Result<()> {
+        self.collider_records = super::colliders::records(colliders)?;
+        self.settings.colliders = colliders.to_vec();
+        Ok(())
+    }
+
+    /// Whether the grass slows this wind (two-way coupling with grass).
+    fn coupled(&self) -> bool {
+        self.settings.effective_canopy_drag() > 0.0 && self.canopy_unit > 0.0
+    }
+
+    /// What the grass step binds: the velocity, the canopy buffer when
+    /// the coupling is two-way, and the turbulence's modes finer than the
+    /// grid where there are any.
+    pub fn grass_input(&self) -> WindInput<'_> {
+        let subgrid = self
+            .turbulence
+            .as_ref()
+            .map_or(0, |field| field.subgrid_count() as u32);
+        WindInput {
+            grid: self.grid,
+            velocity: &self.buffers.velocity,
+            canopy: self
+                .coupled()
+                .then_some((&self.buffers.canopy, self.canopy_unit)),
+            subgrid: (subgrid > 0).then_some((&self.buffers.subgrid_modes, subgrid)),
+        }
+    }
+
+    /// The turbulence's modes finer than the grid as the last recorded
+    /// step leaves them (`TurbulenceField::subgrid_records`): what the
+    /// grass step sums at its tips (`WindField::felt` on the CPU); empty
+    /// without.
+    pub fn subgrid_records(&self) -> Vec<TurbulenceMode> {
+        self.turbulence.as_ref().map_or(Vec::new(), |field| {
+            field.subgrid_records(self.settings.turbulence_sigma())
+        })
+    }
+
+    /// The frontal area per cell the grass laid last step, in counts of
+    /// `canopy_unit` m^2 (for tests and pictures).
+    pub fn read_canopy(&self, gpu: &Gpu, commands: &CommandPool) -> Result<Vec<u32>> {
+        self.buffers
+            .canopy
+            .read_back(gpu, commands, self.cell_count as usize)
+    }
+
+    /// Copies the velocity (copy A: x, y, z components) back to the host:
+    /// for tests, pictures and statistics, not per frame.
+    pub fn read_velocity(&self, gpu: &Gpu, commands: &CommandPool) -> Result<[Vec<f32>; 3]> {
+        let all: Vec<f32> =
+            self.buffers
+                .velocity
+                .read_back(gpu, commands, self.face_count as usize)?;
+        let mut split = [Vec::new(), Vec::new(), Vec::new()];
+        let mut start = 0;
+        for (axis, dst) in split.iter_mut().enumerate() {
+            let d = self.grid.face_dims(axis);
+            let n = (d.x * d.y * d.z) as usize;
+            *dst = all[start..start + n].to_vec();
+            start += n;
+        }
+        Ok(split)
+    }
+
+    /// The divergence of the last step's advected field, before projection.
+    pub fn read_divergence(&self, gpu: &Gpu, commands: &CommandPool) -> Result<Vec<f32>> {
+        self.buffers
+            .divergence
+            .read_back(gpu, commands, self.cell_count as usize)
+    }
+
+    /// The velocity buffer: copy A (the state between steps) starts at 0,
+    /// in the layout of glsl/common/wind_grid.glsl. The grass samples it.
+    pub fn velocity(&self) -> &Buffer {
+        &self.buffers.velocity
+    }
+}
+
+/// Copies of the velocity the advection needs: A and B, and C for
+/// MacCormack's predictor (only then, so that the paper's advection keeps
+/// the binding within a small maxStorageBufferRange).
+fn velocity_copies(settings: &WindSettings) -> u64 {
+    match settings.advection {
+        Advection::SemiLagrangian => 2,
+        Advection::Maccormack => 3,
+    }
+}
+
+/// The wind grid as the kernels read it (`WindGridParams`), with `faces`
+/// faces in one velocity copy.
+pub fn grid_params(grid: &WindGrid, faces: u32) -> WindGridParams {
+    WindGridParams {
+        cells: grid.cells.to_array(),
+        faces,
+        origin: grid.origin.to_array(),
+        cell_size: grid.cell.to_array(),
+        ..WindGridParams::default()
+    }
+}

@@ -1,0 +1,330 @@
+//! One wind step recorded: the push constants, each kernel's declared
+//! uses, the kernels in order with their barriers, the turbulence's modes
+//! uploaded, and the window's shift.
+
+use super::*;
+
+impl WindPass {
+    /// The push constants of a step at `time`, the pressure solve's
+    /// halves and the multigrid level and colour a kernel works on left at
+    /// zero.
+    fn push(&self, time: f32, dt: f32) -> WindPush {
+        let inflow = self.settings.inflow;
+        let phases = inflow.map(|i| i.gust.phases()).unwrap_or_default();
+        // The canopy drag's C_d (0: none) and what one count on each side
+        // of a face adds to its frontal area per volume, as
+        // `WindField::canopy_density_per_count` computes it.
+        let (drag, per_count) = if self.coupled() {
+            let cell = self.grid.cell;
+            (
+                self.settings.effective_canopy_drag(),
+                self.canopy_unit * 0.5 / cell.element_product(),
+            )
+        } else {
+            (0.0, 0.0)
+        };
+        let multigrid = self.settings.solver == PressureSolver::Multigrid;
+        WindPush {
+            grid: grid_params(&self.grid, self.face_count),
+            time,
+            dt,
+            canopy_drag: drag,
+            area_per_count: per_count,
+            source_count: self.settings.sources.len() as u32,
+            pressure_read: 0,
+            pressure_result: if multigrid {
+                0
+            } else {
+                self.settings.jacobi_iterations % 2
+            },
+            pressure_from_zero: multigrid as u32,
+            inflow_speed: inflow.map_or(0.0, |i| i.speed),
+            gust_amplitude: inflow.map_or(0.0, |i| i.gust.amplitude),
+            gust_frequency: inflow.map_or(0.0, |i| i.gust.frequency),
+            inflow_heading: inflow.map_or(0.0, |i| i.heading.to_radians()),
+            gust_phases: phases,
+            collider_count: self.settings.colliders.len() as u32,
+            coarse_cells: self.coarse_cells,
+            ..WindPush::default()
+        }
+    }
+
+    /// What `kernel` reads and writes (glsl/wind/*.comp): the recording
+    /// derives the barriers between the kernels, and against the grass
+    /// step's reads of the velocity and writes of the canopy, from it.
+    fn kernel_uses(&self, kernel: usize) -> Vec<BufferUse> {
+        let b = &self.buffers;
+        let (read, read_write) = (Access::COMPUTE_READ, Access::COMPUTE_READ_WRITE);
+        let mut uses = vec![BufferUse::new(&b.faces, read)];
+        match kernel {
+            FORCES => uses.extend([
+                BufferUse::new(&b.velocity, read_write),
+                BufferUse::new(&b.sources, read),
+                BufferUse::new(&b.colliders, read),
+                BufferUse::new(&b.turbulence_added, read),
+            ]),
+            ADVECT | ADVECT_PREDICT | ADVECT_CORRECT => uses.extend([
+                BufferUse::new(&b.velocity, read_write),
+                BufferUse::new(&b.canopy, read),
+            ]),
+            // The solid flags: a moving window's open sides gain the modes
+            // where a cell of air lies behind them.
+            TURBULENCE => uses.extend([
+                BufferUse::new(&b.velocity, read_write),
+                BufferUse::new(&b.turbulence_added, read_write),
+                BufferUse::new(&b.modes, read),
+                BufferUse::new(&b.solid, read),
+            ]),
+            DIVERGENCE => uses.extend([
+                BufferUse::new(&b.velocity, read),
+                BufferUse::new(&b.solid, read),
+                BufferUse::new(&b.divergence, read_write),
+                BufferUse::new(&b.pressure, read_write),
+            ]),
+            JACOBI => uses.extend([
+                BufferUse::new(&b.solid, read),
+                BufferUse::new(&b.divergence, read),
+                BufferUse::new(&b.pressure, read_write),
+            ]),
+            PROJECT => uses.extend([
+                BufferUse::new(&b.velocity, read_write),
+                BufferUse::new(&b.pressure, read),
+            ]),
+            UNDER_GROUND => uses.push(BufferUse::new(&b.velocity, read_write)),
+            // The multigrid kernels (glsl/wind/multigrid.glsl): each level's
+            // pressure and right-hand side, the saved residual.
+            _ => uses.extend([
+                BufferUse::new(&b.solid, read),
+                BufferUse::new(&b.conductance, read),
+                BufferUse::new(&b.levels, read),
+                BufferUse::new(&b.pressure, read_write),
+                BufferUse::new(&b.coarse, read_write),
+                BufferUse::new(&b.divergence, read_write),
+            ]),
+        }
+        uses
+    }
+
+    /// Records one solver step at simulation time `time`: each kernel
+    /// declares what it touches (`kernel_uses`). Ends with the new velocity
+    /// (copy A) written by compute; a reader declares its use. Steps the
+    /// turbulence's modes on: record the steps in order.
+    pub fn record_step(&mut self, rec: &Recording, time: f32, dt: f32) {
+        let modes = self.turbulence_records(dt);
+        let multigrid = self.settings.solver == PressureSolver::Multigrid;
+        let iterations = self.settings.jacobi_iterations;
+        let face_groups = self.face_count.div_ceil(WIND_GROUP);
+        let cell_groups = self.cell_count.div_ceil(WIND_GROUP);
+        let step = self.push(time, dt);
+        // A kernel over `groups` workgroups; `read` the Jacobi half it
+        // reads, `level` the multigrid level, colour and coarsest sweeps.
+        let dispatch = |kernel: usize,
+                        groups: u32,
+                        read: u32,
+                        [mg_level, mg_color, coarsest_sweeps]: [u32; 3]| {
+            let pipeline = &self.kernels[kernel];
+            rec.uses(&self.kernel_uses(kernel));
+            rec.bind_pipeline(pipeline);
+            rec.push_constants(
+                pipeline,
+                &WindPush {
+                    pressure_read: read,
+                    mg_level,
+                    mg_color,
+                    coarsest_sweeps,
+                    ..step
+                },
+            );
+            rec.dispatch(groups);
+        };
+        // The colliders where they are now.
+        crate::compute::colliders::record_write(
+            &self.buffers.colliders,
+            rec,
+            &self.collider_records,
+        );
+        rec.bind_set(&self.kernels[FORCES], &self.set);
+        dispatch(FORCES, face_groups, 0, [0; 3]);
+        match self.settings.advection {
+            Advection::SemiLagrangian => dispatch(ADVECT, face_groups, 0, [0; 3]),
+            Advection::Maccormack => {
+                dispatch(ADVECT_PREDICT, face_groups, 0, [0; 3]);
+                dispatch(ADVECT_CORRECT, face_groups, 0, [0; 3]);
+            }
+        }
+        if self.coupled() {
+            // The advection took this step's drag: clear the canopy for
+            // the area the grass lays next.
+            rec.uses(&[BufferUse::new(&self.buffers.canopy, Access::TRANSFER_WRITE)]);
+            rec.fill_buffer(&self.buffers.canopy, 0);
+        }
+        // Among solids the projection turns the modes' flow around them
+        // (`WindField::step`); without, they are added after it.
+        if let (true, Some(modes)) = (self.among_solids, &modes) {
+            self.record_turbulence(rec, modes, &step, true);
+        }
+        dispatch(DIVERGENCE, cell_groups, 0, [0; 3]);
+        if multigrid {
+            let groups = |l: usize| self.level_cells[l].div_ceil(WIND_GROUP);
+            // One thread per cell of the colour being smoothed.
+            let color_groups = |l: usize| self.level_color_cells[l].div_ceil(WIND_GROUP);
+            let smooth = |l: usize, sweeps: u32| {
+                for _ in 0..sweeps {
+                    for color in 0..2 {
+                        dispatch(MG_SMOOTH, color_groups(l), 0, [l as u32, color, 0]);
+                    }
+                }
+            };
+            // Levels from `tail` down run in one workgroup (mg_tail.glsl).
+            let tail = self.tail_level as usize;
+            for _ in 0..self.settings.v_cycles {
+                for l in 0..tail {
+                    smooth(l, multigrid::PRE_SMOOTH);
+                    dispatch(MG_RESIDUAL, groups(l), 0, [l as u32, 0, 0]);
+                    dispatch(MG_RESTRICT, groups(l + 1), 0, [l as u32, 0, 0]);
+                }
+                dispatch(MG_TAIL, 1, 0, [tail as u32, 0, multigrid::COARSEST_SWEEPS]);
+                for l in (0..tail).rev() {
+                    dispatch(MG_PROLONG, groups(l), 0, [l as u32, 0, 0]);
+                    smooth(l, multigrid::POST_SMOOTH);
+                }
+            }
+        } else {
+            for i in 0..iterations {
+                dispatch(JACOBI, cell_groups, i % 2, [0; 3]);
+            }
+        }
+        dispatch(PROJECT, face_groups, 0, [0; 3]);
+        if self.buried {
+            dispatch(UNDER_GROUND, face_groups, 0, [0; 3]);
+        }
+        if let (false, Some(modes)) = (self.among_solids, &modes) {
+            self.record_turbulence(rec, modes, &step, false);
+        }
+    }
+
+    /// The turbulence kernel with `modes`: every face not a wall gains
+    /// the field (the wind set bound); the modes finer than the grid
+    /// written for the grass step.
+    fn record_turbulence(
+        &self,
+        rec: &Recording,
+        modes: &Modes,
+        push: &WindPush,
+        into_advected: bool,
+    ) {
+        rec.uses(&[BufferUse::new(&self.buffers.modes, Access::TRANSFER_WRITE)]);
+        rec.update_buffer(&self.buffers.modes, 0, bytemuck::cast_slice(&modes.grid));
+        if !modes.subgrid.is_empty() {
+            let subgrid = &self.buffers.subgrid_modes;
+            rec.uses(&[BufferUse::new(subgrid, Access::TRANSFER_WRITE)]);
+            rec.update_buffer(subgrid, 0, bytemuck::cast_slice(&modes.subgrid));
+        }
+        // Modes are recorded only with turbulence, which made both.
+        let pipeline = match (&self.turbulence_before_projection, into_advected) {
+            (Some(before), true) => before,
+            _ => &self.kernels[TURBULENCE],
+        };
+        rec.uses(&self.kernel_uses(TURBULENCE));
+        rec.bind_pipeline(pipeline);
+        rec.push_constants(pipeline, push);
+        rec.dispatch(self.face_count.div_ceil(WIND_GROUP));
+    }
+
+    /// Records the window's move by `by` whole cells (x, z) before the
+    /// next step, as `WindField::shift_window` makes it: the air shifted
+    /// with the grid (glsl/wind/shift.comp), the turbulence added where
+    /// the faces now are; `grid` is the moved grid from then on. Over
+    /// terrain the moved grid's classification (its solid cells, face
+    /// kinds and multigrid tables, `Classification::of`) is written in the
+    /// command buffer between the shift's two phases, the second zeroing
+    /// the faces that are walls now. Refused on a grid that does not
+    /// follow the camera.
+    pub fn record_shift(&mut self, rec: &Recording, by: glam::IVec2) -> Result<()> {
+        let Some(shift) = &self.shift else {
+            return Err(Error::InvalidInput(
+                "this wind grid is fixed over the field; only a [grass.cover]'s wind window follows the camera".into(),
+            ));
+        };
+        if by == glam::IVec2::ZERO {
+            return Ok(());
+        }
+        let b = &self.buffers;
+        let (read, read_write) = (Access::COMPUTE_READ, Access::COMPUTE_READ_WRITE);
+        let uses = [
+            BufferUse::new(&b.velocity, read_write),
+            BufferUse::new(&b.faces, read),
+            BufferUse::new(&b.pressure, read_write),
+            BufferUse::new(&b.divergence, read_write),
+            BufferUse::new(&b.canopy, read_write),
+            BufferUse::new(&b.turbulence_added, read),
+        ];
+        let fill = self
+            .settings
+            .inflow
+            .map_or(glam::Vec3::ZERO, |i| i.mean_velocity());
+        let before = self.grid;
+        let moved = before.shifted(by);
+        let reclassified =
+            (!self.settings.terrain.is_flat()).then(|| Classification::of(&moved, &self.settings));
+        for phase in 0..2 {
+            if let (1, Some(classification)) = (phase, &reclassified) {
+                self.buffers.record_classification(rec, classification)?;
+                self.buried = classification
+                    .faces
+                    .iter()
+                    .flatten()
+                    .any(|&k| k == FaceKind::Buried);
+                self.among_solids = classification.solid.contains(&true);
+            }
+            rec.bind_pipeline(shift);
+            rec.bind_set(shift, &self.set);
+            rec.uses(&uses);
+            rec.push_constants(
+                shift,
+                &WindShiftPush {
+                    grid: grid_params(&self.grid, self.face_count),
+                    shift: by.to_array(),
+                    phase,
+                    fill: fill.to_array(),
+                    ..WindShiftPush::default()
+                },
+            );
+            rec.dispatch(self.face_count.max(self.cell_count).div_ceil(WIND_GROUP));
+        }
+        self.grid = moved;
+        if let Some(field) = &mut self.turbulence {
+            field.move_corner(self.grid.origin - before.origin);
+            let modes = Modes::of(field, self.settings.turbulence_sigma());
+            rec.bind_set(&self.kernels[TURBULENCE], &self.set);
+            self.record_turbulence(rec, &modes, &self.push(0.0, 0.0), false);
+        }
+        Ok(())
+    }
+
+    /// The turbulence's modes at the end of a step of `dt` from now, the
+    /// modes carried on by it (`WindField::add_turbulence`); None without
+    /// turbulence.
+    fn turbulence_records(&mut self, dt: f32) -> Option<Modes> {
+        let field = self.turbulence.as_mut()?;
+        let sigma = self.settings.turbulence_sigma();
+        field.advance(self.settings.turbulence_convection(), sigma, dt);
+        Some(Modes::of(field, sigma))
+    }
+}
+
+/// The turbulence's modes as one step writes them: the grid's, and those
+/// finer than the grid.
+struct Modes {
+    grid: Vec<TurbulenceMode>,
+    subgrid: Vec<TurbulenceMode>,
+}
+
+impl Modes {
+    fn of(field: &TurbulenceField, sigma: f32) -> Self {
+        Self {
+            grid: field.records(sigma),
+            subgrid: field.subgrid_records(sigma),
+        }
+    }
+}
