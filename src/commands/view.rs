@@ -32,7 +32,9 @@ use crate::error::{Error, Result};
 use crate::frame::timing::Phase;
 use crate::frame::{FrameRecorder, FrameStats};
 use crate::gpu::swapchain::Presented;
-use crate::gpu::{surface, DeviceMemory, Gpu, GpuOptions, Surface, Swapchain, ValidationReport};
+use crate::gpu::{
+    surface, DependsOn, DeviceMemory, Gpu, GpuOptions, Surface, Swapchain, ValidationReport,
+};
 use crate::model::contact::{Collider, MAX_COLLIDERS};
 use crate::render::FrameUniforms;
 use crate::report::{files, legend};
@@ -166,15 +168,16 @@ struct App<'a> {
     report: ViewReport,
 }
 
-/// The window and what draws into it, dropped in field order: the
-/// overlay, the frame recorder, the swapchain, the surface, then the
-/// window they show in.
+/// The window and what draws into it. The surface dies before the window
+/// by its type (`DependsOn`); the swapchain, which holds the surface too,
+/// is let go in `Drop`, before either. The overlay and the recorder use
+/// the device alone.
 struct Live {
     overlay: Overlay,
     recorder: FrameRecorder,
     swapchain: Option<Swapchain>,
-    surface: Arc<Surface>,
-    window: Window,
+    /// The surface, and the window it shows in.
+    surface: DependsOn<Arc<Surface>, Window>,
     /// What the person at the window set up (src/commands/view/state.rs).
     state: ViewState,
     /// The last frame's measurements, for the overlay.
@@ -188,6 +191,13 @@ struct Live {
     /// GPU time of one simulation step, last measured (None: not yet, or
     /// no timestamps).
     step_ms: Option<f64>,
+}
+
+impl Drop for Live {
+    fn drop(&mut self) {
+        // The swapchain holds the surface alive: it goes before the window.
+        self.swapchain = None;
+    }
 }
 
 impl Live {
@@ -257,8 +267,7 @@ impl Live {
             overlay: Overlay::default(),
             recorder,
             swapchain: None,
-            surface,
-            window,
+            surface: DependsOn::new(surface, window),
             last_stats: FrameStats::default(),
             first_frame: None,
             last_frame: Instant::now(),
@@ -282,7 +291,7 @@ impl Live {
 
     /// The window as an action sees it now.
     fn seen(&self) -> Seen {
-        let size = self.window.inner_size();
+        let size = self.surface.keeper().inner_size();
         Seen {
             size: (size.width, size.height),
             time: self.time(),
@@ -303,7 +312,10 @@ impl Live {
             }
             ForWindow::ToggleOverlay => self.overlay.shown = !self.overlay.shown,
             ForWindow::Resize(w, h) => {
-                let _ = self.window.request_inner_size(PhysicalSize::new(w, h));
+                let _ = self
+                    .surface
+                    .keeper()
+                    .request_inner_size(PhysicalSize::new(w, h));
             }
         }
         true
@@ -374,7 +386,7 @@ impl Live {
             wind: state.wind_readout(self.time()),
             ball: state.ball_readout(),
         };
-        let scale = self.window.scale_factor() as f32;
+        let scale = self.surface.keeper().scale_factor() as f32;
         let prepared = self
             .overlay
             .prepare(gpu, swapchain.format, extent, scale, &readout)?;
@@ -408,7 +420,7 @@ impl Live {
     /// out of date again).
     fn acquire(&mut self, gpu: &Gpu) -> Result<Option<u32>> {
         if self.stale {
-            let size = self.window.inner_size();
+            let size = self.surface.keeper().inner_size();
             let wanted = vk::Extent2D {
                 width: size.width,
                 height: size.height,
@@ -518,7 +530,7 @@ impl Live {
             .map(|c| format!(", {} blades drawn", c.in_view))
             .unwrap_or_default();
         let state = if self.state.paused { ", paused" } else { "" };
-        self.window.set_title(&format!(
+        self.surface.keeper().set_title(&format!(
             "meadow - {} - {:.1} FPS{gpu_ms}{drawn} - t {:.2} s x{}{state} (H: keys)",
             self.state.scene.name,
             self.fps(),
@@ -658,7 +670,7 @@ impl ApplicationHandler for App<'_> {
             self.report.stopped_by = Some(signal);
             event_loop.exit();
         } else if let Some(live) = &self.live {
-            live.window.request_redraw();
+            live.surface.keeper().request_redraw();
         }
     }
 }

@@ -15,7 +15,7 @@ use crate::error::Result;
 use crate::frame::timing::median_p95;
 use crate::frame::BladeBuffer;
 use crate::gpu::query::TimestampQueries;
-use crate::gpu::{CommandPool, DeviceMemory, Gpu, GpuOptions, ValidationReport};
+use crate::gpu::{CommandPool, DependsOn, DeviceMemory, Gpu, GpuOptions, ValidationReport};
 use crate::model::wind::{Advection, Coupling, PressureSolver, WindField, WindGrid, WindSettings};
 use crate::report::claim::OutputClaim;
 use crate::report::files;
@@ -166,11 +166,8 @@ struct Stepped {
 #[allow(clippy::large_enum_variant)]
 enum Stepper {
     Wind(WindPass),
-    Coupled {
-        // Declared first, dropped first: the grass writes the buffer.
-        simulation: Simulation,
-        _vertices: BladeBuffer,
-    },
+    /// The simulation, whose grass writes the blade buffer it keeps.
+    Coupled(DependsOn<Simulation, BladeBuffer>),
 }
 
 impl Stepper {
@@ -185,23 +182,20 @@ impl Stepper {
         let vertices =
             BladeBuffer::uninitialised(gpu, "wind command blade vertices", blades.len())?;
         let simulation = Simulation::new(gpu, commands, scene, &blades, vertices.buffer())?;
-        Ok(Stepper::Coupled {
-            simulation,
-            _vertices: vertices,
-        })
+        Ok(Stepper::Coupled(DependsOn::new(simulation, vertices)))
     }
 
     /// Records the wind half of step `index`.
     fn record_wind(&mut self, rec: &crate::gpu::Recording, index: u32, dt: f32) {
         match self {
             Stepper::Wind(pass) => pass.record_step(rec, index as f32 * dt, dt),
-            Stepper::Coupled { simulation, .. } => simulation.record_wind_step(rec),
+            Stepper::Coupled(simulation) => simulation.record_wind_step(rec),
         }
     }
 
     /// Records the grass half of the step, if the grass is coupled.
     fn record_grass(&mut self, rec: &crate::gpu::Recording) {
-        if let Stepper::Coupled { simulation, .. } = self {
+        if let Stepper::Coupled(simulation) = self {
             simulation.record_grass_step(rec);
         }
     }
@@ -209,7 +203,7 @@ impl Stepper {
     fn wind(&self) -> &WindPass {
         match self {
             Stepper::Wind(pass) => pass,
-            Stepper::Coupled { simulation, .. } => simulation.wind(),
+            Stepper::Coupled(simulation) => simulation.wind(),
         }
     }
 }

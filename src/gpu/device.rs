@@ -254,7 +254,7 @@ pub struct Device {
     pub timestamp_valid_bits: u32,
     pub(super) memory: Memory,
     pub(super) faults: Faults,
-    /// Declared last: dropped after the device is destroyed.
+    /// Outlives the device: `Drop` destroys the device before any field goes.
     pub(super) instance: Arc<Instance>,
 }
 

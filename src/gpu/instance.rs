@@ -253,7 +253,7 @@ impl Drop for Instance {
             }
         }
         // SAFETY: the device and every object made from this instance are
-        // gone: the device holds an Arc of the instance and is dropped first.
+        // gone: each holds an Arc of the instance, and this is the last.
         unsafe { self.raw.destroy_instance(None) };
     }
 }

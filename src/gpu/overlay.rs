@@ -14,6 +14,7 @@ use ash::vk;
 use egui_ash_renderer::{DynamicRendering, Options, RenderMode, Renderer, RendererError};
 
 use crate::error::{Error, Result, VkResultExt};
+use crate::gpu::depends_on::DependsOn;
 use crate::gpu::device::Device;
 use crate::gpu::owned::Owned;
 use crate::gpu::Gpu;
@@ -26,10 +27,10 @@ pub struct OverlayDraw {
 }
 
 pub struct OverlayRenderer {
-    // Declared first, dropped first: the renderer's objects go before the
-    // pool and the device.
-    renderer: Renderer<egui_ash_renderer::allocator::DefaultAllocator>,
-    uploads: Owned<vk::CommandPool>,
+    /// The renderer, which uploads egui's textures with the pool it keeps
+    /// alive (and, through the pool, the device).
+    renderer:
+        DependsOn<Renderer<egui_ash_renderer::allocator::DefaultAllocator>, Owned<vk::CommandPool>>,
     device: Arc<Device>,
     /// The colour format the renderer's pipeline was made for.
     pub format: vk::Format,
@@ -75,8 +76,7 @@ impl OverlayRenderer {
         )
         .map_err(|e| overlay_error("egui_ash_renderer::Renderer::new", e))?;
         Ok(Self {
-            renderer,
-            uploads,
+            renderer: DependsOn::new(renderer, uploads),
             device,
             format,
         })
@@ -89,9 +89,10 @@ impl OverlayRenderer {
         &mut self,
         set: &[(egui::TextureId, egui::epaint::ImageDelta)],
     ) -> Result<()> {
+        let uploads = self.renderer.keeper().raw();
         for (id, image) in set {
             self.renderer
-                .set_texture(self.device.queue, self.uploads.raw(), *id, image)
+                .set_texture(self.device.queue, uploads, *id, image)
                 .map_err(|e| overlay_error("egui_ash_renderer::Renderer::set_texture", e))?;
         }
         Ok(())

@@ -18,8 +18,6 @@ use crate::gpu::sync::ImageUse;
 use crate::gpu::{Gpu, Image, Recording};
 
 pub struct Swapchain {
-    // Declared first, dropped first: the semaphores and the swapchain go
-    // before the surface they were made for.
     acquired: Owned<vk::Semaphore>,
     rendered: Vec<Owned<vk::Semaphore>>,
     /// One per image, for the overlay's drawing; destroyed in `Drop`
@@ -31,7 +29,7 @@ pub struct Swapchain {
     pub format: vk::Format,
     pub extent: vk::Extent2D,
     device: Arc<Device>,
-    // Kept alive: the swapchain is destroyed before its surface.
+    /// Kept alive: `Drop` destroys the swapchain, before any field goes.
     _surface: Arc<Surface>,
 }
 
@@ -319,8 +317,8 @@ impl Drop for Swapchain {
         self.device.wait_idle();
         self.views.clear();
         // SAFETY: made from this device; the queue is idle, so no
-        // presentation or submission uses its images. The semaphores are
-        // dropped after this (field order) and the surface after them.
+        // presentation or submission uses its images or its semaphores,
+        // and the surface, a field, outlives this body.
         unsafe { self.loader.destroy_swapchain(self.raw, None) };
     }
 }
