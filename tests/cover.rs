@@ -296,7 +296,7 @@ fn a_bounded_cover_grows_and_draws_only_within_its_rectangle() {
         assert_eq!(*generated, growing, "at {time} s: blades generated");
         // The blades left out whose roots the camera sees: what a cull
         // blind to the bounds would list.
-        let m = glam::Mat4::from_cols_array(view_proj);
+        let m = glam::Mat4::from_cols_array_2d(view_proj);
         let seen_out = cpu
             .chunks(4)
             .zip(&grows)

@@ -372,7 +372,7 @@ fn posing_only_what_the_frame_may_draw_changes_nothing_drawn() {
     finish(gpu);
 
     let view = CullView {
-        view_proj: glam::Mat4::from_cols_array(&uniforms.view_proj),
+        view_proj: glam::Mat4::from_cols_array_2d(&uniforms.view_proj),
         eye,
         light: Vec3::from_slice(&uniforms.light_dir[..3]),
         floor: 0.0,
@@ -380,8 +380,8 @@ fn posing_only_what_the_frame_may_draw_changes_nothing_drawn() {
         thinning: meadow::render::thinning::Thinning::of(&scene),
         edge_on: scene.cull.edge_on,
         filter_reach: meadow::render::visibility::filter_reach(
-            &glam::Mat4::from_cols_array(&uniforms.light_view_proj),
-            meadow::render::shadow::params_of(scene.light.shadow_map),
+            &glam::Mat4::from_cols_array_2d(&uniforms.light_view_proj),
+            meadow::render::shadow::ShadowParams::of(scene.light.shadow_map),
         ),
     };
     let rest = cover::vertices(&FLAT, cover::seed32(9), &grass.shape, &tiles);

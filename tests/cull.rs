@@ -118,9 +118,9 @@ fn lists_are_the_cpu_references(storage_range: Option<u32>) {
         );
     }
 
-    let view_proj = Mat4::from_cols_array(&uniforms.view_proj);
-    let light = Vec4::from(uniforms.light_dir).truncate();
-    let eye = Vec4::from(uniforms.camera_pos).truncate();
+    let view_proj = Mat4::from_cols_array_2d(&uniforms.view_proj);
+    let light = Vec3::from(uniforms.light_dir);
+    let eye = Vec3::from(uniforms.camera_pos);
     let thinning = Thinning::of(&scene);
     assert!(thinning.is_on(), "the default scene thins by distance");
     assert!(
@@ -131,13 +131,13 @@ fn lists_are_the_cpu_references(storage_range: Option<u32>) {
         view_proj,
         eye,
         light,
-        floor: uniforms.terrain[0],
+        floor: uniforms.terrain_lowest,
         shadows: true,
         thinning,
         edge_on: scene.cull.edge_on,
         filter_reach: meadow::render::visibility::filter_reach(
-            &Mat4::from_cols_array(&uniforms.light_view_proj),
-            meadow::render::shadow::params_of(scene.light.shadow_map),
+            &Mat4::from_cols_array_2d(&uniforms.light_view_proj),
+            meadow::render::shadow::ShadowParams::of(scene.light.shadow_map),
         ),
     };
     let face_on = CullView {
@@ -314,7 +314,7 @@ fn picture_change(
     let u = FrameUniforms::new(scene, size.0, size.1, ViewMode::Shaded, t as f32);
     let (lo, hi) = scene.grass_bounds();
     let edge =
-        Mat4::from_cols_array(&u.view_proj) * Vec4::new((lo[0] + hi[0]) / 2.0, 0.0, lo[1], 1.0);
+        Mat4::from_cols_array_2d(&u.view_proj) * Vec4::new((lo[0] + hi[0]) / 2.0, 0.0, lo[1], 1.0);
     let edge_row = ((edge.y / edge.w * 0.5 + 0.5) * size.1 as f32).max(0.0) as usize;
     let (w, h) = (size.0 as usize, size.1 as usize);
     let far = edge_row..edge_row + (h - edge_row) / 3;

@@ -164,8 +164,8 @@ fn still_frames(msaa: u32) {
         .unwrap()
         .read_color_list(&gpu, r.commands())
         .unwrap();
-    let seen_from = Mat4::from_cols_array(&u.view_proj);
-    let eye = Vec4::from(u.camera_pos).truncate();
+    let seen_from = Mat4::from_cols_array_2d(&u.view_proj);
+    let eye = glam::Vec3::from(u.camera_pos);
     let thinning = Thinning::of(&scene);
     let (mut hidden, mut disagree) = (0, Vec::new());
     let mut kept = second_list.iter().peekable();

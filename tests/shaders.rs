@@ -206,40 +206,15 @@ fn blade_pipeline_has_the_papers_five_stages() {
     );
 }
 
+/// The frame block holds the interface's `FrameUniforms` whole, as
+/// `frame`: its fields' offsets are every interface struct's test's
+/// (`every_interface_struct_is_laid_out_in_each_shader_as_in_rust`), and
+/// the block is no larger than the buffer the renderer writes.
 #[test]
 fn frame_uniforms_match_the_glsl_block() {
     let (span, members) = reflect::uniform_block_layout(&shaders::BLADE_BLADE_FRAG, 0, 0).unwrap();
     assert_eq!(span as usize, std::mem::size_of::<FrameUniforms>());
-    let rust = [
-        ("view_proj", offset_of!(FrameUniforms, view_proj)),
-        ("inv_view_proj", offset_of!(FrameUniforms, inv_view_proj)),
-        ("camera_pos", offset_of!(FrameUniforms, camera_pos)),
-        ("light_dir", offset_of!(FrameUniforms, light_dir)),
-        ("light_color", offset_of!(FrameUniforms, light_color)),
-        ("lod_distance", offset_of!(FrameUniforms, lod_distance)),
-        ("tess_level", offset_of!(FrameUniforms, tess_level)),
-        ("ground", offset_of!(FrameUniforms, ground)),
-        ("view", offset_of!(FrameUniforms, view)),
-        (
-            "light_view_proj",
-            offset_of!(FrameUniforms, light_view_proj),
-        ),
-        ("shadow", offset_of!(FrameUniforms, shadow)),
-        ("thinning", offset_of!(FrameUniforms, thinning)),
-        (
-            "shadow_tess_level",
-            offset_of!(FrameUniforms, shadow_tess_level),
-        ),
-        ("terrain", offset_of!(FrameUniforms, terrain)),
-        ("canopy", offset_of!(FrameUniforms, canopy)),
-        ("canopy_map", offset_of!(FrameUniforms, canopy_map)),
-        ("cover_bounds", offset_of!(FrameUniforms, cover_bounds)),
-        ("look", offset_of!(FrameUniforms, look)),
-        ("look_more", offset_of!(FrameUniforms, look_more)),
-    ];
-    let glsl: Vec<(String, usize)> = members.into_iter().map(|(n, o)| (n, o as usize)).collect();
-    let rust: Vec<(String, usize)> = rust.iter().map(|(n, o)| (n.to_string(), *o)).collect();
-    assert_eq!(glsl, rust);
+    assert_eq!(members, [("frame".to_string(), 0)]);
 }
 
 #[test]

@@ -16,7 +16,7 @@ layout(location = 0) out vec4 out_color;
 
 void main() {
     vec4 far_point = frame.inv_view_proj * vec4(v_ndc, 1.0, 1.0);
-    vec3 eye = frame.camera_pos.xyz;
+    vec3 eye = frame.camera_pos;
     vec3 dir = far_point.xyz / far_point.w - eye;
     // Above the horizon (or a camera under the ground): sky.
     if (dir.y >= 0.0 || eye.y <= 0.0) {
@@ -24,7 +24,7 @@ void main() {
     }
     vec3 world = eye + dir * (-eye.y / dir.y);
     // Over terrain its mesh draws the ground in its square (src/render/terrain.rs).
-    if (frame.terrain.y > 0.0 && all(lessThan(abs(world.xz - frame.terrain.zw), vec2(frame.terrain.y)))) {
+    if (frame.terrain_half_side > 0.0 && all(lessThan(abs(world.xz - frame.terrain_center), vec2(frame.terrain_half_side)))) {
         discard;
     }
     vec4 clip = frame.view_proj * vec4(world, 1.0);

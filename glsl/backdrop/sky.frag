@@ -9,6 +9,6 @@ layout(location = 0) out vec4 out_color;
 
 void main() {
     vec4 far_point = frame.inv_view_proj * vec4(v_ndc, 1.0, 1.0);
-    vec3 dir = normalize(far_point.xyz / far_point.w - frame.camera_pos.xyz);
-    out_color = data_view() ? vec4(0.0, 0.0, 0.0, 1.0) : vec4(sky_color(dir, frame.light_dir.xyz), 1.0);
+    vec3 dir = normalize(far_point.xyz / far_point.w - frame.camera_pos);
+    out_color = data_view() ? vec4(0.0, 0.0, 0.0, 1.0) : vec4(sky_color(dir, frame.light_dir), 1.0);
 }

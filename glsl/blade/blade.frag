@@ -49,16 +49,16 @@ void main() {
     if (!gl_FrontFacing) {
         n = -n;                                   // two-sided lighting
     }
-    vec3 l = frame.light_dir.xyz;
-    float ambient = frame.light_dir.w;
-    vec3 to_eye = frame.camera_pos.xyz - g_world;
+    vec3 l = frame.light_dir;
+    float ambient = frame.ambient;
+    vec3 to_eye = frame.camera_pos - g_world;
     float eye_distance = length(to_eye);
     vec3 v = to_eye / max(eye_distance, 1e-6);
 
     vec3 albedo;
-    if (frame.view.x == VIEW_LOD) {
+    if (frame.view == VIEW_LOD) {
         albedo = lod_color(g_tess_level);
-    } else if (frame.view.x == VIEW_MOTION) {
+    } else if (frame.view == VIEW_MOTION) {
         albedo = mix(vec3(0.05, 0.15, 0.6), vec3(0.9, 0.1, 0.05), clamp(g_motion / 0.6, 0.0, 1.0));
     } else {
         vec3 base = texture(sampler2D(grass_texture, surface_sampler), g_uv).rgb;
@@ -68,10 +68,10 @@ void main() {
     float shadow = sun_visibility(g_world);
     // The debug views keep the plain two-sided Lambert light they always
     // had, so their colours read as their keys say.
-    if (frame.view.x != VIEW_SHADED) {
+    if (frame.view != VIEW_SHADED) {
         float lambert = max(dot(n, l), 0.0) + 0.35 * max(dot(-n, l), 0.0);
         float occlusion = mix(0.35, 1.0, g_uv.y);
-        out_color = vec4(albedo * (ambient + frame.light_color.rgb * lambert * shadow) * occlusion, 1.0);
+        out_color = vec4(albedo * (ambient + frame.light_color * lambert * shadow) * occlusion, 1.0);
         return;
     }
 
@@ -89,17 +89,17 @@ void main() {
 
     float n_l = dot(ns, l);
     float n_v = max(dot(ns, v), 1e-4);
-    vec3 light = frame.light_color.rgb;
+    vec3 light = frame.light_color;
     // Diffuse: reflected on the lit side, transmitted (greener, yellower)
     // when the sun is behind the blade.
     vec3 diffuse = albedo * max(n_l, 0.0)
-                 + albedo * LEAF_T_TINT * (LEAF_T_OVER_R * frame.look_more.z) * max(-n_l, 0.0);
+                 + albedo * LEAF_T_TINT * (LEAF_T_OVER_R * frame.translucency) * max(-n_l, 0.0);
     // The sky's light: from above, less from below the blade's horizon.
     float sky_seen = 0.75 + 0.25 * ns.y;
     vec3 color = albedo * ambient * sky_seen * reach.y + light * diffuse * sun;
     // The sheen: the sun's highlight and the sky's reflection, white
     // (off the cuticle, before the leaf's pigments).
-    float sheen = frame.look_more.y;
+    float sheen = frame.sheen;
     color += sheen * light * cuticle_sheen(ns, v, l, alpha) * sun;
     // (The sky it mirrors, smooth over the blade, is the geometry stage's.)
     color += sheen * cuticle_sky_albedo(n_v, alpha) * g_sky * reach.y;

@@ -58,11 +58,11 @@ void emit_side(int i, float side) {
     // The canopy above this point: its height at rest along the blade (its
     // share of the blade's reach: the same in any pose, as the canopy
     // bends together); the leaves around it lie as this blade does here.
-    vec3 l = frame.light_dir.xyz;
+    vec3 l = frame.light_dir;
     g_extinction = canopy_extinction(e_v[i] * e_blade[0].z, abs(n.y), max(l.y, 0.0));
     // The sky the cuticle mirrors at this edge: the rounded normal of the
     // face the eye sees (blade.frag's), the sky above the mirror's horizon.
-    vec3 v = normalize(frame.camera_pos.xyz - p);
+    vec3 v = normalize(frame.camera_pos - p);
     vec3 seen = dot(n, v) < 0.0 ? -n : n;
     vec3 ns = rounded_normal(seen, across, side);
     vec3 mirrored = reflect(-v, ns);

@@ -23,13 +23,13 @@ layout(location = 3) patch out vec4 c_blade;
 layout(location = 4) patch out vec4 c_tint;
 
 float tess_level_for(float distance_to_eye) {
-    if (frame.lod_distance.z == 0.0) {
+    if (frame.lod_on == 0.0) {
         return frame.tess_level.x;          // "without LOD": always the close level
     }
-    if (distance_to_eye < frame.lod_distance.x) {
+    if (distance_to_eye < frame.lod_close_distance) {
         return frame.tess_level.x;
     }
-    if (distance_to_eye < frame.lod_distance.y) {
+    if (distance_to_eye < frame.lod_far_distance) {
         return frame.tess_level.y;
     }
     return frame.tess_level.z;
@@ -42,7 +42,7 @@ void main() {
 
     if (gl_InvocationID == 0) {
         // Distance from the eye to the blade's root decides the level.
-        float level = tess_level_for(distance(frame.camera_pos.xyz, v_position[0].xyz));
+        float level = tess_level_for(distance(frame.camera_pos, v_position[0].xyz));
         // Isolines: outer[0] is the number of lines (one blade), outer[1] the
         // number of segments along it.
         gl_TessLevelOuter[0] = 1.0;

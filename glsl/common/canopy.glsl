@@ -13,10 +13,10 @@
 
 layout(set = 0, binding = 6) uniform texture2D canopy_texture;
 
-// The cover's leaf area index at (x, z): frame.canopy.x where it grows.
+// The cover's leaf area index at (x, z): frame.cover_lai where it grows.
 float cover_leaf_area_index(vec2 xz) {
-    bool inside = all(greaterThanEqual(xz, frame.cover_bounds.xy)) && all(lessThan(xz, frame.cover_bounds.zw));
-    return inside ? frame.canopy.x : 0.0;
+    bool inside = all(greaterThanEqual(xz, frame.cover_min)) && all(lessThan(xz, frame.cover_max));
+    return inside ? frame.cover_lai : 0.0;
 }
 
 // The leaf area index at (x, z), the map's (meadows, bunches) plus the
@@ -25,11 +25,11 @@ float cover_leaf_area_index(vec2 xz) {
 // reach a point there (src/render/canopy_map.rs says why).
 vec2 leaf_area_index(vec2 xz) {
     vec2 lai = vec2(0.0);
-    vec2 uv = (xz - frame.canopy_map.xy) * frame.canopy_map.zw;
+    vec2 uv = (xz - frame.canopy_map_min) * frame.canopy_map_inverse_extent;
     if (all(greaterThanEqual(uv, vec2(0.0))) && all(lessThanEqual(uv, vec2(1.0)))) {
         // The map's border texels are empty, so the repeating sampler
         // brings nothing in from the other side.
-        lai = textureLod(sampler2D(canopy_texture, surface_sampler), uv, 0.0).rg * frame.canopy.w;
+        lai = textureLod(sampler2D(canopy_texture, surface_sampler), uv, 0.0).rg * frame.canopy_map_lai;
     }
     return lai + vec2(cover_leaf_area_index(xz));
 }
@@ -40,10 +40,10 @@ vec2 leaf_area_index(vec2 xz) {
 // filtered sample on lavapipe, which samples in software.
 float blade_leaf_area_index(vec2 root) {
     float lai = 0.0;
-    vec2 uv = (root - frame.canopy_map.xy) * frame.canopy_map.zw;
+    vec2 uv = (root - frame.canopy_map_min) * frame.canopy_map_inverse_extent;
     if (all(greaterThanEqual(uv, vec2(0.0))) && all(lessThan(uv, vec2(1.0)))) {
         ivec2 texel = ivec2(uv * vec2(textureSize(sampler2D(canopy_texture, surface_sampler), 0)));
-        lai = texelFetch(sampler2D(canopy_texture, surface_sampler), texel, 0).g * frame.canopy.w;
+        lai = texelFetch(sampler2D(canopy_texture, surface_sampler), texel, 0).g * frame.canopy_map_lai;
     }
     return lai + cover_leaf_area_index(root);
 }

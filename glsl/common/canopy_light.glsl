@@ -41,20 +41,20 @@ const float CANOPY_SCATTERING = 0.3;
 // a leaf area index L, exp(-L x this) is the share of the sun's direct
 // light (x) and of the sky's (y) that reaches it; 0 with self-shadowing
 // off. The leaf area above it is L's share above its height in a canopy
-// whose top is frame.canopy.y: spread over the height as a tapering
+// whose top is frame.canopy_top: spread over the height as a tapering
 // blade's, (1 - z)^1.5. The sky's extinction hardly depends on the
 // leaves' angle (G is about 0.5 for every distribution at 57 degrees from
 // the zenith, the sky's mean). Smooth along a blade: the blade's stages
 // work it out at its vertices.
 vec2 canopy_extinction(float height, float leaf_cos, float sun_sin) {
-    float z = clamp(height / max(frame.canopy.y, 1e-3), 0.0, 1.0);
+    float z = clamp(height / max(frame.canopy_top, 1e-3), 0.0, 1.0);
     float share = (1.0 - z) * sqrt(1.0 - z);
     float scatter = sqrt(1.0 - CANOPY_SCATTERING);
     float sun_cos = max(sun_sin, 0.1);
     // Self-shadowing off is a factor, not an early return: with a return
     // here the geometry stage made lavapipe (Mesa 22.3) keep about 750 KiB
     // of host memory a frame (tests/host_memory.rs found it; docs/perf.md).
-    float on = frame.canopy.z == 0.0 ? 0.0 : 1.0;
+    float on = frame.self_shadowing == 0.0 ? 0.0 : 1.0;
     return on * share * scatter * vec2(leaf_projection(sun_cos, leaf_cos) / sun_cos, CANOPY_K_DIFFUSE);
 }
 

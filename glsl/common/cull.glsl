@@ -54,11 +54,11 @@ bool box_in_frustum(mat4 m, vec3 lo, vec3 hi) {
 }
 
 // The box grown by the blade's shadow: swept away from the sun `light`
-// (toward the light, y > 0) down to the lowest ground, frame.terrain.x (0 on
+// (toward the light, y > 0) down to the lowest ground, frame.terrain_lowest (0 on
 // flat ground). Whatever receives the blade's shadow (ground, other blades,
 // obstacles) lies in it.
 void shadow_sweep(vec3 light, inout vec3 lo, inout vec3 hi) {
-    float floor_y = frame.terrain.x;
+    float floor_y = frame.terrain_lowest;
     vec2 run = light.xz / light.y;   // ground shift per metre of height
     float y0 = max(lo.y, floor_y) - floor_y, y1 = max(hi.y, floor_y) - floor_y;
     vec2 shift_lo = min(run * y0, run * y1);
@@ -91,8 +91,8 @@ float shadow_filter_reach() {
     mat4 m = frame.light_view_proj;
     float row0 = length(vec3(m[0][0], m[1][0], m[2][0]));
     float row1 = length(vec3(m[0][1], m[1][1], m[2][1]));
-    float texel_m = frame.shadow.x * 2.0 / max(min(row0, row1), 1e-12);
-    return texel_m * (frame.shadow.w + 2.0) * frame.shadow.y;   // y: 1 on, 0 off
+    float texel_m = frame.shadow_texel * 2.0 / max(min(row0, row1), 1e-12);
+    return texel_m * (frame.shadow_pcf_radius + 2.0) * frame.shadow_on;   // 0 without shadows
 }
 
 // Suns this low cast shadows too long to bound: every blade casts.
@@ -112,10 +112,10 @@ uint cull_flags(BladeVertex v[4], bool shadows, float edge_on, out vec3 lo, out 
     uint has_width = uint(any(notEqual(v[0].width.xyz, vec3(0.0))));
     uint kept = uint(width_scale > 0.0) & has_width;
     blade_bounds(v, width_scale, lo, hi);
-    vec3 light = frame.light_dir.xyz;
+    vec3 light = frame.light_dir;
     vec3 to_eye[4], to_sun[4];
     for (int i = 0; i < 4; ++i) {
-        to_eye[i] = v[i].position.xyz - frame.camera_pos.xyz;
+        to_eye[i] = v[i].position.xyz - frame.camera_pos;
         to_sun[i] = light;
     }
     uint facing_eye = uint(least_alignment(v, to_eye) <= edge_on);

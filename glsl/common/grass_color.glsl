@@ -21,13 +21,13 @@ float unit_of(uint h) {
 
 // The random number (0..1) of the clump a blade rooted at `root` (x, z)
 // belongs to: the nearest of one point jittered in each cell of a
-// frame.look.w-metre lattice (cellular clumps); 0.5 without clumps.
+// frame.clump_size-metre lattice (cellular clumps); 0.5 without clumps.
 float clump_of(vec2 root) {
-    float size = frame.look.w;
+    float size = frame.clump_size;
     if (size <= 0.0) {
         return 0.5;
     }
-    uint seed = uint(frame.look_more.w) * 0x9e3779b9u;
+    uint seed = uint(frame.clump_seed) * 0x9e3779b9u;
     vec2 p = root / size;
     ivec2 cell = ivec2(floor(p));
     float best = 1e9;
@@ -64,15 +64,15 @@ vec4 blade_tint(float blade_rand, float clump) {
     h = lowbias32(h);
     float r_light = unit_of(h);
     // Hue: fresher or yellower, by the blade and by its clump.
-    float t = (r_hue - 0.5) * frame.look.x + (clump - 0.5) * frame.look_more.x;
+    float t = (r_hue - 0.5) * frame.hue + (clump - 0.5) * frame.clump_variation;
     vec3 hue = t < 0.0 ? mix(vec3(1.0), GRASS_FRESH, min(-2.0 * t, 1.0))
                        : mix(vec3(1.0), GRASS_YELLOW, min(2.0 * t, 1.0));
     // Lighter and darker blades, and clumps.
-    vec3 tint = hue * (1.0 + 0.25 * (r_light - 0.5) + 0.3 * frame.look_more.x * (clump - 0.5));
-    // A share frame.look.y of the blades is dry; of the others, dry tips
+    vec3 tint = hue * (1.0 + 0.25 * (r_light - 0.5) + 0.3 * frame.clump_variation * (clump - 0.5));
+    // A share frame.dryness of the blades is dry; of the others, dry tips
     // over the last share of the blade, up to 0.35 of it.
-    float tip_len = frame.look.z * mix(0.08, 0.35, r_tip);
-    return vec4(tint, r_dry < frame.look.y ? -1.0 : tip_len);
+    float tip_len = frame.tip * mix(0.08, 0.35, r_tip);
+    return vec4(tint, r_dry < frame.dryness ? -1.0 : tip_len);
 }
 
 // The blade's albedo at `uv` (x across, y root to tip): the texture's

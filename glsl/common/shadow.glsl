@@ -21,7 +21,7 @@ float shadow_tap(vec2 uv, float reference) {
 // How much sunlight reaches `world`: 1 lit, 0 in shadow. Outside the
 // map's footprint everything is lit.
 float sun_visibility(vec3 world) {
-    if (frame.shadow.y == 0.0) {
+    if (frame.shadow_on == 0.0) {
         return 1.0;
     }
     vec4 clip = frame.light_view_proj * vec4(world, 1.0);
@@ -30,8 +30,8 @@ float sun_visibility(vec3 world) {
     if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0))) || ndc.z >= 1.0) {
         return 1.0;
     }
-    float reference = ndc.z - frame.shadow.z;
-    vec2 step_uv = vec2(frame.shadow.x * frame.shadow.w);
+    float reference = ndc.z - frame.shadow_bias;
+    vec2 step_uv = vec2(frame.shadow_texel * frame.shadow_pcf_radius);
     // 3 x 3 bilinear PCF taps: a soft edge some 4 texels wide.
     float lit = shadow_tap(uv, reference)
               + shadow_tap(uv + vec2(-1.0, -1.0) * step_uv, reference)

@@ -2,7 +2,7 @@
 // and the terrain mesh (glsl/terrain/terrain.frag) shade it: the soil
 // texture, tiled, with a slow brightness variation so the tiling does not
 // show, lit by the sun (`lambert`: the cosine to it) and darkened where the
-// shadow map says the sun is hidden; beyond frame.ground.z metres from
+// shadow map says the sun is hidden; beyond frame.ground_clear metres from
 // the grass it fades into the sky's horizon colour (glsl/common/haze.glsl),
 // so the ground meets the sky without a band. Where grass
 // grows (glsl/common/canopy.glsl) the ground is the sward's floor, not
@@ -44,7 +44,7 @@ vec3 soil_lit(vec3 world, float lambert) {
     // Leaves at random angles above the floor (cos 60 degrees: the mean
     // inclination of a spherical distribution).
     vec2 reach = exp(-lai.y * canopy_extinction(0.0, 0.5, max(frame.light_dir.y, 0.0)));
-    vec3 lit = albedo * (frame.light_dir.w * reach.y + frame.light_color.rgb * lambert * sun_visibility(world) * reach.x);
+    vec3 lit = albedo * (frame.ambient * reach.y + frame.light_color * lambert * sun_visibility(world) * reach.x);
     return hazed(lit, world);
 }
 

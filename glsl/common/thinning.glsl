@@ -1,4 +1,4 @@
-// Distance thinning (ours; issue 18): beyond frame.thinning.x metres from
+// Distance thinning (ours; issue 18): beyond frame.thinning_from metres from
 // the camera only a share of the blades is drawn, and the blades kept are
 // widened so that the far meadow keeps its coverage. Mirrored on the CPU
 // by src/render/thinning.rs; the cull pass drops the blades whose scale is
@@ -26,18 +26,18 @@ float thinning_h(float variation) {
 // The width scale of a blade rooted at root.xyz with colour variation
 // root.w: 0 for a blade thinned out, 1 near the camera, above 1 far away.
 float thinning_scale(vec4 root) {
-    vec4 t = frame.thinning;   // x: d0 (m), y: least share, z: band, w: 1 = on
-    vec3 r = root.xyz - frame.camera_pos.xyz;
+    float d0 = frame.thinning_from;
+    vec3 r = root.xyz - frame.camera_pos;
     float d2 = max(dot(r, r), 1e-12);
-    float share = clamp(t.x * t.x / d2, t.y, 1.0);
-    float band = t.z * share;
+    float share = clamp(d0 * d0 / d2, frame.thinning_least, 1.0);
+    float band = frame.thinning_band * share;
     float h = thinning_h(root.w);
     float fade = clamp((share + band - h) / band, 0.0, 1.0);
     // The mean of fade over h in [0, 1): the band may reach past h = 1.
     float top = min(1.0, share + band);
     float over = share + band - top;
     float mean = share + (band * band - over * over) / (2.0 * band);
-    return mix(1.0, fade / mean, t.w);
+    return mix(1.0, fade / mean, frame.thinning_on);
 }
 
 #endif

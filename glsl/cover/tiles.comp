@@ -167,7 +167,7 @@ bool may_be_drawn(vec3 root, float rand, float reach, float half_width) {
     vec3 grow = vec3(reach + half_width * max(width_scale, 1.0));
     vec3 lo = root - grow, hi = root + grow;
     uint in_view = uint(box_in_frustum(frame.view_proj, lo, hi));
-    vec3 light = frame.light_dir.xyz;
+    vec3 light = frame.light_dir;
     uint low_sun = uint(light.y < LOWEST_SWEPT_SUN);
     light.y = max(light.y, LOWEST_SWEPT_SUN);
     shadow_sweep(light, lo, hi);

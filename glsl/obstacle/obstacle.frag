@@ -33,8 +33,8 @@ void main() {
     vec3 n = normalize(v_normal);
     float grain = 0.6 * value_noise3(v_local * 7.0) + 0.4 * value_noise3(v_local * 23.0);
     vec3 albedo = v_albedo * mix(0.8, 1.15, grain);
-    float lambert = max(dot(n, frame.light_dir.xyz), 0.0);
+    float lambert = max(dot(n, frame.light_dir), 0.0);
     float sky = 0.75 + 0.25 * n.y;
-    vec3 lit = albedo * (frame.light_dir.w * sky + frame.light_color.rgb * lambert * sun_visibility(v_world));
+    vec3 lit = albedo * (frame.ambient * sky + frame.light_color * lambert * sun_visibility(v_world));
     out_color = data_view() ? vec4(0.0, 0.0, 0.0, 1.0) : vec4(lit, 1.0);
 }

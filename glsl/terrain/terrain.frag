@@ -16,5 +16,5 @@ layout(location = 0) out vec4 out_color;
 
 void main() {
     vec3 n = normalize(v_normal);
-    out_color = data_view() ? vec4(0.0, 0.0, 0.0, 1.0) : vec4(soil_lit(v_world, max(dot(n, frame.light_dir.xyz), 0.0)), 1.0);
+    out_color = data_view() ? vec4(0.0, 0.0, 0.0, 1.0) : vec4(soil_lit(v_world, max(dot(n, frame.light_dir), 0.0)), 1.0);
 }

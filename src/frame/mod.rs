@@ -678,7 +678,7 @@ impl FrameRecorder {
         }
         let occluders = self
             .renderer
-            .begin_frame(glam::Mat4::from_cols_array(&uniforms.view_proj));
+            .begin_frame(glam::Mat4::from_cols_array_2d(&uniforms.view_proj));
         // The colliders are drawn where the blades see them after the steps.
         if let Some(s) = &self.simulation {
             self.renderer.place_colliders(s.time_after(steps) as f32);

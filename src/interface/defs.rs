@@ -563,4 +563,94 @@ gpu_interface! {
         /// The mesh's frame to world (rotation and translation), column-major.
         pub model: Mat4Columns,
     }
+
+    /// The per-frame uniforms every render stage reads (glsl/common/frame.glsl,
+    /// `frame`; made by src/render/frame_uniforms.rs from the scene's
+    /// camera, light, level of detail and look). Only scalars, vectors and
+    /// matrices, where std140 and std430 agree.
+    pub struct FrameUniforms {
+        pub view_proj: Mat4Columns,
+        pub inv_view_proj: Mat4Columns,
+        /// The eye in world space.
+        pub camera_pos: [f32; 3],
+        /// The sky's light on what the sun does not reach (its strength).
+        pub ambient: f32,
+        /// Unit vector toward the sun.
+        pub light_dir: [f32; 3],
+        /// What the fragment stage shows: VIEW_SHADED, VIEW_LOD,
+        /// VIEW_MOTION or VIEW_DISPLACEMENT.
+        pub view: u32,
+        /// The sun's colour (linear).
+        pub light_color: [f32; 3],
+        /// 1: level of detail on; 0: every blade at the close level.
+        pub lod_on: f32,
+        /// The close, medium and far `tess_level` (paper section 5).
+        pub tess_level: [f32; 3],
+        /// Where the close level ends (m).
+        pub lod_close_distance: f32,
+        /// The shadow pass's `tess_level`, which its own copy of this block
+        /// holds in `tess_level`: the scene's shadow levels with LOD on,
+        /// the colour pass's levels with it off.
+        pub shadow_tess_level: [f32; 3],
+        /// Where the medium level ends (m).
+        pub lod_far_distance: f32,
+        /// World to the shadow map's clip space (orthographic, from the sun).
+        pub light_view_proj: Mat4Columns,
+        /// One shadow-map texel in uv; set by the renderer, which owns the map.
+        pub shadow_texel: f32,
+        /// 1: shadows on; 0: off.
+        pub shadow_on: f32,
+        /// The depth bias of the shadow test (clip-space depth).
+        pub shadow_bias: f32,
+        /// The spacing of the percentage-closer taps (texels).
+        pub shadow_pcf_radius: f32,
+        /// Distance thinning (glsl/common/thinning.glsl): the distance it
+        /// begins (m), the least share kept, the band it fades over, and
+        /// 1 = on (only with culling, which drops the blades it thins out).
+        pub thinning_from: f32,
+        pub thinning_least: f32,
+        pub thinning_band: f32,
+        pub thinning_on: f32,
+        /// The clear ground lies around here (world x, z): the grass's
+        /// centre, or the camera with a cover ...
+        pub ground_center: [f32; 2],
+        /// ... out to this far (m); the haze begins beyond.
+        pub ground_clear: f32,
+        /// The lowest ground the grass's shadows can fall on (m; 0 on flat
+        /// ground).
+        pub terrain_lowest: f32,
+        /// The terrain mesh's centre (x, z) and half its side (m; 0: flat,
+        /// no mesh; src/render/terrain.rs).
+        pub terrain_center: [f32; 2],
+        pub terrain_half_side: f32,
+        /// The cover's leaf area index (0: none).
+        pub cover_lai: f32,
+        /// Where the cover grows: its least and greatest x, z (empty
+        /// without one).
+        pub cover_min: [f32; 2],
+        pub cover_max: [f32; 2],
+        /// The canopy map's least corner (x, z) and one over its extent;
+        /// set by the renderer (`CanopyMap::placement`).
+        pub canopy_map_min: [f32; 2],
+        pub canopy_map_inverse_extent: [f32; 2],
+        /// The canopy's top (m, the tallest blades).
+        pub canopy_top: f32,
+        /// 1: the canopy shades itself (glsl/common/canopy_light.glsl); 0: not.
+        pub self_shadowing: f32,
+        /// The leaf area index the canopy map's 1.0 stands for; set by the
+        /// renderer, which owns the map (glsl/common/canopy.glsl).
+        pub canopy_map_lai: f32,
+        /// `[grass.look]` (glsl/common/grass_color.glsl).
+        pub hue: f32,
+        pub dryness: f32,
+        pub tip: f32,
+        /// The clumps' size (m).
+        pub clump_size: f32,
+        pub clump_variation: f32,
+        pub sheen: f32,
+        pub translucency: f32,
+        /// The scene's seed's low 16 bits (exact in a float): the clumps' seed.
+        pub clump_seed: f32,
+        pub _pad0: u32,
+    }
 }

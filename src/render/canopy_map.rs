@@ -143,15 +143,10 @@ impl CanopyMap {
             .collect()
     }
 
-    /// `frame.canopy_map` (glsl/common/frame.glsl): its least corner and
+    /// `frame.canopy_map_min` and `canopy_map_inverse_extent` (glsl/common/frame.glsl): its least corner and
     /// one over its extent.
-    pub fn placement(&self) -> [f32; 4] {
-        [
-            self.origin[0],
-            self.origin[1],
-            1.0 / self.extent[0],
-            1.0 / self.extent[1],
-        ]
+    pub fn placement(&self) -> ([f32; 2], [f32; 2]) {
+        (self.origin, [1.0 / self.extent[0], 1.0 / self.extent[1]])
     }
 }
 

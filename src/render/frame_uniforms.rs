@@ -14,53 +14,8 @@ use crate::scene::Scene;
 
 pub use crate::scene::ViewMode;
 
-/// std140 mirror of `Frame` in glsl/common/frame.glsl; a test compares the
-/// member offsets with naga's reading of the compiled shader.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct FrameUniforms {
-    pub view_proj: [f32; 16],
-    pub inv_view_proj: [f32; 16],
-    pub camera_pos: [f32; 4],
-    pub light_dir: [f32; 4],
-    pub light_color: [f32; 4],
-    pub lod_distance: [f32; 4],
-    pub tess_level: [f32; 4],
-    pub ground: [f32; 4],
-    pub view: [u32; 4],
-    /// World to the shadow map's clip space (`light_view_proj`).
-    pub light_view_proj: [f32; 16],
-    /// x: one shadow-map texel in uv, y: 1 = shadows on, z: depth bias,
-    /// w: PCF tap spacing in texels. Set by the renderer, which owns the map.
-    pub shadow: [f32; 4],
-    /// x: distance thinning begins (m), y: least share kept, z: band, w:
-    /// 1 = on (only with culling, which drops the blades it thins out).
-    /// Off, the share is 1 everywhere and every scale is 1.
-    pub thinning: [f32; 4],
-    /// The shadow pass's `tess_level` (its own copy of this block holds
-    /// it there): the scene's shadow levels with LOD on, the colour
-    /// pass's close level with it off.
-    pub shadow_tess_level: [f32; 4],
-    /// x: the lowest ground the grass's shadows can fall on (m; 0 on flat
-    /// ground); y: half the side of the terrain mesh's square (0: flat, no
-    /// mesh; src/render/terrain.rs); zw: its centre (x, z).
-    pub terrain: [f32; 4],
-    /// x: the cover's leaf area index (0: none); y: the canopy's top (m,
-    /// the tallest blades); z: 1 = self-shadowing on; w: the leaf area
-    /// index the canopy map's 1.0 stands for (set by the renderer, which
-    /// owns the map; glsl/common/canopy.glsl).
-    pub canopy: [f32; 4],
-    /// The canopy map's least corner (x, z) and one over its extent; set
-    /// by the renderer (`CanopyMap::placement`).
-    pub canopy_map: [f32; 4],
-    /// Where the cover grows: x0, z0, x1, z1 (empty without one).
-    pub cover_bounds: [f32; 4],
-    /// `[grass.look]`: hue, dryness, tip, clump_size.
-    pub look: [f32; 4],
-    /// `[grass.look]`: clump_variation, sheen, translucency; w: the
-    /// scene's seed's low 16 bits (exact in a float), the clumps' seed.
-    pub look_more: [f32; 4],
-}
+/// The block's fields, one name each (src/interface/defs.rs).
+pub use crate::interface::FrameUniforms;
 
 /// The camera at simulated time `time`, in Vulkan clip space: y points
 /// down and depth runs 0..1.
@@ -115,62 +70,68 @@ impl FrameUniforms {
             Some(_) => eye,
             None => scene.grass_center(),
         };
+        let thinning = Thinning::of(scene);
+        let (cover_min, cover_max) = match &scene.grass.cover {
+            Some(cover) => {
+                let [x0, z0, x1, z1] = cover.bounds();
+                ([x0, z0], [x1, z1])
+            }
+            None => ([0.0; 2], [0.0; 2]),
+        };
+        let (terrain_lowest, terrain_half_side, terrain_center) =
+            if scene.ground.terrain().is_flat() {
+                (0.0, 0.0, [0.0; 2])
+            } else {
+                (
+                    terrain::lowest(scene, eye),
+                    terrain::half_side(scene.ground.half_extent),
+                    terrain::mesh_centre(scene, eye),
+                )
+            };
+        let on = |b: bool| if b { 1.0 } else { 0.0 };
         Self {
-            view_proj: view_proj.to_cols_array(),
-            inv_view_proj: view_proj.inverse().to_cols_array(),
-            camera_pos: eye.extend(1.0).to_array(),
-            light_dir: light.extend(scene.light.ambient).to_array(),
-            light_color: Vec3::from(scene.light.color).extend(0.0).to_array(),
-            lod_distance: [
-                lod.close_distance,
-                lod.far_distance,
-                if lod.enabled { 1.0 } else { 0.0 },
-                0.0,
-            ],
+            view_proj: view_proj.to_cols_array_2d(),
+            inv_view_proj: view_proj.inverse().to_cols_array_2d(),
+            camera_pos: eye.to_array(),
+            ambient: scene.light.ambient,
+            light_dir: light.to_array(),
+            view: view as u32,
+            light_color: scene.light.color,
+            lod_on: on(lod.enabled),
             tess_level: tess_levels(lod.levels),
-            ground: [ground.x, ground.z, scene.ground.half_extent, 0.0],
-            view: [view as u32, 0, 0, 0],
-            light_view_proj: light_view_proj(scene, &view_proj).to_cols_array(),
-            shadow: [0.0; 4],
-            thinning: Thinning::of(scene).uniform(),
+            lod_close_distance: lod.close_distance,
             shadow_tess_level: tess_levels(if lod.enabled {
                 lod.shadow_levels
             } else {
                 lod.levels
             }),
-            canopy: [
-                canopy_map::cover_leaf_area_index(scene),
-                scene.grass.shape.height[1],
-                if scene.grass.look.self_shadowing {
-                    1.0
-                } else {
-                    0.0
-                },
-                0.0,
-            ],
-            canopy_map: [0.0; 4],
-            cover_bounds: match &scene.grass.cover {
-                Some(cover) => cover.bounds(),
-                None => [0.0; 4],
-            },
-            look: [look.hue, look.dryness, look.tip, look.clump_size],
-            look_more: [
-                look.clump_variation,
-                look.sheen,
-                look.translucency,
-                (scene.seed & 0xffff) as f32,
-            ],
-            terrain: if scene.ground.terrain().is_flat() {
-                [0.0; 4]
-            } else {
-                let centre = terrain::mesh_centre(scene, eye);
-                [
-                    terrain::lowest(scene, eye),
-                    terrain::half_side(scene.ground.half_extent),
-                    centre[0],
-                    centre[1],
-                ]
-            },
+            lod_far_distance: lod.far_distance,
+            light_view_proj: light_view_proj(scene, &view_proj).to_cols_array_2d(),
+            thinning_from: thinning.from,
+            thinning_least: thinning.least,
+            thinning_band: thinning.band,
+            thinning_on: on(thinning.is_on()),
+            ground_center: [ground.x, ground.z],
+            ground_clear: scene.ground.half_extent,
+            terrain_lowest,
+            terrain_center,
+            terrain_half_side,
+            cover_lai: canopy_map::cover_leaf_area_index(scene),
+            cover_min,
+            cover_max,
+            canopy_top: scene.grass.shape.height[1],
+            self_shadowing: on(scene.grass.look.self_shadowing),
+            hue: look.hue,
+            dryness: look.dryness,
+            tip: look.tip,
+            clump_size: look.clump_size,
+            clump_variation: look.clump_variation,
+            sheen: look.sheen,
+            translucency: look.translucency,
+            clump_seed: (scene.seed & 0xffff) as f32,
+            // The shadow map's and the canopy map's fields are the
+            // renderer's, which owns the maps.
+            ..Self::default()
         }
     }
 }
@@ -179,12 +140,12 @@ impl FrameUniforms {
     /// The same instant in the data view of `--light-waves`: every blade
     /// its displacement, nothing else (`VIEW_DISPLACEMENT`).
     pub fn displacement_view(mut self) -> Self {
-        self.view[0] = crate::interface::VIEW_DISPLACEMENT;
+        self.view = crate::interface::VIEW_DISPLACEMENT;
         self
     }
 }
 
 /// Close, medium and far tessellation levels as the `tess_level` vector.
-fn tess_levels(levels: [u32; 3]) -> [f32; 4] {
-    [levels[0] as f32, levels[1] as f32, levels[2] as f32, 0.0]
+fn tess_levels(levels: [u32; 3]) -> [f32; 3] {
+    levels.map(|l| l as f32)
 }

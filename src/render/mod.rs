@@ -15,6 +15,7 @@ pub mod pipelines;
 pub mod renderer;
 pub mod shadow;
 pub mod shadow_frustum;
+pub mod shadow_params;
 pub mod targets;
 pub mod terrain;
 pub mod texture_maps;

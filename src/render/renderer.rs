@@ -169,9 +169,10 @@ impl Renderer {
     /// parameters) for both passes. Only between frames.
     pub fn set_uniforms(&mut self, uniforms: &FrameUniforms) {
         let mut uniforms = *uniforms;
-        uniforms.shadow = self.shadow.params();
-        uniforms.canopy[3] = self.textures.canopy_scale;
-        uniforms.canopy_map = self.textures.canopy_placement;
+        self.shadow.params().write(&mut uniforms);
+        uniforms.canopy_map_lai = self.textures.canopy_scale;
+        (uniforms.canopy_map_min, uniforms.canopy_map_inverse_extent) =
+            self.textures.canopy_placement;
         self.uniforms.write(0, std::slice::from_ref(&uniforms));
         self.shadow.write_uniforms(&uniforms);
     }

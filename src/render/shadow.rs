@@ -15,20 +15,8 @@ use crate::render::cull::BladeDraw;
 use crate::render::frame_uniforms::FrameUniforms;
 use crate::render::obstacles::ObstacleMeshes;
 use crate::render::pipelines::{ShadowPipelines, SHADOW_FORMAT, SHADOW_SET};
+pub use crate::render::shadow_params::ShadowParams;
 use crate::render::terrain::TerrainMesh;
-
-/// Depth bias in the shader, on top of the pipeline's constant and slope
-/// bias: a blade is a thin sheet that is often both occluder and receiver.
-const SHADER_DEPTH_BIAS: f32 = 2e-4;
-
-/// `frame.shadow` for a map of `size` texels a side (0: none): one texel
-/// in uv, on or off, the depth bias and the PCF taps' spacing in texels.
-pub fn params_of(size: u32) -> [f32; 4] {
-    let on = if size > 0 { 1.0 } else { 0.0 };
-    // PCF taps 1.5 texels apart: with bilinear comparison, a soft edge
-    // about 4 texels wide whatever the map size.
-    [1.0 / size.max(1) as f32, on, SHADER_DEPTH_BIAS, 1.5]
-}
 
 pub struct ShadowMap {
     /// Side in texels; 0 when shadows are off (a 1 x 1 map cleared to
@@ -99,9 +87,9 @@ impl ShadowMap {
         [Bound::Image(&self.image), Bound::Sampler(&self.sampler)]
     }
 
-    /// The `shadow` vector of the frame uniforms.
-    pub fn params(&self) -> [f32; 4] {
-        params_of(self.size)
+    /// The frame uniforms' `shadow_*` fields for this map.
+    pub fn params(&self) -> ShadowParams {
+        ShadowParams::of(self.size)
     }
 
     /// Writes the light's view of `frame` for this frame's shadow pass.

@@ -26,10 +26,10 @@ pub struct SurfaceTextures {
     pub ground: Image,
     /// The leaf area index of the meadows and bunches over the ground
     /// (src/render/canopy_map.rs), and what its 1.0 stands for and where
-    /// it lies (`frame.canopy.w`, `frame.canopy_map`).
+    /// it lies (`frame.canopy_map_lai`, `frame.canopy_map_min`).
     pub canopy: Image,
     pub canopy_scale: f32,
-    pub canopy_placement: [f32; 4],
+    pub canopy_placement: ([f32; 2], [f32; 2]),
     pub sampler: Sampler,
 }
 

@@ -49,16 +49,6 @@ impl Thinning {
         self.least < 1.0
     }
 
-    /// The frame uniform `thinning` (glsl/common/frame.glsl).
-    pub fn uniform(&self) -> [f32; 4] {
-        [
-            self.from,
-            self.least,
-            self.band,
-            if self.is_on() { 1.0 } else { 0.0 },
-        ]
-    }
-
     /// The share of blades drawn at squared distance `d2` from the camera,
     /// before the band.
     pub fn share(&self, d2: f32) -> f32 {

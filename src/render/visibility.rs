@@ -7,6 +7,7 @@ use glam::{Mat4, Vec3, Vec4};
 
 use crate::model::BladeVertex;
 use crate::render::depth_pyramid::Level;
+use crate::render::shadow_params::ShadowParams;
 use crate::render::thinning::Thinning;
 
 /// Suns lower than this (the y of the unit vector toward them) cast
@@ -170,7 +171,7 @@ pub struct CullView {
     pub eye: Vec3,
     /// Toward the sun, unit length.
     pub light: Vec3,
-    /// The lowest ground shadows fall on (frame.terrain.x; 0 on flat ground).
+    /// The lowest ground shadows fall on (`frame.terrain_lowest`; 0 on flat ground).
     pub floor: f32,
     /// Whether the shadow pass draws (else no blade casts).
     pub shadows: bool,
@@ -186,15 +187,15 @@ pub struct CullView {
 /// How far (m) the shadow map's filter reaches around a receiver: the
 /// PCF taps' spacing plus a bilinear texel and one more, in the world's
 /// metres along the light's axes (`light_view_proj`: world to the map's
-/// clip space, orthographic; `shadow`: `frame.shadow`). 0 without shadows.
-pub fn filter_reach(light_view_proj: &Mat4, shadow: [f32; 4]) -> f32 {
-    if shadow[1] == 0.0 {
+/// clip space, orthographic). 0 without shadows.
+pub fn filter_reach(light_view_proj: &Mat4, shadow: ShadowParams) -> f32 {
+    if !shadow.on {
         return 0.0;
     }
     let row = |i: usize| light_view_proj.row(i).truncate().length();
     // Clip space spans 2 across the map, uv 1.
-    let texel_m = shadow[0] * 2.0 / row(0).min(row(1)).max(1e-12);
-    texel_m * (shadow[3] + 2.0)
+    let texel_m = shadow.texel * 2.0 / row(0).min(row(1)).max(1e-12);
+    texel_m * (shadow.pcf_radius + 2.0)
 }
 
 /// How near each decision about a blade came to going the other way, so
