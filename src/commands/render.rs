@@ -9,11 +9,12 @@ use crate::analysis::light_waves::{self, LightWaveSeries, LightWaves};
 use crate::commands::on_gpu;
 use crate::compute::StepPace;
 use crate::error::{Error, Result};
-use crate::frame::timing::{FrameTimings, TimingSummary};
+use crate::frame::timing::{FrameTimings, Phase, TimingSummary};
 pub use crate::frame::Animation;
 use crate::frame::{CullCounts, Frame, FrameRecorder};
 use crate::gpu::query::PipelineStatistics;
 use crate::gpu::{Gpu, GpuOptions, ValidationReport};
+use crate::model::grass::CapCounts;
 use crate::render::FrameUniforms;
 use crate::report::claim::{name_in_folder, OutputClaim};
 pub use crate::report::render::{BladeCounts, RenderReport};
@@ -312,101 +313,152 @@ fn render_with(
             },
             other => other,
         })?;
-    let msaa_used = recorder.samples();
-    let generated = recorder.cover_blades();
-    let posed = recorder.cover_posed();
-    let from_state = recorder.cover_from_state();
-    let (far_jump, jump) = recorder.cover_tip_jumps();
-    let covered = scene.grass.cover.is_some();
-    let patches = if simulation.grass().is_some() {
-        blades.len() as u64
-    } else {
-        0
+    let simulated = simulation
+        .cover_dynamics()
+        .map_or(0, |d| d.blade_count() as u64);
+    let facts = RunFacts {
+        warnings,
+        blades: blades.len(),
+        under_obstacles,
+        patches: if simulation.grass().is_some() {
+            blades.len() as u64
+        } else {
+            0
+        },
+        simulated,
+        generated: recorder.cover_blades(),
+        posed: recorder.cover_posed(),
+        from_state: recorder.cover_from_state(),
+        tip_jumps: recorder.cover_tip_jumps(),
+        msaa_used: recorder.samples(),
+        sim_dt,
+        substeps,
+        sim_steps,
+        angle_caps,
+        untimed: recorder.untimed_phases(),
     };
-    let simulated = patches
-        + simulation
-            .cover_dynamics()
-            .map_or(0, |d| d.blade_count() as u64);
-
-    let info = gpu.info();
-    let device_memory = gpu.device_memory();
-    let untimed = recorder.untimed_phases();
     Ok(pictures
         .iter()
         .zip(done)
-        .map(|(picture, done)| RenderReport {
-            command_line: std::env::args().collect(),
-            scene_file: SCENE_NAME.into(),
-            shadow_map: scene.light.shadow_map,
-            camera: scene.camera.clone(),
-            scene: scene.name.clone(),
-            seed: scene.seed,
-            device: info.name.clone(),
-            device_type: info.device_type.clone(),
-            driver: info.driver.clone(),
-            api_version: info.api_version.clone(),
-            device_memory,
-            msaa_requested: request.msaa,
-            msaa_used,
-            blades: blades.len(),
-            blade_counts: {
-                let all = patches + generated;
-                let (in_view, drawn) = match &done.cull {
-                    Some(c) => ((c.in_view + c.occluded) as u64, c.in_view as u64),
-                    None => (all, all),
-                };
-                // A render always runs the wind: the cover's blades the
-                // frame may draw are posed in it.
-                BladeCounts {
-                    generated,
-                    simulated,
-                    quasi_static: posed,
-                    at_rest: generated - posed - from_state,
-                    in_view,
-                    drawn,
-                }
-            },
-            cover_largest_tip_jump_m: covered.then_some(jump),
-            cover_largest_far_tip_jump_m: covered.then_some(far_jump),
-            blades_under_obstacles: under_obstacles,
-            width: request.width,
-            height: request.height,
-            lod: scene.lod.enabled,
-            tess_levels: scene.lod.levels,
-            lod_distances: [scene.lod.close_distance, scene.lod.far_distance],
-            view: picture.view,
-            animation: request.animation,
-            coupling: scene.wind.coupling,
-            sim_dt,
-            substeps,
-            sim_steps,
-            angle_caps,
-            cap_fraction: angle_caps.fraction(),
-            frames_planned: request.frames_written().count() as u32,
-            frames: done.names,
-            gif: done.gif,
-            video: done.video,
-            interrupted: done.interrupted,
-            warnings: warnings
-                .iter()
-                .cloned()
-                .chain(legend::left_out(
-                    picture.view,
-                    scene.lod.levels,
-                    request.width,
-                    request.height,
-                ))
-                .collect(),
-            pipeline_statistics: done.statistics,
-            shadow_pipeline_statistics: done.shadow_statistics,
-            cull: scene.cull.enabled,
-            cull_counts: done.cull,
-            timing: TimingSummary::of(&done.gpu_timings, &done.wall_ms, &untimed),
-            light_waves: light_waves.clone(),
-            wall_seconds: 0.0,
-            validation: ValidationReport::default(),
-        })
+        .map(|(picture, done)| report(gpu, request, picture, done, &facts, &light_waves))
         .collect())
+}
+
+/// What one render learned beside its frames, the same for every picture
+/// it drew.
+struct RunFacts {
+    warnings: Vec<String>,
+    blades: usize,
+    under_obstacles: usize,
+    /// The patches' blades simulated (0 without their dynamics), and the
+    /// cover's kept blades.
+    patches: u64,
+    simulated: u64,
+    /// The cover's blades made, posed quasi-statically, posed from their
+    /// state; its largest far and overall tip jumps.
+    generated: u64,
+    posed: u64,
+    from_state: u64,
+    tip_jumps: (f32, f32),
+    msaa_used: u32,
+    sim_dt: f32,
+    substeps: u32,
+    sim_steps: u64,
+    angle_caps: CapCounts,
+    untimed: Vec<(Phase, String)>,
+}
+
+impl RunFacts {
+    /// The blades made, simulated, posed, seen and drawn (`cull`: the
+    /// cull pass's counts, None without it). A render always runs the
+    /// wind: the cover's blades the frame may draw are posed in it.
+    fn blade_counts(&self, cull: Option<&CullCounts>) -> BladeCounts {
+        let all = self.patches + self.generated;
+        let (in_view, drawn) = match cull {
+            Some(c) => ((c.in_view + c.occluded) as u64, c.in_view as u64),
+            None => (all, all),
+        };
+        BladeCounts {
+            generated: self.generated,
+            simulated: self.patches + self.simulated,
+            quasi_static: self.posed,
+            at_rest: self.generated - self.posed - self.from_state,
+            in_view,
+            drawn,
+        }
+    }
+}
+
+/// report.json of `picture`, drawn by the frame loop as `done` says.
+fn report(
+    gpu: &Gpu,
+    request: &RenderRequest,
+    picture: &Picture,
+    done: Animated,
+    facts: &RunFacts,
+    light_waves: &Option<LightWaves>,
+) -> RenderReport {
+    let scene = &request.scene;
+    let info = gpu.info();
+    let covered = scene.grass.cover.is_some();
+    let (far_jump, jump) = facts.tip_jumps;
+    RenderReport {
+        command_line: std::env::args().collect(),
+        scene_file: SCENE_NAME.into(),
+        shadow_map: scene.light.shadow_map,
+        camera: scene.camera.clone(),
+        scene: scene.name.clone(),
+        seed: scene.seed,
+        device: info.name.clone(),
+        device_type: info.device_type.clone(),
+        driver: info.driver.clone(),
+        api_version: info.api_version.clone(),
+        device_memory: gpu.device_memory(),
+        msaa_requested: request.msaa,
+        msaa_used: facts.msaa_used,
+        blades: facts.blades,
+        blade_counts: facts.blade_counts(done.cull.as_ref()),
+        cover_largest_tip_jump_m: covered.then_some(jump),
+        cover_largest_far_tip_jump_m: covered.then_some(far_jump),
+        blades_under_obstacles: facts.under_obstacles,
+        width: request.width,
+        height: request.height,
+        lod: scene.lod.enabled,
+        tess_levels: scene.lod.levels,
+        lod_distances: [scene.lod.close_distance, scene.lod.far_distance],
+        view: picture.view,
+        animation: request.animation,
+        coupling: scene.wind.coupling,
+        sim_dt: facts.sim_dt,
+        substeps: facts.substeps,
+        sim_steps: facts.sim_steps,
+        angle_caps: facts.angle_caps,
+        cap_fraction: facts.angle_caps.fraction(),
+        frames_planned: request.frames_written().count() as u32,
+        frames: done.names,
+        gif: done.gif,
+        video: done.video,
+        interrupted: done.interrupted,
+        warnings: facts
+            .warnings
+            .iter()
+            .cloned()
+            .chain(legend::left_out(
+                picture.view,
+                scene.lod.levels,
+                request.width,
+                request.height,
+            ))
+            .collect(),
+        pipeline_statistics: done.statistics,
+        shadow_pipeline_statistics: done.shadow_statistics,
+        cull: scene.cull.enabled,
+        cull_counts: done.cull,
+        timing: TimingSummary::of(&done.gpu_timings, &done.wall_ms, &facts.untimed),
+        light_waves: light_waves.clone(),
+        wall_seconds: 0.0,
+        validation: ValidationReport::default(),
+    }
 }
 
 /// What the frame loop got done.
@@ -478,27 +530,29 @@ impl PictureWriter<'_> {
     }
 }
 
-/// Simulates up to each written frame's time and renders it once per
-/// picture, in one submission per picture (the first also steps the
-/// simulation); writes each frame (and adds it to the GIF) as it is read
-/// back. With `light_waves`, each instant is drawn once more in the data
-/// view (and shaded, when no picture is) and measured. A failure names the
-/// frame it happened at; the frames written before it stay complete.
-fn animate(
-    gpu: &Gpu,
+/// An error met while drawing frame `f`: a lost device says the frames
+/// before it are complete.
+fn at_frame(f: u32, e: Error) -> Error {
+    match e {
+        Error::DeviceLost { during } => Error::DeviceLost {
+            during: format!("frame {f}, {during} (the frames before it are complete)"),
+        },
+        other => other,
+    }
+}
+
+/// Each picture's writer, its folder claimed (what an earlier render
+/// wrote there goes, so the folder never mixes two runs; a run refused
+/// before this point leaves the old outputs alone), its GIF and video
+/// begun.
+fn open_writers<'a>(
     request: &RenderRequest,
-    recorder: &mut FrameRecorder,
-    pictures: &[Picture],
-    claims: &[OutputClaim],
-    observer: &mut dyn FnMut(FrameProgress) -> bool,
-) -> Result<(Vec<Animated>, Option<LightWaves>)> {
-    let planned = request.frames_written().count() as u32;
+    pictures: &'a [Picture],
+    claims: &'a [OutputClaim],
+    planned: u32,
+) -> Result<Vec<PictureWriter<'a>>> {
     let mut writers = Vec::with_capacity(pictures.len());
     for (picture, claim) in pictures.iter().zip(claims) {
-        // Before the first frame: what an earlier render wrote here goes,
-        // so the folder never mixes two runs. A run refused before this
-        // point (bad input, no device, no memory) leaves the old outputs
-        // alone.
         claim.begin()?;
         let gif = if request.gif && planned > 1 {
             let seconds = 1.0 / request.written_fps();
@@ -529,6 +583,129 @@ fn animate(
             done: Animated::default(),
         });
     }
+    Ok(writers)
+}
+
+/// The shaded frame at `time` (drawn unless a picture already was) and
+/// its data view, for the waves of light; `steps` go with the first
+/// drawn. None: stopped.
+fn light_wave_frames(
+    gpu: &Gpu,
+    request: &RenderRequest,
+    recorder: &mut FrameRecorder,
+    time: f64,
+    shaded: Option<Vec<u8>>,
+    steps: &mut u64,
+) -> Result<Option<(Vec<u8>, Vec<u8>)>> {
+    let base = FrameUniforms::new(
+        &request.scene,
+        request.width,
+        request.height,
+        ViewMode::Shaded,
+        time as f32,
+    );
+    let mut draw = |uniforms: &FrameUniforms| {
+        recorder.render_unless_stopped(gpu, uniforms, std::mem::take(steps), None)
+    };
+    let shaded = match shaded {
+        Some(rgba) => Some(rgba),
+        None => draw(&base)?.map(|frame| frame.rgba),
+    };
+    let data = draw(&base.displacement_view())?;
+    Ok(shaded.zip(data.map(|d| d.rgba)))
+}
+
+/// Steps toward a frame far ahead in submissions paced to the machine,
+/// a stop asked after each (`progress` with the steps left); leaves the
+/// last batch in `steps`, to go with the frame, timed as its own. False:
+/// stopped.
+fn step_towards(
+    recorder: &mut FrameRecorder,
+    pace: &mut StepPace,
+    steps: &mut u64,
+    progress: FrameProgress,
+    observer: &mut dyn FnMut(FrameProgress) -> bool,
+) -> Result<bool> {
+    while *steps > pace.next(*steps) {
+        *steps -= pace.run(*steps, |batch| recorder.simulate(batch))?;
+        let progress = FrameProgress {
+            steps_left: *steps,
+            ..progress
+        };
+        if !observer(progress) {
+            return Ok(false);
+        }
+    }
+    Ok(true)
+}
+
+/// One written frame: its number, its simulated time, and whether its
+/// shaded picture is kept for the waves of light.
+#[derive(Clone, Copy)]
+struct FrameAt {
+    f: u32,
+    time: f64,
+    keep_shaded: bool,
+}
+
+/// Draws `frame` once per picture and writes it; the `steps` go with the
+/// first picture, the others draw the same instant, and between the
+/// submissions `keep_going` is asked. Returns the shaded picture's pixels
+/// where asked to keep them, or None where stopped.
+fn draw_pictures(
+    gpu: &Gpu,
+    request: &RenderRequest,
+    recorder: &mut FrameRecorder,
+    writers: &mut [PictureWriter],
+    frame: FrameAt,
+    steps: &mut u64,
+    keep_going: &mut dyn FnMut() -> bool,
+) -> Result<Option<Option<Vec<u8>>>> {
+    let mut shaded: Option<Vec<u8>> = None;
+    for writer in writers.iter_mut() {
+        let uniforms = FrameUniforms::new(
+            &request.scene,
+            request.width,
+            request.height,
+            writer.view,
+            frame.time as f32,
+        );
+        let started = Instant::now();
+        let drawn = recorder.render_unless_stopped(
+            gpu,
+            &uniforms,
+            std::mem::take(steps),
+            Some(&mut *keep_going),
+        )?;
+        let Some(mut drawn) = drawn else {
+            return Ok(None);
+        };
+        legend::stamp(&mut drawn, writer.view, request.scene.lod.levels);
+        let wall_ms = started.elapsed().as_secs_f64() * 1e3;
+        writer.write(frame.f, &drawn, wall_ms)?;
+        if frame.keep_shaded && writer.view == ViewMode::Shaded && shaded.is_none() {
+            shaded = Some(drawn.rgba);
+        }
+    }
+    Ok(Some(shaded))
+}
+
+/// Simulates up to each written frame's time and renders it once per
+/// picture, in one submission per picture (the first also steps the
+/// simulation); writes each frame (and adds it to the GIF) as it is read
+/// back. With `light_waves`, each instant is drawn once more in the data
+/// view (and shaded, when no picture is) and measured. A failure names the
+/// frame it happened at; the frames written before it stay complete.
+fn animate(
+    gpu: &Gpu,
+    request: &RenderRequest,
+    recorder: &mut FrameRecorder,
+    pictures: &[Picture],
+    claims: &[OutputClaim],
+    observer: &mut dyn FnMut(FrameProgress) -> bool,
+) -> Result<(Vec<Animated>, Option<LightWaves>)> {
+    let planned = request.frames_written().count() as u32;
+    let mut writers = open_writers(request, pictures, claims, planned)?;
     let mut interrupted = false;
     let mut pace = StepPace::default();
     let mut waves = request
@@ -537,91 +714,45 @@ fn animate(
     'frames: for (before, f) in request.frames_written().enumerate() {
         // Frames written before this one.
         let written = before as u32;
-        let at_frame = |e: Error| match e {
-            Error::DeviceLost { during } => Error::DeviceLost {
-                during: format!("frame {f}, {during} (the frames before it are complete)"),
-            },
-            other => other,
-        };
+        let at_frame = |e| at_frame(f, e);
         let time = request.animation.time_of(f);
         let mut steps = recorder.steps_until(time)?;
-        // Steps toward a frame far ahead go in submissions paced to the
-        // machine, a stop asked after each; the last batch goes with the
-        // frame, timed as its own.
-        while steps > pace.next(steps) {
-            steps -= pace.run(steps, |batch| recorder.simulate(batch).map_err(at_frame))?;
-            let progress = FrameProgress {
-                written,
-                planned,
-                steps_left: steps,
-            };
-            if !observer(progress) {
-                interrupted = true;
-                break 'frames;
-            }
+        let progress = FrameProgress {
+            written,
+            planned,
+            steps_left: 0,
+        };
+        if !step_towards(recorder, &mut pace, &mut steps, progress, observer).map_err(at_frame)? {
+            interrupted = true;
+            break 'frames;
         }
-        let mut shaded: Option<Vec<u8>> = None;
-        for writer in writers.iter_mut() {
-            let uniforms = FrameUniforms::new(
-                &request.scene,
-                request.width,
-                request.height,
-                writer.view,
-                time as f32,
-            );
-            let started = Instant::now();
-            // The steps go with the first picture; the others draw the
-            // same instant. Between the frame's submissions a stop is
-            // asked for too.
-            let mut keep_going = || {
-                observer(FrameProgress {
-                    written,
-                    planned,
-                    steps_left: 0,
-                })
-            };
-            let drawn = recorder
-                .render_unless_stopped(
-                    gpu,
-                    &uniforms,
-                    std::mem::take(&mut steps),
-                    Some(&mut keep_going),
-                )
-                .map_err(at_frame)?;
-            let Some(mut frame) = drawn else {
-                interrupted = true;
-                break 'frames;
-            };
-            legend::stamp(&mut frame, writer.view, request.scene.lod.levels);
-            let wall_ms = started.elapsed().as_secs_f64() * 1e3;
-            writer.write(f, &frame, wall_ms)?;
-            if waves.is_some() && writer.view == ViewMode::Shaded && shaded.is_none() {
-                shaded = Some(frame.rgba);
-            }
-        }
+        let frame = FrameAt {
+            f,
+            time,
+            keep_shaded: waves.is_some(),
+        };
+        let drawn = draw_pictures(
+            gpu,
+            request,
+            recorder,
+            &mut writers,
+            frame,
+            &mut steps,
+            &mut || observer(progress),
+        )
+        .map_err(at_frame)?;
+        let Some(shaded) = drawn else {
+            interrupted = true;
+            break 'frames;
+        };
         if let Some(series) = waves.as_mut() {
-            let base = FrameUniforms::new(
-                &request.scene,
-                request.width,
-                request.height,
-                ViewMode::Shaded,
-                time as f32,
-            );
-            let mut draw = |uniforms: &FrameUniforms| {
-                recorder
-                    .render_unless_stopped(gpu, uniforms, std::mem::take(&mut steps), None)
-                    .map_err(at_frame)
-            };
-            let shaded = match shaded {
-                Some(rgba) => Some(rgba),
-                None => draw(&base)?.map(|frame| frame.rgba),
-            };
-            let data = draw(&base.displacement_view())?;
-            let (Some(shaded), Some(data)) = (shaded, data) else {
+            let drawn = light_wave_frames(gpu, request, recorder, time, shaded, &mut steps)
+                .map_err(at_frame)?;
+            let Some((shaded, data)) = drawn else {
                 interrupted = true;
                 break 'frames;
             };
-            series.add(time, &shaded, &data.rgba);
+            series.add(time, &shaded, &data);
         }
         let progress = FrameProgress {
             written: written + 1,

@@ -138,19 +138,205 @@ pub fn honami(small: bool) -> Result<Scene> {
     Ok(scene)
 }
 
-/// The figures and their shots.
+/// The figures and their shots, one function each.
 pub fn plan(quick: bool) -> Result<Vec<Figure>> {
     let b = budget(quick);
+    Ok(vec![
+        fig10_few(&b)?,
+        fig10_several(&b)?,
+        fig11(&b)?,
+        fig12()?,
+        fig13(&b)?,
+        gusts(&b)?,
+        turbulence(&b)?,
+        waves_of_light(&b)?,
+        touch(&b)?,
+        landscape(&b)?,
+        grass_without_edges(&b)?,
+    ])
+}
+
+/// The label of a shot `b.sway` seconds into the wind.
+fn swaying(b: &Budget) -> String {
+    format!("swaying, {} s into the wind", b.sway)
+}
+
+/// A shot in the motion view, its label saying so.
+fn motion(s: Shot) -> Shot {
+    Shot {
+        view: ViewMode::Motion,
+        label: format!("{} (motion view: blue at rest, red bent)", s.label),
+        ..s
+    }
+}
+
+/// Fig. 10 (left): a few bunches, static and swaying.
+fn fig10_few(b: &Budget) -> Result<Figure> {
     let few = Scene::builtin("fig10-few-bunches")?;
+    let sway = swaying(b);
+    Ok(Figure {
+        title: "Fig. 10 (left): a few bunches",
+        paper: "A few bunches of grass, static and swaying in wind from the left.",
+        diagrams: Vec::new(),
+        shots: vec![
+            shot("static", "fig10-few/static", &few, 0.0),
+            shot(&sway, "fig10-few/swaying", &few, b.sway),
+        ],
+    })
+}
+
+/// Fig. 10 (right): several bunches, static and swaying.
+fn fig10_several(b: &Budget) -> Result<Figure> {
     let several = Scene::builtin("fig10-several-bunches")?;
+    let sway = swaying(b);
+    Ok(Figure {
+        title: "Fig. 10 (right): several bunches",
+        paper: "Several bunches of grass, static and swaying in wind from the left.",
+        diagrams: Vec::new(),
+        shots: vec![
+            shot("static", "fig10-several/static", &several, 0.0),
+            shot(&sway, "fig10-several/swaying", &several, b.sway),
+        ],
+    })
+}
+
+/// Fig. 11: a sequence of frames under the rotating wind.
+fn fig11(b: &Budget) -> Result<Figure> {
     let rotating = Scene::builtin("fig11-meadow-rotating")?;
+    let mut sequence = shot(
+        "frame sequence under the rotating wind",
+        "fig11",
+        &rotating,
+        0.0,
+    );
+    sequence.frames = b.sequence_frames;
+    Ok(Figure {
+        title: "Fig. 11: a meadow under a rotating wind",
+        paper: "A meadow swaying under a wind whose direction rotates, over a sequence of frames.",
+        shots: vec![sequence],
+        diagrams: Vec::new(),
+    })
+}
+
+/// Fig. 12: the LOD view and the same meadow shaded.
+fn fig12() -> Result<Figure> {
     let lod = Scene::builtin("fig12-lod")?;
+    let lod_shaded = Shot {
+        view: ViewMode::Shaded,
+        ..shot("the same meadow, shaded", "fig12-shaded", &lod, 0.0)
+    };
+    Ok(Figure {
+        title: "Fig. 12: level of detail",
+        paper: "Level of detail on a meadow: near blades finely tessellated, far ones coarsely.",
+        shots: vec![
+            shot(
+                "LOD view: red 20 segments, yellow 10, blue 3",
+                "fig12-lod",
+                &lod,
+                0.0,
+            ),
+            lod_shaded,
+        ],
+        diagrams: Vec::new(),
+    })
+}
+
+/// Fig. 13: with and without the obstacles, shaded and in the motion view.
+fn fig13(b: &Budget) -> Result<Figure> {
     let obstacles = Scene::builtin("fig13-obstacles")?;
+    let mut open = obstacles.clone();
+    open.wind.obstacles.clear();
+    open.name = "fig13-obstacles (obstacles removed)".into();
+    Ok(Figure {
+        title: "Fig. 13: obstacles",
+        paper: "Wind blocked by obstacles: the grass behind them stays calm.",
+        shots: vec![
+            shot("with obstacles", "fig13/with", &obstacles, b.sway),
+            shot("without obstacles", "fig13/without", &open, b.sway),
+            motion(shot(
+                "with obstacles",
+                "fig13/with-motion",
+                &obstacles,
+                b.sway,
+            )),
+            motion(shot(
+                "without obstacles",
+                "fig13/without-motion",
+                &open,
+                b.sway,
+            )),
+        ],
+        diagrams: Vec::new(),
+    })
+}
+
+/// Gusts that travel: the strip and its space-time diagram.
+fn gusts(b: &Budget) -> Result<Figure> {
     let strip = Scene::builtin("gust-strip")?;
-    let roll = Scene::builtin("roll")?;
-    let hills = Scene::builtin("hills")?;
-    let steppe = Scene::builtin("steppe")?;
+    Ok(Figure {
+        title: "Beyond the paper: gusts that travel",
+        paper: "Gusts enter from the left as faster air near the ground and are carried \
+                along the strip by the wind: waves run downwind. The diagram is measured \
+                from a trace of the grass (meadow trace): diagonal stripes are waves, their \
+                slope their speed.",
+        shots: vec![shot(
+            "a 36 m strip in gusts (motion view: blue at rest, red bent)",
+            "gusts/strip",
+            &strip,
+            b.gust_start,
+        )],
+        diagrams: vec![Diagram {
+            file: SPACE_TIME_FILE.into(),
+            caption: format!(
+                "Space-time diagram of the strip's motion, {} s to {} s: each 1 m band's \
+                 downwind tip displacement beyond its mean, in its own standard deviations",
+                b.gust_skip, b.gust_seconds
+            ),
+        }],
+    })
+}
+
+/// Turbulence everywhere: the field, its plan view and spectrum.
+fn turbulence(b: &Budget) -> Result<Figure> {
     let field = turbulent_field(b.field_density)?;
+    Ok(Figure {
+        title: TURBULENCE_TITLE,
+        paper: "Turbulence everywhere: a fluctuating, divergence-free part of the wind \
+                (intensity 0.3, length scale 4 m) carried by the mean wind and renewed \
+                all over the field (docs/method.md). From above, the tips bent downwind \
+                are patches a few metres across, not fronts, moving downwind from one \
+                second to the next; the tips' spectrum is drawn beside the blades' \
+                natural frequencies (docs/physics.md, \"Turbulence everywhere\").",
+        shots: vec![shot(
+            "a 60 x 60 m field in turbulence (motion view: blue at rest, red bent)",
+            "turbulence/field",
+            &field,
+            (FIELD_SKIP + 2.0) as f32,
+        )],
+        diagrams: vec![
+            Diagram {
+                file: format!("{TURBULENCE_DIR}/{PLAN_VIEW_NAME}"),
+                caption: format!(
+                    "The field from above at {:.0}, {:.0} and {:.0} s: each cell's downwind \
+                     tip displacement beyond its mean, in its own standard deviations",
+                    b.field_seconds - 2.0,
+                    b.field_seconds - 1.0,
+                    b.field_seconds
+                ),
+            },
+            Diagram {
+                file: format!("{TURBULENCE_DIR}/{SPECTRUM_NAME}"),
+                caption: format!(
+                    "The tips' spectrum from {FIELD_SKIP} s on, beside the blades' natural \
+                     frequencies"
+                ),
+            },
+        ],
+    })
+}
+
+/// Waves of light: honami shaded and in the motion view.
+fn waves_of_light(b: &Budget) -> Result<Figure> {
     let honami = honami(b.honami_small)?;
     let waves = Shot {
         frames: b.honami_frames.unwrap_or(honami.render.frames),
@@ -162,18 +348,61 @@ pub fn plan(quick: bool) -> Result<Vec<Figure>> {
             honami.render.start,
         )
     };
-    let mut open = obstacles.clone();
-    open.wind.obstacles.clear();
-    open.name = "fig13-obstacles (obstacles removed)".into();
+    Ok(Figure {
+        title: "Beyond the paper: waves of light",
+        paper: "Honami: a gust crossing a dense meadow bows its blades together, and \
+                their faces and sheen turn toward or away from the sun, the sky and the \
+                eye (a leaf's optics, docs/method.md section 4b): bands of light run \
+                across the shaded field at the wind's speed. The motion view beside it \
+                shows the same instants in false colour; the line under the shaded shot \
+                says how far its light varies and follows the blades' displacement \
+                (meadow render --light-waves; docs/physics.md, \"Waves of light\").",
+        shots: vec![
+            waves.clone(),
+            motion(Shot {
+                label: "the same frames".into(),
+                dir: "honami/motion".into(),
+                ..waves
+            }),
+        ],
+        diagrams: Vec::new(),
+    })
+}
 
-    let sway = format!("swaying, {} s into the wind", b.sway);
-    let mut sequence = shot(
-        "frame sequence under the rotating wind",
-        "fig11",
-        &rotating,
-        0.0,
-    );
-    sequence.frames = b.sequence_frames;
+/// Touch: the rolling ball and its trail.
+fn touch(b: &Budget) -> Result<Figure> {
+    let roll = Scene::builtin("roll")?;
+    Ok(Figure {
+        title: "Beyond the paper: touch",
+        paper: "The paper leaves collisions as future work. A ball rolls through the \
+                meadow in a breeze: the blades it meets are pushed out of it and pressed, \
+                and rise again behind it as their pressed state decays (docs/physics.md, \
+                \"Colliders\"). The ball blocks the wind as it moves.",
+        shots: vec![
+            shot("the ball half way", "roll/shaded", &roll, b.roll_start),
+            motion(shot("its trail", "roll/motion", &roll, b.roll_start)),
+        ],
+        diagrams: Vec::new(),
+    })
+}
+
+/// A landscape: the hills in the wind.
+fn landscape(b: &Budget) -> Result<Figure> {
+    let hills = Scene::builtin("hills")?;
+    Ok(Figure {
+        title: "Beyond the paper: a landscape",
+        paper: "The paper's meadows are flat. A meadow over a ridge and between hills \
+                (the ground's height field, drawn and shading), a bare path left by its \
+                density mask, the wind crossing the ridge at an angle: the solver sees the \
+                ground as solid (docs/physics.md, \"Wind over a ridge\").",
+        shots: vec![shot("in the wind", "hills", &hills, b.sway)],
+        diagrams: Vec::new(),
+    })
+}
+
+/// Grass without edges: the flight over steppe.
+fn grass_without_edges(b: &Budget) -> Result<Figure> {
+    let steppe = Scene::builtin("steppe")?;
     // The camera flies 10 m/s: 5 m between frames in quick mode, 1.25 m
     // (8 a second, 6 s, 60 m) in a video.
     let flight = Shot {
@@ -182,186 +411,19 @@ pub fn plan(quick: bool) -> Result<Vec<Figure>> {
         video: Some("flight.mp4".into()),
         ..shot("flying over it", "steppe", &steppe, 0.0)
     };
-    let lod_shaded = Shot {
-        view: ViewMode::Shaded,
-        ..shot("the same meadow, shaded", "fig12-shaded", &lod, 0.0)
-    };
-    let motion = |s: Shot| Shot {
-        view: ViewMode::Motion,
-        label: format!("{} (motion view: blue at rest, red bent)", s.label),
-        ..s
-    };
-    Ok(vec![
-        Figure {
-            title: "Fig. 10 (left): a few bunches",
-            paper: "A few bunches of grass, static and swaying in wind from the left.",
-            diagrams: Vec::new(),
-            shots: vec![
-                shot("static", "fig10-few/static", &few, 0.0),
-                shot(&sway, "fig10-few/swaying", &few, b.sway),
-            ],
-        },
-        Figure {
-            title: "Fig. 10 (right): several bunches",
-            paper: "Several bunches of grass, static and swaying in wind from the left.",
-            diagrams: Vec::new(),
-            shots: vec![
-                shot("static", "fig10-several/static", &several, 0.0),
-                shot(&sway, "fig10-several/swaying", &several, b.sway),
-            ],
-        },
-        Figure {
-            title: "Fig. 11: a meadow under a rotating wind",
-            paper:
-                "A meadow swaying under a wind whose direction rotates, over a sequence of frames.",
-            shots: vec![sequence],
-            diagrams: Vec::new(),
-        },
-        Figure {
-            title: "Fig. 12: level of detail",
-            paper:
-                "Level of detail on a meadow: near blades finely tessellated, far ones coarsely.",
-            shots: vec![
-                shot(
-                    "LOD view: red 20 segments, yellow 10, blue 3",
-                    "fig12-lod",
-                    &lod,
-                    0.0,
-                ),
-                lod_shaded,
-            ],
-            diagrams: Vec::new(),
-        },
-        Figure {
-            title: "Fig. 13: obstacles",
-            paper: "Wind blocked by obstacles: the grass behind them stays calm.",
-            shots: vec![
-                shot("with obstacles", "fig13/with", &obstacles, b.sway),
-                shot("without obstacles", "fig13/without", &open, b.sway),
-                motion(shot(
-                    "with obstacles",
-                    "fig13/with-motion",
-                    &obstacles,
-                    b.sway,
-                )),
-                motion(shot(
-                    "without obstacles",
-                    "fig13/without-motion",
-                    &open,
-                    b.sway,
-                )),
-            ],
-            diagrams: Vec::new(),
-        },
-        Figure {
-            title: "Beyond the paper: gusts that travel",
-            paper: "Gusts enter from the left as faster air near the ground and are carried \
-                    along the strip by the wind: waves run downwind. The diagram is measured \
-                    from a trace of the grass (meadow trace): diagonal stripes are waves, their \
-                    slope their speed.",
-            shots: vec![shot(
-                "a 36 m strip in gusts (motion view: blue at rest, red bent)",
-                "gusts/strip",
-                &strip,
-                b.gust_start,
-            )],
-            diagrams: vec![Diagram {
-                file: SPACE_TIME_FILE.into(),
-                caption: format!(
-                    "Space-time diagram of the strip's motion, {} s to {} s: each 1 m band's \
-                     downwind tip displacement beyond its mean, in its own standard deviations",
-                    b.gust_skip, b.gust_seconds
-                ),
-            }],
-        },
-        Figure {
-            title: TURBULENCE_TITLE,
-            paper: "Turbulence everywhere: a fluctuating, divergence-free part of the wind \
-                    (intensity 0.3, length scale 4 m) carried by the mean wind and renewed \
-                    all over the field (docs/method.md). From above, the tips bent downwind \
-                    are patches a few metres across, not fronts, moving downwind from one \
-                    second to the next; the tips' spectrum is drawn beside the blades' \
-                    natural frequencies (docs/physics.md, \"Turbulence everywhere\").",
-            shots: vec![shot(
-                "a 60 x 60 m field in turbulence (motion view: blue at rest, red bent)",
-                "turbulence/field",
-                &field,
-                (FIELD_SKIP + 2.0) as f32,
-            )],
-            diagrams: vec![
-                Diagram {
-                    file: format!("{TURBULENCE_DIR}/{PLAN_VIEW_NAME}"),
-                    caption: format!(
-                        "The field from above at {:.0}, {:.0} and {:.0} s: each cell's downwind \
-                         tip displacement beyond its mean, in its own standard deviations",
-                        b.field_seconds - 2.0,
-                        b.field_seconds - 1.0,
-                        b.field_seconds
-                    ),
-                },
-                Diagram {
-                    file: format!("{TURBULENCE_DIR}/{SPECTRUM_NAME}"),
-                    caption: format!(
-                        "The tips' spectrum from {FIELD_SKIP} s on, beside the blades' natural \
-                         frequencies"
-                    ),
-                },
-            ],
-        },
-        Figure {
-            title: "Beyond the paper: waves of light",
-            paper: "Honami: a gust crossing a dense meadow bows its blades together, and \
-                    their faces and sheen turn toward or away from the sun, the sky and the \
-                    eye (a leaf's optics, docs/method.md section 4b): bands of light run \
-                    across the shaded field at the wind's speed. The motion view beside it \
-                    shows the same instants in false colour; the line under the shaded shot \
-                    says how far its light varies and follows the blades' displacement \
-                    (meadow render --light-waves; docs/physics.md, \"Waves of light\").",
-            shots: vec![
-                waves.clone(),
-                motion(Shot {
-                    label: "the same frames".into(),
-                    dir: "honami/motion".into(),
-                    ..waves
-                }),
-            ],
-            diagrams: Vec::new(),
-        },
-        Figure {
-            title: "Beyond the paper: touch",
-            paper: "The paper leaves collisions as future work. A ball rolls through the \
-                    meadow in a breeze: the blades it meets are pushed out of it and pressed, \
-                    and rise again behind it as their pressed state decays (docs/physics.md, \
-                    \"Colliders\"). The ball blocks the wind as it moves.",
-            shots: vec![
-                shot("the ball half way", "roll/shaded", &roll, b.roll_start),
-                motion(shot("its trail", "roll/motion", &roll, b.roll_start)),
-            ],
-            diagrams: Vec::new(),
-        },
-        Figure {
-            title: "Beyond the paper: a landscape",
-            paper: "The paper's meadows are flat. A meadow over a ridge and between hills \
-                    (the ground's height field, drawn and shading), a bare path left by its \
-                    density mask, the wind crossing the ridge at an angle: the solver sees the \
-                    ground as solid (docs/physics.md, \"Wind over a ridge\").",
-            shots: vec![shot("in the wind", "hills", &hills, b.sway)],
-            diagrams: Vec::new(),
-        },
-        Figure {
-            title: "Beyond the paper: grass without edges",
-            paper: "The paper's meadows are bounded and made once. A [grass.cover] is made on \
-                    the GPU each frame in 4 m tiles around the camera, each tile's blades from \
-                    the seed and the tile alone, and each blade the frame may draw leans where \
-                    its torques balance in the wind at its tip (the quasi-static pose, \
-                    docs/method.md); within 30 m they carry the paper's dynamics, blended into \
-                    that pose over the last 4 m. The wind is a window that follows the camera. \
-                    The camera flies over it at 10 m/s and it never ends (docs/perf.md, \"The \
-                    cover\"); a video of the flight beside the frames.",
-            shots: vec![flight],
-            diagrams: Vec::new(),
-        },
-    ])
+    Ok(Figure {
+        title: "Beyond the paper: grass without edges",
+        paper: "The paper's meadows are bounded and made once. A [grass.cover] is made on \
+                the GPU each frame in 4 m tiles around the camera, each tile's blades from \
+                the seed and the tile alone, and each blade the frame may draw leans where \
+                its torques balance in the wind at its tip (the quasi-static pose, \
+                docs/method.md); within 30 m they carry the paper's dynamics, blended into \
+                that pose over the last 4 m. The wind is a window that follows the camera. \
+                The camera flies over it at 10 m/s and it never ends (docs/perf.md, \"The \
+                cover\"); a video of the flight beside the frames.",
+        shots: vec![flight],
+        diagrams: Vec::new(),
+    })
 }
 
 /// Where `reproduce` is, told before each shot starts.
@@ -415,69 +477,24 @@ pub fn reproduce(
     let started = std::time::Instant::now();
     let mut rendered = Vec::new();
     for (index, figure) in figures.iter().enumerate() {
-        // Shots of one instant in other views are drawn from one
-        // simulation (fig. 13's shaded and motion views, the ball's): the
-        // same frames as rendering each alone, simulated once.
-        let mut reports: Vec<Option<RenderReport>> = vec![None; figure.shots.len()];
-        let mut videos: Vec<Option<std::result::Result<String, String>>> =
-            vec![None; figure.shots.len()];
-        for (first, s) in figure.shots.iter().enumerate() {
-            if reports[first].is_some() {
-                continue;
-            }
-            let same: Vec<usize> = (first..figure.shots.len())
-                .filter(|&k| reports[k].is_none() && figure.shots[k].same_instant(s))
-                .collect();
+        let mut progress = |shot: &str, done_here: usize| {
             on_shot(ShotProgress {
                 figure: figure.title,
-                shot: &s.label,
-                done: rendered.len() + reports.iter().flatten().count(),
+                shot,
+                done: rendered.len() + done_here,
                 total,
                 elapsed_s: started.elapsed().as_secs_f64(),
-            });
-            let mut request = RenderRequest::from_scene(s.scene.clone(), gpu.clone());
-            request.width = b.width;
-            request.height = b.height;
-            request.view = s.view;
-            request.animation.frames = s.frames;
-            request.animation.fps = s.fps;
-            request.animation.start = s.start;
-            request.overwrite = overwrite;
-            // A video where ffmpeg is at hand; without it the index says
-            // why there is none (the frames need nothing).
-            let video = s.video.as_ref().filter(|_| same.len() == 1).map(|name| {
-                crate::report::video::find_ffmpeg()
-                    .map(|_| name.clone())
-                    .map_err(|_| {
-                        "ffmpeg is not on PATH (scripts/ensure-ffmpeg installs it)".to_string()
-                    })
-            });
-            if let Some(Ok(name)) = &video {
-                request.video = Some(out.join(&s.dir).join(name));
-            }
-            videos[first] = video;
-            let pictures: Vec<Picture> = same
-                .iter()
-                .map(|&k| Picture {
-                    view: figure.shots[k].view,
-                    dir: out.join(&figure.shots[k].dir),
-                })
-                .collect();
-            let done = render_pictures(&request, &pictures, &mut |_| true)?;
-            for (k, report) in same.into_iter().zip(done) {
-                reports[k] = Some(report);
-            }
-        }
-        for ((s, report), video) in figure.shots.iter().zip(reports).zip(videos) {
-            rendered.push(Rendered {
-                figure: index,
-                label: s.label.clone(),
-                dir: s.dir.clone(),
-                scene: s.scene.clone(),
-                report: report.expect("every shot rendered"),
-                video,
-            });
-        }
+            })
+        };
+        let shots = render_figure(figure, &b, out, overwrite, gpu, &mut progress)?;
+        rendered.extend(shots.into_iter().map(|(s, report, video)| Rendered {
+            figure: index,
+            label: s.label.clone(),
+            dir: s.dir.clone(),
+            scene: s.scene.clone(),
+            report,
+            video,
+        }));
     }
     on_shot(ShotProgress {
         figure: "Beyond the paper: gusts that travel",
@@ -509,6 +526,74 @@ pub fn reproduce(
         html(&figures, &rendered, out, quick)?.as_bytes(),
     )?;
     Ok(rendered)
+}
+
+/// A shot's video: its file name, or why there is none.
+type Video = Option<std::result::Result<String, String>>;
+
+/// Renders `figure`'s shots into `out`, telling `progress` of each (its
+/// label and the figure's shots done before it). Shots of one instant in
+/// other views are drawn from one simulation (fig. 13's shaded and motion
+/// views, the ball's): the same frames as rendering each alone, simulated
+/// once.
+fn render_figure<'f>(
+    figure: &'f Figure,
+    b: &Budget,
+    out: &Path,
+    overwrite: bool,
+    gpu: &GpuOptions,
+    progress: &mut dyn FnMut(&str, usize),
+) -> Result<Vec<(&'f Shot, RenderReport, Video)>> {
+    let mut reports: Vec<Option<RenderReport>> = vec![None; figure.shots.len()];
+    let mut videos: Vec<Video> = vec![None; figure.shots.len()];
+    for (first, s) in figure.shots.iter().enumerate() {
+        if reports[first].is_some() {
+            continue;
+        }
+        let same: Vec<usize> = (first..figure.shots.len())
+            .filter(|&k| reports[k].is_none() && figure.shots[k].same_instant(s))
+            .collect();
+        progress(&s.label, reports.iter().flatten().count());
+        let mut request = RenderRequest::from_scene(s.scene.clone(), gpu.clone());
+        request.width = b.width;
+        request.height = b.height;
+        request.view = s.view;
+        request.animation.frames = s.frames;
+        request.animation.fps = s.fps;
+        request.animation.start = s.start;
+        request.overwrite = overwrite;
+        // A video where ffmpeg is at hand; without it the index says
+        // why there is none (the frames need nothing).
+        let video = s.video.as_ref().filter(|_| same.len() == 1).map(|name| {
+            crate::report::video::find_ffmpeg()
+                .map(|_| name.clone())
+                .map_err(|_| {
+                    "ffmpeg is not on PATH (scripts/ensure-ffmpeg installs it)".to_string()
+                })
+        });
+        if let Some(Ok(name)) = &video {
+            request.video = Some(out.join(&s.dir).join(name));
+        }
+        videos[first] = video;
+        let pictures: Vec<Picture> = same
+            .iter()
+            .map(|&k| Picture {
+                view: figure.shots[k].view,
+                dir: out.join(&figure.shots[k].dir),
+            })
+            .collect();
+        let done = render_pictures(&request, &pictures, &mut |_| true)?;
+        for (k, report) in same.into_iter().zip(done) {
+            reports[k] = Some(report);
+        }
+    }
+    Ok(figure
+        .shots
+        .iter()
+        .zip(reports)
+        .zip(videos)
+        .map(|((s, report), video)| (s, report.expect("every shot rendered"), video))
+        .collect())
 }
 
 const INDEX_MD: &str = "index.md";
