@@ -126,56 +126,140 @@ pub struct CoverTilePass {
     max_groups: u32,
 }
 
-impl CoverTilePass {
-    /// The pass `setup` describes.
-    pub fn new(gpu: &Gpu, commands: &CommandPool, setup: CoverSetup<'_>) -> Result<Self> {
-        let CoverSetup {
-            cover,
-            seed,
-            grass,
-            vertices,
-            base,
-            wind,
-            frame,
-            pose_drawn_only,
-            states,
-            presses,
-            terrain,
-            far_poses,
-        } = setup;
-        let presses = presses.filter(|_| states.is_some());
-        let most = cover::most_blades(cover);
-        let too_many = || {
-            Error::InvalidInput(format!(
-                "grass.cover: {most} blades around the camera after {base} of the patches' are more than one buffer indexes; lower density or view_distance"
-            ))
+/// The most blades the cover may hold (`cover::most_blades`) and the end
+/// of its part of the blade buffer, after the patches' `base`: refused
+/// where one buffer cannot index them or `vertices` cannot hold them.
+fn room_for(cover: &Cover, base: u32, vertices: &Buffer) -> Result<(u32, u32)> {
+    let most = cover::most_blades(cover);
+    let too_many = || {
+        Error::InvalidInput(format!(
+            "grass.cover: {most} blades around the camera after {base} of the patches' are more than one buffer indexes; lower density or view_distance"
+        ))
+    };
+    let capacity = u32::try_from(most).map_err(|_| too_many())?;
+    let end = base.checked_add(capacity).ok_or_else(too_many)?;
+    if vertices.size < end as u64 * BLADE_BYTES as u64 {
+        return Err(Error::InvalidInput(format!(
+            "the blade buffer holds {} bytes, the patches' {base} and the cover's {most} blades need {}",
+            vertices.size,
+            end as u64 * BLADE_BYTES as u64
+        )));
+    }
+    Ok((capacity, end))
+}
+
+/// What the kernel reads of the scene: the blades' physics ranges, the
+/// simulated radius, the ground's steepest slope; the wind and what the
+/// pass is given left at zero.
+fn params_of(cover: &Cover, grass: &Grass, terrain: &Terrain) -> CoverParams {
+    let d = &grass.dynamics;
+    CoverParams {
+        tip_stiffness: d.tip_stiffness,
+        stiffness_ratio: d.stiffness_ratio,
+        sigma: d.sigma,
+        simulate_radius: cover.simulate_radius(),
+        edge_mass: d.edge_mass,
+        far_tracking: 1,
+        max_slope: terrain.max_slope(),
+        ..bytemuck::Zeroable::zeroed()
+    }
+}
+
+/// One set per batch of the blade buffer holding some of the cover's
+/// blades (`cover`: where they lie in it): binding 0 the frame, 1 the
+/// batch's blades, 2 to 8 `rest` in order. The batches run over the whole
+/// buffer, so that each binding starts at an offset every device's
+/// alignment divides; the kernel writes only the cover's part.
+fn tile_sets(
+    gpu: &Gpu,
+    layout: &PipelineLayout,
+    vertices: &Buffer,
+    cover: Range<u32>,
+    frame: &Buffer,
+    rest: [&Buffer; 7],
+) -> Result<Vec<(DescriptorSet, Range<u32>)>> {
+    let sets = sets_per_batch(
+        gpu,
+        layout,
+        COVER_SET,
+        cover.end,
+        BLADE_BYTES as u64,
+        "cover tiles set",
+        |blades| {
+            let mut bound = vec![Bound::Buffer(frame), part(vertices, blades, BLADE_BYTES)];
+            bound.extend(rest.iter().map(|&b| Bound::Buffer(b)));
+            bound
+        },
+    )?;
+    Ok(sets
+        .into_iter()
+        .filter(|(_, blades)| blades.end > cover.start)
+        .collect())
+}
+
+/// One buffer standing for the wind, the states and the pressed states
+/// where any of `optional` is missing (the kernel reads none of those
+/// then).
+fn placeholder_for(gpu: &Gpu, optional: &[Option<&Buffer>; 3]) -> Result<Option<Buffer>> {
+    if optional.iter().all(Option::is_some) {
+        return Ok(None);
+    }
+    Buffer::new(
+        gpu,
+        "cover placeholder (no wind: blades at rest; no dynamics; no pressed states)",
+        32,
+        vk::BufferUsageFlags::STORAGE_BUFFER,
+        MemoryLocation::GpuOnly,
+    )
+    .map(Some)
+}
+
+/// The kernel's counters, read by the host: the blades posed
+/// quasi-statically and from their state, those left out, and the
+/// largest tip moves.
+fn posed_counters(gpu: &Gpu) -> Result<Buffer> {
+    Buffer::new(
+        gpu,
+        "cover blades posed (quasi-static, from their state), left out, and the largest tip moves",
+        20,
+        vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
+        MemoryLocation::GpuToCpu,
+    )
+}
+
+/// The buffers the pass makes for itself: its parameters (and the record
+/// they were written from), the ground's heights, the counters the host
+/// reads, and the last poses where the dynamics keep none.
+struct TileBuffers {
+    record: CoverParams,
+    params: Buffer,
+    terrain: Buffer,
+    posed: Buffer,
+    far_poses: Option<Buffer>,
+}
+
+impl TileBuffers {
+    fn new(gpu: &Gpu, commands: &CommandPool, setup: &CoverSetup, pressed: bool) -> Result<Self> {
+        let cover = setup.cover;
+        // The last poses: the dynamics' (whose tiles coming in start
+        // from them), else the pass's own; none where the device cannot
+        // bind them whole (a placeholder of its own: the kernel's binding
+        // is read and written).
+        let (far_poses, far_kept) = match setup.far_poses {
+            Some(_) => (None, true),
+            None => super::cover_dynamics::far_poses_buffer(gpu, commands, cover)
+                .map(|(own, kept)| (Some(own), kept))?,
         };
-        let capacity = u32::try_from(most).map_err(|_| too_many())?;
-        let end = base.checked_add(capacity).ok_or_else(too_many)?;
-        if vertices.size < end as u64 * BLADE_BYTES as u64 {
-            return Err(Error::InvalidInput(format!(
-                "the blade buffer holds {} bytes, the patches' {base} and the cover's {most} blades need {}",
-                vertices.size,
-                end as u64 * BLADE_BYTES as u64
-            )));
-        }
-        let d = &grass.dynamics;
-        let mut record = CoverParams {
-            grid: match &wind {
+        let record = CoverParams {
+            grid: match &setup.wind {
                 Some(w) => super::wind_pass::grid_params(&w.grid, w.grid.face_count() as u32),
                 None => bytemuck::Zeroable::zeroed(),
             },
-            tip_stiffness: d.tip_stiffness,
-            stiffness_ratio: d.stiffness_ratio,
-            sigma: d.sigma,
-            pose: wind.is_some() as u32,
-            pose_drawn_only: pose_drawn_only as u32,
-            simulate_radius: cover.simulate_radius(),
-            pressed_states: presses.is_some() as u32,
-            edge_mass: d.edge_mass,
-            far_tracking: 1,
-            max_slope: terrain.max_slope(),
-            ..bytemuck::Zeroable::zeroed()
+            pose: setup.wind.is_some() as u32,
+            pose_drawn_only: setup.pose_drawn_only as u32,
+            pressed_states: pressed as u32,
+            far_kept: far_kept as u32,
+            ..params_of(cover, setup.grass, setup.terrain)
         };
         let params = Buffer::with_data(
             gpu,
@@ -188,53 +272,44 @@ impl CoverTilePass {
         let terrain = super::terrain_buffer(
             gpu,
             commands,
-            terrain,
+            setup.terrain,
             "cover terrain (height map, hills, ridges)",
         )?;
-        // The last poses: the dynamics' (whose tiles coming in start
-        // from them), else the pass's own; none where the device cannot
-        // bind them whole.
-        // (A placeholder of its own: the kernel's binding is read and
-        // written.)
-        let (own_far_poses, far_kept) = match far_poses {
-            Some(_) => (None, true),
-            None => {
-                let (own, kept) = super::cover_dynamics::far_poses_buffer(gpu, commands, cover)?;
-                (Some(own), kept)
-            }
-        };
-        record.far_kept = far_kept as u32;
-        let far_poses = far_poses
-            .or(own_far_poses.as_ref())
+        Ok(Self {
+            record,
+            params,
+            terrain,
+            posed: posed_counters(gpu)?,
+            far_poses,
+        })
+    }
+}
+
+impl CoverTilePass {
+    /// The pass `setup` describes.
+    pub fn new(gpu: &Gpu, commands: &CommandPool, setup: CoverSetup<'_>) -> Result<Self> {
+        let CoverSetup {
+            cover,
+            grass,
+            vertices,
+            base,
+            states,
+            ..
+        } = setup;
+        let wind = setup.wind.as_ref();
+        let presses = setup.presses.filter(|_| states.is_some());
+        let (capacity, end) = room_for(cover, base, vertices)?;
+        let own = TileBuffers::new(gpu, commands, &setup, presses.is_some())?;
+        let far_poses = setup
+            .far_poses
+            .or(own.far_poses.as_ref())
             .expect("the dynamics' or the pass's own");
-        let posed = Buffer::new(
-            gpu,
-            "cover blades posed (quasi-static, from their state), left out, and the largest tip moves",
-            20,
-            vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
-            MemoryLocation::GpuToCpu,
-        )?;
         // One placeholder stands for the wind, the states and the pressed
         // states where any is missing (the kernel reads none of those then).
-        let placeholder = if wind.is_none() || states.is_none() || presses.is_none() {
-            Some(Buffer::new(
-                gpu,
-                "cover placeholder (no wind: blades at rest; no dynamics; no pressed states)",
-                32,
-                vk::BufferUsageFlags::STORAGE_BUFFER,
-                MemoryLocation::GpuOnly,
-            )?)
-        } else {
-            None
-        };
+        let optional = [wind.map(|w| w.velocity), states, presses];
+        let placeholder = placeholder_for(gpu, &optional)?;
         let [wind_buffer, states_buffer, presses_buffer] =
-            [wind.as_ref().map(|w| w.velocity), states, presses].map(|given| {
-                match (given, &placeholder) {
-                    (Some(b), _) => b,
-                    (None, Some(p)) => p,
-                    (None, None) => unreachable!("a placeholder is made for what is missing"),
-                }
-            });
+            optional.map(|given| given.or(placeholder.as_ref()).expect("a placeholder"));
         let layout = PipelineLayout::new::<CoverPush>(
             gpu,
             COVER_SET,
@@ -242,52 +317,45 @@ impl CoverTilePass {
             "cover tiles",
         )?;
         let pipeline = Pipeline::compute(gpu, &layout, &crate::shaders::COVER_TILES_COMP)?;
-        // Batches over the whole buffer, so that each binding starts at an
-        // offset every device's alignment divides; the kernel writes only
-        // the cover's part of those holding some of it.
-        let sets = sets_per_batch(
+        let rest = [
+            &own.params,
+            wind_buffer,
+            &own.posed,
+            states_buffer,
+            &own.terrain,
+        ];
+        let sets = tile_sets(
             gpu,
             &layout,
-            COVER_SET,
-            end,
-            BLADE_BYTES as u64,
-            "cover tiles set",
-            |blades| {
-                vec![
-                    Bound::Buffer(frame),
-                    part(vertices, blades, BLADE_BYTES),
-                    Bound::Buffer(&params),
-                    Bound::Buffer(wind_buffer),
-                    Bound::Buffer(&posed),
-                    Bound::Buffer(states_buffer),
-                    Bound::Buffer(&terrain),
-                    Bound::Buffer(presses_buffer),
-                    Bound::Buffer(far_poses),
-                ]
-            },
-        )?
-        .into_iter()
-        .filter(|(_, blades)| blades.end > base)
-        .collect();
-        let wind = wind.map(|w| BufferId::from(w.velocity));
-        let states = states.map(BufferId::from);
-        let presses = presses.map(BufferId::from);
+            vertices,
+            base..end,
+            setup.frame,
+            [
+                rest[0],
+                rest[1],
+                rest[2],
+                rest[3],
+                rest[4],
+                presses_buffer,
+                far_poses,
+            ],
+        )?;
         Ok(Self {
             pipeline,
-            params,
-            record,
-            posed,
-            wind,
-            states,
-            presses,
+            params: own.params,
+            record: own.record,
+            posed: own.posed,
+            wind: wind.map(|w| BufferId::from(w.velocity)),
+            states: states.map(BufferId::from),
+            presses: presses.map(BufferId::from),
             _placeholder: placeholder,
-            terrain,
+            terrain: own.terrain,
             far_poses: BufferId::from(far_poses),
-            _own_far_poses: own_far_poses,
+            _own_far_poses: own.far_poses,
             sets,
             base,
             capacity,
-            seed: cover::seed32(seed),
+            seed: cover::seed32(setup.seed),
             kinds: cover::kind_thresholds(&grass.shape),
             height: grass.shape.height,
             width: grass.shape.width,
