@@ -7,6 +7,8 @@
 //! the CPU from the velocity read back from the GPU.
 
 use glam::{Vec2, Vec3, Vec3Swizzles};
+use plotters::coord::types::RangedCoordf32;
+use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use crate::error::{Error, Result};
@@ -90,60 +92,85 @@ impl Slice {
 /// Closed polylines (picture coordinates) outlining what `outlines` puts
 /// in the plane of `slice`: obstacles first, then grass patches.
 fn outline_paths(slice: Slice, outlines: &Outlines) -> (Vec<Vec<Vec2>>, Vec<Vec<Vec2>>) {
-    let circle = |c: Vec2, r: f32| -> Vec<Vec2> {
-        (0..=48)
-            .map(|i| c + Vec2::from_angle(i as f32 / 48.0 * std::f32::consts::TAU) * r)
-            .collect()
-    };
-    let rect = |lo: Vec2, hi: Vec2| vec![lo, Vec2::new(hi.x, lo.y), hi, Vec2::new(lo.x, hi.y), lo];
-    // Half the chord a circle of radius r cuts at distance d from its centre.
-    let chord = |r: f32, d: f32| (r * r - d * d).max(0.0).sqrt();
-    let mut solids = Vec::new();
-    for o in outlines.obstacles {
-        let path = match (slice, *o) {
-            (Slice::Horizontal { height }, Obstacle::Box { min, max }) => (min.y..=max.y)
-                .contains(&height)
-                .then(|| rect(min.xz(), max.xz())),
-            (Slice::Vertical { depth }, Obstacle::Box { min, max }) => (min.z..=max.z)
-                .contains(&depth)
-                .then(|| rect(min.xy(), max.xy())),
-            (Slice::Horizontal { height }, Obstacle::Sphere { center, radius }) => {
-                let r = chord(radius, height - center.y);
-                (r > 0.0).then(|| circle(center.xz(), r))
-            }
-            (Slice::Vertical { depth }, Obstacle::Sphere { center, radius }) => {
-                let r = chord(radius, depth - center.z);
-                (r > 0.0).then(|| circle(center.xy(), r))
-            }
-            (
-                Slice::Horizontal { height },
-                Obstacle::Cylinder {
-                    base,
-                    radius,
-                    height: tall,
-                },
-            ) => (base.y..=base.y + tall)
-                .contains(&height)
-                .then(|| circle(base.xz(), radius)),
-            (
-                Slice::Vertical { depth },
-                Obstacle::Cylinder {
-                    base,
-                    radius,
-                    height: tall,
-                },
-            ) => {
-                let r = chord(radius, depth - base.z);
-                (r > 0.0).then(|| {
-                    rect(
-                        Vec2::new(base.x - r, base.y),
-                        Vec2::new(base.x + r, base.y + tall),
-                    )
-                })
-            }
-        };
-        solids.extend(path);
+    let solids = outlines
+        .obstacles
+        .iter()
+        .filter_map(|o| obstacle_outline(slice, *o))
+        .collect();
+    let grass = outlines
+        .grass
+        .iter()
+        .filter_map(|p| grass_outline(slice, *p, outlines))
+        .collect();
+    (solids, grass)
+}
+
+/// A circle of radius `r` about `c`, as 48 segments.
+fn circle(c: Vec2, r: f32) -> Vec<Vec2> {
+    (0..=48)
+        .map(|i| c + Vec2::from_angle(i as f32 / 48.0 * std::f32::consts::TAU) * r)
+        .collect()
+}
+
+/// The rectangle from `lo` to `hi`, closed.
+fn rect(lo: Vec2, hi: Vec2) -> Vec<Vec2> {
+    vec![lo, Vec2::new(hi.x, lo.y), hi, Vec2::new(lo.x, hi.y), lo]
+}
+
+/// Half the chord a circle of radius r cuts at distance d from its centre.
+fn chord(r: f32, d: f32) -> f32 {
+    (r * r - d * d).max(0.0).sqrt()
+}
+
+/// Where obstacle `o` meets the plane of `slice` (None: it does not).
+fn obstacle_outline(slice: Slice, o: Obstacle) -> Option<Vec<Vec2>> {
+    match (slice, o) {
+        (Slice::Horizontal { height }, Obstacle::Box { min, max }) => (min.y..=max.y)
+            .contains(&height)
+            .then(|| rect(min.xz(), max.xz())),
+        (Slice::Vertical { depth }, Obstacle::Box { min, max }) => (min.z..=max.z)
+            .contains(&depth)
+            .then(|| rect(min.xy(), max.xy())),
+        (Slice::Horizontal { height }, Obstacle::Sphere { center, radius }) => {
+            let r = chord(radius, height - center.y);
+            (r > 0.0).then(|| circle(center.xz(), r))
+        }
+        (Slice::Vertical { depth }, Obstacle::Sphere { center, radius }) => {
+            let r = chord(radius, depth - center.z);
+            (r > 0.0).then(|| circle(center.xy(), r))
+        }
+        (
+            Slice::Horizontal { height },
+            Obstacle::Cylinder {
+                base,
+                radius,
+                height: tall,
+            },
+        ) => (base.y..=base.y + tall)
+            .contains(&height)
+            .then(|| circle(base.xz(), radius)),
+        (
+            Slice::Vertical { depth },
+            Obstacle::Cylinder {
+                base,
+                radius,
+                height: tall,
+            },
+        ) => {
+            let r = chord(radius, depth - base.z);
+            (r > 0.0).then(|| {
+                rect(
+                    Vec2::new(base.x - r, base.y),
+                    Vec2::new(base.x + r, base.y + tall),
+                )
+            })
+        }
     }
+}
+
+/// Where grass patch `p` meets the plane of `slice`, up to the tallest
+/// blade over the ground (None: it does not).
+fn grass_outline(slice: Slice, p: GrassPatch, outlines: &Outlines) -> Option<Vec<Vec2>> {
     // The grass's layer over x0..x1 in the plane z = depth: from the
     // ground up to the tallest blade over it.
     let layer = |x0: f32, x1: f32, depth: f32| -> Vec<Vec2> {
@@ -159,28 +186,23 @@ fn outline_paths(slice: Slice, outlines: &Outlines) -> (Vec<Vec<Vec2>>, Vec<Vec<
         path.push(path[0]);
         path
     };
-    let mut grass = Vec::new();
-    for p in outlines.grass {
-        let path = match (slice, *p) {
-            (Slice::Horizontal { height }, GrassPatch::Bunch { center, radius, .. }) => {
-                (height <= outlines.grass_height).then(|| circle(Vec2::from(center), radius))
-            }
-            (Slice::Horizontal { height }, GrassPatch::Meadow { center, size, .. }) => {
-                let (c, half) = (Vec2::from(center), Vec2::from(size) / 2.0);
-                (height <= outlines.grass_height).then(|| rect(c - half, c + half))
-            }
-            (Slice::Vertical { depth }, GrassPatch::Bunch { center, radius, .. }) => {
-                let r = chord(radius, depth - center[1]);
-                (r > 0.0).then(|| layer(center[0] - r, center[0] + r, depth))
-            }
-            (Slice::Vertical { depth }, GrassPatch::Meadow { center, size, .. }) => {
-                ((depth - center[1]).abs() <= size[1] / 2.0)
-                    .then(|| layer(center[0] - size[0] / 2.0, center[0] + size[0] / 2.0, depth))
-            }
-        };
-        grass.extend(path);
+    match (slice, p) {
+        (Slice::Horizontal { height }, GrassPatch::Bunch { center, radius, .. }) => {
+            (height <= outlines.grass_height).then(|| circle(Vec2::from(center), radius))
+        }
+        (Slice::Horizontal { height }, GrassPatch::Meadow { center, size, .. }) => {
+            let (c, half) = (Vec2::from(center), Vec2::from(size) / 2.0);
+            (height <= outlines.grass_height).then(|| rect(c - half, c + half))
+        }
+        (Slice::Vertical { depth }, GrassPatch::Bunch { center, radius, .. }) => {
+            let r = chord(radius, depth - center[1]);
+            (r > 0.0).then(|| layer(center[0] - r, center[0] + r, depth))
+        }
+        (Slice::Vertical { depth }, GrassPatch::Meadow { center, size, .. }) => {
+            ((depth - center[1]).abs() <= size[1] / 2.0)
+                .then(|| layer(center[0] - size[0] / 2.0, center[0] + size[0] / 2.0, depth))
+        }
     }
-    (solids, grass)
 }
 
 /// `slice` of `field` as SVG, titled `title`; speed coloured from 0 to
@@ -245,23 +267,7 @@ pub fn svg(
             .draw_series(colour_cells)
             .map_err(|e| err(e.to_string()))?;
         // Streaks along the flow in the plane, longer when faster.
-        let spacing = size.max_element() / STREAKS_ACROSS;
-        let counts = (size / spacing).floor().max(Vec2::ONE);
-        let mut streaks = Vec::new();
-        for j in 0..counts.y as u32 {
-            for i in 0..counts.x as u32 {
-                let p = lo + (Vec2::new(i as f32, j as f32) + 0.5) * (size / counts);
-                let x = slice.world(p, ground);
-                if solid(x) {
-                    continue;
-                }
-                let d = slice.planar(field.sample(x));
-                if let Some(dir) = d.try_normalize() {
-                    let end = p + dir * (d.length() / scale).min(1.0) * spacing * 0.85;
-                    streaks.push((p, end));
-                }
-            }
-        }
+        let streaks = streaks(field, slice, ground, (lo, size), scale, &solid);
         chart
             .draw_series(streaks.iter().map(|&(a, b)| {
                 PathElement::new(vec![(a.x, a.y), (b.x, b.y)], WHITE.stroke_width(1))
@@ -274,59 +280,118 @@ pub fn svg(
                     .map(|&(a, _)| Circle::new((a.x, a.y), 2, BLACK.filled())),
             )
             .map_err(|e| err(e.to_string()))?;
-        if let Slice::Vertical { depth } = slice {
-            // The ground's line across the plane.
-            let line = (0..=4 * across[0]).map(|i| {
-                let x = lo.x + size.x * i as f32 / (4 * across[0]) as f32;
-                (x, ground.height(x, depth))
-            });
-            chart
-                .draw_series(std::iter::once(PathElement::new(
-                    line.collect::<Vec<_>>(),
-                    BLACK.stroke_width(2),
-                )))
-                .map_err(|e| err(e.to_string()))?;
-        }
-        let (solids, grass) = outline_paths(slice, outlines);
-        let path = |p: &Vec<Vec2>, style: ShapeStyle| {
-            PathElement::new(p.iter().map(|q| (q.x, q.y)).collect::<Vec<_>>(), style)
-        };
-        chart
-            .draw_series(solids.iter().map(|p| path(p, WHITE.stroke_width(2))))
-            .map_err(|e| err(e.to_string()))?;
-        chart
-            .draw_series(
-                grass
-                    .iter()
-                    .map(|p| path(p, RGBColor(40, 200, 40).stroke_width(2))),
-            )
-            .map_err(|e| err(e.to_string()))?;
+        draw_outlines(&mut chart, slice, outlines, (lo, size), across[0]).map_err(err)?;
 
-        // The colour bar: speed in m/s.
-        let mut bar = ChartBuilder::on(&key)
-            .margin_top(40)
-            .margin_bottom(50)
-            .y_label_area_size(55)
-            .build_cartesian_2d(0.0f32..1.0, 0.0f32..scale)
-            .map_err(|e| err(e.to_string()))?;
-        bar.configure_mesh()
-            .disable_mesh()
-            .disable_x_axis()
-            .y_desc("wind speed (m/s)")
-            .axis_desc_style(("sans-serif", 14))
-            .draw()
-            .map_err(|e| err(e.to_string()))?;
-        bar.draw_series((0..50).map(|i| {
-            let v = scale * i as f32 / 50.0;
-            Rectangle::new(
-                [(0.0, v), (1.0, v + scale / 50.0)],
-                ramp(i as f32 / 49.0).filled(),
-            )
-        }))
-        .map_err(|e| err(e.to_string()))?;
+        colour_bar(&key, scale).map_err(err)?;
         root.present().map_err(|e| err(e.to_string()))?;
     }
     Ok(out)
+}
+
+/// The chart a slice is drawn in: world coordinates in the plane.
+type SliceChart<'a, 'b> =
+    ChartContext<'a, SVGBackend<'b>, Cartesian2d<RangedCoordf32, RangedCoordf32>>;
+
+/// Over the slice's colours: the ground's line across a vertical plane
+/// (`across` samples to a cell), the solids' outlines in white, the
+/// grass's in green.
+fn draw_outlines(
+    chart: &mut SliceChart,
+    slice: Slice,
+    outlines: &Outlines,
+    (lo, size): (Vec2, Vec2),
+    across: u32,
+) -> std::result::Result<(), String> {
+    let ground = outlines.ground;
+    if let Slice::Vertical { depth } = slice {
+        // The ground's line across the plane.
+        let line = (0..=4 * across).map(|i| {
+            let x = lo.x + size.x * i as f32 / (4 * across) as f32;
+            (x, ground.height(x, depth))
+        });
+        chart
+            .draw_series(std::iter::once(PathElement::new(
+                line.collect::<Vec<_>>(),
+                BLACK.stroke_width(2),
+            )))
+            .map_err(|e| e.to_string())?;
+    }
+    let (solids, grass) = outline_paths(slice, outlines);
+    let path = |p: &Vec<Vec2>, style: ShapeStyle| {
+        PathElement::new(p.iter().map(|q| (q.x, q.y)).collect::<Vec<_>>(), style)
+    };
+    chart
+        .draw_series(solids.iter().map(|p| path(p, WHITE.stroke_width(2))))
+        .map_err(|e| e.to_string())?;
+    chart
+        .draw_series(
+            grass
+                .iter()
+                .map(|p| path(p, RGBColor(40, 200, 40).stroke_width(2))),
+        )
+        .map_err(|e| e.to_string())?;
+    Ok(())
+}
+
+/// The colour bar beside a slice: speed in m/s, from 0 to `scale`.
+fn colour_bar(
+    key: &DrawingArea<SVGBackend<'_>, Shift>,
+    scale: f32,
+) -> std::result::Result<(), String> {
+    let err = |e: &dyn std::fmt::Display| e.to_string();
+    let mut bar = ChartBuilder::on(key)
+        .margin_top(40)
+        .margin_bottom(50)
+        .y_label_area_size(55)
+        .build_cartesian_2d(0.0f32..1.0, 0.0f32..scale)
+        .map_err(|e| err(&e))?;
+    bar.configure_mesh()
+        .disable_mesh()
+        .disable_x_axis()
+        .y_desc("wind speed (m/s)")
+        .axis_desc_style(("sans-serif", 14))
+        .draw()
+        .map_err(|e| err(&e))?;
+    bar.draw_series((0..50).map(|i| {
+        let v = scale * i as f32 / 50.0;
+        Rectangle::new(
+            [(0.0, v), (1.0, v + scale / 50.0)],
+            ramp(i as f32 / 49.0).filled(),
+        )
+    }))
+    .map_err(|e| err(&e))?;
+    Ok(())
+}
+
+/// Streaks along the flow in the plane of `slice` over the rectangle
+/// (least corner, size): from a lattice of points off the solids, each
+/// as long as its speed over `scale` allows (at most one spacing).
+fn streaks(
+    field: &WindField,
+    slice: Slice,
+    ground: &Terrain,
+    (lo, size): (Vec2, Vec2),
+    scale: f32,
+    solid: &dyn Fn(Vec3) -> bool,
+) -> Vec<(Vec2, Vec2)> {
+    let spacing = size.max_element() / STREAKS_ACROSS;
+    let counts = (size / spacing).floor().max(Vec2::ONE);
+    let mut streaks = Vec::new();
+    for j in 0..counts.y as u32 {
+        for i in 0..counts.x as u32 {
+            let p = lo + (Vec2::new(i as f32, j as f32) + 0.5) * (size / counts);
+            let x = slice.world(p, ground);
+            if solid(x) {
+                continue;
+            }
+            let d = slice.planar(field.sample(x));
+            if let Some(dir) = d.try_normalize() {
+                let end = p + dir * (d.length() / scale).min(1.0) * spacing * 0.85;
+                streaks.push((p, end));
+            }
+        }
+    }
+    streaks
 }
 
 /// The plane's name for a title: "y = 0.60 m" (over flat ground, else
