@@ -6,28 +6,31 @@
 //! colour pass (sky, ground, grass) -> depth pyramid -> read-back.
 //!
 //! The simulating and rendering phases do not know each other; this is the
-//! one place that puts them in order.
+//! one place that puts them in order. Its children: `blades.rs` (the
+//! blade buffer), `record.rs` (the parts of a frame's recording: the
+//! steps, the cover, the passes' draws, the colour pass, the timer and the
+//! breaks between submissions), `timing.rs` (the phases' timing).
 
 pub mod blades;
+mod record;
 pub mod timing;
 
 use crate::compute::cover_tiles::{CoverSetup, CoverWind};
 use crate::compute::{CoverTilePass, Simulation};
 use crate::error::{Error, Result};
-use crate::gpu::query::{PipelineStatistics, Span, SpanTimer, StatisticsQuery};
+use crate::gpu::query::{PipelineStatistics, SpanTimer, StatisticsQuery};
 use crate::gpu::swapchain::Presented;
-use crate::gpu::{
-    Access, BufferUse, CommandPool, Gpu, OverlayDraw, OverlayRenderer, Recording, Swapchain,
-};
+use crate::gpu::{CommandPool, Gpu, OverlayDraw, OverlayRenderer, Recording, Swapchain};
 use crate::model::collider::Collider;
 use crate::model::{Blade, GrassBlade};
 use crate::render::canopy_map::CanopyMap;
-use crate::render::cull::{BladeDraw, CullPass};
+use crate::render::cull::CullPass;
 use crate::render::depth_pyramid::Occluders;
 use crate::render::terrain;
 use crate::render::{FrameUniforms, Renderer};
 use crate::scene::cover::CoverTiles;
 use crate::scene::{Cover, Scene, ViewMode};
+use record::{blade_draws, pause, record_color, record_cover, record_steps, Timer};
 
 pub use crate::render::cull::CullCounts;
 pub use blades::BladeBuffer;
@@ -547,19 +550,7 @@ impl FrameRecorder {
         t.reset(&rec);
         t.1 = t.begin(&rec, Phase::Frame);
         if let Some(simulation) = simulation {
-            // A wind window that follows the camera moves before the
-            // steps, as part of the wind's work.
-            if simulation.wind().follows_camera() || simulation.cover_dynamics().is_some() {
-                let mut followed = Ok(());
-                t.span(&rec, Phase::Wind, |rec| {
-                    followed = simulation.record_follow(rec, *camera_xz);
-                });
-                followed?;
-            }
-            for _ in 0..steps {
-                t.span(&rec, Phase::Wind, |rec| simulation.record_wind_step(rec));
-                t.span(&rec, Phase::Grass, |rec| simulation.record_grass_step(rec));
-            }
+            record_steps(simulation, &rec, &mut t, *camera_xz, steps)?;
         }
         if steps > 0 {
             match pause(commands, rec, &mut keep_going, "simulating a frame's steps")? {
@@ -571,39 +562,13 @@ impl FrameRecorder {
             }
         }
         if let Some((pass, cover)) = cover.as_mut() {
-            let tiles = CoverTiles::around(cover, *camera_xz);
-            if let Some(simulation) = simulation.as_ref() {
-                pass.set_wind_grid(&simulation.wind().grid);
-            }
-            let kept = simulation
-                .as_ref()
-                .and_then(|s| s.cover_dynamics())
-                .map(|d| *d.square());
-            pass.set_dynamics(kept.as_ref(), *camera_xz);
-            pass.set_elapsed(simulation.as_ref().map_or(0.0, |s| steps as f32 * s.dt()));
-            let mut made = Ok(());
-            t.span(&rec, Phase::Cover, |rec| {
-                made = pass.record(rec, buffer, &tiles);
-            });
-            made?;
+            let at = (*camera_xz, steps);
+            record_cover(pass, cover, simulation.as_ref(), &rec, &mut t, buffer, at)?;
         }
         if let Some(cull) = cull.as_ref() {
             t.span(&rec, Phase::Cull, |rec| cull.record(rec, occluders));
         }
-        let (color_draw, shadow_draw) = match cull.as_ref() {
-            Some(c) => (
-                BladeDraw::Listed(c.color_list()),
-                BladeDraw::Listed(c.shadow_list()),
-            ),
-            None => (BladeDraw::All(count), BladeDraw::All(count)),
-        };
-        // Both passes' draws read the control points the grass step wrote,
-        // and the cull pass's lists and draws.
-        let mut drawn = vec![BufferUse::new(buffer, Access::VERTEX_INPUT)];
-        if let Some(cull) = cull.as_ref() {
-            drawn.extend(cull.drawn_uses());
-        }
-        rec.uses(&drawn);
+        let (color_draw, shadow_draw) = blade_draws(cull.as_ref(), &rec, buffer, count);
         shadow_statistics.reset(&rec);
         t.span(&rec, Phase::Shadow, |rec| {
             shadow_statistics.begin(rec);
@@ -617,23 +582,15 @@ impl FrameRecorder {
                 return Ok(None);
             }
         }
-        statistics.reset(&rec);
-        let color = t.begin(&rec, Phase::Color);
-        renderer.begin_color(&rec);
-        let draw_grass = |rec: &Recording| {
-            statistics.begin(rec);
-            renderer.draw_grass(rec, buffer, color_draw);
-            statistics.end(rec);
-        };
-        // Where a draw inside a pass cannot be timed, it is not stamped
-        // (`untimed_phases` says why) rather than timed wrongly.
-        if draw_timing_unavailable.is_some() {
-            draw_grass(&rec);
-        } else {
-            t.span(&rec, Phase::GrassDraw, draw_grass);
-        }
-        renderer.end_color(&rec);
-        t.end(&rec, color);
+        let timed = draw_timing_unavailable.is_none();
+        record_color(
+            renderer,
+            statistics,
+            &rec,
+            &mut t,
+            (buffer, color_draw),
+            timed,
+        );
         // The pyramid's build is the occlusion test's cost: timed as culling.
         if renderer.depth_pyramid().is_some() {
             t.span(&rec, Phase::Cull, |rec| renderer.record_depth_pyramid(rec));
@@ -641,12 +598,17 @@ impl FrameRecorder {
         let ended = end(rec, renderer, &mut t);
         renderer.end_frame(ended.is_ok());
         let ended = ended?;
+        self.note_tip_jumps();
+        Ok(Some((ended, self.read_stats()?)))
+    }
+
+    /// Keeps the largest tip jumps the cover's passes have seen.
+    fn note_tip_jumps(&mut self) {
         if let Some((pass, _)) = &self.cover {
             let (far, all) = pass.tip_jumps();
             let (old_far, old_all) = self.cover_tip_jumps;
             self.cover_tip_jumps = (old_far.max(far), old_all.max(all));
         }
-        Ok(Some((ended, self.read_stats()?)))
     }
 
     /// Before a frame of `steps` is recorded: its uniforms set, the
@@ -722,27 +684,6 @@ impl FrameRecorder {
     }
 }
 
-/// A break between a frame's submissions: what `rec` holds runs, then
-/// `keep_going` says whether the frame goes on, in a new recording (None:
-/// stop). Without `keep_going` the frame stays one submission. The timer's
-/// spans and queries live in its pool, across submissions of one queue.
-fn pause<'c>(
-    commands: &'c CommandPool,
-    rec: Recording<'c>,
-    keep_going: &mut Option<&mut dyn FnMut() -> bool>,
-    during: &str,
-) -> Result<Option<Recording<'c>>> {
-    let Some(go) = keep_going.as_mut() else {
-        return Ok(Some(rec));
-    };
-    rec.submit_and_wait(during)?;
-    if go() {
-        commands.begin().map(Some)
-    } else {
-        Ok(None)
-    }
-}
-
 /// What a frame measured of itself, read after it ran.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct FrameStats {
@@ -750,40 +691,6 @@ pub struct FrameStats {
     pub shadow_statistics: Option<PipelineStatistics>,
     pub timings: Option<FrameTimings>,
     pub cull: Option<CullCounts>,
-}
-
-/// The phase timer where the device has one: spans around recorded work,
-/// and the open span of the whole frame.
-struct Timer<'t>(Option<&'t mut SpanTimer<Phase>>, Option<Span>);
-
-impl Timer<'_> {
-    /// Closes the whole frame's span: the last thing before submitting.
-    fn end_frame(&mut self, rec: &Recording) {
-        let frame = self.1.take();
-        self.end(rec, frame);
-    }
-
-    fn reset(&mut self, rec: &Recording) {
-        if let Some(t) = self.0.as_deref_mut() {
-            t.reset(rec);
-        }
-    }
-
-    fn begin(&mut self, rec: &Recording, phase: Phase) -> Option<Span> {
-        self.0.as_deref_mut().map(|t| t.begin(rec, phase))
-    }
-
-    fn end(&self, rec: &Recording, span: Option<Span>) {
-        if let (Some(t), Some(span)) = (self.0.as_deref(), span) {
-            t.end(rec, span);
-        }
-    }
-
-    fn span(&mut self, rec: &Recording, phase: Phase, work: impl FnOnce(&Recording)) {
-        let span = self.begin(rec, phase);
-        work(rec);
-        self.end(rec, span);
-    }
 }
 
 /// Renders one frame of `blades` at rest as `scene` lights them: the
