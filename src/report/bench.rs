@@ -164,6 +164,33 @@ pub fn markdown(b: &Bench) -> String {
         b.rows.first().map_or(0, |r| r.warmup),
         b.rows.first().map_or(0, |r| r.frames),
     );
+    md += &table1_markdown(b);
+    md += &culling_markdown(b);
+    md += &terrain_markdown(b);
+    md += "\n## The wind's pressure solvers\n\n\
+           The wind step alone, with each solver (the paper's is Jacobi), and the share of \
+           the divergence its projection leaves on the last step:\n\n";
+    md += &crate::report::wind::markdown(&b.wind_solvers);
+    md += &beyond_the_paper_markdown(b);
+    if b.rows.iter().any(|r| r.timing.gpu_ms.is_none()) {
+        md += &format!(
+            "\nGPU times unavailable: {}.\n",
+            b.rows
+                .iter()
+                .find_map(|r| r.timing.gpu_unavailable.clone())
+                .unwrap_or_default()
+        );
+    }
+    md += "\nThe floor draws the grass's triangle count (its geometry-shader primitives) as \
+           straight quads along each blade's curve with a vertex and a fragment shader only, \
+           at the same resolution and MSAA; grass / floor is the grass draw's median over the \
+           floor's. lavapipe's \"GPU\" times are CPU clock readings of its own work.\n";
+    md
+}
+
+/// bench.md's Table 1: ours beside the paper's, row by row.
+fn table1_markdown(b: &Bench) -> String {
+    let mut md = String::new();
     md += "## Table 1, ours beside the paper's (GTX 670, C++/OpenGL)\n\n";
     md += "| blades | LOD | culling | wind ms | paper | grass ms | paper | render ms (cull + shadow + colour) | paper | FPS (GPU frame) | FPS (wall) | paper FPS |\n";
     md += "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
@@ -204,12 +231,13 @@ pub fn markdown(b: &Bench) -> String {
             paper_fps,
         );
     }
-    md += &culling_markdown(b);
-    md += &terrain_markdown(b);
-    md += "\n## The wind's pressure solvers\n\n\
-           The wind step alone, with each solver (the paper's is Jacobi), and the share of \
-           the divergence its projection leaves on the last step:\n\n";
-    md += &crate::report::wind::markdown(&b.wind_solvers);
+    md
+}
+
+/// bench.md's figures the paper does not give: each phase, the triangles
+/// and the vertex-and-fragment floor, row by row.
+fn beyond_the_paper_markdown(b: &Bench) -> String {
+    let mut md = String::new();
     md += "\n## What the paper does not give\n\n";
     md += "| blades | LOD | culling | cull ms | shadow ms | colour ms | grass draw ms | readback ms | GPU frame ms | triangles | floor ms | grass / floor |\n";
     md += "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
@@ -236,19 +264,6 @@ pub fn markdown(b: &Bench) -> String {
                 .unwrap_or_else(|| r.floor_unavailable.clone().unwrap_or_else(|| "n/a".into())),
         );
     }
-    if b.rows.iter().any(|r| r.timing.gpu_ms.is_none()) {
-        md += &format!(
-            "\nGPU times unavailable: {}.\n",
-            b.rows
-                .iter()
-                .find_map(|r| r.timing.gpu_unavailable.clone())
-                .unwrap_or_default()
-        );
-    }
-    md += "\nThe floor draws the grass's triangle count (its geometry-shader primitives) as \
-           straight quads along each blade's curve with a vertex and a fragment shader only, \
-           at the same resolution and MSAA; grass / floor is the grass draw's median over the \
-           floor's. lavapipe's \"GPU\" times are CPU clock readings of its own work.\n";
     md
 }
 
@@ -375,12 +390,14 @@ fn culling_markdown(b: &Bench) -> String {
     md
 }
 
-/// bench.svg: GPU ms per frame phase against blade count (both axes log
-/// scale, so small and large counts read alike), one line per phase, ours (LOD on dark, off light) and the paper's (with a
-/// dot at each of its counts), drawn with plotters.
-pub fn svg(b: &Bench) -> Result<String> {
-    // Series: (label, colour, the paper's, opacity, points).
-    type Series = (String, RGBColor, bool, f64, Vec<(f64, f64)>);
+/// One line of bench.svg: its label, colour, whether it is the paper's,
+/// its opacity and its points (blades, ms).
+type Series = (String, RGBColor, bool, f64, Vec<(f64, f64)>);
+
+/// The lines of bench.svg: ours for each phase with LOD on and off (the
+/// run's default pipeline: culling where it has it, the scene's own
+/// ground), then the paper's.
+fn plotted_series(b: &Bench) -> Vec<Series> {
     let mut series: Vec<Series> = Vec::new();
     let phases = [
         (Phase::Wind, RGBColor(0x1f, 0x77, 0xb4)),
@@ -442,7 +459,14 @@ pub fn svg(b: &Bench) -> Result<String> {
         0.45,
         without_lod,
     ));
+    series
+}
 
+/// bench.svg: GPU ms per frame phase against blade count (both axes log
+/// scale, so small and large counts read alike), one line per phase, ours (LOD on dark, off light) and the paper's (with a
+/// dot at each of its counts), drawn with plotters.
+pub fn svg(b: &Bench) -> Result<String> {
+    let series = plotted_series(b);
     let points = || series.iter().flat_map(|s| s.4.iter().copied());
     let x_min = points().map(|p| p.0).fold(f64::MAX, f64::min).max(1.0);
     let x_max = points().map(|p| p.0).fold(1.0, f64::max);

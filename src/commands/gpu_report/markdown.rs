@@ -45,8 +45,30 @@ pub(super) fn markdown(r: &GpuReport, p: &Plan) -> String {
         };
         md += &format!("| {} | {measured} | {met} |\n", t.target);
     }
+    md += &frame_section(&r.bench, p);
+    md += "\n## The grass step and its memory floor (`bench-grass`, table1)\n\n";
+    md += &grass_table(&r.grass);
+    md += "\n## The grass step with colliders (`bench-grass --colliders`)\n\n";
+    md += &grass_table(&r.colliders);
+    md += &wind_section(r);
+    md += &frames_section(&r.frames);
+    md += "\n## Under validation (core and synchronization)\n\n| command | errors | warnings |\n|---|---|---|\n";
+    for v in &r.validation {
+        match &v.outcome {
+            Outcome::Ran(c) => {
+                md += &format!("| `{}` | {} | {} |\n", v.command, c.errors, c.warnings)
+            }
+            Outcome::Failed(e) => md += &format!("| `{}` | failed: {e} | |\n", v.command),
+        }
+    }
+    md
+}
+
+/// The frame's section: `bench`'s rows on table1.
+fn frame_section(bench: &Outcome<Bench>, p: &Plan) -> String {
+    let mut md = String::new();
     md += "\n## The frame (`bench`, table1)\n\n";
-    match &r.bench {
+    match bench {
         Outcome::Ran(b) => {
             md += &format!(
                 "{}x{}, MSAA {}x used ({}x asked), shadow map {}; {} warm-up and {} timed frames \
@@ -77,10 +99,12 @@ pub(super) fn markdown(r: &GpuReport, p: &Plan) -> String {
         }
         Outcome::Failed(e) => md += &format!("Failed: {e}\n"),
     }
-    md += "\n## The grass step and its memory floor (`bench-grass`, table1)\n\n";
-    md += &grass_table(&r.grass);
-    md += "\n## The grass step with colliders (`bench-grass --colliders`)\n\n";
-    md += &grass_table(&r.colliders);
+    md
+}
+
+/// The wind step's section: each solver, one-way and two-way.
+fn wind_section(r: &GpuReport) -> String {
+    let mut md = String::new();
     md += "\n## The wind step (`wind`, table1's 60x20x60 grid)\n\n";
     md += "| coupling | solver | per step | median ms | p95 ms | steps | RMS divergence after |\n|---|---|---|---|---|---|---|\n";
     for (coupling, w) in [("one-way", &r.wind), ("two-way", &r.wind_two_way)] {
@@ -101,9 +125,15 @@ pub(super) fn markdown(r: &GpuReport, p: &Plan) -> String {
             Outcome::Failed(e) => md += &format!("| {coupling} | failed: {e} | | | | | |\n"),
         }
     }
+    md
+}
+
+/// The shipped scenes' frames through `render`.
+fn frames_section(frames: &[Outcome<SceneFrames>]) -> String {
+    let mut md = String::new();
     md += "\n## Frames of shipped scenes (`render`)\n\n";
     md += "| scene | blades | size | MSAA | frames | wind | grass | cull | shadow | colour | GPU frame ms | FPS (wall) |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n";
-    for f in &r.frames {
+    for f in frames {
         match f {
             Outcome::Ran(f) => {
                 md += &format!(
@@ -119,15 +149,6 @@ pub(super) fn markdown(r: &GpuReport, p: &Plan) -> String {
                 );
             }
             Outcome::Failed(e) => md += &format!("| failed: {e} | | | | | | | | | | | |\n"),
-        }
-    }
-    md += "\n## Under validation (core and synchronization)\n\n| command | errors | warnings |\n|---|---|---|\n";
-    for v in &r.validation {
-        match &v.outcome {
-            Outcome::Ran(c) => {
-                md += &format!("| `{}` | {} | {} |\n", v.command, c.errors, c.warnings)
-            }
-            Outcome::Failed(e) => md += &format!("| `{}` | failed: {e} | |\n", v.command),
         }
     }
     md

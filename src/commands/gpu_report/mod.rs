@@ -325,42 +325,8 @@ pub fn gpu_report(
     let grass = grass_step(&p.grass_counts, &[0]);
     on_part("bench-grass: the grass step with colliders");
     let colliders = grass_step(&p.collider_counts, &p.colliders);
-    on_part("wind: both pressure solvers");
-    let wind = Outcome::of(run_wind(
-        request,
-        &table1,
-        Coupling::OneWay,
-        p.wind_steps,
-        &work("wind"),
-        &request.gpu,
-    ));
-    on_part("wind: two-way coupling");
-    let wind_two_way = Outcome::of(run_wind(
-        request,
-        &table1,
-        Coupling::TwoWay,
-        p.wind_steps,
-        &work("wind-two-way"),
-        &request.gpu,
-    ));
-    let mut frames = Vec::new();
-    for name in ["prairie", "roll"] {
-        on_part(&format!("render: frames of {name}"));
-        let blades = (name == "prairie").then_some(p.prairie_blades).flatten();
-        frames.push(Outcome::of(
-            run_frames(
-                request,
-                name,
-                blades,
-                (p.width, p.height),
-                p.msaa,
-                p.scene_frames,
-                &work(&format!("frames-{name}")),
-                &request.gpu,
-            )
-            .map(|(frames, _)| frames),
-        ));
-    }
+    let (wind, wind_two_way) = wind_parts(request, &p, &table1, on_part);
+    let frames = scene_frames(request, &p, on_part);
 
     let validation = validated_runs(request, &p, &table1, on_part);
     let targets = targets(&p, &bench, &grass, &colliders, &wind);
@@ -387,6 +353,60 @@ pub fn gpu_report(
     claim.write_json(&planned[0], &report)?;
     claim.write(&planned[1], markdown(&report, &p).as_bytes())?;
     Ok((report, out.join(&planned[1])))
+}
+/// The wind step with both pressure solvers, one-way and two-way.
+fn wind_parts(
+    request: &GpuReportRequest,
+    p: &Plan,
+    table1: &Scene,
+    on_part: &mut dyn FnMut(&str),
+) -> (Outcome<WindReport>, Outcome<WindReport>) {
+    on_part("wind: both pressure solvers");
+    let wind = Outcome::of(run_wind(
+        request,
+        table1,
+        Coupling::OneWay,
+        p.wind_steps,
+        &request.work.join("wind"),
+        &request.gpu,
+    ));
+    on_part("wind: two-way coupling");
+    let wind_two_way = Outcome::of(run_wind(
+        request,
+        table1,
+        Coupling::TwoWay,
+        p.wind_steps,
+        &request.work.join("wind-two-way"),
+        &request.gpu,
+    ));
+    (wind, wind_two_way)
+}
+
+/// Frames of `prairie` and `roll` through `render`.
+fn scene_frames(
+    request: &GpuReportRequest,
+    p: &Plan,
+    on_part: &mut dyn FnMut(&str),
+) -> Vec<Outcome<SceneFrames>> {
+    let mut frames = Vec::new();
+    for name in ["prairie", "roll"] {
+        on_part(&format!("render: frames of {name}"));
+        let blades = (name == "prairie").then_some(p.prairie_blades).flatten();
+        frames.push(Outcome::of(
+            run_frames(
+                request,
+                name,
+                blades,
+                (p.width, p.height),
+                p.msaa,
+                p.scene_frames,
+                &request.work.join(format!("frames-{name}")),
+                &request.gpu,
+            )
+            .map(|(frames, _)| frames),
+        ));
+    }
+    frames
 }
 
 fn run_bench(
@@ -537,6 +557,26 @@ fn validated_runs(
             .map(|b| ValidationCount::of(&b.validation)),
         ),
     );
+    runs.extend(validated_wind_and_frames(
+        request, p, table1, &strict, on_part,
+    ));
+    runs
+}
+
+/// `wind` (one-way and two-way) and `render` (`prairie`, `roll`) once
+/// more, small, under `strict` validation.
+fn validated_wind_and_frames(
+    request: &GpuReportRequest,
+    p: &Plan,
+    table1: &Scene,
+    strict: &GpuOptions,
+    on_part: &mut dyn FnMut(&str),
+) -> Vec<ValidatedRun> {
+    let dir = |part: &str| request.work.join("validated").join(part);
+    let mut runs = Vec::new();
+    let mut run = |command: String, outcome: Outcome<ValidationCount>| {
+        runs.push(ValidatedRun { command, outcome })
+    };
     for (coupling, name) in [(Coupling::OneWay, "one-way"), (Coupling::TwoWay, "two-way")] {
         on_part(&format!("validated: wind --coupling {name}"));
         run(
@@ -548,7 +588,7 @@ fn validated_runs(
                     coupling,
                     p.check_steps,
                     &dir(&format!("wind-{name}")),
-                    &strict,
+                    strict,
                 )
                 .map(|w| ValidationCount::of(&w.validation)),
             ),
@@ -573,7 +613,7 @@ fn validated_runs(
                     p.msaa,
                     2,
                     &dir(&format!("render-{name}")),
-                    &strict,
+                    strict,
                 )
                 .map(|(_, validation)| validation),
             ),
