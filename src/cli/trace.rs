@@ -1,13 +1,13 @@
 //! `meadow trace`: its arguments, and what it prints of the
 //! library's work (src/commands/trace.rs).
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::atomic::Ordering;
 
 use meadow::model::wind::Coupling;
 use meadow::scene::Scene;
 
-use meadow::commands::trace::MAX_EVERY;
+use meadow::commands::trace::{TraceReport, MAX_EVERY};
 
 use super::numbers;
 use super::{stop_signal, DeviceArgs, Interrupted, OverwriteArg};
@@ -97,6 +97,26 @@ pub fn run(args: TraceArgs) -> anyhow::Result<()> {
     });
     bar.finish_and_clear();
     let report = report?;
+    print_report(&report, &out);
+    let sig = signal.load(Ordering::SeqCst) as i32;
+    if report.interrupted {
+        eprintln!(
+            "meadow: interrupted after {} of {} samples' time; the files written are complete",
+            report.samples,
+            report.steps_planned / report.every as u64 + 1
+        );
+        return Err(Interrupted(if sig != 0 {
+            sig
+        } else {
+            signal_hook::consts::SIGINT
+        })
+        .into());
+    }
+    Ok(())
+}
+
+/// What the trace measured and wrote, on the terminal.
+fn print_report(report: &TraceReport, out: &Path) {
     println!(
         "trace {} on {}: {} of {} blades, {} samples every {} steps of {:.4} s",
         report.scene,
@@ -146,19 +166,4 @@ pub fn run(args: TraceArgs) -> anyhow::Result<()> {
     }
     let written: Vec<String> = written.iter().map(|p| p.display().to_string()).collect();
     println!("wrote {}", written.join(", "));
-    let sig = signal.load(Ordering::SeqCst) as i32;
-    if report.interrupted {
-        eprintln!(
-            "meadow: interrupted after {} of {} samples' time; the files written are complete",
-            report.samples,
-            report.steps_planned / report.every as u64 + 1
-        );
-        return Err(Interrupted(if sig != 0 {
-            sig
-        } else {
-            signal_hook::consts::SIGINT
-        })
-        .into());
-    }
-    Ok(())
 }

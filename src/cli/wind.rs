@@ -3,6 +3,7 @@
 
 use std::path::PathBuf;
 
+use meadow::commands::wind::WindReport;
 use meadow::model::wind::{Advection, Coupling};
 use meadow::scene::Scene;
 
@@ -63,27 +64,13 @@ pub fn run(args: WindArgs) -> anyhow::Result<()> {
         overwrite,
         device,
     } = args;
-    let mut scene = Scene::load(&scene)?;
-    if let Some(c) = coupling {
-        scene.wind.coupling = c;
-    }
-    if let Some(a) = advection {
-        scene.wind.advection = a;
-    }
-    if jacobi_iterations.is_some() && v_cycles.is_some() {
-        anyhow::bail!(
-            "--jacobi-iterations and --v-cycles pick different pressure solvers; give one"
-        );
-    }
-    if let Some(n) = jacobi_iterations {
-        scene.set_jacobi_iterations(n)?;
-    }
-    if let Some(n) = v_cycles {
-        scene.set_v_cycles(n)?;
-    }
-    if let Some(cells) = cells {
-        scene.set_wind_cells(&cells)?;
-    }
+    let scene = scene_asked(
+        &scene,
+        coupling,
+        advection,
+        (jacobi_iterations, v_cycles),
+        cells,
+    )?;
     // The steps on a terminal as they run: a default run takes about a
     // minute on lavapipe.
     let bar = indicatif::ProgressBar::new(meadow::commands::wind::steps_run(&scene, steps));
@@ -106,6 +93,50 @@ pub fn run(args: WindArgs) -> anyhow::Result<()> {
     for w in meadow::report::warnings::collapsed(&r.warnings) {
         eprintln!("meadow: warning: {w}");
     }
+    print_report(&r);
+    println!(
+        "wrote {}, {} and {}",
+        out.join("wind_horizontal.svg").display(),
+        out.join("wind_vertical.svg").display(),
+        out.join("wind_field.npy").display()
+    );
+    Ok(())
+}
+
+/// The scene as the command line changes it.
+fn scene_asked(
+    name: &str,
+    coupling: Option<Coupling>,
+    advection: Option<Advection>,
+    (jacobi_iterations, v_cycles): (Option<u32>, Option<u32>),
+    cells: Option<String>,
+) -> anyhow::Result<Scene> {
+    let mut scene = Scene::load(name)?;
+    if let Some(c) = coupling {
+        scene.wind.coupling = c;
+    }
+    if let Some(a) = advection {
+        scene.wind.advection = a;
+    }
+    if jacobi_iterations.is_some() && v_cycles.is_some() {
+        anyhow::bail!(
+            "--jacobi-iterations and --v-cycles pick different pressure solvers; give one"
+        );
+    }
+    if let Some(n) = jacobi_iterations {
+        scene.set_jacobi_iterations(n)?;
+    }
+    if let Some(n) = v_cycles {
+        scene.set_v_cycles(n)?;
+    }
+    if let Some(cells) = cells {
+        scene.set_wind_cells(&cells)?;
+    }
+    Ok(scene)
+}
+
+/// What the run measured, on the terminal.
+fn print_report(r: &WindReport) {
     let solve = meadow::report::wind::describe(r.solver, r.jacobi_iterations, r.v_cycles);
     println!(
         "wind {} on {}: grid {}x{}x{}, {solve}, {} steps of {:.4} s",
@@ -157,11 +188,4 @@ pub fn run(args: WindArgs) -> anyhow::Result<()> {
         ),
         _ => println!("the step with each advection: unavailable (no timestamps)"),
     }
-    println!(
-        "wrote {}, {} and {}",
-        out.join("wind_horizontal.svg").display(),
-        out.join("wind_vertical.svg").display(),
-        out.join("wind_field.npy").display()
-    );
-    Ok(())
 }

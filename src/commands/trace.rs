@@ -697,49 +697,25 @@ pub const SPACE_TIME_NAME: &str = "space_time.svg";
 pub const PLAN_VIEW_NAME: &str = "plan_view.svg";
 pub const SPECTRUM_NAME: &str = "spectrum.svg";
 
-/// Runs the trace and writes DIR/blades.csv, DIR/trace.json and (with two
-/// samples and blades or more) DIR/space_time.svg, DIR/plan_view.svg (when
-/// the trace lasts three seconds past `diagram_from`) and DIR/spectrum.svg
-/// (when there is a spectrum), replacing only an
-/// earlier run's (`overwrite`: any file of those names; `report::claim`).
-pub fn trace_to_dir(
+/// The tips' spectrum, scaled by each blade's bending frequency, and the
+/// blades' bending and swinging natural frequencies, as a trace's report
+/// has them.
+type Spectra<'a> = (
+    Option<&'a Spectrum>,
+    Option<&'a ScaledSpectrum>,
+    Option<&'a Percentiles>,
+    Option<&'a Percentiles>,
+);
+
+/// Writes the space-time diagram (two samples and blades or more), the
+/// plan view (three seconds past `diagram_from`) and the spectrum (where
+/// there is one); says which were written.
+fn write_diagrams(
+    claim: &OutputClaim,
+    trace: &Trace,
     request: &TraceRequest,
-    out: &Path,
-    overwrite: bool,
-    observer: &mut dyn FnMut(u64, u64) -> bool,
-) -> Result<TraceReport> {
-    request.validate()?;
-    files::ensure_dir(out)?;
-    let planned: Vec<String> = [
-        CSV_NAME,
-        REPORT_NAME,
-        SPACE_TIME_NAME,
-        PLAN_VIEW_NAME,
-        SPECTRUM_NAME,
-    ]
-    .iter()
-    .map(|s| s.to_string())
-    .collect();
-    let claim = OutputClaim::new(out, &planned, overwrite)?;
-    // blades.csv: a row per traced blade and sample, at least 30 bytes
-    // (ten numbers and their commas).
-    let blades = request.blades.count(request.scene.blade_count()) as u64;
-    let samples = request.steps().div_ceil(request.every as u64) + 1;
-    claim.ensure_room(
-        samples * blades * 30,
-        &format!("{samples} samples of {blades} blades in {CSV_NAME}"),
-    )?;
-    let ((trace, device, device_memory), validation) = on_gpu(&request.gpu, |gpu| {
-        Ok((
-            trace(gpu, request, observer)?,
-            gpu.info().name.clone(),
-            gpu.device_memory(),
-        ))
-    })?;
-    // The work is done: the last run's files go (its diagram too, which
-    // would pass for this one's).
-    claim.begin()?;
-    claim.write(CSV_NAME, csv(&trace).as_bytes())?;
+    spectra: Spectra,
+) -> Result<[bool; 3]> {
     let title = format!(
         "{}: tip displacement along the wind over time",
         request.scene.name
@@ -761,26 +737,71 @@ pub fn trace_to_dir(
     if let Some(svg) = &plan_view {
         claim.write(PLAN_VIEW_NAME, svg.as_bytes())?;
     }
-    let tip_spectrum = trace.tip_spectrum(request.diagram_from);
-    let tip_spectrum_scaled = trace.scaled_tip_spectrum(request.diagram_from);
-    let bend_natural_hz = trace.bend_natural_hz();
-    let swing_natural_hz = trace.swing_natural_hz();
     let title = format!("{}: the tips' spectrum", request.scene.name);
-    let spectrum = tip_spectrum
-        .as_ref()
-        .map(|s| {
-            spectrum_svg(
-                s,
-                tip_spectrum_scaled.as_ref(),
-                bend_natural_hz.as_ref(),
-                swing_natural_hz.as_ref(),
-                &title,
-            )
-        })
+    let (tip, scaled, bend, swing) = spectra;
+    let spectrum = tip
+        .map(|s| spectrum_svg(s, scaled, bend, swing, &title))
         .transpose()?;
     if let Some(svg) = &spectrum {
         claim.write(SPECTRUM_NAME, svg.as_bytes())?;
     }
+    Ok([diagram.is_some(), plan_view.is_some(), spectrum.is_some()])
+}
+
+/// Every file a trace may write.
+const OUTPUTS: [&str; 5] = [
+    CSV_NAME,
+    REPORT_NAME,
+    SPACE_TIME_NAME,
+    PLAN_VIEW_NAME,
+    SPECTRUM_NAME,
+];
+
+/// Runs the trace and writes DIR/blades.csv, DIR/trace.json and (with two
+/// samples and blades or more) DIR/space_time.svg, DIR/plan_view.svg (when
+/// the trace lasts three seconds past `diagram_from`) and DIR/spectrum.svg
+/// (when there is a spectrum), replacing only an
+/// earlier run's (`overwrite`: any file of those names; `report::claim`).
+pub fn trace_to_dir(
+    request: &TraceRequest,
+    out: &Path,
+    overwrite: bool,
+    observer: &mut dyn FnMut(u64, u64) -> bool,
+) -> Result<TraceReport> {
+    request.validate()?;
+    files::ensure_dir(out)?;
+    let planned = OUTPUTS.map(String::from);
+    let claim = OutputClaim::new(out, &planned, overwrite)?;
+    // blades.csv: a row per traced blade and sample, at least 30 bytes
+    // (ten numbers and their commas).
+    let blades = request.blades.count(request.scene.blade_count()) as u64;
+    let samples = request.steps().div_ceil(request.every as u64) + 1;
+    claim.ensure_room(
+        samples * blades * 30,
+        &format!("{samples} samples of {blades} blades in {CSV_NAME}"),
+    )?;
+    let ((trace, device, device_memory), validation) = on_gpu(&request.gpu, |gpu| {
+        Ok((
+            trace(gpu, request, observer)?,
+            gpu.info().name.clone(),
+            gpu.device_memory(),
+        ))
+    })?;
+    // The work is done: the last run's files go (its diagram too, which
+    // would pass for this one's).
+    claim.begin()?;
+    claim.write(CSV_NAME, csv(&trace).as_bytes())?;
+    let tip_spectrum = trace.tip_spectrum(request.diagram_from);
+    let tip_spectrum_scaled = trace.scaled_tip_spectrum(request.diagram_from);
+    let bend_natural_hz = trace.bend_natural_hz();
+    let swing_natural_hz = trace.swing_natural_hz();
+    let spectra = (
+        tip_spectrum.as_ref(),
+        tip_spectrum_scaled.as_ref(),
+        bend_natural_hz.as_ref(),
+        swing_natural_hz.as_ref(),
+    );
+    let [diagram, plan_view, spectrum] = write_diagrams(&claim, &trace, request, spectra)?;
     let report = TraceReport {
         scene: request.scene.name.clone(),
         seed: request.scene.seed,
@@ -802,9 +823,9 @@ pub fn trace_to_dir(
         blades_total: trace.total_blades,
         downwind: trace.frame.downwind,
         csv: CSV_NAME.into(),
-        space_time: diagram.map(|_| SPACE_TIME_NAME.into()),
-        plan_view: plan_view.map(|_| PLAN_VIEW_NAME.into()),
-        spectrum: spectrum.map(|_| SPECTRUM_NAME.into()),
+        space_time: diagram.then(|| SPACE_TIME_NAME.into()),
+        plan_view: plan_view.then(|| PLAN_VIEW_NAME.into()),
+        spectrum: spectrum.then(|| SPECTRUM_NAME.into()),
         tip_spectrum,
         tip_spectrum_scaled,
         bend_natural_hz,
