@@ -139,6 +139,42 @@ pub fn summary(report: &RenderReport, out: &Path) -> String {
         report.device_type,
         report.wall_seconds
     );
+    text += &draw_lines(report);
+    text += &cover_lines(report);
+    if let Some(w) = &report.light_waves {
+        text += &light_waves_line(w);
+    }
+    if report.validation.enabled {
+        text += &format!(
+            "validation: {} errors, {} warnings\n",
+            report.validation.errors, report.validation.warnings
+        );
+    }
+    text += &super::timing::table(&report.timing);
+    text += &format!(
+        "simulated {:.2} s in {} steps of {:.4} s ({} substeps each), {} coupling\n",
+        report.sim_steps as f64 * report.sim_dt as f64,
+        report.sim_steps,
+        report.sim_dt,
+        report.substeps,
+        report.coupling.name()
+    );
+    if report.angle_caps.blade_steps > 0 {
+        text += &format!(
+            "blade-steps at an angle cap: {:.3}% ({} of {})\n",
+            100.0 * report.cap_fraction,
+            report.angle_caps.at_cap,
+            report.angle_caps.blade_steps
+        );
+    }
+    text += &written_lines(report, out);
+    text
+}
+
+/// The draws' counters: the grass's and the shadow pass's, the GPU memory,
+/// what culling left.
+fn draw_lines(report: &RenderReport) -> String {
+    let mut text = String::new();
     if let Some(s) = &report.pipeline_statistics {
         text += &format!(
             "grass: {} patches, {} tessellation-evaluation invocations, {} geometry-shader invocations (segments), {} primitives\n",
@@ -170,6 +206,12 @@ pub fn summary(report: &RenderReport, out: &Path) -> String {
         }
         None => text += "culling: off (every blade drawn in both passes)\n",
     }
+    text
+}
+
+/// The cover's blades and its largest tip moves, where there is one.
+fn cover_lines(report: &RenderReport) -> String {
+    let mut text = String::new();
     let b = &report.blade_counts;
     if b.generated > 0 {
         text += &format!(
@@ -190,32 +232,12 @@ pub fn summary(report: &RenderReport, out: &Path) -> String {
             all, far
         );
     }
-    if let Some(w) = &report.light_waves {
-        text += &light_waves_line(w);
-    }
-    if report.validation.enabled {
-        text += &format!(
-            "validation: {} errors, {} warnings\n",
-            report.validation.errors, report.validation.warnings
-        );
-    }
-    text += &super::timing::table(&report.timing);
-    text += &format!(
-        "simulated {:.2} s in {} steps of {:.4} s ({} substeps each), {} coupling\n",
-        report.sim_steps as f64 * report.sim_dt as f64,
-        report.sim_steps,
-        report.sim_dt,
-        report.substeps,
-        report.coupling.name()
-    );
-    if report.angle_caps.blade_steps > 0 {
-        text += &format!(
-            "blade-steps at an angle cap: {:.3}% ({} of {})\n",
-            100.0 * report.cap_fraction,
-            report.angle_caps.at_cap,
-            report.angle_caps.blade_steps
-        );
-    }
+    text
+}
+
+/// The files written under `out`.
+fn written_lines(report: &RenderReport, out: &Path) -> String {
+    let mut text = String::new();
     match report.frames.as_slice() {
         [one] => text += &format!("wrote {}\n", out.join(one).display()),
         [first, .., last] => {

@@ -195,6 +195,71 @@ fn escape(text: &str) -> String {
         .replace('"', "&quot;")
 }
 
+/// One shot in index.html: its frames, GIF and video inlined, its waves
+/// of light and its parameters.
+fn shot_html(r: &Rendered, out: &Path) -> Result<String> {
+    let mut h = String::new();
+    let scene = &r.scene;
+    let _ = writeln!(
+        h,
+        "<h3>{} <small>({})</small></h3>",
+        escape(&r.label),
+        escape(&scene.caption)
+    );
+    // Every frame of a shot is written (no --every): the n-th file
+    // is frame n.
+    for time in shown(r.report.frames.len()) {
+        let path = out.join(&r.dir).join(&r.report.frames[time]);
+        let png = std::fs::read(&path).map_err(|e| crate::Error::io(&path, e))?;
+        let data = base64::engine::general_purpose::STANDARD.encode(png);
+        let _ = writeln!(
+            h,
+            "<figure><img alt=\"{}\" src=\"data:image/png;base64,{data}\"><figcaption>t = {:.2} s</figcaption></figure>",
+            escape(&r.label),
+            r.report.animation.time_of(time as u32)
+        );
+    }
+    if let Some(gif) = &r.report.gif {
+        let path = out.join(&r.dir).join(gif);
+        let bytes = std::fs::read(&path).map_err(|e| crate::Error::io(&path, e))?;
+        let data = base64::engine::general_purpose::STANDARD.encode(bytes);
+        let _ = writeln!(
+            h,
+            "<figure><img alt=\"{} (moving)\" src=\"data:image/gif;base64,{data}\"><figcaption>moving ({gif})</figcaption></figure>",
+            escape(&r.label)
+        );
+    }
+    if let Some(waves) = &r.report.light_waves {
+        let _ = writeln!(
+            h,
+            "<p class=\"params\">{}</p>",
+            escape(crate::report::render::light_waves_line(waves).trim_end())
+        );
+    }
+    match &r.video {
+        Some(Ok(name)) => {
+            let path = out.join(&r.dir).join(name);
+            let mp4 = std::fs::read(&path).map_err(|e| crate::Error::io(&path, e))?;
+            let data = base64::engine::general_purpose::STANDARD.encode(mp4);
+            let _ = writeln!(
+                h,
+                "<figure><video controls loop src=\"data:video/mp4;base64,{data}\"></video><figcaption>{}</figcaption></figure>",
+                escape(name)
+            );
+        }
+        Some(Err(why)) => {
+            let _ = writeln!(h, "<p class=\"params\">No video: {}</p>", escape(why));
+        }
+        None => {}
+    }
+    let _ = writeln!(
+        h,
+        "<p class=\"params\">{}</p>",
+        escape(&parameters(&r.report, scene))
+    );
+    Ok(h)
+}
+
 pub fn html(figures: &[Figure], rendered: &[Rendered], out: &Path, quick: bool) -> Result<String> {
     let mut h = String::new();
     h.push_str(
@@ -219,64 +284,7 @@ pub fn html(figures: &[Figure], rendered: &[Rendered], out: &Path, quick: bool) 
         let _ = writeln!(h, "<h2>{}</h2>", escape(figure.title));
         let _ = writeln!(h, "<p class=\"paper\">{}</p>", escape(&paper_line(figure)));
         for r in rendered.iter().filter(|r| r.figure == i) {
-            let scene = &r.scene;
-            let _ = writeln!(
-                h,
-                "<h3>{} <small>({})</small></h3>",
-                escape(&r.label),
-                escape(&scene.caption)
-            );
-            // Every frame of a shot is written (no --every): the n-th file
-            // is frame n.
-            for time in shown(r.report.frames.len()) {
-                let path = out.join(&r.dir).join(&r.report.frames[time]);
-                let png = std::fs::read(&path).map_err(|e| crate::Error::io(&path, e))?;
-                let data = base64::engine::general_purpose::STANDARD.encode(png);
-                let _ = writeln!(
-                    h,
-                    "<figure><img alt=\"{}\" src=\"data:image/png;base64,{data}\"><figcaption>t = {:.2} s</figcaption></figure>",
-                    escape(&r.label),
-                    r.report.animation.time_of(time as u32)
-                );
-            }
-            if let Some(gif) = &r.report.gif {
-                let path = out.join(&r.dir).join(gif);
-                let bytes = std::fs::read(&path).map_err(|e| crate::Error::io(&path, e))?;
-                let data = base64::engine::general_purpose::STANDARD.encode(bytes);
-                let _ = writeln!(
-                    h,
-                    "<figure><img alt=\"{} (moving)\" src=\"data:image/gif;base64,{data}\"><figcaption>moving ({gif})</figcaption></figure>",
-                    escape(&r.label)
-                );
-            }
-            if let Some(waves) = &r.report.light_waves {
-                let _ = writeln!(
-                    h,
-                    "<p class=\"params\">{}</p>",
-                    escape(crate::report::render::light_waves_line(waves).trim_end())
-                );
-            }
-            match &r.video {
-                Some(Ok(name)) => {
-                    let path = out.join(&r.dir).join(name);
-                    let mp4 = std::fs::read(&path).map_err(|e| crate::Error::io(&path, e))?;
-                    let data = base64::engine::general_purpose::STANDARD.encode(mp4);
-                    let _ = writeln!(
-                        h,
-                        "<figure><video controls loop src=\"data:video/mp4;base64,{data}\"></video><figcaption>{}</figcaption></figure>",
-                        escape(name)
-                    );
-                }
-                Some(Err(why)) => {
-                    let _ = writeln!(h, "<p class=\"params\">No video: {}</p>", escape(why));
-                }
-                None => {}
-            }
-            let _ = writeln!(
-                h,
-                "<p class=\"params\">{}</p>",
-                escape(&parameters(&r.report, scene))
-            );
+            h += &shot_html(r, out)?;
         }
         for d in &figure.diagrams {
             let path = out.join(&d.file);
