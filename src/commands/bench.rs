@@ -130,10 +130,7 @@ pub fn bench_to_dir(
 ) -> Result<Bench> {
     request.validate()?;
     files::ensure_dir(out)?;
-    let planned: Vec<String> = ["bench.json", "bench.md", "bench.svg"]
-        .iter()
-        .map(|s| s.to_string())
-        .collect();
+    let planned = ["bench.json", "bench.md", "bench.svg"].map(String::from);
     let claim = OutputClaim::new(out, &planned, overwrite)?;
     let grounds: &[bool] = if request.also_flat {
         &[true, false]
@@ -154,29 +151,7 @@ pub fn bench_to_dir(
                 request.frames,
                 &mut |_| {},
             )?;
-            let mut rows = Vec::new();
-            let mut msaa_used = 0;
-            for &count in &request.counts {
-                for &lod in request.lod.settings() {
-                    for cull in [false, true] {
-                        for &terrain in grounds {
-                            on_step(BenchProgress {
-                                done: 1 + rows.len(),
-                                total,
-                                next: BenchStep::Row {
-                                    blades: count,
-                                    lod,
-                                    cull,
-                                    terrain,
-                                },
-                            });
-                            let (row, used) = bench_row(gpu, request, count, lod, cull, terrain)?;
-                            msaa_used = used;
-                            rows.push(row);
-                        }
-                    }
-                }
-            }
+            let (rows, msaa_used) = bench_rows(gpu, request, grounds, total, on_step)?;
             Ok((
                 rows,
                 wind_solvers,
@@ -212,6 +187,43 @@ pub fn bench_to_dir(
     claim.write("bench.svg", svg(&bench)?.as_bytes())?;
     bench.validation.check()?;
     Ok(bench)
+}
+
+/// Each row of the bench: every count, LOD setting, culling off and on,
+/// and ground (`grounds`: the scene's own, and flat where asked), each
+/// told to `on_step` (of `total` steps, the solvers' first) before it
+/// runs; and the MSAA count the rows used.
+fn bench_rows(
+    gpu: &Gpu,
+    request: &BenchRequest,
+    grounds: &[bool],
+    total: usize,
+    on_step: &mut dyn FnMut(BenchProgress),
+) -> Result<(Vec<BenchRow>, u32)> {
+    let mut rows = Vec::new();
+    let mut msaa_used = 0;
+    for &count in &request.counts {
+        for &lod in request.lod.settings() {
+            for cull in [false, true] {
+                for &terrain in grounds {
+                    on_step(BenchProgress {
+                        done: 1 + rows.len(),
+                        total,
+                        next: BenchStep::Row {
+                            blades: count,
+                            lod,
+                            cull,
+                            terrain,
+                        },
+                    });
+                    let (row, used) = bench_row(gpu, request, count, lod, cull, terrain)?;
+                    msaa_used = used;
+                    rows.push(row);
+                }
+            }
+        }
+    }
+    Ok((rows, msaa_used))
 }
 
 fn bench_row(

@@ -10,13 +10,16 @@
 //! the same run.
 
 use crate::commands::on_gpu;
-use crate::compute::Simulation;
+use crate::compute::{GrassPass, Simulation};
 use crate::error::{Error, Result};
 use crate::frame::timing::median_p95;
 use crate::frame::BladeBuffer;
 use crate::gpu::query::TimestampQueries;
-use crate::gpu::{Access, BufferUse, CommandPool, DeviceMemory, Gpu, GpuOptions, ValidationReport};
+use crate::gpu::{
+    Access, BufferUse, CommandPool, DeviceMemory, Gpu, GpuOptions, Recording, ValidationReport,
+};
 use crate::model::contact::{Collider, ColliderKind, MAX_COLLIDERS};
+use crate::model::Blade;
 use crate::scene::{field, Scene, MAX_BLADES};
 use glam::{Vec2, Vec3};
 
@@ -239,14 +242,9 @@ pub fn bench_colliders(n: usize, lo: Vec2, hi: Vec2) -> Vec<Collider> {
         .collect()
 }
 
-fn bench_count(
-    gpu: &Gpu,
-    scene: &Scene,
-    count: usize,
-    colliders: usize,
-    steps: u32,
-    warmup: u32,
-) -> Result<GrassBenchRow> {
+/// `scene` with `count` blades and, with `colliders`, that many balls
+/// rolling laps over them (`bench_colliders`), and its blades.
+fn bench_scene(scene: &Scene, count: usize, colliders: usize) -> Result<(Scene, Vec<Blade>)> {
     let mut scene = scene.clone();
     scene.set_blade_count(count)?;
     let blades = scene.field()?;
@@ -260,6 +258,45 @@ fn bench_count(
         );
         scene.colliders.extend(bench_colliders(colliders, lo, hi));
     }
+    Ok((scene, blades))
+}
+
+/// `warmup` grass steps, then `steps` timed each between two timestamps
+/// where the device has them.
+fn record_timed_steps(
+    rec: &Recording,
+    grass: &GrassPass,
+    timestamps: Option<&TimestampQueries>,
+    (warmup, steps): (u32, u32),
+    dt: f32,
+) {
+    let end_time = |step: u32| crate::model::contact::step_end_time(step as u64, dt);
+    for n in 0..warmup {
+        grass.record_step(rec, 0, end_time(n));
+    }
+    if let Some(t) = timestamps {
+        t.reset(rec);
+    }
+    for n in 0..steps {
+        if let Some(t) = timestamps {
+            t.stamp(rec, n, false);
+        }
+        grass.record_step(rec, 0, end_time(warmup + n));
+        if let Some(t) = timestamps {
+            t.stamp(rec, n, true);
+        }
+    }
+}
+
+fn bench_count(
+    gpu: &Gpu,
+    scene: &Scene,
+    count: usize,
+    colliders: usize,
+    steps: u32,
+    warmup: u32,
+) -> Result<GrassBenchRow> {
+    let (scene, blades) = bench_scene(scene, count, colliders)?;
     let dynamic = field::dynamic_blades(&blades, &scene.grass.dynamics, scene.seed)?;
     gpu.check_fits(
         &format!("{count} blades"),
@@ -285,22 +322,7 @@ fn bench_count(
     })?;
 
     let rec = commands.begin()?;
-    let end_time = |step: u32| crate::model::contact::step_end_time(step as u64, dt);
-    for n in 0..warmup {
-        grass.record_step(&rec, 0, end_time(n));
-    }
-    if let Some(t) = &timestamps {
-        t.reset(&rec);
-    }
-    for n in 0..steps {
-        if let Some(t) = &timestamps {
-            t.stamp(&rec, n, false);
-        }
-        grass.record_step(&rec, 0, end_time(warmup + n));
-        if let Some(t) = &timestamps {
-            t.stamp(&rec, n, true);
-        }
-    }
+    record_timed_steps(&rec, grass, timestamps.as_ref(), (warmup, steps), dt);
     rec.submit_and_wait("grass steps")?;
     let times = match &timestamps {
         Some(t) => t.read_ms(steps)?,

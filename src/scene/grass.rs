@@ -392,24 +392,7 @@ impl Grass {
                 "the scene has no grass; add a [[grass.bunch]], a [[grass.meadow]] or a [grass.cover]",
             ));
         }
-        let shape = &self.shape;
-        let weights = [shape.upright, shape.curved, shape.drooping];
-        for (name, w) in ["upright", "curved", "drooping"].into_iter().zip(weights) {
-            if !(w.is_finite() && w >= 0.0) {
-                return Err(FieldError::new(
-                    format!("shape.{name}"),
-                    format!("{w} is not allowed, use a weight >= 0"),
-                ));
-            }
-        }
-        if weights.iter().sum::<f32>() <= 0.0 {
-            return Err(FieldError::new(
-                "shape",
-                "the weights upright, curved and drooping are all zero; make one positive",
-            ));
-        }
-        range_within("shape.height", shape.height, 0.01..=10.0)?;
-        range_within("shape.width", shape.width, 0.0005..=1.0)?;
+        self.shape.check().map_err(|e| e.at("shape"))?;
         self.dynamics.check().map_err(|e| e.at("dynamics"))?;
         self.look.check().map_err(|e| e.at("look"))?;
 
@@ -420,48 +403,7 @@ impl Grass {
             in_range(&format!("{at}.count"), b.count, 1..=MAX_BLADES)?;
         }
         for (i, m) in self.meadow.iter().enumerate() {
-            let at = format!("meadow[{i}]");
-            finite(&format!("{at}.center"), &m.center)?;
-            positive(&format!("{at}.size[0]"), m.size[0], 10_000.0)?;
-            positive(&format!("{at}.size[1]"), m.size[1], 10_000.0)?;
-            match (m.count, m.density) {
-                (Some(n), None) => in_range(&format!("{at}.count"), n, 1..=MAX_BLADES)?,
-                (None, Some(d)) => {
-                    positive(&format!("{at}.density"), d, 1e6)?;
-                    in_range(&format!("{at}.density"), m.blades(), 1..=MAX_BLADES).map_err(
-                        |_| {
-                            FieldError::new(
-                                format!("{at}.density"),
-                                format!(
-                                    "{d} per square metre gives {} blades, use a density giving 1..={MAX_BLADES}",
-                                    m.blades()
-                                ),
-                            )
-                        },
-                    )?
-                }
-                (Some(_), Some(_)) => {
-                    return Err(FieldError::new(
-                        at,
-                        "has both count and density; give one of them",
-                    ))
-                }
-                (None, None) => {
-                    return Err(FieldError::new(
-                        at,
-                        "has neither count nor density; give one of them",
-                    ))
-                }
-            }
-            if m.mask
-                .as_ref()
-                .is_some_and(|name| name.written.trim().is_empty())
-            {
-                return Err(FieldError::new(
-                    format!("{at}.mask"),
-                    "is empty; name a grey PNG relative to the scene file",
-                ));
-            }
+            m.check().map_err(|e| e.at(&format!("meadow[{i}]")))?;
         }
         let total = self.blade_count();
         if total > MAX_BLADES {
@@ -472,6 +414,81 @@ impl Grass {
         }
         if let Some(c) = &self.cover {
             c.check(MAX_BLADES - total).map_err(|e| e.at("cover"))?;
+        }
+        Ok(())
+    }
+}
+
+impl BladeShape {
+    /// The kinds' weights (at least one positive) and the height and
+    /// width ranges.
+    pub fn check(&self) -> Check {
+        let shape = self;
+        let weights = [shape.upright, shape.curved, shape.drooping];
+        for (name, w) in ["upright", "curved", "drooping"].into_iter().zip(weights) {
+            if !(w.is_finite() && w >= 0.0) {
+                return Err(FieldError::new(
+                    name,
+                    format!("{w} is not allowed, use a weight >= 0"),
+                ));
+            }
+        }
+        if weights.iter().sum::<f32>() <= 0.0 {
+            return Err(FieldError::new(
+                "",
+                "the weights upright, curved and drooping are all zero; make one positive",
+            ));
+        }
+        range_within("height", shape.height, 0.01..=10.0)?;
+        range_within("width", shape.width, 0.0005..=1.0)?;
+        Ok(())
+    }
+}
+
+impl Meadow {
+    /// Its place and size, one of count and density, and its mask's name.
+    pub fn check(&self) -> Check {
+        finite("center", &self.center)?;
+        positive("size[0]", self.size[0], 10_000.0)?;
+        positive("size[1]", self.size[1], 10_000.0)?;
+        match (self.count, self.density) {
+            (Some(n), None) => in_range("count", n, 1..=MAX_BLADES)?,
+            (None, Some(d)) => {
+                positive("density", d, 1e6)?;
+                in_range("density", self.blades(), 1..=MAX_BLADES).map_err(
+                    |_| {
+                        FieldError::new(
+                            "density",
+                            format!(
+                                "{d} per square metre gives {} blades, use a density giving 1..={MAX_BLADES}",
+                                self.blades()
+                            ),
+                        )
+                    },
+                )?
+            }
+            (Some(_), Some(_)) => {
+                return Err(FieldError::new(
+                    "",
+                    "has both count and density; give one of them",
+                ))
+            }
+            (None, None) => {
+                return Err(FieldError::new(
+                    "",
+                    "has neither count nor density; give one of them",
+                ))
+            }
+        }
+        if self
+            .mask
+            .as_ref()
+            .is_some_and(|name| name.written.trim().is_empty())
+        {
+            return Err(FieldError::new(
+                "mask",
+                "is empty; name a grey PNG relative to the scene file",
+            ));
         }
         Ok(())
     }
