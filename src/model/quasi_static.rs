@@ -75,29 +75,9 @@ pub fn quasi_static_angles_from(
     let motions: Vec<usize> = (0..4)
         .filter(|&m| m != BEND_B || blade.split() < 3)
         .collect();
-    let torque_in = |angle: [f32; 4], wind: Vec3| {
-        let state = GrassState {
-            angle,
-            velocity: [0.0; 4],
-        };
-        grass::torques(blade, &grass::pose(blade, angle), &state, wind)
-    };
-    let torque = |angle: [f32; 4]| torque_in(angle, wind);
+    let torque = |angle: [f32; 4]| torque_at(blade, angle, wind);
     let n = motions.len();
-    // The Jacobian d torque_i / d angle_j over the motions in use.
-    let jacobian_in = |angle: [f32; 4], wind: Vec3| {
-        let mut j = vec![vec![0.0f64; n]; n];
-        for (col, &m) in motions.iter().enumerate() {
-            let (mut plus, mut minus) = (angle, angle);
-            plus[m] += DIFFERENCE;
-            minus[m] -= DIFFERENCE;
-            let (tp, tm) = (torque_in(plus, wind), torque_in(minus, wind));
-            for (row, &i) in motions.iter().enumerate() {
-                j[row][col] = (tp[i] - tm[i]) as f64 / (2.0 * DIFFERENCE as f64);
-            }
-        }
-        j
-    };
+    let jacobian_in = |angle: [f32; 4], wind: Vec3| torque_jacobian(blade, &motions, angle, wind);
     let norm = |t: [f32; 4]| {
         motions
             .iter()
@@ -148,6 +128,37 @@ pub fn quasi_static_angles_from(
         }
     }
     (angle, iterations)
+}
+
+/// The torques on `blade` held still at `angle` in `wind`.
+fn torque_at(blade: &GrassBlade, angle: [f32; 4], wind: Vec3) -> [f32; 4] {
+    let state = GrassState {
+        angle,
+        velocity: [0.0; 4],
+    };
+    grass::torques(blade, &grass::pose(blade, angle), &state, wind)
+}
+
+/// The Jacobian d torque_i / d angle_j over `motions` at `angle` in
+/// `wind`, by central differences.
+fn torque_jacobian(
+    blade: &GrassBlade,
+    motions: &[usize],
+    angle: [f32; 4],
+    wind: Vec3,
+) -> Vec<Vec<f64>> {
+    let n = motions.len();
+    let mut j = vec![vec![0.0f64; n]; n];
+    for (col, &m) in motions.iter().enumerate() {
+        let (mut plus, mut minus) = (angle, angle);
+        plus[m] += DIFFERENCE;
+        minus[m] -= DIFFERENCE;
+        let (tp, tm) = (torque_at(blade, plus, wind), torque_at(blade, minus, wind));
+        for (row, &i) in motions.iter().enumerate() {
+            j[row][col] = (tp[i] - tm[i]) as f64 / (2.0 * DIFFERENCE as f64);
+        }
+    }
+    j
 }
 
 /// The natural frequency (rad/s) a far blade goes towards its balance at

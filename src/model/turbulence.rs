@@ -281,6 +281,12 @@ impl TurbulenceField {
             drift: DVec3::ZERO,
             clock: 0.0,
         };
+        field.scale = (2.0 / field.mean_variance(walls).max(f64::MIN_POSITIVE)).sqrt();
+        field
+    }
+
+    /// The field's horizontal variance averaged over draws, before scaling.
+    fn mean_variance(&self, walls: [bool; 3]) -> f64 {
         // Each draw's horizontal variance over the grid: half its
         // amplitude squared along the axes not mirrored, and per mirrored
         // axis a half where the mode has waves across it (none for the
@@ -303,16 +309,14 @@ impl TurbulenceField {
         };
         // At every instant each shell's two weights squared add to 1, so
         // the field's mean variance is the sum over shells of a draw's.
-        let mean: f64 = (0..field.slots())
+        (0..self.slots())
             .map(|slot| {
                 (0..SCALE_DRAWS as i64)
-                    .map(|g| horizontal(&field.draw(slot, g)))
+                    .map(|g| horizontal(&self.draw(slot, g)))
                     .sum::<f64>()
                     / (2 * SCALE_DRAWS) as f64
             })
-            .sum();
-        field.scale = (2.0 / mean.max(f64::MIN_POSITIVE)).sqrt();
-        field
+            .sum()
     }
 
     /// The modes' slots: the grid's `MODES`, then the sub-grid's.
