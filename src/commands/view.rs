@@ -325,24 +325,7 @@ impl Live {
     /// steps, and the frame shown. Returns false when the viewer should stop.
     fn frame(&mut self, gpu: &Gpu, report: &mut ViewReport) -> Result<bool> {
         let now = Instant::now();
-        let since_start = self
-            .first_frame
-            .map_or(0.0, |t| now.duration_since(t).as_secs_f64());
-        // One scripted action a frame, as a person's keys come: on a slow
-        // device actions due together are not all applied before one
-        // frame (a screenshot then shows what came before the next key). A
-        // quit takes effect after its frame.
-        let go_on = match self.state.scripted(since_start) {
-            Some(action) => self.act(action, now),
-            None => true,
-        };
-        let elapsed = now.duration_since(self.last_frame).as_secs_f64();
-        self.update_fps(elapsed);
-        // Time and flying follow the clock, but not across a long stall
-        // (a window being dragged, a slow first frame).
-        let wall = elapsed.min(0.25);
-        self.last_frame = now;
-        self.state.fly(wall as f32, now);
+        let (go_on, wall) = self.tick(now);
 
         // Minimised or out of date: nothing to show, and time waits.
         let Some(index) = self.acquire(gpu)? else {
@@ -406,13 +389,50 @@ impl Live {
         self.first_frame.get_or_insert(now);
         report.frames += 1;
         if std::mem::take(&mut self.state.screenshot_asked) {
-            let path = self.screenshot(gpu, &uniforms, report.screenshots.len())?;
-            self.say_screenshot(&path, time, &scene, (extent.width, extent.height));
-            report.screenshots.push(path);
+            let shot = (&uniforms, time, &scene, (extent.width, extent.height));
+            report
+                .screenshots
+                .push(self.take_screenshot(gpu, shot, report.screenshots.len())?);
         }
         self.show_title(&stats);
         self.last_stats = stats;
         Ok(go_on)
+    }
+
+    /// The frame's one scripted action (false: it quits, after this frame)
+    /// and the seconds since the last frame that time and flying follow.
+    fn tick(&mut self, now: Instant) -> (bool, f64) {
+        let since_start = self
+            .first_frame
+            .map_or(0.0, |t| now.duration_since(t).as_secs_f64());
+        // One scripted action a frame, as a person's keys come: on a slow
+        // device actions due together are not all applied before one
+        // frame (a screenshot then shows what came before the next key).
+        let go_on = match self.state.scripted(since_start) {
+            Some(action) => self.act(action, now),
+            None => true,
+        };
+        let elapsed = now.duration_since(self.last_frame).as_secs_f64();
+        self.update_fps(elapsed);
+        // Time and flying follow the clock, but not across a long stall
+        // (a window being dragged, a slow first frame).
+        let wall = elapsed.min(0.25);
+        self.last_frame = now;
+        self.state.fly(wall as f32, now);
+        (go_on, wall)
+    }
+
+    /// A screenshot of the frame (its uniforms, time, scene and size),
+    /// the `n`-th, said on the terminal.
+    fn take_screenshot(
+        &mut self,
+        gpu: &Gpu,
+        (uniforms, time, scene, size): (&FrameUniforms, f64, &Scene, (u32, u32)),
+        n: usize,
+    ) -> Result<PathBuf> {
+        let path = self.screenshot(gpu, uniforms, n)?;
+        self.say_screenshot(&path, time, scene, size);
+        Ok(path)
     }
 
     /// The swapchain made again where it is out of date, the recorder's

@@ -69,6 +69,57 @@ impl Default for Overlay {
     }
 }
 
+/// The overlay's windows: the panel (compact in a small window), the
+/// view's colour key outside the shaded view, and the keys when asked.
+fn windows(ui: &mut egui::Ui, readout: &Readout, compact: bool, keys_shown: bool) {
+    let context = ui.ctx().clone();
+    let mut frame = egui::Frame::window(ui.style());
+    if compact {
+        // No drop shadow: in a small window it darkens much of
+        // the frame beyond the panel.
+        frame = frame.inner_margin(3.0).shadow(egui::Shadow::NONE);
+    }
+    egui::Window::new("meadow")
+        .frame(frame)
+        .title_bar(!compact)
+        .anchor(egui::Align2::LEFT_TOP, [4.0, 4.0])
+        .resizable(false)
+        .collapsible(false)
+        .show(&context, |ui| {
+            if compact {
+                compact_panel(ui, readout)
+            } else {
+                panel(ui, readout)
+            }
+        });
+    if readout.view != ViewMode::Shaded {
+        egui::Window::new("key")
+            .frame(frame)
+            .title_bar(false)
+            .anchor(egui::Align2::RIGHT_BOTTOM, [-4.0, -4.0])
+            .resizable(false)
+            .collapsible(false)
+            .show(&context, |ui| {
+                view_key(ui, readout, if compact { 60.0 } else { 128.0 })
+            });
+    }
+    if keys_shown && !compact {
+        egui::Window::new("keys")
+            .anchor(egui::Align2::RIGHT_TOP, [-8.0, 8.0])
+            .resizable(false)
+            .collapsible(false)
+            .show(&context, |ui| {
+                egui::Grid::new("keys").striped(true).show(ui, |ui| {
+                    for (keys, what) in KEYS {
+                        ui.strong(keys);
+                        ui.label(what);
+                        ui.end_row();
+                    }
+                })
+            });
+    }
+}
+
 impl Overlay {
     /// Lays the overlay out for a window of `extent` pixels at `scale`
     /// pixels per point, uploading what egui's textures changed (between
@@ -104,54 +155,9 @@ impl Overlay {
         let keys_shown = self.keys_shown;
         let points = egui::vec2(extent.width as f32, extent.height as f32) / scale;
         let compact = points.x < FULL_FROM.0 || points.y < FULL_FROM.1;
-        let output = self.context.run_ui(input, |ui| {
-            let context = ui.ctx().clone();
-            let mut frame = egui::Frame::window(ui.style());
-            if compact {
-                // No drop shadow: in a small window it darkens much of
-                // the frame beyond the panel.
-                frame = frame.inner_margin(3.0).shadow(egui::Shadow::NONE);
-            }
-            egui::Window::new("meadow")
-                .frame(frame)
-                .title_bar(!compact)
-                .anchor(egui::Align2::LEFT_TOP, [4.0, 4.0])
-                .resizable(false)
-                .collapsible(false)
-                .show(&context, |ui| {
-                    if compact {
-                        compact_panel(ui, readout)
-                    } else {
-                        panel(ui, readout)
-                    }
-                });
-            if readout.view != ViewMode::Shaded {
-                egui::Window::new("key")
-                    .frame(frame)
-                    .title_bar(false)
-                    .anchor(egui::Align2::RIGHT_BOTTOM, [-4.0, -4.0])
-                    .resizable(false)
-                    .collapsible(false)
-                    .show(&context, |ui| {
-                        view_key(ui, readout, if compact { 60.0 } else { 128.0 })
-                    });
-            }
-            if keys_shown && !compact {
-                egui::Window::new("keys")
-                    .anchor(egui::Align2::RIGHT_TOP, [-8.0, 8.0])
-                    .resizable(false)
-                    .collapsible(false)
-                    .show(&context, |ui| {
-                        egui::Grid::new("keys").striped(true).show(ui, |ui| {
-                            for (keys, what) in KEYS {
-                                ui.strong(keys);
-                                ui.label(what);
-                                ui.end_row();
-                            }
-                        })
-                    });
-            }
-        });
+        let output = self
+            .context
+            .run_ui(input, |ui| windows(ui, readout, compact, keys_shown));
         let primitives = self
             .context
             .tessellate(output.shapes, output.pixels_per_point);

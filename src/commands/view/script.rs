@@ -129,6 +129,56 @@ pub struct Script {
 /// The longest a script may run, seconds.
 const MAX_TIME: f64 = 24.0 * 3600.0;
 
+/// The action a script line's `words` (after its time) name; `bad`
+/// makes the line's error from what is wrong.
+fn action_of(words: &[&str], bad: &dyn Fn(&str) -> Error) -> Result<Action> {
+    let number = |k: usize| -> Result<f64> {
+        words
+            .get(k)
+            .and_then(|w| w.parse::<f64>().ok())
+            .filter(|v| v.is_finite())
+            .ok_or_else(|| bad("a number is missing"))
+    };
+    Ok(match (words.get(1).copied(), words.len()) {
+        (Some("key"), 3) => Action::of_key(words[2])
+            .ok_or_else(|| bad("no such key (space . [ ] l v p h o b esc up down left right)"))?,
+        (Some("hold"), 4) => {
+            let key = words[2]
+                .chars()
+                .next()
+                .filter(|c| words[2].len() == 1 && FLYING_KEYS.contains(c))
+                .ok_or_else(|| bad("only w a s d q e can be held"))?;
+            let seconds = number(3)?;
+            if !(0.0..=60.0).contains(&seconds) {
+                return Err(bad("hold for 0..=60 seconds"));
+            }
+            Action::Hold(key, seconds)
+        }
+        (Some("drag"), 4) => Action::Drag(number(2)? as f32, number(3)? as f32),
+        (Some("wheel"), 3) => Action::Wheel(number(2)? as f32),
+        (Some(click @ ("click" | "roll")), 4) => {
+            let (x, y) = (number(2)?, number(3)?);
+            if x < 0.0 || y < 0.0 {
+                return Err(bad("a click is at a pixel, x and y >= 0"));
+            }
+            if click == "click" {
+                Action::Click(x as f32, y as f32)
+            } else {
+                Action::RollTo(x as f32, y as f32)
+            }
+        }
+        (Some("resize"), 4) => {
+            let side = |v: f64| (1.0..=16384.0).contains(&v).then_some(v as u32);
+            match (side(number(2)?), side(number(3)?)) {
+                (Some(w), Some(h)) => Action::Resize(w, h),
+                _ => return Err(bad("a size is 1..=16384 pixels a side")),
+            }
+        }
+        (Some("close"), 2) => Action::Close,
+        _ => return Err(bad("unknown action or wrong number of words")),
+    })
+}
+
 impl Script {
     /// Parses a script; an error names the file, the line and what to write.
     pub fn parse(name: &str, text: &str) -> Result<Self> {
@@ -153,52 +203,7 @@ impl Script {
                 .ok()
                 .filter(|t: &f64| (0.0..=MAX_TIME).contains(t))
                 .ok_or_else(|| bad("the time is not a number of seconds in 0..=86400"))?;
-            let number = |k: usize| -> Result<f64> {
-                words
-                    .get(k)
-                    .and_then(|w| w.parse::<f64>().ok())
-                    .filter(|v| v.is_finite())
-                    .ok_or_else(|| bad("a number is missing"))
-            };
-            let action = match (words.get(1).copied(), words.len()) {
-                (Some("key"), 3) => Action::of_key(words[2]).ok_or_else(|| {
-                    bad("no such key (space . [ ] l v p h o b esc up down left right)")
-                })?,
-                (Some("hold"), 4) => {
-                    let key = words[2]
-                        .chars()
-                        .next()
-                        .filter(|c| words[2].len() == 1 && FLYING_KEYS.contains(c))
-                        .ok_or_else(|| bad("only w a s d q e can be held"))?;
-                    let seconds = number(3)?;
-                    if !(0.0..=60.0).contains(&seconds) {
-                        return Err(bad("hold for 0..=60 seconds"));
-                    }
-                    Action::Hold(key, seconds)
-                }
-                (Some("drag"), 4) => Action::Drag(number(2)? as f32, number(3)? as f32),
-                (Some("wheel"), 3) => Action::Wheel(number(2)? as f32),
-                (Some(click @ ("click" | "roll")), 4) => {
-                    let (x, y) = (number(2)?, number(3)?);
-                    if x < 0.0 || y < 0.0 {
-                        return Err(bad("a click is at a pixel, x and y >= 0"));
-                    }
-                    if click == "click" {
-                        Action::Click(x as f32, y as f32)
-                    } else {
-                        Action::RollTo(x as f32, y as f32)
-                    }
-                }
-                (Some("resize"), 4) => {
-                    let side = |v: f64| (1.0..=16384.0).contains(&v).then_some(v as u32);
-                    match (side(number(2)?), side(number(3)?)) {
-                        (Some(w), Some(h)) => Action::Resize(w, h),
-                        _ => return Err(bad("a size is 1..=16384 pixels a side")),
-                    }
-                }
-                (Some("close"), 2) => Action::Close,
-                _ => return Err(bad("unknown action or wrong number of words")),
-            };
+            let action = action_of(&words, &bad)?;
             actions.push((time, action));
             match latest {
                 Some((line, before)) if time < before => {
