@@ -356,47 +356,7 @@ fn run(
     let max_divergence_before = before.iter().fold(0.0f32, |m, d| m.max(d.abs()));
     let rms_divergence_before = rms_over_fluid(&before, &field.solid) as f32;
     let max_speed = max_speed(&field);
-    let grass_height = scene.grass.shape.height[1];
-    let center = grid.origin + grid.size() / 2.0;
-    let patches = scene.grass.patches();
-    let outlines = Outlines {
-        ground: &settings.terrain,
-        obstacles: &settings.obstacles,
-        grass: &patches,
-        grass_height,
-    };
-    let how = format!(
-        "{}, {} advection, {} coupling",
-        crate::report::wind::describe(
-            settings.solver,
-            settings.jacobi_iterations,
-            settings.v_cycles
-        ),
-        settings.advection.name(),
-        settings.coupling.name()
-    );
-    for (name, slice) in [
-        (
-            "wind_horizontal.svg",
-            Slice::Horizontal {
-                height: grass_height * 0.8,
-            },
-        ),
-        ("wind_vertical.svg", Slice::Vertical { depth: center.z }),
-    ] {
-        let title = format!(
-            "{}: {} after {:.2} s ({how})",
-            scene.name,
-            wind_slices::plane_name(slice, &settings.terrain),
-            steps as f32 * dt
-        );
-        let svg = wind_slices::svg(&field, slice, max_speed, &outlines, &title)?;
-        if name == "wind_horizontal.svg" {
-            // The work is done: the last run's files go.
-            claim.begin()?;
-        }
-        claim.write(name, svg.as_bytes())?;
-    }
+    write_slices(scene, settings, &field, (steps, max_speed), claim)?;
     claim.write("wind_field.npy", &field_npy(&field))?;
     let timing = median_p95(&times);
     Ok(WindReport {
@@ -429,6 +389,60 @@ fn run(
         warnings: Vec::new(),
         validation: ValidationReport::default(),
     })
+}
+
+/// wind_horizontal.svg and wind_vertical.svg: the field after `steps`
+/// steps, speed coloured up to `max_speed`, the solids and grass outlined;
+/// the last run's files go before the first is written.
+fn write_slices(
+    scene: &Scene,
+    settings: &WindSettings,
+    field: &WindField,
+    (steps, max_speed): (u32, f32),
+    claim: &OutputClaim,
+) -> Result<()> {
+    let grass_height = scene.grass.shape.height[1];
+    let center = field.grid.origin + field.grid.size() / 2.0;
+    let patches = scene.grass.patches();
+    let outlines = Outlines {
+        ground: &settings.terrain,
+        obstacles: &settings.obstacles,
+        grass: &patches,
+        grass_height,
+    };
+    let how = format!(
+        "{}, {} advection, {} coupling",
+        crate::report::wind::describe(
+            settings.solver,
+            settings.jacobi_iterations,
+            settings.v_cycles
+        ),
+        settings.advection.name(),
+        settings.coupling.name()
+    );
+    for (name, slice) in [
+        (
+            "wind_horizontal.svg",
+            Slice::Horizontal {
+                height: grass_height * 0.8,
+            },
+        ),
+        ("wind_vertical.svg", Slice::Vertical { depth: center.z }),
+    ] {
+        let title = format!(
+            "{}: {} after {:.2} s ({how})",
+            scene.name,
+            wind_slices::plane_name(slice, &settings.terrain),
+            steps as f32 * scene.wind.dt
+        );
+        let svg = wind_slices::svg(field, slice, max_speed, &outlines, &title)?;
+        if name == "wind_horizontal.svg" {
+            // The work is done: the last run's files go.
+            claim.begin()?;
+        }
+        claim.write(name, svg.as_bytes())?;
+    }
+    Ok(())
 }
 
 /// wind_field.npy: float32 of shape (nx, ny, nz, 3), the velocity at
