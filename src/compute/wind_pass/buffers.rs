@@ -115,22 +115,7 @@ impl WindBuffers {
         let copies = velocity_copies(settings);
         let [faces, conductance, levels] = Self::classified(gpu, commands, field)?;
         let buffers = Self {
-            velocity: if field.vel.iter().flatten().all(|&v| v == 0.0) {
-                device_buffer("wind velocity", copies * face_count as u64)?
-            } else {
-                // The air starting with an oblique inflow or over terrain
-                // (`WindField::new`): every copy.
-                let copy: Vec<f32> = field.vel.iter().flatten().copied().collect();
-                let all = copy.repeat(copies as usize);
-                Buffer::with_data(
-                    gpu,
-                    commands,
-                    "wind velocity",
-                    bytemuck::cast_slice(&all),
-                    rw,
-                    Access::COMPUTE_READ_WRITE,
-                )?
-            },
+            velocity: Self::velocity(gpu, commands, field, copies, face_count)?,
             faces,
             solid: uploaded(
                 "wind solid cells",
@@ -156,19 +141,11 @@ impl WindBuffers {
                     1
                 },
             )?,
-            modes: Buffer::new(
-                gpu,
-                "wind turbulence modes",
-                (turbulence::MODES * std::mem::size_of::<TurbulenceMode>()) as u64,
-                storage | vk::BufferUsageFlags::TRANSFER_DST,
-                MemoryLocation::GpuOnly,
-            )?,
-            subgrid_modes: Buffer::new(
+            modes: modes_buffer(gpu, "wind turbulence modes", turbulence::MODES)?,
+            subgrid_modes: modes_buffer(
                 gpu,
                 "wind turbulence sub-grid modes",
-                (turbulence::SUBGRID_MODES * std::mem::size_of::<TurbulenceMode>()) as u64,
-                storage | vk::BufferUsageFlags::TRANSFER_DST,
-                MemoryLocation::GpuOnly,
+                turbulence::SUBGRID_MODES,
             )?,
         };
         let rec = commands.begin()?;
@@ -184,6 +161,39 @@ impl WindBuffers {
         // The next recording's first use of each waits for these writes.
         rec.submit_and_wait("clearing the wind")?;
         Ok(buffers)
+    }
+
+    /// The velocity's copies: cleared after (at rest), or each the air as
+    /// it starts with an oblique inflow or over terrain (`WindField::new`).
+    fn velocity(
+        gpu: &Gpu,
+        commands: &CommandPool,
+        field: &WindField,
+        copies: u64,
+        face_count: u32,
+    ) -> Result<Buffer> {
+        let rw = vk::BufferUsageFlags::STORAGE_BUFFER
+            | vk::BufferUsageFlags::TRANSFER_DST
+            | vk::BufferUsageFlags::TRANSFER_SRC;
+        if field.vel.iter().flatten().all(|&v| v == 0.0) {
+            return Buffer::new(
+                gpu,
+                "wind velocity",
+                4 * copies * face_count as u64,
+                rw,
+                MemoryLocation::GpuOnly,
+            );
+        }
+        let copy: Vec<f32> = field.vel.iter().flatten().copied().collect();
+        let all = copy.repeat(copies as usize);
+        Buffer::with_data(
+            gpu,
+            commands,
+            "wind velocity",
+            bytemuck::cast_slice(&all),
+            rw,
+            Access::COMPUTE_READ_WRITE,
+        )
     }
 
     /// What the faces' classification decides, uploaded: the face kinds,
@@ -304,4 +314,15 @@ impl WindBuffers {
             Bound::Buffer(&self.modes),
         ]
     }
+}
+
+/// Room for `count` turbulence modes, written by each step.
+fn modes_buffer(gpu: &Gpu, name: &str, count: usize) -> Result<Buffer> {
+    Buffer::new(
+        gpu,
+        name,
+        (count * std::mem::size_of::<TurbulenceMode>()) as u64,
+        vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
+        MemoryLocation::GpuOnly,
+    )
 }

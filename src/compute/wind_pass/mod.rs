@@ -189,6 +189,82 @@ fn u32_bytes(values: impl Iterator<Item = u32>) -> Vec<u8> {
     values.flat_map(u32::to_le_bytes).collect()
 }
 
+/// The grid's face and cell counts, refused where the grid's buffers
+/// would not fit the GPU's memory or its indices 32 bits.
+fn fitted_counts(gpu: &Gpu, grid: &WindGrid, settings: &WindSettings) -> Result<(u32, u32)> {
+    let face_count = grid.face_count();
+    let cell_count = grid.cell_count() as u64;
+    // Velocity x2 or x3, face kinds, with turbulence what it added,
+    // pressure x2, divergence, solid cells, canopy: 4 bytes each.
+    gpu.check_fits(
+        &format!(
+            "the {}x{}x{} wind grid",
+            grid.cells.x, grid.cells.y, grid.cells.z
+        ),
+        4 * ((velocity_copies(settings) + 1 + settings.turbulence.is_some() as u64) * face_count
+            + 5 * cell_count),
+    )?;
+    match (u32::try_from(face_count), u32::try_from(cell_count)) {
+        (Ok(f), Ok(c)) => Ok((f, c)),
+        _ => Err(Error::InvalidInput(
+            "wind grid too large for 32-bit indices".into(),
+        )),
+    }
+}
+
+/// The wind's kernels, and the finest multigrid level the tail kernel
+/// runs from. The tail kernel is the variant with the larger shared array
+/// where the device offers it, specialised to this grid's coarsest level.
+fn wind_kernels(
+    gpu: &Gpu,
+    layout: &Arc<PipelineLayout>,
+    field: &WindField,
+) -> Result<(Vec<Pipeline>, usize)> {
+    // The tail kernel: the variant with the larger shared array where
+    // the device offers it, from the finest level that fits it, and
+    // specialised to this grid's coarsest level.
+    let large = gpu.limits().max_compute_shared_memory_size as usize >= 48 * 1024;
+    let (tail_spirv, tail_floats) = if large {
+        (WIND_KERNEL_VARIANTS[0], MG_TAIL_FLOATS_LARGE)
+    } else {
+        (WIND_KERNELS[MG_TAIL], MG_TAIL_FLOATS)
+    };
+    let last_level = field.multigrid.levels.len() - 1;
+    // The coarsest level (at most `MAX_COARSEST_CELLS` cells) always
+    // fits: this cannot fail on any grid `Multigrid::new` makes.
+    let tail_level = field
+        .multigrid
+        .tail_level(tail_floats as usize)
+        .ok_or_else(|| {
+            Error::InvalidInput(format!(
+                "the multigrid's coarsest level needs {} floats, more than the tail \
+                 kernel's {tail_floats}; set wind.solver = \"jacobi\"",
+                field.multigrid.tail_footprint(last_level)
+            ))
+        })?;
+    let kernels = WIND_KERNELS
+        .iter()
+        .enumerate()
+        .map(|(kernel, spirv)| match kernel {
+            MG_TAIL => Pipeline::compute_specialized(gpu, layout, tail_spirv, &[last_level as u32]),
+            _ => Pipeline::compute(gpu, layout, spirv),
+        })
+        .collect::<Result<Vec<_>>>()?;
+    Ok((kernels, tail_level))
+}
+
+/// The kernel that shifts the wind window under the camera; its set
+/// layout is the kernels' own, so their set binds to it.
+fn shift_kernel(gpu: &Gpu) -> Result<Pipeline> {
+    let layout = PipelineLayout::new::<WindShiftPush>(
+        gpu,
+        WIND_SET,
+        vk::ShaderStageFlags::COMPUTE,
+        "wind window shift",
+    )?;
+    Pipeline::compute(gpu, &layout, WIND_SHIFT_KERNEL)
+}
+
 impl WindPass {
     /// The solver for `settings` on `grid`. `canopy_unit` is the m^2 per
     /// count of the frontal area the coupled grass lays
@@ -200,64 +276,12 @@ impl WindPass {
         settings: &WindSettings,
         canopy_unit: f32,
     ) -> Result<Self> {
-        let face_count = grid.face_count();
-        let cell_count = grid.cell_count() as u64;
-        // Velocity x2 or x3, face kinds, with turbulence what it added,
-        // pressure x2, divergence, solid cells, canopy: 4 bytes each.
-        gpu.check_fits(
-            &format!(
-                "the {}x{}x{} wind grid",
-                grid.cells.x, grid.cells.y, grid.cells.z
-            ),
-            4 * ((velocity_copies(settings) + 1 + settings.turbulence.is_some() as u64)
-                * face_count
-                + 5 * cell_count),
-        )?;
-        let (face_count, cell_count) = match (u32::try_from(face_count), u32::try_from(cell_count))
-        {
-            (Ok(f), Ok(c)) => (f, c),
-            _ => {
-                return Err(Error::InvalidInput(
-                    "wind grid too large for 32-bit indices".into(),
-                ))
-            }
-        };
+        let (face_count, cell_count) = fitted_counts(gpu, &grid, settings)?;
         let field = WindField::new(grid, settings);
         let buffers = WindBuffers::new(gpu, commands, &field, settings, face_count, cell_count)?;
         let layout: Arc<PipelineLayout> =
             PipelineLayout::new::<WindPush>(gpu, WIND_SET, vk::ShaderStageFlags::COMPUTE, "wind")?;
-        // The tail kernel: the variant with the larger shared array where
-        // the device offers it, from the finest level that fits it, and
-        // specialised to this grid's coarsest level.
-        let large = gpu.limits().max_compute_shared_memory_size as usize >= 48 * 1024;
-        let (tail_spirv, tail_floats) = if large {
-            (WIND_KERNEL_VARIANTS[0], MG_TAIL_FLOATS_LARGE)
-        } else {
-            (WIND_KERNELS[MG_TAIL], MG_TAIL_FLOATS)
-        };
-        let last_level = field.multigrid.levels.len() - 1;
-        // The coarsest level (at most `MAX_COARSEST_CELLS` cells) always
-        // fits: this cannot fail on any grid `Multigrid::new` makes.
-        let tail_level = field
-            .multigrid
-            .tail_level(tail_floats as usize)
-            .ok_or_else(|| {
-                Error::InvalidInput(format!(
-                    "the multigrid's coarsest level needs {} floats, more than the tail \
-                     kernel's {tail_floats}; set wind.solver = \"jacobi\"",
-                    field.multigrid.tail_footprint(last_level)
-                ))
-            })?;
-        let kernels = WIND_KERNELS
-            .iter()
-            .enumerate()
-            .map(|(kernel, spirv)| match kernel {
-                MG_TAIL => {
-                    Pipeline::compute_specialized(gpu, &layout, tail_spirv, &[last_level as u32])
-                }
-                _ => Pipeline::compute(gpu, &layout, spirv),
-            })
-            .collect::<Result<Vec<_>>>()?;
+        let (kernels, tail_level) = wind_kernels(gpu, &layout, &field)?;
         let turbulence_before_projection = settings
             .turbulence
             .map(|_| Pipeline::compute_specialized(gpu, &layout, WIND_KERNELS[TURBULENCE], &[1]))
@@ -269,18 +293,9 @@ impl WindPass {
             &buffers.bound(),
             "wind descriptor set",
         )?;
-        // Its set layout is the kernels' own, so their set binds to it.
         let shift = settings
             .moving_window
-            .then(|| {
-                let layout = PipelineLayout::new::<WindShiftPush>(
-                    gpu,
-                    WIND_SET,
-                    vk::ShaderStageFlags::COMPUTE,
-                    "wind window shift",
-                )?;
-                Pipeline::compute(gpu, &layout, WIND_SHIFT_KERNEL)
-            })
+            .then(|| shift_kernel(gpu))
             .transpose()?;
         Ok(Self {
             grid,

@@ -111,8 +111,6 @@ impl WindPass {
     /// turbulence's modes on: record the steps in order.
     pub fn record_step(&mut self, rec: &Recording, time: f32, dt: f32) {
         let modes = self.turbulence_records(dt);
-        let multigrid = self.settings.solver == PressureSolver::Multigrid;
-        let iterations = self.settings.jacobi_iterations;
         let face_groups = self.face_count.div_ceil(WIND_GROUP);
         let cell_groups = self.cell_count.div_ceil(WIND_GROUP);
         let step = self.push(time, dt);
@@ -164,6 +162,24 @@ impl WindPass {
             self.record_turbulence(rec, modes, &step, true);
         }
         dispatch(DIVERGENCE, cell_groups, 0, [0; 3]);
+        self.record_pressure(&dispatch);
+        dispatch(PROJECT, face_groups, 0, [0; 3]);
+        if self.buried {
+            dispatch(UNDER_GROUND, face_groups, 0, [0; 3]);
+        }
+        if let (false, Some(modes)) = (self.among_solids, &modes) {
+            self.record_turbulence(rec, modes, &step, false);
+        }
+    }
+
+    /// The pressure solve: the multigrid's V-cycles (the levels from the
+    /// tail down in one workgroup) or the paper's Jacobi iterations, each
+    /// kernel through `dispatch` (kernel, workgroups, Jacobi half read,
+    /// [level, colour, coarsest sweeps]).
+    fn record_pressure(&self, dispatch: &dyn Fn(usize, u32, u32, [u32; 3])) {
+        let multigrid = self.settings.solver == PressureSolver::Multigrid;
+        let iterations = self.settings.jacobi_iterations;
+        let cell_groups = self.cell_count.div_ceil(WIND_GROUP);
         if multigrid {
             let groups = |l: usize| self.level_cells[l].div_ceil(WIND_GROUP);
             // One thread per cell of the colour being smoothed.
@@ -193,13 +209,6 @@ impl WindPass {
             for i in 0..iterations {
                 dispatch(JACOBI, cell_groups, i % 2, [0; 3]);
             }
-        }
-        dispatch(PROJECT, face_groups, 0, [0; 3]);
-        if self.buried {
-            dispatch(UNDER_GROUND, face_groups, 0, [0; 3]);
-        }
-        if let (false, Some(modes)) = (self.among_solids, &modes) {
-            self.record_turbulence(rec, modes, &step, false);
         }
     }
 
