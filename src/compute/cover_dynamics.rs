@@ -87,6 +87,39 @@ pub struct CoverDynamicsSetup<'a> {
     pub colliders: &'a [Collider],
 }
 
+/// The blades of the tiles kept in `square`, each tile's in the slot it
+/// wraps to (`cover::state_slot`), and each slot's tile: refused where
+/// they are more than one storage binding holds.
+fn kept_blades(
+    gpu: &Gpu,
+    cover: &Cover,
+    maker: &TileMaker,
+    square: &CoverTiles,
+) -> Result<(Vec<[i32; 2]>, Vec<GrassBlade>)> {
+    let count = square.blade_count();
+    let bytes = count * std::mem::size_of::<GrassBlade>() as u64;
+    let range = gpu.limits().max_storage_buffer_range as u64;
+    if bytes > range {
+        return Err(Error::InvalidInput(format!(
+            "grass.cover.simulate_radius {} m at {} blades a square metre keeps {count} blades in the dynamics ({bytes} bytes of blades), more than one storage binding of this device holds ({range}); lower simulate_radius or density",
+            cover.simulate_radius(),
+            cover.density()
+        )));
+    }
+    let side = square.side;
+    let mut kept = vec![[0, 0]; square.tile_count() as usize];
+    let mut blades = vec![GrassBlade::default(); count as usize];
+    for n in 0..square.tile_count() as u32 {
+        let tile = square.tile(n);
+        let slot = cover::state_slot(tile, side);
+        kept[slot as usize] = tile;
+        let first = (slot * square.per_tile) as usize;
+        let made = maker.blades(tile, square.per_tile)?;
+        blades[first..first + made.len()].copy_from_slice(&made);
+    }
+    Ok((kept, blades))
+}
+
 impl CoverDynamics {
     /// The dynamics of the cover's blades within its `simulate_radius` of
     /// the camera, in `wind`.
@@ -113,26 +146,7 @@ impl CoverDynamics {
         };
         let square = cover::kept_tiles(cover, camera);
         let count = square.blade_count();
-        let bytes = count * std::mem::size_of::<GrassBlade>() as u64;
-        let range = gpu.limits().max_storage_buffer_range as u64;
-        if bytes > range {
-            return Err(Error::InvalidInput(format!(
-                "grass.cover.simulate_radius {} m at {} blades a square metre keeps {count} blades in the dynamics ({bytes} bytes of blades), more than one storage binding of this device holds ({range}); lower simulate_radius or density",
-                cover.simulate_radius(),
-                cover.density()
-            )));
-        }
-        let side = square.side;
-        let mut kept = vec![[0, 0]; square.tile_count() as usize];
-        let mut blades = vec![GrassBlade::default(); count as usize];
-        for n in 0..square.tile_count() as u32 {
-            let tile = square.tile(n);
-            let slot = cover::state_slot(tile, side);
-            kept[slot as usize] = tile;
-            let first = (slot * square.per_tile) as usize;
-            let made = maker.blades(tile, square.per_tile)?;
-            blades[first..first + made.len()].copy_from_slice(&made);
-        }
+        let (kept, blades) = kept_blades(gpu, cover, &maker, &square)?;
         let stepped = Buffer::new(
             gpu,
             "cover dynamics control points (not drawn)",

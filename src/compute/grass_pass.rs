@@ -22,6 +22,7 @@ use ash::vk;
 use glam::Vec2;
 
 use std::ops::Range;
+use std::sync::Arc;
 
 use crate::compute::collider_bins::{BinGrid, ColliderBins};
 use crate::compute::wind_pass::{grid_params, WindInput};
@@ -132,6 +133,83 @@ struct Made<'a> {
     square: Option<(Vec2, Vec2)>,
 }
 
+/// The grass step's layout and kernel, and with colliders the kernel
+/// that steps only the blades they touch.
+fn step_pipelines(
+    gpu: &Gpu,
+    has_colliders: bool,
+) -> Result<(Arc<PipelineLayout>, Pipeline, Option<Pipeline>)> {
+    let layout =
+        PipelineLayout::new::<GrassPush>(gpu, GRASS_SET, vk::ShaderStageFlags::COMPUTE, "grass")?;
+    let pipeline = Pipeline::compute(gpu, &layout, &crate::shaders::GRASS_STEP_COMP)?;
+    let touching = has_colliders
+        .then(|| Pipeline::compute(gpu, &layout, &crate::shaders::GRASS_STEP_TOUCHING_COMP))
+        .transpose()?;
+    Ok((layout, pipeline, touching))
+}
+
+/// What the grass step binds beside its own buffers' batches.
+struct GrassBound<'a> {
+    buffers: &'a StepBuffers,
+    vertices: &'a Buffer,
+    wind: &'a Buffer,
+    canopy: &'a Buffer,
+    subgrid_modes: &'a Buffer,
+    bins: &'a ColliderBins,
+    touching: &'a Buffer,
+    has_colliders: bool,
+}
+
+/// One set per batch of `blade_count` blades (`batch_len` a batch): each
+/// batch's part of the per-blade buffers (and of the touching lists), the
+/// rest whole.
+fn grass_sets(
+    gpu: &Gpu,
+    layout: &PipelineLayout,
+    bound: &GrassBound,
+    blade_count: u32,
+    batch_len: u32,
+) -> Result<Vec<(DescriptorSet, Range<u32>)>> {
+    let b = bound.buffers;
+    crate::gpu::sets_per_batch(
+        gpu,
+        &layout,
+        GRASS_SET,
+        blade_count,
+        BLADE_BYTES_BOUND,
+        "grass descriptor set",
+        |blades| {
+            use std::mem::size_of;
+            vec![
+                part(&b.blades, blades, size_of::<GrassBlade>()),
+                part(&b.states, blades, size_of::<GrassState>()),
+                part(bound.vertices, blades, 4 * size_of::<BladeVertex>()),
+                Bound::Buffer(bound.wind),
+                Bound::Buffer(&b.caps),
+                Bound::Buffer(bound.canopy),
+                if bound.has_colliders {
+                    part(&b.presses, blades, size_of::<Press>())
+                } else {
+                    Bound::Buffer(&b.presses)
+                },
+                Bound::Buffer(bound.bins.states()),
+                Bound::Buffer(bound.bins.bins()),
+                if bound.has_colliders {
+                    Bound::Part {
+                        buffer: bound.touching,
+                        offset: list_start(blades, batch_len),
+                        size: 4 * (TOUCHING_HEADER_WORDS + blades.len() as u32) as u64,
+                    }
+                } else {
+                    Bound::Buffer(bound.touching)
+                },
+                part(&b.vertex_slots, blades, size_of::<u32>()),
+                Bound::Buffer(bound.subgrid_modes),
+            ]
+        },
+    )
+}
+
 impl GrassPass {
     /// Uploads the blades and their rest state and builds the kernel.
     /// `vertices` must hold 4 `BladeVertex` per blade; `wind.velocity`
@@ -216,62 +294,20 @@ impl GrassPass {
             .subgrid
             .map_or(&buffers.no_subgrid, |(buffer, _)| buffer);
         let bins = ColliderBins::new(gpu, bin_grid, colliders)?;
-        let layout = PipelineLayout::new::<GrassPush>(
-            gpu,
-            GRASS_SET,
-            vk::ShaderStageFlags::COMPUTE,
-            "grass",
-        )?;
-        let pipeline = Pipeline::compute(gpu, &layout, &crate::shaders::GRASS_STEP_COMP)?;
         let has_colliders = !colliders.is_empty();
-        let touching_pipeline = if has_colliders {
-            Some(Pipeline::compute(
-                gpu,
-                &layout,
-                &crate::shaders::GRASS_STEP_TOUCHING_COMP,
-            )?)
-        } else {
-            None
-        };
+        let (layout, pipeline, touching_pipeline) = step_pipelines(gpu, has_colliders)?;
         let touching = touching_lists(gpu, has_colliders, blade_count, batch_len)?;
-        let b = &buffers;
-        let batches = crate::gpu::sets_per_batch(
-            gpu,
-            &layout,
-            GRASS_SET,
-            blade_count,
-            BLADE_BYTES_BOUND,
-            "grass descriptor set",
-            |blades| {
-                use std::mem::size_of;
-                vec![
-                    part(&b.blades, blades, size_of::<GrassBlade>()),
-                    part(&b.states, blades, size_of::<GrassState>()),
-                    part(vertices, blades, 4 * size_of::<BladeVertex>()),
-                    Bound::Buffer(wind.velocity),
-                    Bound::Buffer(&b.caps),
-                    Bound::Buffer(canopy),
-                    if has_colliders {
-                        part(&b.presses, blades, size_of::<Press>())
-                    } else {
-                        Bound::Buffer(&b.presses)
-                    },
-                    Bound::Buffer(bins.states()),
-                    Bound::Buffer(bins.bins()),
-                    if has_colliders {
-                        Bound::Part {
-                            buffer: &touching,
-                            offset: list_start(blades, batch_len),
-                            size: 4 * (TOUCHING_HEADER_WORDS + blades.len() as u32) as u64,
-                        }
-                    } else {
-                        Bound::Buffer(&touching)
-                    },
-                    part(&b.vertex_slots, blades, size_of::<u32>()),
-                    Bound::Buffer(subgrid_modes),
-                ]
-            },
-        )?;
+        let bound = GrassBound {
+            buffers: &buffers,
+            vertices,
+            wind: wind.velocity,
+            canopy,
+            subgrid_modes,
+            bins: &bins,
+            touching: &touching,
+            has_colliders,
+        };
+        let batches = grass_sets(gpu, &layout, &bound, blade_count, batch_len)?;
         let touching_offsets = batches
             .iter()
             .map(|(_, blades)| list_start(blades, batch_len))
