@@ -721,7 +721,7 @@ fn write_diagrams(
         request.scene.name
     );
     let diagram = (trace.blades.len() > 1 && trace.times.len() > 1)
-        .then(|| space_time_svg(&trace, request.diagram_from, &title))
+        .then(|| space_time_svg(trace, request.diagram_from, &title))
         .transpose()?;
     if let Some(svg) = &diagram {
         claim.write(SPACE_TIME_NAME, svg.as_bytes())?;
@@ -731,7 +731,7 @@ fn write_diagrams(
         request.scene.name
     );
     let plan_view = (trace.blades.len() > 1)
-        .then(|| plan_view_svg(&trace, request.diagram_from, &title))
+        .then(|| plan_view_svg(trace, request.diagram_from, &title))
         .transpose()?
         .flatten();
     if let Some(svg) = &plan_view {

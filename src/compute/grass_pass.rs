@@ -173,7 +173,7 @@ fn grass_sets(
     let b = bound.buffers;
     crate::gpu::sets_per_batch(
         gpu,
-        &layout,
+        layout,
         GRASS_SET,
         blade_count,
         BLADE_BYTES_BOUND,

@@ -156,6 +156,8 @@ pub struct DescriptorSet {
 impl DescriptorSet {
     /// Allocates set 0 of `layout` and points binding `bindings[i]` at
     /// `bound[i]` (`bindings` being the ones the layout was made from).
+    /// Long on purpose: one create-info after another, each object named
+    /// and owned as it is made.
     pub fn new(
         gpu: &Gpu,
         layout: &PipelineLayout,

@@ -261,6 +261,8 @@ pub struct Device {
 impl Device {
     /// With `presents`, the device can also present to a window's
     /// swapchain (VK_KHR_swapchain).
+    /// Long on purpose: one create-info after another, each object named
+    /// and owned as it is made.
     pub(super) fn new(
         instance: Arc<Instance>,
         adapter: Adapter,

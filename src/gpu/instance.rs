@@ -121,6 +121,8 @@ pub struct Instance {
 impl Instance {
     /// With `window_extensions` (`gpu::surface::window_extensions`) the
     /// instance can make surfaces for a window; empty for offscreen work.
+    /// Long on purpose: one create-info after another, each object named
+    /// and owned as it is made.
     pub fn new(validation: ValidationOptions, window_extensions: &[&'static CStr]) -> Result<Self> {
         // SAFETY: loading libvulkan runs its initialisers; we trust the system's loader.
         let entry =

@@ -101,6 +101,8 @@ impl Pipeline {
         })
     }
 
+    /// Long on purpose: one create-info after another, each object named
+    /// and owned as it is made.
     pub fn graphics(gpu: &Gpu, layout: &Arc<PipelineLayout>, desc: &GraphicsDesc) -> Result<Self> {
         let device = gpu.device();
         let modules = desc

@@ -46,6 +46,8 @@ impl Swapchain {
     /// A swapchain of `surface` at the window's size (`wanted` where the
     /// surface leaves the size to us). Returns None while the window is
     /// minimised (a zero-sized surface has no swapchain).
+    /// Long on purpose: one create-info after another, each object named
+    /// and owned as it is made.
     pub fn new(
         gpu: &Gpu,
         surface: &Arc<Surface>,
@@ -203,13 +205,7 @@ impl Swapchain {
     ) -> Result<Presented> {
         rec.declare(&[], &[ImageUse::new(frame, Access::COPY_READ)]);
         let image = self.images[index as usize];
-        let range = vk::ImageSubresourceRange {
-            aspect_mask: vk::ImageAspectFlags::COLOR,
-            base_mip_level: 0,
-            level_count: 1,
-            base_array_layer: 0,
-            layer_count: 1,
-        };
+        let range = COLOR_RANGE;
         // The acquire semaphore's wait covers the transfer stage; the
         // image's old contents are not needed. With an overlay: blit ->
         // drawn over (a colour attachment, loading the blit) -> presented.
@@ -229,22 +225,7 @@ impl Swapchain {
             Access::PRESENT,
             false,
         );
-        let corner = |e: vk::Extent2D| vk::Offset3D {
-            x: e.width as i32,
-            y: e.height as i32,
-            z: 1,
-        };
-        let layers = vk::ImageSubresourceLayers {
-            aspect_mask: vk::ImageAspectFlags::COLOR,
-            mip_level: 0,
-            base_array_layer: 0,
-            layer_count: 1,
-        };
-        let region = [vk::ImageBlit2::default()
-            .src_subresource(layers)
-            .src_offsets([vk::Offset3D::default(), corner(frame.extent)])
-            .dst_subresource(layers)
-            .dst_offsets([vk::Offset3D::default(), corner(self.extent)])];
+        let region = [blit_region(frame.extent, self.extent)];
         let blit = vk::BlitImageInfo2::default()
             .src_image(frame.raw)
             .src_image_layout(Access::COPY_READ.layout)
@@ -287,6 +268,12 @@ impl Swapchain {
                 &vk::DependencyInfo::default().image_memory_barriers(&[last]),
             )
         };
+        self.submit_and_present(rec, index, what)
+    }
+
+    /// Submits `rec`, waiting for the acquire semaphore and signalling the
+    /// image's own, and presents image `index` once that is signalled.
+    fn submit_and_present(&self, rec: Recording<'_>, index: u32, what: &str) -> Result<Presented> {
         let waits = [vk::SemaphoreSubmitInfo::default()
             .semaphore(self.acquired.raw())
             .stage_mask(vk::PipelineStageFlags2::ALL_TRANSFER)];
@@ -309,6 +296,35 @@ impl Swapchain {
             Err(r) => Err(Error::vk("vkQueuePresentKHR", what, r)),
         }
     }
+}
+
+/// A swapchain image's one level and layer of colour.
+const COLOR_RANGE: vk::ImageSubresourceRange = vk::ImageSubresourceRange {
+    aspect_mask: vk::ImageAspectFlags::COLOR,
+    base_mip_level: 0,
+    level_count: 1,
+    base_array_layer: 0,
+    layer_count: 1,
+};
+
+/// The whole of an image of `from` pixels onto one of `to`.
+fn blit_region(from: vk::Extent2D, to: vk::Extent2D) -> vk::ImageBlit2<'static> {
+    let corner = |e: vk::Extent2D| vk::Offset3D {
+        x: e.width as i32,
+        y: e.height as i32,
+        z: 1,
+    };
+    let layers = vk::ImageSubresourceLayers {
+        aspect_mask: vk::ImageAspectFlags::COLOR,
+        mip_level: 0,
+        base_array_layer: 0,
+        layer_count: 1,
+    };
+    vk::ImageBlit2::default()
+        .src_subresource(layers)
+        .src_offsets([vk::Offset3D::default(), corner(from)])
+        .dst_subresource(layers)
+        .dst_offsets([vk::Offset3D::default(), corner(to)])
 }
 
 impl Drop for Swapchain {

@@ -226,6 +226,8 @@ const BLADE_BINDING: [vk::VertexInputBindingDescription; 1] = [vk::VertexInputBi
 impl RenderPipelines {
     /// The colour pass's pipelines for `targets`, and the shadow pass's
     /// when `shadows`.
+    /// Long on purpose: one create-info after another, each object named
+    /// and owned as it is made.
     pub fn new(gpu: &Gpu, targets: TargetFormats, shadows: bool) -> Result<Self> {
         // One layout for every pipeline of a pass, so the set bound once
         // serves them all; the obstacles' placement is its push constant.

@@ -37,6 +37,8 @@ pub fn choose_samples(gpu: &Gpu, requested: u32) -> vk::SampleCountFlags {
 impl RenderTargets {
     /// `depth_sampled`: the depth target is kept after the colour pass and
     /// read by compute (the depth pyramid), not transient.
+    /// Long on purpose: one create-info after another, each object named
+    /// and owned as it is made.
     pub fn new(
         gpu: &Gpu,
         width: u32,
