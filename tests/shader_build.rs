@@ -23,7 +23,7 @@ fn a_glsl_error_names_file_line_and_message() {
 
 #[test]
 fn includes_resolve_against_glsl_common() {
-    let src = "#version 450\n#extension GL_GOOGLE_include_directive : require\n#include \"frame.glsl\"\nlayout(location = 0) out vec4 c;\nvoid main() { c = frame.light_color; }\n";
+    let src = "#version 450\n#extension GL_GOOGLE_include_directive : require\n#include \"frame.glsl\"\nlayout(location = 0) out vec4 c;\nvoid main() { c = vec4(frame.light_color, 1.0); }\n";
     let common = Path::new(env!("CARGO_MANIFEST_DIR")).join("glsl/common");
     // frame.glsl includes the generated interface.glsl, which build.rs
     // writes under OUT_DIR.

@@ -104,3 +104,40 @@ pub fn files_in(dir: &Path) -> Vec<String> {
     names.sort();
     names
 }
+
+/// Fails unless `result` succeeded, showing its stderr.
+pub fn assert_succeeded(result: &Output) {
+    assert!(
+        result.status.success(),
+        "{}",
+        String::from_utf8_lossy(&result.stderr)
+    );
+}
+
+/// Fails with exactly one stderr line containing `fragment`, and no frame.
+pub fn assert_refused(args: &[&str], env: &[(&str, &str)], fragment: &str) {
+    let out = temp_out(&format!("refused-{}", fragment.len()));
+    let out_s = out.to_str().unwrap().to_string();
+    let mut full: Vec<&str> = args.to_vec();
+    full.extend(["--out", &out_s]);
+    let result = meadow(&full, env);
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    assert!(!result.status.success(), "{args:?} succeeded");
+    assert!(
+        stderr.contains(fragment),
+        "{args:?}: stderr {stderr:?} lacks {fragment:?}"
+    );
+    assert_eq!(
+        stderr.trim_end().lines().count(),
+        1,
+        "{args:?}: not one line: {stderr}"
+    );
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert!(
+        !out.join("frame_0000.png").exists(),
+        "{args:?} left a frame"
+    );
+    let left = files_in(&out);
+    assert!(left.is_empty(), "{args:?} left {left:?}");
+    let _ = std::fs::remove_dir_all(&out);
+}
