@@ -1,7 +1,7 @@
 //! The parts of one frame's recording (`FrameRecorder::record`): the
 //! simulation's steps, the cover's tiles, what the passes draw, the colour
 //! pass, the phase timer around each, and the breaks between a frame's
-//! submissions. They use the layers below and nothing of their parent.
+//! submissions. They use the layers below and the frame's timing phases.
 
 use super::timing::Phase;
 use crate::compute::{CoverTilePass, Simulation};
