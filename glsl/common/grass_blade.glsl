@@ -4,11 +4,8 @@
 #ifndef MEADOW_GRASS_BLADE_GLSL
 #define MEADOW_GRASS_BLADE_GLSL
 
-// The motions, in the order of every per-motion vec4.
-#define SWING  0
-#define BEND_A 1   // bending of the rising edges (all edges of a non-drooping blade)
-#define BEND_B 2   // bending of a drooping blade's falling edges
-#define TWIST  3
+// The motions, in the order of every per-motion vec4 (SWING, BEND_A,
+// BEND_B, TWIST): src/interface/defs.rs (interface.glsl).
 
 // GrassBlade and GrassState: src/interface/defs.rs.
 #include "interface.glsl"

@@ -8,12 +8,9 @@
 
 #include "collider.glsl"
 
-#define CONTACT_ITERATIONS 8
+// CONTACT_ITERATIONS, CONTACT_SLOP, MAX_CORRECTION, PRESS_SOFTENING and
+// PRESS_RISE_TIME: src/interface/defs.rs (interface.glsl).
 #define CONTACT_SAMPLES 10
-const float CONTACT_SLOP = 0.002;     // m beyond the surface a projection pushes
-const float MAX_CORRECTION = 0.5;     // rad: one angle's largest change per projection
-const float PRESS_SOFTENING = 0.9;
-const float PRESS_RISE_TIME = 0.05;   // s
 
 // `Press` (src/interface/defs.rs) holds the pressed state the last step
 // used, and 1 if it touched a collider.

@@ -7,9 +7,9 @@
 
 #include "grass_blade.glsl"
 
+// MAX_ANGLE (the fold guard), MAX_WIND_SPEED (the runaway-field guard) and
+// MIN_FLAT_TURN: src/interface/defs.rs (interface.glsl).
 const vec3 UP = vec3(0.0, 1.0, 0.0);
-const float MAX_ANGLE = 2.5;        // rad: the fold guard
-const float MAX_WIND_SPEED = 100.0; // m/s: the runaway-field guard
 
 // v rotated by `angle` about the unit `axis` (Rodrigues).
 vec3 rotate_about(vec3 v, vec3 axis, float angle) {
@@ -44,7 +44,6 @@ ivec2 bend_group(GrassBlade b, int i) {
 }
 
 const float PI = 3.14159265358979;
-const float MIN_FLAT_TURN = 0.05;   // rad (`contact::MIN_FLAT_TURN`)
 
 // The turn about E_w that lays rest edge j flat toward the side theta bends
 // to (`contact::flat_share`).

@@ -101,6 +101,43 @@ gpu_interface! {
     /// The displacement (rad) the data view's red channel reads 1 at.
     pub const DISPLACEMENT_FULL_SCALE: f32 = 1.5707964;
 
+    /// The grass dynamics' motions, in the order of every per-motion vec4
+    /// (src/model/grass.rs, glsl/common/grass_blade.glsl): swinging ...
+    pub const SWING: usize = 0;
+    /// ... bending of the rising edges (all edges of a blade that never
+    /// falls) ...
+    pub const BEND_A: usize = 1;
+    /// ... bending of a drooping blade's falling edges (unused otherwise) ...
+    pub const BEND_B: usize = 2;
+    /// ... and twisting.
+    pub const TWIST: usize = 3;
+    /// The largest bending or swinging angle (rad). The restoring force
+    /// fades as cos(theta / 2), so only a guard keeps a blade from folding
+    /// through itself under absurd wind; at the limit the motion stops.
+    pub const MAX_ANGLE: f32 = 2.5;
+    /// Wind beyond this speed (m/s) is treated as this speed: a guard
+    /// against a runaway field, far above any documented setting.
+    pub const MAX_WIND_SPEED: f32 = 100.0;
+    /// Touch (src/model/contact.rs, glsl/grass/contact.glsl): projections
+    /// per substep, each pushing the deepest point out.
+    pub const CONTACT_ITERATIONS: usize = 8;
+    /// Metres beyond the surface a projection pushes a point, so that a
+    /// resting contact settles just outside instead of flickering on it.
+    pub const CONTACT_SLOP: f32 = 0.002;
+    /// The largest change of one angle in one projection (rad): where the
+    /// contact is nearly perpendicular to every motion (a point straight
+    /// under a ball's centre), the linear step would be huge.
+    pub const MAX_CORRECTION: f32 = 0.5;
+    /// The time a touching blade takes to become fully pressed (s): a
+    /// ramp, so that the pressed pose's change is never a jump.
+    pub const PRESS_RISE_TIME: f32 = 0.05;
+    /// How much a fully pressed blade's swing and bend restoring forces
+    /// are weakened (1: none left).
+    pub const PRESS_SOFTENING: f32 = 0.9;
+    /// A root edge that lies within this of flat (rad) keeps eq. 12's
+    /// shares when pressed: there is nothing to lay down.
+    pub const MIN_FLAT_TURN: f32 = 0.05;
+
     /// One control point of a blade as the render pipeline reads it: four
     /// per blade, one patch; the grass step writes them
     /// (glsl/common/blade_vertex.glsl).

@@ -45,24 +45,12 @@ pub use crate::interface::MAX_COLLIDERS;
 /// What presses the grass: src/model/collider.rs.
 pub use crate::model::collider::{Collider, ColliderKind, ColliderState, GpuCollider};
 
-/// Projections per substep: each pushes the deepest point out.
-pub const CONTACT_ITERATIONS: usize = 8;
-
-/// Metres beyond the surface a projection pushes a point, so that a
-/// resting contact settles just outside instead of flickering on it.
-pub const CONTACT_SLOP: f32 = 0.002;
-
-/// The largest change of one angle in one projection (rad): where the
-/// contact is nearly perpendicular to every motion (a point straight
-/// under a ball's centre), the linear step would be huge.
-pub const MAX_CORRECTION: f32 = 0.5;
+/// Projections per substep, their slop and largest correction, and the
+/// pressed state's rise: written once for both sides (src/interface).
+pub use crate::interface::{CONTACT_ITERATIONS, CONTACT_SLOP, MAX_CORRECTION, PRESS_RISE_TIME};
 
 /// The time constant of the pressed state's decay (s).
 pub const PRESS_DECAY_TIME: f32 = 1.0;
-
-/// The time a touching blade takes to become fully pressed (s): a ramp,
-/// so that the pressed pose's change is never a jump.
-pub const PRESS_RISE_TIME: f32 = 0.05;
 
 /// The points of a blade tested against colliders, as weights of
 /// P0..P3: the control points P1, P2, P3 and the drawn curve at u = 1/8,

@@ -22,19 +22,9 @@ use glam::{Vec3, Vec4};
 use crate::error::{Error, Result};
 use crate::model::blade::{Blade, BladeVertex, UP};
 
-/// The motions, in the order of every per-motion vec4 (here and in
-/// glsl/common/grass_blade.glsl).
-pub const SWING: usize = 0;
-/// Bending of the rising edges (all edges of a blade that never falls).
-pub const BEND_A: usize = 1;
-/// Bending of a drooping blade's falling edges (unused otherwise).
-pub const BEND_B: usize = 2;
-pub const TWIST: usize = 3;
-
-/// The largest bending or swinging angle (rad). The restoring force fades
-/// as cos(theta / 2), so only a guard keeps a blade from folding through
-/// itself under absurd wind; at the limit the motion stops.
-pub const MAX_ANGLE: f32 = 2.5;
+/// The motions, in the order of every per-motion vec4, and the fold and
+/// wind guards: written once for both sides (src/interface).
+pub use crate::interface::{BEND_A, BEND_B, MAX_ANGLE, MAX_WIND_SPEED, SWING, TWIST};
 
 /// Substeps per simulation step may not pass this: a blade that would need
 /// more is refused with advice instead of slowing every frame.
@@ -44,10 +34,6 @@ pub const MAX_SUBSTEPS: u32 = 64;
 /// well inside symplectic Euler's bound (h^2 omega_0^2 + 2 h c / I < 4),
 /// with room for the stiffness the wind itself adds.
 const STEP_MARGIN: f64 = 0.5;
-
-/// Wind beyond this speed (m/s) is treated as this speed: a guard against a
-/// runaway field, far above any documented setting.
-pub const MAX_WIND_SPEED: f32 = 100.0;
 
 /// The physical parameters of one blade, drawn by the field generator from
 /// the scene's ranges (`scene::GrassDynamics`).
@@ -395,13 +381,9 @@ pub fn pose(blade: &GrassBlade, angle: [f32; 4]) -> Pose {
     pressed_pose(blade, angle, 0.0)
 }
 
-/// How much a fully pressed blade's swing and bend restoring forces are
-/// weakened (1: none left; src/model/contact.rs).
-pub const PRESS_SOFTENING: f32 = 0.9;
-
-/// A root edge that lies within this of flat (rad) keeps eq. 12's shares
-/// when pressed: there is nothing to lay down.
-pub const MIN_FLAT_TURN: f32 = 0.05;
+/// The pressed blade's softening and the flat root edge's turn, written
+/// once for both sides (src/interface).
+pub use crate::interface::{MIN_FLAT_TURN, PRESS_SOFTENING};
 
 /// The factor on the swing and bend restoring forces of a blade this
 /// pressed (exactly 1 when it is not).
