@@ -423,8 +423,7 @@ impl BladeShape {
     /// The kinds' weights (at least one positive) and the height and
     /// width ranges.
     pub fn check(&self) -> Check {
-        let shape = self;
-        let weights = [shape.upright, shape.curved, shape.drooping];
+        let weights = [self.upright, self.curved, self.drooping];
         for (name, w) in ["upright", "curved", "drooping"].into_iter().zip(weights) {
             if !(w.is_finite() && w >= 0.0) {
                 return Err(FieldError::new(
@@ -439,8 +438,8 @@ impl BladeShape {
                 "the weights upright, curved and drooping are all zero; make one positive",
             ));
         }
-        range_within("height", shape.height, 0.01..=10.0)?;
-        range_within("width", shape.width, 0.0005..=1.0)?;
+        range_within("height", self.height, 0.01..=10.0)?;
+        range_within("width", self.width, 0.0005..=1.0)?;
         Ok(())
     }
 }

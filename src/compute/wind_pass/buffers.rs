@@ -94,9 +94,8 @@ impl WindBuffers {
         cell_count: u32,
     ) -> Result<Self> {
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
-        let rw = storage | vk::BufferUsageFlags::TRANSFER_DST | vk::BufferUsageFlags::TRANSFER_SRC;
         let device_buffer = |name: &str, floats: u64| {
-            Buffer::new(gpu, name, 4 * floats, rw, MemoryLocation::GpuOnly)
+            Buffer::new(gpu, name, 4 * floats, READ_WRITE, MemoryLocation::GpuOnly)
         };
         // The classification's buffers are written again when a window
         // over terrain moves (`record_classification`).
@@ -149,7 +148,7 @@ impl WindBuffers {
             )?,
         };
         let rec = commands.begin()?;
-        if field.vel.iter().flatten().all(|&v| v == 0.0) {
+        if at_rest(field) {
             rec.fill_buffer(&buffers.velocity, 0);
         }
         rec.fill_buffer(&buffers.pressure, 0);
@@ -172,15 +171,12 @@ impl WindBuffers {
         copies: u64,
         face_count: u32,
     ) -> Result<Buffer> {
-        let rw = vk::BufferUsageFlags::STORAGE_BUFFER
-            | vk::BufferUsageFlags::TRANSFER_DST
-            | vk::BufferUsageFlags::TRANSFER_SRC;
-        if field.vel.iter().flatten().all(|&v| v == 0.0) {
+        if at_rest(field) {
             return Buffer::new(
                 gpu,
                 "wind velocity",
                 4 * copies * face_count as u64,
-                rw,
+                READ_WRITE,
                 MemoryLocation::GpuOnly,
             );
         }
@@ -191,7 +187,7 @@ impl WindBuffers {
             commands,
             "wind velocity",
             bytemuck::cast_slice(&all),
-            rw,
+            READ_WRITE,
             Access::COMPUTE_READ_WRITE,
         )
     }
@@ -325,4 +321,18 @@ fn modes_buffer(gpu: &Gpu, name: &str, count: usize) -> Result<Buffer> {
         vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
         MemoryLocation::GpuOnly,
     )
+}
+
+/// What the solver's own buffers are used as: read and written by the
+/// kernels, cleared and read back by transfers.
+const READ_WRITE: vk::BufferUsageFlags = vk::BufferUsageFlags::from_raw(
+    vk::BufferUsageFlags::STORAGE_BUFFER.as_raw()
+        | vk::BufferUsageFlags::TRANSFER_DST.as_raw()
+        | vk::BufferUsageFlags::TRANSFER_SRC.as_raw(),
+);
+
+/// Whether the air starts at rest (cleared on the GPU), not with an
+/// oblique inflow's or an inflow over terrain's velocity (uploaded).
+fn at_rest(field: &WindField) -> bool {
+    field.vel.iter().flatten().all(|&v| v == 0.0)
 }
