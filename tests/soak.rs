@@ -1,21 +1,27 @@
 //! Numerical stability: the strongest gusting, rotating wind the scene
 //! format documents (tests/soak/storm.toml) blowing over a meadow for many
-//! steps on the GPU, checked every few hundred steps (`SimRig::check`): no
-//! NaN or infinite value in the wind field or the blades' state, no blade
-//! below the ground by more than `GROUND_TOLERANCE`, roots fixed, and edge
+//! steps, checked every few hundred steps (`Figures::check`): no NaN or
+//! infinite value in the wind field or the blades' state, no blade below
+//! the ground by more than `GROUND_TOLERANCE`, roots fixed, and edge
 //! lengths kept to `EDGE_TOLERANCE`.
 //!
 //! And the shipped scenes stay off their angle caps: at most 0.1% of
 //! blade-steps end with an angle at its cap (motion the model could not
 //! follow; docs/physics.md).
 //!
-//! The suite runs a short storm and the rotating meadow (the scene nearest
-//! its caps, whose run also measures the grass following its wind); `scripts/soak` runs the ignored 100,000-step storm and every
-//! shipped scene for 20 s, in release mode, and prints the figures that
-//! docs/reliability.md and docs/physics.md record.
+//! The suite runs these on the CPU reference (tests/common/cpu_sim.rs),
+//! which the GPU's kernels follow step by step (tests/wind_gpu.rs,
+//! tests/grass_gpu.rs, tests/canopy.rs), its cap counts included
+//! (`the_gpu_counts_blade_steps_at_an_angle_cap_as_the_cpu_does`): a
+//! short storm and the rotating meadow (the scene nearest its caps, whose
+//! run also measures the grass following its wind). `scripts/soak` runs
+//! the ignored 100,000-step storm and every shipped scene for 20 s on the
+//! GPU, in release mode, and prints the figures that docs/reliability.md
+//! and docs/physics.md record: the GPU's own stability over that long.
 
 mod common;
 
+use common::cpu_sim::CpuRig;
 use common::sim::{Figures, SimRig};
 use common::{finish, strict_gpu};
 use meadow::model::grass::CapCounts;
@@ -34,35 +40,48 @@ fn storm(blades: usize) -> Scene {
 
 /// Runs `steps` wind + grass steps of the storm over `blades` blades,
 /// checking the state every `check_every` steps; panics naming the first
-/// broken invariant and the step it was seen at.
-fn soak(blades: usize, steps: u64, check_every: u64) -> Figures {
+/// broken invariant and the step it was seen at. On the CPU reference, or
+/// with `on_gpu` on the GPU under validation.
+fn soak(blades: usize, steps: u64, check_every: u64, on_gpu: bool) -> Figures {
     let scene = storm(blades);
-    let gpu = strict_gpu();
-    let mut rig = SimRig::new(&gpu, &scene);
-
     let mut figures = Figures::default();
-    while rig.steps_done() < steps {
-        rig.run(check_every.min(steps - rig.steps_done()));
-        rig.check(&gpu, &mut figures);
+    let check = |done: u64, figures: &Figures| {
         assert!(
             figures.worst_edge < EDGE_TOLERANCE,
-            "step {}: an edge length changed by {:e} of its rest length",
-            rig.steps_done(),
+            "step {done}: an edge length changed by {:e} of its rest length",
             figures.worst_edge
         );
-    }
+    };
+    let caps = if on_gpu {
+        let gpu = strict_gpu();
+        let mut rig = SimRig::new(&gpu, &scene);
+        while rig.steps_done() < steps {
+            rig.run(check_every.min(steps - rig.steps_done()));
+            rig.check(&gpu, &mut figures);
+            check(rig.steps_done(), &figures);
+        }
+        let caps = rig.cap_counts(&gpu);
+        drop(rig);
+        finish(gpu);
+        caps
+    } else {
+        let mut rig = CpuRig::new(&scene);
+        while rig.steps_done() < steps {
+            rig.run(check_every.min(steps - rig.steps_done()));
+            rig.check(&mut figures);
+            check(rig.steps_done(), &figures);
+        }
+        rig.cap_counts()
+    };
     // The share of blade-steps at an angle cap, printed for
     // docs/reliability.md. Not bounded here: a 100 m/s storm is meant to
     // drive the grass to its guards; the shipped scenes are bounded below.
-    let caps = rig.cap_counts(&gpu);
     eprintln!(
         "soak: {:.3}% of {} blade-steps at an angle cap ({:?})",
         100.0 * caps.fraction(),
         caps.blade_steps,
         caps
     );
-    drop(rig);
-    finish(gpu);
     eprintln!(
         "soak: {} steps over {} blades, {} checks: max wind {:.1} m/s, lowest point {:.4} m, worst edge length change {:.2e}, farthest tip {:.3} m, largest angle {:.3} rad",
         figures.steps,
@@ -77,10 +96,11 @@ fn soak(blades: usize, steps: u64, check_every: u64) -> Figures {
     figures
 }
 
-/// The short soak of the normal suite: a minute of simulated storm.
+/// The short soak of the normal suite: a minute of simulated storm, on
+/// the CPU reference.
 #[test]
 fn a_minute_of_the_strongest_storm_keeps_the_meadow_finite_and_above_ground() {
-    let f = soak(1000, 3600, 500);
+    let f = soak(1000, 3600, 500, false);
     // The storm must actually bend the grass hard, or the soak proves nothing.
     assert!(
         f.farthest_tip > 0.2,
@@ -97,7 +117,7 @@ fn soak_100k_steps_of_the_strongest_storm() {
         .ok()
         .map(|s| s.parse().expect("MEADOW_SOAK_STEPS is a step count"))
         .unwrap_or(100_000);
-    let f = soak(4000, steps, 5000);
+    let f = soak(4000, steps, 5000, true);
     assert!(
         f.farthest_tip > 0.2,
         "the storm barely moved the grass: {f:?}"
@@ -135,8 +155,9 @@ fn assert_off_its_caps(name: &str, seconds: u64, caps: &CapCounts) {
     );
 }
 
-/// Fig. 11's meadow for 10 s, one simulation measured two ways (the
-/// motion and the caps shared one run since they ask for the same scene).
+/// Fig. 11's meadow for 10 s on the CPU reference, one simulation
+/// measured two ways (the motion and the caps shared one run since they
+/// ask for the same scene).
 ///
 /// The rotating wind is followed, in the grass: under the source, which
 /// turns at 0.5 rad/s about the vertical, the mean downwind lean of the
@@ -152,8 +173,7 @@ fn the_grass_follows_a_rotating_wind_and_stays_off_its_angle_caps() {
     let scene = Scene::builtin("fig11-meadow-rotating").unwrap();
     let rate = scene.wind.sources[0].rotation_speed;
     let steps_per_second = (1.0 / scene.wind.dt).round() as u64;
-    let gpu = strict_gpu();
-    let mut rig = SimRig::new(&gpu, &scene);
+    let mut rig = CpuRig::new(&scene);
     // Each second, the direction of the mean horizontal tip displacement
     // from rest (as the source's: about +y, from +x towards -z), unwrapped
     // over time.
@@ -166,7 +186,7 @@ fn the_grass_follows_a_rotating_wind_and_stays_off_its_angle_caps() {
     let mut angles: Vec<f64> = Vec::new();
     for _second in 1..=10 {
         rig.run(steps_per_second);
-        let vertices = rig.vertices(&gpu);
+        let vertices = rig.vertices();
         let (mut dx, mut dz) = (0.0f64, 0.0f64);
         for &b in &near {
             let (now, rest) = (vertices[4 * b + 3].position, rig.blades[b].rest[3]);
@@ -184,9 +204,7 @@ fn the_grass_follows_a_rotating_wind_and_stays_off_its_angle_caps() {
         }
         angles.push(a);
     }
-    let caps = rig.cap_counts(&gpu);
-    drop(rig);
-    finish(gpu);
+    let caps = rig.cap_counts();
 
     let at = |t: usize| angles[t - 1];
     let turned = at(6) - at(2);

@@ -984,3 +984,248 @@ fn a_band_of_grass_averages_the_turbulence_as_the_von_karman_spectrum_says() {
         "{measured:.3} against the closed form's {closed:.3}"
     );
 }
+
+/// The spread in time of the downwind wind at blade height (0.4 m), 36 m
+/// downwind of a point 2 m inside the inflow side, over its spread there:
+/// what a gust keeps of its strength down gust-strip (its grid along the
+/// wind and up, 78 x 12 cells, on a strip 1 m wide and 4 cells across, to
+/// keep the test short), with `advection`. The gusts' amplitude
+/// is 0.1 (the scene's 0.5 makes the gust change itself as it goes: faster
+/// air overtakes slower; docs/physics.md), so that what is lost is the
+/// scheme's. The first 14 s (the first gusts crossing the 39 m grid at
+/// 3 m/s) are left out, then 12 s measured (3.6 periods of the gusts'
+/// 0.3 Hz).
+fn gust_kept_over_36_m(advection: Advection) -> f64 {
+    let mut scene = meadow::scene::Scene::builtin("gust-strip").unwrap();
+    scene.grass.meadow[0].size[1] = 1.0;
+    scene.wind.cells[2] = 4;
+    // The inflow's gusts alone: the scene's turbulence left out.
+    scene.wind.turbulence = None;
+    let inflow = scene
+        .wind
+        .inflow
+        .as_mut()
+        .expect("gust-strip has an inflow");
+    inflow.gust.amplitude = 0.1;
+    let grid = scene.wind_grid().unwrap();
+    let settings = WindSettings {
+        advection,
+        ..scene.wind_settings()
+    };
+    let near = Vec3::new(grid.origin.x + 2.0, 0.4, 0.0);
+    let far = near + Vec3::new(36.0, 0.0, 0.0);
+    let series = downwind_wind(grid, &settings, scene.wind.dt, 14.0, 12.0, &[near, far]);
+    let (at_near, at_far) = (&series[0], &series[1]);
+    let spread = |v: &[f64]| {
+        let mean = v.iter().sum::<f64>() / v.len() as f64;
+        (v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / v.len() as f64).sqrt()
+    };
+    let kept = spread(at_far) / spread(at_near);
+    eprintln!(
+        "{advection:?}: spread of u at 0.4 m, 2 m in {:.3} m/s, 36 m further {:.3} m/s: {:.0}% kept",
+        spread(at_near),
+        spread(at_far),
+        100.0 * kept
+    );
+    kept
+}
+
+/// Issue 39: MacCormack's advection, the default, keeps most of a gust's
+/// strength down gust-strip's 36 m, where the paper's semi-Lagrangian step
+/// wears it away (measured on lavapipe: 72% against 5%: docs/physics.md). The bounds: at least 70% kept, as
+/// issue 39 asks, and at least 5 times what the semi-Lagrangian step keeps.
+#[test]
+fn maccormack_keeps_a_gust_down_a_36_m_strip() {
+    let maccormack = gust_kept_over_36_m(Advection::Maccormack);
+    let semi_lagrangian = gust_kept_over_36_m(Advection::SemiLagrangian);
+    assert!(maccormack >= 0.7, "{maccormack:.2}");
+    assert!(
+        maccormack >= 5.0 * semi_lagrangian,
+        "{maccormack:.2} against {semi_lagrangian:.2}"
+    );
+}
+
+/// The downwind wind at 0.4 m, sampled every third step over `seconds`
+/// after 4 s, at `points` of a 60 x 60 m field (wind grid 30 x 6 x 30 cells
+/// of 2 x 0.5 x 2 m, 3 m/s from -x) with `turbulence` and inflow gusts of
+/// `gust_amplitude`: [point][sample].
+fn field_wind(
+    turbulence: Option<Turbulence>,
+    gust_amplitude: f32,
+    points: &[Vec3],
+    seconds: f32,
+) -> Vec<Vec<f64>> {
+    let grid = WindGrid::new(
+        UVec3::new(30, 6, 30),
+        Vec3::new(-30.0, 0.0, -30.0),
+        Vec3::new(60.0, 3.0, 60.0),
+    )
+    .unwrap();
+    let settings = WindSettings {
+        inflow: Some(Inflow {
+            speed: 3.0,
+            heading: 0.0,
+            gust: Gust {
+                amplitude: gust_amplitude,
+                frequency: 0.3,
+                seed: 4,
+            },
+        }),
+        turbulence,
+        ..Default::default()
+    };
+    downwind_wind(grid, &settings, 1.0 / 60.0, 4.0, seconds, points)
+}
+
+/// The downwind wind at `points`, steps of `dt` from rest, sampled every
+/// third step for `seconds` after the first `skip_s` seconds (20 samples a
+/// second at 1/60 s, against 1.4 Hz at most): [point][sample].
+fn downwind_wind(
+    grid: WindGrid,
+    settings: &WindSettings,
+    dt: f32,
+    skip_s: f32,
+    seconds: f32,
+    points: &[Vec3],
+) -> Vec<Vec<f64>> {
+    let mut field = WindField::new(grid, settings);
+    let skip = (skip_s / dt).round() as u32;
+    let steps = skip + (seconds / dt).round() as u32;
+    let mut series = vec![Vec::new(); points.len()];
+    for step in 0..steps {
+        field.step(settings, dt);
+        if step >= skip && (step - skip) % 3 == 2 {
+            for (s, p) in series.iter_mut().zip(points) {
+                s.push(field.sample(*p).x as f64);
+            }
+        }
+    }
+    series
+}
+
+/// Issue 39, patches and not fronts: on a 60 x 60 m field in a 3 m/s wind,
+/// the downwind wind at 0.4 m at two points 20 m apart across the wind
+/// correlates below 0.5 with turbulence (intensity 0.3, length scale 4 m,
+/// no inflow gusts), where the inflow's gusts alone (amplitude 0.5) give
+/// fronts that correlate above 0.8 (so the test fails without the
+/// turbulence; measured 0.06 and 0.99). And the patches are carried
+/// downwind: half a second on, the points' mean correlation over the
+/// pairs d apart on the line along the wind peaks (parabolic between the
+/// points) at d = U_c 0.5 s with U_c 0.8 to 1.5 times the mean wind there
+/// (the moving-frame estimate of tests/wind_cpu.rs
+/// `patches_are_carried_at_the_speed_of_the_wind`, which holds it over
+/// three lags and six seeds; at 0.5 s one seed's record suffices: twelve
+/// seeds of the modes alone read 0.87-1.33). The best lag at a fixed 8 m,
+/// which this test read before, is not a measure: one seed read 1.01,
+/// others 0.5 to 53 times the wind. The patches' integral length, along the wind and across
+/// it (the mean correlation of points r apart on lines of 21 points 2 m
+/// apart, summed to its first zero), is 0.5 to 2 times the length scale
+/// set (measured 4.73 m along, 2.67 m across for 4 m). The measure
+/// saturates on this field and record: set to 12 m, the lengths read 6.8
+/// and 6.4 m (with the modes drawn once), so it holds the length to a
+/// factor, not finely.
+#[test]
+fn turbulence_makes_patches_carried_by_the_wind() {
+    let turbulence = Turbulence {
+        intensity: 0.3,
+        length_scale: 4.0,
+        seed: 9,
+        speed: None,
+        finest_wavelength: None,
+    };
+    // Two points 20 m apart across the wind, then 21 along the wind (x)
+    // and 21 across it (z), 2 m apart, for the correlation lengths and the
+    // patches' travel.
+    let mut points = vec![Vec3::new(-4.0, 0.4, -10.0), Vec3::new(-4.0, 0.4, 10.0)];
+    let line = |along: bool| {
+        (-10..=10).map(move |i| {
+            let r = 2.0 * i as f32;
+            if along {
+                Vec3::new(r, 0.4, 0.0)
+            } else {
+                Vec3::new(0.0, 0.4, r)
+            }
+        })
+    };
+    points.extend(line(true).chain(line(false)));
+    let turbulent = field_wind(Some(turbulence), 0.0, &points, 20.0);
+    let fronts = field_wind(None, 0.5, &points, 20.0);
+    // The integral length along each line: the mean correlation of the
+    // points r apart, summed over r (trapezoids of 2 m) to its first zero.
+    let integral_length = |series: &[Vec<f64>]| {
+        let rho: Vec<f64> = (0..series.len())
+            .map(|m| {
+                let pairs = series.len() - m;
+                (0..pairs)
+                    .map(|i| lagged_correlation(&series[i], &series[i + m], 0))
+                    .sum::<f64>()
+                    / pairs as f64
+            })
+            .collect();
+        let mut length = 0.0;
+        for pair in rho.windows(2) {
+            if pair[1] <= 0.0 {
+                // The last piece up to the zero crossing.
+                length += 2.0 * pair[0] * pair[0] / (pair[0] - pair[1]) / 2.0;
+                break;
+            }
+            length += 2.0 * (pair[0] + pair[1]) / 2.0;
+        }
+        (length, rho)
+    };
+    let (along, rho_along) = integral_length(&turbulent[2..23]);
+    let (across_length, rho_across) = integral_length(&turbulent[23..44]);
+    let show = |rho: &[f64]| {
+        rho.iter()
+            .take(8)
+            .map(|r| format!("{r:.2}"))
+            .collect::<Vec<_>>()
+            .join(" ")
+    };
+    eprintln!(
+        "integral length of the downwind wind at 0.4 m: along the wind {along:.2} m (correlation every 2 m: {}), across {across_length:.2} m ({}); the length scale set: 4 m",
+        show(&rho_along),
+        show(&rho_across)
+    );
+    // Within 0.5 to 2 times the length scale both ways (issue 39); the
+    // inflow's fronts alone correlate right across the field.
+    for (name, length) in [("along", along), ("across", across_length)] {
+        assert!(
+            (2.0..=8.0).contains(&length),
+            "{name} the wind: integral length {length} m against 4 m"
+        );
+    }
+
+    let (across, across_fronts) = (
+        lagged_correlation(&turbulent[0], &turbulent[1], 0),
+        lagged_correlation(&fronts[0], &fronts[1], 0),
+    );
+    // Samples every 3 steps of 1/60 s: half a second is 10 samples. The
+    // mean correlation of the points d apart on the line along the wind,
+    // the second 0.5 s later, for d = 0, 2, ... 22 m.
+    let along_line = &turbulent[2..23];
+    let rho: Vec<f64> = (0..12)
+        .map(|d| {
+            let pairs = 21 - d;
+            (0..pairs)
+                .map(|i| lagged_correlation(&along_line[i], &along_line[i + d], 10))
+                .sum::<f64>()
+                / pairs as f64
+        })
+        .collect();
+    let ridge = wind_scenes::ridge(&rho, 2.0);
+    let mean_wind = along_line.iter().flatten().sum::<f64>()
+        / along_line.iter().map(Vec::len).sum::<usize>() as f64;
+    let speed = ridge / 0.5;
+    eprintln!(
+        "20 m across the wind: correlation {across:.2} with turbulence, {across_fronts:.2} with the inflow's gusts alone; \
+         0.5 s on, the correlation along the wind peaks {ridge:.2} m downwind: convection {speed:.2} m/s against a mean wind of {mean_wind:.2} m/s ({:.2}x)",
+        speed / mean_wind
+    );
+    assert!(across < 0.5, "{across}");
+    assert!(across_fronts > 0.8, "{across_fronts}");
+    assert!(
+        (0.8..=1.5).contains(&(speed / mean_wind)),
+        "{speed} against {mean_wind}"
+    );
+}

@@ -156,11 +156,25 @@ impl DeviceArgs {
                 })
                 .unwrap_or_default(),
             memory_budget: self.gpu_memory_mib.map(|m| m << 20),
-            storage_range: None,
+            // A test hook: the most bytes one storage binding may reach,
+            // so that the kernels run in batches on a small meadow.
+            storage_range: storage_range_hook()?,
             window_extensions: Vec::new(),
             // A test hook: fail the N-th allocation or submission.
             faults: FaultPlan::parse(&std::env::var("MEADOW_INJECT_FAULT").unwrap_or_default())?,
         })
+    }
+}
+
+/// MEADOW_STORAGE_RANGE, when set: bytes, a whole number.
+fn storage_range_hook() -> anyhow::Result<Option<u32>> {
+    match std::env::var("MEADOW_STORAGE_RANGE") {
+        Err(_) => Ok(None),
+        Ok(v) => v.parse().map(Some).map_err(|_| {
+            anyhow::anyhow!(
+                "MEADOW_STORAGE_RANGE is {v:?}: give the bytes one storage binding may reach, a whole number, or unset it"
+            )
+        }),
     }
 }
 

@@ -6,6 +6,7 @@
 
 pub mod binary;
 pub mod cover;
+pub mod cpu_sim;
 pub mod reflect;
 pub mod scene_property;
 pub mod sim;

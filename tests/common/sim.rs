@@ -129,36 +129,55 @@ impl SimRig {
             .unwrap()
     }
 
-    /// Reads the wind and the blades back and checks what must hold at any
-    /// step: no NaN or infinite value in the wind or the blades' state, roots
-    /// where they grew, no control point more than GROUND_TOLERANCE under the
-    /// ground; panics naming the step and blade. The rest (fastest wind,
-    /// edge-length change, tip travel, angles) goes into `figures`, for the
-    /// caller's bounds.
+    /// Reads the wind and the blades back and checks them
+    /// (`Figures::check`).
     pub fn check(&self, gpu: &Gpu, figures: &mut Figures) {
         let done = self.steps_done();
-        figures.steps = done;
-        figures.blades = self.blades.len();
-        figures.checks += 1;
-        for (axis, v) in self.velocity(gpu).iter().enumerate() {
+        figures.check(
+            done,
+            &self.blades,
+            &self.velocity(gpu),
+            &self.states(gpu),
+            &self.vertices(gpu),
+        );
+    }
+}
+
+impl Figures {
+    /// Checks what must hold at any step of a run, `done` steps in: no NaN
+    /// or infinite value in the wind or the blades' state, roots where they
+    /// grew, no control point more than GROUND_TOLERANCE under the ground;
+    /// panics naming the step and blade. The rest (fastest wind,
+    /// edge-length change, tip travel, angles) goes into the figures, for
+    /// the caller's bounds.
+    pub fn check(
+        &mut self,
+        done: u64,
+        blades: &[GrassBlade],
+        velocity: &[Vec<f32>; 3],
+        states: &[GrassState],
+        out: &[BladeVertex],
+    ) {
+        self.steps = done;
+        self.blades = blades.len();
+        self.checks += 1;
+        for (axis, v) in velocity.iter().enumerate() {
             if let Some(i) = v.iter().position(|x| !x.is_finite()) {
                 panic!("step {done}: wind component {axis} at face {i} is {}", v[i]);
             }
             let fastest = v.iter().fold(0.0f32, |m, x| m.max(x.abs()));
-            figures.max_wind = figures.max_wind.max(fastest);
+            self.max_wind = self.max_wind.max(fastest);
         }
-        let states = self.states(gpu);
-        let out = self.vertices(gpu);
-        for (i, blade) in self.blades.iter().enumerate() {
+        for (i, blade) in blades.iter().enumerate() {
             let s = &states[i];
             assert!(
                 s.angle.iter().chain(&s.velocity).all(|x| x.is_finite()),
                 "step {done}: blade {i} state {s:?}"
             );
-            figures.largest_angle = s
+            self.largest_angle = s
                 .angle
                 .iter()
-                .fold(figures.largest_angle, |m, a| m.max(a.abs()));
+                .fold(self.largest_angle, |m, a| m.max(a.abs()));
             let v = &out[4 * i..4 * i + 4];
             assert!(
                 v.iter()
@@ -174,15 +193,15 @@ impl SimRig {
             for e in 0..3 {
                 let rest = blade.rest_point(e + 1).distance(blade.rest_point(e));
                 let error = (p[e + 1].distance(p[e]) - rest).abs() / rest;
-                figures.worst_edge = figures.worst_edge.max(error);
+                self.worst_edge = self.worst_edge.max(error);
             }
             let lowest = p.iter().map(|p| p.y).fold(f32::INFINITY, f32::min);
-            figures.lowest_point = figures.lowest_point.min(lowest);
+            self.lowest_point = self.lowest_point.min(lowest);
             assert!(
                 lowest >= -GROUND_TOLERANCE,
                 "step {done}: blade {i} reaches {lowest} m below the ground (tolerance {GROUND_TOLERANCE} m): {p:?}"
             );
-            figures.farthest_tip = figures.farthest_tip.max(p[3].distance(blade.rest_point(3)));
+            self.farthest_tip = self.farthest_tip.max(p[3].distance(blade.rest_point(3)));
         }
     }
 }
