@@ -10,9 +10,11 @@
 
 mod common;
 
+use common::binary::temp_out;
 use common::{finish, mean_spread, strict_gpu};
 use meadow::analysis::stats::best_lag;
 use meadow::analysis::trace::Trace;
+use meadow::commands::render::{render_pictures, render_pictures_traced, Picture};
 use meadow::commands::trace::{trace, trace_on_cpu, BladePick, TraceRequest};
 use meadow::gpu::{GpuOptions, ValidationOptions};
 use meadow::model::wind::Coupling;
@@ -80,6 +82,58 @@ fn the_gpu_trace_follows_the_cpu_reference() {
         assert!(wind < 1e-3, "the tips' wind differs by {wind} m/s");
     }
     finish(gpu);
+}
+
+/// A render that also traces its simulation (`render_pictures_traced`,
+/// what `reproduce` draws the gust strip and the turbulent field with)
+/// takes the samples `trace` takes, bit for bit, though it steps in other
+/// submissions (to its frames, then on to the trace's end); and its frames
+/// are a plain render's. gust-strip, 200 blades traced every 6 steps over
+/// 1 s, frames at 0.25 and 0.5 s.
+#[test]
+fn a_traced_render_samples_as_the_trace_does_and_draws_as_a_render_does() {
+    let scene = Scene::builtin("gust-strip").unwrap();
+    let request = TraceRequest {
+        scene: scene.clone(),
+        seconds: 1.0,
+        every: 6,
+        blades: BladePick::Count(200),
+        wind: true,
+        diagram_from: 0.0,
+        gpu: strict_options(),
+    };
+    let gpu = strict_gpu();
+    let alone = trace(&gpu, &request, &mut |_, _| true).unwrap();
+    finish(gpu);
+    let mut render = common::strict_request(scene, 96, 64, 2, 4.0);
+    render.animation.start = 0.25;
+    let (traced_dir, plain_dir) = (temp_out("traced-render"), temp_out("plain-render"));
+    let picture = |dir: &std::path::Path| Picture {
+        view: render.view,
+        dir: dir.to_path_buf(),
+    };
+    let (_, traced) =
+        render_pictures_traced(&render, &[picture(&traced_dir)], &request, &mut |_| true).unwrap();
+    render_pictures(&render, &[picture(&plain_dir)], &mut |_| true).unwrap();
+    assert_eq!(traced.times, alone.times);
+    assert_eq!(traced.blades, alone.blades);
+    assert_eq!(traced.tips, alone.tips, "the tips differ");
+    assert_eq!(traced.angles, alone.angles);
+    assert_eq!(traced.wind, alone.wind);
+    let last = alone.times.len() - 1;
+    let moved = (0..alone.blades.len())
+        .map(|b| (alone.tip(last, b)[0] - alone.tip(0, b)[0]).abs())
+        .fold(0.0f32, f32::max);
+    assert!(moved > 0.01, "the tips hardly moved ({moved} m)");
+    for frame in ["frame_0000.png", "frame_0001.png", "animation.gif"] {
+        assert_eq!(
+            std::fs::read(traced_dir.join(frame)).unwrap(),
+            std::fs::read(plain_dir.join(frame)).unwrap(),
+            "{frame} differs from a plain render's"
+        );
+    }
+    let _ = std::fs::remove_dir_all(traced_dir);
+    let _ = std::fs::remove_dir_all(plain_dir);
 }
 
 /// Gusts travel: on the 36 m strip of `gust-strip` in gusts from the left,

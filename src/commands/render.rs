@@ -6,7 +6,9 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use crate::analysis::light_waves::{self, LightWaveSeries, LightWaves};
+use crate::analysis::trace::Trace;
 use crate::commands::on_gpu;
+use crate::commands::trace::{TraceRequest, TraceSampler};
 use crate::compute::StepPace;
 use crate::error::{Error, Result};
 use crate::frame::timing::{FrameTimings, Phase, TimingSummary};
@@ -218,6 +220,32 @@ pub fn render_pictures(
     pictures: &[Picture],
     observer: &mut dyn FnMut(FrameProgress) -> bool,
 ) -> Result<Vec<RenderReport>> {
+    Ok(render_traced(request, pictures, None, observer)?.0)
+}
+
+/// As `render_pictures`, the simulation also traced as `trace` asks (its
+/// scene the render's): the samples read as the render steps to its
+/// frames, and after the last frame the steps on to the trace's end. The
+/// frames and reports are those of `render_pictures` (the steps after the
+/// last frame come after its report's counts); the trace is that of
+/// `commands::trace::trace`, sample for sample. One simulation for both.
+pub fn render_pictures_traced(
+    request: &RenderRequest,
+    pictures: &[Picture],
+    trace: &TraceRequest,
+    observer: &mut dyn FnMut(FrameProgress) -> bool,
+) -> Result<(Vec<RenderReport>, Trace)> {
+    trace.validate()?;
+    let (reports, trace) = render_traced(request, pictures, Some(trace), observer)?;
+    Ok((reports, trace.expect("a trace asked for")))
+}
+
+fn render_traced(
+    request: &RenderRequest,
+    pictures: &[Picture],
+    trace: Option<&TraceRequest>,
+    observer: &mut dyn FnMut(FrameProgress) -> bool,
+) -> Result<(Vec<RenderReport>, Option<Trace>)> {
     if pictures.is_empty() || (pictures.len() > 1 && request.video.is_some()) {
         return Err(Error::InvalidInput(format!(
             "{} pictures of one render with {} video: one picture has a video, and a render at least one picture",
@@ -250,8 +278,8 @@ pub fn render_pictures(
         )?;
     }
     let started = Instant::now();
-    let (mut reports, validation) = on_gpu(&request.gpu, |gpu| {
-        render_with(gpu, request, pictures, &claims, observer)
+    let ((mut reports, trace), validation) = on_gpu(&request.gpu, |gpu| {
+        render_with(gpu, request, pictures, &claims, trace, observer)
     })?;
     let wall_seconds = started.elapsed().as_secs_f64();
     for ((report, picture), claim) in reports.iter_mut().zip(pictures).zip(&claims) {
@@ -266,7 +294,7 @@ pub fn render_pictures(
         claim.write_json(REPORT_NAME, &*report)?;
     }
     validation.check()?;
-    Ok(reports)
+    Ok((reports, trace))
 }
 
 fn render_with(
@@ -274,8 +302,9 @@ fn render_with(
     request: &RenderRequest,
     pictures: &[Picture],
     claims: &[OutputClaim],
+    trace: Option<&TraceRequest>,
     observer: &mut dyn FnMut(FrameProgress) -> bool,
-) -> Result<Vec<RenderReport>> {
+) -> Result<(Vec<RenderReport>, Option<Trace>)> {
     let scene = &request.scene;
     let mut warnings = scene.wind_settings().check(&scene.wind_grid()?)?;
     if let Some(cover) = &scene.grass.cover {
@@ -298,7 +327,24 @@ fn render_with(
         &blades,
         Some(&dynamic),
     )?;
-    let (done, light_waves) = animate(gpu, request, &mut recorder, pictures, claims, observer)?;
+    let mut sampler = match trace {
+        Some(t) => Some(TraceSampler::new(
+            t,
+            &blades,
+            &dynamic,
+            recorder.simulation().expect("made with dynamics"),
+        )?),
+        None => None,
+    };
+    let (done, light_waves) = animate(
+        gpu,
+        request,
+        &mut recorder,
+        pictures,
+        claims,
+        sampler.as_mut(),
+        observer,
+    )?;
     let simulation = recorder.simulation().expect("made with dynamics");
     let (sim_dt, substeps, sim_steps) = (
         simulation.dt(),
@@ -337,11 +383,62 @@ fn render_with(
         angle_caps,
         untimed: recorder.untimed_phases(),
     };
-    Ok(pictures
+    let reports = pictures
         .iter()
         .zip(done)
         .map(|(picture, done)| report(gpu, request, picture, done, &facts, &light_waves))
-        .collect())
+        .collect();
+    // The trace's steps after the last frame.
+    let trace = match sampler {
+        Some(mut sampler) => {
+            let mut pace = StepPace::default();
+            let mut done = sim_steps;
+            while sampler.steps_to_next(done).is_some() {
+                done += sampled_batch(gpu, &mut recorder, &mut pace, &mut sampler, u64::MAX)?;
+            }
+            Some(sampler.finish())
+        }
+        None => None,
+    };
+    Ok((reports, trace))
+}
+
+/// One submission of at most `steps` steps (paced to the machine) that
+/// ends at the trace's next sample if that comes sooner, the samples due
+/// before and after it taken; the steps run.
+fn sampled_batch(
+    gpu: &Gpu,
+    recorder: &mut FrameRecorder,
+    pace: &mut StepPace,
+    sampler: &mut TraceSampler,
+    steps: u64,
+) -> Result<u64> {
+    let mut take_due = |recorder: &FrameRecorder| -> Result<Option<u64>> {
+        let simulation = recorder.simulation().expect("made with dynamics");
+        let done = simulation.steps_done();
+        sampler.sample_if_due(
+            gpu,
+            recorder.commands(),
+            simulation,
+            recorder.blades(),
+            done,
+        )?;
+        Ok(sampler.steps_to_next(done))
+    };
+    let next = take_due(recorder)?;
+    if next == Some(0) {
+        return Err(Error::InvalidInput(
+            "a trace's sample was stepped past (an internal fault: please report it)".into(),
+        ));
+    }
+    if steps == 0 {
+        return Ok(0);
+    }
+    let ran = pace.run(steps.min(next.unwrap_or(u64::MAX)), |batch| {
+        recorder.simulate(batch)
+    })?;
+    take_due(recorder)?;
+    Ok(ran)
 }
 
 /// What one render learned beside its frames, the same for every picture
@@ -619,15 +716,30 @@ fn light_wave_frames(
 /// a stop asked after each (`progress` with the steps left); leaves the
 /// last batch in `steps`, to go with the frame, timed as its own. False:
 /// stopped.
+///
+/// With a trace (`sampler`) every step runs here, the frame's own too, in
+/// submissions that end at the trace's samples.
 fn step_towards(
+    gpu: &Gpu,
     recorder: &mut FrameRecorder,
     pace: &mut StepPace,
     steps: &mut u64,
+    mut sampler: Option<&mut TraceSampler>,
     progress: FrameProgress,
     observer: &mut dyn FnMut(FrameProgress) -> bool,
 ) -> Result<bool> {
-    while *steps > pace.next(*steps) {
-        *steps -= pace.run(*steps, |batch| recorder.simulate(batch))?;
+    let leave = |steps: u64, pace: &StepPace, traced: bool| {
+        if traced {
+            0
+        } else {
+            pace.next(steps)
+        }
+    };
+    while *steps > leave(*steps, pace, sampler.is_some()) {
+        *steps -= match sampler.as_deref_mut() {
+            Some(sampler) => sampled_batch(gpu, recorder, pace, sampler, *steps)?,
+            None => pace.run(*steps, |batch| recorder.simulate(batch))?,
+        };
         let progress = FrameProgress {
             steps_left: *steps,
             ..progress
@@ -702,6 +814,7 @@ fn animate(
     recorder: &mut FrameRecorder,
     pictures: &[Picture],
     claims: &[OutputClaim],
+    mut sampler: Option<&mut TraceSampler>,
     observer: &mut dyn FnMut(FrameProgress) -> bool,
 ) -> Result<(Vec<Animated>, Option<LightWaves>)> {
     let planned = request.frames_written().count() as u32;
@@ -722,7 +835,16 @@ fn animate(
             planned,
             steps_left: 0,
         };
-        if !step_towards(recorder, &mut pace, &mut steps, progress, observer).map_err(at_frame)? {
+        let stepped = step_towards(
+            gpu,
+            recorder,
+            &mut pace,
+            &mut steps,
+            sampler.as_deref_mut(),
+            progress,
+            observer,
+        );
+        if !stepped.map_err(at_frame)? {
             interrupted = true;
             break 'frames;
         }

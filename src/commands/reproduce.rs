@@ -6,10 +6,12 @@
 use crate::report::claim::OutputClaim;
 use std::path::Path;
 
-use crate::commands::on_gpu;
-use crate::commands::render::{render_pictures, Picture, RenderReport, RenderRequest};
+use crate::analysis::trace::Trace;
+use crate::commands::render::{
+    render_pictures, render_pictures_traced, Picture, RenderReport, RenderRequest,
+};
 use crate::commands::trace::{
-    plan_view_svg, space_time_svg, spectrum_svg, trace, BladePick, TraceRequest, PLAN_VIEW_NAME,
+    plan_view_svg, space_time_svg, spectrum_svg, BladePick, TraceRequest, PLAN_VIEW_NAME,
     SPECTRUM_NAME,
 };
 use crate::error::Result;
@@ -274,7 +276,7 @@ fn fig13(b: &Budget) -> Result<Figure> {
 fn gusts(b: &Budget) -> Result<Figure> {
     let strip = Scene::builtin("gust-strip")?;
     Ok(Figure {
-        title: "Beyond the paper: gusts that travel",
+        title: GUSTS_TITLE,
         paper: "Gusts enter from the left as faster air near the ground and are carried \
                 along the strip by the wind: waves run downwind. The diagram is measured \
                 from a trace of the grass (meadow trace): diagonal stripes are waves, their \
@@ -472,10 +474,14 @@ pub fn reproduce(
         &[PLAN_VIEW_NAME.to_string(), SPECTRUM_NAME.to_string()],
         overwrite,
     )?;
-    // The shots, then the gust trace and the field's.
-    let total = figures.iter().map(|f| f.shots.len()).sum::<usize>() + 2;
+    // The gust strip's and the turbulent field's shots are drawn from the
+    // simulations their diagrams trace: one simulation each.
+    let gust_trace = gust_trace(&b, gpu)?;
+    let field_trace = field_trace(&b, gpu)?;
+    let total = figures.iter().map(|f| f.shots.len()).sum::<usize>();
     let started = std::time::Instant::now();
     let mut rendered = Vec::new();
+    let (mut gust_run, mut field_run) = (None, None);
     for (index, figure) in figures.iter().enumerate() {
         let mut progress = |shot: &str, done_here: usize| {
             on_shot(ShotProgress {
@@ -486,7 +492,13 @@ pub fn reproduce(
                 elapsed_s: started.elapsed().as_secs_f64(),
             })
         };
-        let shots = render_figure(figure, &b, out, overwrite, gpu, &mut progress)?;
+        let (traced, run) = match figure.title {
+            GUSTS_TITLE => (Some(&gust_trace), &mut gust_run),
+            TURBULENCE_TITLE => (Some(&field_trace), &mut field_run),
+            _ => (None, &mut None),
+        };
+        let (shots, trace) = render_figure(figure, &b, out, overwrite, gpu, traced, &mut progress)?;
+        *run = trace;
         rendered.extend(shots.into_iter().map(|(s, report, video)| Rendered {
             figure: index,
             label: s.label.clone(),
@@ -496,25 +508,14 @@ pub fn reproduce(
             video,
         }));
     }
-    on_shot(ShotProgress {
-        figure: "Beyond the paper: gusts that travel",
-        shot: "space-time diagram (tracing the strip)",
-        done: rendered.len(),
-        total,
-        elapsed_s: started.elapsed().as_secs_f64(),
-    });
-    let diagram = gust_diagram(&b, gpu)?;
+    let traced = |run: Option<Trace>, what: &str| {
+        run.ok_or_else(|| crate::Error::InvalidInput(format!("the plan has no shot of {what}")))
+    };
+    let diagram = gust_diagram(&b, &traced(gust_run, "the gust strip")?)?;
     files::ensure_dir(&gusts)?;
     diagram_claim.begin()?;
     diagram_claim.write(SPACE_TIME_NAME, diagram.as_bytes())?;
-    on_shot(ShotProgress {
-        figure: TURBULENCE_TITLE,
-        shot: "plan view and spectrum (tracing the field)",
-        done: rendered.len() + 1,
-        total,
-        elapsed_s: started.elapsed().as_secs_f64(),
-    });
-    let (plan_view, spectrum) = field_diagrams(&b, gpu)?;
+    let (plan_view, spectrum) = field_diagrams(&b, &traced(field_run, "the turbulent field")?)?;
     files::ensure_dir(&turbulence)?;
     field_claim.begin()?;
     field_claim.write(PLAN_VIEW_NAME, plan_view.as_bytes())?;
@@ -531,19 +532,25 @@ pub fn reproduce(
 /// A shot's video: its file name, or why there is none.
 type Video = Option<std::result::Result<String, String>>;
 
+/// A figure's shots, each with its report and video.
+type FigureShots<'f> = Vec<(&'f Shot, RenderReport, Video)>;
+
 /// Renders `figure`'s shots into `out`, telling `progress` of each (its
 /// label and the figure's shots done before it). Shots of one instant in
 /// other views are drawn from one simulation (fig. 13's shaded and motion
 /// views, the ball's): the same frames as rendering each alone, simulated
-/// once.
+/// once. With `trace`, the first shot's simulation is also traced (its
+/// scene the trace's) and the trace returned.
 fn render_figure<'f>(
     figure: &'f Figure,
     b: &Budget,
     out: &Path,
     overwrite: bool,
     gpu: &GpuOptions,
+    mut trace: Option<&TraceRequest>,
     progress: &mut dyn FnMut(&str, usize),
-) -> Result<Vec<(&'f Shot, RenderReport, Video)>> {
+) -> Result<(FigureShots<'f>, Option<Trace>)> {
+    let mut run = None;
     let mut reports: Vec<Option<RenderReport>> = vec![None; figure.shots.len()];
     let mut videos: Vec<Video> = vec![None; figure.shots.len()];
     for (first, s) in figure.shots.iter().enumerate() {
@@ -582,18 +589,27 @@ fn render_figure<'f>(
                 dir: out.join(&figure.shots[k].dir),
             })
             .collect();
-        let done = render_pictures(&request, &pictures, &mut |_| true)?;
+        let done = match trace.take() {
+            Some(trace) => {
+                let (done, traced) =
+                    render_pictures_traced(&request, &pictures, trace, &mut |_| true)?;
+                run = Some(traced);
+                done
+            }
+            None => render_pictures(&request, &pictures, &mut |_| true)?,
+        };
         for (k, report) in same.into_iter().zip(done) {
             reports[k] = Some(report);
         }
     }
-    Ok(figure
+    let shots = figure
         .shots
         .iter()
         .zip(reports)
         .zip(videos)
         .map(|((s, report), video)| (s, report.expect("every shot rendered"), video))
-        .collect())
+        .collect();
+    Ok((shots, run))
 }
 
 const INDEX_MD: &str = "index.md";
@@ -603,6 +619,7 @@ const SPACE_TIME_DIR: &str = "gusts";
 const SPACE_TIME_NAME: &str = "space_time.svg";
 const SPACE_TIME_FILE: &str = "gusts/space_time.svg";
 
+const GUSTS_TITLE: &str = "Beyond the paper: gusts that travel";
 const TURBULENCE_TITLE: &str = "Beyond the paper: turbulence everywhere";
 /// The turbulent field's plan view and spectrum: TURBULENCE_DIR/...
 const TURBULENCE_DIR: &str = "turbulence";
@@ -610,9 +627,9 @@ const TURBULENCE_DIR: &str = "turbulence";
 /// turbulence filling the field).
 const FIELD_SKIP: f64 = 4.0;
 
-/// Traces every blade of the turbulent field and draws its plan view at
-/// the last three seconds and its tips' spectrum.
-fn field_diagrams(b: &Budget, gpu: &GpuOptions) -> Result<(String, String)> {
+/// The trace of every blade of the turbulent field, drawn as its plan
+/// view at the last three seconds and its tips' spectrum.
+fn field_trace(b: &Budget, gpu: &GpuOptions) -> Result<TraceRequest> {
     let request = TraceRequest {
         scene: turbulent_field(b.field_density)?,
         seconds: b.field_seconds,
@@ -623,8 +640,11 @@ fn field_diagrams(b: &Budget, gpu: &GpuOptions) -> Result<(String, String)> {
         gpu: gpu.clone(),
     };
     request.validate()?;
-    let (run, validation) = on_gpu(&request.gpu, |gpu| trace(gpu, &request, &mut |_, _| true))?;
-    validation.check()?;
+    Ok(request)
+}
+
+/// The turbulent field's plan view and its tips' spectrum, from its trace.
+fn field_diagrams(b: &Budget, run: &Trace) -> Result<(String, String)> {
     let no_picture = |what: &str| {
         crate::Error::InvalidInput(format!(
             "the turbulent field's trace of {} s gives no {what}",
@@ -632,7 +652,7 @@ fn field_diagrams(b: &Budget, gpu: &GpuOptions) -> Result<(String, String)> {
         ))
     };
     let plan_view = plan_view_svg(
-        &run,
+        run,
         FIELD_SKIP,
         "60 x 60 m in turbulence: tips bent downwind from above, a second apart",
     )?
@@ -650,8 +670,9 @@ fn field_diagrams(b: &Budget, gpu: &GpuOptions) -> Result<(String, String)> {
     Ok((plan_view, spectrum))
 }
 
-/// Traces the gust strip and draws its space-time diagram (1 m bands).
-fn gust_diagram(b: &Budget, gpu: &GpuOptions) -> Result<String> {
+/// The trace of every blade of the gust strip, drawn as its space-time
+/// diagram (1 m bands).
+fn gust_trace(b: &Budget, gpu: &GpuOptions) -> Result<TraceRequest> {
     let request = TraceRequest {
         scene: Scene::builtin("gust-strip")?,
         seconds: b.gust_seconds,
@@ -662,10 +683,13 @@ fn gust_diagram(b: &Budget, gpu: &GpuOptions) -> Result<String> {
         gpu: gpu.clone(),
     };
     request.validate()?;
-    let (run, validation) = on_gpu(&request.gpu, |gpu| trace(gpu, &request, &mut |_, _| true))?;
-    validation.check()?;
+    Ok(request)
+}
+
+/// The gust strip's space-time diagram, from its trace.
+fn gust_diagram(b: &Budget, run: &Trace) -> Result<String> {
     space_time_svg(
-        &run,
+        run,
         b.gust_skip,
         "gust-strip: tip displacement along the wind over time",
     )

@@ -269,34 +269,13 @@ pub fn trace(
     let commands = CommandPool::new(gpu, "trace commands")?;
     let vertices = BladeBuffer::new(gpu, &commands, &rest)?;
     let mut simulation = Simulation::new(gpu, &commands, scene, &dynamic, vertices.buffer())?;
-    // The CPU field only samples what the GPU's wind read back.
-    let mut wind = request
-        .wind
-        .then(|| -> Result<WindField> {
-            Ok(WindField::new(scene.wind_grid()?, &scene.wind_settings()))
-        })
-        .transpose()?;
-    let mut trace = Trace::begun(
-        request,
-        &rest,
-        &dynamic,
-        simulation.dt(),
-        simulation.substeps(),
-    );
+    let mut sampler = TraceSampler::new(request, &rest, &dynamic, &simulation)?;
     let steps = request.steps();
     let mut done = 0u64;
     let mut pace = StepPace::default();
     'samples: loop {
-        sample(
-            gpu,
-            &commands,
-            &simulation,
-            &vertices,
-            wind.as_mut(),
-            &mut trace,
-            done,
-        )?;
-        if !trace.goes_on(done, steps, observer) {
+        sampler.sample_if_due(gpu, &commands, &simulation, &vertices, done)?;
+        if !sampler.trace.goes_on(done, steps, observer) {
             break;
         }
         // The steps to the next sample, in submissions paced to the
@@ -310,7 +289,7 @@ pub fn trace(
                 rec.submit_and_wait("simulating a trace")
             })?;
             if left > 0 && !observer(done, steps) {
-                trace.interrupted = true;
+                sampler.trace.interrupted = true;
                 break 'samples;
             }
         }
@@ -318,7 +297,91 @@ pub fn trace(
         done = done.min(steps);
     }
     drop(simulation);
-    Ok(trace)
+    Ok(sampler.trace)
+}
+
+/// A trace's samples read from a simulation as it steps, whoever steps it
+/// (`trace` above, or a render that draws a shot of the same simulation:
+/// `commands::render::render_pictures_traced`): one at step 0, then every
+/// `every` steps, the last at the request's end.
+pub struct TraceSampler {
+    trace: Trace,
+    /// The CPU field that samples what the GPU's wind read back (None: the
+    /// tips' wind is not traced).
+    wind: Option<WindField>,
+    every: u64,
+    steps: u64,
+    /// The step of the next sample; None once the last is taken.
+    next: Option<u64>,
+}
+
+impl TraceSampler {
+    /// A sampler of `request` over `simulation`, made of the scene's
+    /// blades `rest` and their dynamics `dynamic`.
+    pub fn new(
+        request: &TraceRequest,
+        rest: &[Blade],
+        dynamic: &[GrassBlade],
+        simulation: &Simulation,
+    ) -> Result<Self> {
+        let scene = &request.scene;
+        let wind = request
+            .wind
+            .then(|| -> Result<WindField> {
+                Ok(WindField::new(scene.wind_grid()?, &scene.wind_settings()))
+            })
+            .transpose()?;
+        Ok(Self {
+            trace: Trace::begun(
+                request,
+                rest,
+                dynamic,
+                simulation.dt(),
+                simulation.substeps(),
+            ),
+            wind,
+            every: request.every as u64,
+            steps: request.steps(),
+            next: Some(0),
+        })
+    }
+
+    /// Steps from `done` to the next sample; None once the last is taken.
+    pub fn steps_to_next(&self, done: u64) -> Option<u64> {
+        self.next.map(|next| next.saturating_sub(done))
+    }
+
+    /// Reads a sample when the simulation, `done` steps in, is at the next
+    /// sample's step.
+    pub fn sample_if_due(
+        &mut self,
+        gpu: &Gpu,
+        commands: &CommandPool,
+        simulation: &Simulation,
+        vertices: &BladeBuffer,
+        done: u64,
+    ) -> Result<()> {
+        if self.next != Some(done) {
+            return Ok(());
+        }
+        sample(
+            gpu,
+            commands,
+            simulation,
+            vertices,
+            self.wind.as_mut(),
+            &mut self.trace,
+            done,
+        )?;
+        self.trace.steps_done = done;
+        self.next = (done < self.steps).then(|| (done + self.every).min(self.steps));
+        Ok(())
+    }
+
+    /// The trace, every sample taken (`steps_to_next` is None).
+    pub fn finish(self) -> Trace {
+        self.trace
+    }
 }
 
 /// The same trace on the CPU reference (src/model: the wind solver, the
