@@ -4,7 +4,8 @@
 //! `#include "x.glsl"` resolves against the including file's folder, then
 //! `glsl/common/`, then the generated `interface.glsl` (src/interface/defs.rs,
 //! written as GLSL by src/interface_build.rs). The SPIR-V lands in OUT_DIR and `shaders.rs` there embeds
-//! it, so the binary needs no shader files at run time. A GLSL error fails
+//! it, so the binary needs no shader files at run time; with each compute
+//! kernel, the bindings it uses and how (src/shader_reflect.rs). A GLSL error fails
 //! the build with the file, line and glslang's message.
 
 use std::fmt::Write as _;
@@ -12,6 +13,9 @@ use std::path::{Path, PathBuf};
 
 #[path = "src/shader_build.rs"]
 mod glsl_compile;
+
+#[path = "src/shader_reflect.rs"]
+mod shader_reflect;
 
 #[macro_use]
 #[path = "src/interface_build.rs"]
@@ -121,12 +125,24 @@ fn main() {
         }
         let spv_path = out_dir.join(format!("{}.spv", rel_str.replace('/', "__")));
         let bytes: Vec<u8> = words.iter().flat_map(|w| w.to_le_bytes()).collect();
+        // A kernel's bindings and what it does to each, reflected.
+        let bindings = if stage_name == "Compute" {
+            match shader_reflect::kernel_bindings(&rel_str, &bytes) {
+                Ok(b) => format!("Some({b})"),
+                Err(message) => {
+                    failures.push(message);
+                    continue;
+                }
+            }
+        } else {
+            "None".to_string()
+        };
         std::fs::write(&spv_path, bytes).expect("write SPIR-V");
 
         let ident = rel_str.to_uppercase().replace(['/', '.', '-'], "_");
         writeln!(
             consts,
-            "pub static {ident}: Spirv = Spirv {{ path: \"{rel_str}\", stage: ShaderStage::{stage_name}, bytes: include_bytes!(r\"{}\") }};",
+            "pub static {ident}: Spirv = Spirv {{ path: \"{rel_str}\", stage: ShaderStage::{stage_name}, bytes: include_bytes!(r\"{}\"), bindings: {bindings} }};",
             spv_path.display()
         )
         .unwrap();

@@ -10,9 +10,9 @@ mod common;
 
 use ash::vk;
 use common::reflect::{self, Binding};
-use meadow::compute::grass_pass::GRASS_SET;
+use meadow::compute::grass_pass::grass_set;
 use meadow::compute::wind_pass::{
-    GpuWindSource, WIND_KERNELS, WIND_KERNEL_VARIANTS, WIND_SET, WIND_SHIFT_KERNEL,
+    wind_set, GpuWindSource, WIND_KERNELS, WIND_KERNEL_VARIANTS, WIND_SHIFT_KERNEL,
 };
 use meadow::gpu::LayoutBinding;
 use meadow::interface::{StructLayout, LAYOUTS};
@@ -122,19 +122,19 @@ fn descriptor_layouts_match_reflection() {
         .chain(&[WIND_SHIFT_KERNEL])
         .copied()
         .collect();
-    check_pipeline("wind", &wind, WIND_SET);
+    check_pipeline("wind", &wind, &wind_set());
     check_pipeline(
         "grass",
         &[
             &shaders::GRASS_STEP_COMP,
             &shaders::GRASS_STEP_TOUCHING_COMP,
         ],
-        GRASS_SET,
+        &grass_set(),
     );
     check_pipeline(
         "grass collider binning",
         &[&shaders::GRASS_BIN_COLLIDERS_COMP],
-        meadow::compute::collider_bins::BIN_SET,
+        &meadow::compute::collider_bins::bin_set(),
     );
     check_pipeline(
         "cover tiles",
@@ -154,7 +154,7 @@ fn descriptor_layouts_match_reflection() {
             &shaders::CULL_SCAN_COMP,
             &shaders::CULL_COMPACT_COMP,
         ],
-        meadow::render::cull::CULL_SET,
+        &meadow::render::cull::cull_set(),
     );
     // The depth pyramid's kernels (one of the two base kernels per
     // sample count) share one set layout.

@@ -23,6 +23,7 @@ use crate::gpu::{
 use crate::interface::{BinPush, GpuColliderState, GRASS_GROUP};
 use crate::model::contact::{reach, Collider, ColliderState, GpuCollider, MAX_COLLIDERS};
 use crate::model::grass::GrassBlade;
+use crate::shaders::Spirv;
 /// Cells along the grid's longer side at most: 64 x 64 cells of 16 bytes
 /// are 64 KiB, cleared each step.
 pub const MAX_CELLS_PER_SIDE: u32 = 64;
@@ -110,16 +111,21 @@ impl BinGrid {
     }
 }
 
-/// Set 0 of the binning kernel.
-pub const BIN_SET: &[LayoutBinding] = &[
-    LayoutBinding::compute_storage(0), // colliders
-    LayoutBinding::compute_storage(1), // collider states at the step's end
-    LayoutBinding::compute_storage(2), // bins: four words per cell
-];
+/// The binning kernel.
+const BIN_KERNEL: &Spirv = &crate::shaders::GRASS_BIN_COLLIDERS_COMP;
+
+/// Set 0 of the binning kernel, as it uses it (build.rs's reflection): the
+/// colliders, their states at the step's end, the bins (four words per
+/// cell).
+pub fn bin_set() -> Vec<LayoutBinding> {
+    crate::gpu::kernels_set(&[BIN_KERNEL], 0)
+}
 
 pub struct ColliderBins {
     set: DescriptorSet,
     pipeline: Pipeline,
+    /// What the kernel does to what its set binds (build.rs's reflection).
+    kernel_uses: Vec<BufferUse>,
     /// The colliders, with room for `MAX_COLLIDERS`.
     colliders: Buffer,
     states: Buffer,
@@ -153,25 +159,28 @@ impl ColliderBins {
         )?;
         let layout = PipelineLayout::new::<BinPush>(
             gpu,
-            BIN_SET,
+            &bin_set(),
             vk::ShaderStageFlags::COMPUTE,
             "grass collider binning",
         )?;
-        let pipeline = Pipeline::compute(gpu, &layout, &crate::shaders::GRASS_BIN_COLLIDERS_COMP)?;
+        let pipeline = Pipeline::compute(gpu, &layout, BIN_KERNEL)?;
+        let bound = [
+            Bound::Buffer(&colliders_buffer),
+            Bound::Buffer(&states),
+            Bound::Buffer(&bins),
+        ];
         let set = DescriptorSet::new(
             gpu,
             &layout,
-            BIN_SET,
-            &[
-                Bound::Buffer(&colliders_buffer),
-                Bound::Buffer(&states),
-                Bound::Buffer(&bins),
-            ],
+            &bin_set(),
+            &bound,
             "grass collider binning set",
         )?;
+        let kernel_uses = BIN_KERNEL.buffer_uses(0, &bound);
         Ok(Self {
             set,
             pipeline,
+            kernel_uses,
             colliders: colliders_buffer,
             states,
             bins,
@@ -220,9 +229,9 @@ impl ColliderBins {
     }
 
     /// Records the binning for a step ending at `end_time`, declaring what
-    /// it writes and reads; the grass kernels declare their reads
-    /// (`read_uses`), so the recording orders it after the last step's
-    /// and before the next step's. Nothing without colliders.
+    /// it writes and reads; the grass kernels' reads of the states and
+    /// bins (their reflected uses) order it after the last step's and
+    /// before the next step's. Nothing without colliders.
     pub fn record(&self, rec: &Recording, end_time: f32) {
         if self.records.is_empty() {
             return;
@@ -230,11 +239,7 @@ impl ColliderBins {
         super::colliders::record_write(&self.colliders, rec, &self.records);
         rec.uses(&[BufferUse::new(&self.bins, Access::TRANSFER_WRITE)]);
         rec.fill_buffer(&self.bins, 0);
-        rec.uses(&[
-            BufferUse::new(&self.colliders, Access::COMPUTE_READ),
-            BufferUse::new(&self.states, Access::COMPUTE_WRITE),
-            BufferUse::new(&self.bins, Access::COMPUTE_READ_WRITE),
-        ]);
+        rec.uses(&self.kernel_uses);
         let g = &self.grid;
         let push = BinPush {
             corner: g.corner.to_array(),
@@ -251,15 +256,6 @@ impl ColliderBins {
         rec.bind_set(&self.pipeline, &self.set);
         rec.push_constants(&self.pipeline, &push);
         rec.dispatch(self.count().div_ceil(GRASS_GROUP));
-    }
-
-    /// What the grass kernels do to the binning's results: read the
-    /// colliders' states and the bins.
-    pub fn read_uses(&self) -> [BufferUse; 2] {
-        [
-            BufferUse::new(&self.states, Access::COMPUTE_READ),
-            BufferUse::new(&self.bins, Access::COMPUTE_READ),
-        ]
     }
 
     /// The bins the last recorded binning left (for tests).

@@ -28,13 +28,14 @@ use crate::compute::collider_bins::{BinGrid, ColliderBins};
 use crate::compute::wind_pass::{grid_params, WindInput};
 use crate::error::{try_collect, Error, Result};
 use crate::gpu::{
-    part, Access, Bound, Buffer, BufferId, BufferUse, CommandPool, DescriptorSet, Gpu,
-    LayoutBinding, Pipeline, PipelineLayout, Recording,
+    part, Access, Bound, Buffer, BufferUse, CommandPool, DescriptorSet, Gpu, LayoutBinding,
+    Pipeline, PipelineLayout, Recording,
 };
 use crate::interface::{GrassPush, GRASS_GROUP};
 use crate::model::contact::{press_decay, Collider, Press};
 use crate::model::grass::{substeps, CapCounts, GrassBlade, GrassState};
 use crate::model::BladeVertex;
+use crate::shaders::Spirv;
 /// Bytes of the largest per-blade part the kernel binds (the rest shape
 /// and physics, the state, the four control points): what limits a batch.
 const BLADE_BYTES_BOUND: u64 = {
@@ -47,21 +48,18 @@ const BLADE_BYTES_BOUND: u64 = {
 /// Any motion at its cap, then swing, bend A, bend B, twist.
 const CAP_COUNTERS: usize = 5;
 
-/// Set 0 of the grass kernel.
-pub const GRASS_SET: &[LayoutBinding] = &[
-    LayoutBinding::compute_storage(0), // blades (rest shape and physics)
-    LayoutBinding::compute_storage(1), // state (angles, angular velocities)
-    LayoutBinding::compute_storage(2), // vertices: the blade pipeline's vertex buffer
-    LayoutBinding::compute_storage(3), // wind velocity
-    LayoutBinding::compute_storage(4), // angle-cap counters
-    LayoutBinding::compute_storage(5), // canopy: frontal area per wind cell (two-way coupling)
-    LayoutBinding::compute_storage(6), // pressed state per blade (colliders)
-    LayoutBinding::compute_storage(7), // collider states at the step's end
-    LayoutBinding::compute_storage(8), // collider bins
-    LayoutBinding::compute_storage(9), // the batch's blades near a collider or pressed
-    LayoutBinding::compute_storage(10), // each slot's blade, whose control points it writes
-    LayoutBinding::compute_storage(11), // the turbulence's modes finer than the wind grid (or a placeholder)
+/// The grass kernels: every blade, and with colliders the blades they
+/// touch.
+const GRASS_KERNELS: [&Spirv; 2] = [
+    &crate::shaders::GRASS_STEP_COMP,
+    &crate::shaders::GRASS_STEP_TOUCHING_COMP,
 ];
+
+/// Set 0 of the grass kernels, as they use it (build.rs's reflection of
+/// glsl/grass/*.comp): what binding b holds is `grass_bound`'s b-th.
+pub fn grass_set() -> Vec<LayoutBinding> {
+    crate::gpu::kernels_set(&GRASS_KERNELS, 0)
+}
 
 /// Words each batch's list of touching blades has beyond one per blade:
 /// the indirect dispatch (3) and the count before its blades, padding
@@ -84,24 +82,19 @@ pub struct GrassPass {
     touching_offsets: Vec<u64>,
     /// The rest shapes and physics the kernel reads, in slot order.
     blades: Buffer,
-    /// Each slot's blade's index in its batch.
-    vertex_slots: Buffer,
     /// The blade each slot steps (`place_order::by_place`): the states
     /// and pressed states lie in this order.
     order: Vec<u32>,
     states: Buffer,
     /// Blade-steps at an angle cap: any motion, then each motion.
     caps: Buffer,
-    /// The buffers the kernels bind but others own: the wind velocity
-    /// they sample, the canopy they lay area into (the wind's, or a
-    /// placeholder the sets hold with one-way coupling), the vertex buffer
-    /// they write.
-    wind_velocity: BufferId,
-    canopy: BufferId,
-    vertices: BufferId,
-    /// The turbulence's modes finer than the wind grid, which the wind
-    /// step writes (a placeholder of the pass's own without).
-    subgrid_modes: BufferId,
+    /// What one dispatch of each kernel (`GRASS_KERNELS`) does to the
+    /// buffers its set binds, from build.rs's reflection: the recording
+    /// derives the barriers between batches and kernels, and against the
+    /// wind step, the binning, the cull pass and the draws, from these and
+    /// theirs. The touching kernel's indirect read of its list is its
+    /// dispatch's own (`Recording::dispatch_indirect`).
+    kernel_uses: [Vec<BufferUse>; 2],
     /// Each blade's pressed state (a placeholder without colliders).
     presses: Buffer,
     /// The colliders, evaluated and binned before each step.
@@ -139,11 +132,15 @@ fn step_pipelines(
     gpu: &Gpu,
     has_colliders: bool,
 ) -> Result<(Arc<PipelineLayout>, Pipeline, Option<Pipeline>)> {
-    let layout =
-        PipelineLayout::new::<GrassPush>(gpu, GRASS_SET, vk::ShaderStageFlags::COMPUTE, "grass")?;
-    let pipeline = Pipeline::compute(gpu, &layout, &crate::shaders::GRASS_STEP_COMP)?;
+    let layout = PipelineLayout::new::<GrassPush>(
+        gpu,
+        &grass_set(),
+        vk::ShaderStageFlags::COMPUTE,
+        "grass",
+    )?;
+    let pipeline = Pipeline::compute(gpu, &layout, GRASS_KERNELS[0])?;
     let touching = has_colliders
-        .then(|| Pipeline::compute(gpu, &layout, &crate::shaders::GRASS_STEP_TOUCHING_COMP))
+        .then(|| Pipeline::compute(gpu, &layout, GRASS_KERNELS[1]))
         .transpose()?;
     Ok((layout, pipeline, touching))
 }
@@ -160,9 +157,7 @@ struct GrassBound<'a> {
     has_colliders: bool,
 }
 
-/// One set per batch of `blade_count` blades (`batch_len` a batch): each
-/// batch's part of the per-blade buffers (and of the touching lists), the
-/// rest whole.
+/// One set per batch of `blade_count` blades (`batch_len` a batch).
 fn grass_sets(
     gpu: &Gpu,
     layout: &PipelineLayout,
@@ -170,44 +165,54 @@ fn grass_sets(
     blade_count: u32,
     batch_len: u32,
 ) -> Result<Vec<(DescriptorSet, Range<u32>)>> {
-    let b = bound.buffers;
     crate::gpu::sets_per_batch(
         gpu,
         layout,
-        GRASS_SET,
+        &grass_set(),
         blade_count,
         BLADE_BYTES_BOUND,
         "grass descriptor set",
-        |blades| {
-            use std::mem::size_of;
-            vec![
-                part(&b.blades, blades, size_of::<GrassBlade>()),
-                part(&b.states, blades, size_of::<GrassState>()),
-                part(bound.vertices, blades, 4 * size_of::<BladeVertex>()),
-                Bound::Buffer(bound.wind),
-                Bound::Buffer(&b.caps),
-                Bound::Buffer(bound.canopy),
-                if bound.has_colliders {
-                    part(&b.presses, blades, size_of::<Press>())
-                } else {
-                    Bound::Buffer(&b.presses)
-                },
-                Bound::Buffer(bound.bins.states()),
-                Bound::Buffer(bound.bins.bins()),
-                if bound.has_colliders {
-                    Bound::Part {
-                        buffer: bound.touching,
-                        offset: list_start(blades, batch_len),
-                        size: 4 * (TOUCHING_HEADER_WORDS + blades.len() as u32) as u64,
-                    }
-                } else {
-                    Bound::Buffer(bound.touching)
-                },
-                part(&b.vertex_slots, blades, size_of::<u32>()),
-                Bound::Buffer(bound.subgrid_modes),
-            ]
-        },
+        |blades| grass_bound(bound, blades, batch_len),
     )
+}
+
+/// What the grass kernels' set binds for the batch of `blades`, in binding
+/// order: its part of the per-blade buffers (and of the touching lists),
+/// the rest whole. The blades (rest shape and physics), their states, the
+/// vertices (the blade pipeline's vertex buffer), the wind velocity, the
+/// angle-cap counters, the canopy (frontal area per wind cell), the
+/// pressed states, the colliders' states at the step's end, their bins,
+/// the touching lists, each slot's blade, the turbulence's modes finer
+/// than the wind grid (or a placeholder).
+fn grass_bound<'a>(bound: &GrassBound<'a>, blades: &Range<u32>, batch_len: u32) -> Vec<Bound<'a>> {
+    use std::mem::size_of;
+    let b = bound.buffers;
+    vec![
+        part(&b.blades, blades, size_of::<GrassBlade>()),
+        part(&b.states, blades, size_of::<GrassState>()),
+        part(bound.vertices, blades, 4 * size_of::<BladeVertex>()),
+        Bound::Buffer(bound.wind),
+        Bound::Buffer(&b.caps),
+        Bound::Buffer(bound.canopy),
+        if bound.has_colliders {
+            part(&b.presses, blades, size_of::<Press>())
+        } else {
+            Bound::Buffer(&b.presses)
+        },
+        Bound::Buffer(bound.bins.states()),
+        Bound::Buffer(bound.bins.bins()),
+        if bound.has_colliders {
+            Bound::Part {
+                buffer: bound.touching,
+                offset: list_start(blades, batch_len),
+                size: 4 * (TOUCHING_HEADER_WORDS + blades.len() as u32) as u64,
+            }
+        } else {
+            Bound::Buffer(bound.touching)
+        },
+        part(&b.vertex_slots, blades, size_of::<u32>()),
+        Bound::Buffer(bound.subgrid_modes),
+    ]
 }
 
 impl GrassPass {
@@ -308,6 +313,10 @@ impl GrassPass {
             has_colliders,
         };
         let batches = grass_sets(gpu, &layout, &bound, blade_count, batch_len)?;
+        // Every batch binds parts of the same buffers: the first's say
+        // what each kernel touches.
+        let first = grass_bound(&bound, &(0..blade_count.min(batch_len)), batch_len);
+        let kernel_uses = GRASS_KERNELS.map(|kernel| kernel.buffer_uses(0, &first));
         let touching_offsets = batches
             .iter()
             .map(|(_, blades)| list_start(blades, batch_len))
@@ -318,12 +327,8 @@ impl GrassPass {
             touching_pipeline,
             touching,
             touching_offsets,
-            wind_velocity: wind.velocity.into(),
-            canopy: canopy.into(),
-            vertices: vertices.into(),
-            subgrid_modes: subgrid_modes.into(),
+            kernel_uses,
             blades: buffers.blades,
-            vertex_slots: buffers.vertex_slots,
             order,
             states: buffers.states,
             caps: buffers.caps,
@@ -459,28 +464,6 @@ impl GrassPass {
         Ok(())
     }
 
-    /// What one dispatch of the grass kernels does to its buffers: the
-    /// recording derives the barriers between batches and kernels, and
-    /// against the wind step, the binning, the cull pass and the draws,
-    /// from these and theirs.
-    fn kernel_uses(&self) -> Vec<BufferUse> {
-        let (read, read_write) = (Access::COMPUTE_READ, Access::COMPUTE_READ_WRITE);
-        let mut uses = vec![
-            BufferUse::new(&self.blades, read),
-            BufferUse::new(&self.vertex_slots, read),
-            BufferUse::new(&self.states, read_write),
-            BufferUse::new(self.vertices, Access::COMPUTE_WRITE),
-            BufferUse::new(self.wind_velocity, read),
-            BufferUse::new(self.subgrid_modes, read),
-            BufferUse::new(&self.caps, read_write),
-            BufferUse::new(self.canopy, read_write),
-            BufferUse::new(&self.presses, read_write),
-            BufferUse::new(&self.touching, read_write),
-        ];
-        uses.extend(self.bins.read_uses());
-        uses
-    }
-
     /// The wind grid's corner from the next step on: the wind window
     /// moved under the camera (`WindPass::record_shift`).
     pub fn set_wind_origin(&mut self, origin: glam::Vec3) {
@@ -509,26 +492,22 @@ impl GrassPass {
                 rec.update_buffer(&self.touching, offset, &[0, 1, 1, 0]);
             }
         }
-        let uses = self.kernel_uses();
         rec.bind_pipeline(&self.pipeline);
         for (set, blades) in &self.batches {
             // The batches share the cap counters and the canopy.
-            rec.uses(&uses);
+            rec.uses(&self.kernel_uses[0]);
             push.blade_count = blades.len() as u32;
             rec.bind_set(&self.pipeline, set);
             rec.push_constants(&self.pipeline, &push);
             rec.dispatch(push.blade_count.div_ceil(GRASS_GROUP));
         }
         if let Some(touching_pipeline) = &self.touching_pipeline {
-            let mut touching_uses = uses.clone();
-            touching_uses.push(BufferUse::new(&self.touching, Access::DRAW_INDIRECT));
             rec.bind_pipeline(touching_pipeline);
             for ((set, blades), &offset) in self.batches.iter().zip(&self.touching_offsets) {
-                rec.uses(&touching_uses);
                 push.blade_count = blades.len() as u32;
                 rec.bind_set(touching_pipeline, set);
                 rec.push_constants(touching_pipeline, &push);
-                rec.dispatch_indirect(&self.touching, offset);
+                rec.dispatch_indirect(&self.touching, offset, &self.kernel_uses[1]);
             }
         }
     }

@@ -78,6 +78,12 @@ impl Access {
         NO_LAYOUT,
     );
     pub const COMPUTE_READ_WRITE: Self = Self::COMPUTE_READ.and(Self::COMPUTE_WRITE);
+    /// A kernel reading a uniform buffer.
+    pub const COMPUTE_UNIFORM_READ: Self = access(
+        vk::PipelineStageFlags2::COMPUTE_SHADER,
+        vk::AccessFlags2::UNIFORM_READ,
+        NO_LAYOUT,
+    );
     /// The vertex stage reading a storage buffer.
     pub const VERTEX_SHADER_READ: Self = access(
         vk::PipelineStageFlags2::VERTEX_SHADER,

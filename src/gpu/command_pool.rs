@@ -8,6 +8,7 @@ use ash::vk;
 
 use crate::error::{Result, VkResultExt};
 use crate::gpu::device::Device;
+use crate::gpu::journal::Journal;
 use crate::gpu::owned::Owned;
 use crate::gpu::recording::Recording;
 use crate::gpu::Gpu;
@@ -18,6 +19,8 @@ pub struct CommandPool {
     fence: Owned<vk::Fence>,
     pool: Owned<vk::CommandPool>,
     cmd: vk::CommandBuffer,
+    /// What its recordings do, in words, when started (src/gpu/journal.rs).
+    journal: Journal,
 }
 
 impl CommandPool {
@@ -52,7 +55,13 @@ impl CommandPool {
             fence,
             pool,
             cmd,
+            journal: Journal::default(),
         })
+    }
+
+    /// This pool's journal: start it, record, take its lines.
+    pub fn journal(&self) -> &Journal {
+        &self.journal
     }
 
     /// Resets the pool (and so its one command buffer) and begins recording.
@@ -72,6 +81,7 @@ impl CommandPool {
             cmd: self.cmd,
             fence: self.fence.raw(),
             tracker: Default::default(),
+            journal: &self.journal,
         })
     }
 }

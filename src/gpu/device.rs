@@ -254,6 +254,9 @@ pub struct Device {
     pub timestamp_valid_bits: u32,
     pub(super) memory: Memory,
     pub(super) faults: Faults,
+    /// Every object's debug name by its handle (`name`), for the journal
+    /// of what recordings do (src/gpu/journal.rs).
+    names: std::sync::Mutex<std::collections::HashMap<u64, String>>,
     /// Outlives the device: `Drop` destroys the device before any field goes.
     pub(super) instance: Arc<Instance>,
 }
@@ -343,6 +346,7 @@ impl Device {
             debug_utils,
             memory,
             faults,
+            names: Default::default(),
             instance,
         };
         device.name(queue, "main queue");
@@ -351,7 +355,11 @@ impl Device {
 
     /// Gives a Vulkan object a debug name, so validation messages and
     /// RenderDoc say what it is. A no-op without debug utils.
-    pub(super) fn name<H: vk::Handle>(&self, handle: H, name: &str) {
+    pub(super) fn name<H: vk::Handle + Copy>(&self, handle: H, name: &str) {
+        let raw = handle.as_raw();
+        if let Ok(mut names) = self.names.lock() {
+            names.insert(raw, name.to_string());
+        }
         let Some(du) = &self.debug_utils else { return };
         let Ok(cname) = std::ffi::CString::new(name) else {
             return;
@@ -361,6 +369,16 @@ impl Device {
             .object_name(&cname);
         // SAFETY: the handle belongs to this device; a naming failure is harmless.
         let _ = unsafe { du.set_debug_utils_object_name(&info) };
+    }
+
+    /// The debug name `name` gave the object of handle `raw` (its handle in
+    /// hexadecimal where it was never named).
+    pub(super) fn name_of(&self, raw: u64) -> String {
+        self.names
+            .lock()
+            .ok()
+            .and_then(|names| names.get(&raw).cloned())
+            .unwrap_or_else(|| format!("{raw:#x}"))
     }
 
     pub fn limits(&self) -> &vk::PhysicalDeviceLimits {

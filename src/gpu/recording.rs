@@ -6,11 +6,13 @@
 use std::cell::RefCell;
 
 use ash::vk;
+use ash::vk::Handle as _;
 
 use crate::error::{Error, Result, VkResultExt};
 use crate::gpu::barrier::Access;
 use crate::gpu::descriptors::DescriptorSet;
 use crate::gpu::device::Device;
+use crate::gpu::journal::{access_text, dependency_text, Journal};
 use crate::gpu::pipeline::Pipeline;
 use crate::gpu::sync::{BufferUse, ImageRequest, ImageUse, Tracker};
 use crate::gpu::{Buffer, Image};
@@ -38,6 +40,8 @@ pub struct Recording<'a> {
     pub(super) fence: vk::Fence,
     /// What the passes declared so far (`uses`).
     pub(super) tracker: RefCell<Tracker>,
+    /// The pool's journal, which each command writes to when it is on.
+    pub(super) journal: &'a Journal,
 }
 
 impl Recording<'_> {
@@ -55,6 +59,7 @@ impl Recording<'_> {
         waits: &[vk::SemaphoreSubmitInfo],
         signals: &[vk::SemaphoreSubmitInfo],
     ) -> Result<()> {
+        self.journal.note(|| format!("submit: {what}"));
         let device = &self.device.raw;
         let fence = self.fence;
         // SAFETY: `cmd` is in the recording state (begun by `begin`).
@@ -114,6 +119,37 @@ impl Recording<'_> {
         for u in images {
             u.image.layout.set(u.access.layout);
         }
+        self.journal.note(|| {
+            let named = |raw: u64, access: Access| {
+                format!("{} ({})", self.device.name_of(raw), access_text(access))
+            };
+            let uses: Vec<String> = buffers
+                .iter()
+                .map(|u| named(u.buffer.0.as_raw(), u.access))
+                .chain(images.iter().map(|u| named(u.image.raw.as_raw(), u.access)))
+                .collect();
+            format!("  uses: {}", uses.join(", "))
+        });
+        if let Some(d) = &barriers.memory {
+            self.journal.note(|| {
+                format!(
+                    "  barrier: {}",
+                    dependency_text(d.src_stage, d.src_access, d.dst_stage, d.dst_access)
+                )
+            });
+        }
+        for t in &barriers.images {
+            self.journal.note(|| {
+                let d = t.dependency;
+                format!(
+                    "  transition: {} {:?} -> {:?}, {}",
+                    self.device.name_of(t.image.as_raw()),
+                    t.old_layout,
+                    t.new_layout,
+                    dependency_text(d.src_stage, d.src_access, d.dst_stage, d.dst_access)
+                )
+            });
+        }
         if barriers.is_empty() {
             return;
         }
@@ -158,6 +194,8 @@ impl Recording<'_> {
 
     /// Sets every 32-bit word of `buffer` to `value`.
     pub fn fill_buffer(&self, buffer: &Buffer, value: u32) {
+        self.journal
+            .note(|| format!("fill {}", self.device.name_of(buffer.raw.as_raw())));
         // SAFETY: recording; the buffer is live and made with TRANSFER_DST.
         unsafe {
             self.device
@@ -169,6 +207,12 @@ impl Recording<'_> {
     /// Writes `words` into `buffer` from byte `offset` (a multiple of 4),
     /// as a transfer; at most 64 KiB, carried in the command buffer.
     pub fn update_buffer(&self, buffer: &Buffer, offset: u64, words: &[u32]) {
+        self.journal.note(|| {
+            format!(
+                "update {} at {offset}",
+                self.device.name_of(buffer.raw.as_raw())
+            )
+        });
         debug_assert!(offset % 4 == 0 && !words.is_empty() && words.len() <= 16384);
         // SAFETY: recording outside rendering; the buffer is live and made
         // with TRANSFER_DST; offset and size are multiples of 4 and the
@@ -186,6 +230,13 @@ impl Recording<'_> {
 
     /// Copies the first `bytes` of `src` to the start of `dst`.
     pub fn copy_buffer(&self, src: &Buffer, dst: &Buffer, bytes: u64) {
+        self.journal.note(|| {
+            format!(
+                "copy {bytes} bytes {} -> {}",
+                self.device.name_of(src.raw.as_raw()),
+                self.device.name_of(dst.raw.as_raw())
+            )
+        });
         let region = vk::BufferCopy {
             src_offset: 0,
             dst_offset: 0,
@@ -203,6 +254,13 @@ impl Recording<'_> {
     /// Copies mip levels packed one after another in `src` into `dst`,
     /// which is in the COPY_WRITE layout.
     pub fn copy_buffer_to_image(&self, src: &Buffer, dst: &Image, levels: &[vk::Extent2D]) {
+        self.journal.note(|| {
+            format!(
+                "copy {} -> {}",
+                self.device.name_of(src.raw.as_raw()),
+                self.device.name_of(dst.raw.as_raw())
+            )
+        });
         let mut offset = 0u64;
         let regions: Vec<_> = levels
             .iter()
@@ -238,6 +296,13 @@ impl Recording<'_> {
 
     /// Copies mip level 0 of `src`, in the COPY_READ layout, into `dst`.
     pub fn copy_image_to_buffer(&self, src: &Image, dst: &Buffer) {
+        self.journal.note(|| {
+            format!(
+                "copy {} -> {}",
+                self.device.name_of(src.raw.as_raw()),
+                self.device.name_of(dst.raw.as_raw())
+            )
+        });
         let region = vk::BufferImageCopy {
             buffer_offset: 0,
             buffer_row_length: 0,
@@ -263,6 +328,8 @@ impl Recording<'_> {
     }
 
     pub fn bind_pipeline(&self, pipeline: &Pipeline) {
+        self.journal
+            .note(|| format!("pipeline {}", self.device.name_of(pipeline.raw().as_raw())));
         // SAFETY: recording; the pipeline is live.
         unsafe {
             self.device
@@ -302,19 +369,32 @@ impl Recording<'_> {
     }
 
     pub fn dispatch(&self, groups: u32) {
+        self.journal.note(|| format!("dispatch {groups}"));
         // SAFETY: recording, with a compute pipeline and its set bound.
         unsafe { self.device.raw.cmd_dispatch(self.cmd, groups, 1, 1) };
     }
 
     /// A dispatch of `x` x `y` workgroups (a kernel over an image).
     pub fn dispatch_2d(&self, x: u32, y: u32) {
+        self.journal.note(|| format!("dispatch {x} x {y}"));
         // SAFETY: recording, with a compute pipeline and its set bound.
         unsafe { self.device.raw.cmd_dispatch(self.cmd, x, y, 1) };
     }
 
     /// A dispatch whose workgroup counts (a `VkDispatchIndirectCommand`)
-    /// the GPU wrote at byte `offset` of `buffer`.
-    pub fn dispatch_indirect(&self, buffer: &Buffer, offset: u64) {
+    /// the GPU wrote at byte `offset` of `buffer`: declares the kernel's
+    /// `uses` and its own read of the command in one (`uses`), then
+    /// dispatches.
+    pub fn dispatch_indirect(&self, buffer: &Buffer, offset: u64, uses: &[BufferUse]) {
+        let mut all = uses.to_vec();
+        all.push(BufferUse::new(buffer, Access::DRAW_INDIRECT));
+        self.uses(&all);
+        self.journal.note(|| {
+            format!(
+                "dispatch, indirect from {} at {offset}",
+                self.device.name_of(buffer.raw.as_raw())
+            )
+        });
         // SAFETY: recording, with a compute pipeline and its set bound; the
         // buffer is live, made with INDIRECT_BUFFER, and holds the 12-byte
         // command at the 4-aligned `offset` (the callers' layouts say so).
@@ -328,6 +408,12 @@ impl Recording<'_> {
     /// Begins rendering into `targets` over their whole extent, with the
     /// viewport and scissor set to it.
     pub fn begin_rendering(&self, targets: &Attachments) {
+        self.journal.note(|| {
+            format!(
+                "begin rendering into {}",
+                self.device.name_of(targets.depth.raw.as_raw())
+            )
+        });
         let extent = targets.depth.extent;
         let clear_color = vk::ClearValue {
             color: vk::ClearColorValue {
@@ -397,6 +483,7 @@ impl Recording<'_> {
     }
 
     pub fn end_rendering(&self) {
+        self.journal.note(|| "end rendering".to_string());
         // SAFETY: recording, inside the rendering begun by `begin_rendering`.
         unsafe { self.device.raw.cmd_end_rendering(self.cmd) };
     }
@@ -423,6 +510,12 @@ impl Recording<'_> {
     /// One indexed draw whose parameters (a `VkDrawIndexedIndirectCommand`)
     /// the GPU wrote at byte `offset` of `buffer`.
     pub fn draw_indexed_indirect(&self, buffer: &Buffer, offset: u64) {
+        self.journal.note(|| {
+            format!(
+                "draw indexed, indirect from {} at {offset}",
+                self.device.name_of(buffer.raw.as_raw())
+            )
+        });
         // SAFETY: recording inside rendering with a graphics pipeline, its
         // vertex and index buffers bound; the buffer is live, made with
         // INDIRECT_BUFFER, and holds the 20-byte command at the 4-aligned
@@ -435,12 +528,14 @@ impl Recording<'_> {
     }
 
     pub fn draw(&self, vertices: u32) {
+        self.journal.note(|| format!("draw {vertices}"));
         // SAFETY: recording inside rendering with a graphics pipeline bound.
         unsafe { self.device.raw.cmd_draw(self.cmd, vertices, 1, 0, 0) };
     }
 
     /// Draws the bound index buffer's first `indices` indices, one instance.
     pub fn draw_indexed(&self, indices: u32) {
+        self.journal.note(|| format!("draw indexed {indices}"));
         // SAFETY: recording inside rendering with a graphics pipeline, its
         // vertex and index buffers bound; the callers' counts lie inside
         // the bound index buffer, whose indices lie inside the vertices.
@@ -453,6 +548,7 @@ impl Recording<'_> {
 
     /// Draws the bound vertex buffer's vertices `range`, one instance.
     pub fn draw_range(&self, range: std::ops::Range<u32>) {
+        self.journal.note(|| format!("draw {range:?}"));
         // SAFETY: recording inside rendering with a graphics pipeline bound;
         // the callers' ranges lie inside the bound vertex buffer.
         unsafe {

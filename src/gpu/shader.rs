@@ -5,7 +5,7 @@ use ash::vk;
 
 use crate::error::{Error, Result, VkResultExt};
 use crate::gpu::owned::Owned;
-use crate::gpu::Gpu;
+use crate::gpu::{Access, Bound, BufferUse, DescriptorKind, Gpu, LayoutBinding};
 
 /// The pipeline stage a GLSL file is compiled for (from its extension).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -40,6 +40,26 @@ impl ShaderStage {
     }
 }
 
+/// What a kernel does to the data behind a binding.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BindingAccess {
+    Read,
+    Write,
+    ReadWrite,
+    /// Only its size is asked (an array's `length()`): no data touched.
+    Size,
+}
+
+/// One binding a kernel uses, and how: what build.rs read from its SPIR-V
+/// (naga's account of what the entry point loads and stores).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ShaderBinding {
+    pub set: u32,
+    pub binding: u32,
+    pub kind: DescriptorKind,
+    pub access: BindingAccess,
+}
+
 /// One embedded SPIR-V module.
 #[derive(Clone, Copy, Debug)]
 pub struct Spirv {
@@ -47,6 +67,76 @@ pub struct Spirv {
     pub path: &'static str,
     pub stage: ShaderStage,
     pub bytes: &'static [u8],
+    /// Every binding a compute kernel uses and how, in binding order; None
+    /// for the graphics stages, whose bindings the passes declare by hand
+    /// (naga's SPIR-V reader takes no tessellation or geometry stage).
+    pub bindings: Option<&'static [ShaderBinding]>,
+}
+
+impl Spirv {
+    /// What one dispatch of this kernel does to the buffers bound in
+    /// `set` (`bound[b]` at binding b), from its reflected accesses: the
+    /// uses a recording derives its barriers from. A binding of which only
+    /// the size is asked is no use of its data.
+    ///
+    /// Panics for a shader without reflected bindings, or a binding past
+    /// `bound` or bound to an image: a fault of the pass that binds it, as
+    /// the descriptor set's own check would report.
+    pub fn buffer_uses(&self, set: u32, bound: &[Bound]) -> Vec<BufferUse> {
+        let bindings = self
+            .bindings
+            .unwrap_or_else(|| panic!("{}: no reflected bindings", self.path));
+        bindings
+            .iter()
+            .filter(|b| b.set == set)
+            .filter_map(|b| {
+                let access = match b.access {
+                    BindingAccess::Read if b.kind == DescriptorKind::UniformBuffer => {
+                        Access::COMPUTE_UNIFORM_READ
+                    }
+                    BindingAccess::Read => Access::COMPUTE_READ,
+                    BindingAccess::Write => Access::COMPUTE_WRITE,
+                    BindingAccess::ReadWrite => Access::COMPUTE_READ_WRITE,
+                    BindingAccess::Size => return None,
+                };
+                let buffer = match bound.get(b.binding as usize) {
+                    Some(Bound::Buffer(buffer)) | Some(Bound::Part { buffer, .. }) => *buffer,
+                    _ => panic!("{}: binding {} is bound to no buffer", self.path, b.binding),
+                };
+                Some(BufferUse::new(buffer, access))
+            })
+            .collect()
+    }
+}
+
+/// The layout of set `set` that `kernels` share: every binding any of them
+/// uses, of the kind it is, visible to compute. Panics for a shader
+/// without reflected bindings, or two kernels that disagree on a
+/// binding's kind (a fault of the GLSL, which build.rs compiled as given).
+pub fn kernels_set(kernels: &[&Spirv], set: u32) -> Vec<LayoutBinding> {
+    let mut layout: Vec<LayoutBinding> = Vec::new();
+    for kernel in kernels {
+        let bindings = kernel
+            .bindings
+            .unwrap_or_else(|| panic!("{}: no reflected bindings", kernel.path));
+        for b in bindings.iter().filter(|b| b.set == set) {
+            match layout.iter().find(|l| l.binding == b.binding) {
+                Some(l) => assert_eq!(
+                    l.ty, b.kind,
+                    "{}: binding {} is a {:?} elsewhere",
+                    kernel.path, b.binding, l.ty
+                ),
+                None => layout.push(LayoutBinding {
+                    set,
+                    binding: b.binding,
+                    ty: b.kind,
+                    stages: vk::ShaderStageFlags::COMPUTE,
+                }),
+            }
+        }
+    }
+    layout.sort_by_key(|l| l.binding);
+    layout
 }
 
 impl Spirv {

@@ -22,11 +22,12 @@ use ash::vk;
 
 use crate::error::{Error, Result};
 use crate::gpu::{
-    Access, Bound, Buffer, BufferId, BufferUse, DescriptorKind, DescriptorSet, Gpu, LayoutBinding,
-    MemoryLocation, Pipeline, PipelineLayout, Recording,
+    Access, Bound, Buffer, BufferUse, DescriptorSet, Gpu, LayoutBinding, MemoryLocation, Pipeline,
+    PipelineLayout, Recording,
 };
 use crate::interface::{CullPush, CULL_GROUP as GROUP};
 use crate::render::depth_pyramid::Occluders;
+use crate::shaders::Spirv;
 
 /// Bytes of one blade's control points, the flag kernel's per-blade part.
 const BLADE_BYTES: usize = 4 * std::mem::size_of::<crate::model::BladeVertex>();
@@ -38,23 +39,45 @@ const DRAW_BYTES: u64 = 20;
 /// frame's depth hides.
 const DRAW_WORDS: usize = 14;
 
-/// Set 0 of the cull kernels.
-pub const CULL_SET: &[LayoutBinding] = &[
-    LayoutBinding {
-        set: 0,
-        binding: 0,
-        ty: DescriptorKind::UniformBuffer,
-        stages: vk::ShaderStageFlags::COMPUTE,
-    }, // the frame uniforms (camera, sun)
-    LayoutBinding::compute_storage(1), // the blades' control points
-    LayoutBinding::compute_storage(2), // one word of flags per blade
-    LayoutBinding::compute_storage(3), // per workgroup: survivors, then first slots
-    LayoutBinding::compute_storage(4), // the two indirect draws and the count tested
-    LayoutBinding::compute_storage(5), // the colour pass's index list
-    LayoutBinding::compute_storage(6), // the shadow pass's index list
-    LayoutBinding::compute_storage(7), // per workgroup: blades occluded
-    LayoutBinding::compute_storage(8), // the depth pyramid (glsl/common/depth_pyramid.glsl)
+/// The cull kernels, in the order a frame runs them: the flags (per
+/// batch of blades), the scan, the compaction.
+const CULL_KERNELS: [&Spirv; 3] = [
+    &crate::shaders::CULL_FLAGS_COMP,
+    &crate::shaders::CULL_SCAN_COMP,
+    &crate::shaders::CULL_COMPACT_COMP,
 ];
+
+/// Set 0 of the cull kernels, as they use it (build.rs's reflection of
+/// glsl/cull/*.comp): what binding b holds is `cull_bound`'s b-th.
+pub fn cull_set() -> Vec<LayoutBinding> {
+    crate::gpu::kernels_set(&CULL_KERNELS, 0)
+}
+
+/// What the cull kernels' set binds for the batch `batch` of blades, in
+/// binding order: the frame uniforms (camera, sun), the batch's control
+/// points, one word of flags per blade, per workgroup the survivors then
+/// first slots, the two indirect draws and the counts, the colour pass's
+/// index list, the shadow pass's, per workgroup the blades occluded, the
+/// depth pyramid (glsl/common/depth_pyramid.glsl).
+fn cull_bound<'a>(
+    frame_uniforms: &'a Buffer,
+    blades: &'a Buffer,
+    b: &'a CullBuffers,
+    pyramid: &'a Buffer,
+    batch: &Range<u32>,
+) -> Vec<Bound<'a>> {
+    vec![
+        Bound::Buffer(frame_uniforms),
+        crate::gpu::part(blades, batch, BLADE_BYTES),
+        Bound::Buffer(&b.flags),
+        Bound::Buffer(&b.groups),
+        Bound::Buffer(&b.draws),
+        Bound::Buffer(&b.color_list),
+        Bound::Buffer(&b.shadow_list),
+        Bound::Buffer(&b.groups_occluded),
+        Bound::Buffer(pyramid),
+    ]
+}
 
 /// Of the blades tested in the last frame, how many each pass drew.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
@@ -122,10 +145,10 @@ pub struct CullPass {
     compact_kernel: Pipeline,
     buffers: CullBuffers,
     push: CullPush,
-    /// The buffers the flag kernel reads but others own: the blades'
-    /// control points, the depth pyramid (or a placeholder the sets hold).
-    vertices: BufferId,
-    pyramid: BufferId,
+    /// What each kernel (`CULL_KERNELS`) does to what its set binds, from
+    /// build.rs's reflection: the flag kernel's over every batch (each
+    /// binds a part of the same control points).
+    kernel_uses: [Vec<BufferUse>; 3],
 }
 
 impl CullPass {
@@ -151,40 +174,32 @@ impl CullPass {
         let groups = blade_count.div_ceil(GROUP);
         let b = CullBuffers::new(gpu, blade_count, groups, shadows, pyramid.is_none())?;
         let pyramid = pyramid.or(b.no_pyramid.as_ref()).expect("one of the two");
-        let layout =
-            PipelineLayout::new::<CullPush>(gpu, CULL_SET, vk::ShaderStageFlags::COMPUTE, "cull")?;
-        let flags_kernel = Pipeline::compute(gpu, &layout, &crate::shaders::CULL_FLAGS_COMP)?;
-        let scan_kernel = Pipeline::compute(gpu, &layout, &crate::shaders::CULL_SCAN_COMP)?;
-        let compact_kernel = Pipeline::compute(gpu, &layout, &crate::shaders::CULL_COMPACT_COMP)?;
+        let layout = PipelineLayout::new::<CullPush>(
+            gpu,
+            &cull_set(),
+            vk::ShaderStageFlags::COMPUTE,
+            "cull",
+        )?;
+        let [flags_kernel, scan_kernel, compact_kernel] =
+            CULL_KERNELS.map(|kernel| Pipeline::compute(gpu, &layout, kernel));
         let batches = crate::gpu::sets_per_batch(
             gpu,
             &layout,
-            CULL_SET,
+            &cull_set(),
             blade_count,
             BLADE_BYTES as u64,
             "cull descriptor set",
-            |batch| {
-                vec![
-                    Bound::Buffer(frame_uniforms),
-                    crate::gpu::part(blades, batch, BLADE_BYTES),
-                    Bound::Buffer(&b.flags),
-                    Bound::Buffer(&b.groups),
-                    Bound::Buffer(&b.draws),
-                    Bound::Buffer(&b.color_list),
-                    Bound::Buffer(&b.shadow_list),
-                    Bound::Buffer(&b.groups_occluded),
-                    Bound::Buffer(pyramid),
-                ]
-            },
+            |batch| cull_bound(frame_uniforms, blades, &b, pyramid, batch),
         )?;
-        let (vertices, pyramid) = (blades.into(), pyramid.into());
+        let first_batch = batches.first().map_or(0..0, |(_, range)| range.clone());
+        let first = cull_bound(frame_uniforms, blades, &b, pyramid, &first_batch);
+        let kernel_uses = CULL_KERNELS.map(|kernel| kernel.buffer_uses(0, &first));
         Ok(Self {
             batches,
-            flags_kernel,
-            scan_kernel,
-            compact_kernel,
-            vertices,
-            pyramid,
+            flags_kernel: flags_kernel?,
+            scan_kernel: scan_kernel?,
+            compact_kernel: compact_kernel?,
+            kernel_uses,
             buffers: b,
             push: CullPush {
                 blade_count,
@@ -214,20 +229,9 @@ impl CullPass {
             push.pyramid_levels = o.levels;
             push.pyramid_holds = 1;
         }
-        let (read, write, read_write) = (
-            Access::COMPUTE_READ,
-            Access::COMPUTE_WRITE,
-            Access::COMPUTE_READ_WRITE,
-        );
         // The batches write their own blades' flags and workgroups' counts:
         // declared once for all of them.
-        rec.uses(&[
-            BufferUse::new(self.vertices, read),
-            BufferUse::new(self.pyramid, read),
-            BufferUse::new(&self.buffers.flags, write),
-            BufferUse::new(&self.buffers.groups, read_write),
-            BufferUse::new(&self.buffers.groups_occluded, read_write),
-        ]);
+        rec.uses(&self.kernel_uses[0]);
         rec.bind_pipeline(&self.flags_kernel);
         for (set, blades) in &self.batches {
             push.first_blade = blades.start;
@@ -236,23 +240,12 @@ impl CullPass {
             rec.dispatch((blades.len() as u32).div_ceil(GROUP));
         }
         let first_set = &self.batches[0].0;
-        let scan_uses = [
-            BufferUse::new(&self.buffers.groups, read_write),
-            BufferUse::new(&self.buffers.groups_occluded, read),
-            BufferUse::new(&self.buffers.draws, read_write),
-        ];
-        let compact_uses = [
-            BufferUse::new(&self.buffers.flags, read),
-            BufferUse::new(&self.buffers.groups, read),
-            BufferUse::new(&self.buffers.color_list, write),
-            BufferUse::new(&self.buffers.shadow_list, write),
-        ];
         for (kernel, dispatch, uses) in [
-            (&self.scan_kernel, 1, &scan_uses[..]),
+            (&self.scan_kernel, 1, &self.kernel_uses[1]),
             (
                 &self.compact_kernel,
                 self.push.flag_groups,
-                &compact_uses[..],
+                &self.kernel_uses[2],
             ),
         ] {
             rec.uses(uses);

@@ -80,7 +80,7 @@ pub(super) struct WindBuffers {
 }
 
 impl WindBuffers {
-    /// The buffers, made and filled in binding order (`WIND_SET`); the
+    /// The buffers, made and filled in binding order (`bound`); the
     /// velocity as the CPU reference starts it (at rest, or at an oblique
     /// inflow's or an inflow over terrain's mean velocity: `WindField::new`),
     /// the pressure cleared to zero: the first Jacobi solve starts from
@@ -292,7 +292,13 @@ impl WindBuffers {
         )
     }
 
-    /// In the order of `WIND_SET`.
+    /// What each binding of the wind kernels' set holds, in binding order
+    /// (glsl/wind/wind_kernel.glsl names them): velocity (two copies), face
+    /// kinds, solid cells, pressure (two copies), divergence, sources,
+    /// multigrid face conductances, multigrid coarse pressure and
+    /// right-hand side, multigrid level table, canopy (the grass's frontal
+    /// area per cell), colliders, what the last step's turbulence added,
+    /// the turbulence's modes.
     pub(super) fn bound(&self) -> [Bound<'_>; 13] {
         [
             Bound::Buffer(&self.velocity),

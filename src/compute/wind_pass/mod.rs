@@ -75,22 +75,14 @@ impl GpuWindSource {
     }
 }
 
-/// Set 0 of the wind kernels.
-pub const WIND_SET: &[LayoutBinding] = &[
-    LayoutBinding::compute_storage(0),  // velocity (two copies)
-    LayoutBinding::compute_storage(1),  // face kinds
-    LayoutBinding::compute_storage(2),  // solid cells
-    LayoutBinding::compute_storage(3),  // pressure (two copies)
-    LayoutBinding::compute_storage(4),  // divergence
-    LayoutBinding::compute_storage(5),  // sources
-    LayoutBinding::compute_storage(6),  // multigrid face conductances
-    LayoutBinding::compute_storage(7),  // multigrid coarse pressure, right-hand side
-    LayoutBinding::compute_storage(8),  // multigrid level table
-    LayoutBinding::compute_storage(9), // canopy: the grass's frontal area per cell (two-way coupling)
-    LayoutBinding::compute_storage(10), // colliders: moving obstacles (forces kernel)
-    LayoutBinding::compute_storage(11), // what the last step's turbulence added to each face
-    LayoutBinding::compute_storage(12), // the turbulence's modes, written before each step
-];
+/// Set 0 of the wind kernels, as they use it (build.rs's reflection of
+/// glsl/wind/*.comp): what binding b holds is `WindBuffers::bound`'s b-th.
+pub fn wind_set() -> Vec<LayoutBinding> {
+    let mut kernels: Vec<&Spirv> = WIND_KERNELS.to_vec();
+    kernels.extend(WIND_KERNEL_VARIANTS);
+    kernels.push(WIND_SHIFT_KERNEL);
+    crate::gpu::kernels_set(&kernels, 0)
+}
 
 /// The kernels in the order a step runs them (Jacobi or the five multigrid
 /// kernels solve for the pressure).
@@ -258,7 +250,7 @@ fn wind_kernels(
 fn shift_kernel(gpu: &Gpu) -> Result<Pipeline> {
     let layout = PipelineLayout::new::<WindShiftPush>(
         gpu,
-        WIND_SET,
+        &wind_set(),
         vk::ShaderStageFlags::COMPUTE,
         "wind window shift",
     )?;
@@ -279,8 +271,12 @@ impl WindPass {
         let (face_count, cell_count) = fitted_counts(gpu, &grid, settings)?;
         let field = WindField::new(grid, settings);
         let buffers = WindBuffers::new(gpu, commands, &field, settings, face_count, cell_count)?;
-        let layout: Arc<PipelineLayout> =
-            PipelineLayout::new::<WindPush>(gpu, WIND_SET, vk::ShaderStageFlags::COMPUTE, "wind")?;
+        let layout: Arc<PipelineLayout> = PipelineLayout::new::<WindPush>(
+            gpu,
+            &wind_set(),
+            vk::ShaderStageFlags::COMPUTE,
+            "wind",
+        )?;
         let (kernels, tail_level) = wind_kernels(gpu, &layout, &field)?;
         let turbulence_before_projection = settings
             .turbulence
@@ -289,7 +285,7 @@ impl WindPass {
         let set = DescriptorSet::new(
             gpu,
             &layout,
-            WIND_SET,
+            &wind_set(),
             &buffers.bound(),
             "wind descriptor set",
         )?;
@@ -400,7 +396,7 @@ impl WindPass {
             self.set = DescriptorSet::new(
                 gpu,
                 &self.layout,
-                WIND_SET,
+                &wind_set(),
                 &self.buffers.bound(),
                 "wind descriptor set",
             )?;

@@ -49,60 +49,12 @@ impl WindPass {
         }
     }
 
-    /// What `kernel` reads and writes (glsl/wind/*.comp): the recording
-    /// derives the barriers between the kernels, and against the grass
-    /// step's reads of the velocity and writes of the canopy, from it.
+    /// What `kernel` reads and writes, as build.rs reflected it from
+    /// glsl/wind/*.comp: the recording derives the barriers between the
+    /// kernels, and against the grass step's reads of the velocity and
+    /// writes of the canopy, from it.
     fn kernel_uses(&self, kernel: usize) -> Vec<BufferUse> {
-        let b = &self.buffers;
-        let (read, read_write) = (Access::COMPUTE_READ, Access::COMPUTE_READ_WRITE);
-        let mut uses = vec![BufferUse::new(&b.faces, read)];
-        match kernel {
-            FORCES => uses.extend([
-                BufferUse::new(&b.velocity, read_write),
-                BufferUse::new(&b.sources, read),
-                BufferUse::new(&b.colliders, read),
-                BufferUse::new(&b.turbulence_added, read),
-            ]),
-            ADVECT | ADVECT_PREDICT | ADVECT_CORRECT => uses.extend([
-                BufferUse::new(&b.velocity, read_write),
-                BufferUse::new(&b.canopy, read),
-            ]),
-            // The solid flags: a moving window's open sides gain the modes
-            // where a cell of air lies behind them.
-            TURBULENCE => uses.extend([
-                BufferUse::new(&b.velocity, read_write),
-                BufferUse::new(&b.turbulence_added, read_write),
-                BufferUse::new(&b.modes, read),
-                BufferUse::new(&b.solid, read),
-            ]),
-            DIVERGENCE => uses.extend([
-                BufferUse::new(&b.velocity, read),
-                BufferUse::new(&b.solid, read),
-                BufferUse::new(&b.divergence, read_write),
-                BufferUse::new(&b.pressure, read_write),
-            ]),
-            JACOBI => uses.extend([
-                BufferUse::new(&b.solid, read),
-                BufferUse::new(&b.divergence, read),
-                BufferUse::new(&b.pressure, read_write),
-            ]),
-            PROJECT => uses.extend([
-                BufferUse::new(&b.velocity, read_write),
-                BufferUse::new(&b.pressure, read),
-            ]),
-            UNDER_GROUND => uses.push(BufferUse::new(&b.velocity, read_write)),
-            // The multigrid kernels (glsl/wind/multigrid.glsl): each level's
-            // pressure and right-hand side, the saved residual.
-            _ => uses.extend([
-                BufferUse::new(&b.solid, read),
-                BufferUse::new(&b.conductance, read),
-                BufferUse::new(&b.levels, read),
-                BufferUse::new(&b.pressure, read_write),
-                BufferUse::new(&b.coarse, read_write),
-                BufferUse::new(&b.divergence, read_write),
-            ]),
-        }
-        uses
+        WIND_KERNELS[kernel].buffer_uses(0, &self.buffers.bound())
     }
 
     /// Records one solver step at simulation time `time`: each kernel
@@ -258,16 +210,7 @@ impl WindPass {
         if by == glam::IVec2::ZERO {
             return Ok(());
         }
-        let b = &self.buffers;
-        let (read, read_write) = (Access::COMPUTE_READ, Access::COMPUTE_READ_WRITE);
-        let uses = [
-            BufferUse::new(&b.velocity, read_write),
-            BufferUse::new(&b.faces, read),
-            BufferUse::new(&b.pressure, read_write),
-            BufferUse::new(&b.divergence, read_write),
-            BufferUse::new(&b.canopy, read_write),
-            BufferUse::new(&b.turbulence_added, read),
-        ];
+        let uses = WIND_SHIFT_KERNEL.buffer_uses(0, &self.buffers.bound());
         let fill = self
             .settings
             .inflow
