@@ -172,7 +172,7 @@ fn kept_dynamics_against_the_cpu(
     .unwrap();
     pass.set_dynamics(Some(&kept), eyes[1]);
     let rec = commands.begin().unwrap();
-    pass.record(&rec, &vertices, &tiles).unwrap();
+    pass.record(&rec, &tiles).unwrap();
     rec.submit_and_wait("cover tiles").unwrap();
     let posed: Vec<BladeVertex> = vertices
         .read_back(&gpu, &commands, tiles.blade_count() as usize * 4)

@@ -112,7 +112,7 @@ fn a_far_blade_goes_towards_a_new_balance_as_the_cpu_without_jumping() {
             )]);
             rec.update_buffer(&velocity, 0, bytemuck::cast_slice(w));
         }
-        pass.record(&rec, &vertices, &tiles).unwrap();
+        pass.record(&rec, &tiles).unwrap();
         rec.submit_and_wait("posing the cover").unwrap();
         vertices
             .read_back::<BladeVertex>(&gpu, &commands, blades * 4)

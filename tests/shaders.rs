@@ -139,12 +139,12 @@ fn descriptor_layouts_match_reflection() {
     check_pipeline(
         "cover tiles",
         &[&shaders::COVER_TILES_COMP],
-        meadow::compute::cover_tiles::COVER_SET,
+        &meadow::compute::cover_tiles::cover_set(),
     );
     check_pipeline(
         "cover enter",
         &[&shaders::COVER_ENTER_COMP],
-        meadow::compute::cover_dynamics::COVER_ENTER_SET,
+        &meadow::compute::cover_dynamics::cover_enter_set(),
     );
     // The cull pass's three kernels share one set layout.
     check_pipeline(

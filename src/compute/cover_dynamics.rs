@@ -21,7 +21,7 @@ use crate::compute::wind_pass::{grid_params, WindInput};
 use crate::compute::GrassPass;
 use crate::error::{Error, Result};
 use crate::gpu::{
-    Access, Bound, Buffer, BufferId, BufferUse, CommandPool, DescriptorSet, Gpu, LayoutBinding,
+    Access, Bound, Buffer, BufferUse, CommandPool, DescriptorSet, Gpu, LayoutBinding,
     MemoryLocation, Pipeline, PipelineLayout, Recording,
 };
 use crate::interface::{CoverEnterPush, FarPose, COVER_GROUP};
@@ -32,14 +32,17 @@ use crate::model::wind::WindGrid;
 use crate::model::BladeVertex;
 use crate::scene::cover::{self, CoverTiles};
 use crate::scene::{BladeShape, Cover, Grass, GrassDynamics};
+use crate::shaders::Spirv;
 
-/// Set 0 of the enter kernel.
-pub const COVER_ENTER_SET: &[LayoutBinding] = &[
-    LayoutBinding::compute_storage(0), // the dynamics' blades
-    LayoutBinding::compute_storage(1), // their states
-    LayoutBinding::compute_storage(2), // the wind velocity
-    LayoutBinding::compute_storage(3), // the tile kernel's last poses (FarPose)
-];
+/// The kernel that starts the blades of a tile coming in.
+const ENTER_KERNEL: &Spirv = &crate::shaders::COVER_ENTER_COMP;
+
+/// Set 0 of the enter kernel, as it uses it (build.rs's reflection): the
+/// dynamics' blades, their states, the wind velocity, the tile kernel's
+/// last poses (`FarPose`).
+pub fn cover_enter_set() -> Vec<LayoutBinding> {
+    crate::gpu::kernels_set(&[ENTER_KERNEL], 0)
+}
 
 pub struct CoverDynamics {
     /// The kept tiles' blades, stepped as the patches' are; its control
@@ -56,7 +59,9 @@ pub struct CoverDynamics {
     far_kept: bool,
     far_side: u32,
     _stepped: Buffer,
-    wind: BufferId,
+    /// What the enter kernel does to what its set binds (build.rs's
+    /// reflection).
+    enter_uses: Vec<BufferUse>,
     grid: WindGrid,
     cover: Cover,
     /// Makes the blades of a tile coming in.
@@ -163,24 +168,21 @@ impl CoverDynamics {
         let grass_pass = GrassPass::in_slots(gpu, commands, slots, &stepped, wind)?;
         let layout = PipelineLayout::new::<CoverEnterPush>(
             gpu,
-            COVER_ENTER_SET,
+            &cover_enter_set(),
             vk::ShaderStageFlags::COMPUTE,
             "cover enter",
         )?;
-        let enter = Pipeline::compute(gpu, &layout, &crate::shaders::COVER_ENTER_COMP)?;
+        let enter = Pipeline::compute(gpu, &layout, ENTER_KERNEL)?;
         let (far_poses, far_kept) = far_poses_buffer(gpu, commands, cover)?;
-        let enter_set = DescriptorSet::new(
-            gpu,
-            &layout,
-            COVER_ENTER_SET,
-            &[
-                Bound::Buffer(grass_pass.blades()),
-                Bound::Buffer(grass_pass.states()),
-                Bound::Buffer(wind.velocity),
-                Bound::Buffer(&far_poses),
-            ],
-            "cover enter set",
-        )?;
+        let bound = [
+            Bound::Buffer(grass_pass.blades()),
+            Bound::Buffer(grass_pass.states()),
+            Bound::Buffer(wind.velocity),
+            Bound::Buffer(&far_poses),
+        ];
+        let enter_set =
+            DescriptorSet::new(gpu, &layout, &cover_enter_set(), &bound, "cover enter set")?;
+        let enter_uses = ENTER_KERNEL.buffer_uses(0, &bound);
         Ok(Self {
             grass: grass_pass,
             enter,
@@ -189,7 +191,7 @@ impl CoverDynamics {
             far_kept,
             far_side: CoverTiles::around(cover, camera).side,
             _stepped: stepped,
-            wind: wind.velocity.into(),
+            enter_uses,
             grid: wind.grid,
             cover: cover.clone(),
             maker,
@@ -249,12 +251,7 @@ impl CoverDynamics {
         // own coordinates.
         for &slot in &self.entering {
             let tile = self.kept[slot as usize];
-            rec.uses(&[
-                BufferUse::new(self.grass.blades(), Access::COMPUTE_READ),
-                BufferUse::new(self.grass.states(), Access::COMPUTE_READ_WRITE),
-                BufferUse::new(self.wind, Access::COMPUTE_READ),
-                BufferUse::new(&self.far_poses, Access::COMPUTE_READ),
-            ]);
+            rec.uses(&self.enter_uses);
             let push = CoverEnterPush {
                 grid: grid_params(&self.grid, self.grid.face_count() as u32),
                 first: slot * per_tile,

@@ -13,8 +13,8 @@ use ash::vk;
 use crate::error::{Error, Result};
 use crate::gpu::batches::{part, sets_per_batch};
 use crate::gpu::{
-    Access, Buffer, BufferId, BufferUse, DescriptorKind, DescriptorSet, Gpu, LayoutBinding,
-    Pipeline, PipelineLayout, Recording,
+    Access, Buffer, BufferUse, DescriptorSet, Gpu, LayoutBinding, Pipeline, PipelineLayout,
+    Recording,
 };
 use crate::gpu::{Bound, CommandPool, MemoryLocation};
 use crate::interface::{CoverParams, CoverPush, COVER_GROUP};
@@ -23,24 +23,16 @@ use crate::model::wind::WindGrid;
 use crate::model::BladeVertex;
 use crate::scene::cover::{self, CoverTiles};
 use crate::scene::{Cover, Grass};
+use crate::shaders::Spirv;
 
-/// Set 0 of the tile kernel.
-pub const COVER_SET: &[LayoutBinding] = &[
-    LayoutBinding {
-        set: 0,
-        binding: 0,
-        ty: DescriptorKind::UniformBuffer,
-        stages: vk::ShaderStageFlags::COMPUTE,
-    }, // the frame uniforms (camera, sun, thinning)
-    LayoutBinding::compute_storage(1), // blade control points (a batch)
-    LayoutBinding::compute_storage(2), // CoverParams
-    LayoutBinding::compute_storage(3), // the wind velocity (or a placeholder)
-    LayoutBinding::compute_storage(4), // the blades posed and left out (three words, host-read)
-    LayoutBinding::compute_storage(5), // the kept blades' states (or a placeholder)
-    LayoutBinding::compute_storage(6), // the terrain (TerrainHeader and its words)
-    LayoutBinding::compute_storage(7), // the kept blades' pressed states (or a placeholder)
-    LayoutBinding::compute_storage(8), // each blade's pose the frame before (FarPose)
-];
+/// The tile kernel.
+const COVER_KERNEL: &Spirv = &crate::shaders::COVER_TILES_COMP;
+
+/// Set 0 of the tile kernel, as it uses it (build.rs's reflection): what
+/// binding b holds is `tile_bound`'s b-th.
+pub fn cover_set() -> Vec<LayoutBinding> {
+    crate::gpu::kernels_set(&[COVER_KERNEL], 0)
+}
 
 /// The wind the cover's blades are posed in: the solver's velocity (one
 /// copy of every face) and its grid.
@@ -94,23 +86,21 @@ pub struct CoverTilePass {
     record: CoverParams,
     /// How many blades the last recorded pass posed (host-visible).
     posed: Buffer,
-    /// The wind's velocity where the blades are posed (the sets keep it
-    /// alive; declared read each frame); else a placeholder bound in its
-    /// place.
-    wind: Option<BufferId>,
-    /// The kept blades' states (`CoverDynamics`), declared read each frame.
-    states: Option<BufferId>,
-    /// Their pressed states, declared read each frame.
-    presses: Option<BufferId>,
+    /// Whether the blades are posed in a wind (else a placeholder is bound
+    /// in its place), and whether the kept blades' states are
+    /// (`CoverDynamics`).
+    has_wind: bool,
+    has_states: bool,
+    /// What the kernel does to what its sets bind (build.rs's reflection):
+    /// declared once for every batch (each binds a part of the same blade
+    /// buffer).
+    kernel_uses: Vec<BufferUse>,
     _placeholder: Option<Buffer>,
-    /// The ground's height field (glsl/common/terrain.glsl), written once.
-    terrain: Buffer,
     /// Each blade's pose the frame before, in its tile's slot of the
     /// square (`cover::state_slot`): what its quasi-static pose goes on
     /// from (`CoverDynamics::far_poses`, or the pass's own without
     /// dynamics, or a placeholder where the device cannot bind them whole:
     /// `CoverParams::far_kept` 0). Cleared: no blade has a past at first.
-    far_poses: BufferId,
     _own_far_poses: Option<Buffer>,
     /// One set per batch of the blade buffer, with its blades.
     sets: Vec<(DescriptorSet, Range<u32>)>,
@@ -181,20 +171,35 @@ fn tile_sets(
     let sets = sets_per_batch(
         gpu,
         layout,
-        COVER_SET,
+        &cover_set(),
         cover.end,
         BLADE_BYTES as u64,
         "cover tiles set",
-        |blades| {
-            let mut bound = vec![Bound::Buffer(frame), part(vertices, blades, BLADE_BYTES)];
-            bound.extend(rest.iter().map(|&b| Bound::Buffer(b)));
-            bound
-        },
+        |blades| tile_bound(frame, vertices, blades, rest),
     )?;
     Ok(sets
         .into_iter()
         .filter(|(_, blades)| blades.end > cover.start)
         .collect())
+}
+
+/// What the tile kernel's set binds for the batch `blades` of the blade
+/// buffer, in binding order: the frame uniforms (camera, sun, thinning),
+/// the batch's control points, then `rest`: `CoverParams`, the wind
+/// velocity (or a placeholder), the blades posed and left out (three
+/// words, host-read), the kept blades' states (or a placeholder), the
+/// terrain (`TerrainHeader` and its words), the kept blades' pressed
+/// states (or a placeholder), each blade's pose the frame before
+/// (`FarPose`).
+fn tile_bound<'a>(
+    frame: &'a Buffer,
+    vertices: &'a Buffer,
+    blades: &Range<u32>,
+    rest: [&'a Buffer; 7],
+) -> Vec<Bound<'a>> {
+    let mut bound = vec![Bound::Buffer(frame), part(vertices, blades, BLADE_BYTES)];
+    bound.extend(rest.iter().map(|&b| Bound::Buffer(b)));
+    bound
 }
 
 /// One buffer standing for the wind, the states and the pressed states
@@ -312,45 +317,33 @@ impl CoverTilePass {
             optional.map(|given| given.or(placeholder.as_ref()).expect("a placeholder"));
         let layout = PipelineLayout::new::<CoverPush>(
             gpu,
-            COVER_SET,
+            &cover_set(),
             vk::ShaderStageFlags::COMPUTE,
             "cover tiles",
         )?;
-        let pipeline = Pipeline::compute(gpu, &layout, &crate::shaders::COVER_TILES_COMP)?;
+        let pipeline = Pipeline::compute(gpu, &layout, COVER_KERNEL)?;
         let rest = [
             &own.params,
             wind_buffer,
             &own.posed,
             states_buffer,
             &own.terrain,
+            presses_buffer,
+            far_poses,
         ];
-        let sets = tile_sets(
-            gpu,
-            &layout,
-            vertices,
-            base..end,
-            setup.frame,
-            [
-                rest[0],
-                rest[1],
-                rest[2],
-                rest[3],
-                rest[4],
-                presses_buffer,
-                far_poses,
-            ],
-        )?;
+        let sets = tile_sets(gpu, &layout, vertices, base..end, setup.frame, rest)?;
+        let first = sets.first().map_or(0..0, |(_, blades)| blades.clone());
+        let kernel_uses =
+            COVER_KERNEL.buffer_uses(0, &tile_bound(setup.frame, vertices, &first, rest));
         Ok(Self {
             pipeline,
             params: own.params,
             record: own.record,
             posed: own.posed,
-            wind: wind.map(|w| BufferId::from(w.velocity)),
-            states: states.map(BufferId::from),
-            presses: presses.map(BufferId::from),
+            has_wind: wind.is_some(),
+            has_states: states.is_some(),
+            kernel_uses,
             _placeholder: placeholder,
-            terrain: own.terrain,
-            far_poses: BufferId::from(far_poses),
             _own_far_poses: own.far_poses,
             sets,
             base,
@@ -366,7 +359,7 @@ impl CoverTilePass {
     /// The wind grid the blades are posed in from the next pass on (the
     /// wind window moved under the camera); ignored without a wind.
     pub fn set_wind_grid(&mut self, grid: &WindGrid) {
-        if self.wind.is_some() {
+        if self.has_wind {
             self.record.grid = super::wind_pass::grid_params(grid, grid.face_count() as u32);
         }
     }
@@ -377,7 +370,7 @@ impl CoverTilePass {
     pub fn set_dynamics(&mut self, kept: Option<&CoverTiles>, camera: glam::Vec2) {
         let r = &mut self.record;
         r.eye = camera.to_array();
-        match kept.filter(|_| self.states.is_some()) {
+        match kept.filter(|_| self.has_states) {
             Some(k) => {
                 r.kept_origin = k.origin;
                 r.kept_side = k.side;
@@ -406,8 +399,9 @@ impl CoverTilePass {
     }
 
     /// Records the making of `tiles`' blades (`CoverTiles::around` the
-    /// camera), declaring the blade buffer's write.
-    pub fn record(&self, rec: &Recording, vertices: &Buffer, tiles: &CoverTiles) -> Result<()> {
+    /// camera) into the blade buffer the pass was made for, declaring its
+    /// write.
+    pub fn record(&self, rec: &Recording, tiles: &CoverTiles) -> Result<()> {
         let blades = tiles.blade_count();
         if blades > self.capacity as u64 {
             return Err(Error::InvalidInput(format!(
@@ -422,23 +416,7 @@ impl CoverTilePass {
         ]);
         rec.fill_buffer(&self.posed, 0);
         rec.update_buffer(&self.params, 0, bytemuck::cast_slice(&[self.record]));
-        let mut uses = vec![
-            BufferUse::new(&self.posed, Access::COMPUTE_READ_WRITE),
-            BufferUse::new(vertices, Access::COMPUTE_WRITE),
-            BufferUse::new(&self.params, Access::COMPUTE_READ),
-            BufferUse::new(&self.terrain, Access::COMPUTE_READ),
-            BufferUse::new(self.far_poses, Access::COMPUTE_READ_WRITE),
-        ];
-        if let Some(wind) = self.wind {
-            uses.push(BufferUse::new(wind, Access::COMPUTE_READ));
-        }
-        if let Some(states) = self.states {
-            uses.push(BufferUse::new(states, Access::COMPUTE_READ));
-        }
-        if let Some(presses) = self.presses {
-            uses.push(BufferUse::new(presses, Access::COMPUTE_READ));
-        }
-        rec.uses(&uses);
+        rec.uses(&self.kernel_uses);
         rec.bind_pipeline(&self.pipeline);
         let per_dispatch = self.max_groups.saturating_mul(COVER_GROUP);
         for (set, range) in &self.sets {

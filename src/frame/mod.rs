@@ -563,7 +563,7 @@ impl FrameRecorder {
         }
         if let Some((pass, cover)) = cover.as_mut() {
             let at = (*camera_xz, steps);
-            record_cover(pass, cover, simulation.as_ref(), &rec, &mut t, buffer, at)?;
+            record_cover(pass, cover, simulation.as_ref(), &rec, &mut t, at)?;
         }
         if let Some(cull) = cull.as_ref() {
             t.span(&rec, Phase::Cull, |rec| cull.record(rec, occluders));

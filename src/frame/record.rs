@@ -82,7 +82,7 @@ pub(super) fn record_steps(
     Ok(())
 }
 
-/// The cover's tiles around the camera written into the blade `buffer`,
+/// The cover's tiles around the camera written into the blade buffer,
 /// posed in the simulation's wind (`at`: the camera's x and z and the
 /// frame's steps, whose time the far blades go towards their balance for).
 pub(super) fn record_cover(
@@ -91,7 +91,6 @@ pub(super) fn record_cover(
     simulation: Option<&Simulation>,
     rec: &Recording,
     t: &mut Timer,
-    buffer: &Buffer,
     (camera_xz, steps): (glam::Vec2, u64),
 ) -> Result<()> {
     let tiles = CoverTiles::around(cover, camera_xz);
@@ -105,7 +104,7 @@ pub(super) fn record_cover(
     pass.set_elapsed(simulation.map_or(0.0, |s| steps as f32 * s.dt()));
     let mut made = Ok(());
     t.span(rec, Phase::Cover, |rec| {
-        made = pass.record(rec, buffer, &tiles);
+        made = pass.record(rec, &tiles);
     });
     made
 }

@@ -89,7 +89,7 @@ pub fn made_on_the_gpu(
         .map(|&camera| {
             let tiles = CoverTiles::around(cover, camera);
             let rec = commands.begin().unwrap();
-            pass.record(&rec, &buffer, &tiles).unwrap();
+            pass.record(&rec, &tiles).unwrap();
             rec.submit_and_wait("cover tiles").unwrap();
             let all: Vec<BladeVertex> = buffer
                 .read_back(gpu, &commands, (base as usize + most) * 4)
@@ -315,7 +315,7 @@ pub fn posed_on_the_gpu(
     )
     .unwrap();
     let rec = commands.begin().unwrap();
-    pass.record(&rec, &vertices, tiles).unwrap();
+    pass.record(&rec, tiles).unwrap();
     rec.submit_and_wait("posing the cover").unwrap();
     let posed = vertices.read_back(gpu, &commands, blades * 4).unwrap();
     let count = pass.posed();
