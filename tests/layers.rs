@@ -112,7 +112,9 @@ fn modules() -> BTreeMap<String, Vec<(PathBuf, String)>> {
         let rel = path.strip_prefix(&src).unwrap();
         let top = rel.iter().next().unwrap().to_string_lossy();
         let top = top.trim_end_matches(".rs").to_string();
-        if ["lib", "main", "shader_build", "interface_build"].contains(&top.as_str()) {
+        // The crate root, the binary's, and build.rs's own modules.
+        let build_only = ["shader_build", "shader_reflect", "interface_build"];
+        if ["lib", "main"].contains(&top.as_str()) || build_only.contains(&top.as_str()) {
             continue;
         }
         let code = code_only(&std::fs::read_to_string(&path).unwrap());
