@@ -2,8 +2,9 @@
 //! and layout transitions that follow, and the commands between them
 //! (pipelines bound, dispatches, draws, copies, submissions), in words and
 //! by the objects' debug names. Off unless started: it is for a person
-//! asking why a barrier is where it is (`FrameRecorder::journal`), and for
-//! the snapshot test that holds one frame's (tests/frame_journal.rs).
+//! asking why a barrier is where it is (`CommandPool::journal`; a frame's
+//! is its recorder's pool's, `FrameRecorder::commands`), and for the
+//! snapshot test that holds one frame's (tests/frame_journal.rs).
 
 use std::cell::RefCell;
 
