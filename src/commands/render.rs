@@ -383,17 +383,19 @@ fn render_with(
         angle_caps,
         untimed: recorder.untimed_phases(),
     };
+    let stopped = done.iter().any(|d| d.interrupted);
     let reports = pictures
         .iter()
         .zip(done)
         .map(|(picture, done)| report(gpu, request, picture, done, &facts, &light_waves))
         .collect();
-    // The trace's steps after the last frame.
+    // The trace's steps after the last frame (none after a stop: the
+    // trace ends at its last sample).
     let trace = match sampler {
         Some(mut sampler) => {
             let mut pace = StepPace::default();
             let mut done = sim_steps;
-            while sampler.steps_to_next(done).is_some() {
+            while !stopped && sampler.steps_to_next(done).is_some() {
                 done += sampled_batch(gpu, &mut recorder, &mut pace, &mut sampler, u64::MAX)?;
             }
             Some(sampler.finish())
