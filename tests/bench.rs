@@ -3,7 +3,7 @@
 //! parses as XML; the memory check before a huge count; the no-timestamp
 //! path.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 

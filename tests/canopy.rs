@@ -3,7 +3,7 @@
 //! below the blades' height than above it, with the profile's attenuation
 //! fitted; one-way (the paper's) the profile stays flat.
 
-mod common;
+use crate::common;
 
 use common::sim::SimRig;
 use common::{finish, strict_gpu};

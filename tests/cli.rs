@@ -3,7 +3,7 @@
 //! The wind command's lines are in tests/cli_wind.rs, stopping a run in
 //! tests/cli_signals.rs.
 
-mod common;
+use crate::common;
 
 use common::binary::{assert_refused, assert_succeeded, files_in, meadow, read_json, temp_out};
 

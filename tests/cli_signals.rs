@@ -6,7 +6,7 @@ use std::process::Command;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
-mod common;
+use crate::common;
 
 use common::binary::{
     files_in, interrupted_render, read_json, send_sigint, spawn_meadow, spawn_meadow_to, temp_out,

@@ -1,7 +1,7 @@
 //! The `meadow wind` command line: the solver's flags and the slices, the
 //! field written for analysis, terrain and headings refused in one line.
 
-mod common;
+use crate::common;
 
 use image::ImageEncoder;
 

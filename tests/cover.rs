@@ -5,7 +5,7 @@
 //! tests/cover_pose.rs; its dynamics near the camera:
 //! tests/cover_dynamics.rs.
 
-mod common;
+use crate::common;
 
 use common::cover::*;
 use common::{finish, strict_gpu_with};

@@ -3,7 +3,7 @@
 //! terrain, against the CPU reference, on the default device with
 //! validation on.
 
-mod common;
+use crate::common;
 
 use common::cover::*;
 use common::{finish, strict_gpu_with};

@@ -4,7 +4,7 @@
 //! validation on; no jump where the wind window moves or where the
 //! simulated square's edge is crossed.
 
-mod common;
+use crate::common;
 
 use common::cover::*;
 use common::{finish, strict_gpu_with};

@@ -3,7 +3,7 @@
 //! blades the wind has bent, and frames drawn from the lists against
 //! frames drawing every blade.
 
-mod common;
+use crate::common;
 
 use common::{finish, strict_gpu, strict_gpu_with};
 use glam::{Mat4, Vec3, Vec4};

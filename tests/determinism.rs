@@ -1,7 +1,7 @@
 //! Same scene, same seed, same device: byte-identical frames, the wind and
 //! grass simulation included.
 
-mod common;
+use crate::common;
 
 use common::sim::SimRig;
 use meadow::commands::render::{render_to_dir, RenderRequest};

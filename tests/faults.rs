@@ -6,7 +6,7 @@
 //! naming the cause, a non-zero exit, no validation error on the failure
 //! path (every object destroyed), and only complete files on disk.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 use std::process::{Command, Output};

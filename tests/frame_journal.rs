@@ -8,7 +8,7 @@
 //! after a deliberate one, `MEADOW_BLESS=1 scripts/test --test
 //! frame_journal` writes the snapshot anew.
 
-mod common;
+use crate::common;
 
 use common::{finish, strict_gpu};
 use meadow::frame::FrameRecorder;

@@ -8,7 +8,7 @@
 //! whole frame's mean colour moved.
 //!
 //! - A missing golden fails; nothing is ever written unless asked:
-//!   `GOLDEN_UPDATE=1 cargo test --test golden` renders every golden anew,
+//!   `GOLDEN_UPDATE=1 cargo test --test suite golden::` renders every golden anew,
 //!   writes tests/golden/*.png and tests/golden/manifest.json (the device
 //!   and Mesa version they were made with). The README says when that is
 //!   legitimate.
@@ -19,7 +19,7 @@
 //!   Where a device's rasterisation truly differs beyond the limits (look
 //!   at the heat map first), it gets a reference set of its own,
 //!   tests/golden/devices/<device>/, made by `GOLDEN_DEVICE_REASON='why'
-//!   GOLDEN_UPDATE=1 cargo test --test golden` on it, the reason kept in
+//!   GOLDEN_UPDATE=1 cargo test --test suite golden::` on it, the reason kept in
 //!   its manifest (README, "Golden images").
 //!
 //! What the limits were measured against (lavapipe, Mesa 22.3.6, LLVM 15,
@@ -473,7 +473,7 @@ fn check(
             let _ = actual.save(&actual_path);
             return Err(format!(
                 "{}: golden {} cannot be read ({e}); the frame rendered now is {}. \
-                 If it is right, run GOLDEN_UPDATE=1 cargo test --test golden",
+                 If it is right, run GOLDEN_UPDATE=1 cargo test --test suite golden::",
                 g.name,
                 path.display(),
                 actual_path.display()
@@ -529,7 +529,7 @@ fn update_target(device: &str) -> (PathBuf, Option<String>) {
         panic!(
             "GOLDEN_UPDATE on {device} would replace the goldens made on {}; to add a reference \
              set for this device, say why its rasterisation differs: GOLDEN_DEVICE_REASON='...' \
-             GOLDEN_UPDATE=1 cargo test --test golden",
+             GOLDEN_UPDATE=1 cargo test --test suite golden::",
             m.device
         );
     }
@@ -611,7 +611,7 @@ fn golden_frames_match() {
     }
     if let Some((set, false)) = compared_with {
         panic!(
-            "{}/manifest.json is missing: run GOLDEN_UPDATE=1 cargo test --test golden",
+            "{}/manifest.json is missing: run GOLDEN_UPDATE=1 cargo test --test suite golden::",
             set.display()
         );
     }
@@ -871,7 +871,7 @@ fn sun_lowered(mut scene: Scene, degrees: f32) -> Scene {
 /// camera moved by a quarter and a half pixel, one sample a pixel instead
 /// of four, and the two deliberate changes (blades 5% stiffer, the sun a
 /// degree lower), each against the golden, with whether it passes.
-/// `cargo test --test golden measure_calibration -- --ignored --nocapture`;
+/// `cargo test --test suite golden::measure_calibration -- --ignored --nocapture`;
 /// GOLDEN_ONLY=name for one golden; GOLDEN_SAVE=dir keeps the frames and
 /// GOLDEN_FROM=dir compares frames kept so instead of rendering.
 #[test]

@@ -5,7 +5,7 @@
 //! these sizes), the Markdown has every table; and a report whose parts
 //! fail still writes what it has and fails naming them.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 use std::process::{Command, Output};

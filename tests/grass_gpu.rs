@@ -1,7 +1,7 @@
 //! The grass dynamics on GPU compute (glsl/grass/) against its CPU
 //! reference (src/model/grass.rs), on the default device with validation on.
 
-mod common;
+use crate::common;
 
 use common::sim::{Figures, SimRig};
 use common::{finish, strict_gpu, strict_gpu_with, to_vec3};

@@ -8,7 +8,7 @@
 //! Leaked Vulkan objects are validation's to find (at vkDestroyDevice);
 //! this finds host memory kept per frame by meadow, the driver or the layer.
 
-mod common;
+use crate::common;
 
 use meadow::commands::render::render_to_dir_observed;
 use meadow::scene::Scene;

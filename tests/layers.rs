@@ -1,6 +1,7 @@
 //! The crate's layers hold: each module imports only the layers below it
 //! (docs/architecture.md), the simulating and rendering phases do not know
-//! each other, and only the Vulkan layer writes `unsafe`.
+//! each other, and only the Vulkan layer writes `unsafe`. And the test
+//! suite's one binary (tests/suite.rs) holds every file of tests/.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -175,4 +176,33 @@ fn the_two_phases_do_not_know_each_other() {
     assert!(!allowed["compute"].contains(&"render"));
     assert!(!allowed["render"].contains(&"compute"));
     assert!(!allowed["gpu"].iter().any(|m| *m != "error"));
+}
+
+/// Cargo builds only tests/suite.rs (`autotests = false`): a file of
+/// tests/ that it does not name would never compile or run, silently.
+#[test]
+fn the_suite_names_every_file_of_tests() {
+    let tests = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests");
+    let suite = std::fs::read_to_string(tests.join("suite.rs")).unwrap();
+    let named: Vec<&str> = suite
+        .lines()
+        .filter_map(|l| l.strip_prefix("mod ")?.strip_suffix(';'))
+        .collect();
+    let mut missing = Vec::new();
+    for entry in std::fs::read_dir(&tests).unwrap() {
+        let path = entry.unwrap().path();
+        let Some(stem) = path.file_stem().and_then(|s| s.to_str()) else {
+            continue;
+        };
+        if path.extension().is_some_and(|e| e == "rs") && stem != "suite" && !named.contains(&stem)
+        {
+            missing.push(stem.to_string());
+        }
+    }
+    assert!(
+        missing.is_empty(),
+        "tests/suite.rs does not name tests/{{{}}}.rs: add `mod NAME;` for each",
+        missing.join(",")
+    );
+    assert!(named.len() > 30, "the suite's modules: {named:?}");
 }

@@ -5,7 +5,7 @@
 //! a dense meadow, measured as `meadow render --light-waves` measures them.
 //! Every render runs under strict validation.
 
-mod common;
+use crate::common;
 
 use common::{finish, render, strict_gpu};
 use glam::Vec3;

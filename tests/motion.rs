@@ -8,7 +8,7 @@
 //! once, without lavapipe running it. docs/physics.md gives the figures
 //! and the breaks each test was seen to catch.
 
-mod common;
+use crate::common;
 
 use common::binary::temp_out;
 use common::{finish, mean_spread, strict_gpu};

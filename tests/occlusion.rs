@@ -4,7 +4,7 @@
 //! it hides against the CPU reference (src/render/visibility.rs), and the
 //! frames it draws against frames drawing every blade in view.
 
-mod common;
+use crate::common;
 
 use common::{finish, strict_gpu};
 use glam::{Mat4, Vec4};

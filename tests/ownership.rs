@@ -1,7 +1,7 @@
 //! The ownership model's promise: an object alive at teardown is reported
 //! as a leak (its allocation by name), and the device outlives it safely.
 
-mod common;
+use crate::common;
 
 use common::strict_gpu;
 use meadow::gpu::{Buffer, MemoryLocation};

@@ -3,7 +3,7 @@
 //! scripts/fuzz), checking tests/common/scene_property.rs on arbitrary
 //! text, TOML-shaped text and shipped scenes with an edit.
 
-mod common;
+use crate::common;
 
 use common::scene_property::check;
 use meadow::scene::{Scene, BUILTIN};

@@ -1,7 +1,7 @@
 //! The render pipeline on the default device (lavapipe when there is no
 //! GPU), with validation on and zero errors asserted in every test.
 
-mod common;
+use crate::common;
 
 use common::{finish, mean_rgb, pixel, project, render, strict_gpu};
 use glam::Vec3;

@@ -6,7 +6,7 @@
 use std::collections::BTreeSet;
 use std::mem::offset_of;
 
-mod common;
+use crate::common;
 
 use ash::vk;
 use common::reflect::{self, Binding};

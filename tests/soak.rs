@@ -19,7 +19,7 @@
 //! GPU, in release mode, and prints the figures that docs/reliability.md
 //! and docs/physics.md record: the GPU's own stability over that long.
 
-mod common;
+use crate::common;
 
 use common::cpu_sim::CpuRig;
 use common::sim::{Figures, SimRig};

@@ -2,7 +2,7 @@
 //! `WindField::new`) against the closed form of linear potential flow over
 //! a Witch-of-Agnesi ridge, and inflows from any heading.
 
-mod common;
+use crate::common;
 
 use common::sim::SimRig;
 use common::{finish, strict_gpu};

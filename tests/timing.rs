@@ -1,7 +1,7 @@
 //! GPU timing of a frame's phases (timestamp queries) and the report built
 //! from them, with the validation layer on.
 
-mod common;
+use crate::common;
 
 use common::{finish, strict_gpu};
 use meadow::commands::render::{render_to_dir, Animation, RenderRequest};

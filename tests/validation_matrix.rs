@@ -4,7 +4,7 @@
 //! (its "Accepted" table is read here, so the document and the layer's
 //! output cannot drift apart).
 
-mod common;
+use crate::common;
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};

@@ -4,7 +4,7 @@
 //! frames written, and a missing ffmpeg is refused before anything renders.
 //! Needs ffmpeg and ffprobe (scripts/test installs them).
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 use std::process::Command;

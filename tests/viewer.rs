@@ -7,7 +7,7 @@
 //! validation errors, nothing leaked (the layer's teardown report). Needs
 //! Xvfb and ffmpeg (scripts/test installs them).
 
-mod common;
+use crate::common;
 
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};

@@ -1,7 +1,7 @@
 //! The wind solver's CPU reference against what docs/method.md section 6 asks of
 //! any implementation. (The GPU solver is compared with this reference.)
 
-mod common;
+use crate::common;
 
 use common::mean_spread;
 use common::wind_scenes::{self, behaviour_grid, blowing_source};

@@ -1,7 +1,7 @@
 //! The wind solver on GPU compute against its CPU reference
 //! (src/model/wind/mod.rs), on the default device with validation on.
 
-mod common;
+use crate::common;
 
 use common::wind_scenes::{self, behaviour_grid, blowing_source};
 use common::{finish, strict_gpu};

@@ -5,7 +5,7 @@
 use glam::Vec3;
 use meadow::compute::Simulation;
 use meadow::frame::BladeBuffer;
-use meadow::gpu::{CommandPool, Gpu};
+use meadow::gpu::{CommandPool, DependsOn, Gpu};
 use meadow::model::{BladeVertex, GrassBlade, GrassState};
 use meadow::scene::{field, Scene};
 
@@ -40,9 +40,8 @@ pub const STEPS_PER_SUBMIT: u64 = 250;
 
 pub struct SimRig {
     pub blades: Vec<GrassBlade>,
-    // Declared before the buffer it writes: dropped first.
-    simulation: Simulation,
-    vertices: BladeBuffer,
+    /// The simulation, which writes the blades' vertices (dropped first).
+    simulation: DependsOn<Simulation, BladeBuffer>,
     commands: CommandPool,
 }
 
@@ -58,8 +57,7 @@ impl SimRig {
             Simulation::new(gpu, &commands, scene, &blades, vertices.buffer()).unwrap();
         Self {
             blades,
-            simulation,
-            vertices,
+            simulation: DependsOn::new(simulation, vertices),
             commands,
         }
     }
@@ -106,7 +104,8 @@ impl SimRig {
 
     /// The 4 control points (and width vectors) of each blade, as drawn.
     pub fn vertices(&self, gpu: &Gpu) -> Vec<BladeVertex> {
-        self.vertices
+        self.simulation
+            .keeper()
             .buffer()
             .read_back(gpu, &self.commands, self.blades.len() * 4)
             .unwrap()
