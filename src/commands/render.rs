@@ -5,26 +5,27 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use crate::analysis::light_waves::{self, LightWaveSeries, LightWaves};
+use crate::analysis::light_waves::{self, LightWaves};
 use crate::analysis::trace::Trace;
 use crate::commands::on_gpu;
 use crate::commands::trace::{TraceRequest, TraceSampler};
 use crate::compute::StepPace;
 use crate::error::{Error, Result};
-use crate::frame::timing::{FrameTimings, Phase, TimingSummary};
+use crate::frame::timing::{Phase, TimingSummary};
 pub use crate::frame::Animation;
-use crate::frame::{CullCounts, Frame, FrameRecorder};
-use crate::gpu::query::PipelineStatistics;
+use crate::frame::{CullCounts, FrameRecorder};
 use crate::gpu::{Gpu, GpuOptions, ValidationReport};
 use crate::model::grass::CapCounts;
-use crate::render::FrameUniforms;
 use crate::report::claim::{name_in_folder, OutputClaim};
 pub use crate::report::render::{BladeCounts, RenderReport};
-use crate::report::video::{self, VideoFormat, VideoWriter};
+use crate::report::video::{self, VideoFormat};
 use crate::report::{files, legend};
 use crate::scene::{field, Planted, Scene, ViewMode};
 
 pub use crate::scene::check::{MAX_FRAMES, MAX_IMAGE_SIDE};
+
+mod frames;
+use frames::{animate, sampled_batch, Animated, GIF_NAME};
 
 #[derive(Clone, Debug)]
 pub struct RenderRequest {
@@ -306,13 +307,7 @@ fn render_with(
     observer: &mut dyn FnMut(FrameProgress) -> bool,
 ) -> Result<(Vec<RenderReport>, Option<Trace>)> {
     let scene = &request.scene;
-    let mut warnings = scene.wind_settings().check(&scene.wind_grid()?)?;
-    if let Some(cover) = &scene.grass.cover {
-        warnings.extend(crate::compute::cover_dynamics::far_poses_missing(
-            gpu, cover,
-        ));
-    }
-    crate::frame::check_fits(gpu, scene, request.width, request.height, request.msaa)?;
+    let warnings = preflight(gpu, request)?;
     let Planted {
         blades,
         under_obstacles,
@@ -345,44 +340,7 @@ fn render_with(
         sampler.as_mut(),
         observer,
     )?;
-    let simulation = recorder.simulation().expect("made with dynamics");
-    let (sim_dt, substeps, sim_steps) = (
-        simulation.dt(),
-        simulation.substeps(),
-        simulation.steps_done(),
-    );
-    let angle_caps = simulation
-        .cap_counts(gpu, recorder.commands())
-        .map_err(|e| match e {
-            Error::DeviceLost { during } => Error::DeviceLost {
-                during: format!("{during}, after the last frame (the frames are complete)"),
-            },
-            other => other,
-        })?;
-    let simulated = simulation
-        .cover_dynamics()
-        .map_or(0, |d| d.blade_count() as u64);
-    let facts = RunFacts {
-        warnings,
-        blades: blades.len(),
-        under_obstacles,
-        patches: if simulation.grass().is_some() {
-            blades.len() as u64
-        } else {
-            0
-        },
-        simulated,
-        generated: recorder.cover_blades(),
-        posed: recorder.cover_posed(),
-        from_state: recorder.cover_from_state(),
-        tip_jumps: recorder.cover_tip_jumps(),
-        msaa_used: recorder.samples(),
-        sim_dt,
-        substeps,
-        sim_steps,
-        angle_caps,
-        untimed: recorder.untimed_phases(),
-    };
+    let facts = RunFacts::of(gpu, &recorder, warnings, blades.len(), under_obstacles)?;
     let stopped = done.iter().any(|d| d.interrupted);
     let reports = pictures
         .iter()
@@ -394,7 +352,7 @@ fn render_with(
     let trace = match sampler {
         Some(mut sampler) => {
             let mut pace = StepPace::default();
-            let mut done = sim_steps;
+            let mut done = facts.sim_steps;
             while !stopped && sampler.steps_to_next(done).is_some() {
                 done += sampled_batch(gpu, &mut recorder, &mut pace, &mut sampler, u64::MAX)?;
             }
@@ -405,42 +363,18 @@ fn render_with(
     Ok((reports, trace))
 }
 
-/// One submission of at most `steps` steps (paced to the machine) that
-/// ends at the trace's next sample if that comes sooner, the samples due
-/// before and after it taken; the steps run.
-fn sampled_batch(
-    gpu: &Gpu,
-    recorder: &mut FrameRecorder,
-    pace: &mut StepPace,
-    sampler: &mut TraceSampler,
-    steps: u64,
-) -> Result<u64> {
-    let mut take_due = |recorder: &FrameRecorder| -> Result<Option<u64>> {
-        let simulation = recorder.simulation().expect("made with dynamics");
-        let done = simulation.steps_done();
-        sampler.sample_if_due(
-            gpu,
-            recorder.commands(),
-            simulation,
-            recorder.blades(),
-            done,
-        )?;
-        Ok(sampler.steps_to_next(done))
-    };
-    let next = take_due(recorder)?;
-    if next == Some(0) {
-        return Err(Error::InvalidInput(
-            "a trace's sample was stepped past (an internal fault: please report it)".into(),
+/// What is refused before anything is made (a wind grid the scene cannot
+/// have, a frame the device cannot hold) and the warnings to report.
+fn preflight(gpu: &Gpu, request: &RenderRequest) -> Result<Vec<String>> {
+    let scene = &request.scene;
+    let mut warnings = scene.wind_settings().check(&scene.wind_grid()?)?;
+    if let Some(cover) = &scene.grass.cover {
+        warnings.extend(crate::compute::cover_dynamics::far_poses_missing(
+            gpu, cover,
         ));
     }
-    if steps == 0 {
-        return Ok(0);
-    }
-    let ran = pace.run(steps.min(next.unwrap_or(u64::MAX)), |batch| {
-        recorder.simulate(batch)
-    })?;
-    take_due(recorder)?;
-    Ok(ran)
+    crate::frame::check_fits(gpu, scene, request.width, request.height, request.msaa)?;
+    Ok(warnings)
 }
 
 /// What one render learned beside its frames, the same for every picture
@@ -468,6 +402,49 @@ struct RunFacts {
 }
 
 impl RunFacts {
+    /// What `recorder` learned after its last frame: its simulation's
+    /// steps and angle caps (read back), the cover's counts.
+    fn of(
+        gpu: &Gpu,
+        recorder: &FrameRecorder,
+        warnings: Vec<String>,
+        blades: usize,
+        under_obstacles: usize,
+    ) -> Result<Self> {
+        let simulation = recorder.simulation().expect("made with dynamics");
+        let angle_caps = simulation
+            .cap_counts(gpu, recorder.commands())
+            .map_err(|e| match e {
+                Error::DeviceLost { during } => Error::DeviceLost {
+                    during: format!("{during}, after the last frame (the frames are complete)"),
+                },
+                other => other,
+            })?;
+        Ok(Self {
+            warnings,
+            blades,
+            under_obstacles,
+            patches: if simulation.grass().is_some() {
+                blades as u64
+            } else {
+                0
+            },
+            simulated: simulation
+                .cover_dynamics()
+                .map_or(0, |d| d.blade_count() as u64),
+            generated: recorder.cover_blades(),
+            posed: recorder.cover_posed(),
+            from_state: recorder.cover_from_state(),
+            tip_jumps: recorder.cover_tip_jumps(),
+            msaa_used: recorder.samples(),
+            sim_dt: simulation.dt(),
+            substeps: simulation.substeps(),
+            sim_steps: simulation.steps_done(),
+            angle_caps,
+            untimed: recorder.untimed_phases(),
+        })
+    }
+
     /// The blades made, simulated, posed, seen and drawn (`cull`: the
     /// cull pass's counts, None without it). A render always runs the
     /// wind: the cover's blades the frame may draw are posed in it.
@@ -560,341 +537,6 @@ fn report(
     }
 }
 
-/// What the frame loop got done.
-#[derive(Default)]
-struct Animated {
-    names: Vec<String>,
-    gif: Option<String>,
-    video: Option<String>,
-    statistics: Option<PipelineStatistics>,
-    shadow_statistics: Option<PipelineStatistics>,
-    cull: Option<CullCounts>,
-    gpu_timings: Vec<Option<FrameTimings>>,
-    wall_ms: Vec<f64>,
-    interrupted: bool,
-}
-
-const GIF_NAME: &str = "animation.gif";
 /// The scene as rendered, beside the report.
 const SCENE_NAME: &str = "scene.toml";
 const REPORT_NAME: &str = "report.json";
-
-/// One picture's frames as the frame loop writes them.
-struct PictureWriter<'a> {
-    view: ViewMode,
-    dir: &'a Path,
-    claim: &'a OutputClaim,
-    gif: Option<files::GifWriter>,
-    video: Option<VideoWriter>,
-    done: Animated,
-}
-
-impl PictureWriter<'_> {
-    /// Writes frame `f` (and adds it to the GIF and the video).
-    fn write(&mut self, f: u32, frame: &Frame, wall_ms: f64) -> Result<()> {
-        self.done.wall_ms.push(wall_ms);
-        self.done.gpu_timings.push(frame.timings);
-        let name = frame_name(f);
-        files::write_png(&self.dir.join(&name), frame)?;
-        self.claim.wrote(&name)?;
-        if let Some(gif) = self.gif.as_mut() {
-            gif.add(frame)?;
-        }
-        if let Some(video) = self.video.as_mut() {
-            video.add(frame)?;
-        }
-        self.done.names.push(name);
-        self.done.statistics = frame.statistics;
-        self.done.shadow_statistics = frame.shadow_statistics;
-        self.done.cull = frame.cull;
-        Ok(())
-    }
-
-    /// Finishes the GIF and the video; a GIF or video of no frame is not
-    /// written (dropping the writer removes its temporary file).
-    fn finish(mut self, video_path: Option<&Path>) -> Result<Animated> {
-        if let Some(gif) = self.gif.filter(|_| !self.done.names.is_empty()) {
-            gif.finish()?;
-            self.claim.wrote(GIF_NAME)?;
-            self.done.gif = Some(GIF_NAME.to_string());
-        }
-        if let Some(writer) = self.video.filter(|_| !self.done.names.is_empty()) {
-            writer.finish()?;
-            if let Some(name) = video_path.and_then(|p| self.claim.name_in(p)) {
-                self.claim.wrote(&name)?;
-            }
-            self.done.video = video_path.map(|p| p.display().to_string());
-        }
-        Ok(self.done)
-    }
-}
-
-/// An error met while drawing frame `f`: a lost device says the frames
-/// before it are complete.
-fn at_frame(f: u32, e: Error) -> Error {
-    match e {
-        Error::DeviceLost { during } => Error::DeviceLost {
-            during: format!("frame {f}, {during} (the frames before it are complete)"),
-        },
-        other => other,
-    }
-}
-
-/// Each picture's writer, its folder claimed (what an earlier render
-/// wrote there goes, so the folder never mixes two runs; a run refused
-/// before this point leaves the old outputs alone), its GIF and video
-/// begun.
-fn open_writers<'a>(
-    request: &RenderRequest,
-    pictures: &'a [Picture],
-    claims: &'a [OutputClaim],
-    planned: u32,
-) -> Result<Vec<PictureWriter<'a>>> {
-    let mut writers = Vec::with_capacity(pictures.len());
-    for (picture, claim) in pictures.iter().zip(claims) {
-        claim.begin()?;
-        let gif = if request.gif && planned > 1 {
-            let seconds = 1.0 / request.written_fps();
-            Some(files::GifWriter::create(
-                &picture.dir.join(GIF_NAME),
-                seconds,
-            )?)
-        } else {
-            None
-        };
-        // Only the first picture has the video (`render_pictures` allows
-        // one only with a single picture).
-        let video = match (&request.video, writers.is_empty()) {
-            (Some(path), true) => Some(VideoWriter::create(
-                path,
-                request.width,
-                request.height,
-                request.written_fps(),
-            )?),
-            _ => None,
-        };
-        writers.push(PictureWriter {
-            view: picture.view,
-            dir: &picture.dir,
-            claim,
-            gif,
-            video,
-            done: Animated::default(),
-        });
-    }
-    Ok(writers)
-}
-
-/// The shaded frame at `time` (drawn unless a picture already was) and
-/// its data view, for the waves of light; `steps` go with the first
-/// drawn. None: stopped.
-fn light_wave_frames(
-    gpu: &Gpu,
-    request: &RenderRequest,
-    recorder: &mut FrameRecorder,
-    time: f64,
-    shaded: Option<Vec<u8>>,
-    steps: &mut u64,
-) -> Result<Option<(Vec<u8>, Vec<u8>)>> {
-    let base = FrameUniforms::new(
-        &request.scene,
-        request.width,
-        request.height,
-        ViewMode::Shaded,
-        time as f32,
-    );
-    let mut draw = |uniforms: &FrameUniforms| {
-        recorder.render_unless_stopped(gpu, uniforms, std::mem::take(steps), None)
-    };
-    let shaded = match shaded {
-        Some(rgba) => Some(rgba),
-        None => draw(&base)?.map(|frame| frame.rgba),
-    };
-    let data = draw(&base.displacement_view())?;
-    Ok(shaded.zip(data.map(|d| d.rgba)))
-}
-
-/// Steps toward a frame far ahead in submissions paced to the machine,
-/// a stop asked after each (`progress` with the steps left); leaves the
-/// last batch in `steps`, to go with the frame, timed as its own. False:
-/// stopped.
-///
-/// With a trace (`sampler`) every step runs here, the frame's own too, in
-/// submissions that end at the trace's samples.
-fn step_towards(
-    gpu: &Gpu,
-    recorder: &mut FrameRecorder,
-    pace: &mut StepPace,
-    steps: &mut u64,
-    mut sampler: Option<&mut TraceSampler>,
-    progress: FrameProgress,
-    observer: &mut dyn FnMut(FrameProgress) -> bool,
-) -> Result<bool> {
-    let leave = |steps: u64, pace: &StepPace, traced: bool| {
-        if traced {
-            0
-        } else {
-            pace.next(steps)
-        }
-    };
-    while *steps > leave(*steps, pace, sampler.is_some()) {
-        *steps -= match sampler.as_deref_mut() {
-            Some(sampler) => sampled_batch(gpu, recorder, pace, sampler, *steps)?,
-            None => pace.run(*steps, |batch| recorder.simulate(batch))?,
-        };
-        let progress = FrameProgress {
-            steps_left: *steps,
-            ..progress
-        };
-        if !observer(progress) {
-            return Ok(false);
-        }
-    }
-    Ok(true)
-}
-
-/// One written frame: its number, its simulated time, and whether its
-/// shaded picture is kept for the waves of light.
-#[derive(Clone, Copy)]
-struct FrameAt {
-    f: u32,
-    time: f64,
-    keep_shaded: bool,
-}
-
-/// Draws `frame` once per picture and writes it; the `steps` go with the
-/// first picture, the others draw the same instant, and between the
-/// submissions `keep_going` is asked. Returns the shaded picture's pixels
-/// where asked to keep them, or None where stopped.
-fn draw_pictures(
-    gpu: &Gpu,
-    request: &RenderRequest,
-    recorder: &mut FrameRecorder,
-    writers: &mut [PictureWriter],
-    frame: FrameAt,
-    steps: &mut u64,
-    keep_going: &mut dyn FnMut() -> bool,
-) -> Result<Option<Option<Vec<u8>>>> {
-    let mut shaded: Option<Vec<u8>> = None;
-    for writer in writers.iter_mut() {
-        let uniforms = FrameUniforms::new(
-            &request.scene,
-            request.width,
-            request.height,
-            writer.view,
-            frame.time as f32,
-        );
-        let started = Instant::now();
-        let drawn = recorder.render_unless_stopped(
-            gpu,
-            &uniforms,
-            std::mem::take(steps),
-            Some(&mut *keep_going),
-        )?;
-        let Some(mut drawn) = drawn else {
-            return Ok(None);
-        };
-        legend::stamp(&mut drawn, writer.view, request.scene.lod.levels);
-        let wall_ms = started.elapsed().as_secs_f64() * 1e3;
-        writer.write(frame.f, &drawn, wall_ms)?;
-        if frame.keep_shaded && writer.view == ViewMode::Shaded && shaded.is_none() {
-            shaded = Some(drawn.rgba);
-        }
-    }
-    Ok(Some(shaded))
-}
-
-/// Simulates up to each written frame's time and renders it once per
-/// picture, in one submission per picture (the first also steps the
-/// simulation); writes each frame (and adds it to the GIF) as it is read
-/// back. With `light_waves`, each instant is drawn once more in the data
-/// view (and shaded, when no picture is) and measured. A failure names the
-/// frame it happened at; the frames written before it stay complete.
-fn animate(
-    gpu: &Gpu,
-    request: &RenderRequest,
-    recorder: &mut FrameRecorder,
-    pictures: &[Picture],
-    claims: &[OutputClaim],
-    mut sampler: Option<&mut TraceSampler>,
-    observer: &mut dyn FnMut(FrameProgress) -> bool,
-) -> Result<(Vec<Animated>, Option<LightWaves>)> {
-    let planned = request.frames_written().count() as u32;
-    let mut writers = open_writers(request, pictures, claims, planned)?;
-    let mut interrupted = false;
-    let mut pace = StepPace::default();
-    let mut waves = request
-        .light_waves
-        .then(|| LightWaveSeries::new(request.width, request.height));
-    'frames: for (before, f) in request.frames_written().enumerate() {
-        // Frames written before this one.
-        let written = before as u32;
-        let at_frame = |e| at_frame(f, e);
-        let time = request.animation.time_of(f);
-        let mut steps = recorder.steps_until(time)?;
-        let progress = FrameProgress {
-            written,
-            planned,
-            steps_left: 0,
-        };
-        let stepped = step_towards(
-            gpu,
-            recorder,
-            &mut pace,
-            &mut steps,
-            sampler.as_deref_mut(),
-            progress,
-            observer,
-        );
-        if !stepped.map_err(at_frame)? {
-            interrupted = true;
-            break 'frames;
-        }
-        let frame = FrameAt {
-            f,
-            time,
-            keep_shaded: waves.is_some(),
-        };
-        let drawn = draw_pictures(
-            gpu,
-            request,
-            recorder,
-            &mut writers,
-            frame,
-            &mut steps,
-            &mut || observer(progress),
-        )
-        .map_err(at_frame)?;
-        let Some(shaded) = drawn else {
-            interrupted = true;
-            break 'frames;
-        };
-        if let Some(series) = waves.as_mut() {
-            let drawn = light_wave_frames(gpu, request, recorder, time, shaded, &mut steps)
-                .map_err(at_frame)?;
-            let Some((shaded, data)) = drawn else {
-                interrupted = true;
-                break 'frames;
-            };
-            series.add(time, &shaded, &data);
-        }
-        let progress = FrameProgress {
-            written: written + 1,
-            planned,
-            steps_left: 0,
-        };
-        if !observer(progress) && progress.written < planned {
-            interrupted = true;
-            break;
-        }
-    }
-    let done = writers
-        .into_iter()
-        .map(|w| {
-            let mut done = w.finish(request.video.as_deref())?;
-            done.interrupted = interrupted;
-            Ok(done)
-        })
-        .collect::<Result<Vec<_>>>()?;
-    Ok((done, waves.and_then(|w| w.measure())))
-}
