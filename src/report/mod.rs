@@ -13,6 +13,7 @@ pub mod reproduce;
 pub mod space_time;
 pub mod spectrum;
 pub mod timing;
+pub mod trace;
 pub mod video;
 pub mod warnings;
 pub mod wind;
