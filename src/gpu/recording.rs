@@ -14,7 +14,7 @@ use crate::gpu::descriptors::DescriptorSet;
 use crate::gpu::device::Device;
 use crate::gpu::journal::{access_text, dependency_text, Journal};
 use crate::gpu::pipeline::Pipeline;
-use crate::gpu::sync::{BufferUse, ImageRequest, ImageUse, Tracker};
+use crate::gpu::sync::{Barriers, BufferUse, ImageRequest, ImageUse, Tracker};
 use crate::gpu::{Buffer, Image};
 
 /// How long one submission may run before we call the device hung (lavapipe
@@ -119,6 +119,15 @@ impl Recording<'_> {
         for u in images {
             u.image.layout.set(u.access.layout);
         }
+        self.journal_declaration(buffers, images, &barriers);
+        if !barriers.is_empty() {
+            self.record_barriers(&barriers);
+        }
+    }
+
+    /// Writes a declaration and the barrier it needed in the journal (when
+    /// one is kept): the objects by their debug names.
+    fn journal_declaration(&self, buffers: &[BufferUse], images: &[ImageUse], barriers: &Barriers) {
         self.journal.note(|| {
             let named = |raw: u64, access: Access| {
                 format!("{} ({})", self.device.name_of(raw), access_text(access))
@@ -150,9 +159,11 @@ impl Recording<'_> {
                 )
             });
         }
-        if barriers.is_empty() {
-            return;
-        }
+    }
+
+    /// Records `barriers` (the memory dependency and the images' layout
+    /// transitions) as one pipeline barrier.
+    fn record_barriers(&self, barriers: &Barriers) {
         let memory: Vec<vk::MemoryBarrier2> = barriers
             .memory
             .iter()
