@@ -12,11 +12,8 @@
 
 #include "dynamics.glsl"
 
-const float QS_START_RELAXATION = 10.0;
-const float QS_RELAXATION_SHRINK = 0.6;
-const float QS_MAX_TURN = 0.25;        // rad
-const float QS_DIFFERENCE = 1e-3;      // rad
-const float QS_TOLERANCE = 1e-6;       // rad
+// QS_START_RELAXATION, QS_RELAXATION_SHRINK, QS_MAX_TURN, QS_DIFFERENCE
+// and QS_TOLERANCE come from interface.glsl (src/interface/defs.rs).
 
 vec4 qs_torque(GrassBlade b, vec4 angle, vec3 wind) {
     GrassState s = GrassState(angle, vec4(0.0));

@@ -36,6 +36,17 @@ gpu_interface! {
     /// cover's pose: glsl/grass/quasi_static.glsl and
     /// `quasi_static::FAR_ITERATIONS`).
     pub const QUASI_STATIC_ITERATIONS: usize = 12;
+    /// The quasi-static solve's pseudo-time term: its first (and largest)
+    /// weight, in units of the still-air stiffness, and the least it
+    /// falls each iteration (src/model/quasi_static.rs says why these).
+    pub const QS_START_RELAXATION: f32 = 10.0;
+    pub const QS_RELAXATION_SHRINK: f32 = 0.6;
+    /// The largest change of an angle in one iteration (rad).
+    pub const QS_MAX_TURN: f32 = 0.25;
+    /// Central-difference step of the Jacobian (rad).
+    pub const QS_DIFFERENCE: f32 = 1e-3;
+    /// Done when no angle changes by more than this (rad).
+    pub const QS_TOLERANCE: f32 = 1e-6;
     /// Invocations per workgroup of the cover's tile kernel
     /// (glsl/cover/tiles.comp): one blade each.
     pub const COVER_GROUP: u32 = 64;

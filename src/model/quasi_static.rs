@@ -29,20 +29,22 @@ pub const MAX_ITERATIONS: usize = 100;
 /// and in its CPU reference): table1's blades in 1-6 m/s are within 3.2e-5
 /// of the settled angles after 12, within 9% after 10.
 pub use crate::interface::QUASI_STATIC_ITERATIONS as FAR_ITERATIONS;
+// The solve's constants are the GPU's (src/interface), in f64 here where
+// the reference computes in f64.
 /// The pseudo-time term's first (and largest) weight, in units of the
 /// still-air stiffness.
-const START_RELAXATION: f64 = 10.0;
+const START_RELAXATION: f64 = crate::interface::QS_START_RELAXATION as f64;
 /// The weight falls at least this much each iteration, and more as the
 /// torque does: from 10 it reaches Newton's step in a dozen iterations,
 /// where following the torque alone took up to 56. Faster (0.5) lands
 /// one of 732 blade-winds at 6 m/s on the other side's balance.
-const RELAXATION_SHRINK: f64 = 0.6;
+const RELAXATION_SHRINK: f64 = crate::interface::QS_RELAXATION_SHRINK as f64;
 /// The largest change of an angle in one iteration (rad).
-const MAX_TURN: f64 = 0.25;
+const MAX_TURN: f64 = crate::interface::QS_MAX_TURN as f64;
 /// Central-difference step of the Jacobian (rad).
-const DIFFERENCE: f32 = 1e-3;
+const DIFFERENCE: f32 = crate::interface::QS_DIFFERENCE;
 /// Done when no angle changes by more than this (rad).
-const TOLERANCE: f64 = 1e-6;
+const TOLERANCE: f64 = crate::interface::QS_TOLERANCE as f64;
 
 /// The angles (swing, bend A, bend B, twist) at which `blade`'s torques
 /// balance in the steady `wind` (m/s, at its tip), and the iterations
