@@ -15,7 +15,6 @@ use crate::gpu::Gpu;
 
 pub struct CommandPool {
     device: Arc<Device>,
-    /// Declared before the pool: a fence's drop needs nothing else.
     fence: Owned<vk::Fence>,
     pool: Owned<vk::CommandPool>,
     cmd: vk::CommandBuffer,
