@@ -42,6 +42,7 @@ mod shaders;
 mod soak;
 mod terrain;
 mod timing;
+mod turbulence_cpu;
 mod validation_matrix;
 mod video;
 mod viewer;

@@ -3,7 +3,7 @@
 //! both are held to the same cases.
 
 use glam::{UVec3, Vec3};
-use meadow::model::wind::{Gust, Inflow, Obstacle, WindGrid, WindSettings, WindSource};
+use meadow::model::wind::{Gust, Inflow, Obstacle, WindField, WindGrid, WindSettings, WindSource};
 
 /// 24 x 10 x 24 cells over 12 x 5 x 12 m.
 pub fn behaviour_grid() -> WindGrid {
@@ -81,4 +81,30 @@ pub fn ridge(rho: &[f64], spacing: f64) -> f64 {
         .unwrap();
     let curve = rho[m - 1] - 2.0 * rho[m] + rho[m + 1];
     spacing * (m as f64 + 0.5 * (rho[m - 1] - rho[m + 1]) / curve)
+}
+
+/// The downwind wind at `points`, steps of `dt` from rest, sampled every
+/// third step for `seconds` after the first `skip_s` seconds (20 samples a
+/// second at 1/60 s, against 1.4 Hz at most): [point][sample].
+pub fn downwind_wind(
+    grid: WindGrid,
+    settings: &WindSettings,
+    dt: f32,
+    skip_s: f32,
+    seconds: f32,
+    points: &[Vec3],
+) -> Vec<Vec<f64>> {
+    let mut field = WindField::new(grid, settings);
+    let skip = (skip_s / dt).round() as u32;
+    let steps = skip + (seconds / dt).round() as u32;
+    let mut series = vec![Vec::new(); points.len()];
+    for step in 0..steps {
+        field.step(settings, dt);
+        if step >= skip && (step - skip) % 3 == 2 {
+            for (s, p) in series.iter_mut().zip(points) {
+                s.push(field.sample(*p).x as f64);
+            }
+        }
+    }
+    series
 }
