@@ -3,7 +3,8 @@
 //! `golden::...`). One binary, not one per file, because each binary
 //! compiled tests/common again and linked the whole library again: 37 of
 //! them took 70 s of the fresh build on two cores (docs/perf.md, "The
-//! test build"). nextest still runs every test in a process of its own.
+//! test build (session 75)"). nextest still runs every test in a process
+//! of its own.
 //!
 //! `cargo test --test suite golden::` runs one file's tests. A new file in
 //! tests/ must be named below: tests/layers.rs fails on one that is not.
