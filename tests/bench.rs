@@ -422,3 +422,125 @@ fn also_flat_sets_the_terrain_beside_flat_ground() {
     assert!(md.contains("| 800 (flat ground) |"));
     let _ = std::fs::remove_dir_all(&out);
 }
+
+/// `bench --against`: this binary against a copy of itself, two runs of
+/// each, alternating. Every phase both timed is there with each run's
+/// figure, and its ratios are the ones the raw figures give (the median
+/// of new / old over the runs, the range around it). A missing binary and
+/// one that is not meadow are refused in one line, nothing written, the
+/// runs' temporary folder gone.
+#[test]
+fn bench_against_an_old_binary_gives_each_phase_as_a_ratio_of_runs() {
+    let out = temp_out("bench-against");
+    let old = out.with_extension("old-meadow");
+    std::fs::copy(env!("CARGO_BIN_EXE_meadow"), &old).unwrap();
+    let (old_s, out_s) = (old.to_str().unwrap(), out.to_str().unwrap());
+    let bench = [
+        "bench",
+        "--blades",
+        "1k",
+        "--lod",
+        "on",
+        "--frames",
+        "2",
+        "--warmup",
+        "0",
+        "--width",
+        "64",
+        "--height",
+        "48",
+        "--shadow-map",
+        "256",
+        "--validation",
+    ];
+    let run = |against: &str, extra: &[&str]| {
+        let mut args = bench.to_vec();
+        args.extend(["--against", against, "--out", out_s]);
+        args.extend(extra);
+        let child = common::binary::spawn_meadow_to(&args, std::process::Stdio::piped());
+        let pid = child.id();
+        let result = child.wait_with_output().unwrap();
+        let work = std::env::temp_dir().join(format!("meadow-against-{pid}"));
+        assert!(!work.exists(), "{} left behind", work.display());
+        result
+    };
+    let result = run(old_s, &["--runs", "2"]);
+    assert!(
+        result.status.success(),
+        "{}",
+        String::from_utf8_lossy(&result.stderr)
+    );
+    let stdout = String::from_utf8_lossy(&result.stdout);
+    let a = read_json(&out.join("against.json"));
+    assert_eq!(a["runs"], 2);
+    assert_eq!(a["order"], serde_json::json!(["old", "new", "new", "old"]));
+    let phases = a["phases"].as_array().unwrap();
+    let named = |row: &str, phase: &str| {
+        phases
+            .iter()
+            .find(|p| p["row"] == row && p["phase"] == phase)
+            .unwrap_or_else(|| panic!("no {row} / {phase} in {phases:?}"))
+    };
+    named("wind step", "multigrid");
+    named("wind step", "jacobi");
+    for cull in ["off", "on"] {
+        let row = format!("1000 blades, LOD on, culling {cull}");
+        for phase in ["wind", "grass", "shadow", "colour", "frame", "wall frame"] {
+            named(&row, phase);
+        }
+        assert!(stdout.contains(&format!("| {row} | colour |")), "{stdout}");
+    }
+    for p in phases {
+        let ms = |key: &str| -> Vec<f64> {
+            p[key]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|v| v.as_f64().unwrap())
+                .collect()
+        };
+        let (old_ms, new_ms) = (ms("old_ms"), ms("new_ms"));
+        assert_eq!((old_ms.len(), new_ms.len()), (2, 2), "{p}");
+        let mut ratios: Vec<f64> = old_ms
+            .iter()
+            .zip(&new_ms)
+            .filter(|(o, _)| **o > 0.0)
+            .map(|(o, n)| n / o)
+            .collect();
+        ratios.sort_by(f64::total_cmp);
+        if ratios.is_empty() {
+            assert!(p["ratio_median"].is_null(), "{p}");
+            continue;
+        }
+        let expected = ratios.iter().sum::<f64>() / ratios.len() as f64; // 1 or 2 runs
+        let close = |key: &str, want: f64| {
+            let got = p[key].as_f64().unwrap();
+            assert!(
+                (got - want).abs() <= 1e-9 * want.abs().max(1.0),
+                "{key}: {got} against {want}: {p}"
+            );
+        };
+        close("ratio_median", expected);
+        close("ratio_min", ratios[0]);
+        close("ratio_max", ratios[ratios.len() - 1]);
+        assert!(ratios.iter().all(|r| r.is_finite() && *r > 0.0), "{p}");
+    }
+    // Refused in one line, nothing written.
+    let _ = std::fs::remove_dir_all(&out);
+    for (against, says) in [
+        ("/nonexistent/meadow", "no such file"),
+        ("/bin/true", "wrote no bench.json"),
+    ] {
+        let result = run(against, &["--runs", "1"]);
+        assert!(!result.status.success());
+        let stderr = String::from_utf8_lossy(&result.stderr);
+        let last = stderr.lines().last().unwrap_or("");
+        assert!(
+            last.starts_with("meadow: error: ") && last.contains(says),
+            "{stderr}"
+        );
+        assert!(!out.join("against.json").exists());
+    }
+    let _ = std::fs::remove_dir_all(&out);
+    let _ = std::fs::remove_file(&old);
+}

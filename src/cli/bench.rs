@@ -5,6 +5,7 @@ use std::path::PathBuf;
 
 use meadow::scene::Scene;
 
+use meadow::commands::bench::against::{AgainstRequest, MAX_AGAINST_RUNS};
 use meadow::commands::bench::{BenchStep, MAX_BENCH_FRAMES};
 use meadow::scene::check::MAX_IMAGE_SIDE;
 
@@ -51,6 +52,14 @@ pub struct BenchArgs {
     /// side. Needs a scene with terrain (hills).
     #[arg(long)]
     also_flat: bool,
+    /// Time an older meadow binary beside this one: the same bench run by
+    /// each in turn, --runs times, alternating; prints each phase's new /
+    /// old ratio and writes against.json and against.md to --out.
+    #[arg(long, value_name = "OLD_BINARY")]
+    against: Option<PathBuf>,
+    /// With --against: runs of each binary.
+    #[arg(long, default_value_t = 3, requires = "against", allow_negative_numbers = true, value_parser = numbers::whole::<u32>(1, MAX_AGAINST_RUNS as u64))]
+    runs: u32,
     /// Folder for bench.json, bench.md and bench.svg (made if missing).
     #[arg(long, default_value = "out/bench")]
     out: PathBuf,
@@ -73,10 +82,64 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         shadow_map,
         occlusion,
         also_flat,
+        against,
+        runs,
         out,
         overwrite,
         device,
     } = args;
+    if let Some(old) = against {
+        // The same bench, as arguments for each binary.
+        let mut bench_args: Vec<String> =
+            ["bench", "--scene", &scene, "--blades", &blades, "--lod"]
+                .map(String::from)
+                .to_vec();
+        bench_args.push(
+            match lod {
+                LodArg::Both => "both",
+                LodArg::On => "on",
+                LodArg::Off => "off",
+            }
+            .into(),
+        );
+        for (flag, value) in [
+            ("--frames", frames),
+            ("--warmup", warmup),
+            ("--width", width),
+            ("--height", height),
+            ("--msaa", msaa),
+        ] {
+            bench_args.extend([flag.to_string(), value.to_string()]);
+        }
+        if let Some(n) = shadow_map {
+            bench_args.extend(["--shadow-map".to_string(), n.to_string()]);
+        }
+        if let Some(o) = occlusion {
+            let o = if o == OnOff::On { "on" } else { "off" };
+            bench_args.extend(["--occlusion".to_string(), o.to_string()]);
+        }
+        if also_flat {
+            bench_args.push("--also-flat".into());
+        }
+        bench_args.extend(device.to_args());
+        let request = AgainstRequest {
+            old,
+            new: std::env::current_exe()?,
+            bench_args,
+            runs,
+        };
+        let against = meadow::commands::bench::against::bench_against(
+            &request,
+            &out,
+            overwrite.overwrite,
+            &mut |done, total, which| {
+                eprintln!("meadow: bench {}/{total}: the {which} binary", done + 1)
+            },
+        )?;
+        print!("{}", meadow::commands::bench::against::markdown(&against));
+        println!("wrote {}", out.join("against.json").display());
+        return Ok(());
+    }
     let counts = blades
         .split(',')
         .map(meadow::commands::bench_grass::parse_count)

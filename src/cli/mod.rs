@@ -138,6 +138,25 @@ pub struct DeviceArgs {
 }
 
 impl DeviceArgs {
+    /// The same choices as arguments again, for a child meadow process
+    /// (`bench --against`).
+    pub fn to_args(&self) -> Vec<String> {
+        let mut args = Vec::new();
+        if let Some(device) = &self.device {
+            args.extend(["--device".to_string(), device.clone()]);
+        }
+        if self.validation {
+            args.push("--validation".into());
+        }
+        if self.best_practices {
+            args.push("--best-practices".into());
+        }
+        if let Some(mib) = self.gpu_memory_mib {
+            args.extend(["--gpu-memory-mib".to_string(), mib.to_string()]);
+        }
+        args
+    }
+
     pub fn options(&self) -> anyhow::Result<GpuOptions> {
         Ok(GpuOptions {
             validation: ValidationOptions {

@@ -25,6 +25,8 @@ use crate::report::claim::OutputClaim;
 use crate::report::files;
 use crate::scene::{field, Scene, MAX_BLADES};
 
+pub mod against;
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum LodChoice {
