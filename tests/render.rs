@@ -225,6 +225,8 @@ fn level_of_detail_gives_20_10_3_segments_by_distance_and_20_without_and_the_sha
     // pass's levels by the same distances to the camera.
     let cases = [(2.0, 20, 10), (6.0, 10, 5), (15.0, 3, 3)];
     assert_eq!(scene.lod.shadow_levels, [10, 5, 3]);
+    // The distance levels alone (the texels' bound is the next test's).
+    scene.lod.shadow_error_texels = 0.0;
     for lod in [true, false] {
         scene.lod.enabled = lod;
         for (z, level, shadow_level) in cases {
@@ -255,6 +257,62 @@ fn level_of_detail_gives_20_10_3_segments_by_distance_and_20_without_and_the_sha
             );
         }
     }
+    finish(gpu);
+}
+
+/// The shadow pass tessellates a caster no finer than its size in the
+/// map needs: a bent blade 2 m from the camera (shadow level 10 by
+/// distance) casts with the segments the closed form of
+/// glsl/blade/blade.tesc's `shadow_segments` gives for its control points
+/// and the map's texel (its chords, its tapered tip within half a texel),
+/// capped at 10: fewer in a coarse map, 10 in a fine one. (With the
+/// chords' bound dropped from the shader by hand, the coarse maps' counts
+/// fall below the closed form's and the test fails.)
+#[test]
+fn the_shadow_pass_tessellates_a_caster_by_its_size_in_the_map() {
+    let gpu = strict_gpu();
+    let mut scene = Scene::builtin("fig10-few-bunches").unwrap();
+    scene.camera.position = [0.0, 1.0, 0.0];
+    scene.camera.target = [0.0, 0.5, -5.0];
+    scene.cull.thin_from = 0.0;
+    assert_eq!(scene.lod.shadow_error_texels, 0.5);
+    let profile = [[0.0, 0.0], [0.05, 0.3], [0.2, 0.55], [0.4, 0.7]];
+    let half_width = 0.01;
+    let blade = Blade::from_profile(
+        Vec3::new(0.0, 0.0, -2.0),
+        Vec3::X,
+        profile,
+        half_width,
+        BladeKind::Upright,
+        0.5,
+    );
+    let p = blade.rest;
+    let (d0, d1, d2) = (p[1] - p[0], p[2] - p[1], p[3] - p[2]);
+    let turn = d0.angle_between(d1) + d1.angle_between(d2);
+    let reach = d0.length() + d1.length() + d2.length();
+    let mut counts = Vec::new();
+    for map in [256, 1024, 4096, 16384] {
+        scene.set_shadow_map(map).unwrap();
+        let u = meadow::render::FrameUniforms::new(&scene, 64, 64, ViewMode::Shaded, 0.0);
+        let row0 = glam::Mat4::from_cols_array_2d(&u.light_view_proj).row(0).truncate();
+        let texel = 2.0 / (row0.length() * map as f32);
+        let tau = 0.5 * texel;
+        let bend = (reach * turn / (8.0 * tau)).sqrt();
+        let tip = 0.207 * half_width / tau;
+        let expected = bend.max(tip * tip).ceil().clamp(1.0, 10.0) as u64;
+        let frame = render(&gpu, &scene, &[blade.clone()], 64, 64, ViewMode::Shaded);
+        let shadow = frame.shadow_statistics.expect("shadows are on");
+        eprintln!(
+            "map {map}: texel {:.2} mm, bend {bend:.2}, tip {:.2}: {} segments",
+            texel * 1e3,
+            tip * tip,
+            shadow.geometry_shader_invocations
+        );
+        assert_eq!(shadow.geometry_shader_invocations, expected, "map {map}");
+        counts.push(expected);
+    }
+    assert!(counts.is_sorted(), "{counts:?}");
+    assert!(counts[0] < 10 && counts[3] == 10, "{counts:?}");
     finish(gpu);
 }
 

@@ -699,6 +699,15 @@ gpu_interface! {
         pub translucency: f32,
         /// The scene's seed's low 16 bits (exact in a float): the clumps' seed.
         pub clump_seed: f32,
+        /// How far a caster's tessellated shadow may depart from its curve,
+        /// in shadow-map texels (the scene's `lod.shadow_error_texels`; 0
+        /// with LOD off or the rule off: the distance levels alone).
+        pub shadow_error_texels: f32,
+        /// A shadow-map texel's side in metres, in the shadow pass's copy
+        /// of this block (src/render/shadow.rs); 0 in the colour pass's.
+        pub shadow_texel_m: f32,
         pub _pad0: u32,
+        pub _pad1: u32,
+        pub _pad2: u32,
     }
 }

@@ -129,6 +129,11 @@ impl FrameUniforms {
             sheen: look.sheen,
             translucency: look.translucency,
             clump_seed: (scene.seed & 0xffff) as f32,
+            shadow_error_texels: if lod.enabled {
+                lod.shadow_error_texels
+            } else {
+                0.0
+            },
             // The shadow map's and the canopy map's fields are the
             // renderer's, which owns the maps.
             ..Self::default()

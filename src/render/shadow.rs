@@ -97,6 +97,7 @@ impl ShadowMap {
         let mut light = *frame;
         light.view_proj = light.light_view_proj;
         light.tess_level = light.shadow_tess_level;
+        light.shadow_texel_m = texel_side_m(&light.light_view_proj, self.size);
         self.uniforms.write(0, std::slice::from_ref(&light));
     }
 
@@ -138,4 +139,16 @@ impl ShadowMap {
     pub fn sampled(&self) -> ImageUse<'_> {
         ImageUse::new(&self.image, Access::FRAGMENT_SAMPLED)
     }
+}
+
+/// The side in metres of one texel of a `size`-texel map drawn through
+/// `light_view_proj` (orthographic: its first row scales metres across
+/// the sun's view to clip space's 2 units over the map); 0 without a map.
+fn texel_side_m(light_view_proj: &crate::interface::Mat4Columns, size: u32) -> f32 {
+    let m = glam::Mat4::from_cols_array_2d(light_view_proj);
+    let per_m = m.row(0).truncate().length();
+    if size == 0 || per_m <= 0.0 {
+        return 0.0;
+    }
+    2.0 / (per_m * size as f32)
 }

@@ -150,6 +150,12 @@ pub struct Lod {
     /// under a texel (about 3 mm on table1). With LOD off the shadow pass
     /// uses `levels[0]`, as the colour pass does.
     pub shadow_levels: [u32; 3],
+    /// With LOD on, the shadow pass tessellates a caster no finer than
+    /// its size in shadow-map texels needs (ours): its chords, its edges'
+    /// turn with the twist and its tapered tip depart from the curved
+    /// blade by at most this many texels (half of one by default: under
+    /// what the map can hold). 0: the distance levels alone.
+    pub shadow_error_texels: f32,
 }
 
 impl Default for Lod {
@@ -160,6 +166,7 @@ impl Default for Lod {
             far_distance: 9.0,
             levels: [20, 10, 3],
             shadow_levels: [10, 5, 3],
+            shadow_error_texels: 0.5,
         }
     }
 }
@@ -336,6 +343,12 @@ impl Lod {
         for (i, &level) in self.shadow_levels.iter().enumerate() {
             in_range(&format!("shadow_levels[{i}]"), level, 1..=64)?;
         }
+        within(
+            "shadow_error_texels",
+            self.shadow_error_texels,
+            0.0..=64.0,
+            "0 (the distance levels alone) to 64",
+        )?;
         Ok(())
     }
 }
