@@ -264,7 +264,10 @@ fn render_writes_frame_and_report_with_validation_clean() {
     // One segment at least, the close shadow level (10) at most: a caster
     // is tessellated no finer than its size in the map needs.
     let segments = shadow["geometry_shader_invocations"].as_u64().unwrap();
-    assert!((casters..=10 * casters).contains(&segments), "{segments} for {casters}");
+    assert!(
+        (casters..=10 * casters).contains(&segments),
+        "{segments} for {casters}"
+    );
     let _ = std::fs::remove_dir_all(&out);
 }
 

@@ -294,13 +294,15 @@ fn the_shadow_pass_tessellates_a_caster_by_its_size_in_the_map() {
     for map in [256, 1024, 4096, 16384] {
         scene.set_shadow_map(map).unwrap();
         let u = meadow::render::FrameUniforms::new(&scene, 64, 64, ViewMode::Shaded, 0.0);
-        let row0 = glam::Mat4::from_cols_array_2d(&u.light_view_proj).row(0).truncate();
+        let row0 = glam::Mat4::from_cols_array_2d(&u.light_view_proj)
+            .row(0)
+            .truncate();
         let texel = 2.0 / (row0.length() * map as f32);
         let tau = 0.5 * texel;
         let bend = (reach * turn / (8.0 * tau)).sqrt();
         let tip = 0.207 * half_width / tau;
         let expected = bend.max(tip * tip).ceil().clamp(1.0, 10.0) as u64;
-        let frame = render(&gpu, &scene, &[blade.clone()], 64, 64, ViewMode::Shaded);
+        let frame = render(&gpu, &scene, &[blade], 64, 64, ViewMode::Shaded);
         let shadow = frame.shadow_statistics.expect("shadows are on");
         eprintln!(
             "map {map}: texel {:.2} mm, bend {bend:.2}, tip {:.2}: {} segments",
