@@ -2,6 +2,8 @@
 //! columns, trace.json, and the diagrams drawn from a trace (space-time,
 //! plan view, spectrum) by report::space_time, plan_view and spectrum.
 //! It draws and writes what analysis::trace measured; it measures nothing.
+//! It uses analysis (the trace), gpu's report types (device memory,
+//! validation) and its report siblings.
 
 use std::fmt::Write as _;
 

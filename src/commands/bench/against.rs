@@ -7,7 +7,8 @@
 //! different days. The binaries run as child processes with the same
 //! arguments, each writing its bench.json to a folder of its own under
 //! the system's temporary folder (removed at the end, on every path);
-//! this writes against.json and against.md.
+//! this writes against.json and against.md. It uses only report's output
+//! claim and the children's bench.json: no GPU of its own.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
