@@ -25,7 +25,7 @@ layout(location = 1) in vec3 g_normal;
 layout(location = 2) in vec2 g_uv;
 layout(location = 4) flat in float g_tess_level;
 layout(location = 5) flat in float g_motion;
-layout(location = 6) flat in vec4 g_blade;   // root x, z; reach (m); clump
+layout(location = 6) flat in vec2 g_root;    // the blade's root (x, z)
 layout(location = 7) in vec3 g_side;
 layout(location = 8) in vec2 g_extinction;  // the canopy's per unit of leaf area index (sun, sky)
 layout(location = 9) in vec3 g_sky;         // the sky the cuticle mirrors toward the eye
@@ -84,7 +84,7 @@ void main() {
 
     // The canopy above this point (its extinction worked out along the
     // blade by the geometry stage) under the leaf area index here.
-    vec2 reach = exp(-blade_leaf_area_index(g_blade.xy) * g_extinction);
+    vec2 reach = exp(-blade_leaf_area_index(g_root) * g_extinction);
     float sun = shadow * reach.x;
 
     float n_l = dot(ns, l);

@@ -19,7 +19,8 @@ layout(location = 2) in vec3 e_width[];
 layout(location = 3) in float e_v[];
 layout(location = 5) in float e_tess_level[];
 layout(location = 6) in float e_motion[];
-layout(location = 7) in vec4 e_blade[];
+layout(location = 7, component = 0) in vec2 e_root[];
+layout(location = 7, component = 2) in float e_reach[];
 layout(location = 8) in vec4 e_tint[];
 
 layout(location = 0) out vec3 g_world;
@@ -27,7 +28,7 @@ layout(location = 1) out vec3 g_normal;
 layout(location = 2) out vec2 g_uv;          // x: across the blade (0..1), y: v along it
 layout(location = 4) flat out float g_tess_level;
 layout(location = 5) flat out float g_motion;
-layout(location = 6) flat out vec4 g_blade;  // root x, z; reach (m); clump
+layout(location = 6) flat out vec2 g_root;   // the blade's root (x, z)
 layout(location = 7) out vec3 g_side;        // unit width direction (across the blade)
 layout(location = 8) out vec2 g_extinction;  // the canopy's per unit of leaf area index (sun, sky)
 layout(location = 9) out vec3 g_sky;         // the sky the cuticle mirrors toward the eye here
@@ -50,7 +51,7 @@ void emit_side(int i, float side) {
     g_uv = vec2(side * 0.5 + 0.5, e_v[i]);
     g_tess_level = e_tess_level[0];
     g_motion = e_motion[0];
-    g_blade = e_blade[0];
+    g_root = e_root[0];
     g_tint = e_tint[0];
     float w2 = dot(e_width[i], e_width[i]);
     vec3 across = w2 > 1e-20 ? e_width[i] * inversesqrt(w2) : vec3(1.0, 0.0, 0.0);
@@ -59,7 +60,7 @@ void emit_side(int i, float side) {
     // share of the blade's reach: the same in any pose, as the canopy
     // bends together); the leaves around it lie as this blade does here.
     vec3 l = frame.light_dir;
-    g_extinction = canopy_extinction(e_v[i] * e_blade[0].z, abs(n.y), max(l.y, 0.0));
+    g_extinction = canopy_extinction(e_v[i] * e_reach[0], abs(n.y), max(l.y, 0.0));
     // The sky the cuticle mirrors at this edge: the rounded normal of the
     // face the eye sees (blade.frag's), the sky above the mirror's horizon.
     vec3 v = normalize(frame.camera_pos - p);

@@ -16,9 +16,10 @@ layout(location = 1) in vec4 v_width[];
 layout(location = 0) out vec4 c_position[];
 layout(location = 1) out vec4 c_width[];
 layout(location = 2) patch out float c_tess_level;
-// x, z: the root; z: the blade's reach (its edges end to end: the same in
-// any pose); w: its clump's random number (glsl/common/grass_color.glsl).
-layout(location = 3) patch out vec4 c_blade;
+// The blade as a whole, in one location: its root (x, z) and its reach
+// (its edges end to end: the same in any pose; m).
+layout(location = 3, component = 0) patch out vec2 c_root;
+layout(location = 3, component = 2) patch out float c_reach;
 // The blade's colour (glsl/common/grass_color.glsl's blade_tint).
 layout(location = 4) patch out vec4 c_tint;
 
@@ -89,7 +90,8 @@ void main() {
         gl_TessLevelOuter[1] = level;
         c_tess_level = level;
         float clump = clump_of(p0.xz);
-        c_blade = vec4(p0.xz, reach, clump);
+        c_root = p0.xz;
+        c_reach = reach;
         c_tint = blade_tint(v_position[0].w, clump);
     }
 }

@@ -9,7 +9,8 @@ layout(isolines, equal_spacing) in;
 layout(location = 0) in vec4 c_position[];
 layout(location = 1) in vec4 c_width[];
 layout(location = 2) patch in float c_tess_level;
-layout(location = 3) patch in vec4 c_blade;
+layout(location = 3, component = 0) patch in vec2 c_root;
+layout(location = 3, component = 2) patch in float c_reach;
 layout(location = 4) patch in vec4 c_tint;
 
 layout(location = 0) out vec3 e_position;
@@ -18,7 +19,8 @@ layout(location = 2) out vec3 e_width;
 layout(location = 3) out float e_v;          // texture coordinate along the blade: v = u
 layout(location = 5) out float e_tess_level;
 layout(location = 6) out float e_motion;
-layout(location = 7) out vec4 e_blade;
+layout(location = 7, component = 0) out vec2 e_root;
+layout(location = 7, component = 2) out float e_reach;
 layout(location = 8) out vec4 e_tint;
 
 void main() {
@@ -35,6 +37,7 @@ void main() {
     e_v = t;
     e_tess_level = c_tess_level;
     e_motion = abs(c_width[3].w);
-    e_blade = c_blade;
+    e_root = c_root;
+    e_reach = c_reach;
     e_tint = c_tint;
 }
