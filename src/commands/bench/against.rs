@@ -324,11 +324,10 @@ fn ratios(figures: &[(Which, Vec<Figure>)]) -> Vec<PhaseRatio> {
 /// ratio's median and range.
 pub fn markdown(a: &Against) -> String {
     let mut md = format!(
-        "# {} against {}\n\n{} on {}, {} runs of each, alternating (`meadow {}`)\n\n\
+        "# {} against {}\n\nbench on {}, {} runs of each, alternating (`meadow {}`)\n\n\
          | row | phase | old ms | new ms | new / old (median, range over runs) |\n|---|---|---|---|---|\n",
         a.new,
         a.old,
-        "bench",
         a.device,
         a.runs,
         a.bench_args.join(" ")
