@@ -10,6 +10,7 @@ use meadow::analysis::stats::rms_over_fluid;
 use meadow::compute::WindPass;
 use meadow::gpu::CommandPool;
 use meadow::model::contact::{Collider, ColliderKind};
+use meadow::model::multigrid::{Start, DEFAULT_V_CYCLES};
 use meadow::model::wind::{
     Advection, FaceKind, Gust, Inflow, Obstacle, PressureSolver, Turbulence, WindField, WindGrid,
     WindSettings, WindSource,
@@ -195,6 +196,78 @@ fn gpu_multigrid_in_one_workgroup_matches_the_cpu_reference() {
     );
     assert!(err < GPU_CPU_TOLERANCE, "relative L2 difference {err:.3e}");
     finish(gpu);
+}
+
+/// The multigrid's start and stop (glsl/wind/mg_start.comp,
+/// mg_check.comp): step by step the GPU starts where the CPU reference
+/// starts (zero, the last pressure or the last two carried on) and runs
+/// the V-cycles it runs, and its histogram counts the steps by them. A
+/// start that ignored the last pressure, or a check that never stopped,
+/// runs seven cycles where the reference runs three to five.
+#[test]
+fn gpu_multigrid_starts_and_stops_where_the_cpu_reference_does() {
+    const STEPS: u32 = 30;
+    let gpu = strict_gpu();
+    let grid = grid(UVec3::new(24, 10, 24));
+    let settings = two_sources_one_obstacle();
+    let commands = CommandPool::new(&gpu, "wind test commands").unwrap();
+    let mut pass = WindPass::new(&gpu, &commands, grid, &settings, 0.0).unwrap();
+    let mut field = WindField::new(grid, &settings);
+    let dt = 1.0 / 60.0;
+    let (mut gpu_cycles, mut cpu_cycles) = (Vec::new(), Vec::new());
+    let mut mismatches = Vec::new();
+    for step in 0..STEPS {
+        let rec = commands.begin().unwrap();
+        pass.record_step(&rec, step as f32 * dt, dt);
+        rec.submit_and_wait("one wind step").unwrap();
+        field.step(&settings, dt);
+        let solve = pass.read_solve(&gpu, &commands).unwrap();
+        let cpu = field.last_solve;
+        eprintln!(
+            "step {step}: GPU {} cycles from {} ({:.2e} left), CPU {} from {:?} ({:.2e})",
+            solve.v_cycles, solve.start, solve.share_left, cpu.v_cycles, cpu.start, cpu.share_left
+        );
+        let start = match cpu.start {
+            Start::Zero => 0,
+            Start::Last => 1,
+            Start::Extrapolated => 2,
+        };
+        if (solve.v_cycles, solve.start) != (cpu.v_cycles, start) {
+            mismatches.push(step);
+        }
+        gpu_cycles.push(solve.v_cycles);
+        cpu_cycles.push(cpu.v_cycles);
+    }
+    let solve = pass.read_solve(&gpu, &commands).unwrap();
+    drop(pass);
+    drop(commands);
+    finish(gpu);
+    // f32 sums on the GPU against f64 on the CPU may land one cycle
+    // apart on a step whose residual sits at the tolerance.
+    assert!(
+        mismatches.len() <= 1,
+        "steps where the GPU's solve differs: {mismatches:?}"
+    );
+    let mut counted = [0u32; 8];
+    for &c in &gpu_cycles[..gpu_cycles.len() - 1] {
+        counted[c as usize] += 1;
+    }
+    assert_eq!(
+        &solve.histogram[..8],
+        &counted,
+        "the histogram of V-cycles per step"
+    );
+    assert_eq!(solve.steps, STEPS);
+    let mut sorted = cpu_cycles.clone();
+    sorted.sort();
+    assert_eq!(
+        cpu_cycles[0], DEFAULT_V_CYCLES,
+        "the first step starts from zero"
+    );
+    // Measured: median 4 (two moving sources and colliders change the
+    // wind every step), every step after the third starting warm.
+    let median = sorted[STEPS as usize / 2];
+    assert!(median <= 4, "median V-cycles {median}");
 }
 
 fn gpu_matches_the_cpu_reference(solver: PressureSolver, advection: Advection) {

@@ -3,8 +3,8 @@
 // Kernel 3, divergence of each fluid cell of the advected field B:
 // sum over axes of (outgoing face - incoming face) / h. It also carries
 // the last step's pressure into copy 0, the Jacobi iterations' start
-// (warm start; src/model/wind/projection.rs `solve_pressure`), or clears it for
-// multigrid, whose V-cycles start from zero.
+// (warm start; src/model/wind/projection.rs `solve_pressure`); the
+// multigrid's start is mg_start.comp's choice.
 #include "wind_kernel.glsl"
 
 void main() {
@@ -13,9 +13,7 @@ void main() {
     if (c >= cells) {
         return;
     }
-    if (pc.pressure_from_zero == 1u) {
-        pressure[c] = 0.0;
-    } else if (pc.pressure_result == 1u) {
+    if (pc.pressure_result == 1u) {
         pressure[c] = pressure[cells + c];
     }
     if (solid[c] != 0u) {

@@ -6,7 +6,8 @@
 // (the turbulence the last step added taken off; a new face, or one whose
 // source was a wall, takes the inflow's mean velocity), and into the
 // divergence buffer the canopy of the cell there; 1 copies both back,
-// zero on the faces that are walls now, and clears the pressure. Over
+// zero on the faces that are walls now, and clears the pressure (its
+// three copies: the multigrid's start reads the last two steps'). Over
 // terrain the moved grid's face kinds are written between the phases
 // (`WindPass::record_shift`): phase 0 reads the kinds the air had, phase
 // 1 those it has. The turbulence kernel then adds the field where the
@@ -53,6 +54,7 @@ void main() {
             canopy[id] = canopy_moved[id];
             pressure[id] = 0.0;
             pressure[cells + id] = 0.0;
+            pressure[2u * cells + id] = 0.0;
         }
         return;
     }

@@ -29,6 +29,13 @@ gpu_interface! {
     /// (mg_tail.comp), and in 48 KiB (mg_tail_large.comp).
     pub const MG_TAIL_FLOATS: u32 = 3574;
     pub const MG_TAIL_FLOATS_LARGE: u32 = 11766;
+    /// Invocations of the one workgroup that chooses a pressure solve's
+    /// start and checks its residual after each V-cycle
+    /// (glsl/wind/mg_start.comp, mg_check.comp).
+    pub const MG_CHECK_GROUP: u32 = 256;
+    /// Entries of the pressure solves' histogram of V-cycles per step:
+    /// 0 to `scene::check::MAX_V_CYCLES` (100), padded to 16 bytes.
+    pub const MG_HISTOGRAM: usize = 104;
     /// Invocations per workgroup of the grass step and collider-binning
     /// kernels (glsl/grass/).
     pub const GRASS_GROUP: u32 = 64;
@@ -306,9 +313,9 @@ gpu_interface! {
         pub pressure_read: u32,
         /// The pressure half holding the solve's result.
         pub pressure_result: u32,
-        /// 1 when the pressure solve starts from zero (multigrid), 0 when
-        /// from the previous step's (Jacobi).
-        pub pressure_from_zero: u32,
+        /// Multigrid: the V-cycles stop once the rms residual is at most
+        /// this share of the right-hand side's (`Multigrid::solve`).
+        pub pressure_tolerance: f32,
         /// The inflow's mean speed (m/s; 0: no inflow).
         pub inflow_speed: f32,
         /// The inflow gusts' relative amplitude.
@@ -331,6 +338,31 @@ gpu_interface! {
         /// Multigrid: coarse cells of all levels (where the right-hand
         /// sides start in the coarse buffer).
         pub coarse_cells: u32,
+    }
+
+    /// The head of the multigrid's solve buffer (glsl/wind/mg_solve.glsl;
+    /// `Multigrid::solve`), followed by the V-cycle's indirect dispatches:
+    /// `dispatches` live ones (zeroed once the residual is small enough),
+    /// then the same as made, which each step's start copies.
+    pub struct MgSolve {
+        /// V-cycles this step has run.
+        pub v_cycles: u32,
+        /// Where this step's solve started: 0 zero, 1 the last pressure,
+        /// 2 the last two carried on (`multigrid::Start`).
+        pub start: u32,
+        /// Sum over level 0's cells of b^2.
+        pub b_squares: f32,
+        /// The rms residual over b's after the last V-cycle (or at the start).
+        pub share_left: f32,
+        /// 1 once the residual is at most the tolerance.
+        pub converged: u32,
+        /// Steps solved before this one (in `histogram`).
+        pub steps: u32,
+        /// The V-cycle's indirect dispatches (written once, at creation).
+        pub dispatches: u32,
+        pub _pad0: u32,
+        /// Steps before this one by their V-cycles.
+        pub histogram: [u32; MG_HISTOGRAM],
     }
 
     /// Push constants of the wind window's shift (glsl/wind/shift.comp;

@@ -42,10 +42,38 @@ pub const MAX_COARSEST_CELLS: u32 = 64;
 /// Sweeps on the coarsest level. (More made no step better and some worse:
 /// the coarse operator only approximates the fine one near obstacles.)
 pub const COARSEST_SWEEPS: u32 = 40;
-/// V-cycles per step by default. Each starts from zero pressure; seven
-/// leave at most 0.4% of the divergence in the first ten steps of every
-/// shipped scene (six left up to 0.9%; docs/physics.md).
+/// The most V-cycles a step runs by default. Seven from zero pressure
+/// left at most 0.4% of the divergence in the first ten steps of every
+/// shipped scene (six left up to 0.9%; docs/physics.md); with the
+/// tolerance below most steps stop after one or two.
 pub const DEFAULT_V_CYCLES: u32 = 7;
+/// The share of a step's rms divergence the solve may leave by default
+/// (`Multigrid::solve`): TOLERANCE_PLACEHOLDER
+pub const DEFAULT_PRESSURE_TOLERANCE: f32 = 1e-4;
+
+/// Where a pressure solve starts (`Multigrid::solve`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Start {
+    /// Zero pressure: the residual is the right-hand side.
+    #[default]
+    Zero,
+    /// The last step's pressure.
+    Last,
+    /// The last two steps' pressures carried on in time, 2 p_n - p_(n-1).
+    Extrapolated,
+}
+
+/// What one pressure solve did (`Multigrid::solve`).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Solve {
+    /// V-cycles run.
+    pub v_cycles: u32,
+    pub start: Start,
+    /// The rms residual left over the right-hand side's: the share of
+    /// the divergence the projection leaves (0 when there was none).
+    pub share_left: f32,
+}
 
 /// One level of the hierarchy. Level 0 is the wind grid itself.
 #[derive(Clone, Debug, PartialEq)]
@@ -383,6 +411,74 @@ impl Multigrid {
     pub fn rhs_from_divergence(h: Vec3, divergence: &[f32]) -> Vec<f32> {
         let volume = h.x * h.y * h.z;
         divergence.iter().map(|d| -d * volume).collect()
+    }
+
+    /// Sum over level 0's cells of (b - A p)^2.
+    pub fn residual_squares(&self, p: &[f32], b: &[f32]) -> f64 {
+        let ops = &self.operators[0];
+        (0..b.len())
+            .map(|i| (ops.residual(p, b, i) as f64).powi(2))
+            .sum()
+    }
+
+    /// The pressure solve (issue 63). It starts from whichever of zero,
+    /// the last step's pressure `p` and the last two carried on,
+    /// 2 p - `before`, leaves the smallest residual (zero's is b); then
+    /// runs V-cycles until the rms residual is at most `tolerance` of b's,
+    /// at most `max_cycles`. `before` becomes the last step's pressure for
+    /// the next solve. In a steady or steadily changing wind one cycle
+    /// suffices or none; after a change (the first steps, a collider's
+    /// push) the cycles run on, each dividing the residual by 3 to 30,
+    /// where a fixed count from the last pressure had left up to 88%
+    /// (docs/perf.md).
+    pub fn solve(
+        &self,
+        [p, before]: [&mut [f32]; 2],
+        b: &[f32],
+        work: &mut Work,
+        max_cycles: u32,
+        tolerance: f32,
+    ) -> Solve {
+        let zero: f64 = b.iter().map(|&v| (v as f64).powi(2)).sum();
+        let last = self.residual_squares(p, b);
+        for (before, &now) in before.iter_mut().zip(p.iter()) {
+            *before = 2.0 * now - *before;
+        }
+        let extrapolated = self.residual_squares(before, b);
+        // `before` holds the extrapolation now: swap it in where it
+        // wins, so that `before` is the last pressure either way.
+        let (start, mut squares) = if extrapolated < last && extrapolated < zero {
+            for (p, before) in p.iter_mut().zip(before.iter_mut()) {
+                let now = *p;
+                *p = *before;
+                *before = now;
+            }
+            (Start::Extrapolated, extrapolated)
+        } else {
+            before.copy_from_slice(p);
+            if last < zero {
+                (Start::Last, last)
+            } else {
+                p.fill(0.0);
+                (Start::Zero, zero)
+            }
+        };
+        let goal = (tolerance as f64).powi(2) * zero;
+        let mut v_cycles = 0;
+        while squares > goal && v_cycles < max_cycles {
+            self.v_cycle(p, b, work);
+            squares = self.residual_squares(p, b);
+            v_cycles += 1;
+        }
+        Solve {
+            v_cycles,
+            start,
+            share_left: if zero > 0.0 {
+                (squares / zero).sqrt() as f32
+            } else {
+                0.0
+            },
+        }
     }
 
     /// One V-cycle on `p` (level 0, improved in place) for right-hand side

@@ -7,7 +7,8 @@ use serde::{Deserialize, Serialize};
 use super::check::{finite, in_range, path, positive, within, Check, FieldError, MAX_V_CYCLES};
 use crate::model::wind::{
     Advection, Coupling, Gust, Inflow, Obstacle, PressureSolver, Turbulence, WindSettings,
-    WindSource, DEFAULT_CANOPY_DRAG, DEFAULT_JACOBI_ITERATIONS, DEFAULT_V_CYCLES, MAX_CELLS,
+    WindSource, DEFAULT_CANOPY_DRAG, DEFAULT_JACOBI_ITERATIONS, DEFAULT_PRESSURE_TOLERANCE,
+    DEFAULT_V_CYCLES, MAX_CELLS,
 };
 
 /// The wind of a scene (docs/method.md section 3): the grid spans the grass's
@@ -31,8 +32,12 @@ pub struct WindConfig {
     /// Jacobi iterations per step with `solver = "jacobi"` (the paper's
     /// count is not given; 30 by default, docs/physics.md on what they reach).
     pub jacobi_iterations: u32,
-    /// Multigrid V-cycles per step with `solver = "multigrid"`.
+    /// The most multigrid V-cycles a step runs with `solver = "multigrid"`.
     pub v_cycles: u32,
+    /// With multigrid, the share of a step's rms divergence the
+    /// projection may leave: the V-cycles stop once the residual is this
+    /// small (0: always `v_cycles`).
+    pub pressure_tolerance: f32,
     /// "one-way" (the paper's: the grass never touches the wind) or
     /// "two-way" (the canopy drag -C_d a |u| u slows the air in the grass).
     pub coupling: Coupling,
@@ -66,6 +71,7 @@ impl Default for WindConfig {
             solver: PressureSolver::default(),
             jacobi_iterations: DEFAULT_JACOBI_ITERATIONS,
             v_cycles: DEFAULT_V_CYCLES,
+            pressure_tolerance: DEFAULT_PRESSURE_TOLERANCE,
             coupling: Coupling::default(),
             canopy_drag: DEFAULT_CANOPY_DRAG,
             advection: Advection::default(),
@@ -113,6 +119,7 @@ impl WindConfig {
             solver: self.solver,
             jacobi_iterations: self.jacobi_iterations,
             v_cycles: self.v_cycles,
+            pressure_tolerance: self.pressure_tolerance,
             coupling: self.coupling,
             canopy_drag: self.canopy_drag,
             advection: self.advection,
@@ -163,6 +170,12 @@ impl WindConfig {
         positive("window[1]", self.window[1], 10_000.0)?;
         in_range("jacobi_iterations", self.jacobi_iterations, 0..=10_000)?;
         in_range("v_cycles", self.v_cycles, 1..=MAX_V_CYCLES)?;
+        within(
+            "pressure_tolerance",
+            self.pressure_tolerance,
+            0.0..=0.5,
+            "0..=0.5 (the share of the divergence left; 0 runs every V-cycle)",
+        )?;
         within("canopy_drag", self.canopy_drag, 0.0..=10.0, "0..=10")?;
         positive("dt", self.dt, 0.1)?;
         for (i, s) in self.sources.iter().enumerate() {

@@ -73,6 +73,9 @@ pub(super) struct WindBuffers {
     /// The turbulence's modes with their phases, written before each step
     /// (room for `turbulence::MODES`).
     pub(super) modes: Buffer,
+    /// The multigrid's solve: its head (`MgSolve`) and the V-cycle's
+    /// indirect dispatches, live then as made (glsl/wind/mg_solve.glsl).
+    pub(super) solve: Buffer,
     /// The turbulence's modes finer than the grid, written with `modes`,
     /// which the grass step sums at its tips (room for
     /// `turbulence::SUBGRID_MODES`; not in the wind's set).
@@ -90,8 +93,8 @@ impl WindBuffers {
         commands: &CommandPool,
         field: &WindField,
         settings: &WindSettings,
-        face_count: u32,
-        cell_count: u32,
+        [face_count, cell_count]: [u32; 2],
+        v_cycle_dispatches: &[[u32; 4]],
     ) -> Result<Self> {
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
         let device_buffer = |name: &str, floats: u64| {
@@ -120,7 +123,10 @@ impl WindBuffers {
                 "wind solid cells",
                 &u32_bytes(field.solid.iter().map(|&s| s as u32)),
             )?,
-            pressure: device_buffer("wind pressure (ping, pong)", 2 * cell_count as u64)?,
+            pressure: device_buffer(
+                "wind pressure (ping, pong; the step before's)",
+                3 * cell_count as u64,
+            )?,
             divergence: device_buffer("wind divergence", cell_count as u64)?,
             sources: Self::sources(gpu, commands, &settings.sources)?,
             conductance,
@@ -140,6 +146,7 @@ impl WindBuffers {
                     1
                 },
             )?,
+            solve: Self::solve(gpu, commands, v_cycle_dispatches)?,
             modes: modes_buffer(gpu, "wind turbulence modes", turbulence::MODES)?,
             subgrid_modes: modes_buffer(
                 gpu,
@@ -268,6 +275,26 @@ impl WindBuffers {
         Ok(())
     }
 
+    /// The solve buffer: a zero head, the live dispatches zero until a
+    /// step's start copies the ones made, which follow.
+    fn solve(gpu: &Gpu, commands: &CommandPool, dispatches: &[[u32; 4]]) -> Result<Buffer> {
+        let head = MgSolve {
+            dispatches: dispatches.len() as u32,
+            ..MgSolve::zeroed()
+        };
+        let mut bytes = bytemuck::bytes_of(&head).to_vec();
+        bytes.extend(std::iter::repeat_n(0u8, 16 * dispatches.len()));
+        bytes.extend_from_slice(bytemuck::cast_slice(dispatches));
+        Buffer::with_data(
+            gpu,
+            commands,
+            "wind multigrid solve (its head, the V-cycle's dispatches)",
+            &bytes,
+            READ_WRITE | vk::BufferUsageFlags::INDIRECT_BUFFER,
+            Access::COMPUTE_READ_WRITE,
+        )
+    }
+
     /// The sources as the kernels read them, uploaded; at least one
     /// entry (zeroed) so that the binding is never empty.
     pub(super) fn sources(
@@ -298,8 +325,8 @@ impl WindBuffers {
     /// multigrid face conductances, multigrid coarse pressure and
     /// right-hand side, multigrid level table, canopy (the grass's frontal
     /// area per cell), colliders, what the last step's turbulence added,
-    /// the turbulence's modes.
-    pub(super) fn bound(&self) -> [Bound<'_>; 13] {
+    /// the turbulence's modes, the multigrid's solve.
+    pub(super) fn bound(&self) -> [Bound<'_>; 14] {
         [
             Bound::Buffer(&self.velocity),
             Bound::Buffer(&self.faces),
@@ -314,6 +341,7 @@ impl WindBuffers {
             Bound::Buffer(&self.colliders),
             Bound::Buffer(&self.turbulence_added),
             Bound::Buffer(&self.modes),
+            Bound::Buffer(&self.solve),
         ]
     }
 }

@@ -36,8 +36,9 @@ mod record;
 use buffers::WindBuffers;
 
 use crate::interface::{
-    MgLevel, TurbulenceMode, WindGridParams, WindPush, WindShiftPush, FACE_BURIED, FACE_FREE,
-    FACE_INFLOW, FACE_WALL, MG_MAX_LEVELS, MG_TAIL_FLOATS, MG_TAIL_FLOATS_LARGE, WIND_GROUP,
+    MgLevel, MgSolve, TurbulenceMode, WindGridParams, WindPush, WindShiftPush, FACE_BURIED,
+    FACE_FREE, FACE_INFLOW, FACE_WALL, MG_MAX_LEVELS, MG_TAIL_FLOATS, MG_TAIL_FLOATS_LARGE,
+    WIND_GROUP,
 };
 /// Waypoints a source's path may have on the GPU.
 pub use crate::model::wind::MAX_PATH_POINTS;
@@ -84,9 +85,9 @@ pub fn wind_set() -> Vec<LayoutBinding> {
     crate::gpu::kernels_set(&kernels, 0)
 }
 
-/// The kernels in the order a step runs them (Jacobi or the five multigrid
-/// kernels solve for the pressure).
-pub const WIND_KERNELS: [&Spirv; 14] = [
+/// The kernels in the order a step runs them (Jacobi or the multigrid
+/// kernels solve for the pressure; the multigrid's start and check last).
+pub const WIND_KERNELS: [&Spirv; 16] = [
     &shaders::WIND_FORCES_COMP,
     &shaders::WIND_ADVECT_COMP,
     &shaders::WIND_ADVECT_PREDICT_COMP,
@@ -101,6 +102,8 @@ pub const WIND_KERNELS: [&Spirv; 14] = [
     &shaders::WIND_PROJECT_COMP,
     &shaders::WIND_UNDER_GROUND_COMP,
     &shaders::WIND_TURBULENCE_COMP,
+    &shaders::WIND_MG_START_COMP,
+    &shaders::WIND_MG_CHECK_COMP,
 ];
 const FORCES: usize = 0;
 const ADVECT: usize = 1;
@@ -122,6 +125,8 @@ const MG_PROLONG: usize = 10;
 const PROJECT: usize = 11;
 const UNDER_GROUND: usize = 12;
 const TURBULENCE: usize = 13;
+const MG_START: usize = 14;
+const MG_CHECK: usize = 15;
 
 pub struct WindPass {
     pub grid: WindGrid,
@@ -136,11 +141,6 @@ pub struct WindPass {
     buffers: WindBuffers,
     face_count: u32,
     cell_count: u32,
-    /// Cells of each multigrid level, finest first.
-    level_cells: Vec<u32>,
-    /// Cells of one colour, counted as the smoother's threads are: half
-    /// of each row along x, rounded up.
-    level_color_cells: Vec<u32>,
     coarse_cells: u32,
     /// The finest multigrid level the tail kernel runs (mg_tail.glsl):
     /// the finest whose tail fits its shared array.
@@ -187,14 +187,14 @@ fn fitted_counts(gpu: &Gpu, grid: &WindGrid, settings: &WindSettings) -> Result<
     let face_count = grid.face_count();
     let cell_count = grid.cell_count() as u64;
     // Velocity x2 or x3, face kinds, with turbulence what it added,
-    // pressure x2, divergence, solid cells, canopy: 4 bytes each.
+    // pressure x3, divergence, solid cells, canopy: 4 bytes each.
     gpu.check_fits(
         &format!(
             "the {}x{}x{} wind grid",
             grid.cells.x, grid.cells.y, grid.cells.z
         ),
         4 * ((velocity_copies(settings) + 1 + settings.turbulence.is_some() as u64) * face_count
-            + 5 * cell_count),
+            + 6 * cell_count),
     )?;
     match (u32::try_from(face_count), u32::try_from(cell_count)) {
         (Ok(f), Ok(c)) => Ok((f, c)),
@@ -245,6 +245,26 @@ fn wind_kernels(
     Ok((kernels, tail_level))
 }
 
+/// The workgroup counts of a V-cycle's dispatches as the solve buffer
+/// holds them (`MgSolve`): for each level above the tail its smoothing
+/// (one thread per cell of a colour), its residual and its restriction
+/// (the coarser level's cells) at 3 l, 3 l + 1 and 3 l + 2; the tail's
+/// one workgroup last. A level's prolongation runs over its cells, as its
+/// residual.
+fn v_cycle_dispatches(levels: &[Level], tail: usize) -> Vec<[u32; 4]> {
+    let groups = |l: usize| (levels[l].cell_count() as u32).div_ceil(WIND_GROUP);
+    let color_groups = |l: usize| {
+        let n = levels[l].cells;
+        (n.x.div_ceil(2) * n.y * n.z).div_ceil(WIND_GROUP)
+    };
+    let mut args: Vec<[u32; 4]> = (0..tail)
+        .flat_map(|l| [color_groups(l), groups(l), groups(l + 1)])
+        .map(|x| [x, 1, 1, 0])
+        .collect();
+    args.push([1, 1, 1, 0]);
+    args
+}
+
 /// The kernel that shifts the wind window under the camera; its set
 /// layout is the kernels' own, so their set binds to it.
 fn shift_kernel(gpu: &Gpu) -> Result<Pipeline> {
@@ -270,7 +290,6 @@ impl WindPass {
     ) -> Result<Self> {
         let (face_count, cell_count) = fitted_counts(gpu, &grid, settings)?;
         let field = WindField::new(grid, settings);
-        let buffers = WindBuffers::new(gpu, commands, &field, settings, face_count, cell_count)?;
         let layout: Arc<PipelineLayout> = PipelineLayout::new::<WindPush>(
             gpu,
             &wind_set(),
@@ -278,6 +297,15 @@ impl WindPass {
             "wind",
         )?;
         let (kernels, tail_level) = wind_kernels(gpu, &layout, &field)?;
+        let mg_dispatches = v_cycle_dispatches(&field.multigrid.levels, tail_level);
+        let buffers = WindBuffers::new(
+            gpu,
+            commands,
+            &field,
+            settings,
+            [face_count, cell_count],
+            &mg_dispatches,
+        )?;
         let turbulence_before_projection = settings
             .turbulence
             .map(|_| Pipeline::compute_specialized(gpu, &layout, WIND_KERNELS[TURBULENCE], &[1]))
@@ -303,18 +331,6 @@ impl WindPass {
             buffers,
             face_count,
             cell_count,
-            level_cells: field
-                .multigrid
-                .levels
-                .iter()
-                .map(|l| l.cell_count() as u32)
-                .collect(),
-            level_color_cells: field
-                .multigrid
-                .levels
-                .iter()
-                .map(|l| l.cells.x.div_ceil(2) * l.cells.y * l.cells.z)
-                .collect(),
             coarse_cells: field.multigrid.coarse_cell_count() as u32,
             tail_level: tail_level as u32,
             canopy_unit,
@@ -470,6 +486,14 @@ impl WindPass {
             start += n;
         }
         Ok(split)
+    }
+
+    /// What the multigrid's solves did (`MgSolve`): the last step's
+    /// V-cycles, start and share of the divergence left, and the steps
+    /// before it by their V-cycles.
+    pub fn read_solve(&self, gpu: &Gpu, commands: &CommandPool) -> Result<MgSolve> {
+        let head: Vec<MgSolve> = self.buffers.solve.read_back(gpu, commands, 1)?;
+        Ok(head[0])
     }
 
     /// The divergence of the last step's advected field, before projection.

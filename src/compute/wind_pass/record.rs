@@ -37,7 +37,7 @@ impl WindPass {
             } else {
                 self.settings.jacobi_iterations % 2
             },
-            pressure_from_zero: multigrid as u32,
+            pressure_tolerance: self.settings.pressure_tolerance,
             inflow_speed: inflow.map_or(0.0, |i| i.speed),
             gust_amplitude: inflow.map_or(0.0, |i| i.gust.amplitude),
             gust_frequency: inflow.map_or(0.0, |i| i.gust.frequency),
@@ -114,7 +114,25 @@ impl WindPass {
             self.record_turbulence(rec, modes, &step, true);
         }
         dispatch(DIVERGENCE, cell_groups, 0, [0; 3]);
-        self.record_pressure(&dispatch);
+        // A V-cycle's kernel on the workgroups of the solve buffer's
+        // dispatch `arg`: zero once the residual is small enough.
+        let v_cycle_dispatch =
+            |kernel: usize, arg: usize, [mg_level, mg_color, coarsest_sweeps]: [u32; 3]| {
+                let pipeline = &self.kernels[kernel];
+                rec.bind_pipeline(pipeline);
+                rec.push_constants(
+                    pipeline,
+                    &WindPush {
+                        mg_level,
+                        mg_color,
+                        coarsest_sweeps,
+                        ..step
+                    },
+                );
+                let offset = (std::mem::size_of::<MgSolve>() + 16 * arg) as u64;
+                rec.dispatch_indirect(&self.buffers.solve, offset, &self.kernel_uses(kernel));
+            };
+        self.record_pressure(&dispatch, &v_cycle_dispatch);
         dispatch(PROJECT, face_groups, 0, [0; 3]);
         if self.buried {
             dispatch(UNDER_GROUND, face_groups, 0, [0; 3]);
@@ -124,38 +142,51 @@ impl WindPass {
         }
     }
 
-    /// The pressure solve: the multigrid's V-cycles (the levels from the
-    /// tail down in one workgroup) or the paper's Jacobi iterations, each
-    /// kernel through `dispatch` (kernel, workgroups, Jacobi half read,
-    /// [level, colour, coarsest sweeps]).
-    fn record_pressure(&self, dispatch: &dyn Fn(usize, u32, u32, [u32; 3])) {
+    /// The pressure solve: the multigrid's start (mg_start.comp), then
+    /// up to `v_cycles` V-cycles (the levels from the tail down in one
+    /// workgroup), each followed by its check (mg_check.comp), whose
+    /// kernels run on the solve buffer's dispatches (`v_dispatch`: kernel,
+    /// dispatch, [level, colour, coarsest sweeps]), which the start and the
+    /// checks switch off once the residual is small enough; or the paper's
+    /// Jacobi iterations. Direct kernels through `dispatch` (kernel,
+    /// workgroups, Jacobi half read, [level, colour, coarsest sweeps]).
+    fn record_pressure(
+        &self,
+        dispatch: &dyn Fn(usize, u32, u32, [u32; 3]),
+        v_dispatch: &dyn Fn(usize, usize, [u32; 3]),
+    ) {
         let multigrid = self.settings.solver == PressureSolver::Multigrid;
         let iterations = self.settings.jacobi_iterations;
         let cell_groups = self.cell_count.div_ceil(WIND_GROUP);
         if multigrid {
-            let groups = |l: usize| self.level_cells[l].div_ceil(WIND_GROUP);
-            // One thread per cell of the colour being smoothed.
-            let color_groups = |l: usize| self.level_color_cells[l].div_ceil(WIND_GROUP);
+            // The dispatches of level l (`v_cycle_dispatches`).
+            let [smoothing, residual, restriction] = [0, 1, 2];
             let smooth = |l: usize, sweeps: u32| {
                 for _ in 0..sweeps {
                     for color in 0..2 {
-                        dispatch(MG_SMOOTH, color_groups(l), 0, [l as u32, color, 0]);
+                        v_dispatch(MG_SMOOTH, 3 * l + smoothing, [l as u32, color, 0]);
                     }
                 }
             };
             // Levels from `tail` down run in one workgroup (mg_tail.glsl).
             let tail = self.tail_level as usize;
+            dispatch(MG_START, 1, 0, [0; 3]);
             for _ in 0..self.settings.v_cycles {
                 for l in 0..tail {
                     smooth(l, multigrid::PRE_SMOOTH);
-                    dispatch(MG_RESIDUAL, groups(l), 0, [l as u32, 0, 0]);
-                    dispatch(MG_RESTRICT, groups(l + 1), 0, [l as u32, 0, 0]);
+                    v_dispatch(MG_RESIDUAL, 3 * l + residual, [l as u32, 0, 0]);
+                    v_dispatch(MG_RESTRICT, 3 * l + restriction, [l as u32, 0, 0]);
                 }
-                dispatch(MG_TAIL, 1, 0, [tail as u32, 0, multigrid::COARSEST_SWEEPS]);
+                v_dispatch(
+                    MG_TAIL,
+                    3 * tail,
+                    [tail as u32, 0, multigrid::COARSEST_SWEEPS],
+                );
                 for l in (0..tail).rev() {
-                    dispatch(MG_PROLONG, groups(l), 0, [l as u32, 0, 0]);
+                    v_dispatch(MG_PROLONG, 3 * l + residual, [l as u32, 0, 0]);
                     smooth(l, multigrid::POST_SMOOTH);
                 }
+                dispatch(MG_CHECK, 1, 0, [0; 3]);
             }
         } else {
             for i in 0..iterations {

@@ -46,7 +46,7 @@ mod settings;
 mod window;
 
 use super::contact::ColliderState;
-use super::multigrid::{Multigrid, Work};
+use super::multigrid::{Multigrid, Solve, Work};
 pub use super::path::{along_path, MAX_PATH_POINTS};
 pub use super::turbulence::Turbulence;
 use super::turbulence::TurbulenceField;
@@ -64,6 +64,9 @@ pub struct WindField {
     /// Velocity components on their faces: [x, y, z].
     pub vel: [Vec<f32>; 3],
     pub pressure: Vec<f32>,
+    /// The pressure of the step before the last (the multigrid's
+    /// extrapolated start, `Multigrid::solve`).
+    pub pressure_before: Vec<f32>,
     pub divergence: Vec<f32>,
     pub solid: Vec<bool>,
     /// The solid cells that lie under the ground (not an obstacle's).
@@ -89,6 +92,9 @@ pub struct WindField {
     /// blade's tip; empty without.
     pub subgrid_turbulence: Vec<TurbulenceMode>,
     multigrid_work: Work,
+    /// What the last step's multigrid pressure solve did (default until
+    /// one ran).
+    pub last_solve: Solve,
     pub time: f32,
 }
 
@@ -105,6 +111,7 @@ impl WindField {
                 vec![0.0; (d.x * d.y * d.z) as usize]
             }),
             pressure: vec![0.0; grid.cell_count()],
+            pressure_before: vec![0.0; grid.cell_count()],
             divergence: vec![0.0; grid.cell_count()],
             canopy: vec![0; grid.cell_count()],
             canopy_unit: 0.0,
@@ -113,6 +120,7 @@ impl WindField {
             faces: [Vec::new(), Vec::new(), Vec::new()],
             multigrid: Multigrid::default(),
             multigrid_work: Work::default(),
+            last_solve: Solve::default(),
             turbulence: settings.turbulence.map(|t| {
                 TurbulenceField::new(&t, grid.cells, grid.cell, settings.turbulence_walls())
             }),
@@ -208,7 +216,9 @@ impl WindField {
         self.compute_divergence();
         match settings.solver {
             PressureSolver::Jacobi => self.solve_pressure(settings.jacobi_iterations),
-            PressureSolver::Multigrid => self.solve_pressure_multigrid(settings.v_cycles),
+            PressureSolver::Multigrid => {
+                self.solve_pressure_multigrid(settings.v_cycles, settings.pressure_tolerance);
+            }
         }
         self.subtract_gradient();
         self.free_slip_under_ground();

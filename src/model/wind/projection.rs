@@ -2,7 +2,7 @@
 //! and the gradient subtracted, which leave the wind divergence-free.
 
 use super::{FaceKind, WindField};
-use crate::model::multigrid::Multigrid;
+use crate::model::multigrid::{Multigrid, Solve};
 
 impl WindField {
     /// Kernel 3: divergence of each fluid cell, sum over axes of (out - in) / h.
@@ -71,18 +71,21 @@ impl WindField {
         }
     }
 
-    /// Kernel 4 of the multigrid solver: `cycles` V-cycles on the
-    /// same equation, from zero pressure. (Each step's pressure is that
-    /// step's correction; starting from the previous one helps in steady
-    /// wind but leaves most of the divergence after a change such as a
-    /// gust, where a start from zero leaves the same share every step.)
-    pub fn solve_pressure_multigrid(&mut self, cycles: u32) {
+    /// Kernel 4 of the multigrid solver: V-cycles on the same equation
+    /// from zero, the last step's pressure or the last two carried on,
+    /// whichever leaves the least, until
+    /// at most `tolerance` of the divergence is left or `max_cycles` ran
+    /// (`Multigrid::solve`); kept as `last_solve`.
+    pub fn solve_pressure_multigrid(&mut self, max_cycles: u32, tolerance: f32) -> Solve {
         let b = Multigrid::rhs_from_divergence(self.grid.cell, &self.divergence);
-        self.pressure.fill(0.0);
-        for _ in 0..cycles {
-            self.multigrid
-                .v_cycle(&mut self.pressure, &b, &mut self.multigrid_work);
-        }
+        self.last_solve = self.multigrid.solve(
+            [&mut self.pressure, &mut self.pressure_before],
+            &b,
+            &mut self.multigrid_work,
+            max_cycles,
+            tolerance,
+        );
+        self.last_solve
     }
 
     fn jacobi_cell(&self, i: u32, j: u32, k: u32) -> f32 {

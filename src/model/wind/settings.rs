@@ -125,8 +125,14 @@ pub struct WindSettings {
     /// Jacobi iterations of the pressure solve when `solver` is Jacobi
     /// (default 30; docs/method.md section 3).
     pub jacobi_iterations: u32,
-    /// V-cycles per step when `solver` is multigrid (default 6).
+    /// The most V-cycles a step runs when `solver` is multigrid
+    /// (default 7).
     pub v_cycles: u32,
+    /// With multigrid, the V-cycles stop once the rms residual is at most
+    /// this share of the right-hand side's: the share of the step's
+    /// divergence the projection may leave (`solve_pressure_multigrid`).
+    #[serde(default = "default_pressure_tolerance")]
+    pub pressure_tolerance: f32,
     /// Whether the grass slows the air.
     pub coupling: Coupling,
     /// C_d of the canopy drag when `coupling` is two-way.
@@ -192,6 +198,7 @@ impl Default for WindSettings {
             solver: PressureSolver::default(),
             jacobi_iterations: DEFAULT_JACOBI_ITERATIONS,
             v_cycles: DEFAULT_V_CYCLES,
+            pressure_tolerance: DEFAULT_PRESSURE_TOLERANCE,
             coupling: Coupling::default(),
             canopy_drag: DEFAULT_CANOPY_DRAG,
             advection: Advection::default(),
@@ -203,7 +210,11 @@ impl Default for WindSettings {
 }
 
 pub const DEFAULT_JACOBI_ITERATIONS: u32 = 30;
-pub use crate::model::multigrid::DEFAULT_V_CYCLES;
+pub use crate::model::multigrid::{DEFAULT_PRESSURE_TOLERANCE, DEFAULT_V_CYCLES};
+
+fn default_pressure_tolerance() -> f32 {
+    DEFAULT_PRESSURE_TOLERANCE
+}
 
 impl WindSettings {
     /// Refuses a source that cannot be simulated; returns a line for each

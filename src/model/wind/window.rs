@@ -62,8 +62,8 @@ impl WindField {
     /// is a field of the world: its modes' reference moves with the
     /// corner, and every face not a wall gains it where the face now is,
     /// as a step's end does. The canopy the grass laid moves with the
-    /// cells; the pressure restarts from zero (the multigrid solves from
-    /// zero every step anyway). Over terrain the moved grid's cells are
+    /// cells; the pressure restarts from zero (the last steps' pressures,
+    /// the multigrid's start, belong to the cells left behind). Over terrain the moved grid's cells are
     /// voxelised and its faces classified again (the multigrid's levels
     /// with them): a point of the world keeps its kind, the sides' faces
     /// take theirs where they now are. Obstacles, fixed in the window,
@@ -113,6 +113,7 @@ impl WindField {
             })
             .collect();
         self.pressure.fill(0.0);
+        self.pressure_before.fill(0.0);
         self.grid = grid.shifted(by);
         if let Some(turbulence) = &mut self.turbulence {
             turbulence.move_corner(self.grid.origin - grid.origin);
