@@ -367,7 +367,7 @@ fn reproduce_quick_renders_every_figure_validation_clean_with_both_indexes() {
     );
     assert_eq!(html.matches("src=\"data:image/svg+xml;base64,").count(), 3);
     assert!(!html.contains(".png\""), "index.html links a file");
-    assert!(md.contains("MSAA") && md.contains("multigrid V-cycles"));
+    assert!(md.contains("MSAA") && md.contains("V-cycles"));
     assert!(md.contains("angle caps"));
 
     // Each shot's own report: validation clean, warnings accepted.

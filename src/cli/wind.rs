@@ -142,6 +142,16 @@ fn print_report(r: &WindReport) {
         "wind {} on {}: grid {}x{}x{}, {solve}, {} steps of {:.4} s",
         r.scene, r.device, r.cells[0], r.cells[1], r.cells[2], r.steps, r.dt
     );
+    if let (Some(median), Some(most)) = (r.v_cycles_median, r.v_cycles_most) {
+        println!(
+            "V-cycles per step: median {median}, most {most} (stopping at {:.0e} of the divergence left)",
+            r.pressure_tolerance
+        );
+    }
+    println!(
+        "dispatches per step: {} ran workgroups, {} recorded",
+        r.dispatches_per_step, r.dispatches_recorded
+    );
     println!("max speed {:.3} m/s", r.max_speed);
     println!(
         "max |divergence| before projection {:.4e} 1/s, after {:.4e} 1/s",

@@ -10,7 +10,7 @@ use glam::Vec3;
 
 use crate::analysis::stats::rms_over_fluid;
 use crate::commands::on_gpu;
-use crate::compute::{Simulation, WindPass};
+use crate::compute::{Simulation, SolveCounts, WindPass};
 use crate::error::Result;
 use crate::frame::timing::median_p95;
 use crate::frame::BladeBuffer;
@@ -49,7 +49,19 @@ pub struct WindReport {
     /// How the pressure was solved, and with how many iterations or cycles.
     pub solver: PressureSolver,
     pub jacobi_iterations: u32,
+    /// The most V-cycles a step may run (multigrid).
     pub v_cycles: u32,
+    /// The share of a step's divergence the multigrid may leave.
+    pub pressure_tolerance: f32,
+    /// V-cycles per step over the run, median and most (multigrid; None
+    /// with Jacobi).
+    pub v_cycles_median: Option<u32>,
+    pub v_cycles_most: Option<u32>,
+    /// The wind step's dispatches that ran workgroups, at the median
+    /// V-cycles, and those it records (the V-cycles switched off on zero
+    /// workgroups included).
+    pub dispatches_per_step: u32,
+    pub dispatches_recorded: u32,
     /// Whether the grass slowed the wind (two-way: its grass stepped too).
     pub coupling: Coupling,
     /// How the advection carried the velocity.
@@ -158,6 +170,11 @@ struct Stepped {
     times: Vec<f64>,
     /// Divergence of the last step's advected field, before projection.
     before: Vec<f32>,
+    /// The multigrid's solves (None with Jacobi).
+    solve: Option<SolveCounts>,
+    /// A step's dispatches that ran workgroups (at the median V-cycles)
+    /// and those it recorded.
+    dispatches: [u32; 2],
 }
 
 /// The wind alone, or with two-way coupling the wind with the scene's grass
@@ -248,10 +265,14 @@ fn run_steps(
     let mut field = WindField::new(scene.wind_grid()?, &scene.wind_settings());
     field.vel = stepper.wind().read_velocity(gpu, commands)?;
     let before = stepper.wind().read_divergence(gpu, commands)?;
+    let solve = stepper.wind().read_solve_counts(gpu, commands)?;
+    let every = stepper.wind().step_dispatches(None);
     Ok(Stepped {
         field,
         times,
         before,
+        solve,
+        dispatches: solve.map_or([every; 2], |s| [s.dispatches_median, s.dispatches_recorded]),
     })
 }
 
@@ -352,6 +373,8 @@ fn run(
         field,
         times,
         before,
+        solve,
+        dispatches: [dispatches_per_step, dispatches_recorded],
     } = run_steps(gpu, &commands, scene, steps, progress)?;
     let max_divergence_before = before.iter().fold(0.0f32, |m, d| m.max(d.abs()));
     let rms_divergence_before = rms_over_fluid(&before, &field.solid) as f32;
@@ -372,6 +395,11 @@ fn run(
         solver: settings.solver,
         jacobi_iterations: settings.jacobi_iterations,
         v_cycles: settings.v_cycles,
+        pressure_tolerance: settings.pressure_tolerance,
+        v_cycles_median: solve.map(|s| s.v_cycles_median),
+        v_cycles_most: solve.map(|s| s.v_cycles_most),
+        dispatches_per_step,
+        dispatches_recorded,
         coupling: settings.coupling,
         advection: settings.advection,
         steps,

@@ -58,11 +58,11 @@ impl AdvectionTiming {
     }
 }
 
-/// "6 multigrid V-cycles" or "30 Jacobi iterations": what one step's
+/// "multigrid, at most 6 V-cycles" or "30 Jacobi iterations": what one step's
 /// projection runs.
 pub fn describe(solver: PressureSolver, jacobi_iterations: u32, v_cycles: u32) -> String {
     match solver {
-        PressureSolver::Multigrid => format!("{v_cycles} multigrid V-cycles"),
+        PressureSolver::Multigrid => format!("multigrid, at most {v_cycles} V-cycles"),
         PressureSolver::Jacobi => format!("{jacobi_iterations} Jacobi iterations"),
     }
 }

@@ -164,6 +164,22 @@ pub struct WindPass {
     shift: Option<Pipeline>,
 }
 
+/// The multigrid's pressure solves over a run (`WindPass::read_solve_counts`).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct SolveCounts {
+    /// Steps solved.
+    pub steps: u32,
+    /// V-cycles per step: median, most and mean.
+    pub v_cycles_median: u32,
+    pub v_cycles_most: u32,
+    pub v_cycles_mean: f32,
+    /// Dispatches of a step that run workgroups, at the median V-cycles.
+    pub dispatches_median: u32,
+    /// Dispatches a step records, those of V-cycles switched off on zero
+    /// workgroups included.
+    pub dispatches_recorded: u32,
+}
+
 /// The wind as the grass step sees it: the velocity it samples and, with
 /// two-way coupling, the buffer it lays its frontal area into and that
 /// buffer's unit (m^2 per count). Owned by the wind solver, or a test.
@@ -494,6 +510,66 @@ impl WindPass {
     pub fn read_solve(&self, gpu: &Gpu, commands: &CommandPool) -> Result<MgSolve> {
         let head: Vec<MgSolve> = self.buffers.solve.read_back(gpu, commands, 1)?;
         Ok(head[0])
+    }
+
+    /// The multigrid's V-cycles per step over the steps recorded so far,
+    /// read back (`MgSolve`'s histogram and the last step's count), and
+    /// the dispatches a step records and those that run workgroups; None
+    /// with the Jacobi solver or before a step.
+    pub fn read_solve_counts(
+        &self,
+        gpu: &Gpu,
+        commands: &CommandPool,
+    ) -> Result<Option<SolveCounts>> {
+        if self.settings.solver != PressureSolver::Multigrid {
+            return Ok(None);
+        }
+        let solve = self.read_solve(gpu, commands)?;
+        if solve.steps == 0 {
+            return Ok(None);
+        }
+        let mut per_step: Vec<u32> = solve
+            .histogram
+            .iter()
+            .enumerate()
+            .flat_map(|(cycles, &n)| std::iter::repeat_n(cycles as u32, n as usize))
+            .chain([solve.v_cycles])
+            .collect();
+        per_step.sort_unstable();
+        let median = per_step[per_step.len() / 2];
+        Ok(Some(SolveCounts {
+            steps: solve.steps,
+            v_cycles_median: median,
+            v_cycles_most: *per_step.last().unwrap_or(&0),
+            v_cycles_mean: per_step.iter().sum::<u32>() as f32 / per_step.len() as f32,
+            dispatches_median: self.step_dispatches(Some(median)),
+            dispatches_recorded: self.step_dispatches(None),
+        }))
+    }
+
+    /// The dispatches of a step that run workgroups when its solve runs
+    /// `v_cycles` V-cycles (None: every one recorded, `wind.v_cycles`;
+    /// a V-cycle switched off still records its dispatches, on zero
+    /// workgroups): the kernels of `record_step` and `record_pressure`.
+    pub fn step_dispatches(&self, v_cycles: Option<u32>) -> u32 {
+        let advection = match self.settings.advection {
+            Advection::SemiLagrangian => 1,
+            Advection::Maccormack => 2,
+        };
+        // Forces, divergence, projection; under the ground; turbulence.
+        let around = 3 + advection + self.buried as u32 + self.turbulence.is_some() as u32;
+        let cap = self.settings.v_cycles;
+        match self.settings.solver {
+            PressureSolver::Jacobi => around + self.settings.jacobi_iterations,
+            PressureSolver::Multigrid => {
+                // Per level above the tail: the smoothing's colours, the
+                // residual, the restriction and the prolongation; the tail.
+                let smoothing = 2 * (multigrid::PRE_SMOOTH + multigrid::POST_SMOOTH);
+                let v_cycle = (smoothing + 3) * self.tail_level + 1;
+                // The start, and a check after every V-cycle recorded.
+                around + 1 + cap + v_cycles.unwrap_or(cap).min(cap) * v_cycle
+            }
+        }
     }
 
     /// The divergence of the last step's advected field, before projection.
