@@ -26,8 +26,8 @@ pub struct WindArgs {
     /// (default: the scene's solver and count).
     #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = numbers::whole::<u32>(0, 10_000))]
     jacobi_iterations: Option<u32>,
-    /// Solve the pressure by N multigrid V-cycles (the default 7 leave under 1% of
-    /// the divergence on the shipped scenes).
+    /// Solve the pressure by multigrid, at most N V-cycles a step (default 7;
+    /// each step stops at wind.pressure_tolerance, most after two).
     #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = numbers::whole::<u32>(1, MAX_V_CYCLES as u64))]
     v_cycles: Option<u32>,
     /// Wind grid cells X,Y,Z, y up (default: the scene's, e.g. 60,20,60).

@@ -16,6 +16,7 @@ pub use crate::frame::Animation;
 use crate::frame::{CullCounts, FrameRecorder};
 use crate::gpu::{Gpu, GpuOptions, ValidationReport};
 use crate::model::grass::CapCounts;
+use crate::model::multigrid::SolveCounts;
 use crate::report::claim::{name_in_folder, OutputClaim};
 pub use crate::report::render::{BladeCounts, RenderReport};
 use crate::report::video::{self, VideoFormat};
@@ -398,6 +399,9 @@ struct RunFacts {
     substeps: u32,
     sim_steps: u64,
     angle_caps: CapCounts,
+    /// The multigrid's pressure solves over the run (None with Jacobi or
+    /// before a step).
+    wind_solve: Option<SolveCounts>,
     untimed: Vec<(Phase, String)>,
 }
 
@@ -412,14 +416,20 @@ impl RunFacts {
         under_obstacles: usize,
     ) -> Result<Self> {
         let simulation = recorder.simulation().expect("made with dynamics");
+        // A loss while reading back comes after the last frame.
+        let after_the_frames = |e| match e {
+            Error::DeviceLost { during } => Error::DeviceLost {
+                during: format!("{during}, after the last frame (the frames are complete)"),
+            },
+            other => other,
+        };
         let angle_caps = simulation
             .cap_counts(gpu, recorder.commands())
-            .map_err(|e| match e {
-                Error::DeviceLost { during } => Error::DeviceLost {
-                    during: format!("{during}, after the last frame (the frames are complete)"),
-                },
-                other => other,
-            })?;
+            .map_err(after_the_frames)?;
+        let wind_solve = simulation
+            .wind()
+            .read_solve_counts(gpu, recorder.commands())
+            .map_err(after_the_frames)?;
         Ok(Self {
             warnings,
             blades,
@@ -441,6 +451,7 @@ impl RunFacts {
             substeps: simulation.substeps(),
             sim_steps: simulation.steps_done(),
             angle_caps,
+            wind_solve,
             untimed: recorder.untimed_phases(),
         })
     }
@@ -510,6 +521,7 @@ fn report(
         sim_steps: facts.sim_steps,
         angle_caps: facts.angle_caps,
         cap_fraction: facts.angle_caps.fraction(),
+        wind_solve: facts.wind_solve,
         frames_planned: request.frames_written().count() as u32,
         frames: done.names,
         gif: done.gif,

@@ -10,12 +10,13 @@ use glam::Vec3;
 
 use crate::analysis::stats::rms_over_fluid;
 use crate::commands::on_gpu;
-use crate::compute::{Simulation, SolveCounts, WindPass};
+use crate::compute::{Simulation, WindPass};
 use crate::error::Result;
 use crate::frame::timing::median_p95;
 use crate::frame::BladeBuffer;
 use crate::gpu::query::TimestampQueries;
 use crate::gpu::{CommandPool, DependsOn, DeviceMemory, Gpu, GpuOptions, ValidationReport};
+use crate::model::multigrid::SolveCounts;
 use crate::model::wind::{Advection, Coupling, PressureSolver, WindField, WindGrid, WindSettings};
 use crate::report::claim::OutputClaim;
 use crate::report::files;

@@ -28,7 +28,7 @@ pub use cover_dynamics::CoverDynamics;
 pub use cover_tiles::CoverTilePass;
 pub use grass_pass::GrassPass;
 pub use step_pace::StepPace;
-pub use wind_pass::{SolveCounts, WindPass};
+pub use wind_pass::WindPass;
 
 pub struct Simulation {
     /// None where the scene's only grass is a cover (no patch blades to

@@ -75,6 +75,22 @@ pub struct Solve {
     pub share_left: f32,
 }
 
+/// The multigrid's pressure solves over a run (the GPU's `WindPass::read_solve_counts`).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct SolveCounts {
+    /// Steps solved.
+    pub steps: u32,
+    /// V-cycles per step: median, most and mean.
+    pub v_cycles_median: u32,
+    pub v_cycles_most: u32,
+    pub v_cycles_mean: f32,
+    /// Dispatches of a step that run workgroups, at the median V-cycles.
+    pub dispatches_median: u32,
+    /// Dispatches a step records, those of V-cycles switched off on zero
+    /// workgroups included.
+    pub dispatches_recorded: u32,
+}
+
 /// One level of the hierarchy. Level 0 is the wind grid itself.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Level {

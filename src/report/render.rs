@@ -9,6 +9,7 @@ use crate::frame::{Animation, CullCounts};
 use crate::gpu::query::PipelineStatistics;
 use crate::gpu::{DeviceMemory, ValidationReport};
 use crate::model::grass::CapCounts;
+use crate::model::multigrid::SolveCounts;
 use crate::model::wind::Coupling;
 use crate::scene::{Camera, ViewMode};
 
@@ -67,6 +68,11 @@ pub struct RenderReport {
     /// could not follow; docs/physics.md), and their share.
     pub angle_caps: CapCounts,
     pub cap_fraction: f64,
+    /// The wind's multigrid pressure solves over the run: steps, V-cycles
+    /// per step (median, most, mean) and the wind step's dispatches that
+    /// ran workgroups at the median and that it records (null with the
+    /// Jacobi solver).
+    pub wind_solve: Option<SolveCounts>,
     /// Frames asked for (after --every) and the files written, in order.
     pub frames_planned: u32,
     pub frames: Vec<String>,

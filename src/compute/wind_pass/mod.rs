@@ -22,7 +22,7 @@ use crate::gpu::{
     MemoryLocation, Pipeline, PipelineLayout, Recording,
 };
 use crate::model::contact::{Collider, GpuCollider};
-use crate::model::multigrid::{self, Level};
+use crate::model::multigrid::{self, Level, SolveCounts};
 use crate::model::turbulence::{self, TurbulenceField};
 use crate::model::wind::{
     Advection, Classification, FaceKind, Inflow, PressureSolver, WindField, WindGrid, WindSettings,
@@ -162,22 +162,6 @@ pub struct WindPass {
     /// The window's shift kernel, where the grid follows the camera
     /// (`WindSettings::moving_window`).
     shift: Option<Pipeline>,
-}
-
-/// The multigrid's pressure solves over a run (`WindPass::read_solve_counts`).
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
-pub struct SolveCounts {
-    /// Steps solved.
-    pub steps: u32,
-    /// V-cycles per step: median, most and mean.
-    pub v_cycles_median: u32,
-    pub v_cycles_most: u32,
-    pub v_cycles_mean: f32,
-    /// Dispatches of a step that run workgroups, at the median V-cycles.
-    pub dispatches_median: u32,
-    /// Dispatches a step records, those of V-cycles switched off on zero
-    /// workgroups included.
-    pub dispatches_recorded: u32,
 }
 
 /// The wind as the grass step sees it: the velocity it samples and, with
