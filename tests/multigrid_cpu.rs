@@ -127,3 +127,43 @@ fn the_default_v_cycles_leave_a_five_thousandth_of_the_residual() {
         );
     }
 }
+
+/// `Multigrid::solve` (issue 63): from zero it runs V-cycles until the
+/// residual is at most the tolerance of b's, or the cap; from the
+/// pressure it left, for the same b, it starts there and runs none; for
+/// a b twice as large it starts from that pressure carried on (2 p - q
+/// with q = 0 would be 2 p, the exact answer) and runs none either; for
+/// a b of the other sign it starts from zero. A solve that ignored the
+/// tolerance would run the cap each time.
+#[test]
+fn the_solve_stops_at_its_tolerance_and_starts_from_the_best_of_three() {
+    use meadow::model::multigrid::Start;
+    let f = field(UVec3::new(30, 10, 30));
+    let mg = &f.multigrid;
+    let n = mg.levels[0].cell_count();
+    let b: Vec<f32> = (0..n)
+        .map(|i| ((i * 7919) % 1000) as f32 / 500.0 - 1.0)
+        .collect();
+    let (mut p, mut before) = (vec![0.0; n], vec![0.0; n]);
+    let mut work = Work::default();
+    let first = mg.solve([&mut p, &mut before], &b, &mut work, 20, 1e-4);
+    assert_eq!(first.start, Start::Zero);
+    assert!(first.v_cycles > 1 && first.v_cycles < 20, "{first:?}");
+    assert!(first.share_left <= 1e-4, "{first:?}");
+    let again = mg.solve([&mut p, &mut before], &b, &mut work, 20, 1e-4);
+    assert_eq!((again.start, again.v_cycles), (Start::Last, 0), "{again:?}");
+    // Now before = p: the extrapolation 2 p - p is p, so no better than
+    // the last; with before cleared it is 2 p, the answer to 2 b.
+    before.fill(0.0);
+    let double: Vec<f32> = b.iter().map(|v| 2.0 * v).collect();
+    let doubled = mg.solve([&mut p, &mut before], &double, &mut work, 20, 1e-4);
+    assert_eq!(
+        (doubled.start, doubled.v_cycles),
+        (Start::Extrapolated, 0),
+        "{doubled:?}"
+    );
+    let negated: Vec<f32> = b.iter().map(|v| -v).collect();
+    let flipped = mg.solve([&mut p, &mut before], &negated, &mut work, 20, 1e-4);
+    assert_eq!(flipped.start, Start::Zero, "{flipped:?}");
+    assert!(flipped.share_left <= 1e-4, "{flipped:?}");
+}

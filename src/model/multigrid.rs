@@ -464,11 +464,7 @@ impl Multigrid {
         // `before` holds the extrapolation now: swap it in where it
         // wins, so that `before` is the last pressure either way.
         let (start, mut squares) = if extrapolated < last && extrapolated < zero {
-            for (p, before) in p.iter_mut().zip(before.iter_mut()) {
-                let now = *p;
-                *p = *before;
-                *before = now;
-            }
+            p.swap_with_slice(before);
             (Start::Extrapolated, extrapolated)
         } else {
             before.copy_from_slice(p);
