@@ -48,7 +48,10 @@ pub const COARSEST_SWEEPS: u32 = 40;
 /// tolerance below most steps stop after one or two.
 pub const DEFAULT_V_CYCLES: u32 = 7;
 /// The share of a step's rms divergence the solve may leave by default
-/// (`Multigrid::solve`): TOLERANCE_PLACEHOLDER
+/// (`Multigrid::solve`). With it, on 120 steps of eight shipped scenes,
+/// no scene's worst step leaves more than seven cycles from zero left,
+/// and the median step runs two to four cycles (1e-3 would let hills'
+/// worst step leave 5x more; docs/physics.md).
 pub const DEFAULT_PRESSURE_TOLERANCE: f32 = 1e-4;
 
 /// Where a pressure solve starts (`Multigrid::solve`).
