@@ -512,20 +512,28 @@ impl WindPass {
         if solve.steps == 0 {
             return Ok(None);
         }
-        let mut per_step: Vec<u32> = solve
-            .histogram
+        // Steps by their V-cycles: the histogram of those before the
+        // last, and the last.
+        let mut by_cycles = solve.histogram;
+        let last = (solve.v_cycles as usize).min(by_cycles.len() - 1);
+        by_cycles[last] += 1;
+        let steps: u32 = by_cycles.iter().sum();
+        // The V-cycles of the step at index steps / 2 in sorted order.
+        let mut below = 0;
+        let median = by_cycles
             .iter()
-            .enumerate()
-            .flat_map(|(cycles, &n)| std::iter::repeat_n(cycles as u32, n as usize))
-            .chain([solve.v_cycles])
-            .collect();
-        per_step.sort_unstable();
-        let median = per_step[per_step.len() / 2];
+            .position(|&n| {
+                below += n;
+                below > steps / 2
+            })
+            .unwrap_or(0) as u32;
+        let most = by_cycles.iter().rposition(|&n| n > 0).unwrap_or(0) as u32;
+        let total: u32 = (0..).zip(by_cycles).map(|(cycles, n)| cycles * n).sum();
         Ok(Some(SolveCounts {
             steps: solve.steps,
             v_cycles_median: median,
-            v_cycles_most: *per_step.last().unwrap_or(&0),
-            v_cycles_mean: per_step.iter().sum::<u32>() as f32 / per_step.len() as f32,
+            v_cycles_most: most,
+            v_cycles_mean: total as f32 / steps as f32,
             dispatches_median: self.step_dispatches(Some(median)),
             dispatches_recorded: self.step_dispatches(None),
         }))

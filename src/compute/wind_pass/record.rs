@@ -66,14 +66,10 @@ impl WindPass {
         let face_groups = self.face_count.div_ceil(WIND_GROUP);
         let cell_groups = self.cell_count.div_ceil(WIND_GROUP);
         let step = self.push(time, dt);
-        // A kernel over `groups` workgroups; `read` the Jacobi half it
-        // reads, `level` the multigrid level, colour and coarsest sweeps.
-        let dispatch = |kernel: usize,
-                        groups: u32,
-                        read: u32,
-                        [mg_level, mg_color, coarsest_sweeps]: [u32; 3]| {
+        // A kernel bound with its push constants: `read` the Jacobi half
+        // it reads, then the multigrid level, colour and coarsest sweeps.
+        let bind = |kernel: usize, read: u32, [mg_level, mg_color, coarsest_sweeps]: [u32; 3]| {
             let pipeline = &self.kernels[kernel];
-            rec.uses(&self.kernel_uses(kernel));
             rec.bind_pipeline(pipeline);
             rec.push_constants(
                 pipeline,
@@ -85,6 +81,11 @@ impl WindPass {
                     ..step
                 },
             );
+        };
+        // A kernel over `groups` workgroups.
+        let dispatch = |kernel: usize, groups: u32, read: u32, mg: [u32; 3]| {
+            rec.uses(&self.kernel_uses(kernel));
+            bind(kernel, read, mg);
             rec.dispatch(groups);
         };
         // The colliders where they are now.
@@ -116,22 +117,11 @@ impl WindPass {
         dispatch(DIVERGENCE, cell_groups, 0, [0; 3]);
         // A V-cycle's kernel on the workgroups of the solve buffer's
         // dispatch `arg`: zero once the residual is small enough.
-        let v_cycle_dispatch =
-            |kernel: usize, arg: usize, [mg_level, mg_color, coarsest_sweeps]: [u32; 3]| {
-                let pipeline = &self.kernels[kernel];
-                rec.bind_pipeline(pipeline);
-                rec.push_constants(
-                    pipeline,
-                    &WindPush {
-                        mg_level,
-                        mg_color,
-                        coarsest_sweeps,
-                        ..step
-                    },
-                );
-                let offset = (std::mem::size_of::<MgSolve>() + 16 * arg) as u64;
-                rec.dispatch_indirect(&self.buffers.solve, offset, &self.kernel_uses(kernel));
-            };
+        let v_cycle_dispatch = |kernel: usize, arg: usize, mg: [u32; 3]| {
+            bind(kernel, 0, mg);
+            let offset = (std::mem::size_of::<MgSolve>() + 16 * arg) as u64;
+            rec.dispatch_indirect(&self.buffers.solve, offset, &self.kernel_uses(kernel));
+        };
         self.record_pressure(&dispatch, &v_cycle_dispatch);
         dispatch(PROJECT, face_groups, 0, [0; 3]);
         if self.buried {
