@@ -225,8 +225,10 @@ fn level_of_detail_gives_20_10_3_segments_by_distance_and_20_without_and_the_sha
     // pass's levels by the same distances to the camera.
     let cases = [(2.0, 20, 10), (6.0, 10, 5), (15.0, 3, 3)];
     assert_eq!(scene.lod.shadow_levels, [10, 5, 3]);
-    // The distance levels alone (the texels' bound is the next test's).
+    // The distance levels alone (the texels' and the pixels' bounds are
+    // the next tests').
     scene.lod.shadow_error_texels = 0.0;
+    scene.lod.shadow_error_pixels = 0.0;
     for lod in [true, false] {
         scene.lod.enabled = lod;
         for (z, level, shadow_level) in cases {
@@ -276,6 +278,8 @@ fn the_shadow_pass_tessellates_a_caster_by_its_size_in_the_map() {
     scene.camera.target = [0.0, 0.5, -5.0];
     scene.cull.thin_from = 0.0;
     assert_eq!(scene.lod.shadow_error_texels, 0.5);
+    // The map's bound alone (the view's is the next test's).
+    scene.lod.shadow_error_pixels = 0.0;
     let profile = [[0.0, 0.0], [0.05, 0.3], [0.2, 0.55], [0.4, 0.7]];
     let half_width = 0.01;
     let blade = Blade::from_profile(
@@ -301,7 +305,8 @@ fn the_shadow_pass_tessellates_a_caster_by_its_size_in_the_map() {
         let tau = 0.5 * texel;
         let bend = (reach * turn / (8.0 * tau)).sqrt();
         let tip = 0.207 * half_width / tau;
-        let expected = bend.max(tip * tip).ceil().clamp(1.0, 10.0) as u64;
+        let one: f32 = if half_width > 3.0 * tau { 2.0 } else { 1.0 };
+        let expected = bend.max(tip * tip).ceil().max(one).clamp(1.0, 10.0) as u64;
         let frame = render(&gpu, &scene, &[blade], 64, 64, ViewMode::Shaded);
         let shadow = frame.shadow_statistics.expect("shadows are on");
         eprintln!(
@@ -315,6 +320,78 @@ fn the_shadow_pass_tessellates_a_caster_by_its_size_in_the_map() {
     }
     assert!(counts.is_sorted(), "{counts:?}");
     assert!(counts[0] < 10 && counts[3] == 10, "{counts:?}");
+    finish(gpu);
+}
+
+/// ... and no finer than the view shows its shadow: in a fine map
+/// (16384 texels), a bent blade 3 m from the camera casts with the
+/// segments that keep its shape within `lod.shadow_error_pixels` (one)
+/// pixels of the view at its nearest receiver, glsl/blade/blade.tesc's
+/// `shadow_tolerance`, mirrored here from the frame's camera and sun:
+/// fewer in a small image, the distance level (10) in a large one. (With
+/// the pixel's size taken at the caster instead of its nearest receiver,
+/// the small images' counts fall below the closed form's and the test
+/// fails.)
+#[test]
+fn the_shadow_pass_tessellates_a_caster_by_what_the_view_shows_of_it() {
+    let gpu = strict_gpu();
+    let mut scene = Scene::builtin("fig10-few-bunches").unwrap();
+    scene.camera.position = [0.0, 1.0, 0.0];
+    scene.camera.target = [0.0, 0.5, -5.0];
+    scene.cull.thin_from = 0.0;
+    scene.set_shadow_map(16384).unwrap();
+    assert_eq!(scene.lod.shadow_error_pixels, 1.0);
+    let profile = [[0.0, 0.0], [0.05, 0.3], [0.2, 0.55], [0.4, 0.7]];
+    let blade = Blade::from_profile(
+        Vec3::new(0.0, 0.0, -3.0),
+        Vec3::X,
+        profile,
+        0.01,
+        BladeKind::Upright,
+        0.5,
+    );
+    let p = blade.rest;
+    let (d0, d1, d2) = (p[1] - p[0], p[2] - p[1], p[3] - p[2]);
+    let turn = d0.angle_between(d1) + d1.angle_between(d2);
+    let reach = d0.length() + d1.length() + d2.length();
+    let mut counts = Vec::new();
+    for side in [32, 64, 128, 256, 1024] {
+        let u = meadow::render::FrameUniforms::new(&scene, side, side, ViewMode::Shaded, 0.0);
+        let fov = scene.camera.fov_y.to_radians();
+        let pixel_per_depth = 2.0 * (fov / 2.0).tan() / side as f32;
+        assert!((u.pixel_per_depth_m - pixel_per_depth).abs() < 1e-6 * pixel_per_depth);
+        let eye = Vec3::from(scene.camera.position);
+        let forward = (Vec3::from(scene.camera.target) - eye).normalize();
+        let light = Vec3::from(scene.light.direction).normalize();
+        // Its shadow falls no nearer than `run` from its root, on the
+        // ground (flat: the lowest is 0), down the sun's rays.
+        let run = reach * (1.0 + glam::Vec2::new(light.x, light.z).length() / light.y);
+        let ray = p[0] - eye;
+        let receiver_depth = ray.dot(forward) - run;
+        let off_axis = ray.dot(forward) / ray.length();
+        let tau_pixels = receiver_depth * pixel_per_depth * off_axis * light.y;
+        let row0 = glam::Mat4::from_cols_array_2d(&u.light_view_proj)
+            .row(0)
+            .truncate();
+        let tau_texels = 0.5 * 2.0 / (row0.length() * 16384.0);
+        let tau = tau_pixels.max(tau_texels);
+        let bend = (reach * turn / (8.0 * tau)).sqrt();
+        let tip = 0.207 * 0.01 / tau;
+        let one: f32 = if 0.01 > 3.0 * tau { 2.0 } else { 1.0 };
+        let expected = bend.max(tip * tip).ceil().max(one).clamp(1.0, 10.0) as u64;
+        let frame = render(&gpu, &scene, &[blade], side, side, ViewMode::Shaded);
+        let shadow = frame.shadow_statistics.expect("shadows are on");
+        eprintln!(
+            "{side} px: tolerance {:.2} mm (texels' {:.2}), bend {bend:.2}: {} segments",
+            tau * 1e3,
+            tau_texels * 1e3,
+            shadow.geometry_shader_invocations
+        );
+        assert_eq!(shadow.geometry_shader_invocations, expected, "{side} px");
+        counts.push(expected);
+    }
+    assert!(counts.is_sorted(), "{counts:?}");
+    assert!(counts[0] < 5 && counts[4] == 10, "{counts:?}");
     finish(gpu);
 }
 
@@ -574,6 +651,62 @@ fn a_tall_blade_shadows_the_ground_on_the_side_away_from_the_light() {
         (far_end - tip_shadow_x).abs() < 0.1 * (root_x - tip_shadow_x),
         "shadow ends at x = {far_end}, the tip's shadow should be near {tip_shadow_x}"
     );
+    finish(gpu);
+}
+
+/// A caster's shadow keeps its area however few segments the shadow pass
+/// gives it: a wide straight blade under a 45-degree sun darkens as much
+/// ground cut into one segment as into 20 (glsl/blade/blade.tesc's
+/// `taper_area_gain`). Without the gain, one segment's triangle casts a
+/// quarter less than the tapered blade (1/2 of its root's width times its
+/// length against 2/3), and the test fails.
+#[test]
+fn a_caster_cut_into_fewer_segments_casts_as_much_shadow() {
+    let gpu = strict_gpu();
+    let mut scene = seen_from_above_with_the_sun_at_45_degrees();
+    scene.lod.enabled = true;
+    scene.lod.shadow_error_texels = 0.0;
+    scene.lod.shadow_error_pixels = 0.0;
+    let blades = [single_blade(Vec3::ZERO, Vec3::X, 0.06)];
+    let (w, h) = (320, 320);
+    let mut unshadowed = scene.clone();
+    unshadowed.light.shadow_map = 0;
+    let plain = render(&gpu, &unshadowed, &blades, w, h, ViewMode::Shaded);
+    let (root_x, _) = project(&scene, Vec3::ZERO, w, h);
+    let shadowed = |segments: u32| {
+        let mut s = scene.clone();
+        s.lod.shadow_levels = [segments; 3];
+        let lit = render(&gpu, &s, &blades, w, h, ViewMode::Shaded);
+        assert_eq!(
+            lit.shadow_statistics
+                .expect("shadows are on")
+                .geometry_shader_invocations,
+            u64::from(segments)
+        );
+        // The ground beyond the blade's own footprint.
+        (0..h)
+            .flat_map(|y| (0..w).map(move |x| (x, y)))
+            .filter(|&(x, y)| {
+                let a = pixel(&lit, x, y).iter().map(|&c| c as i32).sum::<i32>();
+                let b = pixel(&plain, x, y).iter().map(|&c| c as i32).sum::<i32>();
+                b - a > 30 && (x as f32) < root_x - 3.0
+            })
+            .count() as f64
+    };
+    let fine = shadowed(20);
+    let coarse = shadowed(1);
+    let three = shadowed(3);
+    eprintln!("shadowed pixels: 20 segments {fine}, 3 segments {three}, 1 segment {coarse}");
+    assert!(
+        fine > 1000.0,
+        "too small a shadow to measure: {fine} pixels"
+    );
+    for (n, count) in [(1, coarse), (3, three)] {
+        assert!(
+            (count / fine - 1.0).abs() < 0.06,
+            "{n} segment(s) shadow {count} pixels against 20's {fine}"
+        );
+    }
     finish(gpu);
 }
 

@@ -285,6 +285,12 @@ fn malformed_scene_files_are_refused_with_line_column_field_and_range() {
             "lod.far_distance: 4 is nearer than close_distance 9; use close <= far",
         ),
         (
+            "a negative shadow tolerance in pixels",
+            plus("[lod]\nshadow_error_pixels = -1.0"),
+            15,
+            "lod.shadow_error_pixels: -1 is not allowed, use 0 (the texels' bound alone) to 64",
+        ),
+        (
             "thinning keeping no blade",
             plus("[cull]\nthin_least = 0.0"),
             15,

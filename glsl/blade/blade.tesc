@@ -36,12 +36,39 @@ float tess_level_for(float distance_to_eye) {
     return frame.tess_level.z;
 }
 
+// The nearest of this caster's shadow's receivers in front of the eye,
+// as depth along the view's axis: its shadow falls within `run` of its
+// root (down the sun's rays to the lowest ground), no nearer than that.
+float receiver_depth(vec3 root, float reach) {
+    vec3 l = frame.light_dir;
+    float drop = reach + max(root.y - frame.terrain_lowest, 0.0);
+    float run = drop * (1.0 + length(l.xz) / max(l.y, 0.02));
+    return dot(root - frame.camera_pos, frame.view_forward) - run;
+}
+
+// How far (m) the shadow pass's copy of a caster may depart from its
+// curve: frame.shadow_error_texels texels of the map, or, where more,
+// frame.shadow_error_pixels pixels of the view at its nearest receiver
+// on flat ground. A pixel there spans receiver_depth * pixel_per_depth_m
+// across the ray, times the cosine of the ray's angle off the axis
+// (its root's: a conservative reading for the receivers beside it);
+// flat ground under the sun stretches a departure across the rays by
+// 1 / light_dir.y.
+float shadow_tolerance(vec3 root, float reach) {
+    float texels = frame.shadow_error_texels * frame.shadow_texel_m;
+    vec3 ray = root - frame.camera_pos;
+    float depth = dot(ray, frame.view_forward);
+    float off_axis = depth / max(length(ray), 1e-6);
+    float pixel = max(receiver_depth(root, reach), 0.0) * frame.pixel_per_depth_m * max(off_axis, 0.0);
+    float pixels = frame.shadow_error_pixels * pixel * frame.light_dir.y;
+    return max(texels, pixels);
+}
+
 // In the shadow pass (frame.shadow_texel_m > 0), the fewest segments
-// whose shape departs from the curved blade by at most
-// frame.shadow_error_texels texels (tau, in metres): a blade is no
-// finer in the map than its size there needs (ours; never finer than
-// its distance level). Bounds from the control points, each the
-// segments n it needs:
+// whose shape departs from the curved blade by at most `tau` metres
+// (shadow_tolerance): a blade is no finer in the map than its size there
+// and in the view needs (ours; never finer than its distance level).
+// Bounds from the control points, each the segments n it needs:
 // - the centreline: n chords of a curve of reach L that turns by theta in
 //   all (the control polygon's turn bounds the cubic's) depart from it by
 //   L theta / (8 n^2);
@@ -49,8 +76,7 @@ float tess_level_for(float distance_to_eye) {
 //   to tip, interpolated across n segments, by w (phi / n)^2 / 8;
 // - the tapered tip (sqrt(1 - v), blade.geom): the last of n segments'
 //   chord by about 0.207 w / sqrt(n).
-float shadow_segments(vec3 p0, vec3 p1, vec3 p2, vec3 p3, float reach, float width_scale) {
-    float tau = frame.shadow_error_texels * frame.shadow_texel_m;
+float shadow_segments(vec3 p0, vec3 p1, vec3 p2, vec3 p3, float reach, float width_scale, float tau) {
     vec3 d0 = p1 - p0, d1 = p2 - p1, d2 = p3 - p2;
     float turn = 0.0;
     if (dot(d0, d0) > 1e-20 && dot(d1, d1) > 1e-20) {
@@ -68,22 +94,51 @@ float shadow_segments(vec3 p0, vec3 p1, vec3 p2, vec3 p3, float reach, float wid
     float bend = sqrt(reach * turn / (8.0 * tau));
     float edges = twist * sqrt(w / (8.0 * tau));
     float tip = 0.207 * w / tau;
-    return max(ceil(max(max(bend, edges), tip * tip)), 1.0);
+    // One segment widens its triangle by a third at the root
+    // (taper_area_gain(1)): within tau only for blades narrow enough.
+    float one = w > 3.0 * tau ? 2.0 : 1.0;
+    return max(ceil(max(max(bend, edges), tip * tip)), one);
+}
+
+// The shadow pass's width gain for a caster of n segments: the ratio of
+// the taper's area (sqrt(1 - v) from root to tip: 2/3) to that of its n
+// trapezoids, which cut inside the concave taper (a quarter of it at one
+// segment, 5% at three). Without it a coarser copy casts a smaller
+// shadow and the frame brightens with every segment left out (ours).
+// Its widening departs from the shape by (gain - 1) w at the root: under
+// the tip's chord for n > 1, and bounded for n = 1 in shadow_segments.
+float taper_area_gain(float n) {
+    float sum = 0.0;
+    for (float i = 0.0; i < n; i += 1.0) {
+        sum += sqrt(1.0 - i / n);
+    }
+    return (2.0 / 3.0) / ((sum - 0.5) / n);
+}
+
+// The blade's segments in this pass: its distance level, in the shadow
+// pass no finer than its shadow's tolerance needs.
+float segments(float width_scale) {
+    float level = tess_level_for(distance(frame.camera_pos, v_position[0].xyz));
+    vec3 p0 = v_position[0].xyz, p1 = v_position[1].xyz, p2 = v_position[2].xyz, p3 = v_position[3].xyz;
+    float reach = distance(p0, p1) + distance(p1, p2) + distance(p2, p3);
+    float tau = frame.shadow_texel_m > 0.0 ? shadow_tolerance(p0, reach) : 0.0;
+    if (tau > 0.0) {
+        level = min(level, shadow_segments(p0, p1, p2, p3, reach, width_scale, tau));
+    }
+    return level;
 }
 
 void main() {
     c_position[gl_InvocationID] = v_position[gl_InvocationID];
     float width_scale = thinning_scale(v_position[0]);
-    c_width[gl_InvocationID] = vec4(v_width[gl_InvocationID].xyz * width_scale, v_width[gl_InvocationID].w);
+    // Every invocation finds the level (the same, from the same inputs):
+    // the shadow pass's width gain follows it.
+    float level = segments(width_scale);
+    float gain = frame.shadow_texel_m > 0.0 ? taper_area_gain(level) : 1.0;
+    c_width[gl_InvocationID] = vec4(v_width[gl_InvocationID].xyz * (width_scale * gain), v_width[gl_InvocationID].w);
 
     if (gl_InvocationID == 0) {
-        // Distance from the eye to the blade's root decides the level.
-        float level = tess_level_for(distance(frame.camera_pos, v_position[0].xyz));
         vec3 p0 = v_position[0].xyz, p1 = v_position[1].xyz, p2 = v_position[2].xyz, p3 = v_position[3].xyz;
-        float reach = distance(p0, p1) + distance(p1, p2) + distance(p2, p3);
-        if (frame.shadow_texel_m > 0.0 && frame.shadow_error_texels > 0.0) {
-            level = min(level, shadow_segments(p0, p1, p2, p3, reach, width_scale));
-        }
         // Isolines: outer[0] is the number of lines (one blade), outer[1] the
         // number of segments along it.
         gl_TessLevelOuter[0] = 1.0;
@@ -91,7 +146,7 @@ void main() {
         c_tess_level = level;
         float clump = clump_of(p0.xz);
         c_root = p0.xz;
-        c_reach = reach;
+        c_reach = distance(p0, p1) + distance(p1, p2) + distance(p2, p3);
         c_tint = blade_tint(v_position[0].w, clump);
     }
 }

@@ -733,13 +733,22 @@ gpu_interface! {
         pub clump_seed: f32,
         /// How far a caster's tessellated shadow may depart from its curve,
         /// in shadow-map texels (the scene's `lod.shadow_error_texels`; 0
-        /// with LOD off or the rule off: the distance levels alone).
+        /// with LOD off or the rule off).
         pub shadow_error_texels: f32,
         /// A shadow-map texel's side in metres, in the shadow pass's copy
         /// of this block (src/render/shadow.rs); 0 in the colour pass's.
         pub shadow_texel_m: f32,
+        /// How far a caster's tessellated shadow may depart from its
+        /// curve, in pixels of the view at its nearest receiver (the
+        /// scene's `lod.shadow_error_pixels`; 0 with LOD off or the rule
+        /// off).
+        pub shadow_error_pixels: f32,
+        /// One pixel of the view across, per metre of depth in front of
+        /// the eye: 2 tan(fov_y / 2) / height.
+        pub pixel_per_depth_m: f32,
         pub _pad0: u32,
+        /// The camera's unit forward direction (the view's axis).
+        pub view_forward: [f32; 3],
         pub _pad1: u32,
-        pub _pad2: u32,
     }
 }

@@ -58,7 +58,7 @@ impl FrameUniforms {
 
     pub fn new(scene: &Scene, width: u32, height: u32, view: ViewMode, time: f32) -> Self {
         let view_proj = view_projection(scene, width as f32 / height as f32, time);
-        let (eye, _) = scene.camera.at(time);
+        let (eye, target) = scene.camera.at(time);
         let light = Vec3::from(scene.light.direction)
             .try_normalize()
             .unwrap_or(Vec3::Y);
@@ -134,6 +134,14 @@ impl FrameUniforms {
             } else {
                 0.0
             },
+            shadow_error_pixels: if lod.enabled {
+                lod.shadow_error_pixels
+            } else {
+                0.0
+            },
+            pixel_per_depth_m: 2.0 * (scene.camera.fov_y.to_radians() * 0.5).tan()
+                / height.max(1) as f32,
+            view_forward: (target - eye).normalize_or_zero().to_array(),
             // The shadow map's and the canopy map's fields are the
             // renderer's, which owns the maps.
             ..Self::default()

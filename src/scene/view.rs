@@ -154,8 +154,18 @@ pub struct Lod {
     /// its size in shadow-map texels needs (ours): its chords, its edges'
     /// turn with the twist and its tapered tip depart from the curved
     /// blade by at most this many texels (half of one by default: under
-    /// what the map can hold). 0: the distance levels alone.
+    /// what the map can hold). 0: no such bound (with
+    /// `shadow_error_pixels` 0 too, the distance levels alone).
     pub shadow_error_texels: f32,
+    /// ... and no finer than what the view shows of its shadow (ours):
+    /// the same departures, measured on flat ground under the sun, within
+    /// this many pixels of the view where its nearest receiver stands
+    /// (one by default: the screen-space error of level-of-detail
+    /// practice). The looser of the two bounds holds: far from the camera
+    /// a pixel spans many texels of the map, and a caster there needs
+    /// fewer segments than its texels alone would ask. 0: the texels'
+    /// bound alone.
+    pub shadow_error_pixels: f32,
 }
 
 impl Default for Lod {
@@ -167,6 +177,7 @@ impl Default for Lod {
             levels: [20, 10, 3],
             shadow_levels: [10, 5, 3],
             shadow_error_texels: 0.5,
+            shadow_error_pixels: 1.0,
         }
     }
 }
@@ -347,7 +358,13 @@ impl Lod {
             "shadow_error_texels",
             self.shadow_error_texels,
             0.0..=64.0,
-            "0 (the distance levels alone) to 64",
+            "0 (no texels' bound) to 64",
+        )?;
+        within(
+            "shadow_error_pixels",
+            self.shadow_error_pixels,
+            0.0..=64.0,
+            "0 (the texels' bound alone) to 64",
         )?;
         Ok(())
     }
