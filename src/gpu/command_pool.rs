@@ -81,6 +81,7 @@ impl CommandPool {
             fence: self.fence.raw(),
             tracker: Default::default(),
             journal: &self.journal,
+            dispatches: Default::default(),
         })
     }
 }

@@ -43,7 +43,7 @@ pub use memory::{DeviceMemory, MemoryLocation};
 pub use overlay::{OverlayDraw, OverlayRenderer};
 pub use owned::Sampler;
 pub use pipeline::{GraphicsDesc, Pipeline, TargetFormats};
-pub use recording::{Attachments, Recording};
+pub use recording::{Attachments, Dispatches, Recording};
 pub use shader::{kernels_set, BindingAccess, ShaderBinding};
 pub use surface::Surface;
 pub use swapchain::Swapchain;

@@ -3,7 +3,7 @@
 //! recorded: each method is one Vulkan command on objects the Vulkan
 //! layer's types own.
 
-use std::cell::RefCell;
+use std::cell::{Cell, RefCell};
 
 use ash::vk;
 use ash::vk::Handle as _;
@@ -42,6 +42,30 @@ pub struct Recording<'a> {
     pub(super) tracker: RefCell<Tracker>,
     /// The pool's journal, which each command writes to when it is on.
     pub(super) journal: &'a Journal,
+    /// The dispatches recorded so far (`dispatches`).
+    pub(super) dispatches: Cell<Dispatches>,
+}
+
+/// Dispatches recorded in a command buffer, counted as each is recorded:
+/// a pass reads them before and after its commands to report what it
+/// records (the wind step's dispatches per step) without a formula that
+/// could drift from the code.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Dispatches {
+    /// With their workgroup counts in the command.
+    pub direct: u32,
+    /// Reading their workgroup counts from a buffer (which may hold zero).
+    pub indirect: u32,
+}
+
+impl std::ops::Sub for Dispatches {
+    type Output = Dispatches;
+    fn sub(self, earlier: Dispatches) -> Dispatches {
+        Dispatches {
+            direct: self.direct - earlier.direct,
+            indirect: self.indirect - earlier.indirect,
+        }
+    }
 }
 
 impl Recording<'_> {
@@ -379,7 +403,23 @@ impl Recording<'_> {
         };
     }
 
+    /// The dispatches recorded so far.
+    pub fn dispatches(&self) -> Dispatches {
+        self.dispatches.get()
+    }
+
+    fn count_dispatch(&self, indirect: bool) {
+        let mut d = self.dispatches.get();
+        if indirect {
+            d.indirect += 1;
+        } else {
+            d.direct += 1;
+        }
+        self.dispatches.set(d);
+    }
+
     pub fn dispatch(&self, groups: u32) {
+        self.count_dispatch(false);
         self.journal.note(|| format!("dispatch {groups}"));
         // SAFETY: recording, with a compute pipeline and its set bound.
         unsafe { self.device.raw.cmd_dispatch(self.cmd, groups, 1, 1) };
@@ -387,6 +427,7 @@ impl Recording<'_> {
 
     /// A dispatch of `x` x `y` workgroups (a kernel over an image).
     pub fn dispatch_2d(&self, x: u32, y: u32) {
+        self.count_dispatch(false);
         self.journal.note(|| format!("dispatch {x} x {y}"));
         // SAFETY: recording, with a compute pipeline and its set bound.
         unsafe { self.device.raw.cmd_dispatch(self.cmd, x, y, 1) };
@@ -400,6 +441,7 @@ impl Recording<'_> {
         let mut all = uses.to_vec();
         all.push(BufferUse::new(buffer, Access::DRAW_INDIRECT));
         self.uses(&all);
+        self.count_dispatch(true);
         self.journal.note(|| {
             format!(
                 "dispatch, indirect from {} at {offset}",

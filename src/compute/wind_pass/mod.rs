@@ -18,7 +18,7 @@ use bytemuck::Zeroable;
 
 use crate::error::{Error, Result};
 use crate::gpu::{
-    Access, Bound, Buffer, BufferUse, CommandPool, DescriptorSet, Gpu, LayoutBinding,
+    Access, Bound, Buffer, BufferUse, CommandPool, DescriptorSet, Dispatches, Gpu, LayoutBinding,
     MemoryLocation, Pipeline, PipelineLayout, Recording,
 };
 use crate::model::contact::{Collider, GpuCollider};
@@ -162,6 +162,8 @@ pub struct WindPass {
     /// The window's shift kernel, where the grid follows the camera
     /// (`WindSettings::moving_window`).
     shift: Option<Pipeline>,
+    /// The dispatches the last `record_step` recorded.
+    step_recorded: Dispatches,
 }
 
 /// The wind as the grass step sees it: the velocity it samples and, with
@@ -339,6 +341,7 @@ impl WindPass {
             collider_records: super::colliders::records(&settings.colliders)?,
             turbulence: field.turbulence,
             shift,
+            step_recorded: Dispatches::default(),
         })
     }
 
@@ -542,26 +545,14 @@ impl WindPass {
     /// The dispatches of a step that run workgroups when its solve runs
     /// `v_cycles` V-cycles (None: every one recorded, `wind.v_cycles`;
     /// a V-cycle switched off still records its dispatches, on zero
-    /// workgroups): the kernels of `record_step` and `record_pressure`.
+    /// workgroups), as the last `record_step` counted them: its direct
+    /// dispatches (the checks after each V-cycle among them) and its
+    /// V-cycles' indirect ones. 0 before a step is recorded.
     pub fn step_dispatches(&self, v_cycles: Option<u32>) -> u32 {
-        let advection = match self.settings.advection {
-            Advection::SemiLagrangian => 1,
-            Advection::Maccormack => 2,
-        };
-        // Forces, divergence, projection; under the ground; turbulence.
-        let around = 3 + advection + self.buried as u32 + self.turbulence.is_some() as u32;
-        let cap = self.settings.v_cycles;
-        match self.settings.solver {
-            PressureSolver::Jacobi => around + self.settings.jacobi_iterations,
-            PressureSolver::Multigrid => {
-                // Per level above the tail: the smoothing's colours, the
-                // residual, the restriction and the prolongation; the tail.
-                let smoothing = 2 * (multigrid::PRE_SMOOTH + multigrid::POST_SMOOTH);
-                let v_cycle = (smoothing + 3) * self.tail_level + 1;
-                // The start, and a check after every V-cycle recorded.
-                around + 1 + cap + v_cycles.unwrap_or(cap).min(cap) * v_cycle
-            }
-        }
+        let recorded = self.step_recorded;
+        let cap = self.settings.v_cycles.max(1);
+        let per_v_cycle = recorded.indirect / cap;
+        recorded.direct + v_cycles.unwrap_or(cap).min(cap) * per_v_cycle
     }
 
     /// The divergence of the last step's advected field, before projection.

@@ -62,6 +62,7 @@ impl WindPass {
     /// (copy A) written by compute; a reader declares its use. Steps the
     /// turbulence's modes on: record the steps in order.
     pub fn record_step(&mut self, rec: &Recording, time: f32, dt: f32) {
+        let before = rec.dispatches();
         let modes = self.turbulence_records(dt);
         let face_groups = self.face_count.div_ceil(WIND_GROUP);
         let cell_groups = self.cell_count.div_ceil(WIND_GROUP);
@@ -130,6 +131,7 @@ impl WindPass {
         if let (false, Some(modes)) = (self.among_solids, &modes) {
             self.record_turbulence(rec, modes, &step, false);
         }
+        self.step_recorded = rec.dispatches() - before;
     }
 
     /// The pressure solve: the multigrid's start (mg_start.comp), then
