@@ -165,7 +165,7 @@ fn descriptor_layouts_match_reflection() {
         check_pipeline(
             "depth pyramid",
             &[base, &shaders::CULL_PYRAMID_REDUCE_COMP],
-            meadow::render::depth_pyramid::PYRAMID_SET,
+            &meadow::render::depth_pyramid::pyramid_set(),
         );
     }
     // The bench's floor: vertex and fragment only.

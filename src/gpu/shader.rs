@@ -5,7 +5,7 @@ use ash::vk;
 
 use crate::error::{Error, Result, VkResultExt};
 use crate::gpu::owned::Owned;
-use crate::gpu::{Access, Bound, BufferUse, DescriptorKind, Gpu, LayoutBinding};
+use crate::gpu::{Access, Bound, BufferUse, DescriptorKind, Gpu, ImageUse, LayoutBinding};
 
 /// The pipeline stage a GLSL file is compiled for (from its extension).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -79,16 +79,18 @@ impl Spirv {
     /// uses a recording derives its barriers from. A binding of which only
     /// the size is asked is no use of its data.
     ///
-    /// Panics for a shader without reflected bindings, or a binding past
-    /// `bound` or bound to an image: a fault of the pass that binds it, as
-    /// the descriptor set's own check would report.
+    /// The images it samples are `image_uses`'.
+    ///
+    /// Panics for a shader without reflected bindings, or a buffer binding
+    /// past `bound` or bound to an image: a fault of the pass that binds
+    /// it, as the descriptor set's own check would report.
     pub fn buffer_uses(&self, set: u32, bound: &[Bound]) -> Vec<BufferUse> {
         let bindings = self
             .bindings
             .unwrap_or_else(|| panic!("{}: no reflected bindings", self.path));
         bindings
             .iter()
-            .filter(|b| b.set == set)
+            .filter(|b| b.set == set && !is_image(b.kind))
             .filter_map(|b| {
                 let access = match b.access {
                     BindingAccess::Read if b.kind == DescriptorKind::UniformBuffer => {
@@ -107,6 +109,43 @@ impl Spirv {
             })
             .collect()
     }
+
+    /// What one dispatch of this kernel does to the images bound in `set`
+    /// (`bound[b]` at binding b): each it samples, read by compute in the
+    /// shader-read-only layout.
+    ///
+    /// Panics as `buffer_uses` does, and for a storage image (no kernel
+    /// writes one: its access would need a layout of its own).
+    pub fn image_uses<'a>(&self, set: u32, bound: &[Bound<'a>]) -> Vec<ImageUse<'a>> {
+        let bindings = self
+            .bindings
+            .unwrap_or_else(|| panic!("{}: no reflected bindings", self.path));
+        bindings
+            .iter()
+            .filter(|b| b.set == set && is_image(b.kind))
+            .map(|b| {
+                assert!(
+                    b.kind != DescriptorKind::StorageImage,
+                    "{}: binding {} is a storage image, which no pass declares",
+                    self.path,
+                    b.binding
+                );
+                match bound.get(b.binding as usize) {
+                    Some(Bound::Image(image)) => ImageUse::new(image, Access::COMPUTE_SAMPLED),
+                    _ => panic!("{}: binding {} is bound to no image", self.path, b.binding),
+                }
+            })
+            .collect()
+    }
+}
+
+fn is_image(kind: DescriptorKind) -> bool {
+    matches!(
+        kind,
+        DescriptorKind::SampledImage
+            | DescriptorKind::StorageImage
+            | DescriptorKind::CombinedImageSampler
+    )
 }
 
 /// The layout of set `set` that `kernels` share: every binding any of them

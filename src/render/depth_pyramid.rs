@@ -19,23 +19,27 @@ use glam::Mat4;
 
 use crate::error::{Error, Result};
 use crate::gpu::{
-    Access, Bound, Buffer, BufferUse, DescriptorKind, DescriptorSet, Gpu, Image, ImageUse,
-    LayoutBinding, MemoryLocation, Pipeline, PipelineLayout, Recording,
+    Bound, Buffer, DescriptorSet, Gpu, Image, LayoutBinding, MemoryLocation, Pipeline,
+    PipelineLayout, Recording,
 };
+use crate::shaders::{self, Spirv};
 
 pub use crate::interface::PyramidLevel as Level;
 use crate::interface::{PyramidPush, PYRAMID_TILE as TILE};
 
-/// Set 0 of the pyramid kernels.
-pub const PYRAMID_SET: &[LayoutBinding] = &[
-    LayoutBinding {
-        set: 0,
-        binding: 0,
-        ty: DescriptorKind::SampledImage,
-        stages: vk::ShaderStageFlags::COMPUTE,
-    }, // the colour pass's depth, read by texel
-    LayoutBinding::compute_storage(1), // every level of the pyramid
+/// The pyramid's kernels: the base from single-sampled depth, the base
+/// from multisampled depth (one of the two per pyramid), the reduction.
+pub const PYRAMID_KERNELS: [&Spirv; 3] = [
+    &shaders::CULL_PYRAMID_BASE_COMP,
+    &shaders::CULL_PYRAMID_BASE_MULTISAMPLED_COMP,
+    &shaders::CULL_PYRAMID_REDUCE_COMP,
 ];
+
+/// Set 0 of the pyramid kernels, as their SPIR-V declares it: the colour
+/// pass's depth, read by texel, and every level of the pyramid.
+pub fn pyramid_set() -> Vec<LayoutBinding> {
+    crate::gpu::kernels_set(&PYRAMID_KERNELS, 0)
+}
 
 /// The levels of the pyramid over a `width` x `height` depth image, as
 /// glsl/common/depth_pyramid.glsl places them.
@@ -68,6 +72,9 @@ pub struct Occluders {
 
 pub struct DepthPyramid {
     set: DescriptorSet,
+    /// The base kernel's SPIR-V, whose reflected accesses its dispatch
+    /// declares (`record_build`).
+    base: &'static Spirv,
     base_kernel: Pipeline,
     reduce_kernel: Pipeline,
     buffer: Buffer,
@@ -103,29 +110,31 @@ impl DepthPyramid {
             vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC,
             MemoryLocation::GpuOnly,
         )?;
+        let set_layout = pyramid_set();
         let layout = PipelineLayout::new::<PyramidPush>(
             gpu,
-            PYRAMID_SET,
+            &set_layout,
             vk::ShaderStageFlags::COMPUTE,
             "depth pyramid",
         )?;
+        let [single, multisampled, reduce] = PYRAMID_KERNELS;
         let base = if samples == vk::SampleCountFlags::TYPE_1 {
-            &crate::shaders::CULL_PYRAMID_BASE_COMP
+            single
         } else {
-            &crate::shaders::CULL_PYRAMID_BASE_MULTISAMPLED_COMP
+            multisampled
         };
         let base_kernel = Pipeline::compute(gpu, &layout, base)?;
-        let reduce_kernel =
-            Pipeline::compute(gpu, &layout, &crate::shaders::CULL_PYRAMID_REDUCE_COMP)?;
+        let reduce_kernel = Pipeline::compute(gpu, &layout, reduce)?;
         let set = DescriptorSet::new(
             gpu,
             &layout,
-            PYRAMID_SET,
+            &set_layout,
             &[Bound::Image(depth), Bound::Buffer(&buffer)],
             "depth pyramid descriptor set",
         )?;
         Ok(Self {
             set,
+            base,
             base_kernel,
             reduce_kernel,
             buffer,
@@ -177,15 +186,18 @@ impl DepthPyramid {
     }
 
     /// Records the pyramid's build from `depth` (the colour pass's depth
-    /// target, the one `new` was given): waits for the colour pass's depth
-    /// writes; each kernel declares its writes of the pyramid, so it runs
-    /// after this frame's cull pass has read the previous one (which the
-    /// next frame's cull pass declares reading). Leaves `depth` in the
-    /// compute-sampled layout.
+    /// target, the one `new` was given): each kernel declares what its
+    /// SPIR-V reads and writes of what the set binds, so the base waits
+    /// for the colour pass's depth writes and runs after this frame's cull
+    /// pass has read the previous pyramid (which the next frame's cull
+    /// pass declares reading), each reduction after the level below.
+    /// Leaves `depth` in the compute-sampled layout.
     pub fn record_build(&self, rec: &Recording, depth: &Image) {
+        let [_, _, reduce] = PYRAMID_KERNELS;
+        let bound = [Bound::Image(depth), Bound::Buffer(&self.buffer)];
         rec.declare(
-            &[BufferUse::new(&self.buffer, Access::COMPUTE_WRITE)],
-            &[ImageUse::new(depth, Access::COMPUTE_SAMPLED)],
+            &self.base.buffer_uses(0, &bound),
+            &self.base.image_uses(0, &bound),
         );
         let base = self.levels[0];
         // The base kernel reads only the level it writes: the depth image's size.
@@ -199,9 +211,10 @@ impl DepthPyramid {
         rec.dispatch_2d(base.width.div_ceil(TILE), base.height.div_ceil(TILE));
         rec.bind_pipeline(&self.reduce_kernel);
         rec.bind_set(&self.reduce_kernel, &self.set);
+        let reduce_uses = reduce.buffer_uses(0, &bound);
         for pair in self.levels.windows(2) {
             let [below, level] = [pair[0], pair[1]];
-            rec.uses(&[BufferUse::new(&self.buffer, Access::COMPUTE_READ_WRITE)]);
+            rec.uses(&reduce_uses);
             let push = PyramidPush { below, level };
             rec.push_constants(&self.reduce_kernel, &push);
             rec.dispatch_2d(level.width.div_ceil(TILE), level.height.div_ceil(TILE));
