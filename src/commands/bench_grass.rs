@@ -380,10 +380,6 @@ fn copy_bandwidth(gpu: &Gpu) -> Result<Option<CopyBandwidth>> {
     let rec = commands.begin()?;
     // Written once first, so no page is touched for the first time while
     // timed.
-    rec.uses(&[
-        BufferUse::new(&src, Access::TRANSFER_WRITE),
-        BufferUse::new(&dst, Access::TRANSFER_WRITE),
-    ]);
     rec.fill_buffer(&src, 0);
     rec.fill_buffer(&dst, 0);
     timestamps.reset(&rec);

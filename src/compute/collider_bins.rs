@@ -17,8 +17,8 @@ use glam::{Vec2, Vec3, Vec3Swizzles};
 
 use crate::error::Result;
 use crate::gpu::{
-    Access, Bound, Buffer, BufferUse, CommandPool, DescriptorSet, Gpu, LayoutBinding,
-    MemoryLocation, Pipeline, PipelineLayout, Recording,
+    Bound, Buffer, BufferUse, CommandPool, DescriptorSet, Gpu, LayoutBinding, MemoryLocation,
+    Pipeline, PipelineLayout, Recording,
 };
 use crate::interface::{BinPush, GpuColliderState, GRASS_GROUP};
 use crate::model::contact::{reach, Collider, ColliderState, GpuCollider, MAX_COLLIDERS};
@@ -237,7 +237,6 @@ impl ColliderBins {
             return;
         }
         super::colliders::record_write(&self.colliders, rec, &self.records);
-        rec.uses(&[BufferUse::new(&self.bins, Access::TRANSFER_WRITE)]);
         rec.fill_buffer(&self.bins, 0);
         rec.uses(&self.kernel_uses);
         let g = &self.grid;

@@ -9,7 +9,7 @@
 use ash::vk;
 
 use crate::error::{Error, Result};
-use crate::gpu::{Access, Buffer, BufferUse, Gpu, Recording};
+use crate::gpu::{Buffer, Gpu, Recording};
 use crate::model::contact::{Collider, GpuCollider, MAX_COLLIDERS};
 
 /// A buffer named `name` with room for `MAX_COLLIDERS` records, written
@@ -38,7 +38,6 @@ pub fn record_write(buffer: &Buffer, rec: &Recording, records: &[GpuCollider]) {
     if records.is_empty() {
         return;
     }
-    rec.uses(&[BufferUse::new(buffer, Access::TRANSFER_WRITE)]);
     rec.update_buffer(buffer, 0, bytemuck::cast_slice(records));
 }
 

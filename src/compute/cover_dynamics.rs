@@ -21,8 +21,8 @@ use crate::compute::wind_pass::{grid_params, WindInput};
 use crate::compute::GrassPass;
 use crate::error::{Error, Result};
 use crate::gpu::{
-    Access, Bound, Buffer, BufferUse, CommandPool, DescriptorSet, Gpu, LayoutBinding,
-    MemoryLocation, Pipeline, PipelineLayout, Recording,
+    Bound, Buffer, BufferUse, CommandPool, DescriptorSet, Gpu, LayoutBinding, MemoryLocation,
+    Pipeline, PipelineLayout, Recording,
 };
 use crate::interface::{CoverEnterPush, FarPose, COVER_GROUP};
 use crate::model::contact::Collider;
@@ -373,7 +373,6 @@ pub fn far_poses_buffer(
         MemoryLocation::GpuOnly,
     )?;
     let rec = commands.begin()?;
-    rec.uses(&[BufferUse::new(&far_poses, Access::TRANSFER_WRITE)]);
     rec.fill_buffer(&far_poses, 0);
     rec.submit_and_wait("clearing the cover's last poses")?;
     Ok((far_poses, true))

@@ -410,10 +410,6 @@ impl CoverTilePass {
             )));
         }
         let end = self.base + blades as u32;
-        rec.uses(&[
-            BufferUse::new(&self.posed, Access::TRANSFER_WRITE),
-            BufferUse::new(&self.params, Access::TRANSFER_WRITE),
-        ]);
         rec.fill_buffer(&self.posed, 0);
         rec.update_buffer(&self.params, 0, bytemuck::cast_slice(&[self.record]));
         rec.uses(&self.kernel_uses);

@@ -370,28 +370,13 @@ impl GrassPass {
         }
         self.bins.widen_reach(blades);
         let size = std::mem::size_of::<GrassBlade>();
-        rec.uses(&[BufferUse::new(&self.blades, Access::TRANSFER_WRITE)]);
-        // vkCmdUpdateBuffer writes at most 65536 bytes a call.
-        let per_call = 65536 / size;
-        for (n, chunk) in blades.chunks(per_call).enumerate() {
-            let offset = (first as usize + n * per_call) * size;
-            rec.update_buffer(&self.blades, offset as u64, bytemuck::cast_slice(chunk));
-        }
+        let offset = (first as usize * size) as u64;
+        rec.update_buffer(&self.blades, offset, bytemuck::cast_slice(blades));
         if self.presses_live() {
-            let size = std::mem::size_of::<Press>();
-            let rest = vec![Press::default(); blades.len().min(65536 / size)];
-            rec.uses(&[BufferUse::new(&self.presses, Access::TRANSFER_WRITE)]);
-            let mut done = 0;
-            while done < blades.len() {
-                let n = rest.len().min(blades.len() - done);
-                let offset = (first as usize + done) * size;
-                rec.update_buffer(
-                    &self.presses,
-                    offset as u64,
-                    bytemuck::cast_slice(&rest[..n]),
-                );
-                done += n;
-            }
+            // At rest: unpressed, untouched (every bit zero).
+            let size = std::mem::size_of::<Press>() as u64;
+            let bytes = blades.len() as u64 * size;
+            rec.fill_range(&self.presses, first as u64 * size, bytes, 0);
         }
         Ok(())
     }
@@ -487,7 +472,6 @@ impl GrassPass {
         self.bins.record(rec, end_time);
         if self.touching_pipeline.is_some() {
             // Empty lists, after the last step's dispatch and reads.
-            rec.uses(&[BufferUse::new(&self.touching, Access::TRANSFER_WRITE)]);
             for &offset in &self.touching_offsets {
                 rec.update_buffer(&self.touching, offset, &[0, 1, 1, 0]);
             }

@@ -227,40 +227,61 @@ impl Recording<'_> {
         };
     }
 
-    /// Sets every 32-bit word of `buffer` to `value`.
+    /// Sets every 32-bit word of `buffer` to `value`, declaring the write.
     pub fn fill_buffer(&self, buffer: &Buffer, value: u32) {
-        self.journal
-            .note(|| format!("fill {}", self.device.name_of(buffer.raw.as_raw())));
-        // SAFETY: recording; the buffer is live and made with TRANSFER_DST.
+        self.fill_range(buffer, 0, vk::WHOLE_SIZE, value);
+    }
+
+    /// Sets the 32-bit words of `buffer` in `bytes` from `offset` (both
+    /// multiples of 4, or `vk::WHOLE_SIZE` for the rest) to `value`,
+    /// declaring the write.
+    pub fn fill_range(&self, buffer: &Buffer, offset: u64, bytes: u64, value: u32) {
+        self.uses(&[BufferUse::new(buffer, Access::TRANSFER_WRITE)]);
+        self.journal.note(|| {
+            format!(
+                "fill {} at {offset}",
+                self.device.name_of(buffer.raw.as_raw())
+            )
+        });
+        debug_assert!(offset % 4 == 0 && (bytes == vk::WHOLE_SIZE || bytes % 4 == 0));
+        // SAFETY: recording outside rendering; the buffer is live and made
+        // with TRANSFER_DST; offset and size are multiples of 4 (asserted
+        // above) within the buffer (the callers' ranges are of blades the
+        // buffer holds).
         unsafe {
             self.device
                 .raw
-                .cmd_fill_buffer(self.cmd, buffer.raw, 0, vk::WHOLE_SIZE, value)
+                .cmd_fill_buffer(self.cmd, buffer.raw, offset, bytes, value)
         };
     }
 
     /// Writes `words` into `buffer` from byte `offset` (a multiple of 4),
-    /// as a transfer; at most 64 KiB, carried in the command buffer.
+    /// as transfers carried in the command buffer, declaring the write
+    /// once: one vkCmdUpdateBuffer per 64 KiB, its most.
     pub fn update_buffer(&self, buffer: &Buffer, offset: u64, words: &[u32]) {
-        self.journal.note(|| {
-            format!(
-                "update {} at {offset}",
-                self.device.name_of(buffer.raw.as_raw())
-            )
-        });
-        debug_assert!(offset % 4 == 0 && !words.is_empty() && words.len() <= 16384);
-        // SAFETY: recording outside rendering; the buffer is live and made
-        // with TRANSFER_DST; offset and size are multiples of 4 and the
-        // size at most 65536 bytes (asserted above, and the callers write
-        // a few words within the buffer).
-        unsafe {
-            self.device.raw.cmd_update_buffer(
-                self.cmd,
-                buffer.raw,
-                offset,
-                bytemuck::cast_slice(words),
-            )
-        };
+        self.uses(&[BufferUse::new(buffer, Access::TRANSFER_WRITE)]);
+        debug_assert!(offset % 4 == 0 && !words.is_empty());
+        for (n, chunk) in words.chunks(16384).enumerate() {
+            let at = offset + n as u64 * 65536;
+            self.journal.note(|| {
+                format!(
+                    "update {} at {at}",
+                    self.device.name_of(buffer.raw.as_raw())
+                )
+            });
+            // SAFETY: recording outside rendering; the buffer is live and
+            // made with TRANSFER_DST; offset and size are multiples of 4
+            // and the size at most 65536 bytes (the chunks' size), within
+            // the buffer (the callers write what it holds).
+            unsafe {
+                self.device.raw.cmd_update_buffer(
+                    self.cmd,
+                    buffer.raw,
+                    at,
+                    bytemuck::cast_slice(chunk),
+                )
+            };
+        }
     }
 
     /// Copies the first `bytes` of `src` to the start of `dst`.

@@ -266,11 +266,7 @@ impl WindBuffers {
                     buffer.size
                 )));
             }
-            rec.uses(&[BufferUse::new(buffer, Access::TRANSFER_WRITE)]);
-            // vkCmdUpdateBuffer carries at most 64 KiB.
-            for (n, chunk) in words.chunks(16384).enumerate() {
-                rec.update_buffer(buffer, n as u64 * 65536, chunk);
-            }
+            rec.update_buffer(buffer, 0, words);
         }
         Ok(())
     }

@@ -107,7 +107,6 @@ impl WindPass {
         if self.coupled() {
             // The advection took this step's drag: clear the canopy for
             // the area the grass lays next.
-            rec.uses(&[BufferUse::new(&self.buffers.canopy, Access::TRANSFER_WRITE)]);
             rec.fill_buffer(&self.buffers.canopy, 0);
         }
         // Among solids the projection turns the modes' flow around them
@@ -197,11 +196,9 @@ impl WindPass {
         push: &WindPush,
         into_advected: bool,
     ) {
-        rec.uses(&[BufferUse::new(&self.buffers.modes, Access::TRANSFER_WRITE)]);
         rec.update_buffer(&self.buffers.modes, 0, bytemuck::cast_slice(&modes.grid));
         if !modes.subgrid.is_empty() {
             let subgrid = &self.buffers.subgrid_modes;
-            rec.uses(&[BufferUse::new(subgrid, Access::TRANSFER_WRITE)]);
             rec.update_buffer(subgrid, 0, bytemuck::cast_slice(&modes.subgrid));
         }
         // Modes are recorded only with turbulence, which made both.
