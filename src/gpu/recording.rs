@@ -238,10 +238,12 @@ impl Recording<'_> {
     pub fn fill_range(&self, buffer: &Buffer, offset: u64, bytes: u64, value: u32) {
         self.uses(&[BufferUse::new(buffer, Access::TRANSFER_WRITE)]);
         self.journal.note(|| {
-            format!(
-                "fill {} at {offset}",
-                self.device.name_of(buffer.raw.as_raw())
-            )
+            let name = self.device.name_of(buffer.raw.as_raw());
+            if offset == 0 && bytes == vk::WHOLE_SIZE {
+                format!("fill {name}")
+            } else {
+                format!("fill {name} at {offset}")
+            }
         });
         debug_assert!(offset % 4 == 0 && (bytes == vk::WHOLE_SIZE || bytes % 4 == 0));
         // SAFETY: recording outside rendering; the buffer is live and made
