@@ -262,6 +262,70 @@ fn level_of_detail_gives_20_10_3_segments_by_distance_and_20_without_and_the_sha
     finish(gpu);
 }
 
+/// The shadow-tessellation tests' scene: Fig. 10's, the camera 1 m up
+/// looking down -z, the distance thinning off (one blade per frame).
+fn shadow_caster_scene() -> Scene {
+    let mut scene = Scene::builtin("fig10-few-bunches").unwrap();
+    scene.camera.position = [0.0, 1.0, 0.0];
+    scene.camera.target = [0.0, 0.5, -5.0];
+    scene.cull.thin_from = 0.0;
+    scene
+}
+
+/// A bent blade rooted `distance` m down -z, with its control polygon's
+/// total turn and reach (the inputs of blade.tesc's `shadow_segments`).
+struct BentCaster {
+    blade: Blade,
+    turn: f32,
+    reach: f32,
+}
+
+const CASTER_HALF_WIDTH: f32 = 0.01;
+
+impl BentCaster {
+    fn at(distance: f32) -> Self {
+        let profile = [[0.0, 0.0], [0.05, 0.3], [0.2, 0.55], [0.4, 0.7]];
+        let blade = Blade::from_profile(
+            Vec3::new(0.0, 0.0, -distance),
+            Vec3::X,
+            profile,
+            CASTER_HALF_WIDTH,
+            BladeKind::Upright,
+            0.5,
+        );
+        let p = blade.rest;
+        let (d0, d1, d2) = (p[1] - p[0], p[2] - p[1], p[3] - p[2]);
+        Self {
+            blade,
+            turn: d0.angle_between(d1) + d1.angle_between(d2),
+            reach: d0.length() + d1.length() + d2.length(),
+        }
+    }
+
+    /// `shadow_segments`' closed form within `tau` m, capped at the
+    /// distance level 10: (segments, the chords' bound, the tip's).
+    fn segments(&self, tau: f32) -> (u64, f32, f32) {
+        let bend = (self.reach * self.turn / (8.0 * tau)).sqrt();
+        let tip = (0.207 * CASTER_HALF_WIDTH / tau).powi(2);
+        let one: f32 = if CASTER_HALF_WIDTH > 3.0 * tau {
+            2.0
+        } else {
+            1.0
+        };
+        let segments = bend.max(tip).ceil().max(one).clamp(1.0, 10.0) as u64;
+        (segments, bend, tip)
+    }
+}
+
+/// A shadow-map texel's side (m) under the frame's light projection, in
+/// a map of `map` texels.
+fn shadow_texel(u: &meadow::render::FrameUniforms, map: u32) -> f32 {
+    let row0 = glam::Mat4::from_cols_array_2d(&u.light_view_proj)
+        .row(0)
+        .truncate();
+    2.0 / (row0.length() * map as f32)
+}
+
 /// The shadow pass tessellates a caster no finer than its size in the
 /// map needs: a bent blade 2 m from the camera (shadow level 10 by
 /// distance) casts with the segments the closed form of
@@ -273,46 +337,22 @@ fn level_of_detail_gives_20_10_3_segments_by_distance_and_20_without_and_the_sha
 #[test]
 fn the_shadow_pass_tessellates_a_caster_by_its_size_in_the_map() {
     let gpu = strict_gpu();
-    let mut scene = Scene::builtin("fig10-few-bunches").unwrap();
-    scene.camera.position = [0.0, 1.0, 0.0];
-    scene.camera.target = [0.0, 0.5, -5.0];
-    scene.cull.thin_from = 0.0;
+    let mut scene = shadow_caster_scene();
     assert_eq!(scene.lod.shadow_error_texels, 0.5);
     // The map's bound alone (the view's is the next test's).
     scene.lod.shadow_error_pixels = 0.0;
-    let profile = [[0.0, 0.0], [0.05, 0.3], [0.2, 0.55], [0.4, 0.7]];
-    let half_width = 0.01;
-    let blade = Blade::from_profile(
-        Vec3::new(0.0, 0.0, -2.0),
-        Vec3::X,
-        profile,
-        half_width,
-        BladeKind::Upright,
-        0.5,
-    );
-    let p = blade.rest;
-    let (d0, d1, d2) = (p[1] - p[0], p[2] - p[1], p[3] - p[2]);
-    let turn = d0.angle_between(d1) + d1.angle_between(d2);
-    let reach = d0.length() + d1.length() + d2.length();
+    let caster = BentCaster::at(2.0);
     let mut counts = Vec::new();
     for map in [256, 1024, 4096, 16384] {
         scene.set_shadow_map(map).unwrap();
         let u = meadow::render::FrameUniforms::new(&scene, 64, 64, ViewMode::Shaded, 0.0);
-        let row0 = glam::Mat4::from_cols_array_2d(&u.light_view_proj)
-            .row(0)
-            .truncate();
-        let texel = 2.0 / (row0.length() * map as f32);
-        let tau = 0.5 * texel;
-        let bend = (reach * turn / (8.0 * tau)).sqrt();
-        let tip = 0.207 * half_width / tau;
-        let one: f32 = if half_width > 3.0 * tau { 2.0 } else { 1.0 };
-        let expected = bend.max(tip * tip).ceil().max(one).clamp(1.0, 10.0) as u64;
-        let frame = render(&gpu, &scene, &[blade], 64, 64, ViewMode::Shaded);
+        let texel = shadow_texel(&u, map);
+        let (expected, bend, tip) = caster.segments(0.5 * texel);
+        let frame = render(&gpu, &scene, &[caster.blade], 64, 64, ViewMode::Shaded);
         let shadow = frame.shadow_statistics.expect("shadows are on");
         eprintln!(
-            "map {map}: texel {:.2} mm, bend {bend:.2}, tip {:.2}: {} segments",
+            "map {map}: texel {:.2} mm, bend {bend:.2}, tip {tip:.2}: {} segments",
             texel * 1e3,
-            tip * tip,
             shadow.geometry_shader_invocations
         );
         assert_eq!(shadow.geometry_shader_invocations, expected, "map {map}");
@@ -335,25 +375,10 @@ fn the_shadow_pass_tessellates_a_caster_by_its_size_in_the_map() {
 #[test]
 fn the_shadow_pass_tessellates_a_caster_by_what_the_view_shows_of_it() {
     let gpu = strict_gpu();
-    let mut scene = Scene::builtin("fig10-few-bunches").unwrap();
-    scene.camera.position = [0.0, 1.0, 0.0];
-    scene.camera.target = [0.0, 0.5, -5.0];
-    scene.cull.thin_from = 0.0;
+    let mut scene = shadow_caster_scene();
     scene.set_shadow_map(16384).unwrap();
     assert_eq!(scene.lod.shadow_error_pixels, 1.0);
-    let profile = [[0.0, 0.0], [0.05, 0.3], [0.2, 0.55], [0.4, 0.7]];
-    let blade = Blade::from_profile(
-        Vec3::new(0.0, 0.0, -3.0),
-        Vec3::X,
-        profile,
-        0.01,
-        BladeKind::Upright,
-        0.5,
-    );
-    let p = blade.rest;
-    let (d0, d1, d2) = (p[1] - p[0], p[2] - p[1], p[3] - p[2]);
-    let turn = d0.angle_between(d1) + d1.angle_between(d2);
-    let reach = d0.length() + d1.length() + d2.length();
+    let caster = BentCaster::at(3.0);
     let mut counts = Vec::new();
     for side in [32, 64, 128, 256, 1024] {
         let u = meadow::render::FrameUniforms::new(&scene, side, side, ViewMode::Shaded, 0.0);
@@ -365,21 +390,15 @@ fn the_shadow_pass_tessellates_a_caster_by_what_the_view_shows_of_it() {
         let light = Vec3::from(scene.light.direction).normalize();
         // Its shadow falls no nearer than `run` from its root, on the
         // ground (flat: the lowest is 0), down the sun's rays.
-        let run = reach * (1.0 + glam::Vec2::new(light.x, light.z).length() / light.y);
-        let ray = p[0] - eye;
+        let run = caster.reach * (1.0 + glam::Vec2::new(light.x, light.z).length() / light.y);
+        let ray = caster.blade.rest[0] - eye;
         let receiver_depth = ray.dot(forward) - run;
         let off_axis = ray.dot(forward) / ray.length();
         let tau_pixels = receiver_depth * pixel_per_depth * off_axis * light.y;
-        let row0 = glam::Mat4::from_cols_array_2d(&u.light_view_proj)
-            .row(0)
-            .truncate();
-        let tau_texels = 0.5 * 2.0 / (row0.length() * 16384.0);
+        let tau_texels = 0.5 * shadow_texel(&u, 16384);
         let tau = tau_pixels.max(tau_texels);
-        let bend = (reach * turn / (8.0 * tau)).sqrt();
-        let tip = 0.207 * 0.01 / tau;
-        let one: f32 = if 0.01 > 3.0 * tau { 2.0 } else { 1.0 };
-        let expected = bend.max(tip * tip).ceil().max(one).clamp(1.0, 10.0) as u64;
-        let frame = render(&gpu, &scene, &[blade], side, side, ViewMode::Shaded);
+        let (expected, bend, _) = caster.segments(tau);
+        let frame = render(&gpu, &scene, &[caster.blade], side, side, ViewMode::Shaded);
         let shadow = frame.shadow_statistics.expect("shadows are on");
         eprintln!(
             "{side} px: tolerance {:.2} mm (texels' {:.2}), bend {bend:.2}: {} segments",

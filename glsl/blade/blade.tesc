@@ -37,13 +37,14 @@ float tess_level_for(float distance_to_eye) {
 }
 
 // The nearest of this caster's shadow's receivers in front of the eye,
-// as depth along the view's axis: its shadow falls within `run` of its
-// root (down the sun's rays to the lowest ground), no nearer than that.
-float receiver_depth(vec3 root, float reach) {
+// as depth along the view's axis from its root's `depth`: its shadow
+// falls within `run` of its root (down the sun's rays to the lowest
+// ground), no nearer than that.
+float receiver_depth(float depth, vec3 root, float reach) {
     vec3 l = frame.light_dir;
     float drop = reach + max(root.y - frame.terrain_lowest, 0.0);
     float run = drop * (1.0 + length(l.xz) / max(l.y, 0.02));
-    return dot(root - frame.camera_pos, frame.view_forward) - run;
+    return depth - run;
 }
 
 // How far (m) the shadow pass's copy of a caster may depart from its
@@ -59,7 +60,7 @@ float shadow_tolerance(vec3 root, float reach) {
     vec3 ray = root - frame.camera_pos;
     float depth = dot(ray, frame.view_forward);
     float off_axis = depth / max(length(ray), 1e-6);
-    float pixel = max(receiver_depth(root, reach), 0.0) * frame.pixel_per_depth_m * max(off_axis, 0.0);
+    float pixel = max(receiver_depth(depth, root, reach), 0.0) * frame.pixel_per_depth_m * max(off_axis, 0.0);
     float pixels = frame.shadow_error_pixels * pixel * frame.light_dir.y;
     return max(texels, pixels);
 }
@@ -117,10 +118,8 @@ float taper_area_gain(float n) {
 
 // The blade's segments in this pass: its distance level, in the shadow
 // pass no finer than its shadow's tolerance needs.
-float segments(float width_scale) {
-    float level = tess_level_for(distance(frame.camera_pos, v_position[0].xyz));
-    vec3 p0 = v_position[0].xyz, p1 = v_position[1].xyz, p2 = v_position[2].xyz, p3 = v_position[3].xyz;
-    float reach = distance(p0, p1) + distance(p1, p2) + distance(p2, p3);
+float segments(vec3 p0, vec3 p1, vec3 p2, vec3 p3, float reach, float width_scale) {
+    float level = tess_level_for(distance(frame.camera_pos, p0));
     float tau = frame.shadow_texel_m > 0.0 ? shadow_tolerance(p0, reach) : 0.0;
     if (tau > 0.0) {
         level = min(level, shadow_segments(p0, p1, p2, p3, reach, width_scale, tau));
@@ -131,14 +130,15 @@ float segments(float width_scale) {
 void main() {
     c_position[gl_InvocationID] = v_position[gl_InvocationID];
     float width_scale = thinning_scale(v_position[0]);
+    vec3 p0 = v_position[0].xyz, p1 = v_position[1].xyz, p2 = v_position[2].xyz, p3 = v_position[3].xyz;
+    float reach = distance(p0, p1) + distance(p1, p2) + distance(p2, p3);
     // Every invocation finds the level (the same, from the same inputs):
     // the shadow pass's width gain follows it.
-    float level = segments(width_scale);
+    float level = segments(p0, p1, p2, p3, reach, width_scale);
     float gain = frame.shadow_texel_m > 0.0 ? taper_area_gain(level) : 1.0;
     c_width[gl_InvocationID] = vec4(v_width[gl_InvocationID].xyz * (width_scale * gain), v_width[gl_InvocationID].w);
 
     if (gl_InvocationID == 0) {
-        vec3 p0 = v_position[0].xyz, p1 = v_position[1].xyz, p2 = v_position[2].xyz, p3 = v_position[3].xyz;
         // Isolines: outer[0] is the number of lines (one blade), outer[1] the
         // number of segments along it.
         gl_TessLevelOuter[0] = 1.0;
@@ -146,7 +146,7 @@ void main() {
         c_tess_level = level;
         float clump = clump_of(p0.xz);
         c_root = p0.xz;
-        c_reach = distance(p0, p1) + distance(p1, p2) + distance(p2, p3);
+        c_reach = reach;
         c_tint = blade_tint(v_position[0].w, clump);
     }
 }

@@ -74,6 +74,13 @@ pub struct Spirv {
 }
 
 impl Spirv {
+    /// The bindings build.rs reflected; panics for a stage without them
+    /// (a graphics stage: a fault of the pass that asks).
+    fn reflected(&self) -> &'static [ShaderBinding] {
+        self.bindings
+            .unwrap_or_else(|| panic!("{}: no reflected bindings", self.path))
+    }
+
     /// What one dispatch of this kernel does to the buffers bound in
     /// `set` (`bound[b]` at binding b), from its reflected accesses: the
     /// uses a recording derives its barriers from. A binding of which only
@@ -85,10 +92,7 @@ impl Spirv {
     /// past `bound` or bound to an image: a fault of the pass that binds
     /// it, as the descriptor set's own check would report.
     pub fn buffer_uses(&self, set: u32, bound: &[Bound]) -> Vec<BufferUse> {
-        let bindings = self
-            .bindings
-            .unwrap_or_else(|| panic!("{}: no reflected bindings", self.path));
-        bindings
+        self.reflected()
             .iter()
             .filter(|b| b.set == set && !is_image(b.kind))
             .filter_map(|b| {
@@ -117,10 +121,7 @@ impl Spirv {
     /// Panics as `buffer_uses` does, and for a storage image (no kernel
     /// writes one: its access would need a layout of its own).
     pub fn image_uses<'a>(&self, set: u32, bound: &[Bound<'a>]) -> Vec<ImageUse<'a>> {
-        let bindings = self
-            .bindings
-            .unwrap_or_else(|| panic!("{}: no reflected bindings", self.path));
-        bindings
+        self.reflected()
             .iter()
             .filter(|b| b.set == set && is_image(b.kind))
             .map(|b| {
@@ -155,10 +156,7 @@ fn is_image(kind: DescriptorKind) -> bool {
 pub fn kernels_set(kernels: &[&Spirv], set: u32) -> Vec<LayoutBinding> {
     let mut layout: Vec<LayoutBinding> = Vec::new();
     for kernel in kernels {
-        let bindings = kernel
-            .bindings
-            .unwrap_or_else(|| panic!("{}: no reflected bindings", kernel.path));
-        for b in bindings.iter().filter(|b| b.set == set) {
+        for b in kernel.reflected().iter().filter(|b| b.set == set) {
             match layout.iter().find(|l| l.binding == b.binding) {
                 Some(l) => assert_eq!(
                     l.ty, b.kind,
