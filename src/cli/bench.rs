@@ -70,6 +70,9 @@ pub struct BenchArgs {
 }
 
 pub fn run(args: BenchArgs) -> anyhow::Result<()> {
+    if let Some(old) = args.against.clone() {
+        return run_against(old, &args);
+    }
     let BenchArgs {
         scene,
         blades,
@@ -82,64 +85,12 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         shadow_map,
         occlusion,
         also_flat,
-        against,
-        runs,
+        against: _,
+        runs: _,
         out,
         overwrite,
         device,
     } = args;
-    if let Some(old) = against {
-        // The same bench, as arguments for each binary.
-        let mut bench_args: Vec<String> =
-            ["bench", "--scene", &scene, "--blades", &blades, "--lod"]
-                .map(String::from)
-                .to_vec();
-        bench_args.push(
-            match lod {
-                LodArg::Both => "both",
-                LodArg::On => "on",
-                LodArg::Off => "off",
-            }
-            .into(),
-        );
-        for (flag, value) in [
-            ("--frames", frames),
-            ("--warmup", warmup),
-            ("--width", width),
-            ("--height", height),
-            ("--msaa", msaa),
-        ] {
-            bench_args.extend([flag.to_string(), value.to_string()]);
-        }
-        if let Some(n) = shadow_map {
-            bench_args.extend(["--shadow-map".to_string(), n.to_string()]);
-        }
-        if let Some(o) = occlusion {
-            let o = if o == OnOff::On { "on" } else { "off" };
-            bench_args.extend(["--occlusion".to_string(), o.to_string()]);
-        }
-        if also_flat {
-            bench_args.push("--also-flat".into());
-        }
-        bench_args.extend(device.to_args());
-        let request = AgainstRequest {
-            old,
-            new: std::env::current_exe()?,
-            bench_args,
-            runs,
-        };
-        let against = meadow::commands::bench::against::bench_against(
-            &request,
-            &out,
-            overwrite.overwrite,
-            &mut |done, total, which| {
-                eprintln!("meadow: bench {}/{total}: the {which} binary", done + 1)
-            },
-        )?;
-        print!("{}", meadow::commands::bench::against::markdown(&against));
-        println!("wrote {}", out.join("against.json").display());
-        return Ok(());
-    }
     let counts = blades
         .split(',')
         .map(meadow::commands::bench_grass::parse_count)
@@ -200,5 +151,66 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         "wrote {}, bench.md and bench.svg",
         out.join("bench.json").display()
     );
+    Ok(())
+}
+
+/// `--against OLD_BINARY`: the same bench, as arguments for each binary,
+/// run by the old and this one in turn; prints each phase's ratio.
+fn run_against(old: PathBuf, args: &BenchArgs) -> anyhow::Result<()> {
+    // The same bench, as arguments for each binary.
+    let mut bench_args: Vec<String> = [
+        "bench",
+        "--scene",
+        &args.scene,
+        "--blades",
+        &args.blades,
+        "--lod",
+    ]
+    .map(String::from)
+    .to_vec();
+    bench_args.push(
+        match args.lod {
+            LodArg::Both => "both",
+            LodArg::On => "on",
+            LodArg::Off => "off",
+        }
+        .into(),
+    );
+    for (flag, value) in [
+        ("--frames", args.frames),
+        ("--warmup", args.warmup),
+        ("--width", args.width),
+        ("--height", args.height),
+        ("--msaa", args.msaa),
+    ] {
+        bench_args.extend([flag.to_string(), value.to_string()]);
+    }
+    if let Some(n) = args.shadow_map {
+        bench_args.extend(["--shadow-map".to_string(), n.to_string()]);
+    }
+    if let Some(o) = args.occlusion {
+        let o = if o == OnOff::On { "on" } else { "off" };
+        bench_args.extend(["--occlusion".to_string(), o.to_string()]);
+    }
+    if args.also_flat {
+        bench_args.push("--also-flat".into());
+    }
+    bench_args.extend(args.device.to_args());
+    let request = AgainstRequest {
+        old,
+        new: std::env::current_exe()?,
+        bench_args,
+        runs: args.runs,
+    };
+    let against = meadow::commands::bench::against::bench_against(
+        &request,
+        &args.out,
+        args.overwrite.overwrite,
+        &mut |done, total, which| {
+            eprintln!("meadow: bench {}/{total}: the {which} binary", done + 1)
+        },
+    )?;
+    print!("{}", meadow::commands::bench::against::markdown(&against));
+    println!("wrote {}", args.out.join("against.json").display());
     Ok(())
 }

@@ -59,16 +59,19 @@ impl WindGrid {
     }
 
     /// Number of samples of velocity component `axis` (one more along its own axis).
+    #[inline]
     pub fn face_dims(&self, axis: usize) -> UVec3 {
         let mut d = self.cells;
         d[axis] += 1;
         d
     }
 
+    #[inline]
     pub fn cell_index(&self, i: u32, j: u32, k: u32) -> usize {
         (i + self.cells.x * (j + self.cells.y * k)) as usize
     }
 
+    #[inline]
     pub fn face_index(&self, axis: usize, i: u32, j: u32, k: u32) -> usize {
         let d = self.face_dims(axis);
         (i + d.x * (j + d.y * k)) as usize

@@ -284,14 +284,14 @@ impl WindField {
                     && (f[axis] == 0 || f[axis] == n[axis])
                     && !solid[grid.cell_index(c[0], c[1], c[2])]
             };
+            let field_here = field.on_faces(&records, axis, grid.face_dims(axis));
             for (idx, f) in self.grid.each_face(axis) {
                 let kind = self.faces[axis][idx];
                 if kind == FaceKind::Buried || (kind == FaceKind::Wall && !open_side(f)) {
                     self.turbulence_added[axis][idx] = 0.0;
                     continue;
                 }
-                let q = TurbulenceField::face_point(axis, f);
-                let u = field.at(&records, axis, q);
+                let u = field_here[idx] as f32;
                 self.vel[axis][idx] += u;
                 self.turbulence_added[axis][idx] = u;
             }

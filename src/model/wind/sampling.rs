@@ -64,7 +64,8 @@ impl WindField {
     /// The face indices of component `axis`'s samples at the corners
     /// `i0` and `i1` span (x fastest, then y, then z).
     fn corners(&self, axis: usize, i0: UVec3, i1: UVec3) -> [usize; 8] {
-        let at = |i: u32, j: u32, k: u32| self.grid.face_index(axis, i, j, k);
+        let d = self.grid.face_dims(axis);
+        let at = |i: u32, j: u32, k: u32| (i + d.x * (j + d.y * k)) as usize;
         [
             at(i0.x, i0.y, i0.z),
             at(i1.x, i0.y, i0.z),
