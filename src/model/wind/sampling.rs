@@ -9,12 +9,26 @@ impl WindField {
     /// Trilinear sample of component `axis` at world position `x`, clamped
     /// to the component's sample lattice.
     pub fn sample_component(&self, vel: &[f32], axis: usize, x: Vec3) -> f32 {
-        let (at, f) = self.stencil(axis, x);
-        let at = at.map(|i| vel[i]);
-        let c00 = at[0] * (1.0 - f.x) + at[1] * f.x;
-        let c10 = at[2] * (1.0 - f.x) + at[3] * f.x;
-        let c01 = at[4] * (1.0 - f.x) + at[5] * f.x;
-        let c11 = at[6] * (1.0 - f.x) + at[7] * f.x;
+        let d = self.grid.face_dims(axis);
+        let g = self.lattice_point(axis, x);
+        // g is clamped to at least zero, where truncation is the floor.
+        let i0 = g.as_uvec3().min(d - 1);
+        let f = g - i0.as_vec3();
+        // The step to the next sample along each axis: none at the last.
+        let step = |a: usize, stride: u32| {
+            if i0[a] + 1 < d[a] {
+                stride as usize
+            } else {
+                0
+            }
+        };
+        let (sx, sy, sz) = (step(0, 1), step(1, d.x), step(2, d.x * d.y));
+        let base = (i0.x + d.x * (i0.y + d.y * i0.z)) as usize;
+        let row = |o: usize| vel[o] * (1.0 - f.x) + vel[o + sx] * f.x;
+        let c00 = row(base);
+        let c10 = row(base + sy);
+        let c01 = row(base + sz);
+        let c11 = row(base + sy + sz);
         let c0 = c00 * (1.0 - f.y) + c10 * f.y;
         let c1 = c01 * (1.0 - f.y) + c11 * f.y;
         c0 * (1.0 - f.z) + c1 * f.z
@@ -40,16 +54,6 @@ impl WindField {
             .fold((f32::MAX, f32::MIN), |(lo, hi), &i| {
                 (lo.min(vel[i]), hi.max(vel[i]))
             })
-    }
-
-    /// The eight samples of component `axis` around `x` (x fastest, then
-    /// y, then z) and the fractions between them, clamped to the lattice.
-    fn stencil(&self, axis: usize, x: Vec3) -> ([usize; 8], Vec3) {
-        let d = self.grid.face_dims(axis);
-        let g = self.lattice_point(axis, x);
-        let i0 = g.floor().as_uvec3().min(d - 1);
-        let i1 = (i0 + 1).min(d - 1);
-        (self.corners(axis, i0, i1), g - i0.as_vec3())
     }
 
     /// `x` in the sample lattice of component `axis`, clamped to it.
