@@ -8,24 +8,30 @@
 
 #include "interface.glsl"
 
-// Component `axis` of mode m at x: the phase along the axes not mirrored,
-// times per mirrored axis sin (the component across it) or cos; the
-// component across a mirrored axis takes -sin of the phase.
-float turbulence_component(TurbulenceMode m, uint axis, vec3 x) {
+// Component `axis` of mode m at x, the modes mirrored across the axes
+// in `mirrored` (each mode's own, or a constant a kernel is specialised
+// to): the phase along the axes not mirrored, times per mirrored axis sin
+// (the component across it) or cos; the component across a mirrored axis
+// takes -sin of the phase.
+float turbulence_component_mirrored(TurbulenceMode m, uint mirrored, uint axis, vec3 x) {
     vec4 k = m.wavenumber_phase;
     float theta = k.w;
     for (uint a = 0u; a < 3u; ++a) {
-        if ((m.mirrored & (1u << a)) == 0u) {
+        if ((mirrored & (1u << a)) == 0u) {
             theta += k[a] * x[a];
         }
     }
-    float value = (m.mirrored & (1u << axis)) != 0u ? -sin(theta) : cos(theta);
+    float value = (mirrored & (1u << axis)) != 0u ? -sin(theta) : cos(theta);
     for (uint a = 0u; a < 3u; ++a) {
-        if ((m.mirrored & (1u << a)) != 0u) {
+        if ((mirrored & (1u << a)) != 0u) {
             value *= a == axis ? sin(k[a] * x[a]) : cos(k[a] * x[a]);
         }
     }
     return m.amplitude[axis] * value;
+}
+
+float turbulence_component(TurbulenceMode m, uint axis, vec3 x) {
+    return turbulence_component_mirrored(m, m.mirrored, axis, x);
 }
 
 // All three components of mode m at x.

@@ -11,6 +11,14 @@
 layout(set = 0, binding = 10, std430) readonly buffer Colliders { GpuCollider colliders[]; };
 // Every collider where it is at this step's time, once per workgroup.
 shared GpuColliderState moving[MAX_COLLIDERS];
+// Whether the step has wind sources and colliders (1 or 0, a factor of
+// their counts): 0 leaves their code
+// out of the pipeline (`WindPass`'s plain forces kernel), which matters on
+// lavapipe, where a loop's body runs once, masked, even when no invocation
+// enters it (the sources' and colliders' loops were most of this kernel's
+// time on a scene with neither).
+layout(constant_id = 0) const uint WITH_SOURCES = 1u;
+layout(constant_id = 1) const uint WITH_COLLIDERS = 1u;
 
 float falloff(float d, float r) {
     float q = 1.0 - (d / r) * (d / r);
@@ -34,7 +42,7 @@ void main() {
     uint id = gl_GlobalInvocationID.x;
     float t = pc.time;
     float dt = pc.dt;
-    uint moving_count = pc.collider_count;
+    uint moving_count = WITH_COLLIDERS * pc.collider_count;
     for (uint i = gl_LocalInvocationIndex; i < moving_count; i += gl_WorkGroupSize.x) {
         moving[i] = collider_at(colliders[i], t);
     }
@@ -62,7 +70,8 @@ void main() {
         return;
     }
     float a = 0.0;
-    for (uint i = 0u; i < pc.source_count; ++i) {
+    uint source_count = WITH_SOURCES * pc.source_count;
+    for (uint i = 0u; i < source_count; ++i) {
         GpuWindSource s = sources[i];
         // The direction turns about +y (paper Fig. 11: a rotating wind).
         float angle = s.motion.x * t;

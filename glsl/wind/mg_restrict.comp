@@ -7,7 +7,7 @@
 #include "multigrid.glsl"
 
 void main() {
-    uint l = pc.mg_level;
+    uint l = mg_level();
     uint index = gl_GlobalInvocationID.x;
     if (index >= mg_cell_count(l + 1u)) {
         return;

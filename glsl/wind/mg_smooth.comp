@@ -7,7 +7,7 @@
 #include "multigrid.glsl"
 
 void main() {
-    uint l = pc.mg_level;
+    uint l = mg_level();
     uvec3 c;
     if (!mg_cell_of_color(l, gl_GlobalInvocationID.x, pc.mg_color, c)) {
         return;

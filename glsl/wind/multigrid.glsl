@@ -54,14 +54,33 @@ float mg_conductance(uint l, uint axis, uvec3 f) {
     return MG_CONDUCTANCE(MG_LEVELS[l].conductance[axis] + f.x + d.x * (f.y + d.y * f.z));
 }
 
+// Which levels a kernel runs on (`WindPass::level_kernel`): by default
+// (MG_ANY_LEVEL 1, MG_ON_FINEST 0) any, the level the push constants
+// name; or a pipeline made for level 0 (1, 1) or for the coarse levels
+// (0, 0), which leaves the other kind's reads out. That matters on
+// lavapipe, which runs both sides of every test: each stencil read of a
+// smoothing sweep was a read of both buffers there. The constant ids lie
+// past the kernels' own.
+layout(constant_id = 8) const uint MG_ANY_LEVEL = 1u;
+layout(constant_id = 9) const uint MG_ON_FINEST = 0u;
+
+// The level the kernel runs on (it reads the next one too).
+uint mg_level() {
+    return pc.mg_level - pc.mg_level * MG_ON_FINEST;
+}
+
+bool mg_finest(uint l) {
+    return ((l == 0u) ? 1u : 0u) * MG_ANY_LEVEL != 0u;
+}
+
 // Level 0's pressure is the solver's (copy 0); its right-hand side is the
 // divergence integrated over the cell, negated.
 float mg_p(uint l, uint index) {
-    return l == 0u ? pressure[index] : coarse[MG_LEVELS[l].cells.w + index];
+    return mg_finest(l) ? pressure[index] : coarse[MG_LEVELS[l].cells.w + index];
 }
 
 void mg_set_p(uint l, uint index, float value) {
-    if (l == 0u) {
+    if (mg_finest(l)) {
         pressure[index] = value;
     } else {
         coarse[MG_LEVELS[l].cells.w + index] = value;
@@ -69,7 +88,7 @@ void mg_set_p(uint l, uint index, float value) {
 }
 
 float mg_b(uint l, uint index) {
-    if (l == 0u) {
+    if (mg_finest(l)) {
         vec3 h = pc.grid.cell_size.xyz;
         return -divergence[index] * h.x * h.y * h.z;
     }

@@ -55,25 +55,26 @@ impl Pipeline {
         Self::compute_specialized(gpu, layout, spirv, &[])
     }
 
-    /// As `compute`, with `constants[i]` for the shader's specialization
-    /// constant `constant_id = i` (each a 32-bit scalar).
+    /// As `compute`, with each (id, value) of `constants` for the shader's
+    /// specialization constant `constant_id = id` (each a 32-bit scalar).
     pub fn compute_specialized(
         gpu: &Gpu,
         layout: &Arc<PipelineLayout>,
         spirv: &Spirv,
-        constants: &[u32],
+        constants: &[(u32, u32)],
     ) -> Result<Self> {
         let device = gpu.device();
         let module = shader::module(gpu, spirv)?;
         let entries: Vec<vk::SpecializationMapEntry> = (0..constants.len() as u32)
-            .map(|id| {
+            .map(|i| {
                 vk::SpecializationMapEntry::default()
-                    .constant_id(id)
-                    .offset(4 * id)
+                    .constant_id(constants[i as usize].0)
+                    .offset(4 * i)
                     .size(4)
             })
             .collect();
-        let data: &[u8] = bytemuck::cast_slice(constants);
+        let values: Vec<u32> = constants.iter().map(|&(_, value)| value).collect();
+        let data: &[u8] = bytemuck::cast_slice(&values);
         let specialization = vk::SpecializationInfo::default()
             .map_entries(&entries)
             .data(data);

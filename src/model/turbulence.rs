@@ -215,6 +215,12 @@ impl TurbulenceField {
         self.mirrored & (1 << axis) != 0
     }
 
+    /// The axes the modes are mirrored across, bit a for axis a (every
+    /// mode's `mirrored`).
+    pub fn mirrored(&self) -> u32 {
+        self.mirrored
+    }
+
     /// The modes of `turbulence` on a grid of `cells` cells of `cell`
     /// metres whose sides across each axis with `walls` set hold no flow
     /// through them, for a standard deviation of 1 m/s (`records` scales

@@ -122,6 +122,9 @@ const MG_RESIDUAL: usize = 7;
 const MG_RESTRICT: usize = 8;
 const MG_TAIL: usize = 9;
 const MG_PROLONG: usize = 10;
+/// The V-cycle's kernels that run on one level at a time, each made twice:
+/// for level 0 and for the coarse levels (multigrid.glsl's MG_ANY_LEVEL).
+const LEVEL_KERNELS: [usize; 4] = [MG_SMOOTH, MG_RESIDUAL, MG_RESTRICT, MG_PROLONG];
 const PROJECT: usize = 11;
 const UNDER_GROUND: usize = 12;
 const TURBULENCE: usize = 13;
@@ -132,11 +135,21 @@ pub struct WindPass {
     pub grid: WindGrid,
     settings: WindSettings,
     set: DescriptorSet,
-    /// The kernels in `WIND_KERNELS` order, sharing one layout.
+    /// The kernels in `WIND_KERNELS` order, sharing one layout; those of
+    /// `LEVEL_KERNELS` made for the coarse levels (`level_kernel`).
     kernels: Vec<Pipeline>,
-    /// With turbulence, its kernel adding to the advected copy B, which
-    /// the projection reads: among solid cells (`record_step`).
-    turbulence_before_projection: Option<Pipeline>,
+    /// `LEVEL_KERNELS` made for level 0.
+    finest_kernels: [Pipeline; 4],
+    /// With turbulence, its kernel specialised to the axes the field's
+    /// modes are mirrored across (which the pass's life does not change),
+    /// adding to the state A and to the advected copy B, which the
+    /// projection reads: among solid cells (`record_step`).
+    turbulence_kernels: Option<[Pipeline; 2]>,
+    /// The forces kernel specialised to a step with sources only (0),
+    /// colliders only (1) or neither (2); `kernels[FORCES]` has both
+    /// (`forces_kernel`). The viewer adds and removes colliders and
+    /// sources between steps, so every variant is made once, here.
+    forces_without: [Pipeline; 3],
     layout: Arc<PipelineLayout>,
     buffers: WindBuffers,
     face_count: u32,
@@ -206,14 +219,16 @@ fn fitted_counts(gpu: &Gpu, grid: &WindGrid, settings: &WindSettings) -> Result<
     }
 }
 
-/// The wind's kernels, and the finest multigrid level the tail kernel
-/// runs from. The tail kernel is the variant with the larger shared array
-/// where the device offers it, specialised to this grid's coarsest level.
+/// The wind's kernels (`LEVEL_KERNELS` for the coarse levels), those of
+/// `LEVEL_KERNELS` for level 0, and the finest multigrid level the tail
+/// kernel runs from. The tail kernel is the variant with the larger shared
+/// array where the device offers it, specialised to this grid's coarsest
+/// level.
 fn wind_kernels(
     gpu: &Gpu,
     layout: &Arc<PipelineLayout>,
     field: &WindField,
-) -> Result<(Vec<Pipeline>, usize)> {
+) -> Result<(Vec<Pipeline>, [Pipeline; 4], usize)> {
     // The tail kernel: the variant with the larger shared array where
     // the device offers it, from the finest level that fits it, and
     // specialised to this grid's coarsest level.
@@ -240,11 +255,21 @@ fn wind_kernels(
         .iter()
         .enumerate()
         .map(|(kernel, spirv)| match kernel {
-            MG_TAIL => Pipeline::compute_specialized(gpu, layout, tail_spirv, &[last_level as u32]),
+            MG_TAIL => {
+                Pipeline::compute_specialized(gpu, layout, tail_spirv, &[(0, last_level as u32)])
+            }
+            // MG_ANY_LEVEL 0, MG_ON_FINEST 0: the coarse levels.
+            k if LEVEL_KERNELS.contains(&k) => {
+                Pipeline::compute_specialized(gpu, layout, spirv, &[(8, 0), (9, 0)])
+            }
             _ => Pipeline::compute(gpu, layout, spirv),
         })
         .collect::<Result<Vec<_>>>()?;
-    Ok((kernels, tail_level))
+    let [a, b, c, d] = LEVEL_KERNELS.map(|k| {
+        // MG_ANY_LEVEL 1, MG_ON_FINEST 1: level 0 (and the next one read).
+        Pipeline::compute_specialized(gpu, layout, WIND_KERNELS[k], &[(8, 1), (9, 1)])
+    });
+    Ok((kernels, [a?, b?, c?, d?], tail_level))
 }
 
 /// The workgroup counts of a V-cycle's dispatches as the solve buffer
@@ -298,7 +323,7 @@ impl WindPass {
             vk::ShaderStageFlags::COMPUTE,
             "wind",
         )?;
-        let (kernels, tail_level) = wind_kernels(gpu, &layout, &field)?;
+        let (kernels, finest_kernels, tail_level) = wind_kernels(gpu, &layout, &field)?;
         let mg_dispatches = v_cycle_dispatches(&field.multigrid.levels, tail_level);
         let buffers = WindBuffers::new(
             gpu,
@@ -308,9 +333,28 @@ impl WindPass {
             [face_count, cell_count],
             &mg_dispatches,
         )?;
-        let turbulence_before_projection = settings
+        // WITH_SOURCES, WITH_COLLIDERS.
+        let forces_without = [[1, 0], [0, 1], [0, 0]].map(|[sources, colliders]| {
+            let constants = [(0, sources), (1, colliders)];
+            Pipeline::compute_specialized(gpu, &layout, WIND_KERNELS[FORCES], &constants)
+        });
+        let [a, b, c] = forces_without;
+        let forces_without = [a?, b?, c?];
+        let turbulence_kernels = field
             .turbulence
-            .map(|_| Pipeline::compute_specialized(gpu, &layout, WIND_KERNELS[TURBULENCE], &[1]))
+            .as_ref()
+            .map(|t| {
+                // INTO_COPY; FROM_MODES 0 and MIRRORED the field's.
+                let kernel = |into_copy: u32| {
+                    Pipeline::compute_specialized(
+                        gpu,
+                        &layout,
+                        WIND_KERNELS[TURBULENCE],
+                        &[(0, into_copy), (1, 0), (2, t.mirrored())],
+                    )
+                };
+                Ok::<_, Error>([kernel(0)?, kernel(1)?])
+            })
             .transpose()?;
         let set = DescriptorSet::new(
             gpu,
@@ -328,7 +372,9 @@ impl WindPass {
             settings: settings.clone(),
             set,
             kernels,
-            turbulence_before_projection,
+            finest_kernels,
+            turbulence_kernels,
+            forces_without,
             layout,
             buffers,
             face_count,

@@ -57,6 +57,28 @@ impl WindPass {
         WIND_KERNELS[kernel].buffer_uses(0, &self.buffers.bound())
     }
 
+    /// Kernel `kernel` made for level `level` (`LEVEL_KERNELS` are made
+    /// for level 0 and for the coarse levels; the others for any).
+    fn level_kernel(&self, kernel: usize, level: u32) -> &Pipeline {
+        match LEVEL_KERNELS.iter().position(|&k| k == kernel) {
+            Some(i) if level == 0 => &self.finest_kernels[i],
+            _ => &self.kernels[kernel],
+        }
+    }
+
+    /// The forces kernel with the code for what this step has: sources,
+    /// colliders, both or neither (the same arithmetic on every face).
+    fn forces_kernel(&self) -> &Pipeline {
+        let sources = !self.settings.sources.is_empty();
+        let colliders = !self.collider_records.is_empty();
+        match (sources, colliders) {
+            (true, true) => &self.kernels[FORCES],
+            (true, false) => &self.forces_without[0],
+            (false, true) => &self.forces_without[1],
+            (false, false) => &self.forces_without[2],
+        }
+    }
+
     /// Records one solver step at simulation time `time`: each kernel
     /// declares what it touches (`kernel_uses`). Ends with the new velocity
     /// (copy A) written by compute; a reader declares its use. Steps the
@@ -70,7 +92,7 @@ impl WindPass {
         // A kernel bound with its push constants: `read` the Jacobi half
         // it reads, then the multigrid level, colour and coarsest sweeps.
         let bind = |kernel: usize, read: u32, [mg_level, mg_color, coarsest_sweeps]: [u32; 3]| {
-            let pipeline = &self.kernels[kernel];
+            let pipeline = self.level_kernel(kernel, mg_level);
             rec.bind_pipeline(pipeline);
             rec.push_constants(
                 pipeline,
@@ -95,8 +117,12 @@ impl WindPass {
             rec,
             &self.collider_records,
         );
-        rec.bind_set(&self.kernels[FORCES], &self.set);
-        dispatch(FORCES, face_groups, 0, [0; 3]);
+        let forces = self.forces_kernel();
+        rec.bind_set(forces, &self.set);
+        rec.uses(&self.kernel_uses(FORCES));
+        rec.bind_pipeline(forces);
+        rec.push_constants(forces, &step);
+        rec.dispatch(face_groups);
         match self.settings.advection {
             Advection::SemiLagrangian => dispatch(ADVECT, face_groups, 0, [0; 3]),
             Advection::Maccormack => {
@@ -201,10 +227,10 @@ impl WindPass {
             let subgrid = &self.buffers.subgrid_modes;
             rec.update_buffer(subgrid, 0, bytemuck::cast_slice(&modes.subgrid));
         }
-        // Modes are recorded only with turbulence, which made both.
-        let pipeline = match (&self.turbulence_before_projection, into_advected) {
-            (Some(before), true) => before,
-            _ => &self.kernels[TURBULENCE],
+        // Modes are recorded only with turbulence, which made its kernels.
+        let pipeline = match &self.turbulence_kernels {
+            Some(kernels) => &kernels[into_advected as usize],
+            None => &self.kernels[TURBULENCE],
         };
         rec.uses(&self.kernel_uses(TURBULENCE));
         rec.bind_pipeline(pipeline);
