@@ -165,6 +165,40 @@ fn gpu_jacobi_matches_the_cpu_reference_after_100_steps() {
     gpu_matches_the_cpu_reference(PressureSolver::Jacobi, Advection::SemiLagrangian);
 }
 
+/// A wind pass made again on the same GPU compiles none of its kernels
+/// again (gpu/made_once.rs): they outlive the pass that made them, step
+/// the same wind bit for bit, and go at teardown with the device (`finish`
+/// fails on any object left). A grid with one more multigrid level adds
+/// only its tail kernel, specialised to that grid's coarsest level.
+#[test]
+fn a_wind_pass_made_again_shares_the_kernels_made_first() {
+    let gpu = strict_gpu();
+    let settings = two_sources_one_obstacle();
+    let dt = 1.0 / 60.0;
+    let small = grid(UVec3::new(8, 4, 8));
+    let first = run_gpu(&gpu, small, &settings, 10, dt);
+    let made = gpu.compute_pipelines_made();
+    assert!(made > 10, "only {made} compute pipelines made");
+    let again = run_gpu(&gpu, small, &settings, 10, dt);
+    assert_eq!(
+        gpu.compute_pipelines_made(),
+        made,
+        "the second pass compiled"
+    );
+    assert_eq!(first, again, "the shared kernels stepped another wind");
+    let levels = |cells| {
+        WindField::new(grid(cells), &settings)
+            .multigrid
+            .levels
+            .len()
+    };
+    let larger = UVec3::new(16, 8, 16);
+    assert_eq!(levels(larger), levels(small.cells) + 1);
+    run_gpu(&gpu, grid(larger), &settings, 1, dt);
+    assert_eq!(gpu.compute_pipelines_made(), made + 1);
+    finish(gpu);
+}
+
 /// The multigrid with its whole V-cycle in the one-workgroup tail kernel
 /// (glsl/wind/mg_tail.glsl from level 0: the pressure and divergence read
 /// and written where the kernels keep them), on a grid small enough for

@@ -10,11 +10,12 @@ use ash::vk;
 
 use crate::error::{Error, Result, VkResultExt};
 use crate::gpu::device::Device;
+use crate::gpu::made_once::LayoutKey;
 use crate::gpu::owned::{Owned, Sampler};
 use crate::gpu::{Buffer, Gpu, Image};
 
 /// The descriptor types meadow uses, comparable with `vk::DescriptorType`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub enum DescriptorKind {
     UniformBuffer,
     StorageBuffer,
@@ -69,10 +70,34 @@ pub struct PipelineLayout {
 
 impl PipelineLayout {
     /// `push`: the stages that read a push-constant block of `P`'s size;
-    /// use `()` and empty stages for none.
+    /// use `()` and empty stages for none. Made once per device: a layout
+    /// declaring the same is the one made first (`gpu::made_once`), with
+    /// its name.
     pub fn new<P>(
         gpu: &Gpu,
         bindings: &[LayoutBinding],
+        push_stages: vk::ShaderStageFlags,
+        name: &str,
+    ) -> Result<Arc<Self>> {
+        let size = std::mem::size_of::<P>() as u32;
+        let key = LayoutKey {
+            bindings: bindings
+                .iter()
+                .map(|b| (b.set, b.binding, b.ty, b.stages.as_raw()))
+                .collect(),
+            push_size: size,
+            push_stages: push_stages.as_raw(),
+        };
+        gpu.made_once()
+            .layout(key, || Self::made(gpu, bindings, size, push_stages, name))
+    }
+
+    /// A new layout, as `new` describes it, with a push block of `size`
+    /// bytes.
+    fn made(
+        gpu: &Gpu,
+        bindings: &[LayoutBinding],
+        size: u32,
         push_stages: vk::ShaderStageFlags,
         name: &str,
     ) -> Result<Arc<Self>> {
@@ -93,7 +118,6 @@ impl PipelineLayout {
         let set_layout = unsafe { device.raw.create_descriptor_set_layout(&info, None) }
             .vk_context("vkCreateDescriptorSetLayout", &set_name)?;
         let set_layout = Owned::new(device, set_layout, &set_name);
-        let size = std::mem::size_of::<P>() as u32;
         let ranges: Vec<vk::PushConstantRange> = (size > 0 && !push_stages.is_empty())
             .then_some(vk::PushConstantRange {
                 stage_flags: push_stages,

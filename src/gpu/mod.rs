@@ -16,6 +16,7 @@ pub mod fault;
 pub mod image;
 pub mod instance;
 pub mod journal;
+mod made_once;
 pub mod memory;
 pub mod overlay;
 pub mod owned;
@@ -90,6 +91,9 @@ pub struct Gpu {
     device: Arc<Device>,
     log: Arc<instance::MessageLog>,
     memory_budget: Option<u64>,
+    /// The layouts and compute pipelines made so far, shared by every
+    /// pass made on this GPU.
+    made_once: made_once::MadeOnce,
 }
 
 impl Gpu {
@@ -116,6 +120,7 @@ impl Gpu {
             device,
             log,
             memory_budget: options.memory_budget,
+            made_once: made_once::MadeOnce::default(),
         })
     }
 
@@ -139,6 +144,16 @@ impl Gpu {
     /// The device, for the objects made from it.
     pub(crate) fn device(&self) -> &Arc<Device> {
         &self.device
+    }
+
+    /// The layouts and compute pipelines already made on this GPU.
+    fn made_once(&self) -> &made_once::MadeOnce {
+        &self.made_once
+    }
+
+    /// How many distinct compute pipelines this GPU has made.
+    pub fn compute_pipelines_made(&self) -> usize {
+        self.made_once.compute_made()
     }
 
     pub fn limits(&self) -> &ash::vk::PhysicalDeviceLimits {
@@ -211,6 +226,8 @@ impl Gpu {
     /// device stays until the last of them is dropped.
     pub fn destroy(self) -> ValidationReport {
         self.device.wait_idle();
+        // What is kept for sharing is not alive for any owner.
+        self.made_once.clear();
         let leaked_allocations = self.device.memory.live_allocations();
         let leaked_objects = Arc::strong_count(&self.device) - 1;
         let Self { device, log, .. } = self;

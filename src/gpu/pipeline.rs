@@ -6,6 +6,7 @@ use ash::vk;
 
 use crate::error::{Error, Result};
 use crate::gpu::descriptors::PipelineLayout;
+use crate::gpu::made_once::ComputeKey;
 use crate::gpu::owned::Owned;
 use crate::gpu::shader::{self, Spirv};
 use crate::gpu::Gpu;
@@ -39,9 +40,12 @@ pub struct GraphicsDesc<'a> {
     pub targets: TargetFormats,
 }
 
+/// A pipeline and its layout; a clone shares the handle (compute
+/// pipelines are made once per device, `gpu::made_once`).
+#[derive(Clone)]
 pub struct Pipeline {
     pub(super) layout: Arc<PipelineLayout>,
-    raw: Owned<vk::Pipeline>,
+    raw: Arc<Owned<vk::Pipeline>>,
     pub(super) bind_point: vk::PipelineBindPoint,
 }
 
@@ -58,6 +62,18 @@ impl Pipeline {
     /// As `compute`, with each (id, value) of `constants` for the shader's
     /// specialization constant `constant_id = id` (each a 32-bit scalar).
     pub fn compute_specialized(
+        gpu: &Gpu,
+        layout: &Arc<PipelineLayout>,
+        spirv: &Spirv,
+        constants: &[(u32, u32)],
+    ) -> Result<Self> {
+        let key = ComputeKey::new(layout, spirv.bytes, constants);
+        gpu.made_once()
+            .compute(key, || Self::compute_made(gpu, layout, spirv, constants))
+    }
+
+    /// A new compute pipeline, as `compute_specialized` describes it.
+    fn compute_made(
         gpu: &Gpu,
         layout: &Arc<PipelineLayout>,
         spirv: &Spirv,
@@ -97,7 +113,7 @@ impl Pipeline {
         .map_err(|(_, r)| Error::vk("vkCreateComputePipelines", spirv.path, r))?[0];
         Ok(Self {
             layout: layout.clone(),
-            raw: Owned::new(device, raw, spirv.path),
+            raw: Arc::new(Owned::new(device, raw, spirv.path)),
             bind_point: vk::PipelineBindPoint::COMPUTE,
         })
     }
@@ -190,7 +206,7 @@ impl Pipeline {
         .map_err(|(_, r)| Error::vk("vkCreateGraphicsPipelines", desc.name, r))?[0];
         Ok(Self {
             layout: layout.clone(),
-            raw: Owned::new(device, raw, desc.name),
+            raw: Arc::new(Owned::new(device, raw, desc.name)),
             bind_point: vk::PipelineBindPoint::GRAPHICS,
         })
     }
