@@ -10,7 +10,6 @@ use ash::vk;
 
 use crate::error::{Error, Result, VkResultExt};
 use crate::gpu::device::Device;
-use crate::gpu::made_once::LayoutKey;
 use crate::gpu::owned::{Owned, Sampler};
 use crate::gpu::{Buffer, Gpu, Image};
 
@@ -60,6 +59,15 @@ impl LayoutBinding {
     }
 }
 
+/// What a pipeline layout declares: each binding's (set, binding, kind,
+/// stages), the push block's size and stages (the GPU makes each once).
+#[derive(Clone, PartialEq, Eq, Hash)]
+pub(super) struct LayoutKey {
+    bindings: Vec<(u32, u32, DescriptorKind, u32)>,
+    push_size: u32,
+    push_stages: u32,
+}
+
 /// A set layout of some bindings and the pipeline layout of that one set,
 /// with an optional push-constant range at offset 0.
 pub struct PipelineLayout {
@@ -88,8 +96,8 @@ impl PipelineLayout {
             push_size: size,
             push_stages: push_stages.as_raw(),
         };
-        gpu.made_once()
-            .layout(key, || Self::made(gpu, bindings, size, push_stages, name))
+        gpu.layouts_made()
+            .get(key, || Self::made(gpu, bindings, size, push_stages, name))
     }
 
     /// A new layout, as `new` describes it, with a push block of `size`

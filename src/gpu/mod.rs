@@ -30,6 +30,8 @@ pub mod sync;
 
 use std::sync::Arc;
 
+use made_once::MadeOnce;
+
 pub use barrier::Access;
 pub use batches::{part, sets_per_batch};
 pub use buffer::Buffer;
@@ -93,7 +95,8 @@ pub struct Gpu {
     memory_budget: Option<u64>,
     /// The layouts and compute pipelines made so far, shared by every
     /// pass made on this GPU.
-    made_once: made_once::MadeOnce,
+    layouts: MadeOnce<descriptors::LayoutKey, Arc<PipelineLayout>>,
+    compute: MadeOnce<pipeline::ComputeKey, Pipeline>,
 }
 
 impl Gpu {
@@ -120,7 +123,8 @@ impl Gpu {
             device,
             log,
             memory_budget: options.memory_budget,
-            made_once: made_once::MadeOnce::default(),
+            layouts: MadeOnce::default(),
+            compute: MadeOnce::default(),
         })
     }
 
@@ -146,14 +150,19 @@ impl Gpu {
         &self.device
     }
 
-    /// The layouts and compute pipelines already made on this GPU.
-    fn made_once(&self) -> &made_once::MadeOnce {
-        &self.made_once
+    /// The pipeline layouts already made on this GPU.
+    fn layouts_made(&self) -> &MadeOnce<descriptors::LayoutKey, Arc<PipelineLayout>> {
+        &self.layouts
+    }
+
+    /// The compute pipelines already made on this GPU.
+    fn compute_made(&self) -> &MadeOnce<pipeline::ComputeKey, Pipeline> {
+        &self.compute
     }
 
     /// How many distinct compute pipelines this GPU has made.
     pub fn compute_pipelines_made(&self) -> usize {
-        self.made_once.compute_made()
+        self.compute.count()
     }
 
     pub fn limits(&self) -> &ash::vk::PhysicalDeviceLimits {
@@ -227,7 +236,8 @@ impl Gpu {
     pub fn destroy(self) -> ValidationReport {
         self.device.wait_idle();
         // What is kept for sharing is not alive for any owner.
-        self.made_once.clear();
+        self.compute.clear();
+        self.layouts.clear();
         let leaked_allocations = self.device.memory.live_allocations();
         let leaked_objects = Arc::strong_count(&self.device) - 1;
         let Self { device, log, .. } = self;

@@ -6,10 +6,10 @@ use ash::vk;
 
 use crate::error::{Error, Result};
 use crate::gpu::descriptors::PipelineLayout;
-use crate::gpu::made_once::ComputeKey;
 use crate::gpu::owned::Owned;
 use crate::gpu::shader::{self, Spirv};
 use crate::gpu::Gpu;
+use ash::vk::Handle;
 
 /// Formats and sample count a graphics pipeline renders into.
 #[derive(Clone, Copy, Debug)]
@@ -40,6 +40,26 @@ pub struct GraphicsDesc<'a> {
     pub targets: TargetFormats,
 }
 
+/// A compute pipeline as the GPU keeps it (made once): its layout's
+/// handle, its SPIR-V's address and length (a static of build.rs's), and
+/// its (constant id, value) pairs.
+#[derive(Clone, PartialEq, Eq, Hash)]
+pub(super) struct ComputeKey {
+    layout: u64,
+    spirv: (usize, usize),
+    constants: Vec<(u32, u32)>,
+}
+
+impl ComputeKey {
+    fn new(layout: &PipelineLayout, spirv: &'static [u8], constants: &[(u32, u32)]) -> Self {
+        Self {
+            layout: layout.raw().as_raw(),
+            spirv: (spirv.as_ptr() as usize, spirv.len()),
+            constants: constants.to_vec(),
+        }
+    }
+}
+
 /// A pipeline and its layout; a clone shares the handle (compute
 /// pipelines are made once per device, `gpu::made_once`).
 #[derive(Clone)]
@@ -68,8 +88,8 @@ impl Pipeline {
         constants: &[(u32, u32)],
     ) -> Result<Self> {
         let key = ComputeKey::new(layout, spirv.bytes, constants);
-        gpu.made_once()
-            .compute(key, || Self::compute_made(gpu, layout, spirv, constants))
+        gpu.compute_made()
+            .get(key, || Self::compute_made(gpu, layout, spirv, constants))
     }
 
     /// A new compute pipeline, as `compute_specialized` describes it.
