@@ -61,7 +61,7 @@ impl LayoutBinding {
 
 /// What a pipeline layout declares: each binding's (set, binding, kind,
 /// stages), the push block's size and stages (the GPU makes each once).
-#[derive(Clone, PartialEq, Eq, Hash)]
+#[derive(PartialEq, Eq, Hash)]
 pub(super) struct LayoutKey {
     bindings: Vec<(u32, u32, DescriptorKind, u32)>,
     push_size: u32,
@@ -96,7 +96,7 @@ impl PipelineLayout {
             push_size: size,
             push_stages: push_stages.as_raw(),
         };
-        gpu.layouts_made()
+        gpu.layouts
             .get(key, || Self::made(gpu, bindings, size, push_stages, name))
     }
 

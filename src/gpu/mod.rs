@@ -94,7 +94,8 @@ pub struct Gpu {
     log: Arc<instance::MessageLog>,
     memory_budget: Option<u64>,
     /// The layouts and compute pipelines made so far, shared by every
-    /// pass made on this GPU.
+    /// pass made on this GPU (`PipelineLayout::new`,
+    /// `Pipeline::compute_specialized`).
     layouts: MadeOnce<descriptors::LayoutKey, Arc<PipelineLayout>>,
     compute: MadeOnce<pipeline::ComputeKey, Pipeline>,
 }
@@ -148,16 +149,6 @@ impl Gpu {
     /// The device, for the objects made from it.
     pub(crate) fn device(&self) -> &Arc<Device> {
         &self.device
-    }
-
-    /// The pipeline layouts already made on this GPU.
-    fn layouts_made(&self) -> &MadeOnce<descriptors::LayoutKey, Arc<PipelineLayout>> {
-        &self.layouts
-    }
-
-    /// The compute pipelines already made on this GPU.
-    fn compute_made(&self) -> &MadeOnce<pipeline::ComputeKey, Pipeline> {
-        &self.compute
     }
 
     /// How many distinct compute pipelines this GPU has made.

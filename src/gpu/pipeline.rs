@@ -43,7 +43,7 @@ pub struct GraphicsDesc<'a> {
 /// A compute pipeline as the GPU keeps it (made once): its layout's
 /// handle, its SPIR-V's address and length (a static of build.rs's), and
 /// its (constant id, value) pairs.
-#[derive(Clone, PartialEq, Eq, Hash)]
+#[derive(PartialEq, Eq, Hash)]
 pub(super) struct ComputeKey {
     layout: u64,
     spirv: (usize, usize),
@@ -88,7 +88,7 @@ impl Pipeline {
         constants: &[(u32, u32)],
     ) -> Result<Self> {
         let key = ComputeKey::new(layout, spirv.bytes, constants);
-        gpu.compute_made()
+        gpu.compute
             .get(key, || Self::compute_made(gpu, layout, spirv, constants))
     }
 
