@@ -73,6 +73,33 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
     if let Some(old) = args.against.clone() {
         return run_against(old, &args);
     }
+    let out = args.out.clone();
+    let overwrite = args.overwrite.overwrite;
+    let request = request(args)?;
+    // A bar on a terminal (indicatif draws nothing when stderr is not one).
+    let bar = indicatif::ProgressBar::new(0);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len}  {msg}  {elapsed} elapsed")
+            .expect("a valid progress template"),
+    );
+    let bench = meadow::commands::bench::bench_to_dir(&request, &out, overwrite, &mut |p| {
+        bar.set_length(p.total as u64);
+        bar.set_position(p.done as u64);
+        bar.set_message(step_message(&p.next));
+    });
+    bar.finish_and_clear();
+    let bench = bench?;
+    print!("{}", meadow::commands::bench::markdown(&bench));
+    println!(
+        "wrote {}, bench.md and bench.svg",
+        out.join("bench.json").display()
+    );
+    Ok(())
+}
+
+/// The bench the arguments ask for: the scene with its overrides, the
+/// rows' blade counts.
+fn request(args: BenchArgs) -> anyhow::Result<meadow::commands::bench::BenchRequest> {
     let BenchArgs {
         scene,
         blades,
@@ -87,8 +114,8 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         also_flat,
         against: _,
         runs: _,
-        out,
-        overwrite,
+        out: _,
+        overwrite: _,
         device,
     } = args;
     let counts = blades
@@ -102,7 +129,7 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
     if let Some(occlusion) = occlusion {
         scene.cull.occlusion = occlusion == OnOff::On;
     }
-    let request = meadow::commands::bench::BenchRequest {
+    Ok(meadow::commands::bench::BenchRequest {
         scene,
         counts,
         lod: match lod {
@@ -117,41 +144,26 @@ pub fn run(args: BenchArgs) -> anyhow::Result<()> {
         msaa,
         also_flat,
         gpu: device.options()?,
-    };
-    // A bar on a terminal (indicatif draws nothing when stderr is not one).
-    let bar = indicatif::ProgressBar::new(0);
-    bar.set_style(
-        indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len}  {msg}  {elapsed} elapsed")
-            .expect("a valid progress template"),
-    );
+    })
+}
+
+/// What the progress bar says the bench times next.
+fn step_message(next: &BenchStep) -> String {
     let on = |b: bool| if b { "on" } else { "off" };
-    let bench =
-        meadow::commands::bench::bench_to_dir(&request, &out, overwrite.overwrite, &mut |p| {
-            bar.set_length(p.total as u64);
-            bar.set_position(p.done as u64);
-            bar.set_message(match p.next {
-                BenchStep::Solvers => "timing the wind step with each pressure solver".to_string(),
-                BenchStep::Row {
-                    blades,
-                    lod,
-                    cull,
-                    terrain,
-                } => format!(
-                    "timing frames at {blades} blades, LOD {}, culling {}{}",
-                    on(lod),
-                    on(cull),
-                    if terrain { "" } else { ", flat ground" }
-                ),
-            });
-        });
-    bar.finish_and_clear();
-    let bench = bench?;
-    print!("{}", meadow::commands::bench::markdown(&bench));
-    println!(
-        "wrote {}, bench.md and bench.svg",
-        out.join("bench.json").display()
-    );
-    Ok(())
+    match *next {
+        BenchStep::Solvers => "timing the wind step with each pressure solver".to_string(),
+        BenchStep::Row {
+            blades,
+            lod,
+            cull,
+            terrain,
+        } => format!(
+            "timing frames at {blades} blades, LOD {}, culling {}{}",
+            on(lod),
+            on(cull),
+            if terrain { "" } else { ", flat ground" }
+        ),
+    }
 }
 
 /// `--against OLD_BINARY`: the same bench, as arguments for each binary,

@@ -44,6 +44,32 @@ pub fn camera_up(forward: Vec3) -> Vec3 {
     }
 }
 
+/// Where the cover's grass grows: its least and greatest x and z (zero
+/// without a cover).
+fn cover_corners(scene: &Scene) -> ([f32; 2], [f32; 2]) {
+    match &scene.grass.cover {
+        Some(cover) => {
+            let [x0, z0, x1, z1] = cover.bounds();
+            ([x0, z0], [x1, z1])
+        }
+        None => ([0.0; 2], [0.0; 2]),
+    }
+}
+
+/// The terrain mesh drawn around `eye`: its lowest height, half side and
+/// centre (zero on flat ground, which draws no mesh).
+fn terrain_mesh(scene: &Scene, eye: Vec3) -> (f32, f32, [f32; 2]) {
+    if scene.ground.terrain().is_flat() {
+        (0.0, 0.0, [0.0; 2])
+    } else {
+        (
+            terrain::lowest(scene, eye),
+            terrain::half_side(scene.ground.half_extent),
+            terrain::mesh_centre(scene, eye),
+        )
+    }
+}
+
 impl FrameUniforms {
     /// A host-visible uniform buffer holding one block, written each frame.
     pub fn buffer(gpu: &Gpu, name: &str) -> Result<Buffer> {
@@ -71,23 +97,8 @@ impl FrameUniforms {
             None => scene.grass_center(),
         };
         let thinning = Thinning::of(scene);
-        let (cover_min, cover_max) = match &scene.grass.cover {
-            Some(cover) => {
-                let [x0, z0, x1, z1] = cover.bounds();
-                ([x0, z0], [x1, z1])
-            }
-            None => ([0.0; 2], [0.0; 2]),
-        };
-        let (terrain_lowest, terrain_half_side, terrain_center) =
-            if scene.ground.terrain().is_flat() {
-                (0.0, 0.0, [0.0; 2])
-            } else {
-                (
-                    terrain::lowest(scene, eye),
-                    terrain::half_side(scene.ground.half_extent),
-                    terrain::mesh_centre(scene, eye),
-                )
-            };
+        let (cover_min, cover_max) = cover_corners(scene);
+        let (terrain_lowest, terrain_half_side, terrain_center) = terrain_mesh(scene, eye);
         let on = |b: bool| if b { 1.0 } else { 0.0 };
         Self {
             view_proj: view_proj.to_cols_array_2d(),

@@ -304,6 +304,43 @@ fn shift_kernel(gpu: &Gpu) -> Result<Pipeline> {
     Pipeline::compute(gpu, &layout, WIND_SHIFT_KERNEL)
 }
 
+/// The forces kernel without what a step may lack, in `forces_without`'s
+/// order: without colliders, without sources, without either.
+fn forces_kernels(gpu: &Gpu, layout: &Arc<PipelineLayout>) -> Result<[Pipeline; 3]> {
+    // WITH_SOURCES, WITH_COLLIDERS.
+    let [a, b, c] = [[1, 0], [0, 1], [0, 0]].map(|[sources, colliders]| {
+        let constants = [(0, sources), (1, colliders)];
+        Pipeline::compute_specialized(gpu, layout, WIND_KERNELS[FORCES], &constants)
+    });
+    Ok([a?, b?, c?])
+}
+
+/// The turbulence kernel specialised to the axes the field's modes are
+/// mirrored across, writing in place and into the copy; none without
+/// turbulence.
+fn turbulence_kernels(
+    gpu: &Gpu,
+    layout: &Arc<PipelineLayout>,
+    field: &WindField,
+) -> Result<Option<[Pipeline; 2]>> {
+    field
+        .turbulence
+        .as_ref()
+        .map(|t| {
+            // INTO_COPY; FROM_MODES 0 and MIRRORED the field's.
+            let kernel = |into_copy: u32| {
+                Pipeline::compute_specialized(
+                    gpu,
+                    layout,
+                    WIND_KERNELS[TURBULENCE],
+                    &[(0, into_copy), (1, 0), (2, t.mirrored())],
+                )
+            };
+            Ok::<_, Error>([kernel(0)?, kernel(1)?])
+        })
+        .transpose()
+}
+
 impl WindPass {
     /// The solver for `settings` on `grid`. `canopy_unit` is the m^2 per
     /// count of the frontal area the coupled grass lays
@@ -333,29 +370,8 @@ impl WindPass {
             [face_count, cell_count],
             &mg_dispatches,
         )?;
-        // WITH_SOURCES, WITH_COLLIDERS.
-        let forces_without = [[1, 0], [0, 1], [0, 0]].map(|[sources, colliders]| {
-            let constants = [(0, sources), (1, colliders)];
-            Pipeline::compute_specialized(gpu, &layout, WIND_KERNELS[FORCES], &constants)
-        });
-        let [a, b, c] = forces_without;
-        let forces_without = [a?, b?, c?];
-        let turbulence_kernels = field
-            .turbulence
-            .as_ref()
-            .map(|t| {
-                // INTO_COPY; FROM_MODES 0 and MIRRORED the field's.
-                let kernel = |into_copy: u32| {
-                    Pipeline::compute_specialized(
-                        gpu,
-                        &layout,
-                        WIND_KERNELS[TURBULENCE],
-                        &[(0, into_copy), (1, 0), (2, t.mirrored())],
-                    )
-                };
-                Ok::<_, Error>([kernel(0)?, kernel(1)?])
-            })
-            .transpose()?;
+        let forces_without = forces_kernels(gpu, &layout)?;
+        let turbulence_kernels = turbulence_kernels(gpu, &layout, &field)?;
         let set = DescriptorSet::new(
             gpu,
             &layout,
