@@ -55,10 +55,10 @@ fn in_a_steady_wind_the_gpu_poses_the_cover_where_its_torques_balance_as_the_cpu
     let rest = cover::vertices(&FLAT, seed, &grass.shape, &tiles);
     let (mut differs, mut moved) = (0.0f32, 0.0f32);
     for ((g, c), r) in posed.iter().zip(&cpu).zip(&rest) {
-        let at = |v: &BladeVertex| Vec3::from_slice(&v.position[..3]);
+        let at = |v: &BladeVertex| Vec3::from(v.position);
         differs = differs.max(at(g).distance(at(c)));
         moved = moved.max(at(c).distance(at(r)));
-        assert_eq!(g.position[3], c.position[3], "the colour draw");
+        assert_eq!(g.blade_rand, c.blade_rand, "the colour draw");
     }
     eprintln!("posed cover: GPU and CPU within {differs:e} m; tips moved up to {moved} m");
     assert!(moved > 0.1, "the wind barely posed the blades: {moved} m");
@@ -130,7 +130,7 @@ fn a_far_blade_goes_towards_a_new_balance_as_the_cpu_without_jumping() {
     // The CPU: each blade's balance in each wind, its pose tracked from
     // the first balance at rest through two frames of the reversed wind.
     let seed = cover::seed32(3);
-    let at = |v: &BladeVertex| Vec3::from_slice(&v.position[..3]);
+    let at = |v: &BladeVertex| Vec3::from(v.position);
     let (mut differs, mut cpu_jump, mut flip) = (0.0f32, 0.0f32, 0.0f32);
     let mut field_reversed = field.clone();
     for axis in &mut field_reversed.vel {
@@ -239,7 +239,7 @@ fn on_terrain_the_gpu_roots_and_poses_the_cover_where_the_cpu_does() {
         let cpu = cover::vertices(&terrain, seed, &shape, &CoverTiles::around(&cover, *camera));
         assert_eq!(cpu.len(), gpu_vertices.len());
         for (c, g) in cpu.iter().zip(gpu_vertices) {
-            for k in [0, 2, 3] {
+            for k in [0, 2] {
                 assert_eq!(
                     c.position[k].to_bits(),
                     g.position[k].to_bits(),
@@ -247,8 +247,13 @@ fn on_terrain_the_gpu_roots_and_poses_the_cover_where_the_cpu_does() {
                 );
             }
             assert_eq!(
-                c.width.map(f32::to_bits),
-                g.width.map(f32::to_bits),
+                c.blade_rand.to_bits(),
+                g.blade_rand.to_bits(),
+                "around {camera}"
+            );
+            assert_eq!(
+                c.half_width.map(f32::to_bits),
+                g.half_width.map(f32::to_bits),
                 "around {camera}"
             );
             let (y, gy) = (c.position[1], g.position[1]);
@@ -302,7 +307,7 @@ fn on_terrain_the_gpu_roots_and_poses_the_cover_where_the_cpu_does() {
     let rest = cover::vertices(&terrain, cover::seed32(3), &grass.shape, &posed_tiles);
     let (mut differs, mut moved) = (0.0f32, 0.0f32);
     for ((g, c), r) in posed.iter().zip(&cpu).zip(&rest) {
-        let at = |v: &BladeVertex| Vec3::from_slice(&v.position[..3]);
+        let at = |v: &BladeVertex| Vec3::from(v.position);
         differs = differs.max(at(g).distance(at(c)));
         moved = moved.max(at(c).distance(at(r)));
     }
@@ -314,7 +319,7 @@ fn on_terrain_the_gpu_roots_and_poses_the_cover_where_the_cpu_does() {
             let seed = cover::seed32(3);
             let b = cover::grass_blade(&terrain, seed, &grass.shape, &grass.dynamics, tile, index)
                 .unwrap();
-            let root = Vec2::new(b.rest[0][0], b.rest[0][2]);
+            let root = Vec2::new(b.rest_root[0], b.rest_root[2]);
             let (balance, _) = meadow::model::quasi_static::quasi_static_angles_within(
                 &b,
                 field.sample(b.rest_point(3)),

@@ -166,14 +166,14 @@ fn lists_are_the_cpu_references(storage_range: Option<u32>) {
         let (either, _) = face_on.test(v);
         edge_on_view += (either.in_view && !seen.in_view) as usize;
         edge_on_sun += (either.caster && !seen.caster) as usize;
-        let root = Vec4::from(v[0].position);
-        let thinned_in = thinning.scale(root.truncate(), root.w, eye).0 > 0.0;
-        let to_eye = v.map(|c| Vec4::from(c.position).truncate() - eye);
+        let root = Vec3::from(v[0].position);
+        let thinned_in = thinning.scale(root, v[0].blade_rand, eye).0 > 0.0;
+        let to_eye = v.map(|c| Vec3::from(c.position) - eye);
         kept += thinned_in as usize;
         facing += (thinned_in && least_alignment(v, to_eye) <= view.edge_on) as usize;
         in_view += seen.in_view as usize;
         casters += seen.caster as usize;
-        let tip = Vec4::from(v[3].position).truncate() - Vec4::from(v[0].position).truncate();
+        let tip = Vec3::from(v[3].position) - Vec3::from(v[0].position);
         leaning += (tip.normalize().dot(Vec3::Y) < 0.95) as usize;
     }
     eprintln!(

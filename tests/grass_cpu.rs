@@ -301,7 +301,7 @@ fn the_swing_turns_each_edge_by_its_eq_12_share() {
                 );
             }
             // The width direction turns with its edge, and stays horizontal.
-            let w_rest = glam::Vec4::from(blade.width).truncate();
+            let w_rest = blade.width_dir();
             assert!((p.w[i].angle_between(w_rest) - k[2] / k[i] * theta).abs() < 1e-4);
             assert!(p.w[i].y.abs() < 1e-6);
         }
@@ -512,7 +512,9 @@ fn rest_pose_is_the_rest_shape() {
         let rest = b.vertices();
         for i in 0..4 {
             assert_eq!(v[i].position, rest[i].position);
-            assert_eq!(v[i].width, rest[i].width);
+            assert_eq!(v[i].half_width, rest[i].half_width);
+            assert_eq!(v[i].blade_rand, rest[i].blade_rand);
+            assert_eq!(v[i].displacement, rest[i].displacement);
         }
     }
 }

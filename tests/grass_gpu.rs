@@ -61,7 +61,9 @@ impl Differences {
             d.position = d
                 .position
                 .max(to_vec3(g.position).distance(to_vec3(c.position)));
-            d.width = d.width.max(to_vec3(g.width).distance(to_vec3(c.width)));
+            d.width = d
+                .width
+                .max(to_vec3(g.half_width).distance(to_vec3(c.half_width)));
         }
         for (g, c) in gpu_states.iter().zip(cpu_states) {
             for m in 0..4 {

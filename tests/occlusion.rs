@@ -7,7 +7,7 @@
 use crate::common;
 
 use common::{finish, strict_gpu};
-use glam::{Mat4, Vec4};
+use glam::{Mat4, Vec3};
 use meadow::frame::{Frame, FrameRecorder};
 use meadow::gpu::Gpu;
 use meadow::model::BladeVertex;
@@ -171,8 +171,8 @@ fn still_frames(msaa: u32) {
     let mut kept = second_list.iter().peekable();
     for &blade in &first_list {
         let v: [BladeVertex; 4] = vertices[4 * blade as usize..][..4].try_into().unwrap();
-        let root = Vec4::from(v[0].position);
-        let (scale, _) = thinning.scale(root.truncate(), root.w, eye);
+        let root = Vec3::from(v[0].position);
+        let (scale, _) = thinning.scale(root, v[0].blade_rand, eye);
         let (occluded, margin) =
             Bounds::of_scaled_blade(&v, scale).occluded(&seen_from, &depth, &placed);
         let drawn = kept.next_if_eq(&&blade).is_some();

@@ -15,7 +15,7 @@ use meadow::compute::wind_pass::{
     wind_set, GpuWindSource, WIND_KERNELS, WIND_KERNEL_VARIANTS, WIND_SHIFT_KERNEL,
 };
 use meadow::gpu::LayoutBinding;
-use meadow::interface::{StructLayout, LAYOUTS};
+use meadow::interface::{GpuColliderState, StructLayout, LAYOUTS};
 use meadow::model::contact::GpuCollider;
 use meadow::model::{BladeVertex, GrassBlade, GrassState};
 use meadow::render::pipelines::{
@@ -224,21 +224,36 @@ fn blade_vertex_inputs_match_the_vertex_buffer_layout() {
     let mut inputs = Vec::new();
     for arg in &ep.function.arguments {
         if let Some(naga::Binding::Location { location, .. }) = arg.binding {
-            let ty = &module.types[arg.ty].inner;
-            assert!(
-                matches!(ty, naga::TypeInner::Vector { size: naga::VectorSize::Quad, scalar } if *scalar == naga::Scalar::F32),
-                "location {location} is {ty:?}"
-            );
-            inputs.push(location);
+            let format = match module.types[arg.ty].inner {
+                naga::TypeInner::Scalar(naga::Scalar::F32) => vk::Format::R32_SFLOAT,
+                naga::TypeInner::Vector {
+                    size: naga::VectorSize::Tri,
+                    scalar: naga::Scalar::F32,
+                } => vk::Format::R32G32B32_SFLOAT,
+                ref other => panic!("location {location} is {other:?}"),
+            };
+            inputs.push((location, format));
         }
     }
-    inputs.sort();
-    let rust: Vec<u32> = BLADE_ATTRIBUTES.iter().map(|a| a.location).collect();
+    inputs.sort_by_key(|&(location, _)| location);
+    let rust: Vec<_> = BLADE_ATTRIBUTES
+        .iter()
+        .map(|a| (a.location, a.format))
+        .collect();
     assert_eq!(inputs, rust);
-    for a in BLADE_ATTRIBUTES {
-        assert_eq!(a.format, vk::Format::R32G32B32A32_SFLOAT);
-    }
-    assert_eq!(std::mem::size_of::<meadow::model::BladeVertex>(), 32);
+    // Each attribute one field of the vertex, in order.
+    let offsets: Vec<u32> = BLADE_ATTRIBUTES.iter().map(|a| a.offset).collect();
+    assert_eq!(
+        offsets,
+        [
+            offset_of!(BladeVertex, position),
+            offset_of!(BladeVertex, blade_rand),
+            offset_of!(BladeVertex, half_width),
+            offset_of!(BladeVertex, displacement),
+        ]
+        .map(|o| o as u32)
+    );
+    assert_eq!(std::mem::size_of::<BladeVertex>(), 32);
 }
 
 #[test]
@@ -414,11 +429,20 @@ fn wind_sources_and_colliders_match_the_glsl_side() {
     assert_eq!(
         offsets,
         [
-            offset_of!(GpuWindSource, position_radius),
-            offset_of!(GpuWindSource, direction_strength),
-            offset_of!(GpuWindSource, motion),
-            offset_of!(GpuWindSource, gust),
+            offset_of!(GpuWindSource, position),
+            offset_of!(GpuWindSource, radius),
+            offset_of!(GpuWindSource, direction),
+            offset_of!(GpuWindSource, strength),
             offset_of!(GpuWindSource, gust_phases),
+            offset_of!(GpuWindSource, gust_amplitude),
+            offset_of!(GpuWindSource, gust_frequency),
+            offset_of!(GpuWindSource, rotation_speed),
+            offset_of!(GpuWindSource, path_speed),
+            offset_of!(GpuWindSource, off_after),
+            offset_of!(GpuWindSource, path_points),
+            offset_of!(GpuWindSource, _pad0),
+            offset_of!(GpuWindSource, _pad1),
+            offset_of!(GpuWindSource, _pad2),
             offset_of!(GpuWindSource, path),
         ]
         .map(|o| o as u32)
@@ -453,7 +477,9 @@ fn assert_blade_vertices(module: &naga::Module, binding: u32) {
         offsets,
         [
             offset_of!(BladeVertex, position),
-            offset_of!(BladeVertex, width)
+            offset_of!(BladeVertex, blade_rand),
+            offset_of!(BladeVertex, half_width),
+            offset_of!(BladeVertex, displacement),
         ]
         .map(|o| o as u32)
     );
@@ -482,9 +508,18 @@ fn grass_blade_state_vertex_and_push_constants_match_the_glsl_side() {
     assert_eq!(
         offsets,
         [
-            offset_of!(GrassBlade, rest),
-            offset_of!(GrassBlade, width),
+            offset_of!(GrassBlade, rest_root),
+            offset_of!(GrassBlade, blade_rand),
+            offset_of!(GrassBlade, rest_1),
+            offset_of!(GrassBlade, ground_normal_x),
+            offset_of!(GrassBlade, rest_2),
+            offset_of!(GrassBlade, ground_curvature),
+            offset_of!(GrassBlade, rest_tip),
+            offset_of!(GrassBlade, ground_normal_z),
+            offset_of!(GrassBlade, width_dir),
+            offset_of!(GrassBlade, half_width),
             offset_of!(GrassBlade, stiffness),
+            offset_of!(GrassBlade, group_b_edge),
             offset_of!(GrassBlade, drag),
             offset_of!(GrassBlade, inertia),
             offset_of!(GrassBlade, damping),
@@ -519,13 +554,23 @@ fn grass_blade_state_vertex_and_push_constants_match_the_glsl_side() {
     // The colliders' states at the step's end, as the binning kernel
     // writes them and `ColliderBins::read_states` reads them: a, radius;
     // b; velocity.
+    let state_offsets = [
+        offset_of!(GpuColliderState, a),
+        offset_of!(GpuColliderState, radius),
+        offset_of!(GpuColliderState, b),
+        offset_of!(GpuColliderState, _pad0),
+        offset_of!(GpuColliderState, velocity),
+        offset_of!(GpuColliderState, _pad1),
+    ]
+    .map(|o| o as u32);
+    assert_eq!(state_offsets, [0, 12, 16, 28, 32, 44]);
     let (offsets, span, stride) = array_element_layout(&module, 7);
     assert_eq!((span, stride), (size(48), size(48)));
-    assert_eq!(offsets, [0, 16, 32]);
+    assert_eq!(offsets, state_offsets);
     let (bins, _) = reflect::naga_module(&shaders::GRASS_BIN_COLLIDERS_COMP).unwrap();
     let (offsets, span, stride) = array_element_layout(&bins, 1);
     assert_eq!((span, stride), (size(48), size(48)));
-    assert_eq!(offsets, [0, 16, 32]);
+    assert_eq!(offsets, state_offsets);
     // The colliders as the binning kernel reads them.
     let (offsets, span, stride) = array_element_layout(&bins, 0);
     assert_eq!((span, stride), (size(176), size(176)));
@@ -533,10 +578,17 @@ fn grass_blade_state_vertex_and_push_constants_match_the_glsl_side() {
     assert_eq!(
         offsets,
         [
-            offset_of!(GpuCollider, position_radius),
-            offset_of!(GpuCollider, shape),
-            offset_of!(GpuCollider, flags),
-            offset_of!(GpuCollider, path)
+            offset_of!(GpuCollider, position),
+            offset_of!(GpuCollider, radius),
+            offset_of!(GpuCollider, capsule),
+            offset_of!(GpuCollider, height),
+            offset_of!(GpuCollider, path_points),
+            offset_of!(GpuCollider, path_speed),
+            offset_of!(GpuCollider, closed),
+            offset_of!(GpuCollider, sets_off),
+            offset_of!(GpuCollider, _pad0),
+            offset_of!(GpuCollider, _pad1),
+            offset_of!(GpuCollider, path),
         ]
         .map(|o| o as u32)
     );

@@ -179,7 +179,7 @@ fn the_grass_follows_a_rotating_wind_and_stays_off_its_angle_caps() {
     // over time.
     let near: Vec<usize> = (0..rig.blades.len())
         .filter(|&b| {
-            let root = rig.blades[b].rest[0];
+            let root = rig.blades[b].rest_root;
             root[0] * root[0] + root[2] * root[2] < 4.0
         })
         .collect();
@@ -189,7 +189,7 @@ fn the_grass_follows_a_rotating_wind_and_stays_off_its_angle_caps() {
         let vertices = rig.vertices();
         let (mut dx, mut dz) = (0.0f64, 0.0f64);
         for &b in &near {
-            let (now, rest) = (vertices[4 * b + 3].position, rig.blades[b].rest[3]);
+            let (now, rest) = (vertices[4 * b + 3].position, rig.blades[b].rest_tip);
             dx += (now[0] - rest[0]) as f64;
             dz += (now[2] - rest[2]) as f64;
         }

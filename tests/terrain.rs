@@ -6,7 +6,7 @@ use crate::common;
 
 use common::sim::SimRig;
 use common::{finish, strict_gpu};
-use glam::{UVec3, Vec3, Vec4};
+use glam::{UVec3, Vec3};
 use meadow::model::terrain::{Ridge, Terrain};
 use meadow::model::wind::{Inflow, WindField, WindGrid, WindSettings};
 
@@ -563,8 +563,7 @@ fn gpu_grass_on_a_hillside_follows_the_cpu_reference() {
     let deepest = vertices
         .chunks_exact(4)
         .flat_map(|blade| {
-            let points: [Vec3; 4] =
-                std::array::from_fn(|i| Vec4::from(blade[i].position).truncate());
+            let points: [Vec3; 4] = std::array::from_fn(|i| Vec3::from(blade[i].position));
             (1..=8).map(move |n| meadow::model::blade::bezier(&points, n as f32 / 8.0))
         })
         .map(|p| terrain.height(p.x, p.z) - p.y)

@@ -31,14 +31,14 @@ void main() {
     uint blade = quad / push.segments;
     uint segment = quad % push.segments;
     uint base = blade * BLADE_CONTROL_POINTS;
-    vec3 p0 = blades.points[base + 0u].position.xyz;
-    vec3 p1 = blades.points[base + 1u].position.xyz;
-    vec3 p2 = blades.points[base + 2u].position.xyz;
-    vec3 p3 = blades.points[base + 3u].position.xyz;
+    vec3 p0 = blades.points[base + 0u].position;
+    vec3 p1 = blades.points[base + 1u].position;
+    vec3 p2 = blades.points[base + 2u].position;
+    vec3 p3 = blades.points[base + 3u].position;
     float v = (float(segment) + corner.x) / float(push.segments);
     float u = 1.0 - v;
     vec3 p = u * u * u * p0 + 3.0 * u * u * v * p1 + 3.0 * u * v * v * p2 + v * v * v * p3;
-    vec3 half_width = mix(blades.points[base].width.xyz, blades.points[base + 3u].width.xyz, v)
+    vec3 half_width = mix(blades.points[base].half_width, blades.points[base + 3u].half_width, v)
                     * sqrt(max(1.0 - v, 0.0));
     p += corner.y * half_width;
     v_along = v;

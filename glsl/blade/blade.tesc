@@ -10,11 +10,14 @@
 
 layout(vertices = 4) out;
 
-layout(location = 0) in vec4 v_position[];
-layout(location = 1) in vec4 v_width[];
+layout(location = 0) in vec3 v_position[];
+layout(location = 1) in float v_blade_rand[];
+layout(location = 2) in vec3 v_half_width[];
+layout(location = 3) in float v_displacement[];
 
-layout(location = 0) out vec4 c_position[];
-layout(location = 1) out vec4 c_width[];
+layout(location = 0) out vec3 c_position[];
+layout(location = 1, component = 0) out vec3 c_half_width[];
+layout(location = 1, component = 3) out float c_displacement[];
 layout(location = 2) patch out float c_tess_level;
 // The blade as a whole, in one location: its root (x, z) and its reach
 // (its edges end to end: the same in any pose; m).
@@ -86,7 +89,7 @@ float shadow_segments(vec3 p0, vec3 p1, vec3 p2, vec3 p3, float reach, float wid
     if (dot(d1, d1) > 1e-20 && dot(d2, d2) > 1e-20) {
         turn += acos(clamp(dot(normalize(d1), normalize(d2)), -1.0, 1.0));
     }
-    vec3 w0 = v_width[0].xyz, w3 = v_width[3].xyz;
+    vec3 w0 = v_half_width[0], w3 = v_half_width[3];
     float w = length(w0) * width_scale;
     float twist = 0.0;
     if (dot(w0, w0) > 1e-20 && dot(w3, w3) > 1e-20) {
@@ -129,14 +132,15 @@ float segments(vec3 p0, vec3 p1, vec3 p2, vec3 p3, float reach, float width_scal
 
 void main() {
     c_position[gl_InvocationID] = v_position[gl_InvocationID];
-    float width_scale = thinning_scale(v_position[0]);
-    vec3 p0 = v_position[0].xyz, p1 = v_position[1].xyz, p2 = v_position[2].xyz, p3 = v_position[3].xyz;
+    float width_scale = thinning_scale(v_position[0], v_blade_rand[0]);
+    vec3 p0 = v_position[0], p1 = v_position[1], p2 = v_position[2], p3 = v_position[3];
     float reach = distance(p0, p1) + distance(p1, p2) + distance(p2, p3);
     // Every invocation finds the level (the same, from the same inputs):
     // the shadow pass's width gain follows it.
     float level = segments(p0, p1, p2, p3, reach, width_scale);
     float gain = frame.shadow_texel_m > 0.0 ? taper_area_gain(level) : 1.0;
-    c_width[gl_InvocationID] = vec4(v_width[gl_InvocationID].xyz * (width_scale * gain), v_width[gl_InvocationID].w);
+    c_half_width[gl_InvocationID] = v_half_width[gl_InvocationID] * (width_scale * gain);
+    c_displacement[gl_InvocationID] = v_displacement[gl_InvocationID];
 
     if (gl_InvocationID == 0) {
         // Isolines: outer[0] is the number of lines (one blade), outer[1] the
@@ -147,6 +151,6 @@ void main() {
         float clump = clump_of(p0.xz);
         c_root = p0.xz;
         c_reach = reach;
-        c_tint = blade_tint(v_position[0].w, clump);
+        c_tint = blade_tint(v_blade_rand[0], clump);
     }
 }

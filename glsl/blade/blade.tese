@@ -6,8 +6,9 @@
 
 layout(isolines, equal_spacing) in;
 
-layout(location = 0) in vec4 c_position[];
-layout(location = 1) in vec4 c_width[];
+layout(location = 0) in vec3 c_position[];
+layout(location = 1, component = 0) in vec3 c_half_width[];
+layout(location = 1, component = 3) in float c_displacement[];
 layout(location = 2) patch in float c_tess_level;
 layout(location = 3, component = 0) patch in vec2 c_root;
 layout(location = 3, component = 2) patch in float c_reach;
@@ -30,13 +31,13 @@ void main() {
     vec4 b = vec4(s * s * s, 3.0 * s * s * t, 3.0 * s * t * t, t * t * t);
     vec4 db = vec4(-3.0 * s * s, 3.0 * s * s - 6.0 * s * t, 6.0 * s * t - 3.0 * t * t, 3.0 * t * t);
 
-    vec3 p0 = c_position[0].xyz, p1 = c_position[1].xyz, p2 = c_position[2].xyz, p3 = c_position[3].xyz;
+    vec3 p0 = c_position[0], p1 = c_position[1], p2 = c_position[2], p3 = c_position[3];
     e_position = b.x * p0 + b.y * p1 + b.z * p2 + b.w * p3;
     e_tangent = db.x * p0 + db.y * p1 + db.z * p2 + db.w * p3;
-    e_width = b.x * c_width[0].xyz + b.y * c_width[1].xyz + b.z * c_width[2].xyz + b.w * c_width[3].xyz;
+    e_width = b.x * c_half_width[0] + b.y * c_half_width[1] + b.z * c_half_width[2] + b.w * c_half_width[3];
     e_v = t;
     e_tess_level = c_tess_level;
-    e_motion = abs(c_width[3].w);
+    e_motion = abs(c_displacement[3]);
     e_root = c_root;
     e_reach = c_reach;
     e_tint = c_tint;

@@ -17,33 +17,34 @@ const vec3 COLLIDER_UP = vec3(0.0, 1.0, 0.0);
 // `Collider::motion_at` and `Collider::at`: position and velocity at time t.
 GpuColliderState collider_at(GpuCollider c, float t) {
     vec3 velocity;
-    // Until it sets off (flags.y) it waits, still, at its first point.
-    bool waiting = t < c.flags.y;
-    vec3 p = along_path(c.path, uint(c.shape.z), waiting ? 0.0 : c.shape.w, c.flags.x != 0.0,
-                        max(t - c.flags.y, 0.0), c.position_radius.xyz, velocity);
-    float r = c.position_radius.w;
+    // Until it sets off it waits, still, at its first point.
+    bool waiting = t < c.sets_off;
+    vec3 p = along_path(c.path, c.path_points, waiting ? 0.0 : c.path_speed, c.closed != 0u,
+                        max(t - c.sets_off, 0.0), c.position, velocity);
+    float r = c.radius;
     GpuColliderState st;
-    if (c.shape.x == 0.0) {
-        st.a_radius = vec4(p, r);
-        st.b = vec4(p, 0.0);
+    st.radius = r;
+    if (c.capsule == 0u) {
+        st.a = p;
+        st.b = p;
     } else {
-        st.a_radius = vec4(p + COLLIDER_UP * r, r);
-        st.b = vec4(p + COLLIDER_UP * max(c.shape.y - r, r), 0.0);
+        st.a = p + COLLIDER_UP * r;
+        st.b = p + COLLIDER_UP * max(c.height - r, r);
     }
-    st.velocity = vec4(velocity, 0.0);
+    st.velocity = velocity;
     return st;
 }
 
 // `ColliderState::distance`: signed distance (x) and outward normal (yzw).
 vec4 collider_distance(GpuColliderState c, vec3 p) {
-    vec3 a = c.a_radius.xyz;
-    vec3 ab = c.b.xyz - a;
+    vec3 a = c.a;
+    vec3 ab = c.b - a;
     float len2 = dot(ab, ab);
     float t = len2 > 0.0 ? clamp(dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
     vec3 off = p - (a + ab * t);
     float l = length(off);
     vec3 n = l > 1e-12 ? off / l : COLLIDER_UP;
-    return vec4(l - c.a_radius.w, n);
+    return vec4(l - c.radius, n);
 }
 
 #endif

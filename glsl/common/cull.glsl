@@ -27,9 +27,9 @@ void blade_bounds(BladeVertex v[4], float width_scale, out vec3 lo, out vec3 hi)
     lo = vec3(3.0e38);
     hi = vec3(-3.0e38);
     for (int i = 0; i < 4; ++i) {
-        vec3 w = abs(v[i].width.xyz) * width_scale;
-        lo = min(lo, v[i].position.xyz - w);
-        hi = max(hi, v[i].position.xyz + w);
+        vec3 w = abs(v[i].half_width) * width_scale;
+        lo = min(lo, v[i].position - w);
+        hi = max(hi, v[i].position + w);
     }
 }
 
@@ -76,7 +76,7 @@ void shadow_sweep(vec3 light, inout vec3 lo, inout vec3 hi) {
 float least_alignment(BladeVertex v[4], vec3 dir[4]) {
     float least = 1.0;
     for (int i = 0; i < 4; ++i) {
-        vec3 w = v[i].width.xyz;
+        vec3 w = v[i].half_width;
         float norms = dot(dir[i], dir[i]) * dot(w, w);
         float c = abs(dot(dir[i], w)) * inversesqrt(max(norms, 1e-30));
         least = min(least, norms > 0.0 ? c : 0.0);
@@ -107,15 +107,15 @@ float shadow_filter_reach() {
 // the camera (colour pass) and from the sun (shadow pass). `lo` and `hi`
 // return the blade's bounds (for the occlusion test, glsl/cull/flags.comp).
 uint cull_flags(BladeVertex v[4], bool shadows, float edge_on, out vec3 lo, out vec3 hi) {
-    float width_scale = thinning_scale(v[0].position);
+    float width_scale = thinning_scale(v[0].position, v[0].blade_rand);
     // A blade without width (the cover's beyond its bounds) is no blade.
-    uint has_width = uint(any(notEqual(v[0].width.xyz, vec3(0.0))));
+    uint has_width = uint(any(notEqual(v[0].half_width, vec3(0.0))));
     uint kept = uint(width_scale > 0.0) & has_width;
     blade_bounds(v, width_scale, lo, hi);
     vec3 light = frame.light_dir;
     vec3 to_eye[4], to_sun[4];
     for (int i = 0; i < 4; ++i) {
-        to_eye[i] = v[i].position.xyz - frame.camera_pos;
+        to_eye[i] = v[i].position - frame.camera_pos;
         to_sun[i] = light;
     }
     uint facing_eye = uint(least_alignment(v, to_eye) <= edge_on);

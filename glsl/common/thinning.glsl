@@ -6,7 +6,7 @@
 //
 // share(d) = clamp((d0 / d)^2, least, 1): a blade's projected area falls as
 // 1 / d^2, so the blades drawn per pixel stay the same. Each blade has a
-// fixed random h in [0, 1) (a hash of its colour variation, position.w):
+// fixed random h in [0, 1) (a hash of its `blade_rand`):
 // it is drawn while h < share(d) (1 + band), at full width below share(d)
 // and narrowing to nothing over the band above it, so no blade pops as
 // the camera moves. Every width is divided by the mean of that profile
@@ -23,15 +23,16 @@ float thinning_h(float variation) {
     return float(lowbias32(floatBitsToUint(variation)) >> 8) * (1.0 / 16777216.0);
 }
 
-// The width scale of a blade rooted at root.xyz with colour variation
-// root.w: 0 for a blade thinned out, 1 near the camera, above 1 far away.
-float thinning_scale(vec4 root) {
+// The width scale of a blade rooted at `root` with random value
+// `blade_rand`: 0 for a blade thinned out, 1 near the camera, above 1 far
+// away.
+float thinning_scale(vec3 root, float blade_rand) {
     float d0 = frame.thinning_from;
-    vec3 r = root.xyz - frame.camera_pos;
+    vec3 r = root - frame.camera_pos;
     float d2 = max(dot(r, r), 1e-12);
     float share = clamp(d0 * d0 / d2, frame.thinning_least, 1.0);
     float band = frame.thinning_band * share;
-    float h = thinning_h(root.w);
+    float h = thinning_h(blade_rand);
     float fade = clamp((share + band - h) / band, 0.0, 1.0);
     // The mean of fade over h in [0, 1): the band may reach past h = 1.
     float top = min(1.0, share + band);

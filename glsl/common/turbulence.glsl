@@ -14,8 +14,8 @@
 // (the component across it) or cos; the component across a mirrored axis
 // takes -sin of the phase.
 float turbulence_component_mirrored(TurbulenceMode m, uint mirrored, uint axis, vec3 x) {
-    vec4 k = m.wavenumber_phase;
-    float theta = k.w;
+    vec3 k = m.wavenumber;
+    float theta = m.phase;
     for (uint a = 0u; a < 3u; ++a) {
         if ((mirrored & (1u << a)) == 0u) {
             theta += k[a] * x[a];

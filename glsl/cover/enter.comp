@@ -42,6 +42,6 @@ void main() {
         }
     }
     GrassBlade b = blades[id];
-    vec4 angle = quasi_static_angles(b, sample_wind(pc.grid, b.rest[3].xyz));
+    vec4 angle = quasi_static_angles(b, sample_wind(pc.grid, b.rest_tip));
     states[id] = GrassState(angle, vec4(0.0));
 }

@@ -108,17 +108,22 @@ vec2[4] profile(uint kind, float c) {
 // part at rest.
 // The inertia per motion as `GrassBlade::new` makes it from the edge mass
 // m (what `far_frequencies` reads; the balance does not).
-// The ground's normal and contact's c (the w of P1, P2 and P3) are left
+// The ground's normal and contact's c are left
 // at 0: no pose reads them (blades grow and swing upright on a slope; only
 // ground contact reads them, and no posed blade is in contact).
 GrassBlade cover_grass_blade(vec3 p[4], vec3 width_dir, float half_width, float rand,
                              float k_tip, float ratio, float sigma, float m) {
     GrassBlade b;
-    b.rest[0] = vec4(p[0], rand);
-    b.rest[1] = vec4(p[1], 0.0);
-    b.rest[2] = vec4(p[2], 0.0);
-    b.rest[3] = vec4(p[3], 0.0);
-    b.width = vec4(width_dir, half_width);
+    b.rest_root = p[0];
+    b.blade_rand = rand;
+    b.rest_1 = p[1];
+    b.ground_normal_x = 0.0;
+    b.rest_2 = p[2];
+    b.ground_curvature = 0.0;
+    b.rest_tip = p[3];
+    b.ground_normal_z = 0.0;
+    b.width_dir = width_dir;
+    b.half_width = half_width;
     bool rising = p[1].y >= p[0].y;
     int split = 3;
     for (int i = 2; i >= 1; --i) {
@@ -126,7 +131,8 @@ GrassBlade cover_grass_blade(vec3 p[4], vec3 width_dir, float half_width, float 
             split = i;
         }
     }
-    b.stiffness = vec4(k_tip * ratio, k_tip * sqrt(ratio), k_tip, float(split));
+    b.stiffness = vec3(k_tip * ratio, k_tip * sqrt(ratio), k_tip);
+    b.group_b_edge = uint(split);
     float len[3];
     for (int i = 0; i < 3; ++i) {
         len[i] = distance(p[i], p[i + 1]);
@@ -162,7 +168,7 @@ GrassBlade cover_grass_blade(vec3 p[4], vec3 width_dir, float half_width, float 
 // the root, grown by its widest width: kept by the distance thinning, and
 // in view or casting a shadow into it. Branch-free, as `cull_flags` is.
 bool may_be_drawn(vec3 root, float rand, float reach, float half_width) {
-    float width_scale = thinning_scale(vec4(root, rand));
+    float width_scale = thinning_scale(root, rand);
     uint kept = uint(width_scale > 0.0);
     vec3 grow = vec3(reach + half_width * max(width_scale, 1.0));
     vec3 lo = root - grow, hi = root + grow;
@@ -421,14 +427,14 @@ void main() {
     }
     // Beyond the bounds (`CoverTiles::grows_at`): no blade, its rest
     // points without width (`cover::left_out`), which no pass draws.
-    if (!(root.x >= pc.bounds.x && root.x < pc.bounds.z && root.y >= pc.bounds.y
-          && root.y < pc.bounds.w)) {
+    if (!(root.x >= pc.bounds_min.x && root.x < pc.bounds_max.x && root.y >= pc.bounds_min.y
+          && root.y < pc.bounds_max.y)) {
         atomicAdd(outside, 1u);
         if (params.far_kept != 0u) {
             far_poses[far_slot].tile = 0u;
         }
         for (int i = 0; i < 4; ++i) {
-            vertices[4u * local + uint(i)] = BladeVertex(vec4(rest[i], rand), vec4(0.0));
+            vertices[4u * local + uint(i)] = BladeVertex(rest[i], rand, vec3(0.0), 0.0);
         }
         return;
     }
@@ -447,7 +453,7 @@ void main() {
             far_poses[far_slot].tile = 0u;
         }
         for (int i = 0; i < 4; ++i) {
-            vertices[4u * local + uint(i)] = BladeVertex(vec4(rest[i], rand), vec4(half_width, 0.0));
+            vertices[4u * local + uint(i)] = BladeVertex(rest[i], rand, half_width, 0.0);
         }
         return;
     }
@@ -533,7 +539,7 @@ void main() {
     }
     for (int i = 0; i < BLADE_CONTROL_POINTS; ++i) {
         int edge = max(i, 1) - 1;
-        vertices[4u * local + uint(i)] = BladeVertex(vec4(p.points[i], rand),
-                                                     vec4(p.w_local[edge] * hw, displacement));
+        vertices[4u * local + uint(i)] = BladeVertex(p.points[i], rand, p.w_local[edge] * hw,
+                                                     displacement);
     }
 }

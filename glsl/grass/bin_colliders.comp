@@ -31,9 +31,9 @@ void main() {
     }
     GpuColliderState st = collider_at(colliders[c], pc.end_time);
     states[c] = st;
-    float grow = st.a_radius.w + pc.reach;
-    vec3 low = min(st.a_radius.xyz, st.b.xyz) - vec3(grow);
-    vec3 high = max(st.a_radius.xyz, st.b.xyz) + vec3(grow);
+    float grow = st.radius + pc.reach;
+    vec3 low = min(st.a, st.b) - vec3(grow);
+    vec3 high = max(st.a, st.b) + vec3(grow);
     if (high.y < pc.root_low || low.y > pc.root_high) {
         return;
     }

@@ -56,7 +56,7 @@ float press_next(Press press, float dt, float decay) {
 // `point_rates`: dP_j / dtheta_m, j = 1..3 (first index j - 1), m = swing,
 // bend A, bend B.
 void point_rates(GrassBlade b, vec4 angle, float pressed, Pose p, out vec3 rates[3][3]) {
-    vec4 k = b.stiffness;
+    vec3 k = b.stiffness;
     vec3 below[3] = vec3[](vec3(0.0), vec3(0.0), vec3(0.0));
     for (int i = 0; i < 3; ++i) {
         vec3 edge = p.points[i + 1] - p.points[i];

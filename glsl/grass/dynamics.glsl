@@ -30,11 +30,11 @@ vec3 normalize_or(vec3 v, vec3 fallback) {
 }
 
 vec3 rest_point(GrassBlade b, int i) {
-    return b.rest[i].xyz;
+    return i == 0 ? b.rest_root : i == 1 ? b.rest_1 : i == 2 ? b.rest_2 : b.rest_tip;
 }
 
 int split_edge(GrassBlade b) {
-    return int(b.stiffness.w);
+    return int(b.group_b_edge);
 }
 
 // x: the bending motion edge i belongs to; y: its group's local tip edge.
@@ -48,7 +48,7 @@ const float PI = 3.14159265358979;
 // The turn about E_w that lays rest edge j flat toward the side theta bends
 // to (`contact::flat_share`).
 float flat_turn(GrassBlade b, int j, float theta) {
-    vec3 along = cross(b.width.xyz, UP);
+    vec3 along = cross(b.width_dir, UP);
     vec3 edge = rest_point(b, j + 1) - rest_point(b, j);
     float psi = atan(edge.y, dot(edge, along));
     return theta >= 0.0 ? psi : psi - PI;
@@ -90,8 +90,8 @@ struct Pose {
 // lying flat; 0 gives eq. 12's.
 Pose blade_pose(GrassBlade b, vec4 angle, float pressed) {
     Pose p;
-    vec3 w_rest = b.width.xyz;
-    vec4 k = b.stiffness;
+    vec3 w_rest = b.width_dir;
+    vec3 k = b.stiffness;
     p.points[0] = rest_point(b, 0);
     for (int i = 0; i < 3; ++i) {
         ivec2 group = bend_group(b, i);
@@ -179,7 +179,7 @@ float twist_torque(GrassBlade b, Pose p, vec4 angle, vec3 wind) {
     float side = dot(wind, w_local) < 0.0 ? -1.0 : 1.0;
     vec3 force = n_local * (b.drag[TWIST] * dot(wind, n_local))
                + direction_or_zero(p.w[2] - w_local) * (side * b.stiffness[2] * abs(theta));
-    return dot(cross(w_local * (side * b.width.w), force), e);
+    return dot(cross(w_local * (side * b.half_width), force), e);
 }
 
 // lever x (W + R) along each motion's axis, plus the damping torque -c omega;
@@ -207,17 +207,17 @@ vec3 guard_wind(vec3 v) {
 // The ground's upward unit normal at the root (`GrassBlade::ground_normal`:
 // its x and z kept, its y positive).
 vec3 ground_normal(GrassBlade b) {
-    float x = b.rest[1].w, z = b.rest[3].w;
+    float x = b.ground_normal_x, z = b.ground_normal_z;
     return vec3(x, sqrt(max(1.0 - x * x - z * z, 0.0)), z);
 }
 
 // Whether a control point left the region over the ground at the root:
-// n . (P - P0) >= c |P - P0|^2, c = rest[2].w (`Blade::ground_curvature`;
+// n . (P - P0) >= c |P - P0|^2, c = `ground_curvature` (`Blade::ground_curvature`;
 // the plane y = 0 on flat ground).
 bool below_ground(GrassBlade b, Pose p) {
-    vec3 root = b.rest[0].xyz;
+    vec3 root = b.rest_root;
     vec3 n = ground_normal(b);
-    float c = b.rest[2].w;
+    float c = b.ground_curvature;
     bool below = false;
     for (int i = 1; i < 4; i++) {
         vec3 d = p.points[i] - root;

@@ -142,7 +142,7 @@ float far_frequency(GrassBlade b) {
         length(swing_lever(b, 0.0)) * b.stiffness[2],
         distance(rest_point(b, tip_a + 1), rest_point(b, tip_a)) * b.stiffness[tip_a],
         split < 3 ? distance(rest_point(b, 3), rest_point(b, 2)) * b.stiffness[2] : 0.0,
-        b.width.w * b.stiffness[2]);
+        b.half_width * b.stiffness[2]);
     vec4 w = sqrt(max(k_eff / b.inertia, vec4(0.0)));
     return min(min(w.x, w.y), min(split < 3 ? w.z : w.x, w.w));
 }

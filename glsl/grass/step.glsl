@@ -98,7 +98,7 @@ void lay_frontal_area(GrassBlade b, Pose p, vec3 wind) {
         vec3 n = cross(p.w_local[i], p.e[i]);
         float n_len = length(n);
         float facing = n_len > 1e-12 ? abs(dot(n, along) / n_len) : 0.0;
-        float area = length(rest_point(b, i + 1) - rest_point(b, i)) * 2.0 * b.width.w * facing;
+        float area = length(rest_point(b, i + 1) - rest_point(b, i)) * 2.0 * b.half_width * facing;
         vec3 mid = (p.points[i] + p.points[i + 1]) * 0.5;
         vec3 g = floor((mid - pc.grid.origin.xyz) / pc.grid.cell_size.xyz);
         if (all(greaterThanEqual(g, vec3(0.0))) && all(lessThan(g, vec3(pc.grid.cells.xyz)))) {
@@ -112,7 +112,7 @@ void lay_frontal_area(GrassBlade b, Pose p, vec3 wind) {
 uvec4 near_colliders(GrassBlade b) {
     uvec4 near = uvec4(0u);
     if (pc.collider_count > 0u) {
-        vec3 root = b.rest[0].xyz;
+        vec3 root = b.rest_root;
         float reach = blade_reach(b);
         uvec4 binned = collider_bins[bin_of(root)];
         for (uint word = 0u; word < 4u; ++word) {
@@ -154,8 +154,8 @@ void write_blade(uint id, GrassBlade b, GrassState s, float pressed, vec3 felt) 
     uint at = vertex_slot[id];
     for (int i = 0; i < BLADE_CONTROL_POINTS; ++i) {
         int edge = max(i, 1) - 1;
-        vertices[4u * at + uint(i)] = BladeVertex(vec4(p.points[i], b.rest[0].w),
-                                             vec4(p.w_local[edge] * b.width.w, displacement));
+        vertices[4u * at + uint(i)] = BladeVertex(p.points[i], b.blade_rand,
+                                             p.w_local[edge] * b.half_width, displacement);
     }
 }
 

@@ -28,7 +28,7 @@ float falloff(float d, float r) {
 // Position of a source moving along its closed path at time t.
 vec3 source_position(GpuWindSource s, float t) {
     vec3 unused_velocity;
-    return along_path(s.path, uint(s.motion.z), s.motion.y, true, t, s.position_radius.xyz,
+    return along_path(s.path, s.path_points, s.path_speed, true, t, s.position,
                       unused_velocity);
 }
 
@@ -74,13 +74,13 @@ void main() {
     for (uint i = 0u; i < source_count; ++i) {
         GpuWindSource s = sources[i];
         // The direction turns about +y (paper Fig. 11: a rotating wind).
-        float angle = s.motion.x * t;
+        float angle = s.rotation_speed * t;
         float sn = sin(angle), cs = cos(angle);
-        vec3 d = s.direction_strength.xyz;
+        vec3 d = s.direction;
         vec3 dir = vec3(cs * d.x + sn * d.z, d.y, -sn * d.x + cs * d.z);
-        float strength = t >= s.motion.w ? 0.0
-                       : s.direction_strength.w * gust_factor(s.gust.x, s.gust.y, s.gust_phases.xyz, t);
-        a += strength * dir[axis] * falloff(distance(x, source_position(s, t)), s.position_radius.w);
+        float strength = t >= s.off_after ? 0.0
+                       : s.strength * gust_factor(s.gust_amplitude, s.gust_frequency, s.gust_phases, t);
+        a += strength * dir[axis] * falloff(distance(x, source_position(s, t)), s.radius);
     }
     // The mean wind: the last step's turbulence taken off.
     float u = vel[id] - turbulence_taken(id) + dt * a;

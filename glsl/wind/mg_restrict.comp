@@ -12,7 +12,7 @@ void main() {
     if (index >= mg_cell_count(l + 1u)) {
         return;
     }
-    uint at = levels[l + 1u].cells.w + index;
+    uint at = levels[l + 1u].coarse_offset + index;
     coarse[pc.coarse_cells + at] = mg_restricted(l, index);
     coarse[at] = 0.0;
 }

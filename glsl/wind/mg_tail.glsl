@@ -137,7 +137,7 @@ void main() {
         tail_k = 2u * at + n_first - k_first;
     }
     barrier();
-    uvec3 n_last = tail_levels[last].cells.xyz;
+    uvec3 n_last = tail_levels[last].cells;
     uint k_end = tail_levels[last].conductance.z + n_last.x * n_last.y * (n_last.z + 1u);
     for (uint i = k_first + lane; i < k_end; i += MG_TAIL_GROUP) {
         MG_CONDUCTANCE(i) = conductance[i];

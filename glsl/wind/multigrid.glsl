@@ -34,22 +34,22 @@ layout(set = 0, binding = 8, std430) readonly buffer Levels { MgLevel levels[]; 
 #endif
 
 uint mg_cell_count(uint l) {
-    uvec3 n = MG_LEVELS[l].cells.xyz;
+    uvec3 n = MG_LEVELS[l].cells;
     return n.x * n.y * n.z;
 }
 
 uvec3 mg_cell_of(uint l, uint index) {
-    uvec3 n = MG_LEVELS[l].cells.xyz;
+    uvec3 n = MG_LEVELS[l].cells;
     return uvec3(index % n.x, (index / n.x) % n.y, index / (n.x * n.y));
 }
 
 uint mg_cell_index(uint l, uvec3 c) {
-    uvec3 n = MG_LEVELS[l].cells.xyz;
+    uvec3 n = MG_LEVELS[l].cells;
     return c.x + n.x * (c.y + n.y * c.z);
 }
 
 float mg_conductance(uint l, uint axis, uvec3 f) {
-    uvec3 d = MG_LEVELS[l].cells.xyz;
+    uvec3 d = MG_LEVELS[l].cells;
     d[axis] += 1u;
     return MG_CONDUCTANCE(MG_LEVELS[l].conductance[axis] + f.x + d.x * (f.y + d.y * f.z));
 }
@@ -76,14 +76,14 @@ bool mg_finest(uint l) {
 // Level 0's pressure is the solver's (copy 0); its right-hand side is the
 // divergence integrated over the cell, negated.
 float mg_p(uint l, uint index) {
-    return mg_finest(l) ? pressure[index] : coarse[MG_LEVELS[l].cells.w + index];
+    return mg_finest(l) ? pressure[index] : coarse[MG_LEVELS[l].coarse_offset + index];
 }
 
 void mg_set_p(uint l, uint index, float value) {
     if (mg_finest(l)) {
         pressure[index] = value;
     } else {
-        coarse[MG_LEVELS[l].cells.w + index] = value;
+        coarse[MG_LEVELS[l].coarse_offset + index] = value;
     }
 }
 
@@ -92,7 +92,7 @@ float mg_b(uint l, uint index) {
         vec3 h = pc.grid.cell_size.xyz;
         return -divergence[index] * h.x * h.y * h.z;
     }
-    return coarse[pc.coarse_cells + MG_LEVELS[l].cells.w + index];
+    return coarse[pc.coarse_cells + MG_LEVELS[l].coarse_offset + index];
 }
 
 // The 6-point stencil's terms at cell c, low then high face of x, y and
@@ -102,8 +102,8 @@ float mg_b(uint l, uint index) {
 // with one more along their axis, so both faces of an axis are one stride
 // apart. A wall's K is 0, so it adds nothing.
 void mg_stencil_terms(uint l, uvec3 c, out float k[6], out uint nb[6], out bool inside[6]) {
-    uvec3 n = MG_LEVELS[l].cells.xyz;
-    uvec3 offset = MG_LEVELS[l].conductance.xyz;
+    uvec3 n = MG_LEVELS[l].cells;
+    uvec3 offset = MG_LEVELS[l].conductance;
     uint index = mg_cell_index(l, c);
     uint plane = n.x * n.y;
     uint fx = offset.x + c.x + (n.x + 1u) * (c.y + n.y * c.z);
@@ -158,7 +158,7 @@ float mg_smoothed(uint l, uvec3 c) {
 
 // Cells of one colour on level l, counted as the smoother's threads are.
 uint mg_color_cell_count(uint l) {
-    uvec3 n = MG_LEVELS[l].cells.xyz;
+    uvec3 n = MG_LEVELS[l].cells;
     return (n.x + 1u) / 2u * n.y * n.z;
 }
 
@@ -177,7 +177,7 @@ void mg_save_residual(uint index, float value) {
 // cell along x), or false past the end: the smoother's threads run only
 // the colour being updated.
 bool mg_cell_of_color(uint l, uint i, uint color, out uvec3 c) {
-    uvec3 n = MG_LEVELS[l].cells.xyz;
+    uvec3 n = MG_LEVELS[l].cells;
     uint half_x = (n.x + 1u) / 2u;
     uint row = i / half_x;
     c.y = row % n.y;
@@ -228,7 +228,7 @@ void mg_axis_pair(uint l, uvec3 f, uvec3 parent, uint a, out uvec2 cells, out ve
 // Weight of coarse cell c (level l + 1) in fine cell f's interpolation:
 // the product of the axes' weights.
 float mg_weight(uint l, uvec3 f, uvec3 c) {
-    uvec3 parent = f / MG_LEVELS[l].ratio.xyz;
+    uvec3 parent = f / MG_LEVELS[l].ratio;
     float w = 1.0;
     for (uint a = 0u; a < 3u; ++a) {
         uvec2 cells;
@@ -244,8 +244,8 @@ float mg_weight(uint l, uvec3 f, uvec3 c) {
 // interpolation (`Level::gather`).
 float mg_restricted(uint l, uint index) {
     uvec3 c = mg_cell_of(l + 1u, index);
-    uvec3 r = MG_LEVELS[l].ratio.xyz;
-    uvec3 nf = MG_LEVELS[l].cells.xyz;
+    uvec3 r = MG_LEVELS[l].ratio;
+    uvec3 nf = MG_LEVELS[l].cells;
     uvec3 lo = uvec3(max(ivec3(c * r) - ivec3(r - 1u), ivec3(0)));
     uvec3 hi = min(c * r + r + (r - 1u), nf) - 1u;
     float sum = 0.0;
@@ -267,7 +267,7 @@ float mg_restricted(uint l, uint index) {
 // correction at fine cell `index`'s centre (`Level::interpolation`).
 float mg_prolonged(uint l, uint index) {
     uvec3 f = mg_cell_of(l, index);
-    uvec3 parent = f / MG_LEVELS[l].ratio.xyz;
+    uvec3 parent = f / MG_LEVELS[l].ratio;
     uvec2 cx, cy, cz;
     vec2 wx, wy, wz;
     mg_axis_pair(l, f, parent, 0u, cx, wx);

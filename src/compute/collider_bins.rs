@@ -57,7 +57,7 @@ impl BinGrid {
         let mut high = Vec3::splat(f32::NEG_INFINITY);
         let mut longest = 0.0f32;
         for blade in blades {
-            let root = Vec3::from_slice(&blade.rest[0][..3]);
+            let root = blade.rest_point(0);
             low = low.min(root);
             high = high.max(root);
             longest = longest.max(reach(blade));
@@ -269,10 +269,10 @@ impl ColliderBins {
         Ok(raw
             .iter()
             .map(|s| ColliderState {
-                a: Vec3::from_slice(&s.a_radius[..3]),
-                b: Vec3::from_slice(&s.b[..3]),
-                radius: s.a_radius[3],
-                velocity: Vec3::from_slice(&s.velocity[..3]),
+                a: Vec3::from(s.a),
+                b: Vec3::from(s.b),
+                radius: s.radius,
+                velocity: Vec3::from(s.velocity),
             })
             .collect())
     }
@@ -283,11 +283,14 @@ mod tests {
     use super::*;
 
     fn blade_at(x: f32, z: f32, height: f32) -> GrassBlade {
-        let mut blade = GrassBlade::default();
-        for i in 0..4 {
-            blade.rest[i] = [x, height * i as f32 / 3.0, z, 0.0];
+        let at = |i: usize| [x, height * i as f32 / 3.0, z];
+        GrassBlade {
+            rest_root: at(0),
+            rest_1: at(1),
+            rest_2: at(2),
+            rest_tip: at(3),
+            ..GrassBlade::default()
         }
-        blade
     }
 
     #[test]
@@ -305,7 +308,7 @@ mod tests {
         assert!((1.0 / grid.per_metre) >= 0.6 - 1e-6);
         assert!(grid.columns <= MAX_CELLS_PER_SIDE && grid.rows <= MAX_CELLS_PER_SIDE);
         for blade in &blades {
-            let root = Vec3::from_slice(&blade.rest[0][..3]);
+            let root = blade.rest_point(0);
             let cell = (Vec2::new(root.x, root.z) - grid.corner) * grid.per_metre;
             assert!(cell.x >= 0.0 && cell.y >= 0.0, "{root} before the corner");
             assert!(

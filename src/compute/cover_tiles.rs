@@ -440,7 +440,8 @@ impl CoverTilePass {
                     _pad0: 0,
                     _pad1: 0,
                     _pad2: 0,
-                    bounds: tiles.bounds,
+                    bounds_min: [tiles.bounds[0], tiles.bounds[1]],
+                    bounds_max: [tiles.bounds[2], tiles.bounds[3]],
                 };
                 rec.push_constants(&self.pipeline, &push);
                 rec.dispatch(count.div_ceil(COVER_GROUP));

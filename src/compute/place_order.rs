@@ -19,8 +19,8 @@ pub fn by_place(blades: &[GrassBlade], batches: &[Range<u32>]) -> Vec<u32> {
     let (mut low, mut high) = ([f32::INFINITY; 2], [f32::NEG_INFINITY; 2]);
     for b in blades {
         for (k, axis) in [0, 2].into_iter().enumerate() {
-            low[k] = low[k].min(b.rest[0][axis]);
-            high[k] = high[k].max(b.rest[0][axis]);
+            low[k] = low[k].min(b.rest_root[axis]);
+            high[k] = high[k].max(b.rest_root[axis]);
         }
     }
     let code = |b: &GrassBlade| {
@@ -28,7 +28,7 @@ pub fn by_place(blades: &[GrassBlade], batches: &[Range<u32>]) -> Vec<u32> {
             let span = (high[k] - low[k]).max(1e-6);
             (((value - low[k]) / span).clamp(0.0, 1.0) * 65535.0) as u32
         };
-        morton(cell(0, b.rest[0][0]), cell(1, b.rest[0][2]))
+        morton(cell(0, b.rest_root[0]), cell(1, b.rest_root[2]))
     };
     let mut order = Vec::with_capacity(blades.len());
     for batch in batches {
@@ -56,9 +56,10 @@ mod tests {
     use super::*;
 
     fn blade_at(x: f32, z: f32) -> GrassBlade {
-        let mut blade = GrassBlade::default();
-        blade.rest[0] = [x, 0.0, z, 0.0];
-        blade
+        GrassBlade {
+            rest_root: [x, 0.0, z],
+            ..GrassBlade::default()
+        }
     }
 
     #[test]
@@ -87,7 +88,7 @@ mod tests {
         // Consecutive slots are close: the mean step between them in
         // place order is short, where the scrambled order's is long.
         let root = |i: u32| {
-            let r = blades[i as usize].rest[0];
+            let r = blades[i as usize].rest_root;
             glam::Vec2::new(r[0], r[2])
         };
         let mean_step = |indices: &[u32]| {

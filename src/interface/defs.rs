@@ -160,12 +160,14 @@ gpu_interface! {
     /// per blade, one patch; the grass step writes them
     /// (glsl/common/blade_vertex.glsl).
     pub struct BladeVertex {
-        /// xyz: control point in world space; w: per-blade random value in
-        /// [0, 1) (colour variation).
-        pub position: [f32; 4],
-        /// xyz: half-width vector at this point (E_w times half width); w:
-        /// angular displacement from rest (rad; the motion view).
-        pub width: [f32; 4],
+        /// The control point in world space (m).
+        pub position: [f32; 3],
+        /// The blade's random value in [0, 1) (colour variation).
+        pub blade_rand: f32,
+        /// The half-width vector at this point: E_w times the half width (m).
+        pub half_width: [f32; 3],
+        /// Angular displacement from rest (rad; the motion view).
+        pub displacement: f32,
     }
 
     /// One blade as the grass kernel reads it (glsl/common/grass_blade.glsl;
@@ -173,16 +175,26 @@ gpu_interface! {
     /// shape and the physics is computed once. Per-motion vec4s are in the
     /// order swing, bend A, bend B, twist.
     pub struct GrassBlade {
-        /// xyz: rest control point P_i; w: of P_0, the per-blade random
-        /// value (colour); of P_1 and P_3, the x and z of the ground's
-        /// upward unit normal at the root (its y follows); of P_2, ground
-        /// contact's c (`Blade::ground_curvature`).
-        pub rest: [[f32; 4]; 4],
-        /// xyz: rest E_w (unit, horizontal); w: half width (m).
-        pub width: [f32; 4],
-        /// k_i of edges 0, 1, 2 (root to tip); w: first edge of bending
-        /// group B (3: one group).
-        pub stiffness: [f32; 4],
+        /// The rest control points P_0 to P_3, each with what the blade
+        /// keeps beside it: the blade's random value (colour), the x of
+        /// the ground's upward unit normal at the root, ground contact's c
+        /// (`Blade::ground_curvature`), the normal's z (its y follows).
+        pub rest_root: [f32; 3],
+        pub blade_rand: f32,
+        pub rest_1: [f32; 3],
+        pub ground_normal_x: f32,
+        pub rest_2: [f32; 3],
+        pub ground_curvature: f32,
+        pub rest_tip: [f32; 3],
+        pub ground_normal_z: f32,
+        /// Rest E_w (unit, horizontal).
+        pub width_dir: [f32; 3],
+        /// Half width (m).
+        pub half_width: f32,
+        /// k_i of edges 0, 1, 2 (root to tip).
+        pub stiffness: [f32; 3],
+        /// The first edge of bending group B (3: one group).
+        pub group_b_edge: u32,
         /// sigma S per motion (S: the area the motion exposes).
         pub drag: [f32; 4],
         /// I = m r^2 per motion.
@@ -212,13 +224,24 @@ gpu_interface! {
     /// One collider as the binning and wind kernels read it
     /// (glsl/common/collider.glsl; `Collider` in src/model/collider.rs).
     pub struct GpuCollider {
-        /// xyz: position (without a path); w: radius.
-        pub position_radius: [f32; 4],
-        /// x: 0 sphere, 1 capsule; y: height; z: path points; w: path speed.
-        pub shape: [f32; 4],
-        /// x: 1 when the path is closed; y: the time it sets off (s).
-        pub flags: [f32; 4],
-        /// xyz: waypoints.
+        /// Position without a path (m).
+        pub position: [f32; 3],
+        pub radius: f32,
+        /// 1: an upright capsule; 0: a sphere.
+        pub capsule: u32,
+        /// A capsule's height (m).
+        pub height: f32,
+        /// Points of its path (0: none), and its speed along it (m/s).
+        pub path_points: u32,
+        pub path_speed: f32,
+        /// 1 when the path is closed.
+        pub closed: u32,
+        /// The time it sets off (s).
+        pub sets_off: f32,
+        pub _pad0: u32,
+        pub _pad1: u32,
+        /// Waypoints (m): xyz, each in 16 bytes as std430 lays out an
+        /// array of vec3 (w unused).
         pub path: [[f32; 4]; MAX_PATH_POINTS],
     }
 
@@ -226,29 +249,40 @@ gpu_interface! {
     /// grass step (`ColliderState` in src/model/collider.rs): the segment a..b
     /// swept by the radius, and the velocity of its centre.
     pub struct GpuColliderState {
-        /// xyz: a; w: radius.
-        pub a_radius: [f32; 4],
-        /// xyz: b.
-        pub b: [f32; 4],
-        /// xyz: velocity (m/s).
-        pub velocity: [f32; 4],
+        pub a: [f32; 3],
+        pub radius: f32,
+        pub b: [f32; 3],
+        pub _pad0: u32,
+        /// m/s.
+        pub velocity: [f32; 3],
+        pub _pad1: u32,
     }
 
     /// One wind source as the wind kernels read it
     /// (glsl/wind/wind_kernel.glsl; `WindSource` in src/model/wind/drive.rs).
     pub struct GpuWindSource {
-        /// xyz: position at t = 0; w: radius (m).
-        pub position_radius: [f32; 4],
-        /// xyz: unit direction at t = 0; w: strength (m/s^2).
-        pub direction_strength: [f32; 4],
-        /// x: rotation speed (rad/s), y: path speed (m/s), z: path points,
-        /// w: off after (s).
-        pub motion: [f32; 4],
-        /// x: gust amplitude, y: gust frequency (Hz).
-        pub gust: [f32; 4],
-        /// xyz: the gust's phases.
-        pub gust_phases: [f32; 4],
-        /// xyz: waypoints of the closed path.
+        /// Position at t = 0 and radius (m).
+        pub position: [f32; 3],
+        pub radius: f32,
+        /// Unit direction at t = 0, and strength (m/s^2).
+        pub direction: [f32; 3],
+        pub strength: f32,
+        /// The gust's phases (rad), amplitude and frequency (Hz).
+        pub gust_phases: [f32; 3],
+        pub gust_amplitude: f32,
+        pub gust_frequency: f32,
+        /// Rotation speed (rad/s).
+        pub rotation_speed: f32,
+        /// Speed along the path (m/s) and its points.
+        pub path_speed: f32,
+        /// Off after this time (s; infinite: never).
+        pub off_after: f32,
+        pub path_points: u32,
+        pub _pad0: u32,
+        pub _pad1: u32,
+        pub _pad2: u32,
+        /// Waypoints of the closed path (m): xyz, each in 16 bytes as
+        /// std430 lays out an array of vec3 (w unused).
         pub path: [[f32; 4]; MAX_PATH_POINTS],
     }
 
@@ -257,9 +291,11 @@ gpu_interface! {
     /// grid's for glsl/wind/turbulence.comp, those finer than the grid for
     /// the grass step.
     pub struct TurbulenceMode {
-        /// xyz: wavenumber k (rad/m); w: the mode's phase at the step's
-        /// end, taken at the grid's minimum corner (rad, in [0, 2 pi)).
-        pub wavenumber_phase: [f32; 4],
+        /// Wavenumber k (rad/m).
+        pub wavenumber: [f32; 3],
+        /// The mode's phase at the step's end, taken at the grid's minimum
+        /// corner (rad, in [0, 2 pi)).
+        pub phase: f32,
         /// What the mode adds to a face of each axis at phase 0 (m/s); a
         /// mode finer than the grid, its velocity at phase 0.
         pub amplitude: [f32; 3],
@@ -271,12 +307,15 @@ gpu_interface! {
     /// One multigrid level as the kernels read it (glsl/wind/multigrid.glsl;
     /// src/model/multigrid.rs).
     pub struct MgLevel {
-        /// xyz: cells; w: offset of this level in the coarse arrays.
-        pub cells: [u32; 4],
-        /// xyz: fine cells per coarse cell towards the next level.
-        pub ratio: [u32; 4],
-        /// xyz: offset of each axis's face conductances.
-        pub conductance: [u32; 4],
+        pub cells: [u32; 3],
+        /// The offset of this level in the coarse arrays.
+        pub coarse_offset: u32,
+        /// Fine cells per coarse cell towards the next level.
+        pub ratio: [u32; 3],
+        pub _pad0: u32,
+        /// The offset of each axis's face conductances.
+        pub conductance: [u32; 3],
+        pub _pad1: u32,
     }
 
     /// The wind grid as every wind and grass kernel sees it (staggered: the
@@ -520,10 +559,11 @@ gpu_interface! {
         pub _pad0: u32,
         pub _pad1: u32,
         pub _pad2: u32,
-        /// Where blades grow: x0, z0, x1, z1 (m), roots with x0 <= x < x1
-        /// and z0 <= z < z1 (`Cover::bounds`); the others are made
+        /// Where blades grow: the least and greatest x and z (m), roots
+        /// with min <= (x, z) < max (`Cover::bounds`); the others are made
         /// without width.
-        pub bounds: [f32; 4],
+        pub bounds_min: [f32; 2],
+        pub bounds_max: [f32; 2],
     }
 
     /// What the cover's tile kernel reads besides its push constants

@@ -192,8 +192,10 @@ impl Blade {
     /// The four control points as the render pipeline's vertices.
     pub fn vertices(&self) -> [BladeVertex; 4] {
         std::array::from_fn(|i| BladeVertex {
-            position: self.rest[i].extend(self.rand).to_array(),
-            width: (self.width_dir * self.half_width).extend(0.0).to_array(),
+            position: self.rest[i].to_array(),
+            blade_rand: self.rand,
+            half_width: (self.width_dir * self.half_width).to_array(),
+            displacement: 0.0,
         })
     }
 
@@ -227,7 +229,7 @@ pub use crate::interface::BladeVertex;
 /// no blade, which the cull pass lists in neither pass
 /// (glsl/common/cull.glsl tests the same).
 pub fn has_width(blade: &[BladeVertex]) -> bool {
-    blade[0].width[..3] != [0.0; 3]
+    blade[0].half_width != [0.0; 3]
 }
 
 #[cfg(test)]

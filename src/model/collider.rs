@@ -251,18 +251,16 @@ impl From<&Collider> for GpuCollider {
             *slot = p.extend(0.0).to_array();
         }
         Self {
-            position_radius: c.position.extend(c.radius).to_array(),
-            shape: [
-                match c.kind {
-                    ColliderKind::Sphere => 0.0,
-                    ColliderKind::Capsule => 1.0,
-                },
-                c.height,
-                c.path.len().min(MAX_PATH_POINTS) as f32,
-                c.path_speed,
-            ],
-            flags: [c.closed as u32 as f32, c.start, 0.0, 0.0],
+            position: c.position.to_array(),
+            radius: c.radius,
+            capsule: (c.kind == ColliderKind::Capsule) as u32,
+            height: c.height,
+            path_points: c.path.len().min(MAX_PATH_POINTS) as u32,
+            path_speed: c.path_speed,
+            closed: c.closed as u32,
+            sets_off: c.start,
             path,
+            ..Self::default()
         }
     }
 }

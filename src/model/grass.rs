@@ -17,7 +17,7 @@
 //!   (`swing_lever`, `swing_inertia`), so its torque, its inertia and its
 //!   shape describe one and the same rigid-segment motion.
 
-use glam::{Vec3, Vec4};
+use glam::Vec3;
 
 use crate::error::{Error, Result};
 use crate::model::blade::{Blade, BladeVertex, UP};
@@ -166,17 +166,18 @@ impl GrassBlade {
 
         let f = |v: [f64; 4]| v.map(|x| x as f32);
         let mut out = Self {
-            rest: std::array::from_fn(|i| {
-                let w = [
-                    blade.rand,
-                    blade.ground.x,
-                    blade.ground_curvature,
-                    blade.ground.z,
-                ][i];
-                blade.rest[i].extend(w).to_array()
-            }),
-            width: blade.width_dir.extend(blade.half_width).to_array(),
-            stiffness: [k[0] as f32, k[1] as f32, k[2] as f32, split as f32],
+            rest_root: blade.rest[0].to_array(),
+            blade_rand: blade.rand,
+            rest_1: blade.rest[1].to_array(),
+            ground_normal_x: blade.ground.x,
+            rest_2: blade.rest[2].to_array(),
+            ground_curvature: blade.ground_curvature,
+            rest_tip: blade.rest[3].to_array(),
+            ground_normal_z: blade.ground.z,
+            width_dir: blade.width_dir.to_array(),
+            half_width: blade.half_width,
+            stiffness: [k[0] as f32, k[1] as f32, k[2] as f32],
+            group_b_edge: split as u32,
             drag: f(drag),
             inertia: f(inertia),
             damping: [0.0; 4],
@@ -193,26 +194,32 @@ impl GrassBlade {
     /// The ground's upward unit normal at the root (`Blade::ground`): its
     /// x and z are kept, its y follows (upward: positive).
     pub fn ground_normal(&self) -> Vec3 {
-        let (x, z) = (self.rest[1][3], self.rest[3][3]);
+        let (x, z) = (self.ground_normal_x, self.ground_normal_z);
         Vec3::new(x, (1.0 - x * x - z * z).max(0.0).sqrt(), z)
     }
 
     /// The contact paraboloid's c (`Blade::ground_curvature`).
     pub fn ground_curvature(&self) -> f32 {
-        self.rest[2][3]
+        self.ground_curvature
     }
 
+    /// Rest control point P_i.
     pub fn rest_point(&self, i: usize) -> Vec3 {
-        Vec4::from(self.rest[i]).truncate()
+        Vec3::from([self.rest_root, self.rest_1, self.rest_2, self.rest_tip][i])
     }
 
     pub fn half_width(&self) -> f32 {
-        self.width[3]
+        self.half_width
+    }
+
+    /// Rest E_w (unit, horizontal).
+    pub fn width_dir(&self) -> Vec3 {
+        Vec3::from(self.width_dir)
     }
 
     /// First edge of bending group B; 3 when the blade has one group.
     pub fn split(&self) -> usize {
-        self.stiffness[3] as usize
+        self.group_b_edge as usize
     }
 
     /// Which bending motion edge `i` belongs to, and its group's local tip edge.
@@ -401,7 +408,7 @@ pub fn give(pressed: f32) -> f32 {
 /// down toward E_w x UP: psi - theta. A root edge within MIN_FLAT_TURN of
 /// flat has nothing to lay down: `fallback` (eq. 12's share) then.
 pub fn flat_share(blade: &GrassBlade, i: usize, theta: f32, fallback: f32) -> f32 {
-    let w = Vec3::from_slice(&blade.width[..3]);
+    let w = blade.width_dir();
     let along = w.cross(UP);
     let turn = |j: usize| {
         let edge = blade.rest_point(j + 1) - blade.rest_point(j);
@@ -435,7 +442,7 @@ pub fn bend_share(blade: &GrassBlade, i: usize, theta: f32, pressed: f32) -> f32
 /// its rising edges share the bending so that it lies down flat, a crushed
 /// stem giving way at the root (exactly `pose` when it is 0).
 pub fn pressed_pose(blade: &GrassBlade, angle: [f32; 4], pressed: f32) -> Pose {
-    let w_rest = Vec4::from(blade.width).truncate();
+    let w_rest = blade.width_dir();
     let k = blade.stiffness;
     let mut points = [blade.rest_point(0); 4];
     let mut e = [UP; 3];
@@ -683,10 +690,10 @@ pub fn vertices(blade: &GrassBlade, pose: &Pose) -> [BladeVertex; 4] {
     std::array::from_fn(|i| {
         let edge = i.max(1) - 1;
         BladeVertex {
-            position: pose.points[i].extend(blade.rest[0][3]).to_array(),
-            width: (pose.w_local[edge] * blade.half_width())
-                .extend(displacement)
-                .to_array(),
+            position: pose.points[i].to_array(),
+            blade_rand: blade.blade_rand,
+            half_width: (pose.w_local[edge] * blade.half_width()).to_array(),
+            displacement,
         }
     })
 }

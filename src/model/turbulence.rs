@@ -443,7 +443,8 @@ impl TurbulenceField {
             .sum();
         let phase = (m.phase + m.omega * self.clock - carried).rem_euclid(std::f64::consts::TAU);
         TurbulenceMode {
-            wavenumber_phase: m.k.as_vec3().extend(phase as f32).to_array(),
+            wavenumber: m.k.as_vec3().to_array(),
+            phase: phase as f32,
             amplitude: (m.amplitude * self.scale * weight * sigma as f64)
                 .as_vec3()
                 .to_array(),
@@ -455,9 +456,8 @@ impl TurbulenceField {
 /// Mode `m`'s wavenumber, and its phase at `x` along the axes it is not
 /// mirrored across (theta' of `component_at`).
 fn free_phase(m: &TurbulenceMode, x: Vec3) -> ([f32; 3], f32) {
-    let [kx, ky, kz, phase] = m.wavenumber_phase;
-    let k = [kx, ky, kz];
-    let mut theta = phase;
+    let k = m.wavenumber;
+    let mut theta = m.phase;
     for a in 0..3 {
         if m.mirrored & (1 << a) == 0 {
             theta += k[a] * x[a];
@@ -523,8 +523,7 @@ pub fn component_on_faces(
         (q as f32 * 0.5 * cell[a]) as f64
     };
     for m in records {
-        let [kx, ky, kz, phase] = m.wavenumber_phase;
-        let k = [kx as f64, ky as f64, kz as f64];
+        let (k, phase) = (m.wavenumber.map(f64::from), m.phase);
         // Per axis and lattice index: the free phasor (cos, sin) of k_a
         // x_a, or for a mirrored axis the real factor it contributes.
         let lines: [Vec<(f64, f64)>; 3] = std::array::from_fn(|a| {

@@ -119,18 +119,31 @@ pub const GROUND_STAGES: &[&Spirv] = &[
 ];
 
 /// The blade vertex buffer's layout: one `BladeVertex` per control point.
-pub const BLADE_ATTRIBUTES: [vk::VertexInputAttributeDescription; 2] = [
+/// glsl/blade/blade.vert reads each field at the location of its order.
+pub const BLADE_ATTRIBUTES: [vk::VertexInputAttributeDescription; 4] = [
     vk::VertexInputAttributeDescription {
         location: 0,
         binding: 0,
-        format: vk::Format::R32G32B32A32_SFLOAT,
+        format: vk::Format::R32G32B32_SFLOAT,
         offset: std::mem::offset_of!(BladeVertex, position) as u32,
     },
     vk::VertexInputAttributeDescription {
         location: 1,
         binding: 0,
-        format: vk::Format::R32G32B32A32_SFLOAT,
-        offset: std::mem::offset_of!(BladeVertex, width) as u32,
+        format: vk::Format::R32_SFLOAT,
+        offset: std::mem::offset_of!(BladeVertex, blade_rand) as u32,
+    },
+    vk::VertexInputAttributeDescription {
+        location: 2,
+        binding: 0,
+        format: vk::Format::R32G32B32_SFLOAT,
+        offset: std::mem::offset_of!(BladeVertex, half_width) as u32,
+    },
+    vk::VertexInputAttributeDescription {
+        location: 3,
+        binding: 0,
+        format: vk::Format::R32_SFLOAT,
+        offset: std::mem::offset_of!(BladeVertex, displacement) as u32,
     },
 ];
 

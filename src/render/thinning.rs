@@ -56,7 +56,7 @@ impl Thinning {
     }
 
     /// The width scale of a blade rooted at `root` with colour variation
-    /// `variation` (its position.w) seen from `eye`: 0 when thinned out.
+    /// `variation` (its `blade_rand`) seen from `eye`: 0 when thinned out.
     /// Also the margin the keep-or-drop decision was taken by (h's distance
     /// from the band's top, as a share), so a comparison with the GPU can
     /// tell rounding from a wrong answer.

@@ -44,8 +44,8 @@ impl Bounds {
             hi: Vec3::splat(f32::MIN),
         };
         for c in v {
-            let p = Vec4::from(c.position).truncate();
-            let w = Vec4::from(c.width).truncate().abs() * width_scale;
+            let p = Vec3::from(c.position);
+            let w = Vec3::from(c.half_width).abs() * width_scale;
             b.lo = b.lo.min(p - w);
             b.hi = b.hi.max(p + w);
         }
@@ -218,9 +218,9 @@ impl CullView {
     /// blade seen edge-on from the camera is not drawn in colour, one
     /// edge-on to the sun casts no shadow.
     pub fn test(&self, v: &[BladeVertex; 4]) -> (Visibility, Margins) {
-        let root = Vec4::from(v[0].position);
-        let (width_scale, thin_margin) = self.thinning.scale(root.truncate(), root.w, self.eye);
-        let to_eye = v.map(|c| Vec4::from(c.position).truncate() - self.eye);
+        let root = Vec3::from(v[0].position);
+        let (width_scale, thin_margin) = self.thinning.scale(root, v[0].blade_rand, self.eye);
+        let to_eye = v.map(|c| Vec3::from(c.position) - self.eye);
         let (from_eye, from_sun) = (
             least_alignment(v, to_eye),
             least_alignment(v, [self.light; 4]),
@@ -265,7 +265,7 @@ impl CullView {
 pub fn least_alignment(v: &[BladeVertex; 4], dir: [Vec3; 4]) -> f32 {
     let mut least = 1.0f32;
     for (c, d) in v.iter().zip(dir) {
-        let w = Vec4::from(c.width).truncate();
+        let w = Vec3::from(c.half_width);
         let norms = d.length_squared() * w.length_squared();
         let cos = if norms > 0.0 {
             d.dot(w).abs() / norms.sqrt()
@@ -307,10 +307,10 @@ mod tests {
 
     fn upright(at: Vec3, height: f32) -> [BladeVertex; 4] {
         std::array::from_fn(|i| BladeVertex {
-            position: (at + Vec3::Y * height * i as f32 / 3.0)
-                .extend(0.5)
-                .to_array(),
-            width: [0.01, 0.0, 0.0, 0.0],
+            position: (at + Vec3::Y * height * i as f32 / 3.0).to_array(),
+            blade_rand: 0.5,
+            half_width: [0.01, 0.0, 0.0],
+            displacement: 0.0,
         })
     }
 
@@ -356,7 +356,7 @@ mod tests {
         let sun = Vec3::new(0.0, 1.0, 0.0);
         let mut ahead = upright(Vec3::new(0.0, 0.0, -5.0), 0.5);
         for v in &mut ahead {
-            v.width = [0.0; 4];
+            v.half_width = [0.0; 3];
         }
         let (seen, _) = visibility(&ahead, &camera(), sun, true);
         assert_eq!(seen, Visibility::default());
@@ -408,7 +408,7 @@ mod tests {
         let view = |at: Vec3, width: Vec3| {
             let mut blade = upright(at, 0.5);
             for c in &mut blade {
-                c.width = width.extend(0.0).to_array();
+                c.half_width = width.to_array();
             }
             CullView {
                 view_proj: camera(),

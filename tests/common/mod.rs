@@ -111,8 +111,8 @@ pub fn render(
 }
 
 /// The xyz of a vec4 as the GLSL side stores positions and widths.
-pub fn to_vec3(v: [f32; 4]) -> glam::Vec3 {
-    glam::Vec4::from(v).truncate()
+pub fn to_vec3(v: [f32; 3]) -> glam::Vec3 {
+    glam::Vec3::from(v)
 }
 
 pub fn pixel(frame: &Frame, x: u32, y: u32) -> [u8; 3] {

@@ -179,8 +179,11 @@ impl Figures {
                 .fold(self.largest_angle, |m, a| m.max(a.abs()));
             let v = &out[4 * i..4 * i + 4];
             assert!(
-                v.iter()
-                    .all(|v| v.position.iter().chain(&v.width).all(|x| x.is_finite())),
+                v.iter().all(|v| v
+                    .position
+                    .iter()
+                    .chain(&v.half_width)
+                    .all(|x| x.is_finite())),
                 "step {done}: blade {i} vertices {v:?}"
             );
             let p: Vec<Vec3> = v.iter().map(|v| to_vec3(v.position)).collect();

@@ -24,12 +24,11 @@ fn multigrid_tables(levels: &[Level]) -> (Vec<MgLevel>, Vec<f32>) {
         }
         let first = table.is_empty();
         table.push(MgLevel {
-            cells: level
-                .cells
-                .extend(if first { 0 } else { coarse_offset })
-                .to_array(),
-            ratio: level.ratio.extend(0).to_array(),
-            conductance: offsets,
+            cells: level.cells.to_array(),
+            coarse_offset: if first { 0 } else { coarse_offset },
+            ratio: level.ratio.to_array(),
+            conductance: [offsets[0], offsets[1], offsets[2]],
+            ..MgLevel::default()
         });
         if !first {
             coarse_offset += level.cell_count() as u32;

@@ -61,17 +61,19 @@ impl GpuWindSource {
         let dir = s.direction.try_normalize().unwrap_or(glam::Vec3::X);
         let p = s.gust.phases();
         Ok(Self {
-            position_radius: s.position.extend(s.radius).to_array(),
-            direction_strength: dir.extend(s.strength).to_array(),
-            motion: [
-                s.rotation_speed,
-                s.path_speed,
-                s.path.len() as f32,
-                s.off_after.unwrap_or(f32::INFINITY),
-            ],
-            gust: [s.gust.amplitude, s.gust.frequency, 0.0, 0.0],
-            gust_phases: [p[0], p[1], p[2], 0.0],
+            position: s.position.to_array(),
+            radius: s.radius,
+            direction: dir.to_array(),
+            strength: s.strength,
+            gust_phases: [p[0], p[1], p[2]],
+            gust_amplitude: s.gust.amplitude,
+            gust_frequency: s.gust.frequency,
+            rotation_speed: s.rotation_speed,
+            path_speed: s.path_speed,
+            off_after: s.off_after.unwrap_or(f32::INFINITY),
+            path_points: s.path.len() as u32,
             path,
+            ..Self::default()
         })
     }
 }

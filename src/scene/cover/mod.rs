@@ -277,7 +277,7 @@ pub fn root_xz(blade: &Blade) -> Vec2 {
 /// in neither list).
 pub fn left_out(blade: &Blade) -> [BladeVertex; 4] {
     blade.vertices().map(|v| BladeVertex {
-        width: [0.0; 4],
+        half_width: [0.0; 3],
         ..v
     })
 }
