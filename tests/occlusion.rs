@@ -13,7 +13,7 @@ use meadow::gpu::Gpu;
 use meadow::model::BladeVertex;
 use meadow::render::depth_pyramid::levels;
 use meadow::render::thinning::Thinning;
-use meadow::render::visibility::Bounds;
+use meadow::render::visibility::{Bounds, CullView};
 use meadow::render::{FrameUniforms, ViewMode};
 use meadow::scene::{field, CameraKey, Scene};
 
@@ -81,13 +81,19 @@ fn still_frames(msaa: u32) {
     let first = r.render(&gpu, &u, 0).unwrap();
     let first_counts = first.cull.unwrap();
     assert_eq!(
-        first_counts.occluded, 0,
+        (first_counts.occluded, first_counts.casters_occluded),
+        (0, 0),
         "the first frame has no frame before it"
     );
     let first_list = r
         .cull()
         .unwrap()
         .read_color_list(&gpu, r.commands())
+        .unwrap();
+    let first_casters = r
+        .cull()
+        .unwrap()
+        .read_shadow_list(&gpu, r.commands())
         .unwrap();
 
     // The pyramid the first frame built: each level from the one below.
@@ -143,12 +149,22 @@ fn still_frames(msaa: u32) {
 
     let second = r.render(&gpu, &u, 0).unwrap();
     let counts = second.cull.unwrap();
+    eprintln!("first frame {first_counts:?}; second {counts:?}");
     assert!(
         counts.occluded > 200,
         "the obstacles hid only {} blades ({counts:?})",
         counts.occluded
     );
     assert_eq!(counts.in_view + counts.occluded, first_counts.in_view);
+    assert!(
+        counts.casters_occluded > 100,
+        "the obstacles hid only {} casters' shadows ({counts:?})",
+        counts.casters_occluded
+    );
+    assert_eq!(
+        counts.shadow_casters + counts.casters_occluded,
+        first_counts.shadow_casters
+    );
     let differ = pixels_differing(&first, &second);
     assert_eq!(differ, 0, "{differ} pixels changed with {counts:?}");
 
@@ -189,6 +205,51 @@ fn still_frames(msaa: u32) {
     assert!(
         disagree.iter().all(|&(_, _, margin)| margin < 1e-5),
         "GPU and CPU disagree on blades (blade, CPU says hidden, margin): {disagree:?}"
+    );
+
+    // The casters left out: those whose shadow box the CPU finds hidden.
+    let view = CullView {
+        view_proj: seen_from,
+        eye,
+        light: Vec3::from(u.light_dir),
+        floor: u.terrain_lowest,
+        shadows: true,
+        thinning,
+        edge_on: scene.cull.edge_on,
+        filter_reach: meadow::render::visibility::filter_reach(
+            &Mat4::from_cols_array_2d(&u.light_view_proj),
+            meadow::render::shadow::ShadowParams::of(scene.light.shadow_map),
+        ),
+    };
+    let second_casters = r
+        .cull()
+        .unwrap()
+        .read_shadow_list(&gpu, r.commands())
+        .unwrap();
+    let (mut hidden, mut disagree) = (0, Vec::new());
+    let mut kept = second_casters.iter().peekable();
+    for &blade in &first_casters {
+        let v: [BladeVertex; 4] = vertices[4 * blade as usize..][..4].try_into().unwrap();
+        let root = Vec3::from(v[0].position);
+        let (scale, _) = thinning.scale(root, v[0].blade_rand, eye);
+        let swept = view
+            .shadow_box(Bounds::of_scaled_blade(&v, scale))
+            .expect("fig. 13's sun is high enough to bound every shadow");
+        let (occluded, margin) = swept.occluded(&seen_from, &depth, &placed);
+        let drawn = kept.next_if_eq(&&blade).is_some();
+        hidden += occluded as usize;
+        if drawn == occluded {
+            disagree.push((blade, occluded, margin));
+        }
+    }
+    assert!(
+        kept.next().is_none(),
+        "the second shadow list has casters the first had not"
+    );
+    assert_eq!(hidden, counts.casters_occluded as usize);
+    assert!(
+        disagree.iter().all(|&(_, _, margin)| margin < 1e-5),
+        "GPU and CPU disagree on casters (blade, CPU says hidden, margin): {disagree:?}"
     );
     drop(r);
     finish(gpu);

@@ -14,6 +14,8 @@
 #define CULL_KEPT    4u   // not thinned out by distance
 #define CULL_FACING  8u   // kept, and not seen edge-on from the camera
 #define CULL_OCCLUDED 16u // in view but hidden in the previous frame's depth (not drawn)
+#define CULL_SHADOW_OCCLUDED 32u // would cast, but where its shadow can fall the
+                                 // previous frame's depth hides (not drawn)
 
 // CULL_GROUP, the workgroup of the flag and compaction kernels, and
 // BladeVertex.
@@ -105,8 +107,12 @@ float shadow_filter_reach() {
 // distance thinning drops, or one without width, is drawn by neither
 // pass; `edge_on` (a cosine, 1 = off) leaves out blades seen edge-on from
 // the camera (colour pass) and from the sun (shadow pass). `lo` and `hi`
-// return the blade's bounds (for the occlusion test, glsl/cull/flags.comp).
-uint cull_flags(BladeVertex v[4], bool shadows, float edge_on, out vec3 lo, out vec3 hi) {
+// return the blade's bounds, `swept_lo` and `swept_hi` the box its shadow
+// can fall in, the filter's reach included (for the occlusion tests,
+// glsl/cull/flags.comp); `swept` whether that box bounds it (not with a
+// sun too low to sweep).
+uint cull_flags(BladeVertex v[4], bool shadows, float edge_on, out vec3 lo, out vec3 hi,
+                out vec3 swept_lo, out vec3 swept_hi, out bool swept) {
     float width_scale = thinning_scale(v[0].position, v[0].blade_rand);
     // A blade without width (the cover's beyond its bounds) is no blade.
     uint has_width = uint(any(notEqual(v[0].half_width, vec3(0.0))));
@@ -123,7 +129,9 @@ uint cull_flags(BladeVertex v[4], bool shadows, float edge_on, out vec3 lo, out 
     uint in_view = kept & facing_eye & uint(box_in_frustum(frame.view_proj, lo, hi));
     uint low_sun = uint(light.y < LOWEST_SWEPT_SUN);
     light.y = max(light.y, LOWEST_SWEPT_SUN);
-    vec3 swept_lo = lo, swept_hi = hi;
+    swept = low_sun == 0u;
+    swept_lo = lo;
+    swept_hi = hi;
     shadow_sweep(light, swept_lo, swept_hi);
     // The shadow map's filter reads around a receiver: a blade whose
     // shadow falls just beyond the view still darkens what it sees a

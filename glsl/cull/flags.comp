@@ -2,10 +2,12 @@
 #extension GL_GOOGLE_include_directive : require
 // Cull pass, 1 of 3: one invocation per blade tests the blade's current
 // control points (glsl/common/cull.glsl) and, for a blade in view, its
-// bounds against the previous frame's depth pyramid, stores its flags, and
-// each workgroup stores how many of its blades each pass draws, how many
-// the distance thinning keeps, how many of those face the camera, and how
-// many the previous frame's depth hides.
+// bounds against the previous frame's depth pyramid, for a caster the box
+// its shadow can fall in (ours: a shadow that falls only where the depth
+// hides every receiver darkens nothing seen), stores its flags, and each
+// workgroup stores how many of its blades each pass draws, how many the
+// distance thinning keeps, how many of those face the camera, and how
+// many in view and how many casters the previous frame's depth hides.
 
 #include "cull.glsl"
 #include "depth_pyramid.glsl"
@@ -21,11 +23,11 @@ layout(push_constant, std430) uniform Push {
 layout(set = 0, binding = 1, std430) readonly buffer Vertices { BladeVertex vertices[]; };
 layout(set = 0, binding = 2, std430) buffer Flags { uint flags[]; };
 layout(set = 0, binding = 3, std430) buffer Groups { uvec4 group_counts[]; };
-layout(set = 0, binding = 7, std430) buffer GroupsOccluded { uint group_occluded[]; };
+layout(set = 0, binding = 7, std430) buffer GroupsOccluded { uvec2 group_occluded[]; };
 layout(set = 0, binding = 8, std430) readonly buffer Pyramid { float pyramid[]; };
 
 shared uvec4 counts[CULL_GROUP];
-shared uint occluded_counts[CULL_GROUP];
+shared uvec2 occluded_counts[CULL_GROUP];
 
 // Whether the previous frame's depth hides the box `lo`-`hi` wholly: its
 // nearest depth, seen as that frame saw, lies behind the farthest depth of
@@ -76,14 +78,17 @@ void main() {
         for (int k = 0; k < 4; ++k) {
             v[k] = vertices[4u * in_batch + uint(k)];
         }
-        vec3 lo, hi;
-        f = cull_flags(v, pc.shadows != 0u, pc.edge_on, lo, hi);
+        vec3 lo, hi, swept_lo, swept_hi;
+        bool swept;
+        f = cull_flags(v, pc.shadows != 0u, pc.edge_on, lo, hi, swept_lo, swept_hi, swept);
         uint occluded = (f & CULL_IN_VIEW) & box_occluded(lo, hi);
         f = (f & ~(occluded * CULL_IN_VIEW)) | occluded * CULL_OCCLUDED;
+        uint shadow_occluded = ((f & CULL_CASTER) >> 1) & uint(swept) & box_occluded(swept_lo, swept_hi);
+        f = (f & ~(shadow_occluded * CULL_CASTER)) | shadow_occluded * CULL_SHADOW_OCCLUDED;
         flags[blade] = f;
     }
     counts[i] = uvec4(f & CULL_IN_VIEW, (f & CULL_CASTER) >> 1, (f & CULL_KEPT) >> 2, (f & CULL_FACING) >> 3);
-    occluded_counts[i] = (f & CULL_OCCLUDED) >> 4;
+    occluded_counts[i] = uvec2((f & CULL_OCCLUDED) >> 4, (f & CULL_SHADOW_OCCLUDED) >> 5);
     barrier();
     for (uint half_ = CULL_GROUP / 2u; half_ > 0u; half_ >>= 1u) {
         if (i < half_) {

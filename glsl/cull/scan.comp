@@ -19,12 +19,12 @@ layout(set = 0, binding = 3, std430) buffer Groups { uvec4 group_counts[]; };
 // index, vertex offset, first instance): the colour pass's, the shadow
 // pass's; then the blades tested, those the distance thinning kept, and
 // those of them not seen edge-on from the camera, and the blades in view
-// the previous frame's depth hides.
+// the previous frame's depth hides, and the casters whose shadow it hides.
 layout(set = 0, binding = 4, std430) buffer Draws { uint draws[]; };
-layout(set = 0, binding = 7, std430) readonly buffer GroupsOccluded { uint group_occluded[]; };
+layout(set = 0, binding = 7, std430) readonly buffer GroupsOccluded { uvec2 group_occluded[]; };
 
 shared uvec4 sums[256];
-shared uint occluded;
+shared uint occluded, casters_occluded;
 
 void main() {
     uint i = gl_LocalInvocationID.x;
@@ -32,16 +32,18 @@ void main() {
     uint chunk = (groups + 255u) / 256u;
     uint first = min(i * chunk, groups), last = min(first + chunk, groups);
     uvec4 sum = uvec4(0u);
-    uint hidden = 0u;
+    uvec2 hidden = uvec2(0u);
     for (uint g = first; g < last; ++g) {
         sum += group_counts[g];
         hidden += group_occluded[g];
     }
     if (i == 0u) {
         occluded = 0u;
+        casters_occluded = 0u;
     }
     barrier();
-    atomicAdd(occluded, hidden);
+    atomicAdd(occluded, hidden.x);
+    atomicAdd(casters_occluded, hidden.y);
     // Inclusive scan of the chunks' sums (Hillis-Steele).
     sums[i] = sum;
     barrier();
@@ -73,5 +75,6 @@ void main() {
         draws[11] = total.z;       // kept by the distance thinning
         draws[12] = total.w;       // of those, not edge-on to the camera
         draws[13] = occluded;      // in view, hidden by the previous frame's depth
+        draws[14] = casters_occluded; // casters whose shadow it hides
     }
 }

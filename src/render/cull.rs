@@ -37,7 +37,7 @@ const DRAW_BYTES: u64 = 20;
 /// blades tested, those the distance thinning left, those of them not
 /// seen edge-on from the camera, and the blades in view the previous
 /// frame's depth hides.
-const DRAW_WORDS: usize = 14;
+const DRAW_WORDS: usize = 15;
 
 /// The cull kernels, in the order a frame runs them: the flags (per
 /// batch of blades), the scan, the compaction.
@@ -99,6 +99,10 @@ pub struct CullCounts {
     /// (all of them when the sun is too low to bound it; none when
     /// shadows are off).
     pub shadow_casters: u32,
+    /// Their shadow could fall into the view, but only where the previous
+    /// frame's depth hides every receiver: not drawn (0 with occlusion
+    /// culling off, and in a frame with no frame before).
+    pub casters_occluded: u32,
 }
 
 /// What a pass draws of the blade buffer: every blade, or a cull pass's
@@ -305,6 +309,7 @@ impl CullPass {
             in_view: words[0] / 4,
             occluded: words[13],
             shadow_casters: words[5] / 4,
+            casters_occluded: words[14],
         }
     }
 
@@ -391,8 +396,8 @@ impl CullBuffers {
                 none,
             )?,
             groups_occluded: buffer(
-                "cull workgroup counts of occluded blades",
-                4 * groups as u64,
+                "cull workgroup counts of occluded blades and casters",
+                8 * groups as u64,
                 none,
             )?,
             no_pyramid: match no_pyramid {

@@ -243,18 +243,28 @@ impl CullView {
         };
         margins.frustum = margin.abs();
         if self.shadows && from_sun <= self.edge_on {
-            if self.light.y < LOWEST_SWEPT_SUN {
-                seen.caster = true;
-            } else {
-                let swept = bounds
-                    .shadow_sweep(self.light, self.floor)
-                    .grown(self.filter_reach)
-                    .frustum_margin(&self.view_proj);
-                seen.caster = swept >= 0.0;
-                margins.frustum = margins.frustum.min(swept.abs());
+            match self.shadow_box(bounds) {
+                None => seen.caster = true,
+                Some(swept) => {
+                    let swept = swept.frustum_margin(&self.view_proj);
+                    seen.caster = swept >= 0.0;
+                    margins.frustum = margins.frustum.min(swept.abs());
+                }
             }
         }
         (seen, margins)
+    }
+
+    /// The box a blade of `bounds` can cast its shadow into, the shadow
+    /// map filter's reach included: its bounds swept away from the sun
+    /// down to the lowest ground (glsl/common/cull.glsl's `swept_lo`
+    /// and `swept_hi`). None with a sun too low to bound the sweep.
+    pub fn shadow_box(&self, bounds: Bounds) -> Option<Bounds> {
+        (self.light.y >= LOWEST_SWEPT_SUN).then(|| {
+            bounds
+                .shadow_sweep(self.light, self.floor)
+                .grown(self.filter_reach)
+        })
     }
 }
 

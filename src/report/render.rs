@@ -206,8 +206,8 @@ fn draw_lines(report: &RenderReport) -> String {
     match &report.cull_counts {
         Some(c) => {
             text += &format!(
-            "culling: {} of {} blades left by distance thinning, {} of them not edge-on to the camera, {} hidden by the previous frame's depth, {} in view, {} shadow casters\n",
-            c.thinned_to, c.blades, c.face_camera, c.occluded, c.in_view, c.shadow_casters
+            "culling: {} of {} blades left by distance thinning, {} of them not edge-on to the camera, {} hidden by the previous frame's depth, {} in view, {} shadow casters, {} casters whose shadow that depth hides\n",
+            c.thinned_to, c.blades, c.face_camera, c.occluded, c.in_view, c.shadow_casters, c.casters_occluded
         )
         }
         None => text += "culling: off (every blade drawn in both passes)\n",

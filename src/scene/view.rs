@@ -217,7 +217,8 @@ pub struct Cull {
     /// pass) is seen edge-on and left out; 1 keeps every blade.
     pub edge_on: f32,
     /// Occlusion: blades hidden behind the previous frame's depth are
-    /// left out of the colour pass.
+    /// left out of the colour pass, and blades whose shadow can fall only
+    /// on what that depth hides out of the shadow pass.
     pub occlusion: bool,
 }
 
