@@ -29,7 +29,10 @@ layout(location = 6) flat in vec2 g_root;    // the blade's root (x, z)
 layout(location = 7) in vec3 g_side;
 layout(location = 8) in vec2 g_extinction;  // the canopy's per unit of leaf area index (sun, sky)
 layout(location = 9) in vec3 g_sky;         // the sky the cuticle mirrors toward the eye
-layout(location = 10) flat in vec4 g_tint;  // the blade's colour
+// The blade's colour (grass_color.glsl's blade_tint).
+layout(location = 10) flat in vec3 g_tint;
+layout(location = 11) flat in float g_tip_len;
+layout(location = 12) flat in float g_dry;
 
 layout(location = 0) out vec4 out_color;
 
@@ -62,7 +65,7 @@ void main() {
         albedo = mix(vec3(0.05, 0.15, 0.6), vec3(0.9, 0.1, 0.05), clamp(g_motion / 0.6, 0.0, 1.0));
     } else {
         vec3 base = texture(sampler2D(grass_texture, surface_sampler), g_uv).rgb;
-        albedo = grass_albedo(base, g_uv, g_tint);
+        albedo = grass_albedo(base, g_uv, g_tint, g_tip_len, g_dry);
     }
     // The shadow map's 9 taps, once: lavapipe runs both sides of a branch.
     float shadow = sun_visibility(g_world);

@@ -21,7 +21,9 @@ layout(location = 5) in float e_tess_level[];
 layout(location = 6) in float e_motion[];
 layout(location = 7, component = 0) in vec2 e_root[];
 layout(location = 7, component = 2) in float e_reach[];
-layout(location = 8) in vec4 e_tint[];
+layout(location = 8) in vec3 e_tint[];
+layout(location = 9) in float e_tip_len[];
+layout(location = 10) in float e_dry[];
 
 layout(location = 0) out vec3 g_world;
 layout(location = 1) out vec3 g_normal;
@@ -32,7 +34,10 @@ layout(location = 6) flat out vec2 g_root;   // the blade's root (x, z)
 layout(location = 7) out vec3 g_side;        // unit width direction (across the blade)
 layout(location = 8) out vec2 g_extinction;  // the canopy's per unit of leaf area index (sun, sky)
 layout(location = 9) out vec3 g_sky;         // the sky the cuticle mirrors toward the eye here
-layout(location = 10) flat out vec4 g_tint;  // the blade's colour (grass_color.glsl's blade_tint)
+// The blade's colour (grass_color.glsl's blade_tint).
+layout(location = 10) flat out vec3 g_tint;
+layout(location = 11) flat out float g_tip_len;
+layout(location = 12) flat out float g_dry;
 
 // Width profile along the blade: full near the root, a point at the tip.
 float taper(float v) {
@@ -53,6 +58,8 @@ void emit_side(int i, float side) {
     g_motion = e_motion[0];
     g_root = e_root[0];
     g_tint = e_tint[0];
+    g_tip_len = e_tip_len[0];
+    g_dry = e_dry[0];
     float w2 = dot(e_width[i], e_width[i]);
     vec3 across = w2 > 1e-20 ? e_width[i] * inversesqrt(w2) : vec3(1.0, 0.0, 0.0);
     g_side = across;

@@ -24,7 +24,9 @@ layout(location = 2) patch out float c_tess_level;
 layout(location = 3, component = 0) patch out vec2 c_root;
 layout(location = 3, component = 2) patch out float c_reach;
 // The blade's colour (glsl/common/grass_color.glsl's blade_tint).
-layout(location = 4) patch out vec4 c_tint;
+layout(location = 4) patch out vec3 c_tint;
+layout(location = 5) patch out float c_tip_len;
+layout(location = 6) patch out float c_dry;
 
 float tess_level_for(float distance_to_eye) {
     if (frame.lod_on == 0.0) {
@@ -151,6 +153,9 @@ void main() {
         float clump = clump_of(p0.xz);
         c_root = p0.xz;
         c_reach = reach;
-        c_tint = blade_tint(v_blade_rand[0], clump);
+        BladeTint tint = blade_tint(v_blade_rand[0], clump);
+        c_tint = tint.tint;
+        c_tip_len = tint.tip_len;
+        c_dry = tint.dry;
     }
 }

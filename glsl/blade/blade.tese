@@ -12,7 +12,9 @@ layout(location = 1, component = 3) in float c_displacement[];
 layout(location = 2) patch in float c_tess_level;
 layout(location = 3, component = 0) patch in vec2 c_root;
 layout(location = 3, component = 2) patch in float c_reach;
-layout(location = 4) patch in vec4 c_tint;
+layout(location = 4) patch in vec3 c_tint;
+layout(location = 5) patch in float c_tip_len;
+layout(location = 6) patch in float c_dry;
 
 layout(location = 0) out vec3 e_position;
 layout(location = 1) out vec3 e_tangent;
@@ -22,7 +24,9 @@ layout(location = 5) out float e_tess_level;
 layout(location = 6) out float e_motion;
 layout(location = 7, component = 0) out vec2 e_root;
 layout(location = 7, component = 2) out float e_reach;
-layout(location = 8) out vec4 e_tint;
+layout(location = 8) out vec3 e_tint;
+layout(location = 9) out float e_tip_len;
+layout(location = 10) out float e_dry;
 
 void main() {
     float t = gl_TessCoord.x;
@@ -41,4 +45,6 @@ void main() {
     e_root = c_root;
     e_reach = c_reach;
     e_tint = c_tint;
+    e_tip_len = c_tip_len;
+    e_dry = c_dry;
 }

@@ -49,12 +49,18 @@ float clump_of(vec2 root) {
     return unit_of(best_hash);
 }
 
-// A blade's own colour, worked out once per blade (the tessellation
-// control stage) from its random number `blade_rand` and its clump's
-// `clump`: rgb, the tint its hue, lightness and clump give the texture's
-// colour; w, the share of its length its dry tip takes, or -1 for a dry
-// blade.
-vec4 blade_tint(float blade_rand, float clump) {
+// A blade's own colour: the tint its hue, lightness and clump give the
+// texture's colour, the share of its length its dry tip takes, and whether
+// the whole blade is dry (1; its tip then 0).
+struct BladeTint {
+    vec3 tint;
+    float tip_len;
+    float dry;
+};
+
+// The blade's colour, worked out once per blade (the tessellation control
+// stage) from its random number `blade_rand` and its clump's `clump`.
+BladeTint blade_tint(float blade_rand, float clump) {
     uint h = lowbias32(floatBitsToUint(blade_rand) ^ 0x5bd1e995u);
     float r_hue = unit_of(h);
     h = lowbias32(h);
@@ -72,19 +78,19 @@ vec4 blade_tint(float blade_rand, float clump) {
     // A share frame.dryness of the blades is dry; of the others, dry tips
     // over the last share of the blade, up to 0.35 of it.
     float tip_len = frame.tip * mix(0.08, 0.35, r_tip);
-    return vec4(tint, r_dry < frame.dryness ? -1.0 : tip_len);
+    bool dry = r_dry < frame.dryness;
+    return BladeTint(tint, dry ? 0.0 : tip_len, dry ? 1.0 : 0.0);
 }
 
 // The blade's albedo at `uv` (x across, y root to tip): the texture's
-// colour `base` under the blade's `tint` (blade_tint).
-vec3 grass_albedo(vec3 base, vec2 uv, vec4 tint) {
-    vec3 c = base * tint.rgb;
+// colour `base` under the blade's `tint`, with its dry tip's `tip_len` and
+// `dry` (blade_tint).
+vec3 grass_albedo(vec3 base, vec2 uv, vec3 tint, float tip_len, float dry) {
+    vec3 c = base * tint;
     // Dry blades and tips are straw, darker toward the root as the
     // texture is.
     float shade = dot(base, vec3(0.2126, 0.7152, 0.0722)) / 0.24;
     vec3 straw = GRASS_STRAW * clamp(shade, 0.25, 1.3);
-    float dry = tint.w < 0.0 ? 1.0 : 0.0;
-    float tip_len = max(tint.w, 0.0);
     float tip = tip_len > 0.0 ? smoothstep(1.0 - tip_len, 1.0, uv.y) : 0.0;
     return mix(c, straw, max(dry, 0.85 * tip));
 }
