@@ -11,7 +11,7 @@ use glam::{Mat4, Vec3};
 use meadow::frame::{Frame, FrameRecorder};
 use meadow::gpu::Gpu;
 use meadow::model::BladeVertex;
-use meadow::render::depth_pyramid::levels;
+use meadow::render::depth_pyramid::{levels, Level};
 use meadow::render::thinning::Thinning;
 use meadow::render::visibility::{Bounds, CullView};
 use meadow::render::{FrameUniforms, ViewMode};
@@ -183,28 +183,20 @@ fn still_frames(msaa: u32) {
     let seen_from = Mat4::from_cols_array_2d(&u.view_proj);
     let eye = glam::Vec3::from(u.camera_pos);
     let thinning = Thinning::of(&scene);
-    let (mut hidden, mut disagree) = (0, Vec::new());
-    let mut kept = second_list.iter().peekable();
-    for &blade in &first_list {
+    let pyramid = (&seen_from, depth.as_slice(), placed.as_slice());
+    let blade_box = |blade: u32| {
         let v: [BladeVertex; 4] = vertices[4 * blade as usize..][..4].try_into().unwrap();
         let root = Vec3::from(v[0].position);
         let (scale, _) = thinning.scale(root, v[0].blade_rand, eye);
-        let (occluded, margin) =
-            Bounds::of_scaled_blade(&v, scale).occluded(&seen_from, &depth, &placed);
-        let drawn = kept.next_if_eq(&&blade).is_some();
-        hidden += occluded as usize;
-        if drawn == occluded {
-            disagree.push((blade, occluded, margin));
-        }
-    }
-    assert!(
-        kept.next().is_none(),
-        "the second list has blades the first had not"
-    );
-    assert_eq!(hidden, counts.occluded as usize);
-    assert!(
-        disagree.iter().all(|&(_, _, margin)| margin < 1e-5),
-        "GPU and CPU disagree on blades (blade, CPU says hidden, margin): {disagree:?}"
+        Bounds::of_scaled_blade(&v, scale)
+    };
+    assert_hidden_as_the_cpu_finds(
+        "blades in view",
+        &first_list,
+        &second_list,
+        counts.occluded,
+        pyramid,
+        blade_box,
     );
 
     // The casters left out: those whose shadow box the CPU finds hidden.
@@ -226,33 +218,51 @@ fn still_frames(msaa: u32) {
         .unwrap()
         .read_shadow_list(&gpu, r.commands())
         .unwrap();
-    let (mut hidden, mut disagree) = (0, Vec::new());
-    let mut kept = second_casters.iter().peekable();
-    for &blade in &first_casters {
-        let v: [BladeVertex; 4] = vertices[4 * blade as usize..][..4].try_into().unwrap();
-        let root = Vec3::from(v[0].position);
-        let (scale, _) = thinning.scale(root, v[0].blade_rand, eye);
-        let swept = view
-            .shadow_box(Bounds::of_scaled_blade(&v, scale))
-            .expect("fig. 13's sun is high enough to bound every shadow");
-        let (occluded, margin) = swept.occluded(&seen_from, &depth, &placed);
+    assert_hidden_as_the_cpu_finds(
+        "casters",
+        &first_casters,
+        &second_casters,
+        counts.casters_occluded,
+        pyramid,
+        |blade| {
+            view.shadow_box(blade_box(blade))
+                .expect("fig. 13's sun is high enough to bound every shadow")
+        },
+    );
+    drop(r);
+    finish(gpu);
+}
+
+/// The second frame's list is the first's without the blades whose box
+/// (`box_of`) the CPU finds hidden in the first frame's pyramid
+/// (`Bounds::occluded`), `hidden` of them, bar decisions within rounding.
+fn assert_hidden_as_the_cpu_finds(
+    what: &str,
+    first: &[u32],
+    second: &[u32],
+    hidden: u32,
+    (seen_from, depth, placed): (&Mat4, &[f32], &[Level]),
+    box_of: impl Fn(u32) -> Bounds,
+) {
+    let (mut found, mut disagree) = (0, Vec::new());
+    let mut kept = second.iter().peekable();
+    for &blade in first {
+        let (occluded, margin) = box_of(blade).occluded(seen_from, depth, placed);
         let drawn = kept.next_if_eq(&&blade).is_some();
-        hidden += occluded as usize;
+        found += occluded as u32;
         if drawn == occluded {
             disagree.push((blade, occluded, margin));
         }
     }
     assert!(
         kept.next().is_none(),
-        "the second shadow list has casters the first had not"
+        "the second frame's {what} has blades the first had not"
     );
-    assert_eq!(hidden, counts.casters_occluded as usize);
+    assert_eq!(found, hidden, "{what} hidden");
     assert!(
         disagree.iter().all(|&(_, _, margin)| margin < 1e-5),
-        "GPU and CPU disagree on casters (blade, CPU says hidden, margin): {disagree:?}"
+        "GPU and CPU disagree on {what} (blade, CPU says hidden, margin): {disagree:?}"
     );
-    drop(r);
-    finish(gpu);
 }
 
 /// The wind moving the blades: each frame is tested against the one
