@@ -344,7 +344,6 @@ fn on_terrain_the_gpu_roots_and_poses_the_cover_where_the_cpu_does() {
 /// posed. Most of a cover lies outside a camera's view.
 #[test]
 fn posing_only_what_the_frame_may_draw_changes_nothing_drawn() {
-    use meadow::render::visibility::CullView;
     use meadow::render::{FrameUniforms, ViewMode};
     let mut scene = covered_scene(false);
     // A low sun behind the camera: blades behind it cast into the view.
@@ -376,19 +375,8 @@ fn posing_only_what_the_frame_may_draw_changes_nothing_drawn() {
     );
     finish(gpu);
 
-    let view = CullView {
-        view_proj: glam::Mat4::from_cols_array_2d(&uniforms.view_proj),
-        eye,
-        light: Vec3::from_slice(&uniforms.light_dir[..3]),
-        floor: 0.0,
-        shadows: true,
-        thinning: meadow::render::thinning::Thinning::of(&scene),
-        edge_on: scene.cull.edge_on,
-        filter_reach: meadow::render::visibility::filter_reach(
-            &glam::Mat4::from_cols_array_2d(&uniforms.light_view_proj),
-            meadow::render::shadow::ShadowParams::of(scene.light.shadow_map),
-        ),
-    };
+    let view = uniforms.cull_view(&scene);
+    assert!(view.shadows && view.floor == 0.0, "flat ground under a sun");
     let rest = cover::vertices(&FLAT, cover::seed32(9), &grass.shape, &tiles);
     let (mut posed, mut left) = (0, 0);
     for ((a, b), r) in every

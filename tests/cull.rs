@@ -118,8 +118,6 @@ fn lists_are_the_cpu_references(storage_range: Option<u32>) {
         );
     }
 
-    let view_proj = Mat4::from_cols_array_2d(&uniforms.view_proj);
-    let light = Vec3::from(uniforms.light_dir);
     let eye = Vec3::from(uniforms.camera_pos);
     let thinning = Thinning::of(&scene);
     assert!(thinning.is_on(), "the default scene thins by distance");
@@ -127,19 +125,8 @@ fn lists_are_the_cpu_references(storage_range: Option<u32>) {
         scene.cull.edge_on < 1.0,
         "the default scene culls edge-on blades"
     );
-    let view = CullView {
-        view_proj,
-        eye,
-        light,
-        floor: uniforms.terrain_lowest,
-        shadows: true,
-        thinning,
-        edge_on: scene.cull.edge_on,
-        filter_reach: meadow::render::visibility::filter_reach(
-            &Mat4::from_cols_array_2d(&uniforms.light_view_proj),
-            meadow::render::shadow::ShadowParams::of(scene.light.shadow_map),
-        ),
-    };
+    let view = uniforms.cull_view(&scene);
+    assert!(view.shadows, "the scene casts shadows");
     let face_on = CullView {
         edge_on: 1.0,
         ..view

@@ -13,7 +13,7 @@ use meadow::gpu::Gpu;
 use meadow::model::BladeVertex;
 use meadow::render::depth_pyramid::{levels, Level};
 use meadow::render::thinning::Thinning;
-use meadow::render::visibility::{Bounds, CullView};
+use meadow::render::visibility::Bounds;
 use meadow::render::{FrameUniforms, ViewMode};
 use meadow::scene::{field, CameraKey, Scene};
 
@@ -200,19 +200,7 @@ fn still_frames(msaa: u32) {
     );
 
     // The casters left out: those whose shadow box the CPU finds hidden.
-    let view = CullView {
-        view_proj: seen_from,
-        eye,
-        light: Vec3::from(u.light_dir),
-        floor: u.terrain_lowest,
-        shadows: true,
-        thinning,
-        edge_on: scene.cull.edge_on,
-        filter_reach: meadow::render::visibility::filter_reach(
-            &Mat4::from_cols_array_2d(&u.light_view_proj),
-            meadow::render::shadow::ShadowParams::of(scene.light.shadow_map),
-        ),
-    };
+    let view = u.cull_view(&scene);
     let second_casters = r
         .cull()
         .unwrap()

@@ -8,8 +8,10 @@ use crate::error::Result;
 use crate::gpu::{Buffer, Gpu, MemoryLocation};
 use crate::render::canopy_map;
 use crate::render::shadow_frustum::light_view_proj;
+use crate::render::shadow_params::ShadowParams;
 use crate::render::terrain;
 use crate::render::thinning::Thinning;
+use crate::render::visibility::{filter_reach, CullView};
 use crate::scene::Scene;
 
 pub use crate::scene::ViewMode;
@@ -166,6 +168,22 @@ impl FrameUniforms {
     pub fn displacement_view(mut self) -> Self {
         self.view = crate::interface::VIEW_DISPLACEMENT;
         self
+    }
+
+    /// What the cull pass tests `scene`'s blades against in this frame
+    /// (the CPU reference's view of it).
+    pub fn cull_view(&self, scene: &Scene) -> CullView {
+        let shadow = ShadowParams::of(scene.light.shadow_map);
+        CullView {
+            view_proj: Mat4::from_cols_array_2d(&self.view_proj),
+            eye: Vec3::from(self.camera_pos),
+            light: Vec3::from(self.light_dir),
+            floor: self.terrain_lowest,
+            shadows: shadow.on,
+            thinning: Thinning::of(scene),
+            edge_on: scene.cull.edge_on,
+            filter_reach: filter_reach(&Mat4::from_cols_array_2d(&self.light_view_proj), shadow),
+        }
     }
 }
 
