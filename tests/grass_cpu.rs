@@ -332,7 +332,7 @@ fn the_swing_inertia_and_lever_are_those_of_the_poses_own_motion() {
             pose(&blade, angle)
         };
         let (plus, minus) = (at(eps), at(-eps));
-        let hw = blade.half_width();
+        let hw = blade.half_width;
         let point = |p: &grass::Pose, j: usize, u: f32, t: f32| {
             p.points[j] + (p.points[j + 1] - p.points[j]) * u + p.w[j] * (t * hw)
         };

@@ -3,13 +3,13 @@
 use std::sync::Arc;
 
 use ash::vk;
+use ash::vk::Handle;
 
 use crate::error::{Error, Result};
 use crate::gpu::descriptors::PipelineLayout;
 use crate::gpu::owned::Owned;
 use crate::gpu::shader::{self, Spirv};
 use crate::gpu::Gpu;
-use ash::vk::Handle;
 
 /// Formats and sample count a graphics pipeline renders into.
 #[derive(Clone, Copy, Debug)]

@@ -38,7 +38,7 @@ pub fn unit(blades: &[GrassBlade]) -> f32 {
 /// Edge `i`'s plate: its length times the blade's full width (the S of
 /// docs/method.md section 4).
 fn plate_area(blade: &GrassBlade, i: usize) -> f32 {
-    (blade.rest_point(i + 1) - blade.rest_point(i)).length() * 2.0 * blade.half_width()
+    (blade.rest_point(i + 1) - blade.rest_point(i)).length() * 2.0 * blade.half_width
 }
 
 /// The frontal area of each edge at `pose` to the wind `wind`: the edge's

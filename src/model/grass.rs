@@ -198,18 +198,9 @@ impl GrassBlade {
         Vec3::new(x, (1.0 - x * x - z * z).max(0.0).sqrt(), z)
     }
 
-    /// The contact paraboloid's c (`Blade::ground_curvature`).
-    pub fn ground_curvature(&self) -> f32 {
-        self.ground_curvature
-    }
-
     /// Rest control point P_i.
     pub fn rest_point(&self, i: usize) -> Vec3 {
         Vec3::from([self.rest_root, self.rest_1, self.rest_2, self.rest_tip][i])
-    }
-
-    pub fn half_width(&self) -> f32 {
-        self.half_width
     }
 
     /// Rest E_w (unit, horizontal).
@@ -247,7 +238,7 @@ impl GrassBlade {
             } else {
                 0.0
             },
-            self.half_width() * k[2],
+            self.half_width * k[2],
         ]
     }
 
@@ -564,7 +555,7 @@ fn twist_torque(blade: &GrassBlade, pose: &Pose, angle: [f32; 4], wind: Vec3) ->
     let side = if wind.dot(w_local) < 0.0 { -1.0 } else { 1.0 };
     let force = n_local * (blade.drag[TWIST] * wind.dot(n_local))
         + direction_or_zero(pose.w[2] - w_local) * (side * blade.stiffness[2] * theta.abs());
-    (w_local * (side * blade.half_width())).cross(force).dot(e)
+    (w_local * (side * blade.half_width)).cross(force).dot(e)
 }
 
 /// The wind a blade feels: non-finite components count as calm air and the
@@ -649,7 +640,7 @@ pub fn step_with(
 /// points' hull, so it stays above the ground when they do.
 pub fn below_ground(blade: &GrassBlade, pose: &Pose) -> bool {
     let (root, ground) = (blade.rest_point(0), blade.ground_normal());
-    let c = blade.ground_curvature();
+    let c = blade.ground_curvature;
     pose.points[1..]
         .iter()
         .any(|&p| (p - root).dot(ground) < c * (p - root).length_squared())
@@ -692,7 +683,7 @@ pub fn vertices(blade: &GrassBlade, pose: &Pose) -> [BladeVertex; 4] {
         BladeVertex {
             position: pose.points[i].to_array(),
             blade_rand: blade.blade_rand,
-            half_width: (pose.w_local[edge] * blade.half_width()).to_array(),
+            half_width: (pose.w_local[edge] * blade.half_width).to_array(),
             displacement,
         }
     })

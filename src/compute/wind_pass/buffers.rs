@@ -17,7 +17,7 @@ fn multigrid_tables(levels: &[Level]) -> (Vec<MgLevel>, Vec<f32>) {
     let mut conductance = Vec::new();
     let mut coarse_offset = 0u32;
     for level in levels {
-        let mut offsets = [0u32; 4];
+        let mut offsets = [0u32; 3];
         for (axis, k) in level.conductance.iter().enumerate() {
             offsets[axis] = conductance.len() as u32;
             conductance.extend_from_slice(k);
@@ -27,7 +27,7 @@ fn multigrid_tables(levels: &[Level]) -> (Vec<MgLevel>, Vec<f32>) {
             cells: level.cells.to_array(),
             coarse_offset: if first { 0 } else { coarse_offset },
             ratio: level.ratio.to_array(),
-            conductance: [offsets[0], offsets[1], offsets[2]],
+            conductance: offsets,
             ..MgLevel::default()
         });
         if !first {
