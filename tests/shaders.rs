@@ -243,16 +243,7 @@ fn blade_vertex_inputs_match_the_vertex_buffer_layout() {
     assert_eq!(inputs, rust);
     // Each attribute one field of the vertex, in order.
     let offsets: Vec<u32> = BLADE_ATTRIBUTES.iter().map(|a| a.offset).collect();
-    assert_eq!(
-        offsets,
-        [
-            offset_of!(BladeVertex, position),
-            offset_of!(BladeVertex, blade_rand),
-            offset_of!(BladeVertex, half_width),
-            offset_of!(BladeVertex, displacement),
-        ]
-        .map(|o| o as u32)
-    );
+    assert_eq!(offsets, blade_vertex_offsets());
     assert_eq!(std::mem::size_of::<BladeVertex>(), 32);
 }
 
@@ -468,21 +459,23 @@ fn array_element_layout(module: &naga::Module, binding: u32) -> (Vec<u32>, u32, 
     (offsets, span, stride)
 }
 
+/// Each of `BladeVertex`'s fields' offset, in order.
+fn blade_vertex_offsets() -> [u32; 4] {
+    [
+        offset_of!(BladeVertex, position),
+        offset_of!(BladeVertex, blade_rand),
+        offset_of!(BladeVertex, half_width),
+        offset_of!(BladeVertex, displacement),
+    ]
+    .map(|o| o as u32)
+}
+
 /// The storage array at `binding` is laid out as `BladeVertex`.
 fn assert_blade_vertices(module: &naga::Module, binding: u32) {
     let (offsets, span, stride) = array_element_layout(module, binding);
     assert_eq!(span as usize, std::mem::size_of::<BladeVertex>());
     assert_eq!(stride as usize, std::mem::size_of::<BladeVertex>());
-    assert_eq!(
-        offsets,
-        [
-            offset_of!(BladeVertex, position),
-            offset_of!(BladeVertex, blade_rand),
-            offset_of!(BladeVertex, half_width),
-            offset_of!(BladeVertex, displacement),
-        ]
-        .map(|o| o as u32)
-    );
+    assert_eq!(offsets, blade_vertex_offsets());
 }
 
 #[test]

@@ -118,71 +118,43 @@ pub const GROUND_STAGES: &[&Spirv] = &[
     &shaders::BACKDROP_GROUND_FRAG,
 ];
 
+/// Attribute `location` of vertex buffer binding 0: `format` at `offset`.
+const fn attribute(
+    location: u32,
+    format: vk::Format,
+    offset: usize,
+) -> vk::VertexInputAttributeDescription {
+    vk::VertexInputAttributeDescription {
+        location,
+        binding: 0,
+        format,
+        offset: offset as u32,
+    }
+}
+
+const VEC3: vk::Format = vk::Format::R32G32B32_SFLOAT;
+const FLOAT: vk::Format = vk::Format::R32_SFLOAT;
+
 /// The blade vertex buffer's layout: one `BladeVertex` per control point.
 /// glsl/blade/blade.vert reads each field at the location of its order.
 pub const BLADE_ATTRIBUTES: [vk::VertexInputAttributeDescription; 4] = [
-    vk::VertexInputAttributeDescription {
-        location: 0,
-        binding: 0,
-        format: vk::Format::R32G32B32_SFLOAT,
-        offset: std::mem::offset_of!(BladeVertex, position) as u32,
-    },
-    vk::VertexInputAttributeDescription {
-        location: 1,
-        binding: 0,
-        format: vk::Format::R32_SFLOAT,
-        offset: std::mem::offset_of!(BladeVertex, blade_rand) as u32,
-    },
-    vk::VertexInputAttributeDescription {
-        location: 2,
-        binding: 0,
-        format: vk::Format::R32G32B32_SFLOAT,
-        offset: std::mem::offset_of!(BladeVertex, half_width) as u32,
-    },
-    vk::VertexInputAttributeDescription {
-        location: 3,
-        binding: 0,
-        format: vk::Format::R32_SFLOAT,
-        offset: std::mem::offset_of!(BladeVertex, displacement) as u32,
-    },
+    attribute(0, VEC3, std::mem::offset_of!(BladeVertex, position)),
+    attribute(1, FLOAT, std::mem::offset_of!(BladeVertex, blade_rand)),
+    attribute(2, VEC3, std::mem::offset_of!(BladeVertex, half_width)),
+    attribute(3, FLOAT, std::mem::offset_of!(BladeVertex, displacement)),
 ];
 
 /// The obstacle vertex buffer's layout: one `ObstacleVertex` per corner.
 pub const OBSTACLE_ATTRIBUTES: [vk::VertexInputAttributeDescription; 3] = [
-    vk::VertexInputAttributeDescription {
-        location: 0,
-        binding: 0,
-        format: vk::Format::R32G32B32_SFLOAT,
-        offset: std::mem::offset_of!(ObstacleVertex, position) as u32,
-    },
-    vk::VertexInputAttributeDescription {
-        location: 1,
-        binding: 0,
-        format: vk::Format::R32G32B32_SFLOAT,
-        offset: std::mem::offset_of!(ObstacleVertex, normal) as u32,
-    },
-    vk::VertexInputAttributeDescription {
-        location: 2,
-        binding: 0,
-        format: vk::Format::R32G32B32_SFLOAT,
-        offset: std::mem::offset_of!(ObstacleVertex, albedo) as u32,
-    },
+    attribute(0, VEC3, std::mem::offset_of!(ObstacleVertex, position)),
+    attribute(1, VEC3, std::mem::offset_of!(ObstacleVertex, normal)),
+    attribute(2, VEC3, std::mem::offset_of!(ObstacleVertex, albedo)),
 ];
 
 /// The terrain vertex buffer's layout: one `TerrainVertex` per corner.
 pub const TERRAIN_ATTRIBUTES: [vk::VertexInputAttributeDescription; 2] = [
-    vk::VertexInputAttributeDescription {
-        location: 0,
-        binding: 0,
-        format: vk::Format::R32G32B32_SFLOAT,
-        offset: std::mem::offset_of!(TerrainVertex, position) as u32,
-    },
-    vk::VertexInputAttributeDescription {
-        location: 1,
-        binding: 0,
-        format: vk::Format::R32G32B32_SFLOAT,
-        offset: std::mem::offset_of!(TerrainVertex, normal) as u32,
-    },
+    attribute(0, VEC3, std::mem::offset_of!(TerrainVertex, position)),
+    attribute(1, VEC3, std::mem::offset_of!(TerrainVertex, normal)),
 ];
 
 const TERRAIN_BINDING: [vk::VertexInputBindingDescription; 1] =
