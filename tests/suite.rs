@@ -34,6 +34,7 @@ mod look;
 mod motion;
 mod multigrid_cpu;
 mod occlusion;
+mod overlap;
 mod ownership;
 mod parser_fuzz;
 mod render;

@@ -47,6 +47,11 @@ pub struct BenchArgs {
     /// scene's [cull] occlusion, off).
     #[arg(long, value_enum)]
     occlusion: Option<OnOff>,
+    /// Each frame's steps beside the drawing of the frame before (default:
+    /// the scene's render.overlap, auto: where the device has a second
+    /// queue).
+    #[arg(long, value_enum)]
+    overlap: Option<meadow::scene::Overlap>,
     /// Also run each row with the scene's terrain made flat (the same
     /// blades on flat ground): bench.md's terrain table sets them side by
     /// side. Needs a scene with terrain (hills).
@@ -111,6 +116,7 @@ fn request(args: BenchArgs) -> anyhow::Result<meadow::commands::bench::BenchRequ
         msaa,
         shadow_map,
         occlusion,
+        overlap,
         also_flat,
         against: _,
         runs: _,
@@ -128,6 +134,9 @@ fn request(args: BenchArgs) -> anyhow::Result<meadow::commands::bench::BenchRequ
     }
     if let Some(occlusion) = occlusion {
         scene.cull.occlusion = occlusion == OnOff::On;
+    }
+    if let Some(overlap) = overlap {
+        scene.render.overlap = overlap;
     }
     Ok(meadow::commands::bench::BenchRequest {
         scene,
@@ -203,6 +212,9 @@ fn run_against(old: PathBuf, args: &BenchArgs) -> anyhow::Result<()> {
     if let Some(o) = args.occlusion {
         let o = if o == OnOff::On { "on" } else { "off" };
         bench_args.extend(["--occlusion".to_string(), o.to_string()]);
+    }
+    if let Some(o) = args.overlap {
+        bench_args.extend(["--overlap".to_string(), o.to_string()]);
     }
     if args.also_flat {
         bench_args.push("--also-flat".into());

@@ -12,12 +12,18 @@ pub fn devices(options: &GpuOptions) -> Result<(Vec<DeviceInfo>, ValidationRepor
 /// One line for a device.
 pub fn line(d: &DeviceInfo) -> String {
     format!(
-        "{}  [{}]  Vulkan {}  {}  max MSAA {}x  {}",
+        "{}  [{}]  Vulkan {}  {}  max MSAA {}x  {}  {}",
         d.name,
         d.device_type,
         d.api_version,
         d.driver,
         d.max_msaa,
+        // The simulation beside the drawing needs a second queue of the
+        // graphics family and timeline semaphores (render.overlap).
+        match (d.queues, d.timeline_semaphores) {
+            (2.., true) => format!("{} graphics queues (steps beside the drawing)", d.queues),
+            (q, _) => format!("{q} graphics queue{}", if q == 1 { "" } else { "s" }),
+        },
         match &d.missing {
             None => "qualifies".to_string(),
             Some(f) => format!("does not qualify: lacks {f}"),

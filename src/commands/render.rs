@@ -100,6 +100,7 @@ impl RenderRequest {
             fps: self.animation.fps,
             start: self.animation.start,
             light_waves: self.light_waves,
+            overlap: self.scene.render.overlap,
         }
     }
 

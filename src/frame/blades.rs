@@ -12,7 +12,8 @@ use crate::model::{Blade, BladeVertex};
 const USAGE: vk::BufferUsageFlags = vk::BufferUsageFlags::from_raw(
     vk::BufferUsageFlags::VERTEX_BUFFER.as_raw()
         | vk::BufferUsageFlags::STORAGE_BUFFER.as_raw()
-        | vk::BufferUsageFlags::TRANSFER_SRC.as_raw(),
+        | vk::BufferUsageFlags::TRANSFER_SRC.as_raw()
+        | vk::BufferUsageFlags::TRANSFER_DST.as_raw(),
 );
 
 pub struct BladeBuffer {
@@ -74,6 +75,24 @@ impl BladeBuffer {
             )?;
         }
         Ok(Self { buffer, count })
+    }
+
+    /// The blades' rest shape in a buffer of its own, which the steps
+    /// write beside the drawing and copy into the drawn one.
+    pub fn simulated_twin(gpu: &Gpu, commands: &CommandPool, blades: &[Blade]) -> Result<Buffer> {
+        let vertices: Vec<BladeVertex> = try_collect(
+            4 * blades.len(),
+            blades.iter().flat_map(Blade::vertices),
+            "the blades' control points",
+        )?;
+        Buffer::with_data(
+            gpu,
+            commands,
+            "simulated blade control points (copied into the drawn ones)",
+            bytemuck::cast_slice(&vertices),
+            USAGE,
+            Access::COMPUTE_READ,
+        )
     }
 
     /// Room for `blades` blades, contents undefined until the grass

@@ -5,12 +5,17 @@
 //! simulate (wind step, grass step) x steps -> cull -> shadow pass ->
 //! colour pass (sky, ground, grass) -> depth pyramid -> read-back.
 //!
+//! With `render.overlap` the steps go instead in a submission of their own
+//! beside the drawing of the frame before (`ahead.rs`).
+//!
 //! The simulating and rendering phases do not know each other; this is the
 //! one place that puts them in order. Its children: `blades.rs` (the
 //! blade buffer), `record.rs` (the parts of a frame's recording: the
 //! steps, the cover, the passes' draws, the colour pass, the timer and the
-//! breaks between submissions), `timing.rs` (the phases' timing).
+//! breaks between submissions), `ahead.rs` (the simulation beside the
+//! drawing), `timing.rs` (the phases' timing).
 
+mod ahead;
 pub mod blades;
 mod record;
 pub mod timing;
@@ -29,7 +34,9 @@ use crate::render::depth_pyramid::Occluders;
 use crate::render::terrain;
 use crate::render::{FrameUniforms, Renderer};
 use crate::scene::cover::CoverTiles;
-use crate::scene::{Cover, Scene, ViewMode};
+use crate::scene::{Cover, Overlap, Scene, ViewMode};
+use ahead::Ahead;
+use ash::vk;
 use record::{blade_draws, pause, record_color, record_cover, record_steps, Timer};
 
 pub use crate::render::cull::CullCounts;
@@ -83,6 +90,8 @@ pub struct Frame {
 /// What a frame needs: the blades, the simulating phase (none for a still
 /// of blades at rest), the rendering phase, and the recording of both.
 pub struct FrameRecorder {
+    /// With `render.overlap`: the steps' submissions beside the drawing.
+    ahead: Option<Ahead>,
     simulation: Option<Simulation>,
     /// With `[grass.cover]`: the pass making its tiles around the camera
     /// each frame, after the patches' blades, and the cover.
@@ -130,6 +139,8 @@ impl FrameRecorder {
         blades: &[Blade],
         dynamics: Option<&[GrassBlade]>,
     ) -> Result<Self> {
+        // Refused before anything is made.
+        let overlap = overlaps(gpu, scene, dynamics.is_some())?;
         let commands = CommandPool::new(gpu, "frame commands")?;
         let (eye, _) = scene.camera.at(0.0);
         let renderer = Self::new_renderer(
@@ -153,8 +164,19 @@ impl FrameRecorder {
             None => 0,
         };
         let blade_buffer = BladeBuffer::with_room(gpu, &commands, blades, room)?;
+        let ahead = match overlap {
+            true => Some(Ahead::new(
+                gpu,
+                BladeBuffer::simulated_twin(gpu, &commands, blades)?,
+            )?),
+            false => None,
+        };
+        // Beside the drawing the steps write blades of their own.
+        let written = ahead
+            .as_ref()
+            .map_or(blade_buffer.buffer(), Ahead::simulated_blades);
         let simulation = dynamics
-            .map(|d| Simulation::new(gpu, &commands, scene, d, blade_buffer.buffer()))
+            .map(|d| Simulation::new(gpu, &commands, scene, d, written))
             .transpose()?;
         let cover = Self::cover_pass(
             gpu,
@@ -167,6 +189,7 @@ impl FrameRecorder {
         )?;
         let cull = Self::cull_pass(gpu, scene, &renderer, &blade_buffer)?;
         Ok(Self {
+            ahead,
             simulation,
             cover,
             camera_xz: glam::Vec2::ZERO,
@@ -350,6 +373,10 @@ impl FrameRecorder {
         inflow: Option<crate::model::wind::Inflow>,
         sources: &[crate::model::wind::WindSource],
     ) -> Result<()> {
+        // Steps in flight read the drive: it changes after them.
+        if let Some(ahead) = &self.ahead {
+            ahead.settle()?;
+        }
         match self.simulation.as_mut() {
             Some(s) => s.wind_mut().set_drive(gpu, &self.commands, inflow, sources),
             None => Err(Error::InvalidInput(
@@ -451,9 +478,40 @@ impl FrameRecorder {
         };
         // The last frame's depth shows the blades where they were.
         self.renderer.forget_depth();
+        if let Some(ahead) = self.ahead.as_mut() {
+            // The same submission as a frame's steps, untimed and waited for.
+            ahead.submit(None, simulation, self.blades.buffer(), steps)?;
+            ahead.take(steps)?;
+            return ahead.settle();
+        }
         let rec = self.commands.begin()?;
         simulation.record_steps(&rec, steps);
         rec.submit_and_wait("simulating ahead of a frame")
+    }
+
+    /// Whether the steps run beside the drawing (`render.overlap`), and
+    /// where: on a queue of their own, or in order on the one queue.
+    pub fn overlap(&self) -> &'static str {
+        match &self.ahead {
+            None => "off",
+            Some(a) if a.own_queue() => "two queues",
+            Some(_) => "one queue",
+        }
+    }
+
+    /// As `render`, and after this frame's drawing is submitted, the next
+    /// frame's `next_steps` steps go to the GPU beside it (with
+    /// `render.overlap`; without, they wait for the next `render`). The
+    /// next frame must ask for as many.
+    pub fn render_then(
+        &mut self,
+        gpu: &Gpu,
+        uniforms: &FrameUniforms,
+        steps: u64,
+        next_steps: u64,
+    ) -> Result<Frame> {
+        let drawn = self.draw(gpu, uniforms, steps, None, next_steps)?;
+        drawn.ok_or_else(|| Error::InvalidInput("a frame without breaks cannot stop".into()))
     }
 
     /// Records `steps` simulation steps and then the frame into one command
@@ -475,11 +533,24 @@ impl FrameRecorder {
         steps: u64,
         keep_going: Option<&mut dyn FnMut() -> bool>,
     ) -> Result<Option<Frame>> {
-        let drawn = self.record(gpu, uniforms, steps, keep_going, |rec, renderer, t| {
+        self.draw(gpu, uniforms, steps, keep_going, 0)
+    }
+
+    /// A frame read back, and the next frame's steps submitted beside it.
+    fn draw(
+        &mut self,
+        gpu: &Gpu,
+        uniforms: &FrameUniforms,
+        steps: u64,
+        keep_going: Option<&mut dyn FnMut() -> bool>,
+        next_steps: u64,
+    ) -> Result<Option<Frame>> {
+        let end = |rec: Recording<'_>, renderer: &Renderer, t: &mut Timer<'_>, sync: Sync<'_>| {
             t.span(&rec, Phase::Readback, |rec| renderer.record_readback(rec));
             t.end_frame(&rec);
-            rec.submit_and_wait("rendering a frame")
-        })?;
+            rec.submit("rendering a frame", sync.0, sync.1)
+        };
+        let drawn = self.record(gpu, uniforms, (steps, next_steps), keep_going, end)?;
         Ok(drawn.map(|((), stats)| Frame {
             width: self.extent.0,
             height: self.extent.1,
@@ -505,7 +576,12 @@ impl FrameRecorder {
         index: u32,
         overlay: Option<(&mut OverlayRenderer, &OverlayDraw)>,
     ) -> Result<(Presented, FrameStats)> {
-        let shown = self.record(gpu, uniforms, steps, None, |rec, renderer, t| {
+        if self.ahead.is_some() {
+            return Err(Error::InvalidInput(
+                "a window shows frames with render.overlap = \"off\"".into(),
+            ));
+        }
+        let shown = self.record(gpu, uniforms, (steps, 0), None, |rec, renderer, t, _| {
             t.span(&rec, Phase::Readback, |rec| {
                 renderer.record_present_source(rec)
             });
@@ -518,19 +594,23 @@ impl FrameRecorder {
 
     /// Records the steps and the frame's passes, then hands the recording
     /// to `end` (which records the frame's way out, closes the frame span
-    /// and submits), and reads the frame's counters. With `keep_going` the
-    /// steps and the shadow go to the GPU on their own first, each asking
-    /// it afterwards (None: it said stop, the frame is not drawn).
+    /// and submits, waiting for and signalling `Sync`), waits for it and
+    /// reads the frame's counters. With `keep_going` the steps and the
+    /// shadow go to the GPU on their own first, each asking it afterwards
+    /// (None: it said stop, the frame is not drawn). Beside the drawing,
+    /// the steps go in their own submission (`ahead.rs`), and the next
+    /// frame's (`steps.1`) after this frame's drawing.
     fn record<T>(
         &mut self,
         gpu: &Gpu,
         uniforms: &FrameUniforms,
-        steps: u64,
+        (steps, next_steps): (u64, u64),
         mut keep_going: Option<&mut dyn FnMut() -> bool>,
-        end: impl FnOnce(Recording<'_>, &Renderer, &mut Timer<'_>) -> Result<T>,
+        end: impl FnOnce(Recording<'_>, &Renderer, &mut Timer<'_>, Sync<'_>) -> Result<T>,
     ) -> Result<Option<(T, FrameStats)>> {
         let occluders = self.prepare(gpu, uniforms, steps)?;
         let Self {
+            ahead,
             simulation,
             cover,
             camera_xz,
@@ -545,19 +625,37 @@ impl FrameRecorder {
             ..
         } = self;
         let (buffer, count) = (blades.buffer(), blades.count());
+        let mut waits = Vec::new();
+        if let (Some(ahead), Some(simulation)) = (ahead.as_mut(), simulation.as_mut()) {
+            if ahead.in_flight().is_none() && steps > 0 {
+                ahead.submit(Some(gpu), simulation, buffer, steps)?;
+            }
+            ahead.take(steps)?;
+            if steps > 0 {
+                if let Some(go) = keep_going.as_mut() {
+                    ahead.settle()?;
+                    if !go() {
+                        renderer.end_frame(false);
+                        return Ok(None);
+                    }
+                }
+            }
+            waits = ahead.waits();
+        }
         let mut rec = commands.begin()?;
         let mut t = Timer(timer.as_mut(), None);
         t.reset(&rec);
         t.1 = t.begin(&rec, Phase::Frame);
-        if let Some(simulation) = simulation {
+        if let (None, Some(simulation)) = (ahead.as_ref(), simulation.as_mut()) {
             record_steps(simulation, &rec, &mut t, *camera_xz, steps)?;
-        }
-        if steps > 0 {
-            match pause(commands, rec, &mut keep_going, "simulating a frame's steps")? {
-                Some(next) => rec = next,
-                None => {
-                    renderer.end_frame(false);
-                    return Ok(None);
+            if steps > 0 {
+                let during = "simulating a frame's steps";
+                match pause(commands, rec, &mut keep_going, during, &mut waits)? {
+                    Some(next) => rec = next,
+                    None => {
+                        renderer.end_frame(false);
+                        return Ok(None);
+                    }
                 }
             }
         }
@@ -575,7 +673,8 @@ impl FrameRecorder {
             renderer.record_shadow(rec, buffer, shadow_draw);
             shadow_statistics.end(rec);
         });
-        match pause(commands, rec, &mut keep_going, "drawing a frame's shadow")? {
+        let during = "drawing a frame's shadow";
+        match pause(commands, rec, &mut keep_going, during, &mut waits)? {
             Some(next) => rec = next,
             None => {
                 renderer.end_frame(false);
@@ -595,11 +694,36 @@ impl FrameRecorder {
         if renderer.depth_pyramid().is_some() {
             t.span(&rec, Phase::Cull, |rec| renderer.record_depth_pyramid(rec));
         }
-        let ended = end(rec, renderer, &mut t);
-        renderer.end_frame(ended.is_ok());
+        let signals = ahead.as_ref().map(Ahead::signals).unwrap_or_default();
+        let ended = end(rec, renderer, &mut t, (&waits, &signals));
+        // While the frame draws: its steps' timings, then the next frame's
+        // steps beside it.
+        let stepped = match (ahead.as_mut(), simulation.as_mut(), &ended) {
+            (Some(ahead), Some(simulation), Ok(_)) => {
+                let timed = if steps > 0 { ahead.collect() } else { Ok(None) };
+                timed.and_then(|timed| {
+                    if next_steps > 0 {
+                        ahead.submit(Some(gpu), simulation, buffer, next_steps)?;
+                    }
+                    Ok(timed)
+                })
+            }
+            _ => Ok(None),
+        };
+        // Nothing the frame reads may change or go while it runs: waited
+        // for on every path.
+        let waited = commands.wait("rendering a frame");
+        renderer.end_frame(ended.is_ok() && waited.is_ok() && stepped.is_ok());
         let ended = ended?;
+        waited?;
+        let stepped = stepped?;
         self.note_tip_jumps();
-        Ok(Some((ended, self.read_stats()?)))
+        let mut stats = self.read_stats()?;
+        if let (Some(times), Some((wind, grass))) = (stats.timings.as_mut(), stepped) {
+            times.wind += wind;
+            times.grass += grass;
+        }
+        Ok(Some((ended, stats)))
     }
 
     /// Keeps the largest tip jumps the cover's passes have seen.
@@ -682,6 +806,33 @@ impl FrameRecorder {
         };
         Ok(stats)
     }
+}
+
+/// What a frame's graphics submissions wait for and signal: the
+/// simulation's steps beside the drawing (`ahead.rs`), else nothing.
+type Sync<'a> = (
+    &'a [vk::SemaphoreSubmitInfo<'static>],
+    &'a [vk::SemaphoreSubmitInfo<'static>],
+);
+
+/// Whether `scene`'s frames run their steps beside the drawing
+/// (`render.overlap`): "auto" where the device has a second queue, "on"
+/// anywhere; never for blades at rest or with a `[grass.cover]`, whose
+/// tiles read the wind the next steps would be writing.
+fn overlaps(gpu: &Gpu, scene: &Scene, dynamic: bool) -> Result<bool> {
+    let mode = scene.render.overlap;
+    if !dynamic || mode == Overlap::Off {
+        return Ok(false);
+    }
+    if scene.grass.cover.is_some() {
+        return match mode {
+            Overlap::On => Err(Error::InvalidInput(
+                "render.overlap = \"on\" with [grass.cover]: its tiles read the wind that the next frame's steps write beside the drawing; set render.overlap = \"auto\" or \"off\"".into(),
+            )),
+            _ => Ok(false),
+        };
+    }
+    Ok(mode == Overlap::On || (gpu.has_simulation_queue() && gpu.info().timeline_semaphores))
 }
 
 /// What a frame measured of itself, read after it ran.

@@ -3,6 +3,8 @@
 //! pass, the phase timer around each, and the breaks between a frame's
 //! submissions. They use the layers below and the frame's timing phases.
 
+use ash::vk;
+
 use super::timing::Phase;
 use crate::compute::{CoverTilePass, Simulation};
 use crate::error::Result;
@@ -17,16 +19,19 @@ use crate::scene::Cover;
 /// `keep_going` says whether the frame goes on, in a new recording (None:
 /// stop). Without `keep_going` the frame stays one submission. The timer's
 /// spans and queries live in its pool, across submissions of one queue.
+/// The frame's first submission waits for `waits` (the simulation's steps
+/// beside the drawing, src/frame/ahead.rs), taken from it here.
 pub(super) fn pause<'c>(
     commands: &'c CommandPool,
     rec: Recording<'c>,
     keep_going: &mut Option<&mut dyn FnMut() -> bool>,
     during: &str,
+    waits: &mut Vec<vk::SemaphoreSubmitInfo<'static>>,
 ) -> Result<Option<Recording<'c>>> {
     let Some(go) = keep_going.as_mut() else {
         return Ok(Some(rec));
     };
-    rec.submit_and_wait(during)?;
+    rec.submit_and_wait_with(during, &std::mem::take(waits), &[])?;
     if go() {
         commands.begin().map(Some)
     } else {

@@ -29,6 +29,14 @@ pub struct DeviceInfo {
     /// that draw on this device (it rasterises the pass's draws when the
     /// pass ends, or per tile); None where it does.
     pub draw_timing_unavailable: Option<String>,
+    /// Queues of the graphics+compute family: with two or more, the
+    /// simulation runs on a second one beside the drawing
+    /// (`render.overlap`, src/frame/ahead.rs).
+    pub queues: u32,
+    /// Whether the device has timeline semaphores (Vulkan 1.2's
+    /// `timelineSemaphore`), which the simulation ahead of the drawing
+    /// needs.
+    pub timeline_semaphores: bool,
 }
 
 impl DeviceInfo {
@@ -121,6 +129,7 @@ pub fn enumerate(instance: &Instance, pretend_missing: &[String]) -> Result<Vec<
         .vk_context("vkEnumeratePhysicalDevices", "device list")?;
     let mut adapters = Vec::new();
     for raw in raws {
+        let mut v12 = vk::PhysicalDeviceVulkan12Features::default();
         let mut v13 = vk::PhysicalDeviceVulkan13Features::default();
         let mut driver = vk::PhysicalDeviceDriverProperties::default();
         // SAFETY: queries on a physical device of this live instance; the
@@ -131,7 +140,9 @@ pub fn enumerate(instance: &Instance, pretend_missing: &[String]) -> Result<Vec<
                 .raw
                 .get_physical_device_properties2(raw, &mut props2);
             let properties = props2.properties;
-            let mut features2 = vk::PhysicalDeviceFeatures2::default().push_next(&mut v13);
+            let mut features2 = vk::PhysicalDeviceFeatures2::default()
+                .push_next(&mut v13)
+                .push_next(&mut v12);
             instance
                 .raw
                 .get_physical_device_features2(raw, &mut features2);
@@ -183,6 +194,8 @@ pub fn enumerate(instance: &Instance, pretend_missing: &[String]) -> Result<Vec<
                 && !pretend("pipelineStatisticsQuery"),
             timestamps,
             draw_timing_unavailable: draw_timing_unavailable(driver.driver_id),
+            queues: queue_family.map_or(0, |q| families[q as usize].queue_count),
+            timeline_semaphores: v12.timeline_semaphore == vk::TRUE,
         };
         adapters.push(Adapter {
             raw,
@@ -247,6 +260,10 @@ pub struct Device {
     pub(super) raw: ash::Device,
     pub adapter: Adapter,
     pub(super) queue: vk::Queue,
+    /// A second queue of the same family, for the simulation beside the
+    /// drawing; None where the family has one queue (lavapipe) or the
+    /// device lacks timeline semaphores.
+    pub(super) compute_queue: Option<vk::Queue>,
     pub queue_family: u32,
     debug_utils: Option<ash::ext::debug_utils::Device>,
     pub pipeline_statistics: bool,
@@ -283,10 +300,15 @@ impl Device {
                 .get_physical_device_queue_family_properties(adapter.raw)
         };
         let timestamp_valid_bits = families[queue_family as usize].timestamp_valid_bits;
-        let priorities = [1.0f32];
+        // Two queues of the one family where it has them: the second runs
+        // the simulation beside the drawing, with no ownership transfers
+        // (both queues are of one family).
+        let two =
+            families[queue_family as usize].queue_count >= 2 && adapter.info.timeline_semaphores;
+        let priorities = [1.0f32, 1.0];
         let queue_info = [vk::DeviceQueueCreateInfo::default()
             .queue_family_index(queue_family)
-            .queue_priorities(&priorities)];
+            .queue_priorities(&priorities[..if two { 2 } else { 1 }])];
         let core = vk::PhysicalDeviceFeatures::default()
             .tessellation_shader(true)
             .geometry_shader(true)
@@ -294,6 +316,8 @@ impl Device {
         let mut v13 = vk::PhysicalDeviceVulkan13Features::default()
             .dynamic_rendering(true)
             .synchronization2(true);
+        let mut v12 = vk::PhysicalDeviceVulkan12Features::default()
+            .timeline_semaphore(adapter.info.timeline_semaphores);
         let extensions: Vec<*const i8> = if presents {
             vec![ash::khr::swapchain::NAME.as_ptr()]
         } else {
@@ -303,7 +327,8 @@ impl Device {
             .queue_create_infos(&queue_info)
             .enabled_extension_names(&extensions)
             .enabled_features(&core)
-            .push_next(&mut v13);
+            .push_next(&mut v13)
+            .push_next(&mut v12);
         // SAFETY: the adapter came from this instance; the create info lives
         // across the call.
         let raw = unsafe { instance.raw.create_device(adapter.raw, &create_info, None) }.map_err(
@@ -332,6 +357,8 @@ impl Device {
         };
         // SAFETY: the queue family was requested with one queue above.
         let queue = unsafe { raw.get_device_queue(queue_family, 0) };
+        // SAFETY: with `two`, the family was requested with two queues.
+        let compute_queue = two.then(|| unsafe { raw.get_device_queue(queue_family, 1) });
         let debug_utils = instance
             .debug_utils
             .as_ref()
@@ -342,6 +369,7 @@ impl Device {
             raw,
             adapter,
             queue,
+            compute_queue,
             queue_family,
             debug_utils,
             memory,
@@ -350,6 +378,9 @@ impl Device {
             instance,
         };
         device.name(queue, "main queue");
+        if let Some(q) = compute_queue {
+            device.name(q, "simulation queue (beside the drawing)");
+        }
         Ok(Arc::new(device))
     }
 

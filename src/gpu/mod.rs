@@ -27,6 +27,7 @@ pub mod shader;
 pub mod surface;
 pub mod swapchain;
 pub mod sync;
+pub mod timeline;
 
 use std::sync::Arc;
 
@@ -51,6 +52,7 @@ pub use shader::{kernels_set, BindingAccess, ShaderBinding};
 pub use surface::Surface;
 pub use swapchain::Swapchain;
 pub use sync::{BufferId, BufferUse, ImageUse};
+pub use timeline::Timeline;
 
 use crate::error::Result;
 
@@ -144,6 +146,12 @@ impl Gpu {
 
     pub fn info(&self) -> &DeviceInfo {
         &self.device.adapter.info
+    }
+
+    /// Whether a second queue runs work beside the main one
+    /// (`CommandPool::on_simulation_queue`).
+    pub fn has_simulation_queue(&self) -> bool {
+        self.device.compute_queue.is_some()
     }
 
     /// The device, for the objects made from it.

@@ -38,6 +38,11 @@ pub struct Recording<'a> {
     pub(super) cmd: vk::CommandBuffer,
     /// The pool's fence, which a submission signals and waits for.
     pub(super) fence: vk::Fence,
+    /// The queue the pool's submissions go to.
+    pub(super) queue: vk::Queue,
+    /// Set by `submit`: the pool's buffer is in flight until the pool
+    /// waits for its fence (`CommandPool::wait`).
+    pub(super) in_flight: &'a Cell<bool>,
     /// What the passes declared so far (`uses`).
     pub(super) tracker: RefCell<Tracker>,
     /// The pool's journal, which each command writes to when it is on.
@@ -68,6 +73,33 @@ impl std::ops::Sub for Dispatches {
     }
 }
 
+/// Blocks until `fence` is signalled, then resets it; a device that does
+/// not answer within `SUBMIT_TIMEOUT_NS` is reported lost.
+pub(super) fn wait_for_fence(device: &Device, fence: vk::Fence, what: &str) -> Result<()> {
+    // SAFETY: the fence belongs to this device.
+    let waited = unsafe {
+        device
+            .raw
+            .wait_for_fences(&[fence], true, SUBMIT_TIMEOUT_NS)
+    };
+    match waited {
+        Ok(()) => {}
+        Err(vk::Result::TIMEOUT) => {
+            // Nothing may be released while the work could still run.
+            device.wait_idle();
+            return Err(Error::DeviceLost {
+                during: format!(
+                    "{what} (no answer within {} s)",
+                    SUBMIT_TIMEOUT_NS / 1_000_000_000
+                ),
+            });
+        }
+        Err(r) => return Err(Error::vk("vkWaitForFences", what, r)),
+    }
+    // SAFETY: the fence is signalled and no submission waits on it.
+    unsafe { device.raw.reset_fences(&[fence]) }.vk_context("vkResetFences", what)
+}
+
 impl Recording<'_> {
     /// Ends recording, submits, and blocks until the GPU is done.
     pub fn submit_and_wait(self, what: &str) -> Result<()> {
@@ -76,8 +108,25 @@ impl Recording<'_> {
 
     /// As `submit_and_wait`, the submission first waiting for `waits` and
     /// signalling `signals` when done (a swapchain image acquired, then
-    /// ready to present).
-    pub(super) fn submit_and_wait_with(
+    /// ready to present; the simulation's steps copied).
+    pub fn submit_and_wait_with(
+        self,
+        what: &str,
+        waits: &[vk::SemaphoreSubmitInfo],
+        signals: &[vk::SemaphoreSubmitInfo],
+    ) -> Result<()> {
+        let (device, fence, in_flight) = (self.device, self.fence, self.in_flight);
+        self.submit(what, waits, signals)?;
+        let waited = wait_for_fence(device, fence, what);
+        // Waited for, or lost with the device idle: nothing is left to wait for.
+        in_flight.set(false);
+        waited
+    }
+
+    /// Ends recording and submits to the pool's queue without waiting:
+    /// the submission first waits for `waits` and signals `signals` when
+    /// done. The pool waits for it before its next `begin` (or `wait`).
+    pub fn submit(
         self,
         what: &str,
         waits: &[vk::SemaphoreSubmitInfo],
@@ -85,7 +134,6 @@ impl Recording<'_> {
     ) -> Result<()> {
         self.journal.note(|| format!("submit: {what}"));
         let device = &self.device.raw;
-        let fence = self.fence;
         // SAFETY: `cmd` is in the recording state (begun by `begin`).
         unsafe { device.end_command_buffer(self.cmd) }.vk_context("vkEndCommandBuffer", what)?;
         self.device.faults.submission(what)?;
@@ -95,27 +143,11 @@ impl Recording<'_> {
             .command_buffer_infos(&cmds)
             .signal_semaphore_infos(signals)];
         // SAFETY: the fence is unsignalled (reset after every wait) and the
-        // command buffer is not in flight.
-        unsafe { device.queue_submit2(self.device.queue, &submit, fence) }
+        // command buffer is not in flight (`begin` waited for it); one
+        // thread submits to the queue.
+        unsafe { device.queue_submit2(self.queue, &submit, self.fence) }
             .vk_context("vkQueueSubmit2", what)?;
-        // SAFETY: the fence belongs to this device.
-        let waited = unsafe { device.wait_for_fences(&[fence], true, SUBMIT_TIMEOUT_NS) };
-        match waited {
-            Ok(()) => {}
-            Err(vk::Result::TIMEOUT) => {
-                // Nothing may be released while the work could still run.
-                self.device.wait_idle();
-                return Err(Error::DeviceLost {
-                    during: format!(
-                        "{what} (no answer within {} s)",
-                        SUBMIT_TIMEOUT_NS / 1_000_000_000
-                    ),
-                });
-            }
-            Err(r) => return Err(Error::vk("vkWaitForFences", what, r)),
-        }
-        // SAFETY: the fence is signalled and no submission waits on it.
-        unsafe { device.reset_fences(&[fence]) }.vk_context("vkResetFences", what)?;
+        self.in_flight.set(true);
         Ok(())
     }
 

@@ -88,6 +88,13 @@ pub struct BenchRow {
     pub cull_counts: Option<CullCounts>,
     pub frames: u32,
     pub warmup: u32,
+    /// Where each frame's steps ran: "off" (steps, then the drawing, in
+    /// one submission), "one queue" or "two queues" (beside the drawing of
+    /// the frame before, in a submission of their own, on the main queue
+    /// or on one beside it: `render.overlap`). Beside the drawing the
+    /// frame's GPU time is its drawing's; the wind and grass times are the
+    /// steps' own.
+    pub overlap: &'static str,
     /// Per-phase GPU ms, wall-clock frame and FPS over the timed frames.
     pub timing: TimingSummary,
     /// Cull + shadow + colour per frame (the paper's "render", with the
@@ -164,6 +171,14 @@ pub fn markdown(b: &Bench) -> String {
         b.rows.first().map_or(0, |r| r.warmup),
         b.rows.first().map_or(0, |r| r.frames),
     );
+    if let Some(r) = b.rows.first().filter(|r| r.overlap != "off") {
+        md += &format!(
+            "Each frame's step ran beside the drawing of the frame before ({};              render.overlap): a frame's GPU time is its drawing's, and the wind and grass              columns are the steps' own.
+
+",
+            r.overlap
+        );
+    }
     md += &table1_markdown(b);
     md += &culling_markdown(b);
     md += &terrain_markdown(b);

@@ -22,6 +22,38 @@ pub enum ViewMode {
     Motion,
 }
 
+/// Whether a frame's simulation steps run beside the drawing of the frame
+/// before (src/frame/ahead.rs): on a second queue where the device has
+/// one, the simulated blades copied into the drawn ones when that frame
+/// is drawn, one frame of latency between a change to the wind or the
+/// colliders and the picture.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Overlap {
+    /// On where the device has a second queue and the scene allows it
+    /// (no `[grass.cover]`, no wind window following the camera); off
+    /// otherwise.
+    #[default]
+    Auto,
+    /// Always: on a device with one queue, the same submissions in order
+    /// on it (no overlap on the GPU; the read-back of a frame overlaps the
+    /// next frame's steps on the host). Refused where the scene does not
+    /// allow it.
+    On,
+    /// One submission a frame, steps then drawing.
+    Off,
+}
+
+impl std::fmt::Display for Overlap {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Self::Auto => "auto",
+            Self::On => "on",
+            Self::Off => "off",
+        })
+    }
+}
+
 /// How the scene is rendered unless the command line says otherwise.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -40,6 +72,8 @@ pub struct RenderSettings {
     /// `light_waves`; `meadow render --light-waves`) when three or more
     /// are written.
     pub light_waves: bool,
+    /// The simulation beside the drawing (`Overlap`).
+    pub overlap: Overlap,
 }
 
 impl Default for RenderSettings {
@@ -53,6 +87,7 @@ impl Default for RenderSettings {
             fps: 30.0,
             start: 0.0,
             light_waves: false,
+            overlap: Overlap::Auto,
         }
     }
 }
