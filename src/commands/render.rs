@@ -316,6 +316,14 @@ fn render_with(
         ..
     } = scene.planted()?;
     let dynamic = field::dynamic_blades(&blades, &scene.grass.dynamics, scene.seed)?;
+    // The frames here are stepped in paced batches and drawn with breaks
+    // for a stop: no frame's steps are sent ahead, so "auto" keeps one
+    // submission (bench sends them ahead); "on" still runs the protocol.
+    let mut scene = scene.clone();
+    if scene.render.overlap == crate::scene::Overlap::Auto {
+        scene.render.overlap = crate::scene::Overlap::Off;
+    }
+    let scene = &scene;
     let mut recorder = FrameRecorder::new(
         gpu,
         scene,

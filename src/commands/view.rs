@@ -229,6 +229,10 @@ impl Live {
             None
         };
         let mut made = scene.clone();
+        // A window's frame is drawn and shown in one submission, its steps
+        // with it: the simulation beside the drawing is the offscreen
+        // frame loops' (src/frame/ahead.rs).
+        made.render.overlap = crate::scene::Overlap::Off;
         if no_ball.is_none() {
             let (low, high) = ball_rectangle(&scene, 0.0)?;
             let middle = (low + high) * 0.5;
