@@ -20,9 +20,11 @@ pub fn line(d: &DeviceInfo) -> String {
         d.max_msaa,
         // The simulation beside the drawing needs a second queue of the
         // graphics family and timeline semaphores (render.overlap).
-        match (d.queues, d.timeline_semaphores) {
-            (2.., true) => format!("{} graphics queues (steps beside the drawing)", d.queues),
-            (q, _) => format!("{q} graphics queue{}", if q == 1 { "" } else { "s" }),
+        match d.queues {
+            q if d.has_simulation_queue() => {
+                format!("{q} graphics queues (steps beside the drawing)")
+            }
+            q => format!("{q} graphics queue{}", if q == 1 { "" } else { "s" }),
         },
         match &d.missing {
             None => "qualifies".to_string(),

@@ -25,11 +25,7 @@ impl BladeBuffer {
     /// The blades' rest shape, uploaded once.
     pub fn new(gpu: &Gpu, commands: &CommandPool, blades: &[Blade]) -> Result<Self> {
         let count = drawable(blades.len())?;
-        let vertices: Vec<BladeVertex> = try_collect(
-            4 * blades.len(),
-            blades.iter().flat_map(Blade::vertices),
-            "the blades' control points",
-        )?;
+        let vertices = rest_vertices(blades)?;
         let buffer = Buffer::with_data(
             gpu,
             commands,
@@ -61,11 +57,7 @@ impl BladeBuffer {
             MemoryLocation::GpuOnly,
         )?;
         if !blades.is_empty() {
-            let vertices: Vec<BladeVertex> = try_collect(
-                4 * blades.len(),
-                blades.iter().flat_map(Blade::vertices),
-                "the blades' control points",
-            )?;
+            let vertices = rest_vertices(blades)?;
             buffer.upload(
                 gpu,
                 commands,
@@ -80,11 +72,7 @@ impl BladeBuffer {
     /// The blades' rest shape in a buffer of its own, which the steps
     /// write beside the drawing and copy into the drawn one.
     pub fn simulated_twin(gpu: &Gpu, commands: &CommandPool, blades: &[Blade]) -> Result<Buffer> {
-        let vertices: Vec<BladeVertex> = try_collect(
-            4 * blades.len(),
-            blades.iter().flat_map(Blade::vertices),
-            "the blades' control points",
-        )?;
+        let vertices = rest_vertices(blades)?;
         Buffer::with_data(
             gpu,
             commands,
@@ -116,6 +104,15 @@ impl BladeBuffer {
     pub fn count(&self) -> u32 {
         self.count
     }
+}
+
+/// The blades' four control points each, at rest.
+fn rest_vertices(blades: &[Blade]) -> Result<Vec<BladeVertex>> {
+    try_collect(
+        4 * blades.len(),
+        blades.iter().flat_map(Blade::vertices),
+        "the blades' control points",
+    )
 }
 
 fn drawable(blades: usize) -> Result<u32> {

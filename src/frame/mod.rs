@@ -517,8 +517,7 @@ impl FrameRecorder {
     /// Records `steps` simulation steps and then the frame into one command
     /// buffer, submits it and reads the frame back.
     pub fn render(&mut self, gpu: &Gpu, uniforms: &FrameUniforms, steps: u64) -> Result<Frame> {
-        let drawn = self.render_unless_stopped(gpu, uniforms, steps, None)?;
-        drawn.ok_or_else(|| Error::InvalidInput("a frame without breaks cannot stop".into()))
+        self.render_then(gpu, uniforms, steps, 0)
     }
 
     /// As `render`, but with `keep_going` the frame goes to the GPU in
@@ -832,7 +831,8 @@ fn overlaps(gpu: &Gpu, scene: &Scene, dynamic: bool) -> Result<bool> {
             _ => Ok(false),
         };
     }
-    Ok(mode == Overlap::On || (gpu.has_simulation_queue() && gpu.info().timeline_semaphores))
+    // A second queue is only made with timeline semaphores (src/gpu/device.rs).
+    Ok(mode == Overlap::On || gpu.has_simulation_queue())
 }
 
 /// What a frame measured of itself, read after it ran.

@@ -90,11 +90,6 @@ impl CommandPool {
         waited
     }
 
-    /// Whether a submission of this pool may still be running.
-    pub fn in_flight(&self) -> bool {
-        self.in_flight.get()
-    }
-
     /// This pool's journal: start it, record, take its lines.
     pub fn journal(&self) -> &Journal {
         &self.journal

@@ -43,6 +43,13 @@ impl DeviceInfo {
     pub fn qualifies(&self) -> bool {
         self.missing.is_none()
     }
+
+    /// Whether the device gets a second queue for the simulation beside
+    /// the drawing: two queues of the graphics family, and timeline
+    /// semaphores to order them.
+    pub fn has_simulation_queue(&self) -> bool {
+        self.queues >= 2 && self.timeline_semaphores
+    }
 }
 
 /// A physical device and what we learnt about it.
@@ -303,8 +310,7 @@ impl Device {
         // Two queues of the one family where it has them: the second runs
         // the simulation beside the drawing, with no ownership transfers
         // (both queues are of one family).
-        let two =
-            families[queue_family as usize].queue_count >= 2 && adapter.info.timeline_semaphores;
+        let two = adapter.info.has_simulation_queue();
         let priorities = [1.0f32, 1.0];
         let queue_info = [vk::DeviceQueueCreateInfo::default()
             .queue_family_index(queue_family)

@@ -68,9 +68,4 @@ impl Timeline {
                 .stage_mask(stage)
         })
     }
-
-    /// The last value a submission was given to signal.
-    pub fn value(&self) -> u64 {
-        self.signalled.get()
-    }
 }
