@@ -2,7 +2,8 @@
 #extension GL_GOOGLE_include_directive : require
 // The bench's floor (not part of the paper's pipeline): the grass's own
 // triangles drawn with a vertex and a fragment shader only. Each blade
-// becomes `segments` quads along its Bezier curve, evaluated here from the
+// becomes `segments` quads along its Bezier curve, the tip's a triangle
+// (as blade.geom's), evaluated here from the
 // same control points the tessellation stages read, so the floor covers
 // the same pixels with the same number of triangles; the ratio of the
 // grass draw to this is what tessellation and geometry shaders cost.
@@ -20,16 +21,18 @@ layout(push_constant, std430) uniform Push {
 
 layout(location = 0) out float v_along;
 
-// Two triangles per quad: (along, side) of each corner.
+// Two triangles per quad: (along, side) of each corner. The tip's quad
+// keeps the first only: the second's top corners are the tip's one point.
 const vec2 CORNERS[6] = vec2[6](
     vec2(0.0, -1.0), vec2(0.0, 1.0), vec2(1.0, -1.0),
     vec2(1.0, -1.0), vec2(0.0, 1.0), vec2(1.0, 1.0));
 
 void main() {
-    uint quad = uint(gl_VertexIndex) / 6u;
-    vec2 corner = CORNERS[uint(gl_VertexIndex) % 6u];
-    uint blade = quad / push.segments;
-    uint segment = quad % push.segments;
+    uint per_blade = 6u * push.segments - 3u;
+    uint blade = uint(gl_VertexIndex) / per_blade;
+    uint in_blade = uint(gl_VertexIndex) % per_blade;
+    uint segment = in_blade / 6u;
+    vec2 corner = CORNERS[in_blade % 6u];
     uint base = blade * BLADE_CONTROL_POINTS;
     vec3 p0 = blades.points[base + 0u].position;
     vec3 p1 = blades.points[base + 1u].position;

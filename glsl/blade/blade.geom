@@ -1,7 +1,8 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 // Geometry stage: each line segment of the tessellated curve becomes a quad,
-// a 4-vertex triangle strip whose width tapers toward the tip (paper section 5).
+// a 4-vertex triangle strip whose width tapers toward the tip (paper section 5);
+// the tip's segment, whose top closes to a point, a triangle.
 // What varies smoothly along the blade is worked out here, at its vertices,
 // rather than at every pixel: the canopy's extinction above a point and
 // the sky its cuticle mirrors (the blade's light: glsl/blade/blade.frag).
@@ -84,6 +85,12 @@ void main() {
     emit_side(0, -1.0);
     emit_side(0, 1.0);
     emit_side(1, -1.0);
-    emit_side(1, 1.0);
+    // The tip's segment is a triangle: its two top corners are the one
+    // point the taper closes to, and a second copy of it would only add a
+    // triangle of no area (ours; the same pixels, one primitive fewer a
+    // blade in each pass).
+    if (taper(e_v[1]) > 0.0) {
+        emit_side(1, 1.0);
+    }
     EndPrimitive();
 }

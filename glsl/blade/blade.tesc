@@ -41,32 +41,70 @@ float tess_level_for(float distance_to_eye) {
     return frame.tess_level.z;
 }
 
-// The nearest of this caster's shadow's receivers in front of the eye,
-// as depth along the view's axis from its root's `depth`: its shadow
-// falls within `run` of its root (down the sun's rays to the lowest
-// ground), no nearer than that.
+// The nearest depth along the view's axis at which a receiver of this
+// caster's shadow can be seen, from its root's `depth`. Its shadow falls
+// from a point of the blade (within `reach` of its root) down the sun's
+// rays to the lowest ground, t metres along them changing the depth by
+// -t dot(light, forward): nearer only where the sun is ahead of the eye.
+// The shadow filter darkens receivers up to `blur` from that volume. Its
+// receivers are no higher than the blade's top, and the view holds such
+// a point only from the depth where its lowest ray has fallen from the
+// eye's height to that top (frame.view_bottom_slope).
 float receiver_depth(float depth, vec3 root, float reach) {
     vec3 l = frame.light_dir;
-    float drop = reach + max(root.y - frame.terrain_lowest, 0.0);
-    float run = drop * (1.0 + length(l.xz) / max(l.y, 0.02));
-    return depth - run;
+    float blur = frame.shadow_texel_m * (frame.shadow_pcf_radius + 2.0);
+    float top = root.y + reach + blur;
+    float drop = top - frame.terrain_lowest;
+    float ahead = max(dot(l, frame.view_forward), 0.0);
+    float nearest = depth - reach - blur - ahead * max(drop, 0.0) / max(l.y, 0.02);
+    float slope = frame.view_bottom_slope;
+    float seen_from = slope < 0.0 ? max(frame.camera_pos.y - top, 0.0) / -slope : 0.0;
+    return max(nearest, seen_from);
+}
+
+// How much a departure of the caster's shape, in any direction, moves
+// its shadow on flat ground across the rays of the view, at most: the
+// sun's rays carry a departure d to the ground as M d = d - (d.y / l.y) l
+// (horizontal), and the view sees a horizontal g across the ray as
+// (g . across, sin_g g . along), `along` the ray's horizontal direction,
+// `sin_g` the ray's rise at most at the receivers. The largest singular
+// value of that 2 x 3 map: 1 / l.y looking straight down, less at a
+// grazing ray, which foreshortens the shadow's run along it.
+float ground_stretch(vec3 ray, float sin_g) {
+    vec3 l = frame.light_dir;
+    vec2 h = ray.xz;
+    vec2 along = dot(h, h) > 1e-12 ? normalize(h) : vec2(0.0, 1.0);
+    vec2 across = vec2(-along.y, along.x);
+    float ly = max(l.y, 0.02);
+    float p = dot(l.xz, across) / ly, q = dot(l.xz, along) / ly;
+    // Rows a1 = M^T across, a2 = sin_g M^T along; their Gram matrix.
+    float a = 1.0 + p * p;
+    float c = sin_g * sin_g * (1.0 + q * q);
+    float b = sin_g * p * q;
+    float half_diff = 0.5 * (a - c);
+    return sqrt(0.5 * (a + c) + sqrt(half_diff * half_diff + b * b));
 }
 
 // How far (m) the shadow pass's copy of a caster may depart from its
 // curve: frame.shadow_error_texels texels of the map, or, where more,
-// frame.shadow_error_pixels pixels of the view at its nearest receiver
-// on flat ground. A pixel there spans receiver_depth * pixel_per_depth_m
-// across the ray, times the cosine of the ray's angle off the axis
-// (its root's: a conservative reading for the receivers beside it);
-// flat ground under the sun stretches a departure across the rays by
-// 1 / light_dir.y.
+// frame.shadow_error_pixels pixels of the view at its nearest visible
+// receiver on flat ground. A pixel there spans receiver_depth *
+// pixel_per_depth_m across the ray, times the cosine of the ray's angle
+// off the axis (its root's: a conservative reading for the receivers
+// beside it); the ground under the sun stretches a departure across the
+// rays by ground_stretch, the ray rising at most as from the receivers'
+// lowest or highest point to the eye over the receiver's depth.
 float shadow_tolerance(vec3 root, float reach) {
     float texels = frame.shadow_error_texels * frame.shadow_texel_m;
     vec3 ray = root - frame.camera_pos;
     float depth = dot(ray, frame.view_forward);
     float off_axis = depth / max(length(ray), 1e-6);
-    float pixel = max(receiver_depth(depth, root, reach), 0.0) * frame.pixel_per_depth_m * max(off_axis, 0.0);
-    float pixels = frame.shadow_error_pixels * pixel * frame.light_dir.y;
+    float receiver = max(receiver_depth(depth, root, reach), 0.0);
+    float pixel = receiver * frame.pixel_per_depth_m * max(off_axis, 0.0);
+    float top = root.y + reach + frame.shadow_texel_m * (frame.shadow_pcf_radius + 2.0);
+    float rise = max(frame.camera_pos.y - frame.terrain_lowest, top - frame.camera_pos.y);
+    float sin_g = min(max(rise, 0.0) / max(receiver, 1e-3), 1.0);
+    float pixels = frame.shadow_error_pixels * pixel / ground_stretch(ray, sin_g);
     return max(texels, pixels);
 }
 

@@ -363,8 +363,7 @@ fn floor(
     {
         return Ok(Err(format!("the grass draw cannot be timed here: {why}")));
     }
-    let segments =
-        ((stats.geometry_shader_primitives as f64 / (2.0 * blades as f64)).round() as u32).max(1);
+    let segments = FloorShape::segments_of(stats.geometry_shader_primitives, blades as u64);
     let blade_vertices = recorder.blades().buffer();
     let range = gpu.limits().max_storage_buffer_range as u64;
     if blade_vertices.size > range {
@@ -377,21 +376,22 @@ fn floor(
         return Ok(Err("no timestamps on this device".into()));
     };
     let uniforms = FrameUniforms::new(scene, request.width, request.height, ViewMode::Shaded, 0.0);
+    let shape = FloorShape {
+        blades: blades as u32,
+        segments,
+    };
     let times = pass.time(
         recorder.commands(),
         recorder.renderer().targets(),
         blade_vertices,
         &uniforms,
-        FloorShape {
-            blades: blades as u32,
-            segments,
-        },
+        shape,
         request.frames,
     );
     let draw_ms = Spread::of(&times?).expect("at least one frame");
     Ok(Ok(FloorResult {
         segments_per_blade: segments,
-        triangles: 2 * segments as u64 * blades as u64,
+        triangles: shape.triangles(),
         draw_ms,
         grass_over_floor: grass_draw.median / draw_ms.median,
     }))

@@ -789,6 +789,9 @@ gpu_interface! {
         pub _pad0: u32,
         /// The camera's unit forward direction (the view's axis).
         pub view_forward: [f32; 3],
-        pub _pad1: u32,
+        /// The least rise of a point in view per metre of its depth along
+        /// `view_forward`: the steepest of the view's corner rays, down
+        /// where negative (src/render/frame_uniforms.rs's `bottom_slope`).
+        pub view_bottom_slope: f32,
     }
 }

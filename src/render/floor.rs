@@ -45,6 +45,19 @@ pub struct FloorShape {
     pub segments: u32,
 }
 
+impl FloorShape {
+    /// The grass's segments per blade that `triangles` triangles over
+    /// `blades` blades make: each segment 2, the tip's 1 (blade.geom).
+    pub fn segments_of(triangles: u64, blades: u64) -> u32 {
+        (((triangles + blades) as f64 / (2.0 * blades.max(1) as f64)).round() as u32).max(1)
+    }
+
+    /// Its triangles: 2 a segment, 1 at each tip, as the grass's.
+    pub fn triangles(&self) -> u64 {
+        self.blades as u64 * (2 * self.segments as u64 - 1)
+    }
+}
+
 pub struct FloorPass {
     set: DescriptorSet,
     uniforms: Buffer,
@@ -98,7 +111,8 @@ impl FloorPass {
         }))
     }
 
-    /// Draws `shape.blades` x `shape.segments` quads (2 triangles each)
+    /// Draws `shape.blades` x `shape.segments` quads (2 triangles each,
+    /// the tip's 1: `FloorShape::triangles`)
     /// into `targets` once per frame, `frames` times, one submission each,
     /// and returns the GPU ms of each draw. `blade_vertices` is the buffer
     /// the pass was made with.
@@ -112,7 +126,7 @@ impl FloorPass {
         frames: u32,
     ) -> Result<Vec<f64>> {
         let segments = shape.segments;
-        let vertices = (shape.blades as u64) * (segments as u64) * 6;
+        let vertices = 3 * shape.triangles();
         let vertices = u32::try_from(vertices).map_err(|_| {
             Error::InvalidInput(format!(
                 "the floor's {vertices} vertices do not fit one draw; bench fewer blades"

@@ -34,6 +34,24 @@ pub fn view_projection(scene: &Scene, aspect: f32, time: f32) -> Mat4 {
     proj * view
 }
 
+/// The least rise per metre of depth along `forward` of a point the view
+/// `view_proj` from `eye` sees: the least over its four corner rays (the
+/// view is the cone they span, and rise over depth, a ratio of two linear
+/// functions, takes its least on the cone at one of them). A receiver no
+/// higher than `top` is in view only at a depth of at least
+/// `(eye.y - top) / -slope` where the slope is negative (blade.tesc's
+/// `shadow_tolerance`).
+pub fn bottom_slope(view_proj: &Mat4, eye: Vec3, forward: Vec3) -> f32 {
+    let inverse = view_proj.inverse();
+    [(-1.0, -1.0), (1.0, -1.0), (-1.0, 1.0), (1.0, 1.0)]
+        .into_iter()
+        .map(|(x, y)| {
+            let ray = inverse.project_point3(Vec3::new(x, y, 0.5)) - eye;
+            ray.y / ray.dot(forward).max(1e-6)
+        })
+        .fold(f32::INFINITY, f32::min)
+}
+
 /// The camera's up vector: the world's up, unless the camera looks (almost)
 /// along it, where it is undefined: then the screen's up is world -z, as a
 /// map shows north.
@@ -155,6 +173,7 @@ impl FrameUniforms {
             pixel_per_depth_m: 2.0 * (scene.camera.fov_y.to_radians() * 0.5).tan()
                 / height.max(1) as f32,
             view_forward: (target - eye).normalize_or_zero().to_array(),
+            view_bottom_slope: bottom_slope(&view_proj, eye, (target - eye).normalize_or_zero()),
             // The shadow map's and the canopy map's fields are the
             // renderer's, which owns the maps.
             ..Self::default()

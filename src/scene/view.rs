@@ -193,10 +193,11 @@ pub struct Lod {
     /// `shadow_error_pixels` 0 too, the distance levels alone).
     pub shadow_error_texels: f32,
     /// ... and no finer than what the view shows of its shadow (ours):
-    /// the same departures, measured on flat ground under the sun, within
-    /// this many pixels of the view where its nearest receiver stands
-    /// (one by default: the screen-space error of level-of-detail
-    /// practice). The looser of the two bounds holds: far from the camera
+    /// the same departures, carried by the sun to flat ground and seen
+    /// across the view's rays, within this many pixels of the view where
+    /// its nearest visible receiver stands (one by default: the
+    /// screen-space error of level-of-detail practice). The
+    /// looser of the two bounds holds: far from the camera
     /// a pixel spans many texels of the map, and a caster there needs
     /// fewer segments than its texels alone would ask. 0: the texels'
     /// bound alone.
