@@ -47,13 +47,11 @@ float tess_level_for(float distance_to_eye) {
 // rays to the lowest ground, t metres along them changing the depth by
 // -t dot(light, forward): nearer only where the sun is ahead of the eye.
 // The shadow filter darkens receivers up to `blur` from that volume. Its
-// receivers are no higher than the blade's top, and the view holds such
-// a point only from the depth where its lowest ray has fallen from the
-// eye's height to that top (frame.view_bottom_slope).
-float receiver_depth(float depth, vec3 root, float reach) {
+// receivers are no higher than `top` (the blade's, plus `blur`), and the
+// view holds such a point only from the depth where its lowest ray has
+// fallen from the eye's height to that top (frame.view_bottom_slope).
+float receiver_depth(float depth, float reach, float blur, float top) {
     vec3 l = frame.light_dir;
-    float blur = frame.shadow_texel_m * (frame.shadow_pcf_radius + 2.0);
-    float top = root.y + reach + blur;
     float drop = top - frame.terrain_lowest;
     float ahead = max(dot(l, frame.view_forward), 0.0);
     float nearest = depth - reach - blur - ahead * max(drop, 0.0) / max(l.y, 0.02);
@@ -99,9 +97,10 @@ float shadow_tolerance(vec3 root, float reach) {
     vec3 ray = root - frame.camera_pos;
     float depth = dot(ray, frame.view_forward);
     float off_axis = depth / max(length(ray), 1e-6);
-    float receiver = max(receiver_depth(depth, root, reach), 0.0);
+    float blur = frame.shadow_texel_m * (frame.shadow_pcf_radius + 2.0);
+    float top = root.y + reach + blur;
+    float receiver = max(receiver_depth(depth, reach, blur, top), 0.0);
     float pixel = receiver * frame.pixel_per_depth_m * max(off_axis, 0.0);
-    float top = root.y + reach + frame.shadow_texel_m * (frame.shadow_pcf_radius + 2.0);
     float rise = max(frame.camera_pos.y - frame.terrain_lowest, top - frame.camera_pos.y);
     float sin_g = min(max(rise, 0.0) / max(receiver, 1e-3), 1.0);
     float pixels = frame.shadow_error_pixels * pixel / ground_stretch(ray, sin_g);
