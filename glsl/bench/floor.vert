@@ -3,9 +3,9 @@
 // The bench's floor (not part of the paper's pipeline): the grass's own
 // triangles drawn with a vertex and a fragment shader only. Each blade
 // becomes `segments` quads along its Bezier curve, the tip's a triangle
-// (as blade.geom's), evaluated here from the
-// same control points the tessellation stages read, so the floor covers
-// the same pixels with the same number of triangles; the ratio of the
+// (as blade.geom's), evaluated here from the same control points the
+// tessellation stages read, so the floor covers the same pixels with the
+// same number of triangles; the ratio of the
 // grass draw to this is what tessellation and geometry shaders cost.
 #include "frame.glsl"
 #include "blade_vertex.glsl"

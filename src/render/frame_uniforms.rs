@@ -105,6 +105,7 @@ impl FrameUniforms {
     pub fn new(scene: &Scene, width: u32, height: u32, view: ViewMode, time: f32) -> Self {
         let view_proj = view_projection(scene, width as f32 / height as f32, time);
         let (eye, target) = scene.camera.at(time);
+        let forward = (target - eye).normalize_or_zero();
         let light = Vec3::from(scene.light.direction)
             .try_normalize()
             .unwrap_or(Vec3::Y);
@@ -172,8 +173,8 @@ impl FrameUniforms {
             },
             pixel_per_depth_m: 2.0 * (scene.camera.fov_y.to_radians() * 0.5).tan()
                 / height.max(1) as f32,
-            view_forward: (target - eye).normalize_or_zero().to_array(),
-            view_bottom_slope: bottom_slope(&view_proj, eye, (target - eye).normalize_or_zero()),
+            view_forward: forward.to_array(),
+            view_bottom_slope: bottom_slope(&view_proj, eye, forward),
             // The shadow map's and the canopy map's fields are the
             // renderer's, which owns the maps.
             ..Self::default()

@@ -196,11 +196,10 @@ pub struct Lod {
     /// the same departures, carried by the sun to flat ground and seen
     /// across the view's rays, within this many pixels of the view where
     /// its nearest visible receiver stands (one by default: the
-    /// screen-space error of level-of-detail practice). The
-    /// looser of the two bounds holds: far from the camera
-    /// a pixel spans many texels of the map, and a caster there needs
-    /// fewer segments than its texels alone would ask. 0: the texels'
-    /// bound alone.
+    /// screen-space error of level-of-detail practice). The looser of the
+    /// two bounds holds: far from the camera a pixel spans many texels of
+    /// the map, and a caster there needs fewer segments than its texels
+    /// alone would ask. 0: the texels' bound alone.
     pub shadow_error_pixels: f32,
 }
 
