@@ -12,8 +12,8 @@ use meadow::gpu::CommandPool;
 use meadow::model::contact::{Collider, ColliderKind};
 use meadow::model::multigrid::{Start, DEFAULT_V_CYCLES};
 use meadow::model::wind::{
-    Advection, FaceKind, Gust, Inflow, Obstacle, PressureSolver, Turbulence, WindField, WindGrid,
-    WindSettings, WindSource,
+    Advection, FaceKind, Gust, Inflow, Obstacle, PressureSolver, Sweep, Turbulence, WindField,
+    WindGrid, WindSettings, WindSource,
 };
 
 /// Turbulence of intensity 0.3 and a 2 m length scale, drawn from `seed`:
@@ -196,6 +196,56 @@ fn a_wind_pass_made_again_shares_the_kernels_made_first() {
     assert_eq!(levels(larger), levels(small.cells) + 1);
     run_gpu(&gpu, grid(larger), &settings, 1, dt);
     assert_eq!(gpu.compute_pipelines_made(), made + 1);
+    finish(gpu);
+}
+
+/// A red-black sweep with both colours in one dispatch (`Sweep::Fused`,
+/// glsl/wind/mg_sweep.comp) gives the pressure the two half-sweeps give
+/// (mg_smooth.comp), in fewer dispatches: each workgroup works the red
+/// cells of one cell around its tile out again from the same values. The
+/// grid's finest level spans tiles that end short along every axis (36 x
+/// 24 x 36 cells in 16 x 20 x 16 tiles), and every step runs its V-cycles
+/// (tolerance 0). (Without the cells around the tile, the black cells at
+/// its sides read red neighbours never swept, and the wind turns NaN.)
+#[test]
+fn gpu_fused_sweeps_give_the_split_sweeps_wind_in_fewer_dispatches() {
+    let gpu = strict_gpu();
+    let grid = grid(UVec3::new(36, 24, 36));
+    let dt = 1.0 / 60.0;
+    let run = |sweep: Sweep| {
+        let settings = WindSettings {
+            v_cycles: 2,
+            pressure_tolerance: 0.0,
+            sweep,
+            ..two_sources_one_obstacle()
+        };
+        let commands = CommandPool::new(&gpu, "wind test commands").unwrap();
+        let mut pass = WindPass::new(&gpu, &commands, grid, &settings, 0.0).unwrap();
+        let rec = commands.begin().unwrap();
+        for n in 0..12 {
+            pass.record_step(&rec, n as f32 * dt, dt);
+        }
+        rec.submit_and_wait("wind steps").unwrap();
+        let vel = pass.read_velocity(&gpu, &commands).unwrap();
+        (vel, pass.step_dispatches(None), pass.tail_level())
+    };
+    let (split, split_dispatches, tail) = run(Sweep::Split);
+    let (fused, fused_dispatches, _) = run(Sweep::Fused);
+    assert!(
+        tail >= 2,
+        "tail level {tail}: the sweeps run on too few levels"
+    );
+    assert!(
+        split.iter().flatten().any(|v| v.abs() > 1.0),
+        "too weak a wind"
+    );
+    let err = relative_l2(&fused, &split);
+    eprintln!("fused against split sweeps, relative L2 after 12 steps: {err:.3e}");
+    assert!(err < 1e-6, "relative L2 difference {err:.3e}");
+    // One dispatch fewer a sweep: (2 + 2) a level above the tail, in each
+    // of the two V-cycles.
+    let sweeps = meadow::model::multigrid::PRE_SMOOTH + meadow::model::multigrid::POST_SMOOTH;
+    assert_eq!(split_dispatches - fused_dispatches, 2 * tail * sweeps);
     finish(gpu);
 }
 

@@ -148,8 +148,12 @@ fn print_report(r: &WindReport) {
             r.pressure_tolerance
         );
     }
+    let sweeps = r
+        .sweep
+        .map(|s| format!(" ({} sweeps)", s.name()))
+        .unwrap_or_default();
     println!(
-        "dispatches per step: {} ran workgroups, {} recorded",
+        "dispatches per step: {} ran workgroups, {} recorded{sweeps}",
         r.dispatches_per_step, r.dispatches_recorded
     );
     println!("max speed {:.3} m/s", r.max_speed);

@@ -17,7 +17,9 @@ use crate::frame::BladeBuffer;
 use crate::gpu::query::TimestampQueries;
 use crate::gpu::{CommandPool, DependsOn, DeviceMemory, Gpu, GpuOptions, ValidationReport};
 use crate::model::multigrid::SolveCounts;
-use crate::model::wind::{Advection, Coupling, PressureSolver, WindField, WindGrid, WindSettings};
+use crate::model::wind::{
+    Advection, Coupling, PressureSolver, Sweep, WindField, WindGrid, WindSettings,
+};
 use crate::report::claim::OutputClaim;
 use crate::report::files;
 pub use crate::report::wind::{AdvectionTiming, SolverTiming, TurbulenceTiming};
@@ -63,6 +65,10 @@ pub struct WindReport {
     /// workgroups included).
     pub dispatches_per_step: u32,
     pub dispatches_recorded: u32,
+    /// How the multigrid's sweeps ran: "fused" (both colours in one
+    /// dispatch) or "split" (`wind.sweep`, "auto" resolved on the device;
+    /// None with Jacobi).
+    pub sweep: Option<Sweep>,
     /// Whether the grass slowed the wind (two-way: its grass stepped too).
     pub coupling: Coupling,
     /// How the advection carried the velocity.
@@ -176,6 +182,8 @@ struct Stepped {
     /// A step's dispatches that ran workgroups (at the median V-cycles)
     /// and those it recorded.
     dispatches: [u32; 2],
+    /// How the multigrid's sweeps ran (None with Jacobi).
+    sweep: Option<Sweep>,
 }
 
 /// The wind alone, or with two-way coupling the wind with the scene's grass
@@ -274,6 +282,7 @@ fn run_steps(
         before,
         solve,
         dispatches: solve.map_or([every; 2], |s| [s.dispatches_median, s.dispatches_recorded]),
+        sweep: solve.map(|_| stepper.wind().sweep()),
     })
 }
 
@@ -376,6 +385,7 @@ fn run(
         before,
         solve,
         dispatches: [dispatches_per_step, dispatches_recorded],
+        sweep,
     } = run_steps(gpu, &commands, scene, steps, progress)?;
     let max_divergence_before = before.iter().fold(0.0f32, |m, d| m.max(d.abs()));
     let rms_divergence_before = rms_over_fluid(&before, &field.solid) as f32;
@@ -401,6 +411,7 @@ fn run(
         v_cycles_most: solve.map(|s| s.v_cycles_most),
         dispatches_per_step,
         dispatches_recorded,
+        sweep,
         coupling: settings.coupling,
         advection: settings.advection,
         steps,

@@ -40,6 +40,13 @@ pub struct DeviceInfo {
 }
 
 impl DeviceInfo {
+    /// Whether the device is a CPU (lavapipe): its dispatches cost next to
+    /// nothing and its arithmetic all of its time (`type_name_and_rank`'s
+    /// name).
+    pub fn is_cpu(&self) -> bool {
+        self.device_type == "CPU"
+    }
+
     pub fn qualifies(&self) -> bool {
         self.missing.is_none()
     }

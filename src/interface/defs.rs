@@ -23,6 +23,17 @@ gpu_interface! {
     /// Levels a multigrid hierarchy can have: each halves at least one
     /// axis, and a wind grid has fewer than 2^32 cells.
     pub const MG_MAX_LEVELS: usize = 40;
+    /// A fine level's fused red-black sweep (glsl/wind/mg_sweep.comp): its
+    /// invocations, and the cells of the tile one workgroup sweeps (x, y,
+    /// z; fewer along an axis the level is shorter than). The workgroup
+    /// keeps the red cells of its tile and of one cell around it, so both
+    /// colours' half-sweeps run in one dispatch: 9 x 22 x 18 floats,
+    /// 13.9 KiB.
+    pub const MG_SWEEP_GROUP: u32 = 256;
+    pub const MG_SWEEP_TILE_X: u32 = 16;
+    pub const MG_SWEEP_TILE_Y: u32 = 20;
+    pub const MG_SWEEP_TILE_Z: u32 = 16;
+    pub const MG_SWEEP_FLOATS: u32 = 3564;
     /// Floats of the tail kernel's shared array (glsl/wind/mg_tail.glsl)
     /// beside its level table (40 `MgLevel`s, 40 offsets and two counts:
     /// 2,088 bytes): in 16 KiB, what every device offers a workgroup
@@ -370,8 +381,10 @@ gpu_interface! {
         pub collider_count: u32,
         /// Multigrid: the level a kernel works on.
         pub mg_level: u32,
-        /// Multigrid: the colour a smoothing sweep updates (0 or 1).
-        pub mg_color: u32,
+        /// Multigrid: the colour a half-sweep updates (mg_smooth.comp), or
+        /// which copy a fused sweep reads (mg_sweep.comp: 1 the sweep
+        /// scratch, writing the level's pressure; 0 the reverse).
+        pub mg_sweep: u32,
         /// Multigrid: Gauss-Seidel sweeps on the coarsest level.
         pub coarsest_sweeps: u32,
         /// Multigrid: coarse cells of all levels (where the right-hand

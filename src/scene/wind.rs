@@ -6,7 +6,7 @@ use serde::{Deserialize, Serialize};
 
 use super::check::{finite, in_range, path, positive, within, Check, FieldError, MAX_V_CYCLES};
 use crate::model::wind::{
-    Advection, Coupling, Gust, Inflow, Obstacle, PressureSolver, Turbulence, WindSettings,
+    Advection, Coupling, Gust, Inflow, Obstacle, PressureSolver, Sweep, Turbulence, WindSettings,
     WindSource, DEFAULT_CANOPY_DRAG, DEFAULT_JACOBI_ITERATIONS, DEFAULT_PRESSURE_TOLERANCE,
     DEFAULT_V_CYCLES, MAX_CELLS,
 };
@@ -38,6 +38,11 @@ pub struct WindConfig {
     /// projection may leave: the V-cycles stop once the residual is this
     /// small (0: always `v_cycles`).
     pub pressure_tolerance: f32,
+    /// With multigrid, how the GPU runs a red-black sweep: "auto"
+    /// (default: "fused" on a GPU, "split" on a CPU device), "fused"
+    /// (both colours in one dispatch) or "split" (one a colour); the
+    /// pressure is the same.
+    pub sweep: Sweep,
     /// "one-way" (the paper's: the grass never touches the wind) or
     /// "two-way" (the canopy drag -C_d a |u| u slows the air in the grass).
     pub coupling: Coupling,
@@ -72,6 +77,7 @@ impl Default for WindConfig {
             jacobi_iterations: DEFAULT_JACOBI_ITERATIONS,
             v_cycles: DEFAULT_V_CYCLES,
             pressure_tolerance: DEFAULT_PRESSURE_TOLERANCE,
+            sweep: Sweep::default(),
             coupling: Coupling::default(),
             canopy_drag: DEFAULT_CANOPY_DRAG,
             advection: Advection::default(),
@@ -120,6 +126,7 @@ impl WindConfig {
             jacobi_iterations: self.jacobi_iterations,
             v_cycles: self.v_cycles,
             pressure_tolerance: self.pressure_tolerance,
+            sweep: self.sweep,
             coupling: self.coupling,
             canopy_drag: self.canopy_drag,
             advection: self.advection,

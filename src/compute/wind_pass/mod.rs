@@ -25,8 +25,8 @@ use crate::model::contact::{Collider, GpuCollider};
 use crate::model::multigrid::{self, Level, SolveCounts};
 use crate::model::turbulence::{self, TurbulenceField};
 use crate::model::wind::{
-    Advection, Classification, FaceKind, Inflow, PressureSolver, WindField, WindGrid, WindSettings,
-    WindSource,
+    Advection, Classification, FaceKind, Inflow, PressureSolver, Sweep, WindField, WindGrid,
+    WindSettings, WindSource,
 };
 use crate::shaders::{self, Spirv};
 
@@ -37,8 +37,8 @@ use buffers::WindBuffers;
 
 use crate::interface::{
     MgLevel, MgSolve, TurbulenceMode, WindGridParams, WindPush, WindShiftPush, FACE_BURIED,
-    FACE_FREE, FACE_INFLOW, FACE_WALL, MG_MAX_LEVELS, MG_TAIL_FLOATS, MG_TAIL_FLOATS_LARGE,
-    WIND_GROUP,
+    FACE_FREE, FACE_INFLOW, FACE_WALL, MG_MAX_LEVELS, MG_SWEEP_TILE_X, MG_SWEEP_TILE_Y,
+    MG_SWEEP_TILE_Z, MG_TAIL_FLOATS, MG_TAIL_FLOATS_LARGE, WIND_GROUP,
 };
 /// Waypoints a source's path may have on the GPU.
 pub use crate::model::wind::MAX_PATH_POINTS;
@@ -89,7 +89,7 @@ pub fn wind_set() -> Vec<LayoutBinding> {
 
 /// The kernels in the order a step runs them (Jacobi or the multigrid
 /// kernels solve for the pressure; the multigrid's start and check last).
-pub const WIND_KERNELS: [&Spirv; 16] = [
+pub const WIND_KERNELS: [&Spirv; 17] = [
     &shaders::WIND_FORCES_COMP,
     &shaders::WIND_ADVECT_COMP,
     &shaders::WIND_ADVECT_PREDICT_COMP,
@@ -106,6 +106,7 @@ pub const WIND_KERNELS: [&Spirv; 16] = [
     &shaders::WIND_TURBULENCE_COMP,
     &shaders::WIND_MG_START_COMP,
     &shaders::WIND_MG_CHECK_COMP,
+    &shaders::WIND_MG_SWEEP_COMP,
 ];
 const FORCES: usize = 0;
 const ADVECT: usize = 1;
@@ -126,12 +127,15 @@ const MG_TAIL: usize = 9;
 const MG_PROLONG: usize = 10;
 /// The V-cycle's kernels that run on one level at a time, each made twice:
 /// for level 0 and for the coarse levels (multigrid.glsl's MG_ANY_LEVEL).
-const LEVEL_KERNELS: [usize; 4] = [MG_SMOOTH, MG_RESIDUAL, MG_RESTRICT, MG_PROLONG];
+const LEVEL_KERNELS: [usize; 5] = [MG_SMOOTH, MG_RESIDUAL, MG_RESTRICT, MG_PROLONG, MG_SWEEP];
 const PROJECT: usize = 11;
 const UNDER_GROUND: usize = 12;
 const TURBULENCE: usize = 13;
 const MG_START: usize = 14;
 const MG_CHECK: usize = 15;
+/// Both colours of a sweep in one dispatch (`Sweep::Fused`); MG_SMOOTH
+/// runs one.
+const MG_SWEEP: usize = 16;
 
 pub struct WindPass {
     pub grid: WindGrid,
@@ -141,7 +145,7 @@ pub struct WindPass {
     /// `LEVEL_KERNELS` made for the coarse levels (`level_kernel`).
     kernels: Vec<Pipeline>,
     /// `LEVEL_KERNELS` made for level 0.
-    finest_kernels: [Pipeline; 4],
+    finest_kernels: [Pipeline; 5],
     /// With turbulence, its kernel specialised to the axes the field's
     /// modes are mirrored across (which the pass's life does not change),
     /// adding to the state A and to the advected copy B, which the
@@ -160,6 +164,8 @@ pub struct WindPass {
     /// The finest multigrid level the tail kernel runs (mg_tail.glsl):
     /// the finest whose tail fits its shared array.
     tail_level: u32,
+    /// Whether a sweep's two colours run in one dispatch (`Sweep`).
+    fused_sweeps: bool,
     /// m^2 per count of the canopy buffer (`model::canopy::unit` of the
     /// grass coupled to this wind; 0 with no grass).
     canopy_unit: f32,
@@ -230,7 +236,7 @@ fn wind_kernels(
     gpu: &Gpu,
     layout: &Arc<PipelineLayout>,
     field: &WindField,
-) -> Result<(Vec<Pipeline>, [Pipeline; 4], usize)> {
+) -> Result<(Vec<Pipeline>, [Pipeline; 5], usize)> {
     // The tail kernel: the variant with the larger shared array where
     // the device offers it, from the finest level that fits it, and
     // specialised to this grid's coarsest level.
@@ -267,31 +273,58 @@ fn wind_kernels(
             _ => Pipeline::compute(gpu, layout, spirv),
         })
         .collect::<Result<Vec<_>>>()?;
-    let [a, b, c, d] = LEVEL_KERNELS.map(|k| {
+    let [a, b, c, d, e] = LEVEL_KERNELS.map(|k| {
         // MG_ANY_LEVEL 1, MG_ON_FINEST 1: level 0 (and the next one read).
         Pipeline::compute_specialized(gpu, layout, WIND_KERNELS[k], &[(8, 1), (9, 1)])
     });
-    Ok((kernels, [a?, b?, c?, d?], tail_level))
+    Ok((kernels, [a?, b?, c?, d?, e?], tail_level))
 }
 
 /// The workgroup counts of a V-cycle's dispatches as the solve buffer
 /// holds them (`MgSolve`): for each level above the tail its smoothing
-/// (one thread per cell of a colour), its residual and its restriction
-/// (the coarser level's cells) at 3 l, 3 l + 1 and 3 l + 2; the tail's
-/// one workgroup last. A level's prolongation runs over its cells, as its
-/// residual.
-fn v_cycle_dispatches(levels: &[Level], tail: usize) -> Vec<[u32; 4]> {
+/// (`fused`: one workgroup a tile, `sweep_tiles`; else one thread per cell
+/// of a colour), its residual and its restriction (the coarser level's
+/// cells) at 3 l, 3 l + 1 and 3 l + 2; the tail's one workgroup last. A
+/// level's prolongation runs over its cells, as its residual.
+fn v_cycle_dispatches(levels: &[Level], tail: usize, fused: bool) -> Vec<[u32; 4]> {
     let groups = |l: usize| (levels[l].cell_count() as u32).div_ceil(WIND_GROUP);
-    let color_groups = |l: usize| {
+    let smoothing = |l: usize| {
         let n = levels[l].cells;
-        (n.x.div_ceil(2) * n.y * n.z).div_ceil(WIND_GROUP)
+        if fused {
+            sweep_tiles(n)
+        } else {
+            (n.x.div_ceil(2) * n.y * n.z).div_ceil(WIND_GROUP)
+        }
     };
     let mut args: Vec<[u32; 4]> = (0..tail)
-        .flat_map(|l| [color_groups(l), groups(l), groups(l + 1)])
+        .flat_map(|l| [smoothing(l), groups(l), groups(l + 1)])
         .map(|x| [x, 1, 1, 0])
         .collect();
     args.push([1, 1, 1, 0]);
     args
+}
+
+// mg_smooth.comp's sweeps go from a level's pressure into the scratch and
+// back: a pair ends where the level's pressure is read next.
+const _: () =
+    assert!(crate::interface::MG_PRE_SMOOTH % 2 == 0 && crate::interface::MG_POST_SMOOTH % 2 == 0);
+// Its shared array holds the red cells of a tile and one cell around it.
+const _: () = assert!(
+    (MG_SWEEP_TILE_X + 3) / 2 * (MG_SWEEP_TILE_Y + 2) * (MG_SWEEP_TILE_Z + 2)
+        <= crate::interface::MG_SWEEP_FLOATS
+);
+
+/// The tiles glsl/wind/mg_smooth.comp sweeps a level of `cells` in, one
+/// workgroup each: `MG_SWEEP_TILE_*` cells, fewer along an axis the level
+/// is shorter than (the kernel works the same tiles out).
+fn sweep_tiles(cells: glam::UVec3) -> u32 {
+    let tile = cells.min(glam::UVec3::new(
+        MG_SWEEP_TILE_X,
+        MG_SWEEP_TILE_Y,
+        MG_SWEEP_TILE_Z,
+    ));
+    let tiles = (cells + tile - 1) / tile;
+    tiles.x * tiles.y * tiles.z
 }
 
 /// The kernel that shifts the wind window under the camera; its set
@@ -363,7 +396,12 @@ impl WindPass {
             "wind",
         )?;
         let (kernels, finest_kernels, tail_level) = wind_kernels(gpu, &layout, &field)?;
-        let mg_dispatches = v_cycle_dispatches(&field.multigrid.levels, tail_level);
+        let fused_sweeps = match settings.sweep {
+            Sweep::Auto => !gpu.info().is_cpu(),
+            Sweep::Fused => true,
+            Sweep::Split => false,
+        };
+        let mg_dispatches = v_cycle_dispatches(&field.multigrid.levels, tail_level, fused_sweeps);
         let buffers = WindBuffers::new(
             gpu,
             commands,
@@ -399,6 +437,7 @@ impl WindPass {
             cell_count,
             coarse_cells: field.multigrid.coarse_cell_count() as u32,
             tail_level: tail_level as u32,
+            fused_sweeps,
             canopy_unit,
             buried: field.faces.iter().flatten().any(|&k| k == FaceKind::Buried),
             among_solids: field.solid.contains(&true),
@@ -414,6 +453,16 @@ impl WindPass {
     /// above it run kernel by kernel.
     pub fn tail_level(&self) -> u32 {
         self.tail_level
+    }
+
+    /// How the multigrid's sweeps run on this device: fused or split
+    /// (`Sweep`, "auto" resolved).
+    pub fn sweep(&self) -> Sweep {
+        if self.fused_sweeps {
+            Sweep::Fused
+        } else {
+            Sweep::Split
+        }
     }
 
     /// Whether the grid is a window that follows the camera

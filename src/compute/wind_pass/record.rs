@@ -90,8 +90,8 @@ impl WindPass {
         let cell_groups = self.cell_count.div_ceil(WIND_GROUP);
         let step = self.push(time, dt);
         // A kernel bound with its push constants: `read` the Jacobi half
-        // it reads, then the multigrid level, colour and coarsest sweeps.
-        let bind = |kernel: usize, read: u32, [mg_level, mg_color, coarsest_sweeps]: [u32; 3]| {
+        // it reads, then the multigrid level, sweep and coarsest sweeps.
+        let bind = |kernel: usize, read: u32, [mg_level, mg_sweep, coarsest_sweeps]: [u32; 3]| {
             let pipeline = self.level_kernel(kernel, mg_level);
             rec.bind_pipeline(pipeline);
             rec.push_constants(
@@ -99,7 +99,7 @@ impl WindPass {
                 &WindPush {
                     pressure_read: read,
                     mg_level,
-                    mg_color,
+                    mg_sweep,
                     coarsest_sweeps,
                     ..step
                 },
@@ -163,10 +163,10 @@ impl WindPass {
     /// up to `v_cycles` V-cycles (the levels from the tail down in one
     /// workgroup), each followed by its check (mg_check.comp), whose
     /// kernels run on the solve buffer's dispatches (`v_dispatch`: kernel,
-    /// dispatch, [level, colour, coarsest sweeps]), which the start and the
+    /// dispatch, [level, sweep, coarsest sweeps]), which the start and the
     /// checks switch off once the residual is small enough; or the paper's
     /// Jacobi iterations. Direct kernels through `dispatch` (kernel,
-    /// workgroups, Jacobi half read, [level, colour, coarsest sweeps]).
+    /// workgroups, Jacobi half read, [level, sweep, coarsest sweeps]).
     fn record_pressure(
         &self,
         dispatch: &dyn Fn(usize, u32, u32, [u32; 3]),
@@ -177,11 +177,18 @@ impl WindPass {
         let cell_groups = self.cell_count.div_ceil(WIND_GROUP);
         if multigrid {
             // The dispatches of level l (`v_cycle_dispatches`).
-            let [smoothing, residual, restriction] = [0, 1, 2];
+            let [sweep, residual, restriction] = [0, 1, 2];
+            // Level l's sweeps: fused (mg_sweep.comp), from its pressure
+            // into the scratch and back, an even count; or one dispatch a
+            // colour (mg_smooth.comp).
             let smooth = |l: usize, sweeps: u32| {
-                for _ in 0..sweeps {
-                    for color in 0..2 {
-                        v_dispatch(MG_SMOOTH, 3 * l + smoothing, [l as u32, color, 0]);
+                for s in 0..sweeps {
+                    if self.fused_sweeps {
+                        v_dispatch(MG_SWEEP, 3 * l + sweep, [l as u32, s % 2, 0]);
+                    } else {
+                        for color in 0..2 {
+                            v_dispatch(MG_SMOOTH, 3 * l + sweep, [l as u32, color, 0]);
+                        }
                     }
                 }
             };
