@@ -91,6 +91,12 @@ const uvec3 STEPS[6] = uvec3[6](uvec3(-1, 0, 0), uvec3(1, 0, 0), uvec3(0, -1, 0)
 SMOOTHED(red_smoothed, FOUND)
 SMOOTHED(black_smoothed, SWEPT)
 
+// Slots for one colour's cells in a box of `size`: every other cell of a
+// row, rounded up (`mg_color_cell_count`'s count for a level).
+uint color_slots(uvec3 size) {
+    return (size.x + 1u) / 2u * size.y * size.z;
+}
+
 // The cells of colour `color` in the box [lo, lo + size), counted as
 // `mg_cell_of_color` counts a level's (every other cell along x), each
 // cell number i: false where i is its row's one too many.
@@ -117,7 +123,7 @@ void main() {
     // The red cells of the tile and around it, from the black cells as
     // the sweep found them (the source, which no workgroup writes).
     uvec3 c;
-    uint reds = (around_size.x + 1u) / 2u * around_size.y * around_size.z;
+    uint reds = color_slots(around_size);
     for (uint i = gl_LocalInvocationID.x; i < reds; i += MG_SWEEP_GROUP) {
         if (!color_cell(around_lo, around_size, 0u, i, c)) {
             continue;
@@ -131,7 +137,7 @@ void main() {
     barrier();
     // The black cells of the tile, from the red cells swept.
     uvec3 size = hi - lo;
-    uint blacks = (size.x + 1u) / 2u * size.y * size.z;
+    uint blacks = color_slots(size);
     for (uint i = gl_LocalInvocationID.x; i < blacks; i += MG_SWEEP_GROUP) {
         if (color_cell(lo, size, 1u, i, c)) {
             set_result(l, mg_cell_index(l, c), black_smoothed(l, c));

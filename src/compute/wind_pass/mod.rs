@@ -304,7 +304,7 @@ fn v_cycle_dispatches(levels: &[Level], tail: usize, fused: bool) -> Vec<[u32; 4
     args
 }
 
-// mg_smooth.comp's sweeps go from a level's pressure into the scratch and
+// mg_sweep.comp's sweeps go from a level's pressure into the scratch and
 // back: a pair ends where the level's pressure is read next.
 const _: () =
     assert!(crate::interface::MG_PRE_SMOOTH % 2 == 0 && crate::interface::MG_POST_SMOOTH % 2 == 0);
@@ -314,7 +314,7 @@ const _: () = assert!(
         <= crate::interface::MG_SWEEP_FLOATS
 );
 
-/// The tiles glsl/wind/mg_smooth.comp sweeps a level of `cells` in, one
+/// The tiles glsl/wind/mg_sweep.comp sweeps a level of `cells` in, one
 /// workgroup each: `MG_SWEEP_TILE_*` cells, fewer along an axis the level
 /// is shorter than (the kernel works the same tiles out).
 fn sweep_tiles(cells: glam::UVec3) -> u32 {
