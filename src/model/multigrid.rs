@@ -256,12 +256,23 @@ fn candidates(lo: UVec3, hi: UVec3) -> impl Iterator<Item = UVec3> {
 }
 
 /// The level hierarchy, built once per wind grid.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default)]
 pub struct Multigrid {
     pub levels: Vec<Level>,
     /// What a V-cycle applies at each level, worked out from `levels`
-    /// once (`Operators`).
-    operators: Vec<Operators>,
+    /// once, at the first CPU solve (`Operators`): the GPU's wind pass
+    /// makes a `WindField` for its initial state and reads only the
+    /// levels, and the lists cost a 60 x 20 x 60 grid about a tenth of
+    /// a second to work out.
+    operators: std::sync::OnceLock<Vec<Operators>>,
+}
+
+/// The operators are a function of the levels: two hierarchies are equal
+/// when their levels are, whether or not either has worked them out.
+impl PartialEq for Multigrid {
+    fn eq(&self, other: &Self) -> bool {
+        self.levels == other.levels
+    }
 }
 
 /// Level `l`'s stencil and its transfers to level `l + 1`, as lists:
@@ -386,11 +397,19 @@ impl Multigrid {
     /// `cells` and `h` are the wind grid's cells and cell size; `free[axis]`
     /// says for each face, in the velocity's layout, whether air may cross it.
     pub fn new(cells: UVec3, h: Vec3, free: &[Vec<bool>; 3]) -> Self {
-        let levels = Self::levels_of(cells, h, free);
-        let operators = (0..levels.len())
-            .map(|l| Operators::of(&levels[l], levels.get(l + 1)))
-            .collect();
-        Self { levels, operators }
+        Self {
+            levels: Self::levels_of(cells, h, free),
+            operators: std::sync::OnceLock::new(),
+        }
+    }
+
+    /// Each level's operators (`Operators`), worked out on first use.
+    fn operators(&self) -> &[Operators] {
+        self.operators.get_or_init(|| {
+            (0..self.levels.len())
+                .map(|l| Operators::of(&self.levels[l], self.levels.get(l + 1)))
+                .collect()
+        })
     }
 
     /// The hierarchy's levels alone, without the CPU's operators: what
@@ -434,7 +453,7 @@ impl Multigrid {
 
     /// Sum over level 0's cells of (b - A p)^2.
     pub fn residual_squares(&self, p: &[f32], b: &[f32]) -> f64 {
-        let ops = &self.operators[0];
+        let ops = &self.operators()[0];
         (0..b.len())
             .map(|i| (ops.residual(p, b, i) as f64).powi(2))
             .sum()
@@ -504,7 +523,7 @@ impl Multigrid {
         work.ensure(self);
         for l in 0..last {
             let (fine_p, coarse_p, fine_b, coarse_b) = work.pair(l, p, b);
-            let (level, ops) = (&self.levels[l], &self.operators[l]);
+            let (level, ops) = (&self.levels[l], &self.operators()[l]);
             for _ in 0..PRE_SMOOTH {
                 ops.smooth(level, fine_p, fine_b, 0);
                 ops.smooth(level, fine_p, fine_b, 1);
@@ -529,7 +548,7 @@ impl Multigrid {
         }
         {
             let (coarsest_p, coarsest_b) = work.level(last, p, b);
-            let (level, ops) = (&self.levels[last], &self.operators[last]);
+            let (level, ops) = (&self.levels[last], &self.operators()[last]);
             for _ in 0..COARSEST_SWEEPS {
                 ops.smooth(level, coarsest_p, coarsest_b, 0);
                 ops.smooth(level, coarsest_p, coarsest_b, 1);
@@ -537,7 +556,7 @@ impl Multigrid {
         }
         for l in (0..last).rev() {
             let (fine_p, coarse_p, fine_b, _) = work.pair(l, p, b);
-            let (level, ops) = (&self.levels[l], &self.operators[l]);
+            let (level, ops) = (&self.levels[l], &self.operators()[l]);
             // Prolong: every fine cell adds the trilinear interpolation of
             // the coarse correction at its centre.
             for (index, value) in fine_p.iter_mut().enumerate() {

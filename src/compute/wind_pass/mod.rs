@@ -141,11 +141,12 @@ pub struct WindPass {
     pub grid: WindGrid,
     settings: WindSettings,
     set: DescriptorSet,
-    /// The kernels in `WIND_KERNELS` order, sharing one layout; those of
-    /// `LEVEL_KERNELS` made for the coarse levels (`level_kernel`).
-    kernels: Vec<Pipeline>,
-    /// `LEVEL_KERNELS` made for level 0.
-    finest_kernels: [Pipeline; 5],
+    /// The kernels in `WIND_KERNELS` order, sharing one layout, each made
+    /// where this pass runs it (`runs_kernel`); those of `LEVEL_KERNELS`
+    /// made for the coarse levels (`level_kernel`).
+    kernels: Vec<Option<Pipeline>>,
+    /// `LEVEL_KERNELS` made for level 0, where the pass runs them.
+    finest_kernels: [Option<Pipeline>; 5],
     /// With turbulence, its kernel specialised to the axes the field's
     /// modes are mirrored across (which the pass's life does not change),
     /// adding to the state A and to the advected copy B, which the
@@ -236,7 +237,8 @@ fn wind_kernels(
     gpu: &Gpu,
     layout: &Arc<PipelineLayout>,
     field: &WindField,
-) -> Result<(Vec<Pipeline>, [Pipeline; 5], usize)> {
+    runs: impl Fn(usize) -> bool,
+) -> Result<(Vec<Option<Pipeline>>, [Option<Pipeline>; 5], usize)> {
     // The tail kernel: the variant with the larger shared array where
     // the device offers it, from the finest level that fits it, and
     // specialised to this grid's coarsest level.
@@ -262,22 +264,53 @@ fn wind_kernels(
     let kernels = WIND_KERNELS
         .iter()
         .enumerate()
-        .map(|(kernel, spirv)| match kernel {
-            MG_TAIL => {
-                Pipeline::compute_specialized(gpu, layout, tail_spirv, &[(0, last_level as u32)])
-            }
-            // MG_ANY_LEVEL 0, MG_ON_FINEST 0: the coarse levels.
-            k if LEVEL_KERNELS.contains(&k) => {
-                Pipeline::compute_specialized(gpu, layout, spirv, &[(8, 0), (9, 0)])
-            }
-            _ => Pipeline::compute(gpu, layout, spirv),
+        .map(|(kernel, spirv)| {
+            runs(kernel)
+                .then(|| match kernel {
+                    MG_TAIL => Pipeline::compute_specialized(
+                        gpu,
+                        layout,
+                        tail_spirv,
+                        &[(0, last_level as u32)],
+                    ),
+                    // MG_ANY_LEVEL 0, MG_ON_FINEST 0: the coarse levels.
+                    k if LEVEL_KERNELS.contains(&k) => {
+                        Pipeline::compute_specialized(gpu, layout, spirv, &[(8, 0), (9, 0)])
+                    }
+                    _ => Pipeline::compute(gpu, layout, spirv),
+                })
+                .transpose()
         })
         .collect::<Result<Vec<_>>>()?;
     let [a, b, c, d, e] = LEVEL_KERNELS.map(|k| {
         // MG_ANY_LEVEL 1, MG_ON_FINEST 1: level 0 (and the next one read).
-        Pipeline::compute_specialized(gpu, layout, WIND_KERNELS[k], &[(8, 1), (9, 1)])
+        runs(k)
+            .then(|| {
+                Pipeline::compute_specialized(gpu, layout, WIND_KERNELS[k], &[(8, 1), (9, 1)])
+            })
+            .transpose()
     });
     Ok((kernels, [a?, b?, c?, d?, e?], tail_level))
+}
+
+/// Whether a pass with `settings` (its sweeps `fused`) runs `kernel` of
+/// `WIND_KERNELS`: only those are made (on lavapipe each pipeline is a
+/// few milliseconds to tens of them of every start). They do not change
+/// over the pass's life: its solver, advection and sweeps are fixed.
+fn runs_kernel(kernel: usize, settings: &WindSettings, fused: bool) -> bool {
+    let multigrid = settings.solver == PressureSolver::Multigrid;
+    match kernel {
+        ADVECT => settings.advection == Advection::SemiLagrangian,
+        ADVECT_PREDICT | ADVECT_CORRECT => settings.advection == Advection::Maccormack,
+        JACOBI => !multigrid,
+        MG_SMOOTH => multigrid && !fused,
+        MG_SWEEP => multigrid && fused,
+        MG_RESIDUAL | MG_RESTRICT | MG_TAIL | MG_PROLONG | MG_START | MG_CHECK => multigrid,
+        // The turbulence runs its kernels specialised to the field's
+        // mirrored axes (`turbulence_kernels`), never the general one.
+        TURBULENCE => false,
+        _ => true,
+    }
 }
 
 /// The workgroup counts of a V-cycle's dispatches as the solve buffer
@@ -395,12 +428,14 @@ impl WindPass {
             vk::ShaderStageFlags::COMPUTE,
             "wind",
         )?;
-        let (kernels, finest_kernels, tail_level) = wind_kernels(gpu, &layout, &field)?;
         let fused_sweeps = match settings.sweep {
             Sweep::Auto => !gpu.info().is_cpu(),
             Sweep::Fused => true,
             Sweep::Split => false,
         };
+        let (kernels, finest_kernels, tail_level) = wind_kernels(gpu, &layout, &field, |k| {
+            runs_kernel(k, settings, fused_sweeps)
+        })?;
         let mg_dispatches = v_cycle_dispatches(&field.multigrid.levels, tail_level, fused_sweeps);
         let buffers = WindBuffers::new(
             gpu,

@@ -60,10 +60,12 @@ impl WindPass {
     /// Kernel `kernel` made for level `level` (`LEVEL_KERNELS` are made
     /// for level 0 and for the coarse levels; the others for any).
     fn level_kernel(&self, kernel: usize, level: u32) -> &Pipeline {
-        match LEVEL_KERNELS.iter().position(|&k| k == kernel) {
+        let made = match LEVEL_KERNELS.iter().position(|&k| k == kernel) {
             Some(i) if level == 0 => &self.finest_kernels[i],
             _ => &self.kernels[kernel],
-        }
+        };
+        made.as_ref()
+            .expect("a step records only the kernels its settings run (`runs_kernel`)")
     }
 
     /// The forces kernel with the code for what this step has: sources,
@@ -72,7 +74,7 @@ impl WindPass {
         let sources = !self.settings.sources.is_empty();
         let colliders = !self.collider_records.is_empty();
         match (sources, colliders) {
-            (true, true) => &self.kernels[FORCES],
+            (true, true) => self.level_kernel(FORCES, 0),
             (true, false) => &self.forces_without[0],
             (false, true) => &self.forces_without[1],
             (false, false) => &self.forces_without[2],
@@ -234,11 +236,11 @@ impl WindPass {
             let subgrid = &self.buffers.subgrid_modes;
             rec.update_buffer(subgrid, 0, bytemuck::cast_slice(&modes.subgrid));
         }
-        // Modes are recorded only with turbulence, which made its kernels.
-        let pipeline = match &self.turbulence_kernels {
-            Some(kernels) => &kernels[into_advected as usize],
-            None => &self.kernels[TURBULENCE],
-        };
+        let pipeline = &self
+            .turbulence_kernels
+            .as_ref()
+            .expect("modes are recorded only with turbulence, which made its kernels")
+            [into_advected as usize];
         rec.uses(&self.kernel_uses(TURBULENCE));
         rec.bind_pipeline(pipeline);
         rec.push_constants(pipeline, push);
@@ -301,7 +303,8 @@ impl WindPass {
         if let Some(field) = &mut self.turbulence {
             field.move_corner(self.grid.origin - before.origin);
             let modes = Modes::of(field, self.settings.turbulence_sigma());
-            rec.bind_set(&self.kernels[TURBULENCE], &self.set);
+            // Any kernel of the wind's layout binds its set.
+            rec.bind_set(self.level_kernel(FORCES, 0), &self.set);
             self.record_turbulence(rec, &modes, &self.push(0.0, 0.0), false);
         }
         Ok(())
