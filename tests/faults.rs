@@ -1,5 +1,5 @@
 //! Faults, injected and real, through the `meadow` binary with validation
-//! on: device memory running out at every allocation in turn (injected,
+//! on: device memory running out at every allocation site in turn (injected,
 //! MEADOW_INJECT_FAULT) and for real under an address-space limit; the
 //! device lost at every submission in turn (injected); the disk filling up
 //! while frames are written (a real, tiny tmpfs). Each must give one line
@@ -161,9 +161,29 @@ fn each_failing_in_turn(
     panic!("{}: {kind} never stopped failing", args[0]);
 }
 
-/// Each device memory allocation of command `name` (of `commands`) failing
-/// in turn is one clean line. One test per command, so that the harness
-/// runs them side by side.
+/// The device memory allocations one run of `args` makes, in order, as
+/// the fault hook lists them (MEADOW_INJECT_FAULT=list): (N, what).
+fn listed_allocations(args: &[&str]) -> Vec<(u64, String)> {
+    let result = meadow(args, &[("MEADOW_INJECT_FAULT", "list")]);
+    let stderr = stderr_of(&result);
+    assert!(result.status.success(), "{}: {stderr}", args[0]);
+    stderr
+        .lines()
+        .filter_map(|l| l.strip_prefix("meadow: fault hook: allocation "))
+        .map(|l| {
+            let (n, what) = l.split_once(": ").unwrap();
+            (n.parse().unwrap(), what.to_string())
+        })
+        .collect()
+}
+
+/// Each device memory allocation site of command `name` (of `commands`)
+/// failing in turn is one clean line naming it. A site is an allocation's
+/// name: one made again under its name (the next bench row's frame, the
+/// next solver's wind pass, another readback) is the same code on the same
+/// path, so each name's first allocation fails, and the run's last one
+/// (after everything else has run and been released). One test per
+/// command, so that the harness runs them side by side.
 fn every_allocation_of(name: &str) {
     let out = temp_out(&format!("oom-each-{name}"));
     let out_s = out.to_str().unwrap().to_string();
@@ -172,22 +192,37 @@ fn every_allocation_of(name: &str) {
         .find(|(n, _)| *n == name)
         .unwrap();
     let args: Vec<&str> = args.iter().map(String::as_str).collect();
-    let failed = each_failing_in_turn(
-        "out-of-device-memory",
-        "allocation",
-        &args,
-        &out,
-        |what, e| {
-            assert!(
-                e.contains("out of GPU memory while creating"),
-                "{what}: {e}"
-            );
-        },
-    );
+    let listed = listed_allocations(&args);
+    let numbered: Vec<u64> = listed.iter().map(|&(n, _)| n).collect();
+    assert_eq!(numbered, (1..=listed.len() as u64).collect::<Vec<_>>());
+    let last = listed.len() as u64;
+    let mut names = std::collections::HashSet::new();
+    let sites: Vec<&(u64, String)> = listed
+        .iter()
+        .filter(|(n, what)| names.insert(what.as_str()) || *n == last)
+        .collect();
+    for (n, site) in &sites {
+        let _ = std::fs::remove_dir_all(&out);
+        let fault = format!("out-of-device-memory@{n}");
+        let result = meadow(&args, &[("MEADOW_INJECT_FAULT", &fault)]);
+        let what = format!("{name} with {fault}");
+        let stderr = assert_one_clean_line(&what, &result);
+        assert!(
+            stderr.contains(&format!(
+                "out of GPU memory while creating {site} (injected: allocation {n})"
+            )),
+            "{what}: {stderr}"
+        );
+        assert_only_complete_files(&what, &out);
+    }
     // Every render target, texture, wind and grass buffer and staging
     // copy is one allocation; fewer would mean the hook is dead.
-    assert!(failed >= 10, "{name}: only {failed} allocations failed");
-    eprintln!("{name}: {failed} allocations, each failing cleanly in turn");
+    assert!(sites.len() >= 10, "{name}: only {} allocation sites", sites.len());
+    eprintln!(
+        "{name}: {} allocations at {} sites, each site failing cleanly in turn",
+        listed.len(),
+        sites.len()
+    );
     let _ = std::fs::remove_dir_all(&out);
 }
 

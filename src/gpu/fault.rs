@@ -6,6 +6,9 @@
 //!
 //! Set through `GpuOptions::faults`; the binary reads MEADOW_INJECT_FAULT,
 //! e.g. `out-of-device-memory@3` or `device-lost@5` (comma-separated).
+//! Its item `list` prints each allocation and submission to stderr as it
+//! is counted, `meadow: fault hook: allocation N: WHAT`, so that a test
+//! can choose which to fail from one run.
 
 use std::sync::atomic::{AtomicU64, Ordering};
 
@@ -16,21 +19,29 @@ use crate::error::{Error, Result};
 pub struct FaultPlan {
     pub out_of_device_memory_at: Option<u64>,
     pub device_lost_at: Option<u64>,
+    /// Print every operation counted (the item `list`).
+    pub list: bool,
 }
 
 const OOM: &str = "out-of-device-memory";
 const LOST: &str = "device-lost";
+const LIST: &str = "list";
 
 impl FaultPlan {
-    /// Parses `KIND@N[,KIND@N]`; the empty string plans no fault.
+    /// Parses `KIND@N[,KIND@N]` and `list`; the empty string plans no
+    /// fault.
     pub fn parse(text: &str) -> Result<Self> {
         let mut plan = Self::default();
         for item in text.split(',').map(str::trim).filter(|s| !s.is_empty()) {
             let bad = || {
                 Error::InvalidInput(format!(
-                    "MEADOW_INJECT_FAULT item {item:?} is not KIND@N with KIND {OOM} or {LOST} and N >= 1"
+                    "MEADOW_INJECT_FAULT item {item:?} is not KIND@N with KIND {OOM} or {LOST} and N >= 1, nor {LIST}"
                 ))
             };
+            if item == LIST {
+                plan.list = true;
+                continue;
+            }
             let (kind, n) = item.split_once('@').ok_or_else(bad)?;
             let n: u64 = n.parse().ok().filter(|&n| n >= 1).ok_or_else(bad)?;
             match kind {
@@ -62,6 +73,9 @@ impl Faults {
     /// Counts one allocation of `what`; the planned one fails.
     pub fn allocation(&self, what: &str) -> Result<()> {
         let n = self.allocations.fetch_add(1, Ordering::Relaxed) + 1;
+        if self.plan.list {
+            eprintln!("meadow: fault hook: allocation {n}: {what}");
+        }
         if self.plan.out_of_device_memory_at == Some(n) {
             return Err(Error::OutOfDeviceMemory {
                 what: format!("{what} (injected: allocation {n})"),
@@ -74,6 +88,9 @@ impl Faults {
     /// the device is lost.
     pub fn submission(&self, what: &str) -> Result<()> {
         let n = self.submissions.fetch_add(1, Ordering::Relaxed) + 1;
+        if self.plan.list {
+            eprintln!("meadow: fault hook: submission {n}: {what}");
+        }
         match self.plan.device_lost_at {
             Some(at) if n >= at => Err(Error::DeviceLost {
                 during: format!("{what} (injected: submission {n})"),
@@ -93,6 +110,8 @@ mod tests {
         let plan = FaultPlan::parse("out-of-device-memory@3, device-lost@7").unwrap();
         assert_eq!(plan.out_of_device_memory_at, Some(3));
         assert_eq!(plan.device_lost_at, Some(7));
+        assert!(!plan.list);
+        assert!(FaultPlan::parse("list").unwrap().list);
         for bad in ["device-lost", "device-lost@0", "lost@2", "device-lost@x"] {
             let e = FaultPlan::parse(bad).unwrap_err().to_string();
             assert!(e.contains("MEADOW_INJECT_FAULT") && e.contains(bad), "{e}");
