@@ -502,6 +502,10 @@ fn bench_grass_times_small_counts_and_refuses_bad_ones() {
             "3",
             "--warmup",
             "1",
+            // Two wind steps, not 30: each row's wind is the same work
+            // whatever its blades, and the rows check the grass.
+            "--wind-warmup",
+            "2",
             "--validation",
             "--out",
             out.to_str().unwrap(),
@@ -511,6 +515,7 @@ fn bench_grass_times_small_counts_and_refuses_bad_ones() {
     assert_succeeded(&result);
     let bench = read_json(&out.join("grass_bench.json"));
     assert_eq!(bench["validation"]["errors"], 0);
+    assert_eq!(bench["wind_warmup_steps"], 2);
     let rows = bench["rows"].as_array().unwrap();
     // Each count without and with 3 balls; each row's cost over the
     // collider-free row of its count.

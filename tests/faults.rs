@@ -126,6 +126,8 @@ fn commands(out: &str) -> Vec<(&'static str, Vec<String>)> {
                 "1",
                 "--warmup",
                 "0",
+                "--wind-warmup",
+                "1",
             ]),
         ),
     ]

@@ -254,6 +254,8 @@ fn every_command_line_path_is_validation_clean_with_best_practices() {
             "2",
             "--warmup",
             "1",
+            "--wind-warmup",
+            "2",
         ],
         "grass_bench.json",
     );

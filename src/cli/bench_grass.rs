@@ -29,6 +29,10 @@ pub struct BenchGrassArgs {
     /// Untimed grass steps before timing.
     #[arg(long, default_value_t = 5, allow_negative_numbers = true, value_parser = numbers::whole::<u32>(0, 10_000))]
     warmup: u32,
+    /// Wind steps solved before the grass steps, untimed, so that the
+    /// grass meets a developed field.
+    #[arg(long, default_value_t = meadow::commands::bench_grass::WIND_WARMUP_STEPS, allow_negative_numbers = true, value_parser = numbers::whole::<u32>(0, 10_000))]
+    wind_warmup: u32,
     /// Folder for grass_bench.json (made if missing).
     #[arg(long, default_value = "out/bench-grass")]
     out: PathBuf,
@@ -45,6 +49,7 @@ pub fn run(args: BenchGrassArgs) -> anyhow::Result<()> {
         colliders,
         steps,
         warmup,
+        wind_warmup,
         out,
         overwrite,
         device,
@@ -81,8 +86,11 @@ pub fn run(args: BenchGrassArgs) -> anyhow::Result<()> {
         &scene,
         &counts,
         &colliders,
-        steps,
-        warmup,
+        meadow::commands::bench_grass::GrassSteps {
+            timed: steps,
+            warmup,
+            wind_warmup,
+        },
         &device.options()?,
         &mut |p| {
             bar.set_length(p.total as u64);

@@ -31,8 +31,21 @@ pub const PAPER_GRASS_MS: [(usize, f64); 4] = [
     (200_000, 33.5),
 ];
 
-/// Wind steps run before timing, so that the grass meets a developed field.
-const WIND_WARMUP_STEPS: u32 = 30;
+/// Wind steps solved before timing by default, so that the grass meets a
+/// developed field (`GrassSteps::wind_warmup`).
+pub const WIND_WARMUP_STEPS: u32 = 30;
+
+/// The steps of each row: `timed` grass steps after `warmup` untimed
+/// ones, all after `wind_warmup` wind steps.
+#[derive(Clone, Copy, Debug)]
+pub struct GrassSteps {
+    pub timed: u32,
+    pub warmup: u32,
+    /// Wind steps solved first, untimed (`WIND_WARMUP_STEPS` by default;
+    /// on lavapipe each of table1's costs a fifth of a second whatever
+    /// the blade count, which a check of small counts need not pay).
+    pub wind_warmup: u32,
+}
 
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct GrassBenchRow {
@@ -91,6 +104,8 @@ pub struct CopyBandwidth {
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct GrassBench {
     pub scene: String,
+    /// Wind steps each row solved before its grass steps.
+    pub wind_warmup_steps: u32,
     pub device: String,
     pub device_type: String,
     /// The device memory the rows' allocations held at the end and at
@@ -114,26 +129,30 @@ pub struct RowProgress {
     pub row: Option<(usize, usize)>,
 }
 
-/// Times `steps` grass steps (after `warmup`) of `scene` at each count,
-/// with each number of `colliders` (`&[0]`: the scene as it is).
-/// `on_row` hears of each row before it starts.
+/// Times `steps` of `scene` at each count, with each number of
+/// `colliders` (`&[0]`: the scene as it is). `on_row` hears of each row
+/// before it starts.
 pub fn bench_grass(
     scene: &Scene,
     counts: &[usize],
     colliders: &[usize],
-    steps: u32,
-    warmup: u32,
+    steps: GrassSteps,
     options: &GpuOptions,
     on_row: &mut dyn FnMut(RowProgress),
 ) -> Result<GrassBench> {
+    let GrassSteps {
+        timed,
+        warmup,
+        wind_warmup,
+    } = steps;
     if counts.is_empty() || counts.iter().any(|&n| n == 0 || n > MAX_BLADES) {
         return Err(Error::InvalidInput(format!(
             "blade counts {counts:?} are not allowed, use 1..={MAX_BLADES} each"
         )));
     }
-    if !(1..=10_000).contains(&steps) || warmup > 10_000 {
+    if !(1..=10_000).contains(&timed) || warmup > 10_000 || wind_warmup > 10_000 {
         return Err(Error::InvalidInput(format!(
-            "--steps {steps} / --warmup {warmup} are not allowed, use 1..=10000 and 0..=10000"
+            "--steps {timed} / --warmup {warmup} / --wind-warmup {wind_warmup} are not allowed, use 1..=10000, 0..=10000 and 0..=10000"
         )));
     }
     if colliders.is_empty()
@@ -162,7 +181,7 @@ pub fn bench_grass(
                     total,
                     row: Some((n, c)),
                 });
-                rows.push(bench_count(gpu, scene, n, c, steps, warmup)?);
+                rows.push(bench_count(gpu, scene, n, c, steps)?);
             }
         }
         on_row(RowProgress {
@@ -180,6 +199,7 @@ pub fn bench_grass(
     })?;
     let bench = GrassBench {
         scene: scene.name.clone(),
+        wind_warmup_steps: wind_warmup,
         device: info.name,
         device_type: info.device_type,
         device_memory,
@@ -293,8 +313,11 @@ fn bench_count(
     scene: &Scene,
     count: usize,
     colliders: usize,
-    steps: u32,
-    warmup: u32,
+    GrassSteps {
+        timed: steps,
+        warmup,
+        wind_warmup,
+    }: GrassSteps,
 ) -> Result<GrassBenchRow> {
     let (scene, blades) = bench_scene(scene, count, colliders)?;
     let dynamic = field::dynamic_blades(&blades, &scene.grass.dynamics, scene.seed)?;
@@ -311,7 +334,7 @@ fn bench_count(
     let mut simulation = Simulation::new(gpu, &commands, &scene, &dynamic, vertices.buffer())?;
     let timestamps = TimestampQueries::new(gpu, steps, "grass step timestamps")?;
     let rec = commands.begin()?;
-    for i in 0..WIND_WARMUP_STEPS {
+    for i in 0..wind_warmup {
         simulation.wind_mut().record_step(&rec, i as f32 * dt, dt);
     }
     rec.submit_and_wait("wind warm-up")?;

@@ -16,7 +16,7 @@
 use std::path::{Path, PathBuf};
 
 use crate::commands::bench::{bench_to_dir, BenchRequest, LodChoice};
-use crate::commands::bench_grass::{bench_grass, GrassBench};
+use crate::commands::bench_grass::{bench_grass, GrassBench, GrassSteps, WIND_WARMUP_STEPS};
 use crate::commands::on_gpu;
 use crate::commands::render::{render_to_dir, Animation, RenderRequest};
 use crate::commands::wind::{wind_to_dir, WindReport};
@@ -64,6 +64,8 @@ struct Plan {
     colliders: Vec<usize>,
     grass_steps: u32,
     grass_warmup: u32,
+    /// Wind steps before bench-grass's rows (`GrassSteps::wind_warmup`).
+    wind_warmup: u32,
     wind_steps: u32,
     scene_frames: u32,
     /// `prairie`'s blades (None: the scene's 2 million).
@@ -90,6 +92,7 @@ fn plan(quick: bool) -> Plan {
             colliders: vec![0, 16],
             grass_steps: 4,
             grass_warmup: 1,
+            wind_warmup: 2,
             wind_steps: 6,
             scene_frames: 2,
             prairie_blades: Some(20_000),
@@ -112,6 +115,7 @@ fn plan(quick: bool) -> Plan {
             colliders: vec![0, 16, 128],
             grass_steps: 30,
             grass_warmup: 5,
+            wind_warmup: WIND_WARMUP_STEPS,
             wind_steps: 300,
             scene_frames: 20,
             prairie_blades: None,
@@ -315,8 +319,11 @@ pub fn gpu_report(
             &table1,
             counts,
             colliders,
-            p.grass_steps,
-            p.grass_warmup,
+            GrassSteps {
+                timed: p.grass_steps,
+                warmup: p.grass_warmup,
+                wind_warmup: p.wind_warmup,
+            },
             &request.gpu,
             &mut |_| {},
         ))
@@ -549,8 +556,11 @@ fn validated_runs(
                 table1,
                 &[p.check_blades],
                 &[0, 16],
-                p.check_steps,
-                1,
+                GrassSteps {
+                    timed: p.check_steps,
+                    warmup: 1,
+                    wind_warmup: p.wind_warmup,
+                },
                 &strict,
                 &mut |_| {},
             )
