@@ -240,7 +240,7 @@ fn every_command_line_path_is_validation_clean_with_best_practices() {
         "bench",
         &[
             "bench", "--blades", "1k,2k", "--lod", "both", "--frames", "2", "--warmup", "1",
-            "--width", "96", "--height", "64",
+            "--width", "96", "--height", "64", "--cells", "12,6,12",
         ],
         "bench.json",
     );

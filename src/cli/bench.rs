@@ -43,6 +43,10 @@ pub struct BenchArgs {
     /// 0 turns shadows off).
     #[arg(long, value_name = "TEXELS", allow_negative_numbers = true, value_parser = numbers::whole::<u32>(0, MAX_IMAGE_SIDE as u64))]
     shadow_map: Option<u32>,
+    /// Wind grid cells X,Y,Z, y up (default: the scene's, table1's the
+    /// paper's 60,20,60).
+    #[arg(long, value_name = "X,Y,Z")]
+    cells: Option<String>,
     /// Occlusion culling in the rows with culling on (default: the
     /// scene's [cull] occlusion, off).
     #[arg(long, value_enum)]
@@ -115,6 +119,7 @@ fn request(args: BenchArgs) -> anyhow::Result<meadow::commands::bench::BenchRequ
         height,
         msaa,
         shadow_map,
+        cells,
         occlusion,
         overlap,
         also_flat,
@@ -131,6 +136,9 @@ fn request(args: BenchArgs) -> anyhow::Result<meadow::commands::bench::BenchRequ
     let mut scene = Scene::load(&scene)?;
     if let Some(n) = shadow_map {
         scene.set_shadow_map(n)?;
+    }
+    if let Some(cells) = cells {
+        scene.set_wind_cells(&cells)?;
     }
     if let Some(occlusion) = occlusion {
         scene.cull.occlusion = occlusion == OnOff::On;
@@ -208,6 +216,9 @@ fn run_against(old: PathBuf, args: &BenchArgs) -> anyhow::Result<()> {
     }
     if let Some(n) = args.shadow_map {
         bench_args.extend(["--shadow-map".to_string(), n.to_string()]);
+    }
+    if let Some(cells) = &args.cells {
+        bench_args.extend(["--cells".to_string(), cells.clone()]);
     }
     if let Some(o) = args.occlusion {
         let o = if o == OnOff::On { "on" } else { "off" };
