@@ -219,7 +219,11 @@ fn every_allocation_of(name: &str) {
     }
     // Every render target, texture, wind and grass buffer and staging
     // copy is one allocation; fewer would mean the hook is dead.
-    assert!(sites.len() >= 10, "{name}: only {} allocation sites", sites.len());
+    assert!(
+        sites.len() >= 10,
+        "{name}: only {} allocation sites",
+        sites.len()
+    );
     eprintln!(
         "{name}: {} allocations at {} sites, each site failing cleanly in turn",
         listed.len(),

@@ -228,6 +228,9 @@ fn fitted_counts(gpu: &Gpu, grid: &WindGrid, settings: &WindSettings) -> Result<
     }
 }
 
+/// `WindPass::kernels`, `WindPass::finest_kernels` and the tail level.
+type WindKernels = (Vec<Option<Pipeline>>, [Option<Pipeline>; 5], usize);
+
 /// The wind's kernels (`LEVEL_KERNELS` for the coarse levels), those of
 /// `LEVEL_KERNELS` for level 0, and the finest multigrid level the tail
 /// kernel runs from. The tail kernel is the variant with the larger shared
@@ -238,7 +241,7 @@ fn wind_kernels(
     layout: &Arc<PipelineLayout>,
     field: &WindField,
     runs: impl Fn(usize) -> bool,
-) -> Result<(Vec<Option<Pipeline>>, [Option<Pipeline>; 5], usize)> {
+) -> Result<WindKernels> {
     // The tail kernel: the variant with the larger shared array where
     // the device offers it, from the finest level that fits it, and
     // specialised to this grid's coarsest level.
@@ -285,9 +288,7 @@ fn wind_kernels(
     let [a, b, c, d, e] = LEVEL_KERNELS.map(|k| {
         // MG_ANY_LEVEL 1, MG_ON_FINEST 1: level 0 (and the next one read).
         runs(k)
-            .then(|| {
-                Pipeline::compute_specialized(gpu, layout, WIND_KERNELS[k], &[(8, 1), (9, 1)])
-            })
+            .then(|| Pipeline::compute_specialized(gpu, layout, WIND_KERNELS[k], &[(8, 1), (9, 1)]))
             .transpose()
     });
     Ok((kernels, [a?, b?, c?, d?, e?], tail_level))
