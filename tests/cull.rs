@@ -86,10 +86,9 @@ fn lists_are_the_cpu_references(storage_range: Option<u32>) {
     let mut scene = Scene::builtin("table1").unwrap();
     scene.set_blade_count(30_000).unwrap();
     scene.set_shadow_map(512).unwrap();
-    // The wind on half the cells along each axis: it bends the blades as
-    // well for lists checked against the blades as they are, at an eighth
-    // of the steps' cost.
-    scene.wind.cells = [30, 10, 30];
+    // It bends the blades as well for lists checked against the blades
+    // as they are.
+    scene.wind.cells = common::COARSE_WIND_CELLS;
     scene.cull.enabled = true;
     // A late sun (15 degrees up): blades are seen edge-on from it too.
     scene.light.direction = [0.9, 0.26, 0.3];
@@ -232,9 +231,8 @@ fn culling_changes_no_pixel() {
             });
         }
         scene.set_shadow_map(2048).unwrap();
-        // The wind on half the cells along each axis: it moves the grass
-        // as well for this comparison, at an eighth of the steps' cost.
-        scene.wind.cells = [30, 10, 30];
+        // It moves the grass as well for this comparison.
+        scene.wind.cells = common::COARSE_WIND_CELLS;
         let times = [0.0, 0.5];
         scene.cull.enabled = true;
         // Frustum and caster culling only: the distance thinning and the

@@ -11,9 +11,7 @@ use meadow::scene::Scene;
 fn same_scene_and_seed_give_byte_identical_png() {
     let mut scene = Scene::builtin("fig10-several-bunches").unwrap();
     scene.set_blade_count(2000).unwrap();
-    // The wind on half the cells along each axis (every kernel of the
-    // step and every level of its multigrid), at an eighth of the cost.
-    scene.wind.cells = [30, 10, 30];
+    scene.wind.cells = common::COARSE_WIND_CELLS;
     // Two frames of a swaying field: 0.5 s and 1.0 s into the wind.
     let mut request = common::strict_request(scene, 320, 200, 2, 2.0);
     request.msaa = 8;
@@ -51,7 +49,7 @@ fn same_scene_and_seed_give_byte_identical_png() {
 fn the_frame_rate_does_not_change_the_simulation() {
     let mut scene = Scene::builtin("fig10-few-bunches").unwrap();
     scene.light.shadow_map = 1024;
-    scene.wind.cells = [30, 10, 30];
+    scene.wind.cells = common::COARSE_WIND_CELLS;
     let request = |frames: u32, fps: f32| RenderRequest {
         gif: false,
         video: None,

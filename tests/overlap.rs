@@ -24,9 +24,8 @@ const FRAMES: u64 = 4;
 fn scene(overlap: Overlap) -> Scene {
     let mut scene = Scene::builtin("fig10-few-bunches").unwrap();
     scene.set_shadow_map(512).unwrap();
-    // The wind on half the cells along each axis: the same submissions in
-    // the same order, the steps an eighth of the paper's grid's cost.
-    scene.wind.cells = [30, 10, 30];
+    // The same submissions in the same order.
+    scene.wind.cells = common::COARSE_WIND_CELLS;
     scene.cull.enabled = true;
     scene.render.overlap = overlap;
     scene

@@ -262,8 +262,8 @@ pub struct Multigrid {
     /// What a V-cycle applies at each level, worked out from `levels`
     /// once, at the first CPU solve (`Operators`): the GPU's wind pass
     /// makes a `WindField` for its initial state and reads only the
-    /// levels, and the lists cost a 60 x 20 x 60 grid about a tenth of
-    /// a second to work out.
+    /// levels (working the lists out was about 0.2 s of every render's
+    /// start on a 60 x 20 x 60 grid).
     operators: std::sync::OnceLock<Vec<Operators>>,
 }
 

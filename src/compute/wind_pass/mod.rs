@@ -295,8 +295,8 @@ fn wind_kernels(
 }
 
 /// Whether a pass with `settings` (its sweeps `fused`) runs `kernel` of
-/// `WIND_KERNELS`: only those are made (on lavapipe each pipeline is a
-/// few milliseconds to tens of them of every start). They do not change
+/// `WIND_KERNELS`: only those are made (on lavapipe, making pipelines was
+/// about half of a small bench run's time). They do not change
 /// over the pass's life: its solver, advection and sweeps are fixed.
 fn runs_kernel(kernel: usize, settings: &WindSettings, fused: bool) -> bool {
     let multigrid = settings.solver == PressureSolver::Multigrid;
